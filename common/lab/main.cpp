@@ -1,0 +1,66 @@
+// ispars-lab: offline tools over the ispars core library.
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "commands.hpp"
+#include "ispars/input_error.hpp"
+
+int main(int argc, char** argv) {
+  using namespace ispars::lab;
+  spdlog::set_level(spdlog::level::warn);
+
+  CLI::App app{"ispars-lab: scene reports, geometry benchmarks and roadmap experiments"};
+  app.require_subcommand(1);
+
+  auto* scene = app.add_subcommand("scene", "Scene files")->require_subcommand(1);
+  SceneInfoOptions info;
+  auto* info_cmd = scene->add_subcommand(
+      "info", "Triangles, bounds, POIs, root clearance and POIs seen from random valid configurations");
+  info_cmd->add_option("scene", info.scene, "Scene YAML file")->required();
+  info_cmd->add_flag("--json", info.json, "Print one JSON object as the last line of stdout");
+  info_cmd->add_option("--samples", info.samples, "Random valid configurations for the coverage estimate")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{10'000'000}));
+  info_cmd->add_option("--seed", info.seed, "Seed of the random configurations");
+
+  auto* bench = app.add_subcommand("bench", "Benchmarks that print figures (JSON with --json)")
+                    ->require_subcommand(1);
+  BenchGeometryOptions geometry;
+  auto* geometry_cmd = bench->add_subcommand(
+      "geometry", "Point, segment and visibility query costs against brute-force and FCL references");
+  geometry_cmd->add_option("scene", geometry.scene, "Scene YAML file")->required();
+  geometry_cmd->add_flag("--json", geometry.json, "Print one JSON object as the last line of stdout");
+  geometry_cmd->add_option("--queries", geometry.queries, "Queries per fast-path measurement")
+      ->check(CLI::Range(std::size_t{64}, std::size_t{10'000'000}));
+  geometry_cmd->add_option("--reference-queries", geometry.reference_queries,
+                           "Queries through the brute-force reference")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000}));
+  geometry_cmd->add_option("--seed", geometry.seed, "Seed of the random queries");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ispars-lab: " << e.what() << " (see --help)\n";
+    return 2;
+  }
+
+  try {
+    if (info_cmd->parsed()) return run_scene_info(info);
+    if (geometry_cmd->parsed()) return run_bench_geometry(geometry);
+  } catch (const ispars::InputError& e) {
+    std::cerr << "ispars-lab: error: " << e.what() << '\n';
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ispars-lab: internal error: " << e.what() << '\n';
+    return 1;
+  }
+  return 1;
+}

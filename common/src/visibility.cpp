@@ -1,0 +1,110 @@
+#include "ispars/visibility.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include <nanoflann.hpp>
+
+namespace ispars {
+
+// nanoflann's view of the POI positions.
+struct PoiCloud {
+  const std::vector<Vec3>* points;
+  [[nodiscard]] std::size_t kdtree_get_point_count() const { return points->size(); }
+  [[nodiscard]] double kdtree_get_pt(std::size_t i, std::size_t dim) const {
+    return (*points)[i][static_cast<Eigen::Index>(dim)];
+  }
+  template <class Box>
+  bool kdtree_get_bbox(Box& /*box*/) const {
+    return false;
+  }
+};
+
+struct VisibilityOracle::KdTree {
+  using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PoiCloud>,
+                                                    PoiCloud, 3, PoiId>;
+  PoiCloud cloud;
+  Index index;
+  explicit KdTree(const std::vector<Vec3>& points)
+      : cloud{&points}, index(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {}
+};
+
+VisibilityOracle::VisibilityOracle(std::shared_ptr<const EmbreeScene> scene,
+                                   std::vector<Vec3> pois, double sensor_range)
+    : scene_(std::move(scene)),
+      pois_(std::move(pois)),
+      range_(sensor_range),
+      tree_(std::make_unique<KdTree>(pois_)) {}
+
+VisibilityOracle::~VisibilityOracle() = default;
+
+void VisibilityOracle::pois_in_range(const Vec3& q, std::vector<PoiId>& out) const {
+  out.clear();
+  if (pois_.empty()) return;
+  thread_local std::vector<std::pair<PoiId, double>> found;
+  found.clear();
+  // Search a hair wider than the range, then decide membership exactly: |p - q| <= range.
+  const double search = range_ * range_ * (1.0 + 1e-9) + 1e-12;
+  tree_->index.radiusSearch(q.data(), search, found, nanoflann::SearchParams(32, 0.0f, false));
+  const double range2 = range_ * range_;
+  for (const auto& [id, d2] : found) {
+    if ((pois_[id] - q).squaredNorm() <= range2) out.push_back(id);
+  }
+  std::sort(out.begin(), out.end());
+}
+
+namespace {
+
+RTCRay sight_ray(const Vec3& q, const Vec3& p) {
+  const Vec3 d = p - q;
+  const double length = d.norm();
+  RTCRay ray;
+  ray.org_x = static_cast<float>(q.x());
+  ray.org_y = static_cast<float>(q.y());
+  ray.org_z = static_cast<float>(q.z());
+  ray.tnear = 0.0f;
+  ray.dir_x = static_cast<float>(d.x());
+  ray.dir_y = static_cast<float>(d.y());
+  ray.dir_z = static_cast<float>(d.z());
+  ray.time = 0.0f;
+  // The direction is unnormalised: t = 1 is the POI; stop kPoiStandoff metres before it.
+  ray.tfar = length > kPoiStandoff ? static_cast<float>(1.0 - kPoiStandoff / length) : 0.0f;
+  ray.mask = 0xFFFFFFFFu;
+  ray.id = 0;
+  ray.flags = 0;
+  return ray;
+}
+
+}  // namespace
+
+bool VisibilityOracle::line_of_sight(const Vec3& q, PoiId id) const {
+  counters_.add_rays(1);
+  RTCRay ray = sight_ray(q, pois_[id]);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcOccluded1(scene_->handle(), &context, &ray);
+  return ray.tfar >= 0.0f;  // Embree sets tfar to -inf on a hit
+}
+
+void VisibilityOracle::visible_pois(const Vec3& q, std::vector<PoiId>& out) const {
+  thread_local std::vector<PoiId> candidates;
+  pois_in_range(q, candidates);
+  out.clear();
+  if (candidates.empty()) return;
+  counters_.add_rays(candidates.size());
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (const PoiId id : candidates) {
+    RTCRay ray = sight_ray(q, pois_[id]);
+    rtcOccluded1(scene_->handle(), &context, &ray);
+    if (ray.tfar >= 0.0f) out.push_back(id);
+  }
+}
+
+std::vector<PoiId> VisibilityOracle::visible_pois(const Vec3& q) const {
+  std::vector<PoiId> out;
+  visible_pois(q, out);
+  return out;
+}
+
+}  // namespace ispars
