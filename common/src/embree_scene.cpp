@@ -31,7 +31,8 @@ EmbreeScene::EmbreeScene(const TriangleMesh& mesh) : triangles_(to_triangles(mes
   if (device_ == nullptr) throw std::runtime_error("Embree: cannot create a device");
   scene_ = rtcNewScene(device_);
   // Robust traversal: no rays slip through shared edges, so visibility does not depend on luck.
-  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  // Context filters let the visibility oracle confirm each candidate hit in double precision.
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
 
   RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);

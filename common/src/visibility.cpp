@@ -55,9 +55,42 @@ void VisibilityOracle::pois_in_range(const Vec3& q, std::vector<PoiId>& out) con
 
 namespace {
 
-RTCRay sight_ray(const Vec3& q, const Vec3& p) {
+// An intersect context that carries the sight line in double precision. Embree passes the
+// context to the filter, which confirms every candidate hit with the exact crossing: Embree's
+// single-precision t can be millimetres off at grazing incidence (seen on the water tower,
+// where the POI's own triangle was "hit" 3.7 mm before the POI), so it only proposes.
+struct SightContext {
+  RTCIntersectContext base;  // must stay first: Embree sees only this part
+  const EmbreeScene* scene;
+  Vec3 origin;
+  Vec3 direction;
+  double s_end;
+};
+
+void confirm_hit_exactly(const RTCFilterFunctionNArguments* args) {
+  const auto* sight = reinterpret_cast<const SightContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    const auto crossing = ray_plane_crossing(sight->origin, sight->direction, sight->scene->triangle(prim));
+    const bool hit = crossing && crossing->s >= 0.0 && crossing->s <= sight->s_end && crossing->margin >= 0.0;
+    if (!hit) args->valid[i] = 0;
+  }
+}
+
+// Casts q -> p, stopping kPoiStandoff short of p; true when nothing blocks it.
+bool sight_line_clear(const EmbreeScene& scene, const Vec3& q, const Vec3& p) {
   const Vec3 d = p - q;
   const double length = d.norm();
+  if (length <= kPoiStandoff) return true;
+  SightContext context;
+  rtcInitIntersectContext(&context.base);
+  context.base.filter = confirm_hit_exactly;
+  context.scene = &scene;
+  context.origin = q;
+  context.direction = d;
+  context.s_end = 1.0 - kPoiStandoff / length;
+
   RTCRay ray;
   ray.org_x = static_cast<float>(q.x());
   ray.org_y = static_cast<float>(q.y());
@@ -67,37 +100,30 @@ RTCRay sight_ray(const Vec3& q, const Vec3& p) {
   ray.dir_y = static_cast<float>(d.y());
   ray.dir_z = static_cast<float>(d.z());
   ray.time = 0.0f;
-  // The direction is unnormalised: t = 1 is the POI; stop kPoiStandoff metres before it.
-  ray.tfar = length > kPoiStandoff ? static_cast<float>(1.0 - kPoiStandoff / length) : 0.0f;
+  // The direction is unnormalised, so t = 1 is the POI. Embree's float t may be a little off, so
+  // let it look slightly past the exact end; the filter enforces the exact span.
+  ray.tfar = static_cast<float>(std::min(1.0, context.s_end + 1e-4));
   ray.mask = 0xFFFFFFFFu;
   ray.id = 0;
   ray.flags = 0;
-  return ray;
+  rtcOccluded1(scene.handle(), &context.base, &ray);
+  return ray.tfar >= 0.0f;  // Embree sets tfar to -inf on a confirmed hit
 }
 
 }  // namespace
 
 bool VisibilityOracle::line_of_sight(const Vec3& q, PoiId id) const {
   counters_.add_rays(1);
-  RTCRay ray = sight_ray(q, pois_[id]);
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  rtcOccluded1(scene_->handle(), &context, &ray);
-  return ray.tfar >= 0.0f;  // Embree sets tfar to -inf on a hit
+  return sight_line_clear(*scene_, q, pois_[id]);
 }
 
 void VisibilityOracle::visible_pois(const Vec3& q, std::vector<PoiId>& out) const {
   thread_local std::vector<PoiId> candidates;
   pois_in_range(q, candidates);
   out.clear();
-  if (candidates.empty()) return;
   counters_.add_rays(candidates.size());
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
   for (const PoiId id : candidates) {
-    RTCRay ray = sight_ray(q, pois_[id]);
-    rtcOccluded1(scene_->handle(), &context, &ray);
-    if (ray.tfar >= 0.0f) out.push_back(id);
+    if (sight_line_clear(*scene_, q, pois_[id])) out.push_back(id);
   }
 }
 

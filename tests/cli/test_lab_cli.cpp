@@ -1,0 +1,170 @@
+// ispars-lab run as a user runs it: exit codes, one-line errors naming file and field, JSON.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+struct LabRun {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class LabCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("ispars-cli-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  LabRun lab(const std::string& args) const {
+    const auto out = dir_ / "out.txt";
+    const auto err = dir_ / "err.txt";
+    const std::string command = std::string("'") + ISPARS_LAB + "' " + args + " >'" + out.string() +
+                                "' 2>'" + err.string() + "'";
+    const int status = std::system(command.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+  }
+
+  std::filesystem::path write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir_ / name) << text;
+    return dir_ / name;
+  }
+
+  // A scene with the water tower mesh and one field replaced.
+  std::filesystem::path tower_scene(const std::string& field_line) const {
+    std::string text = std::string("mesh: ") + ISPARS_SCENES_DIR + "/water_tower/water_tower.obj\n" +
+                       "bounds: {min: [-15, -15, 0.5], max: [15, 15, 30]}\nrobot_radius: 0.5\n"
+                       "sensor_range: 6\ndense_delta: 2.0\nsparse_delta: 3.0\nstretch: 1.05\n"
+                       "root: [10, 0, 2]\npois: {count: 50, seed: 7}\n";
+    const std::string key = field_line.substr(0, field_line.find(':') + 1);
+    const auto at = text.find(key);
+    if (at != std::string::npos) text = text.substr(0, at) + field_line + text.substr(text.find('\n', at));
+    return write("scene.yaml", text);
+  }
+
+  // Exit code 2, nothing on stdout, exactly one stderr line naming the file and the field.
+  void expect_input_error(const LabRun& run, const std::string& file, const std::string& field) const {
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_NE(run.err.find(file + ": " + field + ": "), std::string::npos) << run.err;
+    EXPECT_TRUE(run.out.empty()) << run.out;
+  }
+
+  std::filesystem::path dir_;
+};
+
+TEST_F(LabCli, SceneInfoJsonIsTheLastLine) {
+  const LabRun run = lab(std::string("scene info ") + ISPARS_SCENES_DIR + "/water_tower.yaml --json --samples 500");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string last = run.out.substr(run.out.rfind('\n', run.out.size() - 2) + 1);
+  const auto json = nlohmann::json::parse(last);
+  EXPECT_EQ(json["triangles"], 1564);
+  EXPECT_EQ(json["pois"], 300);
+  EXPECT_EQ(json["samples"], 500);
+  EXPECT_GT(json["pois_seen"].get<int>(), 200);
+  EXPECT_NEAR(json["root_clearance"].get<double>(), 6.88, 0.01);
+  EXPECT_GE(json["checks"]["point"].get<int>(), 500);
+}
+
+TEST_F(LabCli, SceneInfoIsDeterministic) {
+  const std::string args = std::string("scene info ") + ISPARS_SCENES_DIR + "/truss_bridge.yaml --json --samples 300 --seed 4";
+  auto strip_times = [](std::string s) {
+    auto j = nlohmann::json::parse(s);
+    j.erase("load_seconds");
+    j.erase("sample_seconds");
+    return j.dump();
+  };
+  EXPECT_EQ(strip_times(lab(args).out), strip_times(lab(args).out));
+}
+
+TEST_F(LabCli, BenchGeometryReportsAllPathsAndAgreement) {
+  const LabRun run = lab(std::string("bench geometry ") + ISPARS_SCENES_DIR +
+                      "/demo_tank_tower.yaml --json --queries 256 --reference-queries 20");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  for (const char* key : {"point_check_ns", "segment_check_ns", "chi_ns", "chi_near_structure_ns"}) {
+    EXPECT_GT(json[key]["fast"].get<double>(), 0.0) << key;
+    EXPECT_GT(json[key]["brute_force"].get<double>(), 0.0) << key;
+  }
+  EXPECT_EQ(json["disagreements"]["point"], 0);
+  EXPECT_EQ(json["disagreements"]["segment"], 0);
+  EXPECT_EQ(json["disagreements"]["chi_pois"], 0);
+  EXPECT_GT(json["rays_per_second"].get<double>(), 0.0);
+}
+
+TEST_F(LabCli, MissingSceneFile) {
+  expect_input_error(lab("scene info " + (dir_ / "nope.yaml").string()), (dir_ / "nope.yaml").string(), "file");
+}
+
+TEST_F(LabCli, MissingMesh) {
+  const auto yaml = tower_scene("mesh: gone.obj");
+  const LabRun run = lab("scene info " + yaml.string());
+  expect_input_error(run, (dir_ / "gone.obj").string(), "mesh");
+}
+
+TEST_F(LabCli, EmptyMesh) {
+  write("empty.obj", "v 0 0 0\n");
+  const auto yaml = tower_scene("mesh: empty.obj");
+  expect_input_error(lab("scene info " + yaml.string()), (dir_ / "empty.obj").string(), "mesh");
+}
+
+TEST_F(LabCli, UnreadableMesh) {
+  write("bad.obj", "f 1 2 3\nthis is not obj\n");
+  const auto yaml = tower_scene("mesh: bad.obj");
+  expect_input_error(lab("scene info " + yaml.string()), (dir_ / "bad.obj").string(), "mesh");
+}
+
+TEST_F(LabCli, NanRadius) {
+  const auto yaml = tower_scene("robot_radius: .nan");
+  expect_input_error(lab("scene info " + yaml.string()), yaml.string(), "robot_radius");
+}
+
+TEST_F(LabCli, NegativeRadius) {
+  const auto yaml = tower_scene("robot_radius: -0.5");
+  expect_input_error(lab("bench geometry " + yaml.string()), yaml.string(), "robot_radius");
+}
+
+TEST_F(LabCli, RootInCollision) {
+  const auto yaml = tower_scene("root: [3, 3, 1]");  // 0.06 m from a leg
+  expect_input_error(lab("scene info " + yaml.string()), yaml.string(), "root");
+}
+
+TEST_F(LabCli, RootOutsideBounds) {
+  const auto yaml = tower_scene("root: [40, 0, 2]");
+  expect_input_error(lab("scene info " + yaml.string()), yaml.string(), "root");
+}
+
+TEST_F(LabCli, MalformedYaml) {
+  const auto yaml = write("scene.yaml", "mesh: [unclosed\nbounds: {\n");
+  expect_input_error(lab("scene info " + yaml.string()), yaml.string(), "yaml");
+}
+
+TEST_F(LabCli, UsageErrorsExitTwo) {
+  EXPECT_EQ(lab("").exit_code, 2);
+  EXPECT_EQ(lab("scene info").exit_code, 2);
+  EXPECT_EQ(lab("scene info x.yaml --samples 0").exit_code, 2);
+  EXPECT_EQ(lab("frobnicate").exit_code, 2);
+  EXPECT_EQ(lab("--help").exit_code, 0);
+}
+
+}  // namespace

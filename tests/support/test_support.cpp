@@ -1,0 +1,81 @@
+#include "support/test_support.hpp"
+
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include <unistd.h>
+
+namespace ispars::test {
+
+std::filesystem::path scenes_dir() { return ISPARS_SCENES_DIR; }
+
+const std::vector<std::string>& shared_scene_names() {
+  static const std::vector<std::string> names{"water_tower", "truss_bridge", "caric_city",
+                                              "powerplant", "radio_tower"};
+  return names;
+}
+
+const Scene& shared_scene(const std::string& name) {
+  static std::mutex mutex;
+  static std::map<std::string, std::unique_ptr<Scene>> cache;
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto& slot = cache[name];
+  if (!slot) slot = std::make_unique<Scene>(Scene::load(scenes_dir() / (name + ".yaml")));
+  return *slot;
+}
+
+TempDir::TempDir() {
+  static int counter = 0;
+  path_ = std::filesystem::temp_directory_path() /
+          ("ispars-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+  std::filesystem::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+}
+
+std::filesystem::path TempDir::write(const std::string& name, const std::string& text) const {
+  const auto file = path_ / name;
+  std::ofstream(file) << text;
+  return file;
+}
+
+std::vector<Vec3> mixed_query_points(const Scene& scene, Rng& rng, std::size_t count) {
+  const Aabb& box = scene.config().bounds;
+  const double r = scene.config().robot_radius;
+  const TriangleMesh& mesh = scene.mesh();
+  std::vector<Vec3> points;
+  points.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i % 2 == 0) {
+      points.push_back(rng.uniform_in(box));
+      continue;
+    }
+    const std::size_t t = rng.below(mesh.triangle_count());
+    const double r1 = std::sqrt(rng.uniform01());
+    const double r2 = rng.uniform01();
+    const Vec3 on = (1 - r1) * mesh.corner(t, 0) + r1 * (1 - r2) * mesh.corner(t, 1) + r1 * r2 * mesh.corner(t, 2);
+    const Vec3 p = on + rng.uniform(0.0, 2.0 * r) * rng.unit_vector();
+    points.push_back(p.cwiseMax(box.min).cwiseMin(box.max));
+  }
+  return points;
+}
+
+std::vector<TestSegment> mixed_query_segments(const Scene& scene, Rng& rng, std::size_t count) {
+  const Aabb& box = scene.config().bounds;
+  const std::vector<Vec3> starts = mixed_query_points(scene, rng, count);
+  std::vector<TestSegment> segments;
+  segments.reserve(count);
+  for (const Vec3& a : starts) {
+    const double length = rng.uniform(0.0, 1.0) * scene.config().dense_delta;
+    const Vec3 b = (a + length * rng.unit_vector()).cwiseMax(box.min).cwiseMin(box.max);
+    segments.push_back({a, b});
+  }
+  return segments;
+}
+
+}  // namespace ispars::test

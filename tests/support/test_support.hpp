@@ -1,0 +1,47 @@
+#pragma once
+// Shared helpers for the tests: where the shipped scenes are, and random queries biased toward
+// the surface, where the decisions are close and bugs show.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ispars/random.hpp"
+#include "ispars/scene.hpp"
+
+namespace ispars::test {
+
+/// deploy/scenes in the source tree.
+std::filesystem::path scenes_dir();
+/// The five shared real-mesh scenes, by file stem.
+const std::vector<std::string>& shared_scene_names();
+/// Loads deploy/scenes/NAME.yaml once per process and keeps it.
+const Scene& shared_scene(const std::string& name);
+
+/// A fresh temporary directory, removed when the object dies.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+  /// Writes `text` to path()/name and returns the full path.
+  std::filesystem::path write(const std::string& name, const std::string& text) const;
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// Half uniform in the bounds, half within about two robot radii of a random triangle (chosen
+/// by index, so small triangles get their share), clamped into the bounds.
+std::vector<Vec3> mixed_query_points(const Scene& scene, Rng& rng, std::size_t count);
+
+struct TestSegment {
+  Vec3 a, b;
+};
+/// Segments from mixed points, random direction, length uniform in (0, dense_delta], inside
+/// the bounds.
+std::vector<TestSegment> mixed_query_segments(const Scene& scene, Rng& rng, std::size_t count);
+
+}  // namespace ispars::test
