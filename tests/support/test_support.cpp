@@ -1,5 +1,7 @@
 #include "support/test_support.hpp"
 
+#include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -42,6 +44,16 @@ std::filesystem::path TempDir::write(const std::string& name, const std::string&
   const auto file = path_ / name;
   std::ofstream(file) << text;
   return file;
+}
+
+std::size_t scaled(std::size_t n) {
+  static const double scale = [] {
+    const char* text = std::getenv("ISPARS_TEST_QUERY_SCALE");
+    const double value = text != nullptr ? std::atof(text) : 1.0;
+    return value > 0.0 ? value : 1.0;
+  }();
+  const auto target = static_cast<std::size_t>(static_cast<double>(n) * scale);
+  return std::max(target, std::min<std::size_t>(n, 20));
 }
 
 std::vector<Vec3> mixed_query_points(const Scene& scene, Rng& rng, std::size_t count) {

@@ -33,6 +33,11 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+/// `n` scaled by the environment variable ISPARS_TEST_QUERY_SCALE (default 1), at least
+/// min(n, 20). The sanitizer pass of deploy/test.sh sets a small scale: the brute-force
+/// references run 10x slower there, and the full-volume agreement runs in the Release pass.
+std::size_t scaled(std::size_t n);
+
 /// Half uniform in the bounds, half within about two robot radii of a random triangle (chosen
 /// by index, so small triangles get their share), clamped into the bounds.
 std::vector<Vec3> mixed_query_points(const Scene& scene, Rng& rng, std::size_t count);

@@ -47,7 +47,7 @@ TEST_P(CollisionAgreement, PointChecksMatchBruteForce) {
   const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds,
                                  scene.config().robot_radius, scene.pois(), scene.config().sensor_range);
   Rng rng(11);
-  const auto points = test::mixed_query_points(scene, rng, GetParam().points);
+  const auto points = test::mixed_query_points(scene, rng, test::scaled(GetParam().points));
   std::size_t disagreements = 0;
   std::size_t in_band = 0;
   std::size_t invalid = 0;
@@ -79,7 +79,7 @@ TEST_P(CollisionAgreement, SegmentChecksMatchBruteForce) {
   const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds,
                                  scene.config().robot_radius, scene.pois(), scene.config().sensor_range);
   Rng rng(12);
-  const auto segments = test::mixed_query_segments(scene, rng, GetParam().segments);
+  const auto segments = test::mixed_query_segments(scene, rng, test::scaled(GetParam().segments));
   const double r = scene.config().robot_radius;
   std::size_t invalid = 0;
   for (const auto& s : segments) {

@@ -20,12 +20,12 @@ TEST(FclCollisionChecker, AgreesWithReferenceOnRealMeshes) {
                                    scene.pois(), scene.config().sensor_range);
     Rng rng(31);
     // FCL works to its own tolerance (GJK/EPA); compare where the answer is clear by 1e-6 m.
-    for (const Vec3& p : test::mixed_query_points(scene, rng, 1500)) {
+    for (const Vec3& p : test::mixed_query_points(scene, rng, test::scaled(1500))) {
       const double d = brute.distance_to_surface(p);
       if (std::abs(d - r) < 1e-6) continue;
       EXPECT_EQ(fcl.point_valid(p), scene.config().bounds.contains(p) && d > r) << name << " " << p.transpose();
     }
-    for (const auto& s : test::mixed_query_segments(scene, rng, 1500)) {
+    for (const auto& s : test::mixed_query_segments(scene, rng, test::scaled(1500))) {
       const double d = brute.segment_distance_to_surface(s.a, s.b);
       if (std::abs(d - r) < 1e-6) continue;
       EXPECT_EQ(fcl.segment_valid(s.a, s.b), d > r) << name << " " << s.a.transpose() << " -> " << s.b.transpose();

@@ -53,6 +53,21 @@ TEST(PoiSampling, SameSeedSamePointsOtherSeedOtherPoints) {
   EXPECT_NE(a, c);
 }
 
+TEST(PoiSampling, WaterTowerPoisMatchAnIndependentReimplementation) {
+  // The first three POIs of deploy/scenes/water_tower.yaml (seed 7, skip_ground), computed by a
+  // separate Python implementation of the same sampler (xoshiro256**, area CDF, sqrt warp) on
+  // the OBJ's float vertices. A change to the sampler, the RNG or the mesh loader shows here.
+  // Tolerance: assimp's fast float parser can land one float ulp (1.9e-6 m at z = 18 m) away
+  // from Python's correctly rounded parse; any real change moves POIs by far more.
+  const Scene& scene = test::shared_scene("water_tower");
+  const std::vector<Vec3> expected{Vec3(1.519487180847, -1.437400629040, 17.877937316895),
+                                   Vec3(0.204113917629, -0.731102625475, 15.539602692372),
+                                   Vec3(-1.814561961650, -1.622060824413, 18.322766533775)};
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_LT((scene.pois()[i] - expected[i]).norm(), 4e-6) << i << ": " << scene.pois()[i].transpose();
+  }
+}
+
 TEST(PoiSampling, SkipGroundKeepsPoisOffTheFootprints) {
   const TriangleMesh mesh = make_procedural_mesh("city_grid", 2);
   const auto pois = sample_pois_on_surface(mesh, 3000, 1, true);

@@ -29,7 +29,7 @@ TEST_P(VisibilityAgreement, ChiMatchesBruteForceOutsideTheToleranceBand) {
   const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds,
                                  scene.config().robot_radius, scene.pois(), scene.config().sensor_range);
   Rng rng(21);
-  const auto configurations = near_structure_configurations(scene, rng, GetParam().second);
+  const auto configurations = near_structure_configurations(scene, rng, test::scaled(GetParam().second));
   std::size_t visible_total = 0;
   std::size_t blocked_total = 0;
   std::size_t ambiguous_total = 0;

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Configures and builds ispars. Usage: deploy/build.sh [release|debug|sanitize] [extra cmake args]
+#   release  (default) build/          optimised, what quickstart and benchmarks use
+#   debug              build-debug/
+#   sanitize           build-sanitize/  AddressSanitizer + UndefinedBehaviorSanitizer
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+kind="${1:-release}"
+[ $# -gt 0 ] && shift
+case "$kind" in
+  release)  dir=build;          args=(-DCMAKE_BUILD_TYPE=Release) ;;
+  debug)    dir=build-debug;    args=(-DCMAKE_BUILD_TYPE=Debug) ;;
+  sanitize) dir=build-sanitize; args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DISPARS_SANITIZE=ON) ;;
+  *) echo "build.sh: unknown build kind '$kind' (release, debug, sanitize)" >&2; exit 2 ;;
+esac
+
+generator=()
+command -v ninja >/dev/null 2>&1 && generator=(-G Ninja)
+cmake -S . -B "$dir" "${generator[@]}" "${args[@]}" "$@"
+cmake --build "$dir" --parallel "$(nproc)"
+echo "build.sh: $kind build in $dir/, executables in $dir/bin/"

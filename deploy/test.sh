@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs dependencies, builds, and runs every test with ctest: first the Release build with
+# warnings as errors, then the AddressSanitizer + UBSan build (skip it with ISPARS_SKIP_SANITIZE=1).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+deploy/install-deps.sh
+
+start=$(date +%s)
+deploy/build.sh release -DISPARS_WERROR=ON
+(cd build && ctest --output-on-failure --parallel "$(nproc)" --timeout 900)
+
+if [ "${ISPARS_SKIP_SANITIZE:-0}" != "1" ]; then
+  deploy/build.sh sanitize -DISPARS_WERROR=ON
+  # new_delete_type_mismatch: a known false alarm inside libfastrtps 2.9 at teardown.
+  # Leaks are checked, less the third-party ones listed in tests/lsan.supp.
+  export ASAN_OPTIONS="new_delete_type_mismatch=0:abort_on_error=1"
+  export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp"
+  export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+  # The brute-force references run about 10x slower here; the Release pass ran them at full
+  # volume, so this pass exercises the same code on a twentieth of the queries.
+  export ISPARS_TEST_QUERY_SCALE=0.05
+  (cd build-sanitize && ctest --output-on-failure --parallel "$(nproc)" --timeout 1800)
+fi
+echo "test.sh: all tests passed in $(( $(date +%s) - start )) s"
