@@ -25,28 +25,9 @@ RTCPointQuery make_query(const Vec3& centre, float radius) {
   return query;
 }
 
-// Any triangle within the radius of a point ends the query.
-struct SphereProbe {
-  const EmbreeScene* scene;
-  Vec3 centre;
-  double radius_squared;
-  bool touched = false;
-};
-
-bool sphere_probe_callback(RTCPointQueryFunctionArguments* args) {
-  auto* probe = static_cast<SphereProbe*>(args->userPtr);
-  if (probe->touched) return false;
-  const Triangle& t = probe->scene->triangle(args->primID);
-  if (point_triangle_distance_squared(probe->centre, t) <= probe->radius_squared) {
-    probe->touched = true;
-    args->query->radius = 0.0f;  // nothing more to learn: shrink the search to nothing
-    return true;
-  }
-  return false;
-}
-
-// Any triangle within the radius of a segment piece ends the query.
-struct CapsuleProbe {
+// Ends the query at the first triangle within the radius of a point (a == b) or of the segment
+// piece [a, b]; kSegment picks the exact distance at compile time, keeping the point check lean.
+struct TouchProbe {
   const EmbreeScene* scene;
   Vec3 a;
   Vec3 b;
@@ -54,13 +35,16 @@ struct CapsuleProbe {
   bool touched = false;
 };
 
-bool capsule_probe_callback(RTCPointQueryFunctionArguments* args) {
-  auto* probe = static_cast<CapsuleProbe*>(args->userPtr);
+template <bool kSegment>
+bool touch_probe_callback(RTCPointQueryFunctionArguments* args) {
+  auto* probe = static_cast<TouchProbe*>(args->userPtr);
   if (probe->touched) return false;
   const Triangle& t = probe->scene->triangle(args->primID);
-  if (segment_triangle_distance_squared(probe->a, probe->b, t) <= probe->radius_squared) {
+  const double d2 = kSegment ? segment_triangle_distance_squared(probe->a, probe->b, t)
+                             : point_triangle_distance_squared(probe->a, t);
+  if (d2 <= probe->radius_squared) {
     probe->touched = true;
-    args->query->radius = 0.0f;
+    args->query->radius = 0.0f;  // nothing more to learn: shrink the search to nothing
     return true;
   }
   return false;
@@ -94,11 +78,11 @@ CollisionChecker::CollisionChecker(std::shared_ptr<const EmbreeScene> scene, Aab
 bool CollisionChecker::point_valid(const Vec3& q) const {
   counters_.add_point();
   if (!bounds_.contains(q)) return false;
-  SphereProbe probe{scene_.get(), q, radius_ * radius_};
+  TouchProbe probe{scene_.get(), q, q, radius_ * radius_};
   RTCPointQuery query = make_query(q, padded_radius(radius_, q));
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
-  rtcPointQuery(scene_->handle(), &query, &context, sphere_probe_callback, &probe);
+  rtcPointQuery(scene_->handle(), &query, &context, touch_probe_callback<false>, &probe);
   return !probe.touched;
 }
 
@@ -121,9 +105,9 @@ bool CollisionChecker::capsule_free(const Vec3& a, const Vec3& b) const {
     const Vec3 p0 = a + (b - a) * (static_cast<double>(i) / pieces);
     const Vec3 p1 = i + 1 == pieces ? b : Vec3(a + (b - a) * (static_cast<double>(i + 1) / pieces));
     const Vec3 centre = 0.5 * (p0 + p1);
-    CapsuleProbe probe{scene_.get(), p0, p1, radius_ * radius_};
+    TouchProbe probe{scene_.get(), p0, p1, radius_ * radius_};
     RTCPointQuery query = make_query(centre, padded_radius(0.5 * (p1 - p0).norm() + radius_, centre));
-    rtcPointQuery(scene_->handle(), &query, &context, capsule_probe_callback, &probe);
+    rtcPointQuery(scene_->handle(), &query, &context, touch_probe_callback<true>, &probe);
     if (probe.touched) return false;
   }
   return true;

@@ -40,12 +40,16 @@ const Scene& scene_for(const std::string& name) {
   return test::shared_scene(name);
 }
 
+BruteForceGeometry reference_for(const Scene& scene) {
+  return BruteForceGeometry(scene.embree().triangles(), scene.config().bounds,
+                            scene.config().robot_radius, scene.pois(), scene.config().sensor_range);
+}
+
 class CollisionAgreement : public ::testing::TestWithParam<AgreementCase> {};
 
 TEST_P(CollisionAgreement, PointChecksMatchBruteForce) {
   const Scene& scene = scene_for(GetParam().scene);
-  const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds,
-                                 scene.config().robot_radius, scene.pois(), scene.config().sensor_range);
+  const BruteForceGeometry brute = reference_for(scene);
   Rng rng(11);
   const auto points = test::mixed_query_points(scene, rng, test::scaled(GetParam().points));
   std::size_t disagreements = 0;
@@ -76,8 +80,7 @@ TEST_P(CollisionAgreement, PointChecksMatchBruteForce) {
 
 TEST_P(CollisionAgreement, SegmentChecksMatchBruteForce) {
   const Scene& scene = scene_for(GetParam().scene);
-  const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds,
-                                 scene.config().robot_radius, scene.pois(), scene.config().sensor_range);
+  const BruteForceGeometry brute = reference_for(scene);
   Rng rng(12);
   const auto segments = test::mixed_query_segments(scene, rng, test::scaled(GetParam().segments));
   const double r = scene.config().robot_radius;
