@@ -86,9 +86,12 @@ class FieldReader {
     return p;
   }
 
+  // Rejects keys outside `known`, and any key given twice (YAML parsers keep just one).
   void reject_unknown(const std::set<std::string>& known) const {
+    std::set<std::string> seen;
     for (const auto& entry : node_) {
       const std::string key = entry.first.as<std::string>();
+      if (!seen.insert(key).second) fail(key, "given twice");
       if (!known.count(key)) {
         std::string list;
         for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;

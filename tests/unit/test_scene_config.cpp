@@ -125,6 +125,8 @@ TEST(SceneConfig, MissingAndUnknownFieldsAreNamed) {
   }
   expect_error(without("mesh"), "mesh");
   expect_error(kValid + "robot_radious: 0.5\n", "robot_radious");
+  expect_error(kValid + "robot_radius: 0.6\n", "robot_radius");  // given twice
+  expect_error(with("bounds", "bounds: {min: [0, 0, 0], max: [1, 1, 1], min: [0, 0, 0]}"), "bounds.min");
 }
 
 TEST(SceneConfig, MalformedYamlNamesTheLine) {
