@@ -24,4 +24,18 @@ struct BenchGeometryOptions {
 };
 int run_bench_geometry(const BenchGeometryOptions& options);
 
+struct BuildOptions {
+  std::string scene;
+  std::string method;
+  std::size_t samples = 1000;
+  std::uint64_t seed = 1;
+  unsigned threads = 1;
+  double p_accept = 0.2;
+  bool verify = false;
+  bool json = false;
+  std::string out;   ///< --out FILE.json: the roadmap (and its dense pair) in full.
+  std::string iris;  ///< --iris PREFIX: IRIS text files PREFIX_vertex, _edge, _conf.
+};
+int run_build(const BuildOptions& options);
+
 }  // namespace ispars::lab

@@ -41,6 +41,24 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000}));
   geometry_cmd->add_option("--seed", geometry.seed, "Seed of the random queries");
 
+  BuildOptions build;
+  auto* build_cmd = app.add_subcommand("build", "Build a roadmap: dense, spars, ispars or irisc");
+  build_cmd->add_option("scene", build.scene, "Scene YAML file")->required();
+  build_cmd->add_option("--method", build.method, "dense | spars | ispars | irisc")
+      ->required()
+      ->check(CLI::IsMember({"dense", "spars", "ispars", "irisc"}));
+  build_cmd->add_option("--samples", build.samples, "Samples to draw (N)")
+      ->check(CLI::Range(std::size_t{0}, std::size_t{100'000'000}));
+  build_cmd->add_option("--seed", build.seed, "Seed of the sample stream");
+  build_cmd->add_option("--threads", build.threads, "Threads for per-sample checks (same roadmap for any count)")
+      ->check(CLI::Range(1u, 64u));
+  build_cmd->add_option("--p-accept", build.p_accept, "IRIS-C: admission probability without new coverage")
+      ->check(CLI::Range(0.0, 1.0));
+  build_cmd->add_flag("--verify", build.verify, "Check validity, costs and the inspection invariant exactly");
+  build_cmd->add_option("--out", build.out, "Write the roadmap (and its dense pair) as JSON");
+  build_cmd->add_option("--iris", build.iris, "Write IRIS text files PREFIX_vertex, PREFIX_edge, PREFIX_conf");
+  build_cmd->add_flag("--json", build.json, "Print one JSON object as the last line of stdout");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -55,6 +73,7 @@ int main(int argc, char** argv) {
   try {
     if (info_cmd->parsed()) return run_scene_info(info);
     if (geometry_cmd->parsed()) return run_bench_geometry(geometry);
+    if (build_cmd->parsed()) return run_build(build);
   } catch (const ispars::InputError& e) {
     std::cerr << "ispars-lab: error: " << e.what() << '\n';
     return 2;

@@ -1,0 +1,57 @@
+#pragma once
+// Incremental roadmap construction: Dense (delta-PRM), SPARS, Inspection-SPARS and IRIS-C.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include "ispars/roadmap.hpp"
+#include "ispars/scene.hpp"
+
+namespace ispars {
+
+enum class BuildMethod { dense, spars, ispars, irisc };
+
+[[nodiscard]] std::string_view to_string(BuildMethod method);
+/// "dense", "spars", "ispars" or "irisc"; nothing for anything else.
+[[nodiscard]] std::optional<BuildMethod> parse_build_method(std::string_view text);
+
+/// Settings of a build that are not scene parameters.
+struct BuildOptions {
+  std::uint64_t seed = 1;
+  /// Threads for the per-sample work that does not depend on the roadmap (point check, chi).
+  /// Any count gives the same roadmap.
+  unsigned threads = 1;
+  /// IRIS-C: probability of admitting a state that adds no new POI (the paper's 0.2).
+  double p_accept = 0.2;
+};
+
+/// A roadmap under construction. extend(a) then extend(b) gives exactly the roadmap that
+/// extend(a + b) gives: the samples come from one seeded stream.
+class RoadmapBuilder {
+ public:
+  virtual ~RoadmapBuilder() = default;
+
+  /// Draws and processes `samples` more samples (a sample may be invalid and be dropped).
+  virtual void extend(std::size_t samples) = 0;
+  /// The method's roadmap: the sparse one for spars and ispars. Vertex 0 is the root.
+  [[nodiscard]] virtual const Roadmap& roadmap() const = 0;
+  /// The paired dense roadmap (spars and ispars), else nullptr.
+  [[nodiscard]] virtual const Roadmap* dense() const { return nullptr; }
+  /// For each vertex of roadmap(), the same sample's vertex in dense() (spars, ispars).
+  [[nodiscard]] virtual std::span<const VertexId> dense_ids() const { return {}; }
+
+  /// Samples drawn so far.
+  [[nodiscard]] std::size_t samples() const { return samples_; }
+
+ protected:
+  std::size_t samples_ = 0;
+};
+
+/// A builder for `method` over `scene` (which must outlive it), holding just the root.
+[[nodiscard]] std::unique_ptr<RoadmapBuilder> make_roadmap_builder(BuildMethod method, const Scene& scene,
+                                                                   const BuildOptions& options);
+
+}  // namespace ispars

@@ -1,0 +1,160 @@
+// `ispars-lab build`: one roadmap, its figures, and optionally the roadmap itself.
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <iostream>
+
+#include "commands.hpp"
+#include "ispars/input_error.hpp"
+#include "ispars/roadmap_builder.hpp"
+#include "ispars/roadmap_verifier.hpp"
+#include "ispars/spars_builder.hpp"
+#include "json_output.hpp"
+#include "timing.hpp"
+
+namespace ispars::lab {
+namespace {
+
+nlohmann::json summary(const Roadmap& g) {
+  return {{"vertices", g.vertex_count()},
+          {"edges", g.edge_count()},
+          {"components", g.component_count()},
+          {"pois_covered", g.covered_pois()},
+          {"pois_covered_root", g.covered_pois_in_component_of(0)}};
+}
+
+nlohmann::json graph_json(const Roadmap& g) {
+  nlohmann::json vertices = nlohmann::json::array();
+  nlohmann::json visible = nlohmann::json::array();
+  nlohmann::json edges = nlohmann::json::array();
+  for (VertexId v = 0; v < g.vertex_count(); ++v) {
+    vertices.push_back(to_json(g.position(v)));
+    visible.push_back(g.visibility_table().ids(v));
+  }
+  for (const RoadmapEdge& e : g.edges()) edges.push_back({e.u, e.v, e.cost});
+  return {{"vertices", std::move(vertices)}, {"visible", std::move(visible)}, {"edges", std::move(edges)}};
+}
+
+void write_file(const std::string& path, const std::string& field, const std::string& text) {
+  std::ofstream out(path);
+  if (!out) throw InputError(path, field, "cannot open for writing");
+  out << text;
+  if (!out) throw InputError(path, field, "write failed");
+}
+
+void write_iris(const std::string& prefix, const Roadmap& g) {
+  std::string vertex;
+  std::string edge;
+  std::string conf;
+  for (VertexId v = 0; v < g.vertex_count(); ++v) {
+    vertex += fmt::format("{} 0 0", v);
+    for (const PoiId p : g.visibility_table().ids(v)) vertex += fmt::format(" {}", p);
+    vertex += '\n';
+    const Vec3& q = g.position(v);
+    conf += fmt::format("{} {} {} {}\n", v, q.x(), q.y(), q.z());
+  }
+  for (const RoadmapEdge& e : g.edges()) edge += fmt::format("{} {} 1 1 0 0 {}\n", e.u, e.v, e.cost);
+  write_file(prefix + "_vertex", "--iris", vertex);
+  write_file(prefix + "_edge", "--iris", edge);
+  write_file(prefix + "_conf", "--iris", conf);
+}
+
+void progress(std::size_t done, std::size_t total, const Roadmap& g, double seconds) {
+  const int width = 30;
+  const int filled = total == 0 ? width : static_cast<int>(width * done / total);
+  std::cerr << fmt::format("\r[{:<{}}] {:3d}% {}/{} samples, {} vertices, {} edges, {:.1f} s",
+                           std::string(static_cast<std::size_t>(filled), '#'), width,
+                           total == 0 ? 100 : static_cast<int>(100 * done / total), done, total,
+                           g.vertex_count(), g.edge_count(), seconds)
+            << std::flush;
+}
+
+}  // namespace
+
+int run_build(const BuildOptions& options) {
+  const Scene scene = Scene::load(options.scene);
+  const BuildMethod method = *parse_build_method(options.method);
+  ispars::BuildOptions build_options;
+  build_options.seed = options.seed;
+  build_options.threads = options.threads;
+  build_options.p_accept = options.p_accept;
+
+  const CheckCounts before = scene.counts();
+  const double t0 = now_seconds();
+  const auto builder = make_roadmap_builder(method, scene, build_options);
+  const bool show_progress = !options.json && ::isatty(STDERR_FILENO);
+  const std::size_t chunk = std::max<std::size_t>(1, options.samples / 100);
+  for (std::size_t done = 0; done < options.samples;) {
+    const std::size_t n = std::min(chunk, options.samples - done);
+    builder->extend(n);
+    done += n;
+    if (show_progress) progress(done, options.samples, builder->roadmap(), now_seconds() - t0);
+  }
+  if (show_progress) std::cerr << '\n';
+  const double seconds = now_seconds() - t0;
+  const CheckCounts checks = scene.counts() - before;
+
+  nlohmann::json out = {{"scene", scene.config().name},
+                        {"method", options.method},
+                        {"samples", options.samples},
+                        {"seed", options.seed},
+                        {"threads", options.threads},
+                        {"seconds", seconds},
+                        {"samples_per_second", seconds > 0 ? static_cast<double>(options.samples) / seconds : 0.0},
+                        {"roadmap", summary(builder->roadmap())},
+                        {"checks", to_json(checks)}};
+  if (const Roadmap* dense = builder->dense()) out["dense"] = summary(*dense);
+  if (const auto* spars = dynamic_cast<const SparsBuilder*>(builder.get())) {
+    const SparsAdmissions& a = spars->admissions();
+    out["admissions"] = {{"guard", a.guard}, {"bridge", a.bridge}, {"interface_edge", a.interface_edge},
+                         {"interface_vertex", a.interface_vertex}, {"inspection", a.inspection},
+                         {"shortcut_edge", a.shortcut_edge}, {"shortcut_path", a.shortcut_path}};
+  }
+  if (options.verify) {
+    const VerificationReport report =
+        builder->dense() != nullptr
+            ? verify_sparse_pair(scene, builder->roadmap(), *builder->dense(), builder->dense_ids())
+            : verify_roadmap(scene, builder->roadmap());
+    out["verification"] = {{"invalid_vertices", report.invalid_vertices}, {"invalid_edges", report.invalid_edges},
+                           {"wrong_costs", report.wrong_costs}, {"sparse_not_dense", report.sparse_not_dense},
+                           {"invariant_vertices", report.invariant_vertices}};
+    out["invariant_violations"] = report.invariant_violations;
+  }
+  if (!options.out.empty()) {
+    nlohmann::json graphs = {{"roadmap", graph_json(builder->roadmap())}};
+    if (const Roadmap* dense = builder->dense()) graphs["dense"] = graph_json(*dense);
+    nlohmann::json pois = nlohmann::json::array();
+    for (const Vec3& p : scene.pois()) pois.push_back(to_json(p));
+    const nlohmann::json file = {{"scene", scene.config().name}, {"root", to_json(scene.config().root)},
+                                 {"pois", std::move(pois)}, {"graphs", std::move(graphs)}};
+    write_file(options.out, "--out", file.dump() + "\n");
+  }
+  if (!options.iris.empty()) write_iris(options.iris, builder->roadmap());
+
+  if (options.json) {
+    std::cout << out.dump() << std::endl;
+    return 0;
+  }
+  const auto line = [](const char* name, const nlohmann::json& s) {
+    return fmt::format("{:<9}{:>8} vertices {:>8} edges {:>5} components, POIs covered {} ({} in the root's component)\n",
+                       name, s["vertices"].get<std::size_t>(), s["edges"].get<std::size_t>(),
+                       s["components"].get<std::size_t>(), s["pois_covered"].get<std::size_t>(),
+                       s["pois_covered_root"].get<std::size_t>());
+  };
+  std::cout << fmt::format("{} on {}: {} samples (seed {}) in {:.2f} s, {:.0f} samples/s\n", options.method,
+                           scene.config().name, options.samples, options.seed, seconds,
+                           out["samples_per_second"].get<double>());
+  std::cout << line("roadmap", out["roadmap"]);
+  if (out.contains("dense")) std::cout << line("dense", out["dense"]);
+  std::cout << fmt::format("checks   {} point, {} segment, {} rays\n", checks.point, checks.segment, checks.rays);
+  if (out.contains("admissions")) std::cout << "admissions " << out["admissions"].dump() << '\n';
+  if (out.contains("verification")) {
+    std::cout << "verification " << out["verification"].dump()
+              << ", invariant violations " << out["invariant_violations"].get<std::uint64_t>() << '\n';
+  }
+  return 0;
+}
+
+}  // namespace ispars::lab
