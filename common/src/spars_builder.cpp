@@ -226,9 +226,12 @@ void SparsBuilder::shortcut_test(VertexId q) {
     // Compare this pair's sparse estimate with this pair's dense route (not another v''s).
     if (!(c.sparse_length > stretch_ * best)) continue;
 
+    ShortcutRecord record{v, c.vp, c.vpp, c.sparse_length, best, false, {}, kNoVertex, kNoVertex};
     if (scene_->segment_valid(sparse_.position(c.vp), sparse_.position(c.vpp))) {
       add_sparse_edge(c.vp, c.vpp);
       ++admissions_.shortcut_edge;
+      record.direct_edge = true;
+      shortcuts_.push_back(std::move(record));
       return;
     }
     // The dense route, extended at each end into the neighbouring visibility regions: it starts
@@ -236,6 +239,8 @@ void SparsBuilder::shortcut_test(VertexId q) {
     std::vector<VertexId> route = search.path_to(q, best_support);
     route.insert(route.begin(), interface_neighbor(q, c.vp));
     route.push_back(interface_neighbor(best_support, c.vpp));
+    record.front_rep = rep_[route.front()];
+    record.back_rep = rep_[route.back()];
     const std::vector<VertexId> kept = smooth(route);
     std::vector<VertexId> added;
     for (const VertexId d : kept) {
@@ -250,6 +255,8 @@ void SparsBuilder::shortcut_test(VertexId q) {
       add_sparse_edge(added.back(), c.vpp);
     }
     ++admissions_.shortcut_path;
+    record.path = std::move(added);
+    shortcuts_.push_back(std::move(record));
     return;
   }
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -44,6 +45,19 @@ std::filesystem::path TempDir::write(const std::string& name, const std::string&
   const auto file = path_ / name;
   std::ofstream(file) << text;
   return file;
+}
+
+std::string fingerprint(const Roadmap& roadmap) {
+  std::ostringstream out;
+  out << std::hexfloat;
+  for (VertexId v = 0; v < roadmap.vertex_count(); ++v) {
+    const Vec3& p = roadmap.position(v);
+    out << 'v' << p.x() << ' ' << p.y() << ' ' << p.z();
+    for (const PoiId id : roadmap.visibility_table().ids(v)) out << ' ' << id;
+    out << '\n';
+  }
+  for (const RoadmapEdge& e : roadmap.edges()) out << 'e' << e.u << ' ' << e.v << ' ' << e.cost << '\n';
+  return out.str();
 }
 
 std::size_t scaled(std::size_t n) {

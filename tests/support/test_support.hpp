@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ispars/random.hpp"
+#include "ispars/roadmap.hpp"
 #include "ispars/scene.hpp"
 
 namespace ispars::test {
@@ -41,6 +42,10 @@ std::size_t scaled(std::size_t n);
 /// Half uniform in the bounds, half within about two robot radii of a random triangle (chosen
 /// by index, so small triangles get their share), clamped into the bounds.
 std::vector<Vec3> mixed_query_points(const Scene& scene, Rng& rng, std::size_t count);
+
+/// Every byte of a roadmap that a build must reproduce: positions as hex floats, chi, edges
+/// with costs, in id order. Two builds are identical exactly when their fingerprints are.
+std::string fingerprint(const Roadmap& roadmap);
 
 struct TestSegment {
   Vec3 a, b;

@@ -24,6 +24,19 @@ struct SparsAdmissions {
   std::uint64_t shortcut_path = 0;     ///< ... or through the smoothed dense path.
 };
 
+/// One application of the shortcut criterion, kept so that tests and reports can check it.
+struct ShortcutRecord {
+  VertexId v = kNoVertex;       ///< rep(q), the sparse vertex whose interfaces are compared.
+  VertexId vp = kNoVertex;      ///< v': the interface q supports.
+  VertexId vpp = kNoVertex;     ///< v'': the other interface of v.
+  double sparse_length = 0.0;   ///< (|v - v'| + |v - v''|) / 2 for this very pair.
+  double dense_length = 0.0;    ///< Shortest dense route from q to a support of v|v''.
+  bool direct_edge = false;     ///< Fixed by the edge v'-v''; otherwise by `path`.
+  std::vector<VertexId> path;   ///< Sparse vertices of the added smoothed route, in order.
+  VertexId front_rep = kNoVertex;  ///< rep of the route's first dense vertex when it was added.
+  VertexId back_rep = kNoVertex;   ///< rep of the route's last dense vertex when it was added.
+};
+
 /// SPARS, with the inspection test of Inspection-SPARS when `inspection_test` is set.
 /// Every sparse vertex is a dense vertex (the same sample); dense_ids() maps one to the other.
 class SparsBuilder final : public RoadmapBuilder {
@@ -39,6 +52,7 @@ class SparsBuilder final : public RoadmapBuilder {
   void step(const PreparedSample& sample);
 
   [[nodiscard]] const SparsAdmissions& admissions() const { return admissions_; }
+  [[nodiscard]] const std::vector<ShortcutRecord>& shortcuts() const { return shortcuts_; }
   /// rep(x) of dense vertex x: its nearest sparse vertex within Delta by a valid segment.
   [[nodiscard]] VertexId representative(VertexId dense_vertex) const { return rep_[dense_vertex]; }
   /// Dense vertices with representative v that have a dense neighbour represented by v2: the
@@ -80,6 +94,7 @@ class SparsBuilder final : public RoadmapBuilder {
   std::vector<std::map<VertexId, std::vector<VertexId>>> supports_;  // per sparse v: v' -> dense ids
 
   SparsAdmissions admissions_;
+  std::vector<ShortcutRecord> shortcuts_;
   std::vector<std::pair<double, std::uint32_t>> nearby_;
   std::vector<VertexId> reachable_;
   std::vector<PreparedSample> batch_;

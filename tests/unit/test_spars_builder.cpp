@@ -1,0 +1,213 @@
+// SPARS and Inspection-SPARS: the invariant, the spanner bookkeeping, and one test per defect
+// that reading OMPL's SPARS.cpp showed (../shared/notes/algorithms.md).
+
+#include <gtest/gtest.h>
+
+#include "ispars/roadmap_verifier.hpp"
+#include "ispars/spars_builder.hpp"
+#include "support/test_support.hpp"
+
+namespace ispars {
+namespace {
+
+struct PairRun {
+  std::string scene;
+  std::size_t samples;
+};
+
+void PrintTo(const PairRun& run, std::ostream* os) { *os << run.scene << " N=" << run.samples; }
+
+class InvariantOnSharedScenes : public ::testing::TestWithParam<PairRun> {};
+
+TEST_P(InvariantOnSharedScenes, InspectionSparsKeepsItAndSparsAloneDoesNot) {
+  const Scene& scene = test::shared_scene(GetParam().scene);
+  for (const std::uint64_t seed : {1, 2}) {
+    BuildOptions options;
+    options.seed = seed;
+    SparsBuilder ispars(scene, options, true);
+    SparsBuilder spars(scene, options, false);
+    ispars.extend(test::scaled(GetParam().samples));
+    spars.extend(test::scaled(GetParam().samples));
+    const auto ri = verify_sparse_pair(scene, ispars.roadmap(), *ispars.dense(), ispars.dense_ids());
+    const auto rs = verify_sparse_pair(scene, spars.roadmap(), *spars.dense(), spars.dense_ids());
+    EXPECT_EQ(ri.invariant_violations, 0u) << "seed " << seed;
+    EXPECT_TRUE(ri.geometry_ok());
+    EXPECT_TRUE(rs.geometry_ok());
+    // The same samples make the same dense roadmap; SPARS alone loses observations.
+    EXPECT_EQ(test::fingerprint(*ispars.dense()), test::fingerprint(*spars.dense()));
+    EXPECT_TRUE(rs.invariant_violations > 0 || spars.roadmap().covered_pois() < spars.dense()->covered_pois())
+        << "seed " << seed;
+    // I(G_s) = I(G_d) follows from the invariant.
+    EXPECT_EQ(ispars.roadmap().covered_pois(), ispars.dense()->covered_pois());
+    EXPECT_GT(ispars.admissions().inspection, 0u);
+    EXPECT_EQ(spars.admissions().inspection, 0u);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, InvariantOnSharedScenes,
+                         ::testing::Values(PairRun{"water_tower", 3000}, PairRun{"truss_bridge", 3000},
+                                           PairRun{"radio_tower", 3000}, PairRun{"powerplant", 3000},
+                                           PairRun{"caric_city", 2500}),
+                         [](const auto& case_info) { return case_info.param.scene; });
+
+TEST(SparsBuilder, EverySparseEdgeCostsItsOwnLengthAndIsValid) {
+  // OMPL defect: sparse edge weights computed from dense states indexed by sparse ids.
+  const Scene& scene = test::shared_scene("truss_bridge");
+  SparsBuilder b(scene, BuildOptions{}, true);
+  b.extend(4000);
+  const Roadmap& g = b.roadmap();
+  for (const RoadmapEdge& e : g.edges()) {
+    ASSERT_EQ(e.cost, (g.position(e.u) - g.position(e.v)).norm());
+    ASSERT_TRUE(scene.segment_valid(g.position(e.u), g.position(e.v)));
+  }
+  for (VertexId s = 0; s < g.vertex_count(); ++s) {
+    ASSERT_EQ(g.position(s), b.dense()->position(b.dense_ids()[s]));  // sparse vertices are samples
+  }
+}
+
+TEST(SparsBuilder, ShortcutPathsJoinTheRepresentativesOfTheirOwnEnds) {
+  // OMPL defect: the path's ends joined to swapped representatives, unchecked.
+  std::size_t paths = 0;
+  for (const std::string name : {"truss_bridge", "radio_tower", "water_tower"}) {
+    const Scene& scene = test::shared_scene(name);
+    for (const std::uint64_t seed : {1, 2, 3}) {
+      BuildOptions options;
+      options.seed = seed;
+      SparsBuilder b(scene, options, false);
+      b.extend(5000);
+      for (const ShortcutRecord& r : b.shortcuts()) {
+        if (r.direct_edge) {
+          EXPECT_TRUE(b.roadmap().has_edge(r.vp, r.vpp));
+          continue;
+        }
+        ++paths;
+        ASSERT_FALSE(r.path.empty());
+        EXPECT_EQ(r.front_rep, r.vp) << "the route starts in v''s region";
+        EXPECT_EQ(r.back_rep, r.vpp) << "the route ends in v'''s region";
+        EXPECT_TRUE(r.path.front() == r.vp || b.roadmap().has_edge(r.path.front(), r.vp));
+        EXPECT_TRUE(r.path.back() == r.vpp || b.roadmap().has_edge(r.path.back(), r.vpp));
+      }
+      EXPECT_TRUE(verify_roadmap(scene, b.roadmap()).geometry_ok());
+    }
+  }
+  EXPECT_GT(paths, 0u) << "no shortcut path was added: the test would prove nothing";
+}
+
+TEST(SparsBuilder, EachShortcutComparesOnePairsOwnLengths) {
+  // OMPL defect: the sparse estimate for one v'' compared with the dense length of another.
+  const Scene& scene = test::shared_scene("radio_tower");
+  SparsBuilder b(scene, BuildOptions{}, true);
+  b.extend(5000);
+  ASSERT_FALSE(b.shortcuts().empty());
+  const Roadmap& g = b.roadmap();
+  for (const ShortcutRecord& r : b.shortcuts()) {
+    const double expected =
+        0.5 * ((g.position(r.vp) - g.position(r.v)).norm() + (g.position(r.vpp) - g.position(r.v)).norm());
+    EXPECT_EQ(r.sparse_length, expected);
+    EXPECT_GT(r.sparse_length, scene.config().stretch * r.dense_length);
+    EXPECT_NE(r.vp, r.vpp);
+  }
+}
+
+// A scene with a single far tile: free space everywhere the tests place samples.
+Scene open_scene(double delta, double big_delta) {
+  TriangleMesh mesh;
+  mesh.vertices = {{40, 40, 40}, {41, 40, 40}, {40, 41, 40}};
+  mesh.triangles = {{0, 1, 2}};
+  SceneConfig c;
+  c.source = "test";
+  c.bounds = {Vec3(-50, -50, -50), Vec3(50, 50, 50)};
+  c.robot_radius = 0.1;
+  c.sensor_range = 1;
+  c.dense_delta = delta;
+  c.sparse_delta = big_delta;
+  c.stretch = 1.05;
+  c.root = Vec3(0, 0, 0);
+  c.pois = PoiSource{3, 1, false, {}};
+  return Scene::build(c, mesh);
+}
+
+PreparedSample valid_at(const Vec3& q) { return PreparedSample{q, true, {}}; }
+
+TEST(SparsBuilder, RadiiAreInclusiveEverywhere) {
+  // OMPL defect: <= and < mixed for delta. Here: exactly delta apart is an edge, exactly Delta
+  // away is reachable (so no guard is added).
+  const Scene scene = open_scene(2.0, 3.0);
+  SparsBuilder b(scene, BuildOptions{}, false);
+  b.step(valid_at(Vec3(2, 0, 0)));   // exactly delta from the root
+  EXPECT_TRUE(b.dense()->has_edge(0, 1));
+  EXPECT_EQ(b.roadmap().vertex_count(), 1u) << "within Delta of the root: not a guard";
+  EXPECT_EQ(b.representative(1), 0u);
+  b.step(valid_at(Vec3(-3, 0, 0)));  // exactly Delta from the root
+  EXPECT_EQ(b.roadmap().vertex_count(), 1u);
+  EXPECT_EQ(b.representative(2), 0u);
+  b.step(valid_at(Vec3(0, 3.000001, 0)));  // just beyond Delta: a guard
+  EXPECT_EQ(b.roadmap().vertex_count(), 2u);
+  EXPECT_EQ(b.admissions().guard, 1u);
+}
+
+TEST(SparsBuilder, GuardBridgeAndInterfaceByHand) {
+  const Scene scene = open_scene(2.0, 3.0);
+  SparsBuilder b(scene, BuildOptions{}, false);
+  b.step(valid_at(Vec3(5, 0, 0)));  // beyond Delta of the root: guard g1
+  ASSERT_EQ(b.roadmap().vertex_count(), 2u);
+  EXPECT_FALSE(b.roadmap().same_component(0, 1));
+  b.step(valid_at(Vec3(2.5, 1.5, 0)));  // 2.92 from the root and from g1, two components: bridge
+  EXPECT_EQ(b.admissions().bridge, 1u);
+  ASSERT_EQ(b.roadmap().vertex_count(), 3u);
+  EXPECT_TRUE(b.roadmap().same_component(0, 1));
+  EXPECT_TRUE(b.roadmap().has_edge(2, 0));
+  EXPECT_TRUE(b.roadmap().has_edge(2, 1));
+  // A sample whose two nearest sparse vertices are the root and the bridge, already adjacent:
+  // no interface. Then one 2.92 from the root and g1 but 3.0 from the bridge: its two nearest
+  // are the root and g1, connected through the bridge but not adjacent, in view of each
+  // other: the interface edge root-g1 appears.
+  b.step(valid_at(Vec3(1.2, 0.3, 0)));
+  EXPECT_EQ(b.admissions().interface_edge, 0u);
+  b.step(valid_at(Vec3(2.5, -1.5, 0)));
+  EXPECT_EQ(b.admissions().interface_edge, 1u);
+  EXPECT_TRUE(b.roadmap().has_edge(0, 1));
+  EXPECT_TRUE(verify_roadmap(scene, b.roadmap()).geometry_ok());
+}
+
+TEST(SparsBuilder, InterfaceSupportsAreConsistentWithRepresentatives) {
+  const Scene& scene = test::shared_scene("water_tower");
+  SparsBuilder b(scene, BuildOptions{}, true);
+  b.extend(3000);
+  const Roadmap& dense = *b.dense();
+  const Roadmap& sparse = b.roadmap();
+  // Recompute every support from scratch and compare with what was kept incrementally.
+  for (VertexId v = 0; v < sparse.vertex_count(); ++v) {
+    for (VertexId v2 = 0; v2 < sparse.vertex_count(); ++v2) {
+      if (v == v2) continue;
+      std::vector<VertexId> expected;
+      for (VertexId x = 0; x < dense.vertex_count(); ++x) {
+        if (b.representative(x) != v) continue;
+        for (const Neighbor& n : dense.neighbors(x)) {
+          if (b.representative(n.vertex) == v2) {
+            expected.push_back(x);
+            break;
+          }
+        }
+      }
+      ASSERT_EQ(b.interface_supports(v, v2), expected) << v << "|" << v2;
+    }
+  }
+  // And every representative is the nearest sparse vertex within Delta in view.
+  for (VertexId x = 0; x < dense.vertex_count(); x += 7) {
+    VertexId best = kNoVertex;
+    double best_d = INFINITY;
+    for (VertexId s = 0; s < sparse.vertex_count(); ++s) {
+      const double d = (sparse.position(s) - dense.position(x)).norm();
+      if (d <= scene.config().sparse_delta && d < best_d &&
+          (d == 0.0 || scene.segment_valid(sparse.position(s), dense.position(x)))) {
+        best = s;
+        best_d = d;
+      }
+    }
+    ASSERT_EQ(b.representative(x), best) << "dense vertex " << x;
+  }
+}
+
+}  // namespace
+}  // namespace ispars
