@@ -168,3 +168,85 @@ TEST_F(LabCli, UsageErrorsExitTwo) {
 }
 
 }  // namespace
+
+namespace {
+
+class LabBuild : public LabCli {};
+
+TEST_F(LabBuild, JsonHasTheContractFields) {
+  const LabRun run = lab(std::string("build ") + ISPARS_SCENES_DIR +
+                         "/water_tower.yaml --method ispars --samples 1500 --seed 2 --verify --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  EXPECT_EQ(json["method"], "ispars");
+  EXPECT_EQ(json["samples"], 1500);
+  EXPECT_EQ(json["seed"], 2);
+  EXPECT_GT(json["seconds"].get<double>(), 0.0);
+  for (const char* graph : {"roadmap", "dense"}) {
+    for (const char* key : {"vertices", "edges", "pois_covered", "pois_covered_root"}) {
+      EXPECT_TRUE(json[graph].contains(key)) << graph << "." << key;
+    }
+  }
+  EXPECT_LT(json["roadmap"]["vertices"].get<int>(), json["dense"]["vertices"].get<int>());
+  EXPECT_GT(json["checks"]["segment"].get<int>(), 0);
+  EXPECT_EQ(json["invariant_violations"], 0);
+}
+
+TEST_F(LabBuild, OutFilesAreByteIdenticalAcrossRunsAndThreadCounts) {
+  const std::string base = std::string("build ") + ISPARS_SCENES_DIR + "/truss_bridge.yaml --method ispars --samples 2000 --seed 9 ";
+  ASSERT_EQ(lab(base + "--threads 1 --out " + (dir_ / "a.json").string()).exit_code, 0);
+  ASSERT_EQ(lab(base + "--threads 2 --out " + (dir_ / "b.json").string()).exit_code, 0);
+  ASSERT_EQ(lab(base + "--threads 1 --out " + (dir_ / "c.json").string()).exit_code, 0);
+  const std::string a = slurp(dir_ / "a.json");
+  EXPECT_EQ(a, slurp(dir_ / "b.json"));
+  EXPECT_EQ(a, slurp(dir_ / "c.json"));
+  const auto json = nlohmann::json::parse(a);
+  EXPECT_EQ(json["pois"].size(), 300u);
+  EXPECT_EQ(json["root"], nlohmann::json::array({0, -12, 1.5}));
+  const auto& g = json["graphs"]["roadmap"];
+  EXPECT_EQ(g["vertices"].size(), g["visible"].size());
+  EXPECT_EQ(g["vertices"][0], json["root"]);
+  EXPECT_TRUE(json["graphs"].contains("dense"));
+  for (const auto& e : g["edges"]) EXPECT_LT(e[0].get<std::size_t>(), g["vertices"].size());
+}
+
+TEST_F(LabBuild, IrisFilesFollowTheIrisFormat) {
+  const std::string prefix = (dir_ / "wt").string();
+  ASSERT_EQ(lab(std::string("build ") + ISPARS_SCENES_DIR + "/water_tower.yaml --method irisc --samples 800 --iris " +
+                prefix).exit_code, 0);
+  std::istringstream vertex(slurp(prefix + "_vertex"));
+  std::istringstream edge(slurp(prefix + "_edge"));
+  std::istringstream conf(slurp(prefix + "_conf"));
+  std::string line;
+  int vertices = 0;
+  while (std::getline(vertex, line)) {
+    std::istringstream f(line);
+    int index = -1, time_vis = -1, time_build = -1;
+    ASSERT_TRUE(f >> index >> time_vis >> time_build) << line;
+    EXPECT_EQ(index, vertices++);
+  }
+  int confs = 0;
+  while (std::getline(conf, line)) ++confs;
+  EXPECT_EQ(confs, vertices);
+  while (std::getline(edge, line)) {
+    std::istringstream f(line);
+    int u = -1, v = -1, checked = 0, valid = 0;
+    double t1 = 0, t2 = 0, cost = -1;
+    ASSERT_TRUE(f >> u >> v >> checked >> valid >> t1 >> t2 >> cost) << line;
+    EXPECT_LT(u, vertices);
+    EXPECT_LT(v, vertices);
+    EXPECT_EQ(valid, 1);
+    EXPECT_GT(cost, 0.0);
+  }
+}
+
+TEST_F(LabBuild, BadArgumentsAreNamed) {
+  const std::string scene = std::string(ISPARS_SCENES_DIR) + "/water_tower.yaml";
+  EXPECT_EQ(lab("build " + scene + " --method prm --samples 10").exit_code, 2);
+  EXPECT_EQ(lab("build " + scene + " --samples 10").exit_code, 2);  // --method is required
+  EXPECT_EQ(lab("build " + scene + " --method dense --samples -5").exit_code, 2);
+  const LabRun run = lab("build " + scene + " --method dense --samples 10 --out /nonexistent/dir/x.json");
+  expect_input_error(run, "/nonexistent/dir/x.json", "--out");
+}
+
+}  // namespace
