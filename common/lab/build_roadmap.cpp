@@ -73,7 +73,7 @@ void progress(std::size_t done, std::size_t total, const Roadmap& g, double seco
 
 }  // namespace
 
-int run_build(const BuildOptions& options) {
+int run_build(const BuildCommandOptions& options) {
   const Scene scene = Scene::load(options.scene);
   const BuildMethod method = *parse_build_method(options.method);
   ispars::BuildOptions build_options;

@@ -24,7 +24,7 @@ struct BenchGeometryOptions {
 };
 int run_bench_geometry(const BenchGeometryOptions& options);
 
-struct BuildOptions {
+struct BuildCommandOptions {
   std::string scene;
   std::string method;
   std::size_t samples = 1000;
@@ -36,6 +36,26 @@ struct BuildOptions {
   std::string out;   ///< --out FILE.json: the roadmap (and its dense pair) in full.
   std::string iris;  ///< --iris PREFIX: IRIS text files PREFIX_vertex, _edge, _conf.
 };
-int run_build(const BuildOptions& options);
+int run_build(const BuildCommandOptions& options);
+
+struct ExperimentOptions {
+  std::string scenes_dir = ISPARS_DEFAULT_SCENES_DIR;
+  std::uint64_t seeds = 6;
+  unsigned threads = 2;
+  bool json = false;
+  // scaling
+  std::string scene = "water_tower";
+  std::size_t max_samples = 20'000;
+  std::size_t pois = 100;
+  double delta = 0.0;  ///< 0: calibrate to the paper's density (water tower: degree 7.36 at N = 4000)
+  std::string csv;
+  std::string png;
+  // spanner
+  std::size_t samples = 4000;
+  std::size_t pairs = 1000;
+};
+int run_experiment_table(const ExperimentOptions& options);
+int run_experiment_scaling(const ExperimentOptions& options);
+int run_experiment_spanner(const ExperimentOptions& options);
 
 }  // namespace ispars::lab

@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000}));
   geometry_cmd->add_option("--seed", geometry.seed, "Seed of the random queries");
 
-  BuildOptions build;
+  BuildCommandOptions build;
   auto* build_cmd = app.add_subcommand("build", "Build a roadmap: dense, spars, ispars or irisc");
   build_cmd->add_option("scene", build.scene, "Scene YAML file")->required();
   build_cmd->add_option("--method", build.method, "dense | spars | ispars | irisc")
@@ -59,6 +59,34 @@ int main(int argc, char** argv) {
   build_cmd->add_option("--iris", build.iris, "Write IRIS text files PREFIX_vertex, PREFIX_edge, PREFIX_conf");
   build_cmd->add_flag("--json", build.json, "Print one JSON object as the last line of stdout");
 
+  auto* experiment = app.add_subcommand("experiment", "Reproduce the paper's experiments")->require_subcommand(1);
+  ExperimentOptions exp;
+  const auto common = [&](CLI::App* cmd) {
+    cmd->add_option("--scenes", exp.scenes_dir, "Directory of the scene YAML files");
+    cmd->add_option("--threads", exp.threads, "Threads per build")->check(CLI::Range(1u, 64u));
+    cmd->add_flag("--json", exp.json, "Print one JSON object as the last line of stdout");
+  };
+  auto* table_cmd = experiment->add_subcommand("table", "Table II: |V|, |E|, coverage over seeds, three scenes");
+  common(table_cmd);
+  table_cmd->add_option("--seeds", exp.seeds, "Seeds 1..S")->check(CLI::Range(1, 1000));
+  auto* scaling_cmd = experiment->add_subcommand("scaling", "Fig. 5: |V|, |E|, coverage, checks against N");
+  common(scaling_cmd);
+  scaling_cmd->add_option("--scene", exp.scene, "Scene name in --scenes");
+  scaling_cmd->add_option("--seeds", exp.seeds, "Seeds 1..S")->check(CLI::Range(1, 1000));
+  scaling_cmd->add_option("--max-samples", exp.max_samples, "Largest N")->check(CLI::Range(250, 100'000'000));
+  scaling_cmd->add_option("--pois", exp.pois, "K")->check(CLI::Range(1, 10'000'000));
+  scaling_cmd->add_option("--delta", exp.delta, "delta (0: calibrate to the paper's density)")->check(CLI::Range(0.0, 1e6));
+  scaling_cmd->add_option("--csv", exp.csv, "Write per-seed rows here (and means to FILE.summary)");
+  scaling_cmd->add_option("--png", exp.png, "Write the plot here (gnuplot)");
+  auto* spanner_cmd = experiment->add_subcommand("spanner", "Path quality: sparse vs dense routes on random pairs");
+  common(spanner_cmd);
+  spanner_cmd->add_option("--scene", exp.scene, "Scene name in --scenes");
+  spanner_cmd->add_option("--samples", exp.samples, "N")->check(CLI::Range(1, 100'000'000));
+  spanner_cmd->add_option("--pairs", exp.pairs, "Random pairs of dense vertices")->check(CLI::Range(1, 10'000'000));
+  spanner_cmd->add_option("--pois", exp.pois, "K")->check(CLI::Range(1, 10'000'000));
+  spanner_cmd->add_option("--delta", exp.delta, "delta (0: the scene's)")->check(CLI::Range(0.0, 1e6));
+  spanner_cmd->add_option("--seed", exp.seeds, "Seed of the pairs");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -74,6 +102,15 @@ int main(int argc, char** argv) {
     if (info_cmd->parsed()) return run_scene_info(info);
     if (geometry_cmd->parsed()) return run_bench_geometry(geometry);
     if (build_cmd->parsed()) return run_build(build);
+    if (table_cmd->parsed()) return run_experiment_table(exp);
+    if (scaling_cmd->parsed()) {
+      if (exp.seeds == 6) exp.seeds = 10;  // the paper's Fig. 5 uses ten seeds
+      return run_experiment_scaling(exp);
+    }
+    if (spanner_cmd->parsed()) {
+      if (exp.seeds == 6) exp.seeds = 1;
+      return run_experiment_spanner(exp);
+    }
   } catch (const ispars::InputError& e) {
     std::cerr << "ispars-lab: error: " << e.what() << '\n';
     return 2;

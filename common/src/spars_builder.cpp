@@ -190,13 +190,14 @@ void SparsBuilder::shortcut_test(VertexId q) {
     VertexId vp;
     VertexId vpp;
     double sparse_length;
+    double dense_length = INFINITY;      // shortest dense route from q to a support of v|v''
+    VertexId support = kNoVertex;        // that support
   };
   std::vector<Candidate> candidates;
   std::vector<VertexId> around_v;
   for (const Neighbor& n : sparse_.neighbors(v)) around_v.push_back(n.vertex);
   std::sort(around_v.begin(), around_v.end());
   const Vec3& pv = sparse_.position(v);
-  double longest = 0.0;
   for (const VertexId vp : partners_[q]) {
     for (const VertexId vpp : around_v) {
       if (vpp == vp || sparse_.has_edge(vp, vpp)) continue;
@@ -204,29 +205,45 @@ void SparsBuilder::shortcut_test(VertexId q) {
       if (it == supports_[v].end() || it->second.empty()) continue;
       const double length = 0.5 * ((sparse_.position(vp) - pv).norm() + (sparse_.position(vpp) - pv).norm());
       candidates.push_back({vp, vpp, length});
-      longest = std::max(longest, length);
     }
   }
   if (candidates.empty()) return;
 
-  // One bounded search from q serves every candidate: only dense routes shorter than
-  // sparse_length / t can violate the stretch.
-  BoundedDijkstra search;
-  search.run(dense_.graph(), q, longest / stretch_);
-  for (const Candidate& c : candidates) {
-    double best = INFINITY;
-    VertexId best_support = kNoVertex;
-    for (const VertexId support : supports_[v].at(c.vpp)) {
-      const auto it = search.distance.find(support);
-      if (it != search.distance.end() && it->second < best) {
-        best = it->second;
-        best_support = support;
+  // One Dijkstra from q serves every candidate. A dense vertex x supports v|v'' when rep(x) = v
+  // and v'' is among its partners; the first support settled is the nearest (ties: lowest id).
+  // Only routes shorter than sparse_length / t can violate the stretch, so the search stops
+  // once no pending candidate could still be violated, or none is pending.
+  std::size_t pending = candidates.size();
+  const auto pending_bound = [&] {
+    double bound = 0.0;
+    for (const Candidate& c : candidates) {
+      if (c.support == kNoVertex) bound = std::max(bound, c.sparse_length / stretch_);
+    }
+    return bound;
+  };
+  double bound = pending_bound();
+  search_.start(dense_.graph().vertex_count(), q);
+  while (pending > 0) {
+    const auto [d, x] = search_.settle_next(dense_.graph(), bound);
+    if (x == kNoVertex) break;
+    if (rep_[x] != v) continue;
+    bool resolved = false;
+    for (Candidate& c : candidates) {
+      if (c.support == kNoVertex && std::binary_search(partners_[x].begin(), partners_[x].end(), c.vpp)) {
+        c.dense_length = d;
+        c.support = x;
+        --pending;
+        resolved = true;
       }
     }
-    // Compare this pair's sparse estimate with this pair's dense route (not another v''s).
-    if (!(c.sparse_length > stretch_ * best)) continue;
+    if (resolved) bound = pending_bound();
+  }
 
-    ShortcutRecord record{v, c.vp, c.vpp, c.sparse_length, best, false, {}, kNoVertex, kNoVertex};
+  for (const Candidate& c : candidates) {
+    // This pair's sparse estimate against this pair's dense route (never another v''s).
+    if (!(c.sparse_length > stretch_ * c.dense_length)) continue;
+
+    ShortcutRecord record{v, c.vp, c.vpp, c.sparse_length, c.dense_length, false, {}, kNoVertex, kNoVertex};
     if (scene_->segment_valid(sparse_.position(c.vp), sparse_.position(c.vpp))) {
       add_sparse_edge(c.vp, c.vpp);
       ++admissions_.shortcut_edge;
@@ -236,9 +253,9 @@ void SparsBuilder::shortcut_test(VertexId q) {
     }
     // The dense route, extended at each end into the neighbouring visibility regions: it starts
     // at a dense vertex represented by v' and ends at one represented by v''.
-    std::vector<VertexId> route = search.path_to(q, best_support);
+    std::vector<VertexId> route = search_.path_to(q, c.support);
     route.insert(route.begin(), interface_neighbor(q, c.vp));
-    route.push_back(interface_neighbor(best_support, c.vpp));
+    route.push_back(interface_neighbor(c.support, c.vpp));
     record.front_rep = rep_[route.front()];
     record.back_rep = rep_[route.back()];
     const std::vector<VertexId> kept = smooth(route);

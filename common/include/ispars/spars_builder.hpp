@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ispars/delta_prm.hpp"
+#include "ispars/dense_search.hpp"
 #include "ispars/roadmap_builder.hpp"
 #include "ispars/sample_batch.hpp"
 
@@ -98,6 +99,7 @@ class SparsBuilder final : public RoadmapBuilder {
   std::vector<std::pair<double, std::uint32_t>> nearby_;
   std::vector<VertexId> reachable_;
   std::vector<PreparedSample> batch_;
+  DenseSearch search_;
 };
 
 }  // namespace ispars

@@ -1,0 +1,44 @@
+#pragma once
+// Shared pieces of the lab's experiments: scene variants, calibration, repeated builds, stats.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "ispars/roadmap_builder.hpp"
+#include "ispars/scene.hpp"
+
+namespace ispars::lab {
+
+/// Mean and sample standard deviation.
+struct MeanSd {
+  double mean = 0.0;
+  double sd = 0.0;
+};
+[[nodiscard]] MeanSd mean_sd(const std::vector<double>& values);
+
+/// The scene's config with K POIs drawn from `poi_seed`, and delta (Delta = 1.5 delta) when
+/// `delta` > 0.
+[[nodiscard]] SceneConfig scene_variant(const SceneConfig& base, std::size_t pois, std::uint64_t poi_seed,
+                                        double delta);
+
+/// Mean degree 2|E|/|V| of the dense roadmap after N samples (seed 1).
+[[nodiscard]] double dense_mean_degree(const Scene& scene, std::size_t samples, unsigned threads);
+
+/// The delta whose dense roadmap at N samples has the target mean degree (bisection on a
+/// monotone curve, to 0.5% in degree), with Delta = 1.5 delta.
+[[nodiscard]] double calibrate_delta(const SceneConfig& base, std::size_t samples, double target_degree,
+                                     unsigned threads);
+
+/// Figures of one finished build.
+struct RunFigures {
+  std::size_t vertices = 0, edges = 0, covered = 0, covered_root = 0;
+  std::size_t dense_vertices = 0, dense_edges = 0, dense_covered = 0, dense_covered_root = 0;
+  CheckCounts checks;
+  double seconds = 0.0;
+};
+[[nodiscard]] RunFigures figures_of(const RoadmapBuilder& builder, const CheckCounts& checks, double seconds);
+
+}  // namespace ispars::lab

@@ -1,0 +1,127 @@
+// `ispars-lab experiment table`: the paper's Table II (|V|, |E|, covered POIs; mean +- sd over
+// seeds) for Dense, SPARS, Inspection-SPARS and IRIS-C, at physical scale and calibrated.
+
+#include <fmt/format.h>
+
+#include <map>
+
+#include <iostream>
+
+#include "commands.hpp"
+#include "experiment_support.hpp"
+#include "ispars/roadmap_verifier.hpp"
+#include "json_output.hpp"
+#include "timing.hpp"
+
+namespace ispars::lab {
+namespace {
+
+struct PaperRow {
+  const char* method;
+  const char* vertices;
+  const char* edges;
+  const char* covered;
+};
+
+struct TableScene {
+  const char* name;
+  std::size_t samples;
+  std::size_t pois;
+  double paper_degree;  // 2|E|/|V| of the paper's Dense roadmap
+  std::vector<PaperRow> paper;
+};
+
+const std::vector<TableScene>& table_scenes() {
+  static const std::vector<TableScene> scenes{
+      {"water_tower", 4000, 100, 2.0 * 14474 / 3933,
+       {{"dense", "3933 +- 17", "14474 +- 198", "73.8 +- 4.1"},
+        {"ispars", "476 +- 10", "2086 +- 14", "76.2 +- 3.6"},
+        {"irisc", "843 +- 24", "3168 +- 165", "70.8 +- 3.2"}}},
+      {"truss_bridge", 5000, 500, 2.0 * 27508 / 4955,
+       {{"dense", "4955 +- 11", "27508 +- 457", "404.2 +- 6.1"},
+        {"ispars", "875 +- 18", "3589 +- 42", "404.8 +- 6.1"},
+        {"irisc", "1199 +- 28", "3935 +- 103", "381.7 +- 23.0"}}},
+      {"caric_city", 7000, 500, 2.0 * 16891 / 6391,
+       {{"dense", "6391 +- 40", "16891 +- 281", "225.5 +- 11.6"},
+        {"ispars", "1425 +- 29", "3165 +- 61", "249.8 +- 8.7"},
+        {"irisc", "1462 +- 48", "3101 +- 224", "192.7 +- 5.0"}}},
+  };
+  return scenes;
+}
+
+std::string cell(const std::vector<double>& values, int decimals) {
+  const MeanSd m = mean_sd(values);
+  return fmt::format("{:.{}f} +- {:.{}f}", m.mean, decimals, m.sd, decimals);
+}
+
+}  // namespace
+
+int run_experiment_table(const ExperimentOptions& options) {
+  const std::vector<BuildMethod> methods{BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars,
+                                         BuildMethod::irisc};
+  nlohmann::json results = nlohmann::json::array();
+  std::cout << fmt::format("# Table II, reproduced ({} seeds; command: ispars-lab experiment table --seeds {})\n\n",
+                           options.seeds, options.seeds);
+  for (const TableScene& ts : table_scenes()) {
+    const SceneConfig base = parse_scene_config(options.scenes_dir + "/" + ts.name + ".yaml");
+    const double calibrated = calibrate_delta(base, ts.samples, ts.paper_degree, options.threads);
+    std::cout << fmt::format("## {} (N = {}, K = {})\n\n", ts.name, ts.samples, ts.pois);
+    std::cout << fmt::format(
+        "Parameter sets: physical delta = {:.3f}, Delta = {:.3f} (deploy/scenes); calibrated delta = {:.3f}, "
+        "Delta = {:.3f} (dense mean degree {:.2f} at N = {}, seed 1, as in the paper). t = {}.\n\n",
+        base.dense_delta, base.sparse_delta, calibrated, 1.5 * calibrated, ts.paper_degree, ts.samples,
+        base.stretch);
+    std::cout << "| parameters | method | \\|V\\| | \\|E\\| | covered POIs (root component) | covered POIs (all) "
+                 "| invariant violations | seconds |\n|---|---|---|---|---|---|---|---|\n";
+    for (const auto& [label, delta] : {std::pair<const char*, double>{"physical", base.dense_delta},
+                                       std::pair<const char*, double>{"calibrated", calibrated}}) {
+      std::map<BuildMethod, std::vector<RunFigures>> runs;
+      std::map<BuildMethod, std::vector<double>> violations;
+      for (std::uint64_t seed = 1; seed <= options.seeds; ++seed) {
+        const Scene scene = Scene::build(scene_variant(base, ts.pois, seed, delta));
+        for (const BuildMethod m : methods) {
+          BuildOptions build;
+          build.seed = seed;
+          build.threads = options.threads;
+          const CheckCounts before = scene.counts();
+          const double t0 = now_seconds();
+          const auto builder = make_roadmap_builder(m, scene, build);
+          builder->extend(ts.samples);
+          runs[m].push_back(figures_of(*builder, scene.counts() - before, now_seconds() - t0));
+          if (builder->dense() != nullptr) {
+            violations[m].push_back(static_cast<double>(
+                verify_sparse_pair(scene, builder->roadmap(), *builder->dense(), builder->dense_ids())
+                    .invariant_violations));
+          }
+        }
+      }
+      for (const BuildMethod m : methods) {
+        std::vector<double> v, e, root, all, secs;
+        for (const RunFigures& f : runs[m]) {
+          v.push_back(static_cast<double>(f.vertices));
+          e.push_back(static_cast<double>(f.edges));
+          root.push_back(static_cast<double>(f.covered_root));
+          all.push_back(static_cast<double>(f.covered));
+          secs.push_back(f.seconds);
+        }
+        const std::string viol = violations.count(m) ? cell(violations[m], 1) : "-";
+        std::cout << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.2f} |\n", label, to_string(m), cell(v, 0),
+                                 cell(e, 0), cell(root, 1), cell(all, 1), viol, mean_sd(secs).mean);
+        results.push_back({{"scene", ts.name}, {"parameters", label}, {"delta", delta}, {"method", to_string(m)},
+                           {"samples", ts.samples}, {"pois", ts.pois}, {"vertices", v}, {"edges", e},
+                           {"covered_root", root}, {"covered", all},
+                           {"invariant_violations", violations.count(m) ? nlohmann::json(violations[m]) : nlohmann::json()},
+                           {"seconds", secs}});
+      }
+    }
+    for (const PaperRow& row : ts.paper) {
+      std::cout << fmt::format("| paper | {} | {} | {} | {} | - | - | - |\n", row.method, row.vertices, row.edges,
+                               row.covered);
+    }
+    std::cout << '\n';
+  }
+  if (options.json) std::cout << nlohmann::json{{"table", results}}.dump() << std::endl;
+  return 0;
+}
+
+}  // namespace ispars::lab
