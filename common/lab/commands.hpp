@@ -38,6 +38,17 @@ struct BuildCommandOptions {
 };
 int run_build(const BuildCommandOptions& options);
 
+struct BenchBuildOptions {
+  std::string scene;
+  std::string method = "ispars";
+  std::size_t samples = 20'000;
+  std::size_t checkpoints = 10;
+  std::uint64_t seed = 1;
+  unsigned threads = 1;
+  bool json = false;
+};
+int run_bench_build(const BenchBuildOptions& options);
+
 struct ExperimentOptions {
   std::string scenes_dir = ISPARS_DEFAULT_SCENES_DIR;
   std::uint64_t seeds = 6;

@@ -28,6 +28,7 @@ void write_plot(const std::string& data, const std::string& png, const std::stri
   const std::string script_path = png + ".gnuplot";
   std::ofstream script(script_path);
   script << "set terminal pngcairo size 1400,1000 font 'Sans,11'\n"
+         << "set termoption noenhanced\n"
          << "set output '" << png << "'\n"
          << "set multiplot layout 2,2 title '" << title << "'\n"
          << "set logscale x\nset key left top\nset grid\nset xlabel 'samples N'\n";

@@ -41,6 +41,17 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000}));
   geometry_cmd->add_option("--seed", geometry.seed, "Seed of the random queries");
 
+  BenchBuildOptions bench_build;
+  auto* bench_build_cmd = bench->add_subcommand("build", "Construction time, checks per sample and peak memory against N");
+  bench_build_cmd->add_option("scene", bench_build.scene, "Scene YAML file")->required();
+  bench_build_cmd->add_option("--method", bench_build.method, "dense | spars | ispars | irisc")
+      ->check(CLI::IsMember({"dense", "spars", "ispars", "irisc"}));
+  bench_build_cmd->add_option("--samples", bench_build.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
+  bench_build_cmd->add_option("--checkpoints", bench_build.checkpoints, "Report rows")->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
+  bench_build_cmd->add_option("--seed", bench_build.seed, "Seed");
+  bench_build_cmd->add_option("--threads", bench_build.threads, "Threads")->check(CLI::Range(1u, 64u));
+  bench_build_cmd->add_flag("--json", bench_build.json, "Print one JSON object as the last line of stdout");
+
   BuildCommandOptions build;
   auto* build_cmd = app.add_subcommand("build", "Build a roadmap: dense, spars, ispars or irisc");
   build_cmd->add_option("scene", build.scene, "Scene YAML file")->required();
@@ -102,6 +113,7 @@ int main(int argc, char** argv) {
     if (info_cmd->parsed()) return run_scene_info(info);
     if (geometry_cmd->parsed()) return run_bench_geometry(geometry);
     if (build_cmd->parsed()) return run_build(build);
+    if (bench_build_cmd->parsed()) return run_bench_build(bench_build);
     if (table_cmd->parsed()) return run_experiment_table(exp);
     if (scaling_cmd->parsed()) {
       if (exp.seeds == 6) exp.seeds = 10;  // the paper's Fig. 5 uses ten seeds

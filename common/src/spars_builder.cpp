@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <queue>
-#include <unordered_map>
 
 namespace ispars {
 namespace {
@@ -19,41 +17,6 @@ void erase_sorted(std::vector<VertexId>& list, VertexId x) {
   const auto it = std::lower_bound(list.begin(), list.end(), x);
   if (it != list.end() && *it == x) list.erase(it);
 }
-
-// Shortest paths from `source` over `graph`, exploring only distances below `bound`.
-struct BoundedDijkstra {
-  std::unordered_map<VertexId, double> distance;
-  std::unordered_map<VertexId, VertexId> parent;
-
-  void run(const Roadmap& graph, VertexId source, double bound) {
-    using Entry = std::pair<double, VertexId>;
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
-    distance[source] = 0.0;
-    open.emplace(0.0, source);
-    while (!open.empty()) {
-      const auto [d, u] = open.top();
-      open.pop();
-      if (d > distance[u]) continue;
-      for (const Neighbor& n : graph.neighbors(u)) {
-        const double nd = d + n.cost;
-        if (nd >= bound) continue;
-        const auto it = distance.find(n.vertex);
-        if (it == distance.end() || nd < it->second) {
-          distance[n.vertex] = nd;
-          parent[n.vertex] = u;
-          open.emplace(nd, n.vertex);
-        }
-      }
-    }
-  }
-
-  [[nodiscard]] std::vector<VertexId> path_to(VertexId source, VertexId target) const {
-    std::vector<VertexId> path{target};
-    while (path.back() != source) path.push_back(parent.at(path.back()));
-    std::reverse(path.begin(), path.end());
-    return path;
-  }
-};
 
 }  // namespace
 
@@ -107,8 +70,11 @@ void SparsBuilder::step(const PreparedSample& sample) {
     rep_[q] = reachable_.front();
     rep_distance_[q] = (sparse_.position(reachable_.front()) - sample.q).norm();
   }
+  // q's supports from its neighbours; each neighbour gains at most one partner, rep(q).
   update_supports(q);
-  for (const Neighbor& n : dense_.graph().neighbors(q)) update_supports(n.vertex);
+  if (rep_[q] != kNoVertex) {
+    for (const Neighbor& n : dense_.graph().neighbors(q)) add_partner(n.vertex, rep_[q]);
+  }
 
   // Lines 11-17: guard, bridge, interface.
   if (reachable_.empty()) {
@@ -347,6 +313,16 @@ void SparsBuilder::update_supports(VertexId x) {
     if (other != kNoVertex && other != rep_[x]) insert_sorted(partners_[x], other);
   }
   for (const VertexId vp : partners_[x]) insert_sorted(supports_[rep_[x]][vp], x);
+}
+
+void SparsBuilder::add_partner(VertexId x, VertexId partner) {
+  const VertexId rep = rep_[x];
+  if (rep == kNoVertex || rep == partner) return;
+  auto& partners = partners_[x];
+  const auto it = std::lower_bound(partners.begin(), partners.end(), partner);
+  if (it != partners.end() && *it == partner) return;
+  partners.insert(it, partner);
+  insert_sorted(supports_[rep][partner], x);
 }
 
 std::vector<VertexId> SparsBuilder::interface_supports(VertexId v, VertexId v2) const {

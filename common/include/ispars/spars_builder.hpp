@@ -72,6 +72,8 @@ class SparsBuilder final : public RoadmapBuilder {
   VertexId add_guard(VertexId dense_vertex);
   void add_sparse_edge(VertexId a, VertexId b);
   void update_supports(VertexId dense_vertex);
+  /// Registers dense vertex x as a support of rep(x)|partner (a new neighbour brought it).
+  void add_partner(VertexId x, VertexId partner);
   VertexId interface_neighbor(VertexId dense_vertex, VertexId rep) const;
   std::vector<VertexId> smooth(const std::vector<VertexId>& dense_path) const;
 

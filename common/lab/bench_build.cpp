@@ -1,0 +1,81 @@
+// `ispars-lab bench build`: construction speed and memory as N grows: time, checks and
+// microseconds per sample in each interval between checkpoints, and the peak resident memory.
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include "commands.hpp"
+#include "experiment_support.hpp"
+#include "json_output.hpp"
+#include "timing.hpp"
+
+namespace ispars::lab {
+namespace {
+
+// Peak resident set size of this process in MiB (VmHWM), 0 when unknown.
+double peak_rss_mib() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  }
+  return 0.0;
+}
+
+}  // namespace
+
+int run_bench_build(const BenchBuildOptions& options) {
+  const Scene scene = Scene::load(options.scene);
+  const BuildMethod method = *parse_build_method(options.method);
+  BuildOptions build;
+  build.seed = options.seed;
+  build.threads = options.threads;
+  const auto builder = make_roadmap_builder(method, scene, build);
+  const CheckCounts start = scene.counts();
+  const double t0 = now_seconds();
+  nlohmann::json rows = nlohmann::json::array();
+  std::cout << fmt::format("{} on {}, seed {}, {} thread(s)\n", options.method, scene.config().name, options.seed,
+                           options.threads);
+  std::cout << fmt::format("{:>9} {:>9} {:>9} {:>9} {:>9} {:>12} {:>12} {:>10}\n", "N", "seconds", "us/sample",
+                           "seg/sample", "|V|", "|E|", "dense |E|", "peak MiB");
+  std::size_t previous = 0;
+  double previous_t = 0.0;
+  CheckCounts previous_checks;
+  for (std::size_t k = 1; k <= options.checkpoints; ++k) {
+    const std::size_t target = options.samples * k / options.checkpoints;
+    builder->extend(target - previous);
+    const double elapsed = now_seconds() - t0;
+    const CheckCounts checks = scene.counts() - start;
+    const double interval = static_cast<double>(target - previous);
+    const double us_per_sample = interval > 0 ? 1e6 * (elapsed - previous_t) / interval : 0.0;
+    const double segments_per_sample = interval > 0 ? static_cast<double>(checks.segment - previous_checks.segment) / interval : 0.0;
+    const Roadmap& g = builder->roadmap();
+    const std::size_t dense_edges = builder->dense() ? builder->dense()->edge_count() : g.edge_count();
+    const double rss = peak_rss_mib();
+    rows.push_back({{"samples", target}, {"seconds", elapsed}, {"us_per_sample", us_per_sample},
+                    {"segment_checks_per_sample", segments_per_sample}, {"vertices", g.vertex_count()},
+                    {"edges", g.edge_count()}, {"dense_edges", dense_edges}, {"peak_rss_mib", rss},
+                    {"checks", to_json(checks)}});
+    std::cout << fmt::format("{:>9} {:>9.2f} {:>9.1f} {:>9.1f} {:>9} {:>12} {:>12} {:>10.0f}\n", target, elapsed,
+                             us_per_sample, segments_per_sample, g.vertex_count(), g.edge_count(), dense_edges, rss)
+              << std::flush;
+    previous = target;
+    previous_t = elapsed;
+    previous_checks = checks;
+  }
+  const double seconds = now_seconds() - t0;
+  if (options.json) {
+    std::cout << nlohmann::json{{"scene", scene.config().name}, {"method", options.method},
+                                {"samples", options.samples}, {"seed", options.seed}, {"threads", options.threads},
+                                {"seconds", seconds}, {"samples_per_second", static_cast<double>(options.samples) / seconds},
+                                {"peak_rss_mib", peak_rss_mib()}, {"checkpoints", rows}}
+                     .dump()
+              << std::endl;
+  }
+  return 0;
+}
+
+}  // namespace ispars::lab
