@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ispars/graph_search.hpp"
 #include "ispars/roadmap_verifier.hpp"
 #include "ispars/spars_builder.hpp"
 #include "support/test_support.hpp"
@@ -49,6 +50,36 @@ INSTANTIATE_TEST_SUITE_P(Scenes, InvariantOnSharedScenes,
                                            PairRun{"radio_tower", 3000}, PairRun{"powerplant", 3000},
                                            PairRun{"caric_city", 2500}),
                          [](const auto& case_info) { return case_info.param.scene; });
+
+TEST(SparsBuilder, SparseRoutesStayWithinTheSpannerBound) {
+  // d_s <= t d_d + 4 Delta (SPARS's bound, asymptotic) for nearly all pairs already at N = 4000.
+  const Scene& scene = test::shared_scene("water_tower");
+  SparsBuilder b(scene, BuildOptions{}, true);
+  b.extend(4000);
+  const Roadmap& dense = *b.dense();
+  const Roadmap& sparse = b.roadmap();
+  std::vector<VertexId> rooted;
+  for (VertexId v = 0; v < dense.vertex_count(); ++v) {
+    if (dense.same_component(v, 0)) rooted.push_back(v);
+  }
+  ASSERT_GT(rooted.size(), 1000u);
+  Rng rng(1);
+  const double t = scene.config().stretch;
+  const double big_delta = scene.config().sparse_delta;
+  int within = 0;
+  const int pairs = 150;
+  for (int i = 0; i < pairs; ++i) {
+    const VertexId a = rooted[rng.below(rooted.size())];
+    const VertexId c = rooted[rng.below(rooted.size())];
+    const double dd = shortest_distances(dense, a)[c];
+    const VertexId ra = b.representative(a);
+    const VertexId rc = b.representative(c);
+    const double ds = (dense.position(a) - sparse.position(ra)).norm() + shortest_distances(sparse, ra)[rc] +
+                      (sparse.position(rc) - dense.position(c)).norm();
+    within += ds <= t * dd + 4.0 * big_delta;
+  }
+  EXPECT_GE(within, pairs * 95 / 100);
+}
 
 TEST(SparsBuilder, EverySparseEdgeCostsItsOwnLengthAndIsValid) {
   // OMPL defect: sparse edge weights computed from dense states indexed by sparse ids.
