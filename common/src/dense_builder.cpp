@@ -21,4 +21,8 @@ void DenseBuilder::extend(std::size_t samples) {
   }
 }
 
+void DenseBuilder::step(const Vec3& sample) {
+  if (scene_->point_valid(sample)) prm_.insert(sample, scene_->visibility().visible_pois(sample));
+}
+
 }  // namespace ispars

@@ -54,6 +54,12 @@ void SparsBuilder::extend(std::size_t samples) {
   }
 }
 
+void SparsBuilder::step(const Vec3& sample) {
+  PreparedSample prepared{sample, scene_->point_valid(sample), {}};
+  if (prepared.valid) scene_->visible_pois(sample, prepared.visible);
+  step(prepared);
+}
+
 void SparsBuilder::step(const PreparedSample& sample) {
   if (!sample.valid) return;
   // Lines 4-9: q joins G_d with its delta-edges.

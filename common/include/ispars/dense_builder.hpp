@@ -12,6 +12,7 @@ class DenseBuilder final : public RoadmapBuilder {
  public:
   DenseBuilder(const Scene& scene, const BuildOptions& options);
   void extend(std::size_t samples) override;
+  void step(const Vec3& sample) override;
   [[nodiscard]] const Roadmap& roadmap() const override { return prm_.graph(); }
 
  private:

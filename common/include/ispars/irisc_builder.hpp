@@ -14,10 +14,11 @@ class IriscBuilder final : public RoadmapBuilder {
  public:
   IriscBuilder(const Scene& scene, const BuildOptions& options);
   void extend(std::size_t samples) override;
+  /// One RRG iteration steering toward `sample`.
+  void step(const Vec3& sample) override;
   [[nodiscard]] const Roadmap& roadmap() const override { return graph_; }
 
  private:
-  void step(const Vec3& sample);
   VertexId nearest(const Vec3& q) const;
 
   const Scene* scene_;

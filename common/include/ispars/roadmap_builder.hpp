@@ -36,6 +36,9 @@ class RoadmapBuilder {
 
   /// Draws and processes `samples` more samples (a sample may be invalid and be dropped).
   virtual void extend(std::size_t samples) = 0;
+  /// Processes one given sample of the sampling box (not drawn from the builder's stream, and
+  /// not counted in samples()). Invalid samples are dropped.
+  virtual void step(const Vec3& sample) = 0;
   /// The method's roadmap: the sparse one for spars and ispars. Vertex 0 is the root.
   [[nodiscard]] virtual const Roadmap& roadmap() const = 0;
   /// The paired dense roadmap (spars and ispars), else nullptr.

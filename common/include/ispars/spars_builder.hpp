@@ -51,6 +51,7 @@ class SparsBuilder final : public RoadmapBuilder {
 
   /// One iteration of Alg. 1's loop for a prepared sample (invalid samples are dropped).
   void step(const PreparedSample& sample);
+  void step(const Vec3& sample) override;
 
   [[nodiscard]] const SparsAdmissions& admissions() const { return admissions_; }
   [[nodiscard]] const std::vector<ShortcutRecord>& shortcuts() const { return shortcuts_; }
