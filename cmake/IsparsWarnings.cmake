@@ -8,6 +8,13 @@ target_compile_options(ispars_build_flags INTERFACE
 if(ISPARS_WERROR)
   target_compile_options(ispars_build_flags INTERFACE -Werror)
 endif()
+if(ISPARS_SANITIZE AND ISPARS_SANITIZE_THREAD)
+  message(FATAL_ERROR "ISPARS_SANITIZE and ISPARS_SANITIZE_THREAD cannot be combined")
+endif()
+if(ISPARS_SANITIZE_THREAD)
+  target_compile_options(ispars_build_flags INTERFACE -fsanitize=thread -fno-omit-frame-pointer)
+  target_link_options(ispars_build_flags INTERFACE -fsanitize=thread)
+endif()
 if(ISPARS_SANITIZE)
   target_compile_options(ispars_build_flags INTERFACE
     -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Configures and builds ispars. Usage: deploy/build.sh [release|debug|sanitize] [extra cmake args]
+# Configures and builds ispars. Usage: deploy/build.sh [release|debug|sanitize|thread] [cmake args]
 #   release  (default) build/          optimised, what quickstart and benchmarks use
 #   debug              build-debug/
 #   sanitize           build-sanitize/  AddressSanitizer + UndefinedBehaviorSanitizer
+#   thread             build-thread/    ThreadSanitizer
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -12,7 +13,8 @@ case "$kind" in
   release)  dir=build;          args=(-DCMAKE_BUILD_TYPE=Release) ;;
   debug)    dir=build-debug;    args=(-DCMAKE_BUILD_TYPE=Debug) ;;
   sanitize) dir=build-sanitize; args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DISPARS_SANITIZE=ON) ;;
-  *) echo "build.sh: unknown build kind '$kind' (release, debug, sanitize)" >&2; exit 2 ;;
+  thread)   dir=build-thread;   args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DISPARS_SANITIZE_THREAD=ON) ;;
+  *) echo "build.sh: unknown build kind '$kind' (release, debug, sanitize, thread)" >&2; exit 2 ;;
 esac
 
 generator=()

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds, and runs every test with ctest: first the Release build with
-# warnings as errors, then the AddressSanitizer + UBSan build (skip it with ISPARS_SKIP_SANITIZE=1).
+# Installs dependencies, builds, and runs every test with ctest: the Release build with warnings
+# as errors, then the AddressSanitizer + UBSan + LeakSanitizer build, then the ThreadSanitizer
+# build (skip both sanitizer passes with ISPARS_SKIP_SANITIZE=1).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -21,5 +22,12 @@ if [ "${ISPARS_SKIP_SANITIZE:-0}" != "1" ]; then
   # volume, so this pass exercises the same code on a twentieth of the queries.
   export ISPARS_TEST_QUERY_SCALE=0.05
   (cd build-sanitize && ctest --output-on-failure --parallel "$(nproc)" --timeout 1800)
+  unset ASAN_OPTIONS LSAN_OPTIONS UBSAN_OPTIONS
+
+  deploy/build.sh thread -DISPARS_WERROR=ON
+  # Embree builds its BVH on TBB threads, synchronised inside those uninstrumented libraries;
+  # tests/tsan.supp hides only races reported inside them.
+  export TSAN_OPTIONS="halt_on_error=1 suppressions=$PWD/tests/tsan.supp"
+  (cd build-thread && ctest --output-on-failure --parallel "$(nproc)" --timeout 1800)
 fi
 echo "test.sh: all tests passed in $(( $(date +%s) - start )) s"

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <memory>
 
 #include "ispars/roadmap_log.hpp"
 #include "ispars/spars_builder.hpp"
@@ -24,6 +25,27 @@ std::vector<RoadmapBatch> build_batches(SparsBuilder& builder, int batches) {
   return out;
 }
 
+// An Inspection-SPARS build cut into logged batches, and a temporary directory for log files.
+class RoadmapLogTest : public ::testing::Test {
+ protected:
+  void build(const std::string& scene_name, int batches) {
+    scene_ = &test::shared_scene(scene_name);
+    builder_ = std::make_unique<SparsBuilder>(*scene_, BuildOptions{}, true);
+    batches_ = build_batches(*builder_, batches);
+  }
+  [[nodiscard]] std::filesystem::path log_path() const { return dir_.path() / "roadmap.log"; }
+  [[nodiscard]] Roadmap replay_into_replica(const LogReplay& replay) const {
+    Roadmap replica(scene_->pois().size());
+    for (const auto& b : replay.batches) apply_batch(replica, b);
+    return replica;
+  }
+
+  const Scene* scene_ = nullptr;
+  std::unique_ptr<SparsBuilder> builder_;
+  std::vector<RoadmapBatch> batches_;
+  test::TempDir dir_;
+};
+
 std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -34,33 +56,26 @@ TEST(RoadmapLog, Crc32MatchesTheStandardCheckValue) {
   EXPECT_EQ(crc32("", 0), 0u);
 }
 
-TEST(RoadmapLog, BatchesRoundTripThroughEncodingAndTheFile) {
-  const Scene& scene = test::shared_scene("truss_bridge");
-  SparsBuilder builder(scene, BuildOptions{}, true);
-  const auto batches = build_batches(builder, 5);
-  const test::TempDir dir;
-  const auto path = dir.path() / "roadmap.log";
+TEST_F(RoadmapLogTest, BatchesRoundTripThroughEncodingAndTheFile) {
+  build("truss_bridge", 5);
   {
-    RoadmapLogWriter writer(path);
-    for (const auto& b : batches) writer.append(b);
-    EXPECT_EQ(writer.version(), builder.roadmap().version());
+    RoadmapLogWriter writer(log_path());
+    for (const auto& b : batches_) writer.append(b);
+    EXPECT_EQ(writer.version(), builder_->roadmap().version());
   }
-  const LogReplay replay = read_roadmap_log(path);
+  const LogReplay replay = read_roadmap_log(log_path());
   EXPECT_FALSE(replay.torn_tail);
-  ASSERT_EQ(replay.batches.size(), batches.size());
-  Roadmap replica(scene.pois().size());
-  for (const auto& b : replay.batches) apply_batch(replica, b);
-  EXPECT_EQ(test::fingerprint(replica), test::fingerprint(builder.roadmap()));
-  EXPECT_EQ(replica.version(), builder.roadmap().version());
-  EXPECT_EQ(replica.component_count(), builder.roadmap().component_count());
+  ASSERT_EQ(replay.batches.size(), batches_.size());
+  const Roadmap replica = replay_into_replica(replay);
+  EXPECT_EQ(test::fingerprint(replica), test::fingerprint(builder_->roadmap()));
+  EXPECT_EQ(replica.version(), builder_->roadmap().version());
+  EXPECT_EQ(replica.component_count(), builder_->roadmap().component_count());
 }
 
-TEST(RoadmapLog, ACrashAtAnyByteRecoversExactlyTheCommittedBatches) {
-  const Scene& scene = test::shared_scene("water_tower");
-  SparsBuilder builder(scene, BuildOptions{}, true);
-  const auto batches = build_batches(builder, 3);
-  const test::TempDir dir;
-  const auto full = dir.path() / "full.log";
+TEST_F(RoadmapLogTest, ACrashAtAnyByteRecoversExactlyTheCommittedBatches) {
+  build("water_tower", 3);
+  const auto& batches = batches_;
+  const auto full = log_path();
   std::vector<std::uint64_t> committed_sizes;  // file size after each append
   {
     RoadmapLogWriter writer(full);
@@ -71,7 +86,7 @@ TEST(RoadmapLog, ACrashAtAnyByteRecoversExactlyTheCommittedBatches) {
     }
   }
   const std::string bytes = slurp(full);
-  const auto cut = dir.path() / "cut.log";
+  const auto cut = dir_.path() / "cut.log";
   // Every cut within 16 bytes of a record boundary and inside the last record; every 61st
   // byte elsewhere.
   const auto step_after = [&](std::size_t size) -> std::size_t {
@@ -89,18 +104,14 @@ TEST(RoadmapLog, ACrashAtAnyByteRecoversExactlyTheCommittedBatches) {
     ASSERT_EQ(replay.batches.size(), expected) << "cut at " << size;
     ASSERT_EQ(replay.torn_tail, size != 0 && size != committed_sizes[expected]) << "cut at " << size;
     // Never half-applied: the replica is exactly the first `expected` batches.
-    Roadmap replica(scene.pois().size());
-    for (const auto& b : replay.batches) apply_batch(replica, b);
-    ASSERT_EQ(replica.version(), expected == 0 ? 0 : batches[expected - 1].to_version);
+    ASSERT_EQ(replay_into_replica(replay).version(), expected == 0 ? 0 : batches[expected - 1].to_version);
   }
 }
 
-TEST(RoadmapLog, ReopeningCutsATornTailAndAppendsAfterIt) {
-  const Scene& scene = test::shared_scene("water_tower");
-  SparsBuilder builder(scene, BuildOptions{}, true);
-  const auto batches = build_batches(builder, 2);
-  const test::TempDir dir;
-  const auto path = dir.path() / "roadmap.log";
+TEST_F(RoadmapLogTest, ReopeningCutsATornTailAndAppendsAfterIt) {
+  build("water_tower", 2);
+  const auto& batches = batches_;
+  const auto path = log_path();
   {
     RoadmapLogWriter writer(path);
     writer.append(batches[0]);
@@ -121,12 +132,10 @@ TEST(RoadmapLog, ReopeningCutsATornTailAndAppendsAfterIt) {
   EXPECT_EQ(replay.batches.size(), 3u);
 }
 
-TEST(RoadmapLog, CorruptionInTheMiddleStopsTheReplayThere) {
-  const Scene& scene = test::shared_scene("water_tower");
-  SparsBuilder builder(scene, BuildOptions{}, true);
-  const auto batches = build_batches(builder, 3);
-  const test::TempDir dir;
-  const auto path = dir.path() / "roadmap.log";
+TEST_F(RoadmapLogTest, CorruptionInTheMiddleStopsTheReplayThere) {
+  build("water_tower", 3);
+  const auto& batches = batches_;
+  const auto path = log_path();
   std::uint64_t second_record_at = 0;
   {
     RoadmapLogWriter writer(path);
@@ -143,15 +152,13 @@ TEST(RoadmapLog, CorruptionInTheMiddleStopsTheReplayThere) {
   EXPECT_EQ(replay.tail_problem, "record checksum mismatch");
 }
 
-TEST(RoadmapLog, NotALogAndGapsAreRefused) {
-  const test::TempDir dir;
-  const auto path = dir.write("other.txt", "hello, this is not a roadmap log");
+TEST_F(RoadmapLogTest, NotALogAndGapsAreRefused) {
+  const auto path = dir_.write("other.txt", "hello, this is not a roadmap log");
   EXPECT_THROW((void)read_roadmap_log(path), std::runtime_error);
-  EXPECT_TRUE(read_roadmap_log(dir.path() / "missing.log").batches.empty());
-  const Scene& scene = test::shared_scene("water_tower");
-  SparsBuilder builder(scene, BuildOptions{}, true);
-  const auto batches = build_batches(builder, 2);
-  Roadmap replica(scene.pois().size());
+  EXPECT_TRUE(read_roadmap_log(dir_.path() / "missing.log").batches.empty());
+  build("water_tower", 2);
+  const auto& batches = batches_;
+  Roadmap replica(scene_->pois().size());
   EXPECT_THROW(apply_batch(replica, batches[1]), std::runtime_error);  // skips batch 0
   apply_batch(replica, batches[0]);
   EXPECT_THROW(apply_batch(replica, batches[0]), std::runtime_error);  // a duplicate
