@@ -61,7 +61,7 @@ void IriscBuilder::step(const Vec3& sample) {
   for (const auto& [distance, other] : near_) {
     if (other == from || scene_->segment_valid(graph_.position(other), q)) graph_.add_edge(other, id);
   }
-  if (!graph_.has_edge(from, id)) graph_.add_edge(from, id);  // the steering segment, already checked
+  graph_.add_edge(from, id);  // the steering segment, already checked (a no-op when joined above)
 }
 
 }  // namespace ispars

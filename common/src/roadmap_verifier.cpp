@@ -1,5 +1,6 @@
 #include "ispars/roadmap_verifier.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <vector>
 
@@ -32,7 +33,7 @@ VerificationReport verify_sparse_pair(const Scene& scene, const Roadmap& sparse,
   for (VertexId s = 0; s < sparse.vertex_count(); ++s) {
     const bool same = s < dense_ids.size() && dense_ids[s] < dense.vertex_count() &&
                       dense.position(dense_ids[s]) == sparse.position(s) &&
-                      count(dense.visible(dense_ids[s])) == count(sparse.visible(s));
+                      std::ranges::equal(dense.visible(dense_ids[s]), sparse.visible(s));
     report.sparse_not_dense += !same;
   }
 

@@ -119,7 +119,7 @@ bool SparsBuilder::bridge_test(VertexId q) {
   }
   if (links.size() < 2) return false;
   const VertexId s = add_guard(q);
-  for (const VertexId w : links) add_sparse_edge(s, w);
+  for (const VertexId w : links) sparse_.add_edge(s, w);
   ++admissions_.bridge;
   return true;
 }
@@ -132,12 +132,12 @@ bool SparsBuilder::interface_test(VertexId q) {
   if (nearby_[0].second != v0 || nearby_[1].second != v1) return false;
   if (sparse_.has_edge(v0, v1)) return false;
   if (scene_->segment_valid(sparse_.position(v0), sparse_.position(v1))) {
-    add_sparse_edge(v0, v1);
+    sparse_.add_edge(v0, v1);
     ++admissions_.interface_edge;
   } else {
     const VertexId s = add_guard(q);
-    add_sparse_edge(s, v0);
-    add_sparse_edge(s, v1);
+    sparse_.add_edge(s, v0);
+    sparse_.add_edge(s, v1);
     ++admissions_.interface_vertex;
   }
   return true;
@@ -217,7 +217,7 @@ void SparsBuilder::shortcut_test(VertexId q) {
 
     ShortcutRecord record{v, c.vp, c.vpp, c.sparse_length, c.dense_length, false, {}, kNoVertex, kNoVertex};
     if (scene_->segment_valid(sparse_.position(c.vp), sparse_.position(c.vpp))) {
-      add_sparse_edge(c.vp, c.vpp);
+      sparse_.add_edge(c.vp, c.vpp);
       ++admissions_.shortcut_edge;
       record.direct_edge = true;
       shortcuts_.push_back(std::move(record));
@@ -235,13 +235,13 @@ void SparsBuilder::shortcut_test(VertexId q) {
     for (const VertexId d : kept) {
       added.push_back(sparse_of_dense_[d] != kNoVertex ? sparse_of_dense_[d] : add_guard(d));
     }
-    for (std::size_t i = 1; i < added.size(); ++i) add_sparse_edge(added[i - 1], added[i]);
+    for (std::size_t i = 1; i < added.size(); ++i) sparse_.add_edge(added[i - 1], added[i]);
     // Each end joins the representative of its own dense support, checked like any edge.
     if (scene_->segment_valid(sparse_.position(added.front()), sparse_.position(c.vp))) {
-      add_sparse_edge(added.front(), c.vp);
+      sparse_.add_edge(added.front(), c.vp);
     }
     if (scene_->segment_valid(sparse_.position(added.back()), sparse_.position(c.vpp))) {
-      add_sparse_edge(added.back(), c.vpp);
+      sparse_.add_edge(added.back(), c.vpp);
     }
     ++admissions_.shortcut_path;
     record.path = std::move(added);
@@ -306,8 +306,6 @@ VertexId SparsBuilder::add_guard(VertexId d) {
   for (const VertexId x : affected) update_supports(x);
   return s;
 }
-
-void SparsBuilder::add_sparse_edge(VertexId a, VertexId b) { sparse_.add_edge(a, b); }
 
 void SparsBuilder::update_supports(VertexId x) {
   for (const VertexId vp : partners_[x]) erase_sorted(supports_[support_rep_[x]][vp], x);

@@ -71,7 +71,6 @@ class SparsBuilder final : public RoadmapBuilder {
 
   /// AddGuard: q becomes a sparse vertex (no edges); representatives and supports follow.
   VertexId add_guard(VertexId dense_vertex);
-  void add_sparse_edge(VertexId a, VertexId b);
   void update_supports(VertexId dense_vertex);
   /// Registers dense vertex x as a support of rep(x)|partner (a new neighbour brought it).
   void add_partner(VertexId x, VertexId partner);
