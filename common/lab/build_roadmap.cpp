@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/roadmap_builder.hpp"
+#include "ispars/roadmap_json.hpp"
 #include "ispars/roadmap_verifier.hpp"
 #include "ispars/spars_builder.hpp"
 #include "json_output.hpp"
@@ -23,18 +24,6 @@ nlohmann::json summary(const Roadmap& g) {
           {"components", g.component_count()},
           {"pois_covered", g.covered_pois()},
           {"pois_covered_root", g.covered_pois_in_component_of(0)}};
-}
-
-nlohmann::json graph_json(const Roadmap& g) {
-  nlohmann::json vertices = nlohmann::json::array();
-  nlohmann::json visible = nlohmann::json::array();
-  nlohmann::json edges = nlohmann::json::array();
-  for (VertexId v = 0; v < g.vertex_count(); ++v) {
-    vertices.push_back(to_json(g.position(v)));
-    visible.push_back(g.visibility_table().ids(v));
-  }
-  for (const RoadmapEdge& e : g.edges()) edges.push_back({e.u, e.v, e.cost});
-  return {{"vertices", std::move(vertices)}, {"visible", std::move(visible)}, {"edges", std::move(edges)}};
 }
 
 void write_file(const std::string& path, const std::string& field, const std::string& text) {
@@ -125,13 +114,9 @@ int run_build(const BuildCommandOptions& options) {
         builder->dense() != nullptr ? nlohmann::json(report.invariant_violations) : nlohmann::json();
   }
   if (!options.out.empty()) {
-    nlohmann::json graphs = {{"roadmap", graph_json(builder->roadmap())}};
-    if (const Roadmap* dense = builder->dense()) graphs["dense"] = graph_json(*dense);
-    nlohmann::json pois = nlohmann::json::array();
-    for (const Vec3& p : scene.pois()) pois.push_back(to_json(p));
-    const nlohmann::json file = {{"scene", scene.config().name}, {"root", to_json(scene.config().root)},
-                                 {"pois", std::move(pois)}, {"graphs", std::move(graphs)}};
-    write_file(options.out, "--out", file.dump() + "\n");
+    write_file(options.out, "--out",
+               roadmap_file_json(scene.config().name, scene.config().root, scene.pois(), builder->roadmap(),
+                                 builder->dense()));
   }
   if (!options.iris.empty()) write_iris(options.iris, builder->roadmap());
 

@@ -14,6 +14,20 @@ Scene Scene::load(const std::filesystem::path& yaml_path) {
   return build(parse_scene_config(yaml_path));
 }
 
+Scene Scene::with_roadmap_parameters(double dense_delta, double sparse_delta, double stretch,
+                                     const std::string& source) const {
+  SceneConfig config = *config_;
+  config.source = source;
+  config.dense_delta = dense_delta;
+  config.sparse_delta = sparse_delta;
+  config.stretch = stretch;
+  check_scene_config(config);
+  config.source = config_->source;
+  Scene copy = *this;
+  copy.config_ = std::make_shared<const SceneConfig>(std::move(config));
+  return copy;
+}
+
 Scene Scene::build(const SceneConfig& config) {
   check_scene_config(config);
   TriangleMesh mesh = config.procedural

@@ -10,9 +10,11 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "ispars/record_file.hpp"
 #include "ispars/roadmap.hpp"
 
 namespace ispars {
@@ -29,13 +31,17 @@ struct RoadmapBatch {
 
 /// The batch of every change of `roadmap` after `version`.
 [[nodiscard]] RoadmapBatch batch_since(const Roadmap& roadmap, std::uint64_t version);
+/// The batch of the changes of `roadmap` after `from` up to and including version `to`
+/// (clamped to the roadmap's version).
+[[nodiscard]] RoadmapBatch batch_range(const Roadmap& roadmap, std::uint64_t from, std::uint64_t to);
+
+/// A 64-bit digest (FNV-1a) of a roadmap's whole change log: equal roadmaps, built or replicated
+/// in the same order, have equal digests.
+[[nodiscard]] std::uint64_t roadmap_digest(const Roadmap& roadmap);
 
 /// Applies a batch to a replica whose version is batch.from_version. Throws std::runtime_error
 /// when the batch does not continue the replica (a gap, a duplicate, an id out of order).
 void apply_batch(Roadmap& replica, const RoadmapBatch& batch);
-
-/// CRC-32 (IEEE 802.3, reflected, as zlib computes it).
-[[nodiscard]] std::uint32_t crc32(const void* data, std::size_t size);
 
 /// What reading a log found.
 struct LogReplay {
@@ -68,11 +74,10 @@ class RoadmapLogWriter {
   [[nodiscard]] bool recovered_torn_tail() const { return torn_tail_; }
 
  private:
-  int fd_ = -1;
+  std::unique_ptr<RecordFileWriter> file_;
   bool torn_tail_ = false;
   bool empty_ = true;
   std::uint64_t version_ = 0;
-  std::filesystem::path path_;
 };
 
 /// Serialises a batch to the record payload format, and back (throws std::runtime_error on a

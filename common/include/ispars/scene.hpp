@@ -28,6 +28,11 @@ class Scene {
   /// Builds a scene from a configuration and a mesh in memory (config.mesh is not read).
   [[nodiscard]] static Scene build(const SceneConfig& config, TriangleMesh mesh);
 
+  /// This scene with other roadmap parameters (delta, Delta, t), sharing the geometry. Throws
+  /// InputError naming the parameter (as `source`'s field) when one is out of range.
+  [[nodiscard]] Scene with_roadmap_parameters(double dense_delta, double sparse_delta, double stretch,
+                                              const std::string& source) const;
+
   [[nodiscard]] const SceneConfig& config() const { return *config_; }
   [[nodiscard]] const TriangleMesh& mesh() const { return *mesh_; }
   [[nodiscard]] const std::vector<Vec3>& pois() const { return visibility_->pois(); }

@@ -1,0 +1,306 @@
+// `ispars`: the command-line client of isparsd.
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <csignal>
+#include <fstream>
+#include <iostream>
+
+#include "ispars/client/client.hpp"
+#include "ispars/client/replica.hpp"
+#include "ispars/roadmap_json.hpp"
+#include "ispars/roadmap_log.hpp"
+#include "ispars/wire/convert.hpp"
+
+namespace {
+
+using ispars::client::Client;
+using ispars::client::ClientError;
+namespace msg = ispars::msg;
+
+nlohmann::json status_json(const msg::SceneStatus& s) {
+  return {{"scene", s.scene()},
+          {"server_id", s.server_id()},
+          {"state", ispars::wire::to_string(s.state())},
+          {"method", s.method()},
+          {"seed", s.seed()},
+          {"generation", s.generation()},
+          {"samples_done", s.samples_done()},
+          {"samples_target", s.samples_target()},
+          {"version", s.version()},
+          {"vertices", s.vertices()},
+          {"edges", s.edges()},
+          {"components", s.components()},
+          {"dense_vertices", s.dense_vertices()},
+          {"dense_edges", s.dense_edges()},
+          {"poi_count", s.poi_count()},
+          {"pois_covered", s.pois_covered()},
+          {"pois_covered_root", s.pois_covered_root()},
+          {"dense_delta", s.dense_delta()},
+          {"sparse_delta", s.sparse_delta()},
+          {"stretch", s.stretch()},
+          {"last_error", s.last_error()}};
+}
+
+void print_status(const msg::SceneStatus& s) {
+  std::cout << fmt::format("{} on {}: {}", s.scene(), s.server_id(), ispars::wire::to_string(s.state()));
+  if (!s.method().empty()) {
+    std::cout << fmt::format(", {} seed {}, {}/{} samples\n", s.method(), s.seed(), s.samples_done(), s.samples_target());
+    std::cout << fmt::format("  roadmap: {} vertices, {} edges, {} components, version {}\n", s.vertices(), s.edges(),
+                             s.components(), s.version());
+    if (s.dense_vertices() > 0) {
+      std::cout << fmt::format("  dense:   {} vertices, {} edges\n", s.dense_vertices(), s.dense_edges());
+    }
+    std::cout << fmt::format("  POIs:    {} of {} seen, {} from the root's component\n", s.pois_covered(),
+                             s.poi_count(), s.pois_covered_root());
+  } else {
+    std::cout << ", no roadmap\n";
+  }
+  if (!s.last_error().empty()) std::cout << "  note: " << s.last_error() << "\n";
+}
+
+// One line of live progress: redrawn in place on a terminal, one line per second otherwise.
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled), tty_(::isatty(STDERR_FILENO) != 0) {}
+  void operator()(const msg::SceneStatus& s) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    const bool busy = s.state() == msg::SCENE_BUILDING || s.state() == msg::SCENE_QUEUED || s.state() == msg::SCENE_REPLAYING;
+    if (!tty_ && busy && now - last_ < std::chrono::seconds(1)) return;
+    last_ = now;
+    const double fraction = s.samples_target() ? static_cast<double>(s.samples_done()) / s.samples_target() : 1.0;
+    const int width = 30;
+    const int filled = static_cast<int>(width * std::min(1.0, fraction));
+    const std::string line =
+        fmt::format("[{:<{}}] {:3.0f}% {} {}/{} samples, {} vertices, {} edges",
+                    std::string(static_cast<std::size_t>(filled), '#'), width, 100 * fraction,
+                    ispars::wire::to_string(s.state()), s.samples_done(), s.samples_target(), s.vertices(), s.edges());
+    std::cerr << (tty_ ? "\r" + line : line + "\n") << std::flush;
+    drawn_ = true;
+  }
+  void finish() {
+    if (enabled_ && tty_ && drawn_) std::cerr << "\n";
+  }
+
+ private:
+  bool enabled_;
+  bool tty_;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+std::atomic<bool> g_interrupted{false};
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream out(path);
+  if (!out) throw CLI::ValidationError("--out", "cannot open " + path + " for writing");
+  out << text;
+  if (!out) throw CLI::ValidationError("--out", "write to " + path + " failed");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ispars: client of the isparsd roadmap service"};
+  app.require_subcommand(1);
+  ispars::client::ClientOptions options;
+  int domain = 0;
+  double timeout_s = 15;
+  std::string profile_file, profile_name = "ispars";
+  app.add_option("--domain", domain, "DDS domain id")->envname("ISPARS_DOMAIN")->check(CLI::Range(0, 232));
+  app.add_option("--profile-file", profile_file, "Fast DDS XML profiles file (default: built-in localhost only)")
+      ->envname("ISPARS_PROFILE_FILE");
+  app.add_option("--profile-name", profile_name, "participant profile in the profiles file");
+  app.add_option("--timeout", timeout_s, "seconds to wait for a daemon and each reply")->check(CLI::PositiveNumber);
+  app.add_option("--server", options.server, "the daemon to load a scene on, when several offer it");
+
+  auto* scenes = app.add_subcommand("scenes", "list, load or unload scenes");
+  scenes->require_subcommand(1);
+  auto* scenes_list = scenes->add_subcommand("list", "scenes of every daemon");
+  bool list_json = false;
+  scenes_list->add_flag("--json", list_json, "one JSON object");
+  std::string scene;
+  auto* scenes_load = scenes->add_subcommand("load", "load a scene (and its stored roadmap)");
+  scenes_load->add_option("scene", scene, "scene name")->required();
+  auto* scenes_unload = scenes->add_subcommand("unload", "unload a scene (its stored roadmap stays)");
+  scenes_unload->add_option("scene", scene, "scene name")->required();
+
+  ispars::client::BuildArgs build_args;
+  bool wait = false;
+  bool json = false;
+  std::vector<std::string> sets;
+  auto* build = app.add_subcommand("build", "build a new roadmap");
+  build->add_option("scene", scene, "scene name")->required();
+  build->add_option("--method", build_args.method, "dense, spars, ispars or irisc")->required();
+  build->add_option("--samples", build_args.samples, "samples to draw")->required()->check(CLI::PositiveNumber);
+  build->add_option("--seed", build_args.seed, "random seed");
+  build->add_flag("--replace", build_args.replace, "replace an existing roadmap");
+  build->add_option("--set", sets, "parameter override NAME=VALUE (dense_delta, sparse_delta, stretch, p_accept)");
+  build->add_flag("--wait", wait, "follow progress until the build ends");
+  build->add_flag("--json", json, "print the final status as JSON");
+
+  std::uint64_t extend_samples = 0;
+  auto* extend = app.add_subcommand("extend", "add samples to a roadmap");
+  extend->add_option("scene", scene, "scene name")->required();
+  extend->add_option("--samples", extend_samples, "more samples")->required()->check(CLI::PositiveNumber);
+  extend->add_flag("--wait", wait, "follow progress until the extension ends");
+  extend->add_flag("--json", json, "print the final status as JSON");
+
+  auto* cancel = app.add_subcommand("cancel", "stop a running build after its current chunk");
+  cancel->add_option("scene", scene, "scene name")->required();
+  auto* stats = app.add_subcommand("stats", "a scene's roadmap status");
+  stats->add_option("scene", scene, "scene name")->required();
+  stats->add_flag("--json", json, "one JSON object");
+  auto* drop = app.add_subcommand("drop", "delete a scene's roadmap");
+  drop->add_option("scene", scene, "scene name")->required();
+  auto* verify = app.add_subcommand("verify", "check a roadmap (validity, costs, Invariant 1)");
+  verify->add_option("scene", scene, "scene name")->required();
+
+  std::vector<double> from, to;
+  auto* path = app.add_subcommand("path", "shortest path through the roadmap");
+  path->add_option("scene", scene, "scene name")->required();
+  path->add_option("--from", from, "start X Y Z")->required()->expected(3);
+  path->add_option("--to", to, "goal X Y Z")->required()->expected(3);
+  path->add_flag("--json", json, "one JSON object");
+
+  std::string dump, out;
+  bool until_idle = false;
+  auto* watch = app.add_subcommand("watch", "follow a roadmap live (a replica kept from update batches)");
+  watch->add_option("scene", scene, "scene name")->required();
+  watch->add_option("--dump", dump, "write the replica to FILE on exit (the ispars-lab build --out JSON)");
+  watch->add_flag("--until-idle", until_idle, "exit when the scene has no job and the replica is current");
+
+  auto* snapshot = app.add_subcommand("snapshot", "fetch the whole roadmap");
+  snapshot->add_option("scene", scene, "scene name")->required();
+  snapshot->add_option("--out", out, "JSON file to write")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  for (const std::string& s : sets) {
+    const auto eq = s.find('=');
+    char* end = nullptr;
+    const double value = eq == std::string::npos ? 0.0 : std::strtod(s.c_str() + eq + 1, &end);
+    if (eq == std::string::npos || eq == 0 || end == s.c_str() + eq + 1 || *end != '\0') {
+      std::cerr << "ispars: --set: '" << s << "' is not NAME=NUMBER\n";
+      return 2;
+    }
+    build_args.overrides[s.substr(0, eq)] = value;
+  }
+
+  options.participant.domain = domain;
+  options.participant.profile_file = profile_file;
+  options.participant.profile_name = profile_name;
+  options.participant.name = "ispars cli";
+  options.timeout = std::chrono::milliseconds(static_cast<long>(timeout_s * 1000));
+  const auto long_wait = std::chrono::hours(24 * 365);
+
+  try {
+    Client client(options);
+    if (*scenes_list) {
+      const auto entries = client.list_scenes();
+      if (list_json) {
+        nlohmann::json list = nlohmann::json::array();
+        for (const auto& e : entries) {
+          list.push_back({{"name", e.name()}, {"server_id", e.server_id()}, {"loaded", e.loaded()},
+                          {"has_roadmap", e.has_roadmap()}});
+        }
+        std::cout << nlohmann::json{{"scenes", list}}.dump() << std::endl;
+      } else {
+        for (const auto& e : entries) {
+          std::cout << fmt::format("{:<24} {:<28} {}{}\n", e.name(), e.server_id(), e.loaded() ? "loaded" : "-",
+                                   e.has_roadmap() ? ", stored roadmap" : "");
+        }
+      }
+    } else if (*scenes_load) {
+      const msg::Reply r = client.load(scene);
+      std::cout << r.message() << "\n";
+      print_status(r.status());
+    } else if (*scenes_unload) {
+      std::cout << client.unload(scene).message() << "\n";
+    } else if (*build || *extend) {
+      const msg::Reply r = *build ? client.build(scene, build_args) : client.extend(scene, extend_samples);
+      if (!json) std::cout << r.message() << "\n";
+      msg::SceneStatus final_status = r.status();
+      if (wait) {
+        Progress progress(!json);
+        final_status = client.wait_idle(scene, [&](const msg::SceneStatus& s) { progress(s); }, long_wait);
+        progress.finish();
+      }
+      if (json) {
+        std::cout << status_json(final_status).dump() << std::endl;
+      } else if (wait) {
+        print_status(final_status);
+      }
+      if (wait && final_status.state() == msg::SCENE_FAILED) return 1;
+    } else if (*cancel) {
+      std::cout << client.cancel(scene).message() << "\n";
+    } else if (*stats) {
+      const msg::SceneStatus s = client.stats(scene);
+      if (json) {
+        std::cout << status_json(s).dump() << std::endl;
+      } else {
+        print_status(s);
+      }
+    } else if (*drop) {
+      std::cout << client.drop(scene).message() << "\n";
+    } else if (*verify) {
+      const msg::Reply r = client.verify(scene);
+      std::cout << (r.violations() == 0 ? "verified: " : "NOT verified: ") << r.message() << "\n";
+      return r.violations() == 0 ? 0 : 1;
+    } else if (*path) {
+      const msg::Reply r = client.path(scene, {from[0], from[1], from[2]}, {to[0], to[1], to[2]});
+      if (json) {
+        nlohmann::json points = nlohmann::json::array();
+        for (const auto& p : r.waypoints()) points.push_back({p.x(), p.y(), p.z()});
+        std::cout << nlohmann::json{{"scene", scene}, {"length", r.length()}, {"waypoints", points}}.dump() << std::endl;
+      } else {
+        std::cout << fmt::format("path of length {:.3f} through {} waypoints\n", r.length(), r.waypoints().size());
+        for (const auto& p : r.waypoints()) std::cout << fmt::format("  {:.3f} {:.3f} {:.3f}\n", p.x(), p.y(), p.z());
+      }
+    } else if (*snapshot) {
+      const ispars::client::Snapshot s = client.snapshot(scene);
+      write_text(out, ispars::roadmap_file_json(scene, s.root, s.pois, s.roadmap, nullptr));
+      std::cout << fmt::format("wrote {} at version {} ({} vertices, {} edges, digest {:016x}) to {}\n", scene, s.version,
+                               s.roadmap.vertex_count(), s.roadmap.edge_count(), ispars::roadmap_digest(s.roadmap), out);
+    } else if (*watch) {
+      std::signal(SIGINT, [](int) { g_interrupted = true; });
+      std::signal(SIGTERM, [](int) { g_interrupted = true; });
+      (void)client.stats(scene);  // fails clearly when the scene is not loaded anywhere
+      Progress progress(true);
+      ispars::client::RoadmapReplica replica(client, scene);
+      while (!g_interrupted) {
+        const auto s = client.latest_status(scene);
+        if (s) progress(*s);
+        if (until_idle && s && s->state() != msg::SCENE_BUILDING && s->state() != msg::SCENE_QUEUED &&
+            s->state() != msg::SCENE_REPLAYING && replica.snapshots_taken() > 0) {
+          const msg::SceneStatus now = client.stats(scene);
+          if (replica.wait_for(now.generation(), now.version(), std::chrono::seconds(10))) break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+      progress.finish();
+      const ispars::Roadmap g = replica.roadmap();
+      std::cout << fmt::format("replica of {}: version {}, {} vertices, {} edges, digest {:016x} ({} snapshots, {} batches)\n",
+                               scene, g.version(), g.vertex_count(), g.edge_count(), ispars::roadmap_digest(g),
+                               replica.snapshots_taken(), replica.batches_applied());
+      if (!dump.empty()) write_text(dump, ispars::roadmap_file_json(scene, replica.root(), replica.pois(), g, nullptr));
+    }
+    return 0;
+  } catch (const ClientError& e) {
+    std::cerr << "ispars: " << e.what() << "\n";
+    return e.kind() == ClientError::Kind::rejected ? 1 : 3;
+  } catch (const CLI::ValidationError& e) {
+    std::cerr << "ispars: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ispars: " << e.what() << "\n";
+    return 1;
+  }
+}

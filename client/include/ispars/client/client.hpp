@@ -1,0 +1,114 @@
+#pragma once
+// The C++ client of isparsd: requests with correlation, retries and timeouts; scene ownership
+// across several daemons; snapshots; and live replicas of a roadmap (replica.hpp).
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "ispars.h"
+#include "ispars/roadmap.hpp"
+#include "ispars/wire/participant.hpp"
+
+namespace ispars::client {
+
+/// A failed call. kind() tells a missing daemon and a timeout from a request the daemon refused.
+class ClientError : public std::runtime_error {
+ public:
+  enum class Kind { no_daemon, timeout, rejected, protocol };
+  ClientError(Kind kind, const std::string& what) : std::runtime_error(what), kind_(kind) {}
+  [[nodiscard]] Kind kind() const { return kind_; }
+
+ private:
+  Kind kind_;
+};
+
+struct ClientOptions {
+  wire::ParticipantOptions participant;
+  /// How long a call waits for a daemon and its reply, retries included.
+  std::chrono::milliseconds timeout{15000};
+  /// How long to wait for a reply before resending the same request.
+  std::chrono::milliseconds retry_interval{1000};
+  /// The daemon to address when a scene is owned by none (empty: choose).
+  std::string server;
+};
+
+struct BuildArgs {
+  std::string method = "ispars";
+  std::uint64_t samples = 0;
+  std::uint64_t seed = 1;
+  std::map<std::string, double> overrides;
+  bool replace = false;
+};
+
+/// A whole roadmap fetched at one version.
+struct Snapshot {
+  std::string scene;
+  std::uint64_t generation = 0;
+  std::uint64_t version = 0;
+  Roadmap roadmap;
+  Vec3 root = Vec3::Zero();
+  std::vector<Vec3> pois;
+  msg::SceneStatus status;
+};
+
+class Client {
+ public:
+  /// Joins the domain (throws std::runtime_error when the participant cannot be created).
+  explicit Client(ClientOptions options);
+  ~Client();
+  Client(const Client&) = delete;
+  Client& operator=(const Client&) = delete;
+
+  /// Scenes of every daemon on the domain.
+  std::vector<msg::SceneEntry> list_scenes();
+  msg::Reply load(const std::string& scene);
+  msg::Reply unload(const std::string& scene);
+  msg::Reply build(const std::string& scene, const BuildArgs& args);
+  msg::Reply extend(const std::string& scene, std::uint64_t samples);
+  msg::Reply cancel(const std::string& scene);
+  msg::SceneStatus stats(const std::string& scene);
+  msg::Reply path(const std::string& scene, const Vec3& from, const Vec3& to);
+  msg::Reply drop(const std::string& scene);
+  msg::Reply verify(const std::string& scene);
+  /// The whole roadmap, fetched in chunks at one version.
+  Snapshot snapshot(const std::string& scene);
+
+  /// Waits until the scene has no job (idle, empty or failed), calling `progress` on each status
+  /// change seen meanwhile. Throws ClientError(timeout) after `timeout`.
+  msg::SceneStatus wait_idle(const std::string& scene, const std::function<void(const msg::SceneStatus&)>& progress,
+                             std::chrono::milliseconds timeout);
+
+  /// Sends one request to the daemon that owns its scene (or to `server`), retrying with the
+  /// same sequence number until a reply or the timeout. Throws ClientError(rejected) when the
+  /// reply is an error, with the daemon's message.
+  msg::Reply call(msg::Request request, const std::string& server = {});
+  /// Like call() but returns error replies instead of throwing.
+  msg::Reply call_raw(msg::Request request, const std::string& server);
+
+  /// The daemon owning `scene`; for a scene no one owns, options.server or the first daemon
+  /// (by id) that offers it. Throws ClientError(no_daemon) when none is running.
+  std::string owner_of(const std::string& scene);
+  /// Daemons seen on the domain (waits up to the timeout for the first).
+  std::vector<msg::DaemonInfo> daemons();
+  /// This client's id (the GUID of its reply reader).
+  [[nodiscard]] const std::string& id() const;
+  [[nodiscard]] const ClientOptions& options() const { return options_; }
+  /// The participant, for readers of other topics (replicas).
+  [[nodiscard]] wire::Participant& participant();
+  /// The latest status of `scene` seen on the status topic.
+  [[nodiscard]] std::optional<msg::SceneStatus> latest_status(const std::string& scene) const;
+
+ private:
+  class Impl;
+  ClientOptions options_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ispars::client

@@ -1,0 +1,56 @@
+#pragma once
+// A live local copy of a scene's roadmap: a snapshot at version v, then every update batch after
+// v, with gaps and duplicates detected; a gap, a rebuilt roadmap or a lost history resyncs it
+// from a fresh snapshot.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "ispars/client/client.hpp"
+
+namespace ispars::client {
+
+/// What a replica reports after each change.
+struct ReplicaEvent {
+  std::uint64_t generation = 0;
+  std::uint64_t version = 0;
+  std::size_t vertices = 0;
+  std::size_t edges = 0;
+  std::uint64_t samples_done = 0;
+  bool resynced = false;  ///< This change was a (re)sync from a snapshot.
+};
+
+class RoadmapReplica {
+ public:
+  /// Subscribes to `scene`'s updates through `client` (which must outlive the replica), then
+  /// takes the first snapshot. `on_change` runs on the replica's own thread.
+  RoadmapReplica(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change = {});
+  ~RoadmapReplica();
+  RoadmapReplica(const RoadmapReplica&) = delete;
+  RoadmapReplica& operator=(const RoadmapReplica&) = delete;
+
+  /// A copy of the replica as it is now.
+  [[nodiscard]] Roadmap roadmap() const;
+  [[nodiscard]] std::uint64_t version() const;
+  [[nodiscard]] std::uint64_t generation() const;
+  /// Snapshots taken (1 after the first sync; more after resyncs).
+  [[nodiscard]] std::size_t snapshots_taken() const;
+  /// Batches applied on top of snapshots.
+  [[nodiscard]] std::size_t batches_applied() const;
+  /// The scene's root and POIs (from the first snapshot).
+  [[nodiscard]] Vec3 root() const;
+  [[nodiscard]] std::vector<Vec3> pois() const;
+  /// Waits until the replica reaches `version` of `generation` (0: any generation).
+  bool wait_for(std::uint64_t generation, std::uint64_t version, std::chrono::milliseconds timeout) const;
+  /// The last error of a sync attempt (empty when none).
+  [[nodiscard]] std::string last_error() const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ispars::client

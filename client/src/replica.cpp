@@ -1,0 +1,233 @@
+#include "ispars/client/replica.hpp"
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
+
+#include "ispars/roadmap_log.hpp"
+#include "ispars/wire/convert.hpp"
+#include "ispars/wire/topics.hpp"
+#include "isparsPubSubTypes.h"
+
+namespace ispars::client {
+namespace fdds = eprosima::fastdds::dds;
+
+// DDS delivers updates on its receive thread, which must never block (a snapshot request made
+// there would wait for a reply that same thread has to deliver). The listener only queues; the
+// replica's own thread applies batches and resyncs.
+class RoadmapReplica::Impl final : public fdds::DataReaderListener {
+ public:
+  Impl(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change)
+      : client_(client), scene_(std::move(scene)), on_change_(std::move(on_change)), type_(new msg::UpdateBatchPubSubType()) {
+    fdds::DomainParticipant* p = client_.participant().get();
+    type_.register_type(p);
+    topic_ = dynamic_cast<fdds::Topic*>(p->lookup_topicdescription(wire::kUpdatesTopic));
+    if (topic_ == nullptr) topic_ = p->create_topic(wire::kUpdatesTopic, type_.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+    subscriber_ = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    if (!topic_ || !subscriber_) throw std::runtime_error("cannot subscribe to roadmap updates");
+    reader_ = subscriber_->create_datareader(topic_, wire::updates_reader_qos(), this, fdds::StatusMask::data_available());
+    if (!reader_) throw std::runtime_error("cannot create the update reader");
+    thread_ = std::thread([this] { run(); });
+  }
+
+  ~Impl() override {
+    {
+      std::lock_guard lock(mutex_);
+      stopping_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+    reader_->set_listener(nullptr);
+    subscriber_->delete_datareader(reader_);
+    client_.participant()->delete_subscriber(subscriber_);
+  }
+
+  void on_data_available(fdds::DataReader* reader) override {
+    msg::UpdateBatch batch;
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&batch, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data || batch.scene() != scene_) continue;
+      {
+        std::lock_guard lock(mutex_);
+        inbox_.push_back(std::move(batch));
+      }
+      wake_.notify_all();
+    }
+  }
+
+  void run() {
+    // Wait until the update reader has matched a writer, so no batch after the snapshot is missed.
+    for (int i = 0; i < 400 && !stopping(); ++i) {
+      fdds::SubscriptionMatchedStatus matched;
+      reader_->get_subscription_matched_status(matched);
+      if (matched.current_count > 0) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    bool need_sync = true;
+    while (!stopping()) {
+      if (need_sync) {
+        need_sync = !resync();
+        if (need_sync) {
+          std::unique_lock lock(mutex_);
+          wake_.wait_for(lock, std::chrono::milliseconds(500), [&] { return stopping_; });
+          continue;
+        }
+      }
+      std::deque<msg::UpdateBatch> batches;
+      {
+        std::unique_lock lock(mutex_);
+        wake_.wait(lock, [&] { return stopping_ || !inbox_.empty(); });
+        batches.swap(inbox_);
+      }
+      for (const msg::UpdateBatch& b : batches) {
+        if (!apply(b)) {
+          need_sync = true;
+          break;
+        }
+      }
+    }
+  }
+
+  bool stopping() {
+    std::lock_guard lock(mutex_);
+    return stopping_;
+  }
+
+  // Takes a snapshot, then applies every queued batch after it. False when it failed.
+  bool resync() {
+    try {
+      Snapshot s = client_.snapshot(scene_);
+      {
+        std::lock_guard lock(state_mutex_);
+        roadmap_ = std::move(s.roadmap);
+        generation_ = s.generation;
+        root_ = s.root;
+        pois_ = std::move(s.pois);
+        ++snapshots_;
+        last_error_.clear();
+        samples_ = s.status.samples_done();
+      }
+      state_changed_.notify_all();
+      notify(true);
+      return true;
+    } catch (const std::exception& e) {
+      std::lock_guard lock(state_mutex_);
+      last_error_ = e.what();
+      return false;
+    }
+  }
+
+  // Applies one batch; false when it shows a gap or another generation (resync needed).
+  bool apply(const msg::UpdateBatch& b) {
+    {
+      std::lock_guard lock(state_mutex_);
+      if (b.generation() != generation_) {
+        if (b.generation() < generation_) return true;  // a stale batch of an older roadmap
+        return false;
+      }
+      const std::uint64_t version = roadmap_.version();
+      if (b.to_version() <= version) return true;  // already in the snapshot: a duplicate
+      if (b.from_version() != version) return false;  // a gap
+      try {
+        apply_batch(roadmap_, wire::from_message(b));
+      } catch (const std::runtime_error& e) {
+        last_error_ = e.what();
+        return false;
+      }
+      ++batches_;
+      samples_ = b.samples_done();
+    }
+    state_changed_.notify_all();
+    notify(false);
+    return true;
+  }
+
+  void notify(bool resynced) {
+    if (!on_change_) return;
+    ReplicaEvent event;
+    {
+      std::lock_guard lock(state_mutex_);
+      event = {generation_, roadmap_.version(), roadmap_.vertex_count(), roadmap_.edge_count(), samples_, resynced};
+    }
+    on_change_(event);
+  }
+
+  Client& client_;
+  const std::string scene_;
+  const std::function<void(const ReplicaEvent&)> on_change_;
+  fdds::TypeSupport type_;
+  fdds::Topic* topic_ = nullptr;
+  fdds::Subscriber* subscriber_ = nullptr;
+  fdds::DataReader* reader_ = nullptr;
+
+  std::mutex mutex_;  // inbox and stopping
+  std::condition_variable wake_;
+  std::deque<msg::UpdateBatch> inbox_;
+  bool stopping_ = false;
+  std::thread thread_;
+
+  mutable std::mutex state_mutex_;  // the replica itself
+  mutable std::condition_variable state_changed_;
+  Roadmap roadmap_;
+  std::uint64_t generation_ = 0;
+  std::uint64_t samples_ = 0;
+  Vec3 root_ = Vec3::Zero();
+  std::vector<Vec3> pois_;
+  std::size_t snapshots_ = 0;
+  std::size_t batches_ = 0;
+  std::string last_error_;
+};
+
+RoadmapReplica::RoadmapReplica(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change)
+    : impl_(std::make_unique<Impl>(client, std::move(scene), std::move(on_change))) {}
+RoadmapReplica::~RoadmapReplica() = default;
+
+Roadmap RoadmapReplica::roadmap() const {
+  std::lock_guard lock(impl_->state_mutex_);
+  return impl_->roadmap_;
+}
+std::uint64_t RoadmapReplica::version() const {
+  std::lock_guard lock(impl_->state_mutex_);
+  return impl_->roadmap_.version();
+}
+std::uint64_t RoadmapReplica::generation() const {
+  std::lock_guard lock(impl_->state_mutex_);
+  return impl_->generation_;
+}
+std::size_t RoadmapReplica::snapshots_taken() const {
+  std::lock_guard lock(impl_->state_mutex_);
+  return impl_->snapshots_;
+}
+std::size_t RoadmapReplica::batches_applied() const {
+  std::lock_guard lock(impl_->state_mutex_);
+  return impl_->batches_;
+}
+Vec3 RoadmapReplica::root() const {
+  std::lock_guard lock(impl_->state_mutex_);
+  return impl_->root_;
+}
+std::vector<Vec3> RoadmapReplica::pois() const {
+  std::lock_guard lock(impl_->state_mutex_);
+  return impl_->pois_;
+}
+std::string RoadmapReplica::last_error() const {
+  std::lock_guard lock(impl_->state_mutex_);
+  return impl_->last_error_;
+}
+bool RoadmapReplica::wait_for(std::uint64_t generation, std::uint64_t version, std::chrono::milliseconds timeout) const {
+  std::unique_lock lock(impl_->state_mutex_);
+  return impl_->state_changed_.wait_for(lock, timeout, [&] {
+    return impl_->snapshots_ > 0 && (generation == 0 || impl_->generation_ == generation) &&
+           impl_->roadmap_.version() >= version;
+  });
+}
+
+}  // namespace ispars::client

@@ -1,0 +1,96 @@
+#pragma once
+// Crash-safe files: an append-only file of checksummed records, and whole-file atomic writes.
+//
+// A record file is a magic string, then records [u32 payload length][u32 CRC-32][payload],
+// little-endian. Appends are fsync'ed. A reader accepts every whole record that its check
+// accepts and stops at the first torn, corrupt or rejected one, so a crash at any moment loses at
+// most the record being written, and never leaves half of one applied.
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ispars {
+
+/// CRC-32 (IEEE 802.3, reflected, as zlib computes it).
+[[nodiscard]] std::uint32_t crc32(const void* data, std::size_t size);
+
+/// Checks one record's payload in sequence; returns an empty string to accept it, else what is
+/// wrong (the record and everything after it are then treated as a torn tail).
+using RecordCheck = std::function<std::string(const std::string& payload)>;
+
+/// What reading a record file found.
+struct RecordReplay {
+  std::vector<std::string> payloads;  ///< Every accepted record, in order.
+  std::uint64_t valid_bytes = 0;      ///< Length of the valid prefix of the file.
+  bool torn_tail = false;             ///< Bytes after the valid prefix were dropped.
+  std::string tail_problem;           ///< What was wrong with them.
+};
+
+/// Reads a record file (a missing or empty file has no records). Throws std::runtime_error when
+/// the file exists but starts with another magic.
+[[nodiscard]] RecordReplay read_record_file(const std::filesystem::path& path, std::string_view magic,
+                                            const RecordCheck& check);
+
+/// Appends records to a file, durably.
+class RecordFileWriter {
+ public:
+  /// Opens `path` for appending after its first `valid_bytes` bytes (from read_record_file), cutting
+  /// off anything after them, so new records never follow garbage. Creates the file when missing.
+  RecordFileWriter(const std::filesystem::path& path, std::string_view magic, std::uint64_t valid_bytes);
+  ~RecordFileWriter();
+  RecordFileWriter(const RecordFileWriter&) = delete;
+  RecordFileWriter& operator=(const RecordFileWriter&) = delete;
+
+  /// Appends one record and fsyncs; when this returns, the record survives a crash.
+  void append(const std::string& payload);
+  /// Size of the file in bytes.
+  [[nodiscard]] std::uint64_t size() const { return size_; }
+
+ private:
+  int fd_ = -1;
+  std::uint64_t size_ = 0;
+  std::filesystem::path path_;
+};
+
+/// The bytes of a one-record file holding `payload` (what RecordFileWriter would write).
+[[nodiscard]] std::string single_record_file(std::string_view magic, const std::string& payload);
+
+/// Replaces `path` with `bytes` atomically: writes a temporary file beside it, fsyncs it, renames
+/// it over `path` and fsyncs the directory. Readers see the old file or the new one, never a mix.
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
+
+/// fsyncs the directory holding `path`, making a rename or creation in it durable.
+void fsync_directory_of(const std::filesystem::path& path);
+
+/// Appends the bytes of a trivially copyable value to a byte string (little-endian machines).
+template <class T>
+void put_bytes(std::string& out, const T& value) {
+  out.append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+/// Reads fixed-size values from a byte string, throwing std::runtime_error on any overrun.
+class ByteReader {
+ public:
+  explicit ByteReader(std::string_view data) : data_(data) {}
+  template <class T>
+  T get() {
+    T value;
+    read(&value, sizeof(T));
+    return value;
+  }
+  /// The next `size` bytes.
+  std::string_view bytes(std::size_t size);
+  [[nodiscard]] bool done() const { return at_ == data_.size(); }
+  [[nodiscard]] std::size_t remaining() const { return data_.size() - at_; }
+
+ private:
+  void read(void* out, std::size_t size);
+  std::string_view data_;
+  std::size_t at_ = 0;
+};
+
+}  // namespace ispars

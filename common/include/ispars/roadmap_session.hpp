@@ -1,0 +1,164 @@
+#pragma once
+// One scene's roadmap as the service holds it: the scene, its persistent roadmap, and the build
+// job that grows it. Knows nothing of DDS: the server calls it and forwards its callbacks.
+//
+// Requests (build, extend, cancel, drop) are checked and recorded at once; the job itself runs
+// on a worker thread that calls run_job(). Queries read immutable published copies, so they are
+// served from a consistent version while the job runs. Each chunk of samples is committed to the
+// store (durable), then published to readers, then announced through the callbacks.
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "ispars/path_query.hpp"
+#include "ispars/roadmap_builder.hpp"
+#include "ispars/roadmap_log.hpp"
+#include "ispars/roadmap_store.hpp"
+#include "ispars/roadmap_verifier.hpp"
+#include "ispars/scene.hpp"
+
+namespace ispars {
+
+/// What a scene's roadmap is doing.
+enum class SessionState : std::uint8_t {
+  empty,      ///< No roadmap.
+  idle,       ///< A roadmap, no job.
+  queued,     ///< A job waits for a worker.
+  replaying,  ///< Rebuilding the builder from the recipe after a restart (before an extend).
+  building,   ///< A job is adding samples.
+  failed,     ///< The last job failed; the roadmap is as last committed.
+};
+[[nodiscard]] std::string_view to_string(SessionState state);
+
+/// A consistent summary of a session.
+struct SessionStatus {
+  std::string scene;
+  SessionState state = SessionState::empty;
+  std::optional<RoadmapRecipe> recipe;  ///< Set when there is a roadmap.
+  std::uint64_t samples_done = 0;
+  std::uint64_t samples_target = 0;
+  std::uint64_t version = 0;  ///< Version of the published roadmap.
+  std::size_t vertices = 0;
+  std::size_t edges = 0;
+  std::size_t components = 0;
+  std::size_t dense_vertices = 0;
+  std::size_t dense_edges = 0;
+  std::size_t poi_count = 0;
+  std::size_t pois_covered = 0;
+  std::size_t pois_covered_root = 0;
+  std::string last_error;
+};
+
+/// A build request, as checked by request_build().
+struct BuildRequest {
+  BuildMethod method = BuildMethod::ispars;
+  std::uint64_t samples = 0;
+  std::uint64_t seed = 1;
+  std::map<std::string, double> overrides;  ///< dense_delta, sparse_delta, stretch, p_accept.
+  bool replace = false;
+};
+
+/// A published roadmap: immutable, shared by every reader that holds it.
+struct PublishedRoadmap {
+  std::shared_ptr<const Roadmap> roadmap;
+  std::uint64_t generation = 0;
+  std::uint64_t samples = 0;
+};
+
+/// Limits a session enforces on requests.
+struct SessionLimits {
+  std::uint64_t max_samples = 50'000'000;  ///< Per build or extend request.
+  std::size_t compact_every = 64;          ///< Journal commits between store compactions.
+};
+
+/// What the session tells its owner.
+struct SessionCallbacks {
+  /// A committed batch of the roadmap (called on the job's thread, in order).
+  std::function<void(const RoadmapBatch& batch, std::uint64_t generation, std::uint64_t samples)> on_commit;
+  /// The status changed (state, progress or counts).
+  std::function<void(const SessionStatus& status)> on_status;
+};
+
+class RoadmapSession {
+ public:
+  /// A session for `scene` named `name`, storing its roadmap in `store_dir`. When the directory
+  /// holds a store, its roadmap is recovered now (throws std::runtime_error when unreadable).
+  RoadmapSession(std::string name, Scene scene, std::filesystem::path store_dir, SessionLimits limits,
+                 SessionCallbacks callbacks);
+  ~RoadmapSession();
+  RoadmapSession(const RoadmapSession&) = delete;
+  RoadmapSession& operator=(const RoadmapSession&) = delete;
+
+  /// Records a new build. Throws InputError (file "request") naming the field when the request
+  /// is bad, a job is running, or a roadmap exists and replace is not set.
+  void request_build(const BuildRequest& request);
+  /// Records an extend by `samples` more samples (same errors; needs a roadmap).
+  void request_extend(std::uint64_t samples);
+  /// Asks the running job to stop after its current chunk; false when there is none.
+  bool cancel();
+  /// Deletes the roadmap and its store (throws InputError while a job runs or without a roadmap).
+  void drop();
+
+  /// Runs the recorded job to its end on the calling thread. Returns early, after committing the
+  /// current chunk, when `stopping` becomes true or the job is cancelled.
+  void run_job(const std::atomic<bool>& stopping);
+
+  /// Queries: safe from any thread, consistent, and never wait for the job.
+  [[nodiscard]] SessionStatus status() const;
+  [[nodiscard]] PublishedRoadmap published() const;
+  /// A path on the published roadmap (InputError on bad points, see plan_path).
+  [[nodiscard]] RoadmapPath path(const Vec3& from, const Vec3& to) const;
+  /// Checks the roadmap (validity, costs, Invariant 1 for spars/ispars). Waits for no job: throws
+  /// InputError while one runs.
+  [[nodiscard]] VerificationReport verify() const;
+
+  [[nodiscard]] const std::string& name() const { return name_; }
+  [[nodiscard]] const Scene& scene() const { return scene_; }
+  /// Whether a job is queued or running.
+  [[nodiscard]] bool busy() const;
+  /// What recovery found at construction (empty when nothing was stored).
+  [[nodiscard]] const std::string& recovery_note() const { return recovery_note_; }
+
+ private:
+  SessionStatus status_locked() const;
+  void notify_status();
+  RoadmapsView live_view() const;
+  void ensure_builder(const std::atomic<bool>& stopping);
+  void check_can_start(const char* field) const;  // with mutex_ held
+
+  const std::string name_;
+  const Scene scene_;
+  const std::filesystem::path store_dir_;
+  const SessionLimits limits_;
+  const SessionCallbacks callbacks_;
+
+  mutable std::mutex job_mutex_;  // held by run_job, verify and drop: whoever touches the builder
+  // Owned by the job thread (under job_mutex_):
+  std::unique_ptr<Scene> build_scene_;
+  std::unique_ptr<RoadmapBuilder> builder_;
+  std::unique_ptr<RoadmapStore> store_;
+  std::optional<StoredRoadmaps> recovered_;  // the stored roadmaps before the builder is replayed
+
+  mutable std::mutex mutex_;  // guards everything below
+  SessionState state_ = SessionState::empty;
+  std::optional<RoadmapRecipe> recipe_;
+  std::uint64_t samples_done_ = 0;
+  std::uint64_t samples_target_ = 0;
+  std::uint64_t pending_samples_ = 0;
+  std::optional<BuildRequest> pending_build_;
+  std::string last_error_;
+  std::size_t dense_vertices_ = 0;
+  std::size_t dense_edges_ = 0;
+  PublishedRoadmap published_;
+  std::atomic<bool> cancel_{false};
+  std::string recovery_note_;
+};
+
+}  // namespace ispars

@@ -1,0 +1,129 @@
+#pragma once
+// Durable storage of one scene's roadmap: what it was built from, and every committed step.
+//
+// A store is a directory holding three files:
+// - recipe.json: scene, method, seed and parameters (written once, atomically);
+// - snapshot.bin: a compacted commit from version 0 (replaced atomically);
+// - journal.log: the commits after the snapshot (an append-only record file, fsync'ed).
+// A commit carries the samples drawn so far and what the roadmap and its dense pair gained.
+// Builds are deterministic, so recipe + samples is the whole builder state (including the RNG):
+// replaying the recipe to that many samples rebuilds the builder exactly, and the recovered
+// roadmaps check the replay byte for byte.
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "ispars/record_file.hpp"
+#include "ispars/roadmap.hpp"
+#include "ispars/roadmap_builder.hpp"
+#include "ispars/roadmap_log.hpp"
+
+namespace ispars {
+
+/// What a roadmap is built from: enough to rebuild it exactly.
+struct RoadmapRecipe {
+  std::string scene;
+  BuildMethod method = BuildMethod::ispars;
+  std::uint64_t seed = 1;
+  double p_accept = 0.2;
+  double dense_delta = 0.0;   ///< delta used (the scene's, or an override)
+  double sparse_delta = 0.0;  ///< Delta used
+  double stretch = 0.0;       ///< t used
+  std::uint64_t generation = 0;  ///< Distinguishes successive roadmaps of one scene.
+};
+
+/// One durable step of a build.
+struct BuildCommit {
+  std::uint64_t samples = 0;            ///< Samples drawn in total after this commit.
+  RoadmapBatch roadmap;                 ///< What the method's roadmap gained.
+  RoadmapBatch dense;                   ///< What the dense pair gained (empty without one).
+  std::vector<VertexId> new_dense_ids;  ///< dense_ids() of the roadmap's new vertices.
+};
+
+[[nodiscard]] std::string encode_commit(const BuildCommit& commit);
+/// Throws std::runtime_error on a payload that does not parse exactly.
+[[nodiscard]] BuildCommit decode_commit(const std::string& payload);
+
+/// A roadmap and its dense pair as of some commit.
+struct StoredRoadmaps {
+  std::uint64_t samples = 0;
+  Roadmap roadmap;
+  std::optional<Roadmap> dense;       ///< For spars and ispars.
+  std::vector<VertexId> dense_ids;    ///< For spars and ispars.
+};
+
+/// The live roadmaps of a build (the builder's own), seen without copying.
+struct RoadmapsView {
+  std::uint64_t samples = 0;
+  const Roadmap* roadmap = nullptr;
+  const Roadmap* dense = nullptr;  ///< nullptr without a dense pair.
+  std::span<const VertexId> dense_ids;
+};
+
+/// What opening a store recovered.
+struct StoreRecovery {
+  RoadmapRecipe recipe;
+  StoredRoadmaps roadmaps;
+  std::size_t journal_commits = 0;  ///< Commits replayed from the journal after the snapshot.
+  bool torn_tail = false;           ///< A torn or corrupt journal tail was dropped.
+  std::string tail_problem;
+};
+
+/// Appends commits to one scene's store and compacts it. Not thread-safe: one writer.
+class RoadmapStore {
+ public:
+  /// Makes a new store for `recipe` at `dir`, which must not exist yet.
+  static std::unique_ptr<RoadmapStore> create(const std::filesystem::path& dir, const RoadmapRecipe& recipe);
+  /// Opens the store at `dir`, recovering the last committed roadmaps. Throws std::runtime_error
+  /// when the recipe or the snapshot is unreadable.
+  /// `poi_count` is the scene's number of POIs.
+  static std::unique_ptr<RoadmapStore> open(const std::filesystem::path& dir, std::size_t poi_count,
+                                            StoreRecovery& recovered);
+  /// The recipe of the store at `dir` (to find its scene before opening it).
+  [[nodiscard]] static RoadmapRecipe read_recipe(const std::filesystem::path& dir);
+
+  /// Appends a commit durably. After `compact_every` journal commits, also writes a snapshot of
+  /// `current` and starts a new journal.
+  void commit(const BuildCommit& commit, const RoadmapsView& current);
+  /// Writes a snapshot of `current` and starts an empty journal.
+  void compact(const RoadmapsView& current);
+
+  [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }
+  [[nodiscard]] const RoadmapRecipe& recipe() const { return recipe_; }
+  /// Commits in the journal since the last snapshot.
+  [[nodiscard]] std::size_t journal_commits() const { return journal_commits_; }
+  void set_compact_every(std::size_t commits) { compact_every_ = commits; }
+
+ private:
+  RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe);
+  std::filesystem::path dir_;
+  RoadmapRecipe recipe_;
+  std::unique_ptr<RecordFileWriter> journal_;
+  std::size_t journal_commits_ = 0;
+  std::size_t compact_every_ = 64;
+};
+
+/// The commit taking the build from the given versions of its roadmaps to `now`.
+[[nodiscard]] BuildCommit commit_since(const RoadmapsView& now, std::uint64_t roadmap_version,
+                                       std::uint64_t dense_version);
+/// A view of stored roadmaps.
+[[nodiscard]] RoadmapsView view_of(const StoredRoadmaps& roadmaps);
+
+/// Applies a commit to recovered roadmaps (throws std::runtime_error when it does not continue them).
+void apply_commit(StoredRoadmaps& roadmaps, const BuildCommit& commit);
+
+/// Removes a store: renames it aside (atomic), then deletes it. Leftovers of an interrupted
+/// removal ("*.dropped") are removed by remove_dropped_stores().
+void drop_store(const std::filesystem::path& dir);
+void remove_dropped_stores(const std::filesystem::path& data_dir);
+
+/// recipe.json text, and back (throws std::runtime_error naming the bad field).
+[[nodiscard]] std::string recipe_to_json(const RoadmapRecipe& recipe);
+[[nodiscard]] RoadmapRecipe recipe_from_json(const std::string& text);
+
+}  // namespace ispars

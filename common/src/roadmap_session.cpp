@@ -1,0 +1,417 @@
+#include "ispars/roadmap_session.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "ispars/input_error.hpp"
+
+namespace ispars {
+namespace {
+
+constexpr const char* kRequest = "request";
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::uint64_t new_generation() {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
+}
+
+Scene scene_for(const Scene& scene, const RoadmapRecipe& recipe) {
+  return scene.with_roadmap_parameters(recipe.dense_delta, recipe.sparse_delta, recipe.stretch, kRequest);
+}
+
+std::unique_ptr<RoadmapBuilder> builder_for(const Scene& scene, const RoadmapRecipe& recipe) {
+  BuildOptions options;
+  options.seed = recipe.seed;
+  options.p_accept = recipe.p_accept;
+  return make_roadmap_builder(recipe.method, scene, options);
+}
+
+std::string roadmap_bytes(const Roadmap& roadmap) { return encode_batch(batch_since(roadmap, 0)); }
+
+}  // namespace
+
+std::string_view to_string(SessionState state) {
+  switch (state) {
+    case SessionState::empty: return "empty";
+    case SessionState::idle: return "idle";
+    case SessionState::queued: return "queued";
+    case SessionState::replaying: return "replaying";
+    case SessionState::building: return "building";
+    case SessionState::failed: return "failed";
+  }
+  return "unknown";
+}
+
+RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::path store_dir,
+                               SessionLimits limits, SessionCallbacks callbacks)
+    : name_(std::move(name)),
+      scene_(std::move(scene)),
+      store_dir_(std::move(store_dir)),
+      limits_(limits),
+      callbacks_(std::move(callbacks)) {
+  published_.roadmap = std::make_shared<const Roadmap>(scene_.pois().size());
+  if (!std::filesystem::exists(store_dir_)) return;
+  StoreRecovery recovery;
+  store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), recovery);
+  store_->set_compact_every(limits_.compact_every);
+  if (recovery.recipe.scene != name_) {
+    throw std::runtime_error(fmt::format("store {} belongs to scene '{}', not '{}'", store_dir_.string(),
+                                         recovery.recipe.scene, name_));
+  }
+  recipe_ = recovery.recipe;
+  samples_done_ = samples_target_ = recovery.roadmaps.samples;
+  published_ = {std::make_shared<const Roadmap>(recovery.roadmaps.roadmap), recipe_->generation,
+                recovery.roadmaps.samples};
+  if (recovery.roadmaps.dense) {
+    dense_vertices_ = recovery.roadmaps.dense->vertex_count();
+    dense_edges_ = recovery.roadmaps.dense->edge_count();
+  }
+  recovery_note_ = fmt::format("recovered {} roadmap at version {} ({} samples, {} vertices; {} journal commits)",
+                               to_string(recipe_->method), published_.roadmap->version(), samples_done_,
+                               published_.roadmap->vertex_count(), recovery.journal_commits);
+  if (recovery.torn_tail) recovery_note_ += "; dropped a torn journal tail: " + recovery.tail_problem;
+  recovered_ = std::move(recovery.roadmaps);
+  state_ = SessionState::idle;
+}
+
+RoadmapSession::~RoadmapSession() = default;
+
+void RoadmapSession::check_can_start(const char* field) const {
+  if (state_ == SessionState::queued || state_ == SessionState::building || state_ == SessionState::replaying) {
+    throw InputError(kRequest, field, fmt::format("a build is already running on scene '{}'", name_));
+  }
+}
+
+void RoadmapSession::request_build(const BuildRequest& request) {
+  if (request.samples > limits_.max_samples) {
+    throw InputError(kRequest, "samples",
+                     fmt::format("{} is more than this daemon allows per request ({})", request.samples,
+                                 limits_.max_samples));
+  }
+  RoadmapRecipe recipe;
+  recipe.scene = name_;
+  recipe.method = request.method;
+  recipe.seed = request.seed;
+  recipe.dense_delta = scene_.config().dense_delta;
+  recipe.sparse_delta = scene_.config().sparse_delta;
+  recipe.stretch = scene_.config().stretch;
+  for (const auto& [key, value] : request.overrides) {
+    const std::string field = "overrides." + key;
+    if (!std::isfinite(value)) throw InputError(kRequest, field, fmt::format("must be finite, got {}", value));
+    if (key == "dense_delta") {
+      recipe.dense_delta = value;
+    } else if (key == "sparse_delta") {
+      recipe.sparse_delta = value;
+    } else if (key == "stretch") {
+      recipe.stretch = value;
+    } else if (key == "p_accept") {
+      if (!(value >= 0.0 && value <= 1.0)) {
+        throw InputError(kRequest, field, fmt::format("must be a probability in [0, 1], got {}", value));
+      }
+      recipe.p_accept = value;
+    } else {
+      throw InputError(kRequest, field,
+                       "unknown parameter (expected dense_delta, sparse_delta, stretch or p_accept)");
+    }
+  }
+  (void)scene_.with_roadmap_parameters(recipe.dense_delta, recipe.sparse_delta, recipe.stretch,
+                                       kRequest);  // throws InputError naming the bad one
+  {
+    std::lock_guard lock(mutex_);
+    check_can_start("scene");
+    if (recipe_ && !request.replace) {
+      throw InputError(kRequest, "replace",
+                       fmt::format("scene '{}' already has a roadmap ({} samples); set replace to rebuild it",
+                                   name_, samples_done_));
+    }
+    recipe.generation = new_generation();
+    BuildRequest pending = request;
+    pending_build_ = pending;
+    recipe_ = recipe;  // provisional: the job creates the store from it
+    pending_samples_ = request.samples;
+    last_error_.clear();
+    state_ = SessionState::queued;
+  }
+  notify_status();
+}
+
+void RoadmapSession::request_extend(std::uint64_t samples) {
+  if (samples == 0) throw InputError(kRequest, "samples", "must be at least 1");
+  if (samples > limits_.max_samples) {
+    throw InputError(kRequest, "samples",
+                     fmt::format("{} is more than this daemon allows per request ({})", samples, limits_.max_samples));
+  }
+  {
+    std::lock_guard lock(mutex_);
+    check_can_start("scene");
+    if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap to extend", name_));
+    pending_build_.reset();
+    pending_samples_ = samples;
+    last_error_.clear();
+    state_ = SessionState::queued;
+  }
+  notify_status();
+}
+
+bool RoadmapSession::cancel() {
+  std::lock_guard lock(mutex_);
+  if (state_ != SessionState::queued && state_ != SessionState::building && state_ != SessionState::replaying) {
+    return false;
+  }
+  cancel_ = true;
+  return true;
+}
+
+bool RoadmapSession::busy() const {
+  std::lock_guard lock(mutex_);
+  return state_ == SessionState::queued || state_ == SessionState::building || state_ == SessionState::replaying;
+}
+
+void RoadmapSession::drop() {
+  std::unique_lock job(job_mutex_, std::try_to_lock);
+  {
+    std::lock_guard lock(mutex_);
+    if (!job.owns_lock()) throw InputError(kRequest, "scene", fmt::format("a build is running on scene '{}'", name_));
+    check_can_start("scene");
+    if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
+  }
+  store_.reset();
+  builder_.reset();
+  build_scene_.reset();
+  recovered_.reset();
+  drop_store(store_dir_);
+  {
+    std::lock_guard lock(mutex_);
+    recipe_.reset();
+    samples_done_ = samples_target_ = 0;
+    dense_vertices_ = dense_edges_ = 0;
+    published_ = {std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0};
+    state_ = SessionState::empty;
+  }
+  notify_status();
+}
+
+RoadmapsView RoadmapSession::live_view() const {
+  return {builder_->samples(), &builder_->roadmap(), builder_->dense(), builder_->dense_ids()};
+}
+
+void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
+  if (builder_) return;
+  RoadmapRecipe recipe;
+  {
+    std::lock_guard lock(mutex_);
+    recipe = *recipe_;
+    state_ = SessionState::replaying;
+  }
+  notify_status();
+  build_scene_ = std::make_unique<Scene>(scene_for(scene_, recipe));
+  auto builder = builder_for(*build_scene_, recipe);
+  const std::uint64_t target = recovered_ ? recovered_->samples : 0;
+  while (builder->samples() < target) {
+    if (stopping || cancel_) throw std::runtime_error("replay interrupted");
+    builder->extend(std::min<std::uint64_t>(5000, target - builder->samples()));
+  }
+  if (recovered_) {
+    const bool same = roadmap_bytes(builder->roadmap()) == roadmap_bytes(recovered_->roadmap) &&
+                      (builder->dense() == nullptr) == !recovered_->dense.has_value() &&
+                      (builder->dense() == nullptr || roadmap_bytes(*builder->dense()) == roadmap_bytes(*recovered_->dense)) &&
+                      std::equal(builder->dense_ids().begin(), builder->dense_ids().end(),
+                                 recovered_->dense_ids.begin(), recovered_->dense_ids.end());
+    if (!same) {
+      throw std::runtime_error(fmt::format("replaying the recipe to {} samples did not reproduce the stored roadmap",
+                                           target));
+    }
+  }
+  builder_ = std::move(builder);
+  recovered_.reset();
+}
+
+void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
+  std::lock_guard job(job_mutex_);
+  std::optional<BuildRequest> build;
+  std::uint64_t samples = 0;
+  RoadmapRecipe recipe;
+  {
+    std::lock_guard lock(mutex_);
+    if (state_ != SessionState::queued) return;
+    build = pending_build_;
+    samples = pending_samples_;
+    recipe = *recipe_;
+    pending_build_.reset();
+    pending_samples_ = 0;
+  }
+  try {
+    std::uint64_t roadmap_version = 0;
+    std::uint64_t dense_version = 0;
+    if (build) {
+      store_.reset();
+      builder_.reset();
+      recovered_.reset();
+      drop_store(store_dir_);
+      build_scene_ = std::make_unique<Scene>(scene_for(scene_, recipe));
+      builder_ = builder_for(*build_scene_, recipe);
+      store_ = RoadmapStore::create(store_dir_, recipe);
+      store_->set_compact_every(limits_.compact_every);
+      std::lock_guard lock(mutex_);
+      samples_done_ = 0;
+      published_ = {std::make_shared<const Roadmap>(scene_.pois().size()), recipe.generation, 0};
+    } else {
+      ensure_builder(stopping);
+      roadmap_version = builder_->roadmap().version();
+      dense_version = builder_->dense() ? builder_->dense()->version() : 0;
+    }
+    const std::uint64_t target = builder_->samples() + samples;
+    {
+      std::lock_guard lock(mutex_);
+      samples_target_ = target;
+      state_ = SessionState::building;
+    }
+    notify_status();
+
+    // Commit in chunks of about a quarter second: often enough for live progress and a small
+    // loss on a crash, rarely enough that fsync and publishing stay a small share of the time.
+    std::uint64_t chunk = 64;
+    bool first = true;
+    while (first || (builder_->samples() < target && !stopping && !cancel_)) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::uint64_t n = std::min(chunk, target - builder_->samples());
+      builder_->extend(n);
+      const RoadmapsView view = live_view();
+      BuildCommit commit = commit_since(view, roadmap_version, dense_version);
+      store_->commit(commit, view);
+      roadmap_version = view.roadmap->version();
+      dense_version = view.dense ? view.dense->version() : 0;
+      {
+        std::lock_guard lock(mutex_);
+        samples_done_ = builder_->samples();
+        published_ = {std::make_shared<const Roadmap>(*view.roadmap), recipe.generation, samples_done_};
+        dense_vertices_ = view.dense ? view.dense->vertex_count() : 0;
+        dense_edges_ = view.dense ? view.dense->edge_count() : 0;
+      }
+      if (callbacks_.on_commit) callbacks_.on_commit(commit.roadmap, recipe.generation, commit.samples);
+      notify_status();
+      const double took = seconds_since(t0);
+      if (took < 0.1) chunk = std::min<std::uint64_t>(chunk * 2, 100'000);
+      if (took > 0.5) chunk = std::max<std::uint64_t>(chunk / 2, 16);
+      first = false;
+    }
+    {
+      std::lock_guard lock(mutex_);
+      if (cancel_) last_error_ = fmt::format("cancelled at {} of {} samples", samples_done_, samples_target_);
+      if (stopping && samples_done_ < samples_target_) {
+        last_error_ = fmt::format("daemon stopped at {} of {} samples", samples_done_, samples_target_);
+      }
+      samples_target_ = samples_done_;
+      state_ = SessionState::idle;
+      cancel_ = false;
+    }
+  } catch (const std::exception& e) {
+    // Whatever the builder holds past the last commit is not trusted: reopen the store.
+    builder_.reset();
+    build_scene_.reset();
+    store_.reset();
+    recovered_.reset();
+    std::string error = e.what();
+    try {
+      if (std::filesystem::exists(store_dir_)) {
+        StoreRecovery recovery;
+        store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), recovery);
+        store_->set_compact_every(limits_.compact_every);
+        recovered_ = std::move(recovery.roadmaps);
+      }
+    } catch (const std::exception& reopen) {
+      error += std::string("; reopening the store failed: ") + reopen.what();
+    }
+    std::lock_guard lock(mutex_);
+    last_error_ = error;
+    if (!recovered_) {
+      recipe_.reset();
+      published_ = {std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0};
+      samples_done_ = 0;
+    }
+    samples_target_ = samples_done_;
+    state_ = SessionState::failed;
+    cancel_ = false;
+  }
+  notify_status();
+}
+
+SessionStatus RoadmapSession::status_locked() const {
+  SessionStatus s;
+  s.scene = name_;
+  s.state = state_;
+  s.recipe = recipe_;
+  s.samples_done = samples_done_;
+  s.samples_target = samples_target_;
+  s.last_error = last_error_;
+  const Roadmap& g = *published_.roadmap;
+  s.version = g.version();
+  s.vertices = g.vertex_count();
+  s.edges = g.edge_count();
+  s.components = g.component_count();
+  s.dense_vertices = dense_vertices_;
+  s.dense_edges = dense_edges_;
+  s.poi_count = scene_.pois().size();
+  s.pois_covered = g.covered_pois();
+  s.pois_covered_root = g.vertex_count() > 0 ? g.covered_pois_in_component_of(0) : 0;
+  return s;
+}
+
+SessionStatus RoadmapSession::status() const {
+  std::lock_guard lock(mutex_);
+  return status_locked();
+}
+
+void RoadmapSession::notify_status() {
+  if (callbacks_.on_status) callbacks_.on_status(status());
+}
+
+PublishedRoadmap RoadmapSession::published() const {
+  std::lock_guard lock(mutex_);
+  return published_;
+}
+
+RoadmapPath RoadmapSession::path(const Vec3& from, const Vec3& to) const {
+  PublishedRoadmap p;
+  double join_radius = 0.0;
+  {
+    std::lock_guard lock(mutex_);
+    if (!recipe_ || published_.roadmap->vertex_count() == 0) {
+      throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap yet", name_));
+    }
+    p = published_;
+    join_radius = recipe_->sparse_delta;
+  }
+  return plan_path(scene_, *p.roadmap, from, to, join_radius);
+}
+
+VerificationReport RoadmapSession::verify() const {
+  std::unique_lock job(job_mutex_, std::try_to_lock);
+  if (!job.owns_lock() || busy()) {
+    throw InputError(kRequest, "scene", fmt::format("a build is running on scene '{}'; verify when it is idle", name_));
+  }
+  std::optional<RoadmapRecipe> recipe;
+  {
+    std::lock_guard lock(mutex_);
+    recipe = recipe_;
+  }
+  if (!recipe) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
+  const Scene scene = scene_for(scene_, *recipe);
+  if (builder_) {
+    return builder_->dense() ? verify_sparse_pair(scene, builder_->roadmap(), *builder_->dense(), builder_->dense_ids())
+                             : verify_roadmap(scene, builder_->roadmap());
+  }
+  if (!recovered_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
+  return recovered_->dense ? verify_sparse_pair(scene, recovered_->roadmap, *recovered_->dense, recovered_->dense_ids)
+                           : verify_roadmap(scene, recovered_->roadmap);
+}
+
+}  // namespace ispars

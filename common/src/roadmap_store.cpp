@@ -1,0 +1,256 @@
+#include "ispars/roadmap_store.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+namespace ispars {
+namespace {
+
+constexpr std::string_view kJournalMagic{"ISPJRN01"};
+constexpr std::string_view kSnapshotMagic{"ISPSNP01"};
+
+void put_blob(std::string& out, const std::string& blob) {
+  put_bytes(out, static_cast<std::uint64_t>(blob.size()));
+  out += blob;
+}
+
+std::string get_blob(ByteReader& in) {
+  const auto size = in.get<std::uint64_t>();
+  return std::string(in.bytes(size));
+}
+
+std::filesystem::path journal_path(const std::filesystem::path& dir) { return dir / "journal.log"; }
+std::filesystem::path snapshot_path(const std::filesystem::path& dir) { return dir / "snapshot.bin"; }
+std::filesystem::path recipe_path(const std::filesystem::path& dir) { return dir / "recipe.json"; }
+
+bool has_dense(BuildMethod method) { return method == BuildMethod::spars || method == BuildMethod::ispars; }
+
+StoredRoadmaps empty_roadmaps(const RoadmapRecipe& recipe, std::size_t poi_count) {
+  StoredRoadmaps r{0, Roadmap(poi_count), std::nullopt, {}};
+  if (has_dense(recipe.method)) r.dense.emplace(poi_count);
+  return r;
+}
+
+}  // namespace
+
+std::string encode_commit(const BuildCommit& commit) {
+  std::string out;
+  put_bytes(out, commit.samples);
+  put_bytes(out, static_cast<std::uint64_t>(commit.new_dense_ids.size()));
+  for (const VertexId id : commit.new_dense_ids) put_bytes(out, id);
+  put_blob(out, encode_batch(commit.roadmap));
+  put_blob(out, encode_batch(commit.dense));
+  return out;
+}
+
+BuildCommit decode_commit(const std::string& payload) {
+  ByteReader in(payload);
+  BuildCommit commit;
+  commit.samples = in.get<std::uint64_t>();
+  const auto ids = in.get<std::uint64_t>();
+  if (ids > in.remaining() / sizeof(VertexId)) throw std::runtime_error("commit id count is impossible");
+  commit.new_dense_ids.resize(ids);
+  for (auto& id : commit.new_dense_ids) id = in.get<VertexId>();
+  commit.roadmap = decode_batch(get_blob(in));
+  commit.dense = decode_batch(get_blob(in));
+  if (!in.done()) throw std::runtime_error("commit payload has trailing bytes");
+  return commit;
+}
+
+RoadmapsView view_of(const StoredRoadmaps& r) {
+  return {r.samples, &r.roadmap, r.dense ? &*r.dense : nullptr, r.dense_ids};
+}
+
+BuildCommit commit_since(const RoadmapsView& now, std::uint64_t roadmap_version, std::uint64_t dense_version) {
+  BuildCommit commit;
+  commit.samples = now.samples;
+  commit.roadmap = batch_since(*now.roadmap, roadmap_version);
+  if (now.dense != nullptr) {
+    commit.dense = batch_since(*now.dense, dense_version);
+    const std::size_t added = commit.roadmap.positions.size();
+    commit.new_dense_ids.assign(now.dense_ids.end() - static_cast<std::ptrdiff_t>(added), now.dense_ids.end());
+  }
+  return commit;
+}
+
+void apply_commit(StoredRoadmaps& r, const BuildCommit& commit) {
+  if (commit.samples < r.samples) throw std::runtime_error("commit goes back in samples");
+  const bool dense_present = r.dense.has_value();
+  if (!dense_present && (!commit.dense.changes.empty() || !commit.new_dense_ids.empty())) {
+    throw std::runtime_error("commit has a dense part but the method has no dense roadmap");
+  }
+  if (dense_present && commit.new_dense_ids.size() != commit.roadmap.positions.size()) {
+    throw std::runtime_error("commit has " + std::to_string(commit.new_dense_ids.size()) + " dense ids for " +
+                             std::to_string(commit.roadmap.positions.size()) + " new vertices");
+  }
+  // Check everything before changing anything, so a bad commit leaves the roadmaps as they were.
+  if (r.roadmap.version() != commit.roadmap.from_version ||
+      (dense_present && r.dense->version() != commit.dense.from_version)) {
+    throw std::runtime_error("commit does not continue the stored roadmaps");
+  }
+  Roadmap roadmap = r.roadmap;
+  apply_batch(roadmap, commit.roadmap);
+  if (dense_present) {
+    Roadmap dense = *r.dense;
+    apply_batch(dense, commit.dense);
+    for (const VertexId id : commit.new_dense_ids) {
+      if (id >= dense.vertex_count()) throw std::runtime_error("commit dense id out of range");
+    }
+    r.dense = std::move(dense);
+    r.dense_ids.insert(r.dense_ids.end(), commit.new_dense_ids.begin(), commit.new_dense_ids.end());
+  }
+  r.roadmap = std::move(roadmap);
+  r.samples = commit.samples;
+}
+
+std::string recipe_to_json(const RoadmapRecipe& r) {
+  const nlohmann::json j = {{"scene", r.scene},
+                            {"method", std::string(to_string(r.method))},
+                            {"seed", r.seed},
+                            {"p_accept", r.p_accept},
+                            {"dense_delta", r.dense_delta},
+                            {"sparse_delta", r.sparse_delta},
+                            {"stretch", r.stretch},
+                            {"generation", r.generation},
+                            {"format", 1}};
+  return j.dump(2) + "\n";
+}
+
+RoadmapRecipe recipe_from_json(const std::string& text) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("recipe.json does not parse: ") + e.what());
+  }
+  const auto field = [&](const char* name) -> const nlohmann::json& {
+    if (!j.is_object() || !j.contains(name)) throw std::runtime_error(std::string("recipe.json lacks ") + name);
+    return j.at(name);
+  };
+  RoadmapRecipe r;
+  try {
+    r.scene = field("scene").get<std::string>();
+    const auto method = parse_build_method(field("method").get<std::string>());
+    if (!method) throw std::runtime_error("recipe.json: unknown method");
+    r.method = *method;
+    r.seed = field("seed").get<std::uint64_t>();
+    r.p_accept = field("p_accept").get<double>();
+    r.dense_delta = field("dense_delta").get<double>();
+    r.sparse_delta = field("sparse_delta").get<double>();
+    r.stretch = field("stretch").get<double>();
+    r.generation = field("generation").get<std::uint64_t>();
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("recipe.json has a field of the wrong type: ") + e.what());
+  }
+  return r;
+}
+
+RoadmapStore::RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe)
+    : dir_(std::move(dir)), recipe_(std::move(recipe)) {}
+
+std::unique_ptr<RoadmapStore> RoadmapStore::create(const std::filesystem::path& dir, const RoadmapRecipe& recipe) {
+  if (std::filesystem::exists(dir)) throw std::runtime_error("store " + dir.string() + " already exists");
+  // Build it aside and rename it into place, so a crash leaves no half-made store.
+  std::filesystem::path staging = dir;
+  staging += ".new";
+  std::filesystem::remove_all(staging);
+  std::filesystem::create_directories(staging);
+  write_file_atomically(recipe_path(staging), recipe_to_json(recipe));
+  RecordFileWriter(journal_path(staging), kJournalMagic, 0);
+  std::filesystem::rename(staging, dir);
+  fsync_directory_of(dir);
+  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(dir, recipe));
+  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournalMagic, kJournalMagic.size());
+  return store;
+}
+
+RoadmapRecipe RoadmapStore::read_recipe(const std::filesystem::path& dir) {
+  std::ifstream recipe_file(recipe_path(dir));
+  if (!recipe_file) throw std::runtime_error("store " + dir.string() + " has no recipe.json");
+  return recipe_from_json(
+      std::string((std::istreambuf_iterator<char>(recipe_file)), std::istreambuf_iterator<char>()));
+}
+
+std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& dir, std::size_t poi_count,
+                                                 StoreRecovery& recovered) {
+  recovered.recipe = read_recipe(dir);
+  recovered.roadmaps = empty_roadmaps(recovered.recipe, poi_count);
+  StoredRoadmaps& r = recovered.roadmaps;
+
+  if (std::filesystem::exists(snapshot_path(dir))) {
+    const RecordReplay snapshot =
+        read_record_file(snapshot_path(dir), kSnapshotMagic, [](const std::string&) { return std::string(); });
+    if (snapshot.payloads.size() != 1 || snapshot.torn_tail) {
+      throw std::runtime_error(snapshot_path(dir).string() + " is damaged: " + snapshot.tail_problem);
+    }
+    const BuildCommit whole = decode_commit(snapshot.payloads.front());
+    apply_commit(r, whole);
+  }
+  // Journal commits at or before the snapshot's version are left from before a compaction that
+  // crashed between writing the snapshot and resetting the journal: skip them.
+  const std::uint64_t snapshot_version = r.roadmap.version();
+  const RecordReplay journal = read_record_file(journal_path(dir), kJournalMagic, [&](const std::string& payload) {
+    try {
+      const BuildCommit commit = decode_commit(payload);
+      if (commit.roadmap.to_version <= snapshot_version && r.roadmap.version() == snapshot_version) {
+        return std::string();
+      }
+      apply_commit(r, commit);
+      ++recovered.journal_commits;
+      return std::string();
+    } catch (const std::runtime_error& e) {
+      return std::string("unusable commit: ") + e.what();
+    }
+  });
+  recovered.torn_tail = journal.torn_tail;
+  recovered.tail_problem = journal.tail_problem;
+
+  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(dir, recovered.recipe));
+  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournalMagic, journal.valid_bytes);
+  store->journal_commits_ = recovered.journal_commits;
+  return store;
+}
+
+void RoadmapStore::commit(const BuildCommit& commit, const RoadmapsView& current) {
+  journal_->append(encode_commit(commit));
+  ++journal_commits_;
+  if (journal_commits_ >= compact_every_) compact(current);
+}
+
+void RoadmapStore::compact(const RoadmapsView& current) {
+  // 1. The snapshot, atomically. 2. An empty journal, atomically. A crash between the two leaves
+  // a journal whose commits the snapshot already holds; open() skips them.
+  const BuildCommit whole = commit_since(current, 0, 0);
+  write_file_atomically(snapshot_path(dir_), single_record_file(kSnapshotMagic, encode_commit(whole)));
+  journal_.reset();
+  write_file_atomically(journal_path(dir_), std::string(kJournalMagic));
+  journal_ = std::make_unique<RecordFileWriter>(journal_path(dir_), kJournalMagic, kJournalMagic.size());
+  journal_commits_ = 0;
+}
+
+void drop_store(const std::filesystem::path& dir) {
+  if (!std::filesystem::exists(dir)) return;
+  std::filesystem::path aside = dir;
+  aside += ".dropped";
+  std::filesystem::remove_all(aside);
+  std::filesystem::rename(dir, aside);
+  fsync_directory_of(dir);
+  std::filesystem::remove_all(aside);
+}
+
+void remove_dropped_stores(const std::filesystem::path& data_dir) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(data_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const auto ends_with = [&](std::string_view suffix) {
+      return name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+    };
+    if (ends_with(".dropped") || ends_with(".new")) std::filesystem::remove_all(entry.path());
+  }
+}
+
+}  // namespace ispars

@@ -1,0 +1,30 @@
+#pragma once
+// Conversions between the core library's types and the IDL messages.
+
+#include <string>
+
+#include "ispars.h"
+#include "ispars/roadmap_log.hpp"
+#include "ispars/roadmap_session.hpp"
+
+namespace ispars::wire {
+
+[[nodiscard]] msg::Point to_message(const Vec3& p);
+[[nodiscard]] Vec3 from_message(const msg::Point& p);
+
+/// A roadmap batch as an update message.
+[[nodiscard]] msg::UpdateBatch to_message(const RoadmapBatch& batch, const std::string& scene,
+                                          const std::string& server_id, std::uint64_t generation,
+                                          std::uint64_t samples_done);
+/// An update message as a roadmap batch. Throws std::runtime_error when the message is not
+/// self-consistent (order and contents disagree, ids out of sequence).
+[[nodiscard]] RoadmapBatch from_message(const msg::UpdateBatch& message);
+
+/// A session status as a status message.
+[[nodiscard]] msg::SceneStatus to_message(const SessionStatus& status, const std::string& server_id,
+                                          std::uint64_t generation);
+[[nodiscard]] msg::SceneState to_message(SessionState state);
+[[nodiscard]] std::string to_string(msg::SceneState state);
+[[nodiscard]] std::string to_string(msg::RequestKind kind);
+
+}  // namespace ispars::wire

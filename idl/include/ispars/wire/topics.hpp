@@ -1,0 +1,31 @@
+#pragma once
+// The service's topic names and the QoS each endpoint uses, in one place so daemon and clients
+// always agree.
+
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+
+namespace ispars::wire {
+
+inline constexpr const char* kRequestTopic = "ispars/request";
+inline constexpr const char* kReplyTopic = "ispars/reply";
+inline constexpr const char* kUpdatesTopic = "ispars/updates";
+inline constexpr const char* kStatusTopic = "ispars/status";
+inline constexpr const char* kDaemonsTopic = "ispars/daemons";
+
+/// Requests and replies: reliable, volatile, a deep history per client (keyed by client id),
+/// no limit on the number of clients.
+eprosima::fastdds::dds::DataWriterQos request_reply_writer_qos();
+eprosima::fastdds::dds::DataReaderQos request_reply_reader_qos();
+
+/// Roadmap updates: reliable, volatile, KEEP_LAST per scene, published asynchronously so a slow
+/// subscriber never blocks the build (it sees a version gap and resyncs from a snapshot).
+eprosima::fastdds::dds::DataWriterQos updates_writer_qos();
+eprosima::fastdds::dds::DataReaderQos updates_reader_qos();
+
+/// Scene status and daemon announcements: reliable, transient-local, the last sample per key,
+/// so a late joiner sees the current state at once.
+eprosima::fastdds::dds::DataWriterQos state_writer_qos();
+eprosima::fastdds::dds::DataReaderQos state_reader_qos();
+
+}  // namespace ispars::wire

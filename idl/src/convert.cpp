@@ -1,0 +1,156 @@
+#include "ispars/wire/convert.hpp"
+
+#include <stdexcept>
+
+namespace ispars::wire {
+
+msg::Point to_message(const Vec3& p) {
+  msg::Point m;
+  m.x(p.x());
+  m.y(p.y());
+  m.z(p.z());
+  return m;
+}
+
+Vec3 from_message(const msg::Point& p) { return {p.x(), p.y(), p.z()}; }
+
+msg::UpdateBatch to_message(const RoadmapBatch& batch, const std::string& scene, const std::string& server_id,
+                            std::uint64_t generation, std::uint64_t samples_done) {
+  msg::UpdateBatch m;
+  m.scene(scene);
+  m.server_id(server_id);
+  m.generation(generation);
+  m.from_version(batch.from_version);
+  m.to_version(batch.to_version);
+  m.samples_done(samples_done);
+  m.order().reserve(batch.changes.size());
+  for (const RoadmapChange& c : batch.changes) m.order().push_back(c.kind == RoadmapChange::Kind::vertex ? 0 : 1);
+  std::size_t vertex = 0;
+  m.vertices().resize(batch.positions.size());
+  for (const RoadmapChange& c : batch.changes) {
+    if (c.kind != RoadmapChange::Kind::vertex) continue;
+    msg::Vertex& v = m.vertices()[vertex];
+    v.id(c.index);
+    v.position(to_message(batch.positions[vertex]));
+    v.pois().assign(batch.visible[vertex].begin(), batch.visible[vertex].end());
+    ++vertex;
+  }
+  for (const RoadmapChange& c : batch.changes) {
+    if (c.kind == RoadmapChange::Kind::edge) {
+      m.first_edge(c.index);
+      break;
+    }
+  }
+  m.edges().resize(batch.edges.size());
+  for (std::size_t i = 0; i < batch.edges.size(); ++i) {
+    m.edges()[i].u(batch.edges[i].u);
+    m.edges()[i].v(batch.edges[i].v);
+    m.edges()[i].cost(batch.edges[i].cost);
+  }
+  return m;
+}
+
+RoadmapBatch from_message(const msg::UpdateBatch& m) {
+  if (m.to_version() < m.from_version() || m.to_version() - m.from_version() != m.order().size()) {
+    throw std::runtime_error("update batch version range does not match its change count");
+  }
+  RoadmapBatch batch;
+  batch.from_version = m.from_version();
+  batch.to_version = m.to_version();
+  std::size_t vertex = 0;
+  std::size_t edge = 0;
+  // Edge indices are consecutive from first_edge; the replica checks them against its own count.
+  std::uint32_t next_edge_index = m.first_edge();
+  for (const std::uint8_t kind : m.order()) {
+    if (kind == 0) {
+      if (vertex >= m.vertices().size()) throw std::runtime_error("update batch has too few vertices");
+      const msg::Vertex& v = m.vertices()[vertex++];
+      batch.changes.push_back({RoadmapChange::Kind::vertex, v.id()});
+      batch.positions.push_back(from_message(v.position()));
+      batch.visible.emplace_back(v.pois().begin(), v.pois().end());
+    } else if (kind == 1) {
+      if (edge >= m.edges().size()) throw std::runtime_error("update batch has too few edges");
+      const msg::Edge& e = m.edges()[edge++];
+      batch.changes.push_back({RoadmapChange::Kind::edge, next_edge_index++});
+      batch.edges.push_back({e.u(), e.v(), e.cost()});
+    } else {
+      throw std::runtime_error("update batch has an unknown change kind");
+    }
+  }
+  if (vertex != m.vertices().size() || edge != m.edges().size()) {
+    throw std::runtime_error("update batch has more vertices or edges than its order lists");
+  }
+  return batch;
+}
+
+msg::SceneState to_message(SessionState state) {
+  switch (state) {
+    case SessionState::empty: return msg::SCENE_EMPTY;
+    case SessionState::idle: return msg::SCENE_IDLE;
+    case SessionState::queued: return msg::SCENE_QUEUED;
+    case SessionState::replaying: return msg::SCENE_REPLAYING;
+    case SessionState::building: return msg::SCENE_BUILDING;
+    case SessionState::failed: return msg::SCENE_FAILED;
+  }
+  return msg::SCENE_FAILED;
+}
+
+std::string to_string(msg::SceneState state) {
+  switch (state) {
+    case msg::SCENE_EMPTY: return "empty";
+    case msg::SCENE_IDLE: return "idle";
+    case msg::SCENE_QUEUED: return "queued";
+    case msg::SCENE_REPLAYING: return "replaying";
+    case msg::SCENE_BUILDING: return "building";
+    case msg::SCENE_FAILED: return "failed";
+    case msg::SCENE_UNLOADED: return "unloaded";
+  }
+  return "unknown";
+}
+
+std::string to_string(msg::RequestKind kind) {
+  switch (kind) {
+    case msg::LIST_SCENES: return "list";
+    case msg::LOAD_SCENE: return "load";
+    case msg::UNLOAD_SCENE: return "unload";
+    case msg::BUILD: return "build";
+    case msg::EXTEND: return "extend";
+    case msg::CANCEL: return "cancel";
+    case msg::STATS: return "stats";
+    case msg::PATH: return "path";
+    case msg::SNAPSHOT: return "snapshot";
+    case msg::DROP: return "drop";
+    case msg::VERIFY: return "verify";
+  }
+  return "unknown";
+}
+
+msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id, std::uint64_t generation) {
+  msg::SceneStatus m;
+  m.scene(s.scene);
+  m.server_id(server_id);
+  m.state(to_message(s.state));
+  m.generation(generation);
+  if (s.recipe) {
+    m.method(std::string(to_string(s.recipe->method)));
+    m.seed(s.recipe->seed);
+    m.dense_delta(s.recipe->dense_delta);
+    m.sparse_delta(s.recipe->sparse_delta);
+    m.stretch(s.recipe->stretch);
+  }
+  m.samples_done(s.samples_done);
+  m.samples_target(s.samples_target);
+  m.version(s.version);
+  m.vertices(static_cast<std::uint32_t>(s.vertices));
+  m.edges(static_cast<std::uint32_t>(s.edges));
+  m.components(static_cast<std::uint32_t>(s.components));
+  m.dense_vertices(static_cast<std::uint32_t>(s.dense_vertices));
+  m.dense_edges(static_cast<std::uint32_t>(s.dense_edges));
+  m.poi_count(static_cast<std::uint32_t>(s.poi_count));
+  m.pois_covered(static_cast<std::uint32_t>(s.pois_covered));
+  m.pois_covered_root(static_cast<std::uint32_t>(s.pois_covered_root));
+  m.last_error(s.last_error);
+  return m;
+}
+
+}  // namespace ispars::wire

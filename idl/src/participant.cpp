@@ -1,0 +1,104 @@
+#include "ispars/wire/participant.hpp"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/log/Log.hpp>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <spdlog/spdlog.h>
+
+#include <cstdlib>
+#include <mutex>
+#include <stdexcept>
+
+namespace ispars::wire {
+namespace fdds = eprosima::fastdds::dds;
+namespace rtps = eprosima::fastrtps::rtps;
+
+namespace {
+
+fdds::DomainParticipantQos localhost_qos(const std::string& name) {
+  fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
+  qos.name(name);
+  qos.transport().use_builtin_transports = false;
+  auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
+  // Room for snapshot chunks and large batches in flight to several readers (default 512 KB).
+  shm->segment_size(8 * 1024 * 1024);
+  qos.transport().user_transports.push_back(shm);
+  auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+  udp->interfaceWhiteList.emplace_back("127.0.0.1");
+  qos.transport().user_transports.push_back(udp);
+  rtps::Locator_t peer;
+  rtps::IPLocator::setIPv4(peer, "127.0.0.1");
+  peer.kind = LOCATOR_KIND_UDPv4;
+  qos.wire_protocol().builtin.initialPeersList.push_back(peer);
+  // Announce often and expire quickly: discovery in well under a second, and a killed peer is
+  // noticed in seconds rather than the default 20.
+  auto& discovery = qos.wire_protocol().builtin.discovery_config;
+  discovery.leaseDuration_announcementperiod = eprosima::fastrtps::Duration_t(0, 250'000'000);
+  discovery.leaseDuration = eprosima::fastrtps::Duration_t(3, 0);
+  return qos;
+}
+
+class SpdlogConsumer final : public fdds::LogConsumer {
+ public:
+  void Consume(const fdds::Log::Entry& entry) override {
+    const auto level = entry.kind == fdds::Log::Kind::Error     ? spdlog::level::err
+                       : entry.kind == fdds::Log::Kind::Warning ? spdlog::level::warn
+                                                                : spdlog::level::debug;
+    spdlog::log(level, "fastdds [{}] {}", entry.context.category ? entry.context.category : "", entry.message);
+  }
+};
+
+}  // namespace
+
+Participant::Participant(const ParticipantOptions& options, fdds::DomainParticipantListener* listener) {
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  if (options.domain < 0 || options.domain > 232) {
+    throw std::runtime_error("DDS domain " + std::to_string(options.domain) + " is out of range (0..232)");
+  }
+  const auto mask = fdds::StatusMask::none();
+  if (options.profile_file.empty()) {
+    participant_ = factory->create_participant(options.domain, localhost_qos(options.name), listener,
+                                               listener ? fdds::StatusMask::all() : mask);
+  } else {
+    if (factory->load_XML_profiles_file(options.profile_file) != ReturnCode_t::RETCODE_OK) {
+      throw std::runtime_error("cannot load the Fast DDS profiles file " + options.profile_file);
+    }
+    participant_ = factory->create_participant_with_profile(options.domain, options.profile_name, listener,
+                                                            listener ? fdds::StatusMask::all() : mask);
+  }
+  if (participant_ == nullptr) {
+    throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(options.domain) +
+                             (options.profile_file.empty() ? std::string(" (localhost profile)")
+                                                           : " with profile '" + options.profile_name + "' of " +
+                                                                 options.profile_file));
+  }
+}
+
+Participant::~Participant() {
+  if (participant_ != nullptr) {
+    participant_->delete_contained_entities();
+    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  }
+}
+
+int domain_from_environment() {
+  if (const char* text = std::getenv("ISPARS_DOMAIN")) {
+    char* end = nullptr;
+    const long value = std::strtol(text, &end, 10);
+    if (end != text && *end == '\0' && value >= 0 && value <= 232) return static_cast<int>(value);
+    throw std::runtime_error(std::string("ISPARS_DOMAIN must be a DDS domain id in 0..232, got '") + text + "'");
+  }
+  return 0;
+}
+
+void route_fastdds_log_to_spdlog() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    fdds::Log::ClearConsumers();
+    fdds::Log::RegisterConsumer(std::make_unique<SpdlogConsumer>());
+    fdds::Log::SetVerbosity(fdds::Log::Kind::Warning);
+  });
+}
+
+}  // namespace ispars::wire

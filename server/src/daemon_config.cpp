@@ -1,0 +1,69 @@
+#include "daemon_config.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/common.h>
+#include <yaml-cpp/yaml.h>
+
+#include <set>
+
+#include "ispars/input_error.hpp"
+
+namespace ispars::server {
+
+DaemonConfig load_daemon_config(const std::filesystem::path& path) {
+  const std::string source = path.string();
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(source);
+  } catch (const YAML::BadFile&) {
+    throw InputError(source, "file", "cannot be read");
+  } catch (const YAML::Exception& e) {
+    throw InputError(source, "yaml", e.what());
+  }
+  DaemonConfig config;
+  if (!root || root.IsNull()) return config;
+  if (!root.IsMap()) throw InputError(source, "yaml", "the config must be a mapping of keys to values");
+  const std::set<std::string> known{"data_dir", "scene_dir", "domain", "workers", "profile_file", "profile_name",
+                                    "log_level", "server_id", "max_samples", "snapshot_compact_every", "preload"};
+  const std::filesystem::path base = path.parent_path();
+  const auto resolve = [&](const std::string& p) {
+    const std::filesystem::path fp(p);
+    return fp.is_absolute() ? fp : base / fp;
+  };
+  for (const auto& item : root) {
+    const std::string key = item.first.as<std::string>();
+    if (!known.count(key)) throw InputError(source, key, "unknown key");
+    const YAML::Node& value = item.second;
+    try {
+      if (key == "data_dir") config.data_dir = resolve(value.as<std::string>());
+      if (key == "scene_dir") config.scene_dir = resolve(value.as<std::string>());
+      if (key == "domain") config.domain = value.as<int>();
+      if (key == "workers") config.workers = value.as<unsigned>();
+      if (key == "profile_file") config.profile_file = resolve(value.as<std::string>()).string();
+      if (key == "profile_name") config.profile_name = value.as<std::string>();
+      if (key == "log_level") config.log_level = value.as<std::string>();
+      if (key == "server_id") config.server_id = value.as<std::string>();
+      if (key == "max_samples") config.max_samples = value.as<std::uint64_t>();
+      if (key == "snapshot_compact_every") config.snapshot_compact_every = value.as<std::size_t>();
+      if (key == "preload") config.preload = value.as<std::vector<std::string>>();
+    } catch (const YAML::Exception&) {
+      throw InputError(source, key, fmt::format("has the wrong type (line {})", value.Mark().line + 1));
+    }
+  }
+  check_daemon_config(config, source);
+  return config;
+}
+
+void check_daemon_config(const DaemonConfig& c, const std::string& source) {
+  if (c.domain < 0 || c.domain > 232) throw InputError(source, "domain", fmt::format("must be in 0..232, got {}", c.domain));
+  if (c.workers < 1 || c.workers > 64) throw InputError(source, "workers", fmt::format("must be in 1..64, got {}", c.workers));
+  if (c.max_samples < 1) throw InputError(source, "max_samples", "must be at least 1");
+  if (c.snapshot_compact_every < 1) throw InputError(source, "snapshot_compact_every", "must be at least 1");
+  if (spdlog::level::from_str(c.log_level) == spdlog::level::off && c.log_level != "off") {
+    throw InputError(source, "log_level", fmt::format("'{}' is not one of trace, debug, info, warn, error, critical, off",
+                                                      c.log_level));
+  }
+  if (c.server_id.size() > 128) throw InputError(source, "server_id", "is longer than 128 characters");
+}
+
+}  // namespace ispars::server

@@ -1,0 +1,31 @@
+#pragma once
+// isparsd's configuration: a YAML file, then command-line flags over it.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace ispars::server {
+
+struct DaemonConfig {
+  std::filesystem::path data_dir = "/var/lib/ispars";       ///< Stored roadmaps, one directory per scene.
+  std::filesystem::path scene_dir = "/usr/share/ispars/scenes";  ///< The only place scenes load from.
+  int domain = 0;                                           ///< DDS domain id.
+  unsigned workers = 2;                                     ///< Build worker threads.
+  std::string profile_file;   ///< Fast DDS XML profiles; empty: built-in localhost-only settings.
+  std::string profile_name = "ispars";
+  std::string log_level = "info";
+  std::string server_id;      ///< Unique on the domain; empty: HOST-PID.
+  std::uint64_t max_samples = 50'000'000;  ///< Per build or extend request.
+  std::size_t snapshot_compact_every = 64;  ///< Journal commits between compactions.
+  std::vector<std::string> preload;  ///< Scenes to load at start.
+};
+
+/// Reads a config file. Throws InputError naming the file and field on a bad or unknown key.
+[[nodiscard]] DaemonConfig load_daemon_config(const std::filesystem::path& path);
+
+/// Checks a config (after flags are applied): throws InputError naming the field.
+void check_daemon_config(const DaemonConfig& config, const std::string& source);
+
+}  // namespace ispars::server

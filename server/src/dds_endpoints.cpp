@@ -1,0 +1,144 @@
+#include "dds_endpoints.hpp"
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/rtps/common/InstanceHandle.h>
+#include <spdlog/spdlog.h>
+
+#include <sstream>
+#include <stdexcept>
+
+#include "daemon.hpp"
+#include "ispars/wire/topics.hpp"
+#include "isparsPubSubTypes.h"
+
+namespace ispars::server {
+namespace fdds = eprosima::fastdds::dds;
+
+namespace {
+
+wire::ParticipantOptions participant_options(const DaemonConfig& c) {
+  wire::ParticipantOptions o;
+  o.domain = c.domain;
+  o.profile_file = c.profile_file;
+  o.profile_name = c.profile_name;
+  o.name = "isparsd " + c.server_id;
+  return o;
+}
+
+fdds::Topic* make_topic(fdds::DomainParticipant* p, fdds::TypeSupport& type, const char* name) {
+  if (type.register_type(p) != ReturnCode_t::RETCODE_OK) throw std::runtime_error("cannot register the type of " + std::string(name));
+  fdds::Topic* topic = p->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  if (topic == nullptr) throw std::runtime_error(std::string("cannot create topic ") + name);
+  return topic;
+}
+
+template <class T>
+T* require(T* entity, const char* what) {
+  if (entity == nullptr) throw std::runtime_error(std::string("cannot create the ") + what);
+  return entity;
+}
+
+std::string guid_string(const eprosima::fastrtps::rtps::InstanceHandle_t& handle) {
+  std::ostringstream out;
+  out << eprosima::fastrtps::rtps::iHandle2GUID(handle);
+  return out.str();
+}
+
+}  // namespace
+
+DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
+    : daemon_(daemon),
+      server_id_(config.server_id),
+      participant_(participant_options(config)),
+      request_type_(new msg::RequestPubSubType()),
+      reply_type_(new msg::ReplyPubSubType()),
+      update_type_(new msg::UpdateBatchPubSubType()),
+      status_type_(new msg::SceneStatusPubSubType()),
+      daemon_type_(new msg::DaemonInfoPubSubType()),
+      statuses_([](const msg::SceneStatus& s) { return s.scene(); }) {
+  fdds::DomainParticipant* p = participant_.get();
+  fdds::Topic* request_topic = make_topic(p, request_type_, wire::kRequestTopic);
+  fdds::Topic* reply_topic = make_topic(p, reply_type_, wire::kReplyTopic);
+  fdds::Topic* update_topic = make_topic(p, update_type_, wire::kUpdatesTopic);
+  fdds::Topic* status_topic = make_topic(p, status_type_, wire::kStatusTopic);
+  fdds::Topic* daemon_topic = make_topic(p, daemon_type_, wire::kDaemonsTopic);
+  fdds::Publisher* pub = require(p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT), "publisher");
+  fdds::Subscriber* sub = require(p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT), "subscriber");
+  fdds::StatusMask matched = fdds::StatusMask::publication_matched();
+  replies_ = require(pub->create_datawriter(reply_topic, wire::request_reply_writer_qos(), this, matched), "reply writer");
+  updates_ = require(pub->create_datawriter(update_topic, wire::updates_writer_qos()), "update writer");
+  status_ = require(pub->create_datawriter(status_topic, wire::state_writer_qos()), "status writer");
+  daemons_ = require(pub->create_datawriter(daemon_topic, wire::state_writer_qos()), "announcement writer");
+  status_reader_ = require(sub->create_datareader(status_topic, wire::state_reader_qos(), &statuses_), "status reader");
+  requests_ = require(sub->create_datareader(request_topic, wire::request_reply_reader_qos(), this,
+                                             fdds::StatusMask::data_available()),
+                      "request reader");
+}
+
+DdsEndpoints::~DdsEndpoints() {
+  accepting_ = false;
+  // Detach listeners before the participant deletes the entities.
+  if (requests_) requests_->set_listener(nullptr);
+  if (replies_) replies_->set_listener(nullptr);
+  if (status_reader_) status_reader_->set_listener(nullptr);
+}
+
+void DdsEndpoints::stop_requests() { accepting_ = false; }
+
+void DdsEndpoints::on_data_available(fdds::DataReader* reader) {
+  msg::Request request;
+  fdds::SampleInfo info;
+  while (reader->take_next_sample(&request, &info) == ReturnCode_t::RETCODE_OK) {
+    if (!info.valid_data || !accepting_) continue;
+    if (request.server_id() != server_id_) continue;  // addressed to another daemon
+    daemon_.enqueue(std::move(request));
+  }
+}
+
+void DdsEndpoints::on_publication_matched(fdds::DataWriter*, const fdds::PublicationMatchedStatus& info) {
+  const std::string reader = guid_string(info.last_subscription_handle);
+  {
+    std::lock_guard lock(matched_mutex_);
+    if (info.current_count_change > 0) {
+      matched_clients_.insert(reader);
+    } else if (info.current_count_change < 0) {
+      if (const auto it = matched_clients_.find(reader); it != matched_clients_.end()) matched_clients_.erase(it);
+    }
+  }
+  matched_changed_.notify_all();
+}
+
+void DdsEndpoints::send_reply(const msg::Reply& reply, std::chrono::milliseconds wait) {
+  {
+    // DDS-RPC 1.0 sec. 7.6.2: a reply written before the client's reply reader matched is lost.
+    std::unique_lock lock(matched_mutex_);
+    if (!matched_changed_.wait_for(lock, wait, [&] { return matched_clients_.count(reply.client_id()) > 0; })) {
+      spdlog::warn("client {} has no matched reply reader after {} ms; replying anyway (it will retry)",
+                   reply.client_id(), wait.count());
+    }
+  }
+  msg::Reply copy = reply;
+  if (!replies_->write(&copy)) spdlog::error("reply to {} #{} could not be written", reply.client_id(), reply.request_seq());
+}
+
+void DdsEndpoints::publish_update(const msg::UpdateBatch& batch) {
+  msg::UpdateBatch copy = batch;
+  if (!updates_->write(&copy)) spdlog::error("update {}..{} of {} could not be written", batch.from_version(), batch.to_version(), batch.scene());
+}
+
+void DdsEndpoints::publish_status(const msg::SceneStatus& status) {
+  msg::SceneStatus copy = status;
+  if (!status_->write(&copy)) spdlog::error("status of {} could not be written", status.scene());
+}
+
+void DdsEndpoints::announce(const msg::DaemonInfo& info) {
+  msg::DaemonInfo copy = info;
+  if (!daemons_->write(&copy)) spdlog::error("announcement could not be written");
+}
+
+std::optional<msg::SceneStatus> DdsEndpoints::status_of(const std::string& scene) const { return statuses_.get(scene); }
+
+}  // namespace ispars::server

@@ -1,0 +1,70 @@
+#pragma once
+// The daemon's DDS side: one participant, the request reader, and the reply, update, status and
+// announcement writers.
+
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+
+#include "daemon_config.hpp"
+#include "ispars.h"
+#include "ispars/wire/latest_samples.hpp"
+#include "ispars/wire/participant.hpp"
+
+namespace ispars::server {
+
+class Daemon;
+
+class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
+                           public eprosima::fastdds::dds::DataWriterListener {
+ public:
+  DdsEndpoints(Daemon& daemon, const DaemonConfig& config);
+  ~DdsEndpoints() override;
+
+  /// Writes a reply once the client's reply reader has matched (waiting at most `wait`); the
+  /// client retries with the same id if it is still lost.
+  void send_reply(const msg::Reply& reply, std::chrono::milliseconds wait = std::chrono::milliseconds(2000));
+  void publish_update(const msg::UpdateBatch& batch);
+  void publish_status(const msg::SceneStatus& status);
+  void announce(const msg::DaemonInfo& info);
+  /// The latest status of `scene` published by any daemon (this one included).
+  [[nodiscard]] std::optional<msg::SceneStatus> status_of(const std::string& scene) const;
+  /// Stops delivering requests.
+  void stop_requests();
+
+  // DataReaderListener (requests)
+  void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
+  // DataWriterListener (replies): tracks which clients' reply readers have matched.
+  void on_publication_matched(eprosima::fastdds::dds::DataWriter* writer,
+                              const eprosima::fastdds::dds::PublicationMatchedStatus& info) override;
+
+ private:
+  Daemon& daemon_;
+  std::string server_id_;
+  wire::Participant participant_;
+  eprosima::fastdds::dds::TypeSupport request_type_, reply_type_, update_type_, status_type_, daemon_type_;
+  eprosima::fastdds::dds::DataReader* requests_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* replies_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* updates_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* status_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* daemons_ = nullptr;
+  eprosima::fastdds::dds::DataReader* status_reader_ = nullptr;
+  wire::LatestSamples<msg::SceneStatus> statuses_;
+  std::atomic<bool> accepting_{true};
+
+  mutable std::mutex matched_mutex_;
+  std::condition_variable matched_changed_;
+  std::multiset<std::string> matched_clients_;  // reply reader GUIDs (= client ids)
+};
+
+}  // namespace ispars::server

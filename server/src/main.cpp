@@ -1,0 +1,77 @@
+// isparsd: the Inspection-SPARS roadmap daemon.
+
+#include <CLI/CLI.hpp>
+#include <signal.h>
+#include <spdlog/spdlog.h>
+
+#include <iostream>
+
+#include "daemon.hpp"
+#include "ispars/input_error.hpp"
+#include "ispars/wire/participant.hpp"
+
+int main(int argc, char** argv) {
+  using ispars::server::DaemonConfig;
+  CLI::App app{"isparsd: holds scenes and persistent Inspection-SPARS roadmaps, and serves them over DDS"};
+  std::string config_file;
+  std::string data_dir, scene_dir, profile_file, profile_name, log_level, server_id;
+  std::optional<int> domain;
+  std::optional<unsigned> workers;
+  std::optional<std::uint64_t> max_samples;
+  std::optional<std::size_t> compact_every;
+  std::vector<std::string> preload;
+  app.add_option("-c,--config", config_file, "YAML config file (flags override it)")->check(CLI::ExistingFile);
+  app.add_option("--data-dir", data_dir, "where roadmaps are stored");
+  app.add_option("--scene-dir", scene_dir, "the only directory scenes are loaded from");
+  app.add_option("--domain", domain, "DDS domain id (default: config, else $ISPARS_DOMAIN, else 0)");
+  app.add_option("--workers", workers, "build worker threads");
+  app.add_option("--profile-file", profile_file, "Fast DDS XML profiles file (default: built-in localhost only)");
+  app.add_option("--profile-name", profile_name, "participant profile in the profiles file");
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error");
+  app.add_option("--server-id", server_id, "this daemon's unique id on the domain (default HOST-PID)");
+  app.add_option("--max-samples", max_samples, "largest build or extend a request may ask for");
+  app.add_option("--compact-every", compact_every, "journal commits between compacted snapshots");
+  app.add_option("--load", preload, "scenes to load at start");
+  CLI11_PARSE(app, argc, argv);
+
+  // Block the stop signals in every thread; main waits for them below.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGTERM);
+  sigaddset(&stop_signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  try {
+    DaemonConfig config = config_file.empty() ? DaemonConfig{} : ispars::server::load_daemon_config(config_file);
+    if (config_file.empty()) config.domain = ispars::wire::domain_from_environment();
+    if (!data_dir.empty()) config.data_dir = data_dir;
+    if (!scene_dir.empty()) config.scene_dir = scene_dir;
+    if (domain) config.domain = *domain;
+    if (workers) config.workers = *workers;
+    if (!profile_file.empty()) config.profile_file = profile_file;
+    if (!profile_name.empty()) config.profile_name = profile_name;
+    if (!log_level.empty()) config.log_level = log_level;
+    if (!server_id.empty()) config.server_id = server_id;
+    if (max_samples) config.max_samples = *max_samples;
+    if (compact_every) config.snapshot_compact_every = *compact_every;
+    config.preload.insert(config.preload.end(), preload.begin(), preload.end());
+    ispars::server::check_daemon_config(config, config_file.empty() ? "isparsd" : config_file);
+
+    spdlog::set_level(spdlog::level::from_str(config.log_level));
+    spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
+    ispars::wire::route_fastdds_log_to_spdlog();
+
+    ispars::server::Daemon daemon(std::move(config));
+    int signal = 0;
+    sigwait(&stop_signals, &signal);
+    spdlog::info("{}: finishing the current batches and stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+    daemon.shutdown();
+    return 0;
+  } catch (const ispars::InputError& e) {
+    std::cerr << "isparsd: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "isparsd: " << e.what() << "\n";
+    return 1;
+  }
+}
