@@ -51,9 +51,20 @@ std::string slurp(const std::filesystem::path& p) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-TEST(RoadmapLog, Crc32MatchesTheStandardCheckValue) {
-  EXPECT_EQ(crc32("123456789", 9), 0xCBF43926u);
-  EXPECT_EQ(crc32("", 0), 0u);
+TEST_F(RoadmapLogTest, BatchRangeIsAPrefixOfTheLogAndTheDigestFollowsIt) {
+  build("truss_bridge", 3);
+  const Roadmap& g = builder_->roadmap();
+  const std::uint64_t mid = g.version() / 2;
+  Roadmap prefix(scene_->pois().size());
+  apply_batch(prefix, batch_range(g, 0, mid));
+  EXPECT_EQ(prefix.version(), mid);
+  apply_batch(prefix, batch_range(g, mid, g.version()));
+  EXPECT_EQ(roadmap_digest(prefix), roadmap_digest(g));
+  EXPECT_EQ(test::fingerprint(prefix), test::fingerprint(g));
+  Roadmap shorter(scene_->pois().size());
+  apply_batch(shorter, batch_range(g, 0, mid));
+  EXPECT_NE(roadmap_digest(shorter), roadmap_digest(g));
+  EXPECT_EQ(batch_range(g, 0, g.version() + 100).to_version, g.version());  // clamped
 }
 
 TEST_F(RoadmapLogTest, BatchesRoundTripThroughEncodingAndTheFile) {

@@ -1,0 +1,61 @@
+// isparsd's config file: keys, relative paths, and named errors.
+
+#include <gtest/gtest.h>
+
+#include "daemon_config.hpp"
+#include "ispars/input_error.hpp"
+#include "support/test_support.hpp"
+
+namespace ispars::server {
+namespace {
+
+TEST(DaemonConfig, ReadsEveryKeyAndResolvesPathsAgainstTheFile) {
+  test::TempDir dir;
+  const auto path = dir.write("isparsd.yaml", R"(data_dir: data
+scene_dir: /abs/scenes
+domain: 42
+workers: 3
+profile_file: profiles.xml
+profile_name: fleet
+log_level: debug
+server_id: east-1
+max_samples: 1000
+snapshot_compact_every: 7
+preload: [a, b]
+)");
+  const DaemonConfig c = load_daemon_config(path);
+  EXPECT_EQ(c.data_dir, dir.path() / "data");
+  EXPECT_EQ(c.scene_dir, "/abs/scenes");
+  EXPECT_EQ(c.domain, 42);
+  EXPECT_EQ(c.workers, 3u);
+  EXPECT_EQ(c.profile_file, (dir.path() / "profiles.xml").string());
+  EXPECT_EQ(c.profile_name, "fleet");
+  EXPECT_EQ(c.server_id, "east-1");
+  EXPECT_EQ(c.max_samples, 1000u);
+  EXPECT_EQ(c.snapshot_compact_every, 7u);
+  EXPECT_EQ(c.preload, (std::vector<std::string>{"a", "b"}));
+}
+
+TEST(DaemonConfig, BadValuesAreNamed) {
+  test::TempDir dir;
+  const auto expect = [&](const std::string& text, const std::string& needle) {
+    const auto path = dir.write("c.yaml", text);
+    try {
+      (void)load_daemon_config(path);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect("domain: 300\n", "domain: must be in 0..232");
+  expect("workers: 0\n", "workers: must be in 1..64");
+  expect("workers: many\n", "workers: has the wrong type");
+  expect("colour: red\n", "colour: unknown key");
+  expect("log_level: chatty\n", "log_level: 'chatty' is not one of");
+  expect("[1, 2]\n", "yaml: the config must be a mapping");
+  expect("domain: [\n", "yaml");
+  EXPECT_THROW((void)load_daemon_config(dir.path() / "missing.yaml"), InputError);
+}
+
+}  // namespace
+}  // namespace ispars::server

@@ -1,0 +1,56 @@
+// The reply cache: a retried request is answered from the cache, never run twice.
+
+#include <gtest/gtest.h>
+
+#include "reply_cache.hpp"
+
+namespace ispars::server {
+namespace {
+
+msg::Reply reply(std::uint64_t seq, const std::string& text) {
+  msg::Reply r;
+  r.request_seq(seq);
+  r.kind(msg::STATS);
+  r.message(text);
+  return r;
+}
+
+TEST(ReplyCache, RetriesAreAnsweredFromTheCacheAndInProgressOnesAreNotRunAgain) {
+  ReplyCache cache;
+  msg::Reply out;
+  EXPECT_EQ(cache.admit("c1", 5, out), ReplyCache::Admission::new_request);
+  EXPECT_EQ(cache.admit("c1", 5, out), ReplyCache::Admission::in_progress);
+  cache.complete("c1", 5, reply(5, "done"));
+  ASSERT_EQ(cache.admit("c1", 5, out), ReplyCache::Admission::answered);
+  EXPECT_EQ(out.message(), "done");
+  // Another client's same sequence number is another request.
+  EXPECT_EQ(cache.admit("c2", 5, out), ReplyCache::Admission::new_request);
+}
+
+TEST(ReplyCache, MemoryIsBoundedPerClientAndInClients) {
+  ReplyCache cache(/*clients=*/2, /*per_client=*/3);
+  msg::Reply out;
+  for (std::uint64_t s = 1; s <= 5; ++s) {
+    ASSERT_EQ(cache.admit("a", s, out), ReplyCache::Admission::new_request);
+    cache.complete("a", s, reply(s, "r"));
+  }
+  EXPECT_EQ(cache.admit("a", 5, out), ReplyCache::Admission::answered);
+  EXPECT_EQ(cache.admit("a", 1, out), ReplyCache::Admission::new_request);  // evicted: oldest first
+  cache.admit("b", 1, out);
+  cache.admit("c", 1, out);  // evicts the least recent client
+  EXPECT_EQ(cache.admit("b", 1, out), ReplyCache::Admission::in_progress);
+}
+
+TEST(ReplyCache, SnapshotChunksAreNotKept) {
+  ReplyCache cache;
+  msg::Reply out;
+  cache.admit("a", 1, out);
+  msg::Reply chunk = reply(1, "");
+  chunk.kind(msg::SNAPSHOT);
+  chunk.chunk().resize(1000);
+  cache.complete("a", 1, chunk);
+  EXPECT_EQ(cache.admit("a", 1, out), ReplyCache::Admission::new_request);  // re-read, harmless
+}
+
+}  // namespace
+}  // namespace ispars::server

@@ -1,0 +1,55 @@
+// The build worker pool: jobs run concurrently up to the thread count; stop waits for them.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "worker_pool.hpp"
+
+namespace ispars::server {
+namespace {
+
+TEST(WorkerPool, RunsJobsOnItsThreadsAndStopWaitsForRunningOnes) {
+  std::atomic<int> running{0}, peak{0}, done{0};
+  {
+    WorkerPool pool(2);
+    for (int i = 0; i < 6; ++i) {
+      pool.submit([&] {
+        const int now = ++running;
+        int p = peak.load();
+        while (now > p && !peak.compare_exchange_weak(p, now)) {
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        --running;
+        ++done;
+      });
+    }
+    while (done < 6) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_EQ(done.load(), 6);
+  EXPECT_LE(peak.load(), 2);
+  EXPECT_GE(peak.load(), 1);
+}
+
+TEST(WorkerPool, StopDropsQueuedJobsAndRefusesNewOnes) {
+  std::atomic<int> done{0};
+  std::atomic<bool> release{false};
+  WorkerPool pool(1);
+  pool.submit([&] {
+    while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    ++done;
+  });
+  pool.submit([&] { ++done; });  // queued behind the first
+  std::thread stopper([&] { pool.stop(); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  release = true;
+  stopper.join();
+  EXPECT_EQ(done.load(), 1);
+  pool.submit([&] { ++done; });
+  EXPECT_EQ(done.load(), 1);
+}
+
+}  // namespace
+}  // namespace ispars::server

@@ -1,0 +1,111 @@
+// Record files: checksummed appends, torn tails, atomic whole-file writes.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "ispars/record_file.hpp"
+#include "support/test_support.hpp"
+
+namespace ispars {
+namespace {
+
+const auto accept_all = [](const std::string&) { return std::string(); };
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(RecordFile, Crc32MatchesTheStandardCheckValue) {
+  EXPECT_EQ(crc32("123456789", 9), 0xCBF43926u);
+  EXPECT_EQ(crc32("", 0), 0u);
+}
+
+TEST(RecordFile, EveryPrefixOfTheFileReadsAsTheWholeRecordsItHolds) {
+  test::TempDir dir;
+  const auto path = dir.path() / "r.log";
+  const std::vector<std::string> payloads = {"alpha", "", std::string(1000, 'x'), "omega"};
+  {
+    RecordFileWriter writer(path, "MAGIC001", 0);
+    for (const auto& p : payloads) writer.append(p);
+  }
+  const std::string full = slurp(path);
+  std::vector<std::size_t> ends = {8};
+  for (const auto& p : payloads) ends.push_back(ends.back() + 8 + p.size());
+  ASSERT_EQ(ends.back(), full.size());
+  for (std::size_t cut = 0; cut <= full.size(); ++cut) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc).write(full.data(), static_cast<std::streamsize>(cut));
+    const RecordReplay replay = read_record_file(path, "MAGIC001", accept_all);
+    std::size_t whole = 0;
+    while (whole < payloads.size() && ends[whole + 1] <= cut) ++whole;
+    ASSERT_EQ(replay.payloads.size(), whole) << "cut at " << cut;
+    for (std::size_t i = 0; i < whole; ++i) EXPECT_EQ(replay.payloads[i], payloads[i]);
+    EXPECT_EQ(replay.torn_tail, cut != 0 && cut != ends[whole]) << "cut at " << cut;
+    // Reopening cuts the tail and appends cleanly after the whole records.
+    {
+      RecordFileWriter writer(path, "MAGIC001", replay.valid_bytes);
+      writer.append("after");
+    }
+    const RecordReplay again = read_record_file(path, "MAGIC001", accept_all);
+    ASSERT_EQ(again.payloads.size(), whole + 1);
+    EXPECT_EQ(again.payloads.back(), "after");
+    EXPECT_FALSE(again.torn_tail);
+  }
+}
+
+TEST(RecordFile, AFlippedByteOrARejectedRecordEndsTheValidPrefix) {
+  test::TempDir dir;
+  const auto path = dir.path() / "r.log";
+  {
+    RecordFileWriter writer(path, "MAGIC001", 0);
+    writer.append("one");
+    writer.append("two");
+    writer.append("three");
+  }
+  std::string bytes = slurp(path);
+  bytes[8 + 8 + 3 + 8 + 1] ^= 0x40;  // inside "two"
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  RecordReplay replay = read_record_file(path, "MAGIC001", accept_all);
+  ASSERT_EQ(replay.payloads.size(), 1u);
+  EXPECT_EQ(replay.tail_problem, "record checksum mismatch");
+
+  bytes[8 + 8 + 3 + 8 + 1] ^= 0x40;
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  replay = read_record_file(path, "MAGIC001", [](const std::string& p) {
+    return p == "three" ? std::string("three is refused") : std::string();
+  });
+  EXPECT_EQ(replay.payloads.size(), 2u);
+  EXPECT_EQ(replay.tail_problem, "three is refused");
+  EXPECT_TRUE(replay.torn_tail);
+}
+
+TEST(RecordFile, AnotherMagicIsAnErrorAndAMissingFileIsEmpty) {
+  test::TempDir dir;
+  EXPECT_TRUE(read_record_file(dir.path() / "none", "MAGIC001", accept_all).payloads.empty());
+  const auto path = dir.write("other", "SOMETHING ELSE ENTIRELY");
+  EXPECT_THROW((void)read_record_file(path, "MAGIC001", accept_all), std::runtime_error);
+}
+
+TEST(RecordFile, AtomicWritesReplaceTheWholeFileAndLeaveNoTemporary) {
+  test::TempDir dir;
+  const auto path = dir.path() / "f.json";
+  write_file_atomically(path, "first");
+  write_file_atomically(path, "second, longer");
+  EXPECT_EQ(slurp(path), "second, longer");
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "f.json.tmp"));
+  EXPECT_THROW(write_file_atomically(dir.path() / "missing-dir" / "f", "x"), std::runtime_error);
+}
+
+TEST(RecordFile, ByteReaderRefusesToReadPastTheEnd) {
+  std::string data;
+  put_bytes(data, std::uint32_t{7});
+  ByteReader in(data);
+  EXPECT_EQ(in.get<std::uint32_t>(), 7u);
+  EXPECT_TRUE(in.done());
+  EXPECT_THROW((void)in.get<std::uint8_t>(), std::runtime_error);
+  EXPECT_THROW((void)in.bytes(1), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace ispars

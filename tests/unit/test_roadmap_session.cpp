@@ -1,0 +1,199 @@
+// A scene's roadmap session: jobs, cancellation, stopping, recovery by replay, and refusals.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
+
+#include "ispars/input_error.hpp"
+#include "ispars/roadmap_session.hpp"
+#include "support/test_support.hpp"
+
+namespace ispars {
+namespace {
+
+std::uint64_t uninterrupted(const Scene& scene, std::uint64_t samples, std::uint64_t seed) {
+  BuildOptions options;
+  options.seed = seed;
+  auto b = make_roadmap_builder(BuildMethod::ispars, scene, options);
+  b->extend(samples);
+  return roadmap_digest(b->roadmap());
+}
+
+class RoadmapSessionTest : public ::testing::Test {
+ protected:
+  std::unique_ptr<RoadmapSession> open(SessionCallbacks callbacks = {}, SessionLimits limits = {}) {
+    return std::make_unique<RoadmapSession>("tower", scene(), dir_.path() / "tower", limits, std::move(callbacks));
+  }
+  static const Scene& scene() { return test::shared_scene("demo_tank_tower"); }
+  static BuildRequest ispars(std::uint64_t samples, std::uint64_t seed = 1) {
+    BuildRequest r;
+    r.method = BuildMethod::ispars;
+    r.samples = samples;
+    r.seed = seed;
+    return r;
+  }
+  test::TempDir dir_;
+  std::atomic<bool> never_{false};
+};
+
+TEST_F(RoadmapSessionTest, AJobCommitsBatchesThatReplayToThePublishedRoadmap) {
+  Roadmap replica(scene().pois().size());
+  std::uint64_t generation = 0;
+  std::size_t statuses = 0;
+  SessionCallbacks callbacks;
+  callbacks.on_commit = [&](const RoadmapBatch& batch, std::uint64_t g, std::uint64_t) {
+    generation = g;
+    apply_batch(replica, batch);
+  };
+  callbacks.on_status = [&](const SessionStatus&) { ++statuses; };
+  auto session = open(callbacks);
+  EXPECT_EQ(session->status().state, SessionState::empty);
+  session->request_build(ispars(4000, 3));
+  EXPECT_EQ(session->status().state, SessionState::queued);
+  session->run_job(never_);
+  const SessionStatus s = session->status();
+  EXPECT_EQ(s.state, SessionState::idle);
+  EXPECT_EQ(s.samples_done, 4000u);
+  const PublishedRoadmap p = session->published();
+  EXPECT_EQ(p.generation, generation);
+  EXPECT_EQ(roadmap_digest(replica), roadmap_digest(*p.roadmap));
+  EXPECT_EQ(roadmap_digest(*p.roadmap), uninterrupted(scene(), 4000, 3));
+  EXPECT_GE(statuses, 3u);
+  const VerificationReport report = session->verify();
+  EXPECT_TRUE(report.geometry_ok());
+  EXPECT_EQ(report.invariant_violations, 0u);
+}
+
+TEST_F(RoadmapSessionTest, StoppingKeepsTheCommittedChunksAndAReopenedSessionExtendsExactly) {
+  std::uint64_t stopped_at = 0;
+  {
+    std::atomic<bool> stopping{false};
+    SessionCallbacks callbacks;
+    callbacks.on_commit = [&](const RoadmapBatch&, std::uint64_t, std::uint64_t samples) {
+      if (samples >= 1000) stopping = true;  // as SIGTERM would, mid-build
+    };
+    auto session = open(callbacks);
+    session->request_build(ispars(1'000'000, 9));
+    session->run_job(stopping);
+    stopped_at = session->status().samples_done;
+    EXPECT_GE(stopped_at, 1000u);
+    EXPECT_LT(stopped_at, 1'000'000u);
+    EXPECT_NE(session->status().last_error.find("daemon stopped"), std::string::npos);
+  }
+  auto session = open();
+  EXPECT_NE(session->recovery_note().find("recovered ispars roadmap"), std::string::npos);
+  EXPECT_EQ(session->status().samples_done, stopped_at);
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), stopped_at, 9));
+  EXPECT_EQ(session->verify().invariant_violations, 0u);
+  session->request_extend(500);
+  session->run_job(never_);  // replays the recipe, checks it against the store, then extends
+  EXPECT_EQ(session->status().state, SessionState::idle) << session->status().last_error;
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), stopped_at + 500, 9));
+}
+
+TEST_F(RoadmapSessionTest, CancelStopsAfterTheCurrentChunk) {
+  RoadmapSession* raw = nullptr;
+  SessionCallbacks callbacks;
+  callbacks.on_commit = [&](const RoadmapBatch&, std::uint64_t, std::uint64_t samples) {
+    if (samples > 0) raw->cancel();
+  };
+  auto session = open(callbacks);
+  raw = session.get();
+  EXPECT_FALSE(session->cancel());  // nothing to cancel
+  session->request_build(ispars(1'000'000));
+  session->run_job(never_);
+  const SessionStatus s = session->status();
+  EXPECT_EQ(s.state, SessionState::idle);
+  EXPECT_LT(s.samples_done, 1'000'000u);
+  EXPECT_EQ(s.samples_target, s.samples_done);
+  EXPECT_NE(s.last_error.find("cancelled"), std::string::npos);
+}
+
+TEST_F(RoadmapSessionTest, BadAndConflictingRequestsAreRefusedByName) {
+  SessionLimits limits;
+  limits.max_samples = 10'000;
+  auto session = open({}, limits);
+  const auto expect_refusal = [](const auto& f, const std::string& needle) {
+    try {
+      f();
+      ADD_FAILURE() << "no error for " << needle;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect_refusal([&] { session->request_extend(10); }, "has no roadmap to extend");
+  expect_refusal([&] { session->request_extend(0); }, "samples: must be at least 1");
+  expect_refusal([&] { session->request_build(ispars(20'000)); }, "samples: 20000 is more than");
+  expect_refusal([&] { (void)session->path(Vec3(0, 0, 1), Vec3(1, 1, 1)); }, "has no roadmap yet");
+  expect_refusal([&] { session->drop(); }, "has no roadmap");
+  BuildRequest r = ispars(100);
+  r.overrides["sparse_delta"] = -2.0;
+  expect_refusal([&] { session->request_build(r); }, "sparse_delta: must be positive");
+  r.overrides = {{"stretch", 0.5}};
+  expect_refusal([&] { session->request_build(r); }, "stretch: must be at least 1");
+  EXPECT_EQ(session->status().state, SessionState::empty);  // nothing changed
+
+  session->request_build(ispars(500));
+  expect_refusal([&] { session->request_build(ispars(500)); }, "already running");
+  expect_refusal([&] { session->request_extend(5); }, "already running");
+  session->run_job(never_);
+  expect_refusal([&] { session->request_build(ispars(500)); }, "replace: scene 'tower' already has a roadmap");
+  BuildRequest replace = ispars(300, 2);
+  replace.replace = true;
+  replace.overrides = {{"sparse_delta", 4.0}};
+  const auto old_generation = session->published().generation;
+  session->request_build(replace);
+  session->run_job(never_);
+  EXPECT_NE(session->published().generation, old_generation);
+  EXPECT_EQ(session->status().recipe->sparse_delta, 4.0);
+  session->drop();
+  EXPECT_EQ(session->status().state, SessionState::empty);
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / "tower"));
+}
+
+TEST_F(RoadmapSessionTest, PathsAreFreeJoinedWithinDeltaAndMeasured) {
+  auto session = open();
+  session->request_build(ispars(6000));
+  session->run_job(never_);
+  const Scene& s = scene();
+  const auto p = session->published();
+  const double radius = s.config().sparse_delta;
+  Rng rng(5);
+  int answered = 0;
+  for (int i = 0; i < 40; ++i) {
+    const Vec3 a = s.sample_valid_configuration(rng);
+    const Vec3 b = s.sample_valid_configuration(rng);
+    try {
+      const RoadmapPath path = session->path(a, b);
+      ++answered;
+      ASSERT_GE(path.waypoints.size(), 2u);
+      EXPECT_EQ(path.waypoints.front(), a);
+      EXPECT_EQ(path.waypoints.back(), b);
+      double length = 0;
+      for (std::size_t k = 1; k < path.waypoints.size(); ++k) {
+        EXPECT_TRUE(s.segment_valid(path.waypoints[k - 1], path.waypoints[k]));
+        length += (path.waypoints[k] - path.waypoints[k - 1]).norm();
+      }
+      EXPECT_NEAR(path.length, length, 1e-9);
+      if (!path.vertices.empty()) {
+        EXPECT_LE((p.roadmap->position(path.vertices.front()) - a).norm(), radius);
+        EXPECT_LE((p.roadmap->position(path.vertices.back()) - b).norm(), radius);
+        for (std::size_t k = 1; k < path.vertices.size(); ++k) {
+          EXPECT_TRUE(p.roadmap->has_edge(path.vertices[k - 1], path.vertices[k]));
+        }
+      }
+    } catch (const InputError& e) {
+      // Only the documented refusals: no free join within Delta, or different components.
+      const std::string what = e.what();
+      EXPECT_TRUE(what.find("no free segment") != std::string::npos || what.find("different component") != std::string::npos)
+          << what;
+    }
+  }
+  EXPECT_GT(answered, 10);
+  EXPECT_THROW((void)session->path(Vec3(std::nan(""), 0, 0), Vec3(0, 0, 1)), InputError);
+  EXPECT_THROW((void)session->path(Vec3(0, 0, 1), Vec3(1e6, 0, 0)), InputError);
+}
+
+}  // namespace
+}  // namespace ispars

@@ -1,0 +1,197 @@
+// The roadmap store: commits survive reopening, a crash at any byte recovers a committed state,
+// compaction's crash window is harmless, and bad commits change nothing.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "ispars/roadmap_store.hpp"
+#include "support/test_support.hpp"
+
+namespace ispars {
+namespace {
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void spit(const std::filesystem::path& p, const std::string& bytes) {
+  std::ofstream(p, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+RoadmapsView view(const RoadmapBuilder& b) { return {b.samples(), &b.roadmap(), b.dense(), b.dense_ids()}; }
+
+// A committed state of the build: what recovery must reproduce.
+struct Committed {
+  std::uint64_t samples;
+  std::uint64_t digest;
+  std::uint64_t dense_digest;
+  std::size_t ids;
+};
+
+class RoadmapStoreTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    scene_ = &test::shared_scene("truss_bridge");
+    recipe_.scene = "bridge";
+    recipe_.method = BuildMethod::ispars;
+    recipe_.seed = 11;
+    recipe_.dense_delta = scene_->config().dense_delta;
+    recipe_.sparse_delta = scene_->config().sparse_delta;
+    recipe_.stretch = scene_->config().stretch;
+    recipe_.generation = 42;
+  }
+  // Builds in `commits` steps of `step` samples, committing each; returns every committed state.
+  std::vector<Committed> build_and_commit(RoadmapStore& store, int commits, std::size_t step) {
+    BuildOptions options;
+    options.seed = recipe_.seed;
+    builder_ = make_roadmap_builder(BuildMethod::ispars, *scene_, options);
+    std::vector<Committed> states;
+    std::uint64_t v = 0, dv = 0;
+    for (int i = 0; i < commits; ++i) {
+      if (i > 0) builder_->extend(step);
+      const BuildCommit c = commit_since(view(*builder_), v, dv);
+      store.commit(c, view(*builder_));
+      v = builder_->roadmap().version();
+      dv = builder_->dense()->version();
+      states.push_back({builder_->samples(), roadmap_digest(builder_->roadmap()), roadmap_digest(*builder_->dense()),
+                        builder_->dense_ids().size()});
+    }
+    return states;
+  }
+  static void expect_state(const StoreRecovery& r, const Committed& c) {
+    EXPECT_EQ(r.roadmaps.samples, c.samples);
+    EXPECT_EQ(roadmap_digest(r.roadmaps.roadmap), c.digest);
+    ASSERT_TRUE(r.roadmaps.dense.has_value());
+    EXPECT_EQ(roadmap_digest(*r.roadmaps.dense), c.dense_digest);
+    EXPECT_EQ(r.roadmaps.dense_ids.size(), c.ids);
+  }
+
+  const Scene* scene_ = nullptr;
+  RoadmapRecipe recipe_;
+  std::unique_ptr<RoadmapBuilder> builder_;
+  test::TempDir dir_;
+};
+
+TEST_F(RoadmapStoreTest, ReopeningRecoversTheLastCommitThroughSnapshotsAndJournal) {
+  const auto path = dir_.path() / "bridge";
+  std::vector<Committed> states;
+  {
+    auto store = RoadmapStore::create(path, recipe_);
+    store->set_compact_every(3);
+    states = build_and_commit(*store, 8, 200);
+  }
+  EXPECT_TRUE(std::filesystem::exists(path / "snapshot.bin"));
+  StoreRecovery r;
+  auto store = RoadmapStore::open(path, scene_->pois().size(), r);
+  EXPECT_EQ(r.recipe.seed, 11u);
+  EXPECT_EQ(r.recipe.generation, 42u);
+  EXPECT_FALSE(r.torn_tail);
+  EXPECT_EQ(r.journal_commits, 8u % 3u);
+  expect_state(r, states.back());
+  EXPECT_EQ(test::fingerprint(r.roadmaps.roadmap), test::fingerprint(builder_->roadmap()));
+  EXPECT_TRUE(std::equal(r.roadmaps.dense_ids.begin(), r.roadmaps.dense_ids.end(), builder_->dense_ids().begin(),
+                         builder_->dense_ids().end()));
+  EXPECT_THROW(RoadmapStore::create(path, recipe_), std::runtime_error);  // never over a store
+}
+
+TEST_F(RoadmapStoreTest, ACrashAtAnyByteOfTheJournalRecoversACommittedState) {
+  const auto path = dir_.path() / "bridge";
+  std::vector<Committed> states;
+  {
+    auto store = RoadmapStore::create(path, recipe_);
+    store->set_compact_every(1000);
+    states = build_and_commit(*store, 5, 150);
+  }
+  const std::string journal = slurp(path / "journal.log");
+  // Cut at 300 points spread over the file (the journal holds no snapshot here).
+  for (std::size_t k = 0; k <= 300; ++k) {
+    const std::size_t cut = journal.size() * k / 300;
+    spit(path / "journal.log", journal.substr(0, cut));
+    StoreRecovery r;
+    auto store = RoadmapStore::open(path, scene_->pois().size(), r);
+    const std::size_t commits = r.journal_commits;
+    ASSERT_LE(commits, states.size());
+    if (commits == 0) {
+      EXPECT_EQ(r.roadmaps.roadmap.version(), 0u);
+    } else {
+      expect_state(r, states[commits - 1]);
+    }
+  }
+}
+
+TEST_F(RoadmapStoreTest, ACrashBetweenSnapshotAndJournalResetLosesNothingAndDuplicatesNothing) {
+  const auto path = dir_.path() / "bridge";
+  std::vector<Committed> states;
+  std::string journal_before_compaction;
+  {
+    auto store = RoadmapStore::create(path, recipe_);
+    store->set_compact_every(1000);
+    states = build_and_commit(*store, 4, 200);
+    journal_before_compaction = slurp(path / "journal.log");
+    store->compact(view(*builder_));
+  }
+  // As if the process died after renaming the snapshot into place but before the new journal.
+  spit(path / "journal.log", journal_before_compaction);
+  StoreRecovery r;
+  auto store = RoadmapStore::open(path, scene_->pois().size(), r);
+  expect_state(r, states.back());
+  EXPECT_EQ(r.journal_commits, 0u);
+}
+
+TEST_F(RoadmapStoreTest, ACommitThatDoesNotContinueIsRefusedAndChangesNothing) {
+  const auto path = dir_.path() / "bridge";
+  auto store = RoadmapStore::create(path, recipe_);
+  build_and_commit(*store, 2, 200);
+  StoredRoadmaps recovered;
+  {
+    StoreRecovery r;
+    store.reset();
+    store = RoadmapStore::open(path, scene_->pois().size(), r);
+    recovered = std::move(r.roadmaps);
+  }
+  const std::uint64_t before = roadmap_digest(recovered.roadmap);
+  BuildCommit stale = commit_since(view(*builder_), 0, 0);  // starts at version 0 again
+  EXPECT_THROW(apply_commit(recovered, stale), std::runtime_error);
+  EXPECT_EQ(roadmap_digest(recovered.roadmap), before);
+  BuildCommit wrong_ids = commit_since(view(*builder_), 0, 0);
+  wrong_ids.new_dense_ids.pop_back();
+  StoredRoadmaps fresh{0, Roadmap(scene_->pois().size()), Roadmap(scene_->pois().size()), {}};
+  EXPECT_THROW(apply_commit(fresh, wrong_ids), std::runtime_error);
+  EXPECT_EQ(fresh.roadmap.version(), 0u);
+}
+
+TEST_F(RoadmapStoreTest, RecipesRoundTripAndBadOnesAreNamed) {
+  const RoadmapRecipe back = recipe_from_json(recipe_to_json(recipe_));
+  EXPECT_EQ(back.scene, recipe_.scene);
+  EXPECT_EQ(back.method, recipe_.method);
+  EXPECT_EQ(back.seed, recipe_.seed);
+  EXPECT_EQ(back.dense_delta, recipe_.dense_delta);
+  EXPECT_EQ(back.generation, recipe_.generation);
+  EXPECT_THROW((void)recipe_from_json("{"), std::runtime_error);
+  try {
+    (void)recipe_from_json(R"({"scene": "x"})");
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("lacks method"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((void)recipe_from_json(R"({"scene": "x", "method": "prm"})"), std::runtime_error);
+}
+
+TEST_F(RoadmapStoreTest, DroppingRemovesTheStoreAndLeftoversAreCleanedAtStart) {
+  const auto path = dir_.path() / "bridge";
+  RoadmapStore::create(path, recipe_).reset();
+  drop_store(path);
+  EXPECT_FALSE(std::filesystem::exists(path));
+  std::filesystem::create_directories(dir_.path() / "other.dropped");
+  std::filesystem::create_directories(dir_.path() / "third.new");
+  std::filesystem::create_directories(dir_.path() / "kept");
+  remove_dropped_stores(dir_.path());
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / "other.dropped"));
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / "third.new"));
+  EXPECT_TRUE(std::filesystem::exists(dir_.path() / "kept"));
+}
+
+}  // namespace
+}  // namespace ispars
