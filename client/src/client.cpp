@@ -81,6 +81,8 @@ class Client::Impl final : public fdds::DataReaderListener {
     reply_reader_->set_listener(nullptr);
     status_reader_->set_listener(nullptr);
     daemon_reader_->set_listener(nullptr);
+    // Delete the readers now, while the listeners they point to still exist.
+    participant_->delete_contained_entities();
   }
 
   void on_data_available(fdds::DataReader* reader) override {
@@ -216,7 +218,8 @@ std::string Client::owner_of(const std::string& scene) {
 }
 
 msg::Reply Client::call_raw(msg::Request request, const std::string& server) {
-  return impl_->call(std::move(request), server.empty() ? owner_of(request.scene()) : server);
+  const std::string target = server.empty() ? owner_of(request.scene()) : server;
+  return impl_->call(std::move(request), target);
 }
 
 msg::Reply Client::call(msg::Request request, const std::string& server) {

@@ -10,6 +10,7 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
+#include <set>
 #include <thread>
 
 #include "ispars/roadmap_log.hpp"
@@ -107,8 +108,10 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
       Snapshot s = client_.snapshot(scene_);
       {
         std::lock_guard lock(state_mutex_);
+        if (generation_ != 0 && generation_ != s.generation) retired_.insert(generation_);
         roadmap_ = std::move(s.roadmap);
         generation_ = s.generation;
+        owner_ = s.status.server_id();
         root_ = s.root;
         pois_ = std::move(s.pois);
         ++snapshots_;
@@ -129,10 +132,9 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
   bool apply(const msg::UpdateBatch& b) {
     {
       std::lock_guard lock(state_mutex_);
-      if (b.generation() != generation_) {
-        if (b.generation() < generation_) return true;  // a stale batch of an older roadmap
-        return false;
-      }
+      if (retired_.count(b.generation()) > 0) return true;  // a late batch of a replaced roadmap
+      // Another roadmap (a rebuild) or another publisher (the scene moved): resync from the owner.
+      if (b.generation() != generation_ || b.server_id() != owner_) return false;
       const std::uint64_t version = roadmap_.version();
       if (b.to_version() <= version) return true;  // already in the snapshot: a duplicate
       if (b.from_version() != version) return false;  // a gap
@@ -178,6 +180,8 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
   mutable std::condition_variable state_changed_;
   Roadmap roadmap_;
   std::uint64_t generation_ = 0;
+  std::set<std::uint64_t> retired_;  // generations this replica has left behind
+  std::string owner_;
   std::uint64_t samples_ = 0;
   Vec3 root_ = Vec3::Zero();
   std::vector<Vec3> pois_;

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <stdexcept>
 
 namespace ispars {
@@ -33,6 +34,9 @@ void write_all(int fd, const char* data, std::size_t size, const std::filesystem
 }
 
 std::string record_bytes(const std::string& payload) {
+  if (payload.size() > std::numeric_limits<std::uint32_t>::max()) {
+    throw std::runtime_error("record of " + std::to_string(payload.size()) + " bytes exceeds the 4 GiB record limit");
+  }
   std::string record;
   record.reserve(payload.size() + 8);
   put_bytes(record, static_cast<std::uint32_t>(payload.size()));

@@ -1,6 +1,7 @@
 #include "ispars/roadmap_log.hpp"
 
 #include <algorithm>
+#include <utility>
 #include <stdexcept>
 
 #include "ispars/record_file.hpp"
@@ -43,32 +44,74 @@ std::uint64_t roadmap_digest(const Roadmap& roadmap) {
   return hash;
 }
 
-void apply_batch(Roadmap& replica, const RoadmapBatch& batch) {
+namespace {
+
+// Everything apply_batch needs to hold, checked before the replica is touched: a batch from the
+// network or a damaged file is refused whole, never half-applied.
+void check_batch_fits(const Roadmap& replica, const RoadmapBatch& batch) {
   if (replica.version() != batch.from_version) {
     throw std::runtime_error("batch starts at version " + std::to_string(batch.from_version) +
                              " but the replica is at " + std::to_string(replica.version()));
   }
+  if (batch.to_version < batch.from_version || batch.to_version - batch.from_version != batch.changes.size()) {
+    throw std::runtime_error("batch does not end at its version");
+  }
+  if (batch.visible.size() != batch.positions.size()) throw std::runtime_error("batch POI lists do not match its vertices");
+  const std::size_t pois = replica.visibility_table().poi_count();
+  std::size_t vertex = 0;
+  std::size_t edge = 0;
+  std::vector<std::uint64_t> added;  // u * 2^32 + v with u < v, for the duplicate check
+  added.reserve(batch.edges.size());
+  const auto position = [&](VertexId v) -> const Vec3& {
+    return v < replica.vertex_count() ? replica.position(v) : batch.positions[v - replica.vertex_count()];
+  };
+  for (const RoadmapChange& change : batch.changes) {
+    if (change.kind == RoadmapChange::Kind::vertex) {
+      if (vertex >= batch.positions.size() || change.index != replica.vertex_count() + vertex) {
+        throw std::runtime_error("batch vertex out of order");
+      }
+      if (!batch.positions[vertex].allFinite()) throw std::runtime_error("batch vertex position is not finite");
+      for (const PoiId id : batch.visible[vertex]) {
+        if (id >= pois) throw std::runtime_error("batch vertex sees POI " + std::to_string(id) + " of " + std::to_string(pois));
+      }
+      ++vertex;
+    } else {
+      if (edge >= batch.edges.size() || change.index != replica.edge_count() + edge) {
+        throw std::runtime_error("batch edge out of order");
+      }
+      const RoadmapEdge& e = batch.edges[edge++];
+      const std::size_t known = replica.vertex_count() + vertex;
+      if (e.u >= known || e.v >= known || e.u == e.v) throw std::runtime_error("batch edge does not fit the replica");
+      const auto [lo, hi] = std::minmax(e.u, e.v);
+      added.push_back((std::uint64_t{lo} << 32) | hi);
+      if (e.u < replica.vertex_count() && e.v < replica.vertex_count() && replica.has_edge(e.u, e.v)) {
+        throw std::runtime_error("batch edge is a duplicate");
+      }
+      if ((position(e.u) - position(e.v)).norm() != e.cost) throw std::runtime_error("batch edge cost is not its length");
+    }
+  }
+  if (vertex != batch.positions.size() || edge != batch.edges.size()) {
+    throw std::runtime_error("batch holds vertices or edges its change list does not");
+  }
+  std::sort(added.begin(), added.end());
+  if (std::adjacent_find(added.begin(), added.end()) != added.end()) throw std::runtime_error("batch edge is a duplicate");
+}
+
+}  // namespace
+
+void apply_batch(Roadmap& replica, const RoadmapBatch& batch) {
+  check_batch_fits(replica, batch);
   std::size_t vertex = 0;
   std::size_t edge = 0;
   for (const RoadmapChange& change : batch.changes) {
     if (change.kind == RoadmapChange::Kind::vertex) {
-      if (vertex >= batch.positions.size() || change.index != replica.vertex_count()) {
-        throw std::runtime_error("batch vertex out of order");
-      }
       replica.add_vertex(batch.positions[vertex], batch.visible[vertex]);
       ++vertex;
     } else {
-      if (edge >= batch.edges.size() || change.index != replica.edge_count()) {
-        throw std::runtime_error("batch edge out of order");
-      }
       const RoadmapEdge& e = batch.edges[edge++];
-      if (e.u >= replica.vertex_count() || e.v >= replica.vertex_count() || !replica.add_edge(e.u, e.v) ||
-          replica.edges().back().cost != e.cost) {
-        throw std::runtime_error("batch edge does not fit the replica");
-      }
+      replica.add_edge(e.u, e.v);
     }
   }
-  if (replica.version() != batch.to_version) throw std::runtime_error("batch does not end at its version");
 }
 
 std::string encode_batch(const RoadmapBatch& batch) {

@@ -85,6 +85,7 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
 RoadmapSession::~RoadmapSession() = default;
 
 void RoadmapSession::check_can_start(const char* field) const {
+  if (closed_) throw InputError(kRequest, "scene", fmt::format("scene '{}' was unloaded", name_));
   if (state_ == SessionState::queued || state_ == SessionState::building || state_ == SessionState::replaying) {
     throw InputError(kRequest, field, fmt::format("a build is already running on scene '{}'", name_));
   }
@@ -124,6 +125,7 @@ void RoadmapSession::request_build(const BuildRequest& request) {
   }
   (void)scene_.with_roadmap_parameters(recipe.dense_delta, recipe.sparse_delta, recipe.stretch,
                                        kRequest);  // throws InputError naming the bad one
+  if (!request.overrides.empty()) check_override_scale(recipe);
   {
     std::lock_guard lock(mutex_);
     check_can_start("scene");
@@ -132,10 +134,9 @@ void RoadmapSession::request_build(const BuildRequest& request) {
                        fmt::format("scene '{}' already has a roadmap ({} samples); set replace to rebuild it",
                                    name_, samples_done_));
     }
-    recipe.generation = new_generation();
-    BuildRequest pending = request;
-    pending_build_ = pending;
-    recipe_ = recipe;  // provisional: the job creates the store from it
+    // Increasing, even if the clock steps back, so replicas always see a new roadmap as new.
+    recipe.generation = std::max(new_generation(), (recipe_ ? recipe_->generation : 0) + 1);
+    pending_recipe_ = recipe;  // the job makes it the roadmap's recipe when it starts
     pending_samples_ = request.samples;
     last_error_.clear();
     state_ = SessionState::queued;
@@ -153,7 +154,7 @@ void RoadmapSession::request_extend(std::uint64_t samples) {
     std::lock_guard lock(mutex_);
     check_can_start("scene");
     if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap to extend", name_));
-    pending_build_.reset();
+    pending_recipe_.reset();
     pending_samples_ = samples;
     last_error_.clear();
     state_ = SessionState::queued;
@@ -178,18 +179,16 @@ bool RoadmapSession::busy() const {
 void RoadmapSession::drop() {
   std::unique_lock job(job_mutex_, std::try_to_lock);
   {
+    // Under both locks throughout, so no request can be accepted while the store goes away.
     std::lock_guard lock(mutex_);
     if (!job.owns_lock()) throw InputError(kRequest, "scene", fmt::format("a build is running on scene '{}'", name_));
     check_can_start("scene");
     if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
-  }
-  store_.reset();
-  builder_.reset();
-  build_scene_.reset();
-  recovered_.reset();
-  drop_store(store_dir_);
-  {
-    std::lock_guard lock(mutex_);
+    store_.reset();
+    builder_.reset();
+    build_scene_.reset();
+    recovered_.reset();
+    drop_store(store_dir_);
     recipe_.reset();
     samples_done_ = samples_target_ = 0;
     dense_vertices_ = dense_edges_ = 0;
@@ -197,6 +196,32 @@ void RoadmapSession::drop() {
     state_ = SessionState::empty;
   }
   notify_status();
+}
+
+void RoadmapSession::close() {
+  std::lock_guard lock(mutex_);
+  check_can_start("scene");
+  closed_ = true;
+}
+
+void RoadmapSession::check_override_scale(const RoadmapRecipe& recipe) const {
+  // Parameters far off the scene's scale make a single neighbourhood query scan millions of grid
+  // cells, and a build that can never be cancelled: refuse them.
+  const double diagonal = (scene_.config().bounds.max - scene_.config().bounds.min).norm();
+  if (recipe.dense_delta < diagonal * 1e-4) {
+    throw InputError(kRequest, "overrides.dense_delta",
+                     fmt::format("{} is too small for this scene (at least {:.4g}, 1e-4 of its diagonal)",
+                                 recipe.dense_delta, diagonal * 1e-4));
+  }
+  if (recipe.sparse_delta > diagonal) {
+    throw InputError(kRequest, "overrides.sparse_delta",
+                     fmt::format("{} is larger than the scene's diagonal ({:.4g})", recipe.sparse_delta, diagonal));
+  }
+  if (recipe.sparse_delta > 50 * recipe.dense_delta) {
+    throw InputError(kRequest, "overrides.sparse_delta",
+                     fmt::format("must be at most 50 times dense_delta (got {} and {})", recipe.sparse_delta,
+                                 recipe.dense_delta));
+  }
 }
 
 RoadmapsView RoadmapSession::live_view() const {
@@ -236,17 +261,29 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
 
 void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
   std::lock_guard job(job_mutex_);
-  std::optional<BuildRequest> build;
+  std::optional<RoadmapRecipe> build;
   std::uint64_t samples = 0;
   RoadmapRecipe recipe;
+  bool cancelled_early = false;
   {
     std::lock_guard lock(mutex_);
     if (state_ != SessionState::queued) return;
-    build = pending_build_;
+    build = pending_recipe_;
     samples = pending_samples_;
-    recipe = *recipe_;
-    pending_build_.reset();
+    pending_recipe_.reset();
     pending_samples_ = 0;
+    if (cancel_ || stopping) {  // cancelled while queued: nothing is touched
+      state_ = recipe_ ? SessionState::idle : SessionState::empty;
+      last_error_ = cancel_ ? "cancelled before it started" : "daemon stopped before the job started";
+      cancel_ = false;
+      cancelled_early = true;
+    } else {
+      recipe = build ? *build : *recipe_;
+    }
+  }
+  if (cancelled_early) {
+    notify_status();
+    return;
   }
   try {
     std::uint64_t roadmap_version = 0;
@@ -261,6 +298,8 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       store_ = RoadmapStore::create(store_dir_, recipe);
       store_->set_compact_every(limits_.compact_every);
       std::lock_guard lock(mutex_);
+      recipe_ = recipe;
+      dense_vertices_ = dense_edges_ = 0;
       samples_done_ = 0;
       published_ = {std::make_shared<const Roadmap>(scene_.pois().size()), recipe.generation, 0};
     } else {
@@ -279,7 +318,7 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
     // Commit in chunks of about a quarter second: often enough for live progress and a small
     // loss on a crash, rarely enough that fsync and publishing stay a small share of the time.
     std::uint64_t chunk = 64;
-    bool first = true;
+    bool first = build.has_value();  // a new roadmap commits at least its first chunk (the root)
     while (first || (builder_->samples() < target && !stopping && !cancel_)) {
       const auto t0 = std::chrono::steady_clock::now();
       const std::uint64_t n = std::min(chunk, target - builder_->samples());
@@ -320,22 +359,33 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
     store_.reset();
     recovered_.reset();
     std::string error = e.what();
+    std::optional<StoreRecovery> recovery;
     try {
       if (std::filesystem::exists(store_dir_)) {
-        StoreRecovery recovery;
-        store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), recovery);
+        recovery.emplace();
+        store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), *recovery);
         store_->set_compact_every(limits_.compact_every);
-        recovered_ = std::move(recovery.roadmaps);
       }
     } catch (const std::exception& reopen) {
       error += std::string("; reopening the store failed: ") + reopen.what();
+      recovery.reset();
+      store_.reset();
     }
+    // What the store holds now is the truth: make everything the session shows agree with it.
     std::lock_guard lock(mutex_);
     last_error_ = error;
-    if (!recovered_) {
+    if (recovery) {
+      recipe_ = recovery->recipe;
+      samples_done_ = recovery->roadmaps.samples;
+      published_ = {std::make_shared<const Roadmap>(recovery->roadmaps.roadmap), recipe_->generation, samples_done_};
+      dense_vertices_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->vertex_count() : 0;
+      dense_edges_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->edge_count() : 0;
+      recovered_ = std::move(recovery->roadmaps);
+    } else {
       recipe_.reset();
       published_ = {std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0};
       samples_done_ = 0;
+      dense_vertices_ = dense_edges_ = 0;
     }
     samples_target_ = samples_done_;
     state_ = SessionState::failed;

@@ -1,5 +1,9 @@
 #include "ispars/roadmap_store.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -150,13 +154,27 @@ RoadmapRecipe recipe_from_json(const std::string& text) {
 }
 
 RoadmapStore::RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe)
-    : dir_(std::move(dir)), recipe_(std::move(recipe)) {}
+    : dir_(std::move(dir)), recipe_(std::move(recipe)) {
+  // One writer per store, across threads and processes: a second open fails instead of
+  // truncating or renaming files under the first.
+  lock_fd_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (lock_fd_ < 0 || ::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+    if (lock_fd_ >= 0) ::close(lock_fd_);
+    lock_fd_ = -1;
+    throw std::runtime_error("store " + dir_.string() + " is in use by another writer");
+  }
+}
+
+RoadmapStore::~RoadmapStore() {
+  journal_.reset();
+  if (lock_fd_ >= 0) ::close(lock_fd_);
+}
 
 std::unique_ptr<RoadmapStore> RoadmapStore::create(const std::filesystem::path& dir, const RoadmapRecipe& recipe) {
   if (std::filesystem::exists(dir)) throw std::runtime_error("store " + dir.string() + " already exists");
-  // Build it aside and rename it into place, so a crash leaves no half-made store.
-  std::filesystem::path staging = dir;
-  staging += ".new";
+  // Build it aside and rename it into place, so a crash leaves no half-made store. Scene names
+  // never start with '.', so the staging name can never be another scene's store.
+  const std::filesystem::path staging = dir.parent_path() / (".new-" + dir.filename().string());
   std::filesystem::remove_all(staging);
   std::filesystem::create_directories(staging);
   write_file_atomically(recipe_path(staging), recipe_to_json(recipe));
@@ -177,7 +195,8 @@ RoadmapRecipe RoadmapStore::read_recipe(const std::filesystem::path& dir) {
 
 std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& dir, std::size_t poi_count,
                                                  StoreRecovery& recovered) {
-  recovered.recipe = read_recipe(dir);
+  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(dir, read_recipe(dir)));  // locks first
+  recovered.recipe = store->recipe_;
   recovered.roadmaps = empty_roadmaps(recovered.recipe, poi_count);
   StoredRoadmaps& r = recovered.roadmaps;
 
@@ -190,15 +209,16 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
     const BuildCommit whole = decode_commit(snapshot.payloads.front());
     apply_commit(r, whole);
   }
-  // Journal commits at or before the snapshot's version are left from before a compaction that
-  // crashed between writing the snapshot and resetting the journal: skip them.
-  const std::uint64_t snapshot_version = r.roadmap.version();
+  // Journal commits the snapshot already holds are left from a compaction that crashed between
+  // writing the snapshot and resetting the journal: skip them. Every commit draws at least one
+  // sample, so the sample count (not a roadmap version, which a chunk may leave unchanged) tells
+  // them apart.
+  const std::uint64_t snapshot_samples = r.samples;
+  const bool has_snapshot = std::filesystem::exists(snapshot_path(dir));
   const RecordReplay journal = read_record_file(journal_path(dir), kJournalMagic, [&](const std::string& payload) {
     try {
       const BuildCommit commit = decode_commit(payload);
-      if (commit.roadmap.to_version <= snapshot_version && r.roadmap.version() == snapshot_version) {
-        return std::string();
-      }
+      if (has_snapshot && commit.samples <= snapshot_samples) return std::string();
       apply_commit(r, commit);
       ++recovered.journal_commits;
       return std::string();
@@ -209,7 +229,6 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
   recovered.torn_tail = journal.torn_tail;
   recovered.tail_problem = journal.tail_problem;
 
-  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(dir, recovered.recipe));
   store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournalMagic, journal.valid_bytes);
   store->journal_commits_ = recovered.journal_commits;
   return store;
@@ -234,8 +253,7 @@ void RoadmapStore::compact(const RoadmapsView& current) {
 
 void drop_store(const std::filesystem::path& dir) {
   if (!std::filesystem::exists(dir)) return;
-  std::filesystem::path aside = dir;
-  aside += ".dropped";
+  const std::filesystem::path aside = dir.parent_path() / (".dropped-" + dir.filename().string());
   std::filesystem::remove_all(aside);
   std::filesystem::rename(dir, aside);
   fsync_directory_of(dir);
@@ -246,10 +264,7 @@ void remove_dropped_stores(const std::filesystem::path& data_dir) {
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(data_dir, ec)) {
     const std::string name = entry.path().filename().string();
-    const auto ends_with = [&](std::string_view suffix) {
-      return name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
-    };
-    if (ends_with(".dropped") || ends_with(".new")) std::filesystem::remove_all(entry.path());
+    if (name.rfind(".dropped-", 0) == 0 || name.rfind(".new-", 0) == 0) std::filesystem::remove_all(entry.path());
   }
 }
 

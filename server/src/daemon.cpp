@@ -22,7 +22,7 @@ constexpr std::size_t kMaxText = 256;        // client id, scene, method
 constexpr std::size_t kMaxOverrides = 16;
 constexpr std::size_t kSnapshotChunk = 256 * 1024;
 constexpr std::size_t kSnapshotsKept = 4;
-constexpr unsigned kRequestThreads = 2;
+constexpr unsigned kRequestThreads = 4;
 
 std::string host_name() {
   char buffer[256] = {};
@@ -243,6 +243,21 @@ std::shared_ptr<RoadmapSession> Daemon::session(const std::string& name) const {
 
 std::shared_ptr<RoadmapSession> Daemon::open_session(const std::string& name) {
   const std::filesystem::path file = scene_file(config_.scene_dir, name);
+  // Reserve the name: two concurrent loads must not both open the scene's store.
+  {
+    std::lock_guard lock(sessions_mutex_);
+    if (sessions_.count(name) || !loading_.insert(name).second) {
+      throw InputError("request", "scene", fmt::format("scene '{}' is already loaded or being loaded", name));
+    }
+  }
+  struct Unreserve {
+    Daemon& d;
+    const std::string& n;
+    ~Unreserve() {
+      std::lock_guard lock(d.sessions_mutex_);
+      d.loading_.erase(n);
+    }
+  } unreserve{*this, name};
   if (const auto other = dds_->status_of(name);
       other && other->server_id() != config_.server_id && other->state() != msg::SCENE_UNLOADED) {
     throw InputError("request", "scene", fmt::format("scene '{}' is owned by daemon {}", name, other->server_id()));
@@ -260,7 +275,6 @@ std::shared_ptr<RoadmapSession> Daemon::open_session(const std::string& name) {
                                                   std::move(callbacks));
   {
     std::lock_guard lock(sessions_mutex_);
-    if (const auto it = sessions_.find(name); it != sessions_.end()) return it->second;  // raced: keep the first
     sessions_.emplace(name, session);
   }
   if (!session->recovery_note().empty()) spdlog::info("scene '{}': {}", name, session->recovery_note());
@@ -285,6 +299,7 @@ void Daemon::load_scene(const std::string& name, msg::Reply& reply) {
 void Daemon::unload_scene(const std::string& name, msg::Reply& reply) {
   const auto s = session(name);
   if (s->busy()) throw InputError("request", "scene", fmt::format("a build is running on scene '{}'; cancel it first", name));
+  s->close();  // atomically with the busy check inside: no job can start on it any more
   {
     std::lock_guard lock(sessions_mutex_);
     sessions_.erase(name);

@@ -77,6 +77,7 @@ class Daemon {
   std::mutex publish_mutex_;          // writes statuses in stamp order
   mutable std::mutex sessions_mutex_;
   std::map<std::string, std::shared_ptr<RoadmapSession>> sessions_;
+  std::set<std::string> loading_;  // names being loaded (reserved)
 
   struct EncodedSnapshot {
     std::string scene;

@@ -76,14 +76,22 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
   requests_ = require(sub->create_datareader(request_topic, wire::request_reply_reader_qos(), this,
                                              fdds::StatusMask::data_available()),
                       "request reader");
+  sender_ = std::thread([this] { send_pending_replies(); });
 }
 
 DdsEndpoints::~DdsEndpoints() {
   accepting_ = false;
-  // Detach listeners before the participant deletes the entities.
+  {
+    std::lock_guard lock(outbox_mutex_);
+    closing_ = true;
+  }
+  outbox_wake_.notify_all();
+  if (sender_.joinable()) sender_.join();
+  // Detach the listeners, then delete the entities while the listener objects still exist.
   if (requests_) requests_->set_listener(nullptr);
   if (replies_) replies_->set_listener(nullptr);
   if (status_reader_) status_reader_->set_listener(nullptr);
+  participant_->delete_contained_entities();
 }
 
 void DdsEndpoints::stop_requests() { accepting_ = false; }
@@ -108,20 +116,54 @@ void DdsEndpoints::on_publication_matched(fdds::DataWriter*, const fdds::Publica
       if (const auto it = matched_clients_.find(reader); it != matched_clients_.end()) matched_clients_.erase(it);
     }
   }
-  matched_changed_.notify_all();
+  outbox_wake_.notify_all();
 }
 
 void DdsEndpoints::send_reply(const msg::Reply& reply, std::chrono::milliseconds wait) {
+  // DDS-RPC 1.0 sec. 7.6.2: a reply written before the client's reply reader matched is lost.
+  // A reply to a matched client goes out at once; others wait (bounded) on the sender thread, so
+  // no request thread is held by a client that is slow to match or gone.
   {
-    // DDS-RPC 1.0 sec. 7.6.2: a reply written before the client's reply reader matched is lost.
-    std::unique_lock lock(matched_mutex_);
-    if (!matched_changed_.wait_for(lock, wait, [&] { return matched_clients_.count(reply.client_id()) > 0; })) {
-      spdlog::warn("client {} has no matched reply reader after {} ms; replying anyway (it will retry)",
-                   reply.client_id(), wait.count());
+    std::lock_guard lock(matched_mutex_);
+    if (matched_clients_.count(reply.client_id()) > 0) {
+      write_reply(reply);
+      return;
     }
   }
+  {
+    std::lock_guard lock(outbox_mutex_);
+    outbox_.push_back({reply, std::chrono::steady_clock::now() + wait});
+  }
+  outbox_wake_.notify_all();
+}
+
+void DdsEndpoints::write_reply(const msg::Reply& reply) {
   msg::Reply copy = reply;
   if (!replies_->write(&copy)) spdlog::error("reply to {} #{} could not be written", reply.client_id(), reply.request_seq());
+}
+
+void DdsEndpoints::send_pending_replies() {
+  std::unique_lock lock(outbox_mutex_);
+  while (!closing_) {
+    outbox_wake_.wait_for(lock, std::chrono::milliseconds(20), [&] { return closing_ || !outbox_.empty(); });
+    const auto now = std::chrono::steady_clock::now();
+    for (auto it = outbox_.begin(); it != outbox_.end();) {
+      bool matched = false;
+      {
+        std::lock_guard m(matched_mutex_);
+        matched = matched_clients_.count(it->reply.client_id()) > 0;
+      }
+      if (matched || now >= it->deadline) {
+        if (!matched) {
+          spdlog::warn("client {} has no matched reply reader; replying anyway (it will retry)", it->reply.client_id());
+        }
+        write_reply(it->reply);
+        it = outbox_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
 }
 
 void DdsEndpoints::publish_update(const msg::UpdateBatch& batch) {

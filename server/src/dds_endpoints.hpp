@@ -13,7 +13,9 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <list>
 #include <set>
+#include <thread>
 #include <string>
 
 #include "daemon_config.hpp"
@@ -62,8 +64,20 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   wire::LatestSamples<msg::SceneStatus> statuses_;
   std::atomic<bool> accepting_{true};
 
+  void write_reply(const msg::Reply& reply);
+  void send_pending_replies();  // the sender thread
+
+  struct PendingReply {
+    msg::Reply reply;
+    std::chrono::steady_clock::time_point deadline;
+  };
+  std::mutex outbox_mutex_;
+  std::condition_variable outbox_wake_;
+  std::list<PendingReply> outbox_;
+  bool closing_ = false;
+  std::thread sender_;
+
   mutable std::mutex matched_mutex_;
-  std::condition_variable matched_changed_;
   std::multiset<std::string> matched_clients_;  // reply reader GUIDs (= client ids)
 };
 

@@ -10,8 +10,8 @@
 #include <random>
 #include <thread>
 
-#include "daemon_process.hpp"
 #include "ispars/client/client.hpp"
+#include "ispars/client/local_daemon.hpp"
 #include "ispars/client/replica.hpp"
 #include "ispars/roadmap_builder.hpp"
 #include "ispars/roadmap_log.hpp"
@@ -22,6 +22,9 @@ namespace ispars::test {
 namespace {
 
 using client::BuildArgs;
+using DaemonProcess = client::LocalDaemon;
+using client::random_domain;
+const auto client_options = client::local_client_options;
 using client::Client;
 using client::ClientError;
 
@@ -32,10 +35,10 @@ class ServiceTest : public ::testing::Test {
   void SetUp() override {
     domain_ = random_domain();
     scene_dir_ = dir_.path() / "scenes";
-    write_test_scenes(scene_dir_, {"s0", "s1", "s2", "s3"});
+    client::write_tank_tower_scenes(scene_dir_, {"s0", "s1", "s2", "s3"});
   }
   std::unique_ptr<DaemonProcess> start(const std::string& id, std::vector<std::string> extra = {}) {
-    return std::make_unique<DaemonProcess>(domain_, dir_.path() / ("data-" + id), scene_dir_, id, std::move(extra));
+    return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id, std::move(extra));
   }
   TempDir dir_;
   int domain_ = 0;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <limits>
 #include <memory>
 
 #include "ispars/roadmap_log.hpp"
@@ -65,6 +66,41 @@ TEST_F(RoadmapLogTest, BatchRangeIsAPrefixOfTheLogAndTheDigestFollowsIt) {
   apply_batch(shorter, batch_range(g, 0, mid));
   EXPECT_NE(roadmap_digest(shorter), roadmap_digest(g));
   EXPECT_EQ(batch_range(g, 0, g.version() + 100).to_version, g.version());  // clamped
+}
+
+TEST_F(RoadmapLogTest, AMalformedBatchIsRefusedWholeAndLeavesTheReplicaUntouched) {
+  build("truss_bridge", 2);
+  Roadmap replica(scene_->pois().size());
+  apply_batch(replica, batches_[0]);
+  const std::string before = test::fingerprint(replica);
+  const auto expect_refused = [&](RoadmapBatch bad, const std::string& needle) {
+    try {
+      apply_batch(replica, bad);
+      ADD_FAILURE() << "accepted: " << needle;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(test::fingerprint(replica), before) << needle;
+  };
+  RoadmapBatch b = batches_[1];
+  ASSERT_FALSE(b.visible.empty());
+  b.visible.back().push_back(static_cast<PoiId>(scene_->pois().size()));
+  expect_refused(b, "sees POI");
+  b = batches_[1];
+  b.positions.back().x() = std::numeric_limits<double>::quiet_NaN();
+  expect_refused(b, "not finite");
+  b = batches_[1];
+  ASSERT_FALSE(b.edges.empty());
+  b.edges.back().cost += 1e-9;
+  expect_refused(b, "cost is not its length");
+  b = batches_[1];
+  b.edges.back() = b.edges.front();
+  expect_refused(b, "duplicate");
+  b = batches_[1];
+  b.edges.back().v = 1u << 30;
+  expect_refused(b, "does not fit");
+  apply_batch(replica, batches_[1]);  // the good one still applies
+  EXPECT_EQ(replica.version(), batches_[1].to_version);
 }
 
 TEST_F(RoadmapLogTest, BatchesRoundTripThroughEncodingAndTheFile) {

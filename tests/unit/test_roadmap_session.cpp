@@ -110,6 +110,35 @@ TEST_F(RoadmapSessionTest, CancelStopsAfterTheCurrentChunk) {
   EXPECT_NE(s.last_error.find("cancelled"), std::string::npos);
 }
 
+TEST_F(RoadmapSessionTest, CancellingAQueuedReplaceKeepsTheOldRoadmap) {
+  auto session = open();
+  session->request_build(ispars(800));
+  session->run_job(never_);
+  const std::uint64_t before = roadmap_digest(*session->published().roadmap);
+  BuildRequest replace = ispars(5000, 2);
+  replace.replace = true;
+  session->request_build(replace);
+  EXPECT_EQ(session->status().recipe->seed, 1u);  // still the current roadmap's recipe
+  EXPECT_TRUE(session->cancel());
+  session->run_job(never_);
+  const SessionStatus s = session->status();
+  EXPECT_EQ(s.state, SessionState::idle);
+  EXPECT_EQ(s.samples_done, 800u);
+  EXPECT_EQ(s.recipe->seed, 1u);
+  EXPECT_EQ(s.last_error, "cancelled before it started");
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), before);
+}
+
+TEST_F(RoadmapSessionTest, AClosedSessionAcceptsNoJobs) {
+  auto session = open();
+  session->request_build(ispars(100));
+  EXPECT_THROW(session->close(), InputError);  // queued
+  session->run_job(never_);
+  session->close();
+  EXPECT_THROW(session->request_extend(10), InputError);
+  EXPECT_THROW(session->request_build(ispars(10)), InputError);
+}
+
 TEST_F(RoadmapSessionTest, BadAndConflictingRequestsAreRefusedByName) {
   SessionLimits limits;
   limits.max_samples = 10'000;
@@ -132,6 +161,10 @@ TEST_F(RoadmapSessionTest, BadAndConflictingRequestsAreRefusedByName) {
   expect_refusal([&] { session->request_build(r); }, "sparse_delta: must be positive");
   r.overrides = {{"stretch", 0.5}};
   expect_refusal([&] { session->request_build(r); }, "stretch: must be at least 1");
+  r.overrides = {{"dense_delta", 1e-6}};
+  expect_refusal([&] { session->request_build(r); }, "overrides.dense_delta: 1e-06 is too small for this scene");
+  r.overrides = {{"sparse_delta", 1e5}};
+  expect_refusal([&] { session->request_build(r); }, "overrides.sparse_delta: 100000 is larger than the scene's diagonal");
   EXPECT_EQ(session->status().state, SessionState::empty);  // nothing changed
 
   session->request_build(ispars(500));

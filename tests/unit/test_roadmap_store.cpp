@@ -184,13 +184,53 @@ TEST_F(RoadmapStoreTest, DroppingRemovesTheStoreAndLeftoversAreCleanedAtStart) {
   RoadmapStore::create(path, recipe_).reset();
   drop_store(path);
   EXPECT_FALSE(std::filesystem::exists(path));
-  std::filesystem::create_directories(dir_.path() / "other.dropped");
-  std::filesystem::create_directories(dir_.path() / "third.new");
+  std::filesystem::create_directories(dir_.path() / ".dropped-other");
+  std::filesystem::create_directories(dir_.path() / ".new-third");
   std::filesystem::create_directories(dir_.path() / "kept");
+  std::filesystem::create_directories(dir_.path() / "scene.new");  // a scene may be named so
   remove_dropped_stores(dir_.path());
-  EXPECT_FALSE(std::filesystem::exists(dir_.path() / "other.dropped"));
-  EXPECT_FALSE(std::filesystem::exists(dir_.path() / "third.new"));
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / ".dropped-other"));
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / ".new-third"));
   EXPECT_TRUE(std::filesystem::exists(dir_.path() / "kept"));
+  EXPECT_TRUE(std::filesystem::exists(dir_.path() / "scene.new"));
+}
+
+TEST_F(RoadmapStoreTest, ASecondWriterCannotOpenAStoreInUse) {
+  const auto path = dir_.path() / "bridge";
+  auto first = RoadmapStore::create(path, recipe_);
+  StoreRecovery r;
+  EXPECT_THROW((void)RoadmapStore::open(path, scene_->pois().size(), r), std::runtime_error);
+  first.reset();
+  EXPECT_NO_THROW((void)RoadmapStore::open(path, scene_->pois().size(), r));
+}
+
+TEST_F(RoadmapStoreTest, CommitsThatLeaveTheSparseRoadmapUnchangedSurviveACompactionAndReopen) {
+  // Late in a build most chunks add only dense vertices; after a compaction such commits must
+  // not be mistaken for ones the snapshot holds.
+  const auto path = dir_.path() / "bridge";
+  std::uint64_t samples = 0, dense_digest = 0;
+  {
+    auto store = RoadmapStore::create(path, recipe_);
+    store->set_compact_every(1000);
+    build_and_commit(*store, 3, 300);
+    store->compact(view(*builder_));
+    std::uint64_t v = builder_->roadmap().version(), dv = builder_->dense()->version();
+    for (int i = 0; i < 40; ++i) {
+      builder_->extend(5);
+      const BuildCommit c = commit_since(view(*builder_), v, dv);
+      store->commit(c, view(*builder_));
+      v = builder_->roadmap().version();
+      dv = builder_->dense()->version();
+    }
+    samples = builder_->samples();
+    dense_digest = roadmap_digest(*builder_->dense());
+  }
+  StoreRecovery r;
+  auto store = RoadmapStore::open(path, scene_->pois().size(), r);
+  EXPECT_FALSE(r.torn_tail) << r.tail_problem;
+  EXPECT_EQ(r.journal_commits, 40u);
+  EXPECT_EQ(r.roadmaps.samples, samples);
+  EXPECT_EQ(roadmap_digest(*r.roadmaps.dense), dense_digest);
 }
 
 }  // namespace

@@ -39,8 +39,9 @@ struct RoadmapBatch {
 /// in the same order, have equal digests.
 [[nodiscard]] std::uint64_t roadmap_digest(const Roadmap& roadmap);
 
-/// Applies a batch to a replica whose version is batch.from_version. Throws std::runtime_error
-/// when the batch does not continue the replica (a gap, a duplicate, an id out of order).
+/// Applies a batch to a replica whose version is batch.from_version. Throws std::runtime_error,
+/// leaving the replica untouched, when the batch does not continue it (a gap, a duplicate, an id
+/// out of order) or is malformed (a POI id out of range, a non-finite position, a wrong cost).
 void apply_batch(Roadmap& replica, const RoadmapBatch& batch);
 
 /// What reading a log found.

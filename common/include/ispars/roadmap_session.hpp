@@ -105,6 +105,9 @@ class RoadmapSession {
   bool cancel();
   /// Deletes the roadmap and its store (throws InputError while a job runs or without a roadmap).
   void drop();
+  /// Refuses every later build and extend (the scene is being unloaded). Throws InputError while
+  /// a job is queued or running.
+  void close();
 
   /// Runs the recorded job to its end on the calling thread. Returns early, after committing the
   /// current chunk, when `stopping` becomes true or the job is cancelled.
@@ -132,6 +135,7 @@ class RoadmapSession {
   RoadmapsView live_view() const;
   void ensure_builder(const std::atomic<bool>& stopping);
   void check_can_start(const char* field) const;  // with mutex_ held
+  void check_override_scale(const RoadmapRecipe& recipe) const;
 
   const std::string name_;
   const Scene scene_;
@@ -152,7 +156,8 @@ class RoadmapSession {
   std::uint64_t samples_done_ = 0;
   std::uint64_t samples_target_ = 0;
   std::uint64_t pending_samples_ = 0;
-  std::optional<BuildRequest> pending_build_;
+  std::optional<RoadmapRecipe> pending_recipe_;  // a queued build's recipe
+  bool closed_ = false;
   std::string last_error_;
   std::size_t dense_vertices_ = 0;
   std::size_t dense_edges_ = 0;

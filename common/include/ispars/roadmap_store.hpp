@@ -74,9 +74,14 @@ struct StoreRecovery {
   std::string tail_problem;
 };
 
-/// Appends commits to one scene's store and compacts it. Not thread-safe: one writer.
+/// Appends commits to one scene's store and compacts it. One writer: the store directory is
+/// locked (flock) while the object lives, so a second RoadmapStore on it fails to open.
 class RoadmapStore {
  public:
+  ~RoadmapStore();
+  RoadmapStore(const RoadmapStore&) = delete;
+  RoadmapStore& operator=(const RoadmapStore&) = delete;
+
   /// Makes a new store for `recipe` at `dir`, which must not exist yet.
   static std::unique_ptr<RoadmapStore> create(const std::filesystem::path& dir, const RoadmapRecipe& recipe);
   /// Opens the store at `dir`, recovering the last committed roadmaps. Throws std::runtime_error
@@ -106,6 +111,7 @@ class RoadmapStore {
   std::unique_ptr<RecordFileWriter> journal_;
   std::size_t journal_commits_ = 0;
   std::size_t compact_every_ = 64;
+  int lock_fd_ = -1;
 };
 
 /// The commit taking the build from the given versions of its roadmaps to `now`.
@@ -118,7 +124,7 @@ class RoadmapStore {
 void apply_commit(StoredRoadmaps& roadmaps, const BuildCommit& commit);
 
 /// Removes a store: renames it aside (atomic), then deletes it. Leftovers of an interrupted
-/// removal ("*.dropped") are removed by remove_dropped_stores().
+/// creation or removal (".new-NAME", ".dropped-NAME") are removed by remove_dropped_stores().
 void drop_store(const std::filesystem::path& dir);
 void remove_dropped_stores(const std::filesystem::path& data_dir);
 

@@ -1,4 +1,4 @@
-#include "daemon_process.hpp"
+#include "ispars/client/local_daemon.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -12,14 +12,14 @@
 #include <stdexcept>
 #include <thread>
 
-namespace ispars::test {
+namespace ispars::client {
 
 int random_domain() {
   std::random_device rd;
   return 100 + static_cast<int>(rd() % 133);
 }
 
-void write_test_scenes(const std::filesystem::path& dir, const std::vector<std::string>& names) {
+void write_tank_tower_scenes(const std::filesystem::path& dir, const std::vector<std::string>& names) {
   std::filesystem::create_directories(dir);
   int seed = 1;
   for (const std::string& name : names) {
@@ -27,19 +27,19 @@ void write_test_scenes(const std::filesystem::path& dir, const std::vector<std::
   }
 }
 
-client::ClientOptions client_options(int domain) {
-  client::ClientOptions options;
+ClientOptions local_client_options(int domain) {
+  ClientOptions options;
   options.participant.domain = domain;
-  options.participant.name = "ispars test client";
+  options.participant.name = "ispars local client";
   options.timeout = std::chrono::seconds(30);
   return options;
 }
 
-DaemonProcess::DaemonProcess(int domain, std::filesystem::path data_dir, std::filesystem::path scene_dir,
-                             std::string server_id, std::vector<std::string> extra_args)
+LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::filesystem::path data_dir,
+                         std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args)
     : domain_(domain), server_id_(std::move(server_id)) {
   log_path_ = data_dir.parent_path() / (server_id_ + "-" + std::to_string(::getpid()) + ".log");
-  std::vector<std::string> args = {ISPARS_DAEMON, "--domain", std::to_string(domain), "--data-dir", data_dir.string(),
+  std::vector<std::string> args = {daemon_binary, "--domain", std::to_string(domain), "--data-dir", data_dir.string(),
                                    "--scene-dir", scene_dir.string(), "--server-id", server_id_, "--log-level", "debug"};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   pid_ = ::fork();
@@ -57,7 +57,7 @@ DaemonProcess::DaemonProcess(int domain, std::filesystem::path data_dir, std::fi
     ::_exit(127);
   }
   // Ready when a client sees the announcement.
-  client::Client probe(client_options(domain));
+  Client probe(local_client_options(domain));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (std::chrono::steady_clock::now() < deadline) {
     if (!alive()) throw std::runtime_error("isparsd exited at start:\n" + log());
@@ -69,11 +69,11 @@ DaemonProcess::DaemonProcess(int domain, std::filesystem::path data_dir, std::fi
   throw std::runtime_error("isparsd " + server_id_ + " did not announce itself within 20 s:\n" + log());
 }
 
-DaemonProcess::~DaemonProcess() {
+LocalDaemon::~LocalDaemon() {
   if (pid_ > 0 && alive()) terminate();
 }
 
-bool DaemonProcess::alive() {
+bool LocalDaemon::alive() {
   if (pid_ <= 0) return false;
   int status = 0;
   const pid_t r = ::waitpid(pid_, &status, WNOHANG);
@@ -84,30 +84,30 @@ bool DaemonProcess::alive() {
   return r == 0;
 }
 
-int DaemonProcess::wait_exit() {
+int LocalDaemon::wait_exit() {
   int status = 0;
   if (::waitpid(pid_, &status, 0) != pid_) return -1000;
   pid_ = -1;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
 }
 
-int DaemonProcess::terminate() {
+int LocalDaemon::terminate() {
   if (pid_ <= 0) return -1000;
   ::kill(pid_, SIGTERM);
   return wait_exit();
 }
 
-void DaemonProcess::kill9() {
+void LocalDaemon::kill9() {
   if (pid_ <= 0) return;
   ::kill(pid_, SIGKILL);
   wait_exit();
 }
 
-std::string DaemonProcess::log() const {
+std::string LocalDaemon::log() const {
   std::ifstream in(log_path_);
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
 }
 
-}  // namespace ispars::test
+}  // namespace ispars::client

@@ -1,0 +1,54 @@
+#pragma once
+// A local isparsd child process (tests, benchmarks, quickstarts): started on a given domain with
+// the built-in localhost-only profile, ready once a client sees its announcement.
+
+#include <sys/types.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ispars/client/client.hpp"
+
+namespace ispars::client {
+
+/// A DDS domain id no other test run is likely to use (random in 100..232).
+int random_domain();
+
+/// Writes procedural scenes NAME.yaml (tank towers with seeds 1, 2, ...) into `dir`.
+void write_tank_tower_scenes(const std::filesystem::path& dir, const std::vector<std::string>& names);
+
+/// Client options for `domain`, with a generous timeout for loaded machines.
+ClientOptions local_client_options(int domain);
+
+class LocalDaemon {
+ public:
+  /// Starts `daemon_binary` and waits until a client sees its announcement (throws after 20 s).
+  /// Its output goes to a log file beside data_dir.
+  LocalDaemon(const std::string& daemon_binary, int domain, std::filesystem::path data_dir,
+              std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args = {});
+  /// Stops it with SIGTERM if it still runs.
+  ~LocalDaemon();
+  LocalDaemon(const LocalDaemon&) = delete;
+  LocalDaemon& operator=(const LocalDaemon&) = delete;
+
+  /// SIGTERM, then waits; returns the exit status (or -signal).
+  int terminate();
+  /// SIGKILL, then waits.
+  void kill9();
+  /// Whether the process is still running.
+  bool alive();
+  [[nodiscard]] const std::string& server_id() const { return server_id_; }
+  /// The daemon's log so far.
+  [[nodiscard]] std::string log() const;
+  [[nodiscard]] pid_t pid() const { return pid_; }
+
+ private:
+  int wait_exit();
+  pid_t pid_ = -1;
+  int domain_;
+  std::string server_id_;
+  std::filesystem::path log_path_;
+};
+
+}  // namespace ispars::client
