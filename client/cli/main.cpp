@@ -72,7 +72,8 @@ class Progress {
     const bool busy = s.state() == msg::SCENE_BUILDING || s.state() == msg::SCENE_QUEUED || s.state() == msg::SCENE_REPLAYING;
     if (!tty_ && busy && now - last_ < std::chrono::seconds(1)) return;
     last_ = now;
-    const double fraction = s.samples_target() ? static_cast<double>(s.samples_done()) / s.samples_target() : 1.0;
+    const double fraction = s.samples_target() ? static_cast<double>(s.samples_done()) / s.samples_target()
+                                               : (busy ? 0.0 : 1.0);
     const int width = 30;
     const int filled = static_cast<int>(width * std::min(1.0, fraction));
     const std::string line =
@@ -180,8 +181,13 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ispars: " << e.what() << " (see --help)\n";
+    return 2;
   }
   for (const std::string& s : sets) {
     const auto eq = s.find('=');

@@ -1,0 +1,144 @@
+// The `ispars` command line against a real isparsd, as a user runs it: exit codes, one-line
+// errors, JSON output, live replicas written to files; with the shipped localhost XML profile.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "ispars/client/local_daemon.hpp"
+#include "support/test_support.hpp"
+
+namespace ispars::test {
+namespace {
+
+struct CliRun {
+  int code = -1;
+  std::string out;
+  std::string err;
+};
+
+CliRun run(const std::string& args, const test::TempDir& dir) {
+  const auto out = dir.path() / "stdout.txt";
+  const auto err = dir.path() / "stderr.txt";
+  const std::string command = std::string(ISPARS_CLI) + " " + args + " > " + out.string() + " 2> " + err.string();
+  const int status = std::system(command.c_str());
+  CliRun r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream o(out), e(err);
+  std::stringstream so, se;
+  so << o.rdbuf();
+  se << e.rdbuf();
+  r.out = so.str();
+  r.err = se.str();
+  return r;
+}
+
+std::string last_line(const std::string& text) {
+  const auto end = text.find_last_not_of('\n');
+  const auto start = text.rfind('\n', end);
+  return text.substr(start == std::string::npos ? 0 : start + 1, end - (start == std::string::npos ? 0 : start + 1) + 1);
+}
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    domain_ = client::random_domain();
+    client::write_tank_tower_scenes(dir_.path() / "scenes", {"tower"});
+    common_ = "--domain " + std::to_string(domain_) + " --profile-file " + kProfile + " --timeout 20";
+  }
+  void start() {
+    daemon_ = std::make_unique<client::LocalDaemon>(
+        ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "cli",
+        std::vector<std::string>{"--profile-file", kProfile});
+  }
+  const std::string kProfile = std::string(ISPARS_SOURCE_DIR) + "/deploy/fastdds_localhost.xml";
+  test::TempDir dir_;
+  int domain_ = 0;
+  std::string common_;
+  std::unique_ptr<client::LocalDaemon> daemon_;
+};
+
+TEST_F(CliTest, NoDaemonExitsThreeNamingTheDomain) {
+  const CliRun r = run("--domain " + std::to_string(domain_) + " --timeout 1.5 stats tower", dir_);
+  EXPECT_EQ(r.code, 3);
+  EXPECT_NE(r.err.find("no isparsd answered on DDS domain " + std::to_string(domain_)), std::string::npos) << r.err;
+}
+
+TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
+  start();
+  EXPECT_EQ(run(common_ + " scenes load tower", dir_).code, 0);
+  // A build in flight, and a late-joining replica that follows it until the scene is idle.
+  const CliRun started = run(common_ + " build tower --method ispars --samples 60000 --seed 4", dir_);
+  ASSERT_EQ(started.code, 0) << started.err;
+  const auto dump = dir_.path() / "replica.json";
+  const std::string watch = std::string(ISPARS_CLI) + " " + common_ + " watch tower --until-idle --dump " +
+                            dump.string() + " > " + (dir_.path() / "watch.txt").string() + " 2>&1 &";
+  ASSERT_EQ(std::system(watch.c_str()), 0);
+  nlohmann::json status;
+  for (int i = 0; i < 600; ++i) {
+    const CliRun s = run(common_ + " stats tower --json", dir_);
+    ASSERT_EQ(s.code, 0) << s.err;
+    status = nlohmann::json::parse(last_line(s.out));
+    if (status["state"] == "idle") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  EXPECT_EQ(status["state"], "idle");
+  EXPECT_EQ(status["samples_done"], 60000);
+  const CliRun stats = run(common_ + " stats tower --json", dir_);
+  ASSERT_EQ(stats.code, 0);
+  EXPECT_EQ(nlohmann::json::parse(last_line(stats.out))["vertices"], status["vertices"]);
+
+  const auto snapshot = dir_.path() / "snapshot.json";
+  ASSERT_EQ(run(common_ + " snapshot tower --out " + snapshot.string(), dir_).code, 0);
+  for (int i = 0; i < 300 && !std::filesystem::exists(dump); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ASSERT_TRUE(std::filesystem::exists(dump)) << slurp(dir_.path() / "watch.txt");
+  EXPECT_EQ(slurp(dump), slurp(snapshot)) << "the live replica must equal the snapshot, byte for byte";
+  const auto file = nlohmann::json::parse(slurp(snapshot));
+  EXPECT_EQ(file["graphs"]["roadmap"]["vertices"].size(), status["vertices"].get<std::size_t>());
+  EXPECT_EQ(file["pois"].size(), status["poi_count"].get<std::size_t>());
+  const CliRun extend = run(common_ + " extend tower --samples 500 --wait --json", dir_);
+  ASSERT_EQ(extend.code, 0) << extend.err;
+  EXPECT_EQ(nlohmann::json::parse(last_line(extend.out))["samples_done"], 60500);
+
+  // Errors: one line naming the problem, and the exit code of its kind.
+  CliRun r = run(common_ + " build tower --method ispars --samples 100", dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("request: replace: scene 'tower' already has a roadmap"), std::string::npos) << r.err;
+  r = run(common_ + " build tower --method ispars --samples 100 --replace --set colour=1", dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("overrides.colour: unknown parameter"), std::string::npos) << r.err;
+  r = run(common_ + " build tower --method ispars --samples 100 --set stretch", dir_);
+  EXPECT_EQ(r.code, 2);
+  r = run(common_ + " build tower --method ispars --samples -5", dir_);
+  EXPECT_EQ(r.code, 2);
+  r = run(common_ + " build tower --samples 5", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--method"), std::string::npos) << r.err;
+  r = run(common_ + " stats nowhere", dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("scene 'nowhere' is not loaded"), std::string::npos) << r.err;
+  r = run(common_ + " path tower --from 0 0 nan --to 1 1 1", dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("path: from:"), std::string::npos) << r.err;
+  r = run(common_ + " verify tower", dir_);
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("verified"), std::string::npos);
+  EXPECT_EQ(daemon_->terminate(), 0) << daemon_->log();
+}
+
+}  // namespace
+}  // namespace ispars::test
