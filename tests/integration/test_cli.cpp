@@ -81,7 +81,7 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   start();
   EXPECT_EQ(run(common_ + " scenes load tower", dir_).code, 0);
   // A build in flight, and a late-joining replica that follows it until the scene is idle.
-  const CliRun started = run(common_ + " build tower --method ispars --samples 60000 --seed 4", dir_);
+  const CliRun started = run(common_ + " build tower --method ispars --samples 30000 --seed 4", dir_);
   ASSERT_EQ(started.code, 0) << started.err;
   const auto dump = dir_.path() / "replica.json";
   const std::string watch = std::string(ISPARS_CLI) + " " + common_ + " watch tower --until-idle --dump " +
@@ -96,7 +96,7 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
   EXPECT_EQ(status["state"], "idle");
-  EXPECT_EQ(status["samples_done"], 60000);
+  EXPECT_EQ(status["samples_done"], 30000);
   const CliRun stats = run(common_ + " stats tower --json", dir_);
   ASSERT_EQ(stats.code, 0);
   EXPECT_EQ(nlohmann::json::parse(last_line(stats.out))["vertices"], status["vertices"]);
@@ -112,7 +112,7 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   EXPECT_EQ(file["pois"].size(), status["poi_count"].get<std::size_t>());
   const CliRun extend = run(common_ + " extend tower --samples 500 --wait --json", dir_);
   ASSERT_EQ(extend.code, 0) << extend.err;
-  EXPECT_EQ(nlohmann::json::parse(last_line(extend.out))["samples_done"], 60500);
+  EXPECT_EQ(nlohmann::json::parse(last_line(extend.out))["samples_done"], 30500);
 
   // Errors: one line naming the problem, and the exit code of its kind.
   CliRun r = run(common_ + " build tower --method ispars --samples 100", dir_);

@@ -1,0 +1,189 @@
+// The GIP solver: exact optima on small instances (against a dynamic-programming reference),
+// every tour validated independently, and named errors on bad input.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <queue>
+
+#include "ispars/gip_solver.hpp"
+#include "ispars/input_error.hpp"
+#include "ispars/random.hpp"
+
+namespace ispars {
+namespace {
+
+// A random connected geometric graph: n points in the unit cube, each joined to its k nearest,
+// plus a chain so it is connected; each vertex sees a few of `pois` POIs.
+InspectionGraph random_instance(std::uint64_t seed, std::size_t n, std::size_t pois) {
+  Rng rng(seed);
+  std::vector<Vec3> p(n);
+  for (auto& x : p) x = Vec3(rng.uniform01(), rng.uniform01(), rng.uniform01());
+  std::vector<RoadmapEdge> edges;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<std::pair<double, std::size_t>> near;
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j != i) near.push_back({(p[i] - p[j]).norm(), j});
+    }
+    std::sort(near.begin(), near.end());
+    for (std::size_t k = 0; k < 3; ++k) {
+      edges.push_back({static_cast<VertexId>(i), static_cast<VertexId>(near[k].second), near[k].first});
+    }
+    if (i > 0) edges.push_back({static_cast<VertexId>(i - 1), static_cast<VertexId>(i), (p[i] - p[i - 1]).norm()});
+  }
+  std::vector<std::vector<PoiId>> visible(n);
+  for (std::size_t v = 1; v < n; ++v) {
+    const auto count = static_cast<std::size_t>(rng.uniform01() * 3.0);
+    for (std::size_t k = 0; k < count; ++k) visible[v].push_back(static_cast<PoiId>(rng.uniform01() * pois) % pois);
+  }
+  for (PoiId q = 0; q < pois; ++q) {  // every POI seen somewhere
+    visible[1 + static_cast<std::size_t>(rng.uniform01() * (n - 1)) % (n - 1)].push_back(q);
+  }
+  return InspectionGraph::from_edges(n, edges, std::move(visible), pois);
+}
+
+// Exact optimum: shortest paths between all vertices, then Dijkstra over (vertex, seen set).
+double exact_optimum(const InspectionGraph& g, std::size_t pois) {
+  const std::size_t n = g.vertex_count();
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<double>> d(n, std::vector<double>(n, inf));
+  for (std::size_t s = 0; s < n; ++s) {
+    d[s][s] = 0;
+    using Item = std::pair<double, VertexId>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+    open.push({0.0, static_cast<VertexId>(s)});
+    while (!open.empty()) {
+      const auto [dist, v] = open.top();
+      open.pop();
+      if (dist > d[s][v]) continue;
+      for (const Neighbor& nb : g.neighbors(v)) {
+        if (dist + nb.cost < d[s][nb.vertex]) {
+          d[s][nb.vertex] = dist + nb.cost;
+          open.push({d[s][nb.vertex], nb.vertex});
+        }
+      }
+    }
+  }
+  std::vector<std::uint32_t> mask(n, 0);
+  for (std::size_t v = 0; v < n; ++v) {
+    for (const PoiId q : g.visible(static_cast<VertexId>(v))) mask[v] |= 1u << q;
+  }
+  const std::uint32_t full = (1u << pois) - 1;
+  std::vector<double> best((full + 1) * n, inf);
+  using State = std::pair<double, std::pair<std::uint32_t, std::size_t>>;
+  std::priority_queue<State, std::vector<State>, std::greater<>> open;
+  best[mask[0] * n + 0] = 0;
+  open.push({0.0, {mask[0], 0}});
+  double answer = inf;
+  while (!open.empty()) {
+    const auto [cost, key] = open.top();
+    open.pop();
+    const auto [m, v] = key;
+    if (cost > best[m * n + v]) continue;
+    if (m == full) answer = std::min(answer, cost + d[v][0]);
+    for (std::size_t u = 0; u < n; ++u) {
+      const std::uint32_t mu = m | mask[u];
+      const double c = cost + d[v][u];
+      if (c < best[mu * n + u]) {
+        best[mu * n + u] = c;
+        open.push({c, {mu, u}});
+      }
+    }
+  }
+  return answer;
+}
+
+TEST(GipSolver, FindsTheExactOptimumOnSmallInstances) {
+  for (std::uint64_t seed = 1; seed <= 25; ++seed) {
+    const std::size_t pois = 6 + seed % 7;  // 6..12
+    const InspectionGraph g = random_instance(seed, 20 + seed % 20, pois);
+    const double optimum = exact_optimum(g, pois);
+    GipOptions options;
+    options.seed = seed;
+    options.max_iterations = 300;
+    options.budget_seconds = 30;
+    const GipResult r = solve_gip(g, options);
+    EXPECT_TRUE(r.validation.valid()) << r.validation.problem;
+    EXPECT_NEAR(r.tour.cost, optimum, 1e-9 * optimum) << "instance " << seed;
+    ASSERT_TRUE(r.lower_bound.has_value());
+    EXPECT_LE(*r.lower_bound, optimum + 1e-9);
+    EXPECT_EQ(r.tour.covered.size(), pois);
+  }
+}
+
+TEST(GipSolver, TheSameSeedAndIterationsGiveTheSameTour) {
+  const InspectionGraph g = random_instance(77, 60, 12);
+  GipOptions options;
+  options.seed = 3;
+  options.max_iterations = 100;
+  options.budget_seconds = 60;
+  const GipResult a = solve_gip(g, options);
+  const GipResult b = solve_gip(g, options);
+  EXPECT_EQ(a.tour.walk, b.tour.walk);
+  EXPECT_EQ(a.tour.cost, b.tour.cost);
+}
+
+TEST(GipSolver, EveryTourPassesValidationAndTheTraceOnlyImproves) {
+  for (std::uint64_t seed = 100; seed < 106; ++seed) {
+    const InspectionGraph g = random_instance(seed, 120, 12);
+    GipOptions options;
+    options.seed = seed;
+    options.budget_seconds = 0.3;
+    options.threads = 2;
+    const GipResult r = solve_gip(g, options);
+    EXPECT_TRUE(r.validation.valid()) << r.validation.problem;
+    ASSERT_FALSE(r.trace.empty());
+    for (std::size_t i = 1; i < r.trace.size(); ++i) EXPECT_LT(r.trace[i].second, r.trace[i - 1].second);
+    EXPECT_NEAR(r.trace.back().second, r.tour.cost, 1e-9 * r.tour.cost);
+  }
+}
+
+TEST(GipSolver, ValidationCatchesBrokenTours) {
+  const InspectionGraph g = random_instance(5, 30, 8);
+  GipOptions options;
+  options.max_iterations = 10;
+  const GipResult r = solve_gip(g, options);
+  ASSERT_TRUE(r.validation.valid());
+  InspectionTour t = r.tour;
+  t.cost += 1.0;
+  EXPECT_FALSE(validate_tour(g, 0, r.targets, t).cost_matches);
+  t = r.tour;
+  t.walk.pop_back();
+  EXPECT_FALSE(validate_tour(g, 0, r.targets, t).closed);
+  t = r.tour;
+  t.walk = {0, 0};
+  t.cost = 0;
+  EXPECT_FALSE(validate_tour(g, 0, r.targets, t).covers_targets);
+}
+
+TEST(GipSolver, BadInputIsNamed) {
+  const auto expect = [](const InspectionGraph& g, const GipOptions& o, const std::string& needle) {
+    try {
+      (void)solve_gip(g, o);
+      ADD_FAILURE() << "accepted: " << needle;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  const std::vector<RoadmapEdge> edges = {{1, 2, 1.0}, {2, 3, 1.0}};
+  const InspectionGraph lonely = InspectionGraph::from_edges(4, edges, {{}, {0}, {1}, {2}}, 3);
+  expect(lonely, GipOptions{}, "tour: root: the root (vertex 0) has no edges");
+  const std::vector<RoadmapEdge> split = {{0, 1, 1.0}, {2, 3, 1.0}};
+  const InspectionGraph g = InspectionGraph::from_edges(4, split, {{}, {0}, {1}, {2}}, 4);
+  GipOptions o;
+  o.targets = std::vector<PoiId>{};
+  expect(g, o, "tour: targets: the target set is empty");
+  o.targets = std::vector<PoiId>{0, 9};
+  expect(g, o, "unknown POI ids (the first: 9");
+  o.targets = std::vector<PoiId>{0, 1};
+  expect(g, o, "1 targets are seen by no vertex reachable from the root (the first: POI 1)");
+  o.targets = std::vector<PoiId>{0};
+  o.max_iterations = 20;
+  const GipResult ok = solve_gip(g, o);
+  EXPECT_TRUE(ok.validation.valid());
+  EXPECT_EQ(ok.tour.walk, (std::vector<VertexId>{0, 1, 0}));
+}
+
+}  // namespace
+}  // namespace ispars
