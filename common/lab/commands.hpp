@@ -65,6 +65,20 @@ struct ExperimentOptions {
   std::size_t samples = 4000;
   std::size_t pairs = 1000;
 };
+struct TourCommandOptions {
+  std::string roadmap;         ///< A roadmap file (ispars-lab build --out / ispars snapshot --out).
+  std::string graph = "roadmap";
+  std::string iris;            ///< Or IRIS files PREFIX_vertex, PREFIX_edge.
+  bool all_edges = false;      ///< IRIS: keep edges marked invalid too.
+  double budget = 10.0;
+  std::uint64_t seed = 1;
+  unsigned threads = 1;
+  std::uint64_t iterations = 0;
+  bool json = false;
+  std::string out;
+};
+int run_tour(const TourCommandOptions& options);
+
 int run_experiment_table(const ExperimentOptions& options);
 int run_experiment_scaling(const ExperimentOptions& options);
 int run_experiment_spanner(const ExperimentOptions& options);

@@ -98,6 +98,19 @@ int main(int argc, char** argv) {
   spanner_cmd->add_option("--delta", exp.delta, "delta (0: the scene's)")->check(CLI::Range(0.0, 1e6));
   spanner_cmd->add_option("--seed", exp.seeds, "Seed of the pairs");
 
+  TourCommandOptions tour;
+  auto* tour_cmd = app.add_subcommand("tour", "An inspection tour (GIP) on a roadmap file or IRIS files");
+  tour_cmd->add_option("roadmap", tour.roadmap, "Roadmap JSON (ispars-lab build --out, ispars snapshot --out)");
+  tour_cmd->add_option("--graph", tour.graph, "Which graph of the file")->check(CLI::IsMember({"roadmap", "dense"}));
+  tour_cmd->add_option("--iris", tour.iris, "IRIS files PREFIX_vertex and PREFIX_edge instead of a roadmap file");
+  tour_cmd->add_flag("--all-edges", tour.all_edges, "IRIS: keep edges marked invalid (as the published solver read them)");
+  tour_cmd->add_option("--budget", tour.budget, "Seconds of search")->required()->check(CLI::Range(0.0, 1e6));
+  tour_cmd->add_option("--seed", tour.seed, "Seed");
+  tour_cmd->add_option("--threads", tour.threads, "Search threads (one chain each)")->check(CLI::Range(1u, 64u));
+  tour_cmd->add_option("--iterations", tour.iterations, "Stop after this many search iterations per thread (deterministic)");
+  tour_cmd->add_flag("--json", tour.json, "Print one JSON object as the last line of stdout");
+  tour_cmd->add_option("--out", tour.out, "Write the tour (walk, positions, trace) as JSON");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -113,6 +126,7 @@ int main(int argc, char** argv) {
     if (info_cmd->parsed()) return run_scene_info(info);
     if (geometry_cmd->parsed()) return run_bench_geometry(geometry);
     if (build_cmd->parsed()) return run_build(build);
+    if (tour_cmd->parsed()) return run_tour(tour);
     if (bench_build_cmd->parsed()) return run_bench_build(bench_build);
     if (table_cmd->parsed()) return run_experiment_table(exp);
     if (scaling_cmd->parsed()) {

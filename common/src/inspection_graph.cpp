@@ -102,7 +102,8 @@ InspectionGraph InspectionGraph::read_iris(const std::filesystem::path& prefix, 
     if (valid == 0 && !all_edges) continue;
     edges.push_back({static_cast<VertexId>(u), static_cast<VertexId>(v), cost});
   }
-  return from_edges(visible.size(), edges, std::move(visible), poi_count);
+  const std::size_t vertices = visible.size();
+  return from_edges(vertices, edges, std::move(visible), poi_count);
 }
 
 void InspectionGraph::finish() {
