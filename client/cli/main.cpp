@@ -175,6 +175,18 @@ int main(int argc, char** argv) {
   watch->add_option("--dump", dump, "write the replica to FILE on exit (the ispars-lab build --out JSON)");
   watch->add_flag("--until-idle", until_idle, "exit when the scene has no job and the replica is current");
 
+  double budget = 10;
+  std::uint64_t tour_seed = 1;
+  std::vector<std::uint32_t> targets;
+  auto* tour = app.add_subcommand("tour", "an inspection tour on the scene's roadmap, searched by the daemon");
+  tour->add_option("scene", scene, "scene name")->required();
+  tour->add_option("--budget", budget, "seconds of search")->required()->check(CLI::Range(0.001, 3600.0));
+  tour->add_option("--seed", tour_seed, "search seed");
+  tour->add_option("--targets", targets, "POI ids to see (default: every POI seen from the root's component)")
+      ->delimiter(',');
+  tour->add_flag("--json", json, "one JSON object");
+  tour->add_option("--out", out, "write the tour (walk, positions, trace) as JSON");
+
   auto* snapshot = app.add_subcommand("snapshot", "fetch the whole roadmap");
   snapshot->add_option("scene", scene, "scene name")->required();
   snapshot->add_option("--out", out, "JSON file to write")->required();
@@ -270,6 +282,42 @@ int main(int argc, char** argv) {
         std::cout << fmt::format("path of length {:.3f} through {} waypoints\n", r.length(), r.waypoints().size());
         for (const auto& p : r.waypoints()) std::cout << fmt::format("  {:.3f} {:.3f} {:.3f}\n", p.x(), p.y(), p.z());
       }
+    } else if (*tour) {
+      const bool tty = ::isatty(STDERR_FILENO) != 0;
+      const msg::Reply r = client.tour(scene, budget, tour_seed, targets, [&](double t, double cost) {
+        if (json) return;
+        std::cerr << fmt::format("{}{:8.2f} s  best tour {:.6g}{}", tty ? "\r" : "", t, cost, tty ? "   " : "\n")
+                  << std::flush;
+      });
+      if (tty && !json) std::cerr << "\n";
+      nlohmann::json trace = nlohmann::json::array();
+      for (std::size_t i = 0; i + 1 < r.trace().size(); i += 2) trace.push_back({r.trace()[i], r.trace()[i + 1]});
+      const double seconds = r.trace().empty() ? 0.0 : r.trace()[r.trace().size() - 2];
+      const nlohmann::json result = {{"cost", r.length()},
+                                     {"covered", r.covered()},
+                                     {"targets", r.target_count()},
+                                     {"seconds", seconds},
+                                     {"lower_bound", r.lower_bound()},
+                                     {"valid", r.tour_valid()},
+                                     {"trace", trace},
+                                     {"walk_steps", r.walk().empty() ? 0 : r.walk().size() - 1},
+                                     {"version", r.tour_version()}};
+      if (!out.empty()) {
+        nlohmann::json positions = nlohmann::json::array();
+        for (const auto& p : r.waypoints()) positions.push_back({p.x(), p.y(), p.z()});
+        nlohmann::json file = result;
+        file["walk"] = r.walk();
+        file["positions"] = positions;
+        write_text(out, file.dump() + "\n");
+      }
+      if (json) {
+        std::cout << result.dump() << std::endl;
+      } else {
+        std::cout << r.message() << "\n";
+        std::cout << fmt::format("  {} steps, lower bound {:.6g}, {}\n", r.walk().empty() ? 0 : r.walk().size() - 1,
+                                 r.lower_bound(), r.tour_valid() ? "valid" : "NOT valid");
+      }
+      return r.tour_valid() ? 0 : 1;
     } else if (*snapshot) {
       const ispars::client::Snapshot s = client.snapshot(scene);
       write_text(out, ispars::roadmap_file_json(scene, s.root, s.pois, s.roadmap, nullptr));

@@ -41,6 +41,23 @@ bool busy_state(msg::SceneState s) {
 
 }  // namespace
 
+// Tour progress addressed to this client, handed to the current callback.
+class TourProgressListener final : public fdds::DataReaderListener {
+ public:
+  void on_data_available(fdds::DataReader* reader) override {
+    msg::TourProgress p;
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&p, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data || p.client_id() != client_id) continue;
+      std::lock_guard lock(mutex);
+      if (callback) callback(p.seconds(), p.cost());
+    }
+  }
+  std::string client_id;
+  std::mutex mutex;
+  std::function<void(double, double)> callback;
+};
+
 class Client::Impl final : public fdds::DataReaderListener {
  public:
   explicit Impl(const ClientOptions& options)
@@ -78,6 +95,7 @@ class Client::Impl final : public fdds::DataReaderListener {
   }
 
   ~Impl() override {
+    if (progress_reader_) progress_reader_->set_listener(nullptr);
     reply_reader_->set_listener(nullptr);
     status_reader_->set_listener(nullptr);
     daemon_reader_->set_listener(nullptr);
@@ -110,8 +128,10 @@ class Client::Impl final : public fdds::DataReaderListener {
                        options_.participant.profile_file.empty() ? ", localhost" : ", with a matching profile");
   }
 
-  msg::Reply call(msg::Request request, const std::string& server) {
-    const auto deadline = std::chrono::steady_clock::now() + options_.timeout;
+  msg::Reply call(msg::Request request, const std::string& server) { return call(std::move(request), server, options_.timeout); }
+
+  msg::Reply call(msg::Request request, const std::string& server, std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
     // The daemon must be discovered (its announcement arrived) before the first send.
     if (!daemons_.wait_for(options_.timeout, [&](const auto& latest) { return latest.count(server) > 0; })) {
       throw ClientError(ClientError::Kind::no_daemon,
@@ -146,7 +166,7 @@ class Client::Impl final : public fdds::DataReaderListener {
     throw ClientError(ClientError::Kind::timeout,
                       fmt::format("daemon {} did not answer {} on DDS domain {} within {:.1f} s", server,
                                   wire::to_string(request.kind()), options_.participant.domain,
-                                  options_.timeout.count() / 1000.0));
+                                  timeout.count() / 1000.0));
   }
 
   void wait_matched(std::chrono::steady_clock::time_point deadline) {
@@ -173,6 +193,20 @@ class Client::Impl final : public fdds::DataReaderListener {
   wire::LatestSamples<msg::SceneStatus> statuses_;
   wire::LatestSamples<msg::DaemonInfo> daemons_;
   std::string id_;
+
+  fdds::TypeSupport progress_type_{new msg::TourProgressPubSubType()};
+  fdds::DataReader* progress_reader_ = nullptr;
+  TourProgressListener progress_;
+
+  // Subscribes to tour progress on first use.
+  void ensure_progress_reader() {
+    std::lock_guard lock(mutex_);
+    if (progress_reader_) return;
+    progress_.client_id = id_;
+    fdds::Topic* topic = find_or_create_topic(participant_.get(), progress_type_, wire::kTourProgressTopic);
+    progress_reader_ = subscriber_->create_datareader(topic, wire::request_reply_reader_qos(), &progress_,
+                                                      fdds::StatusMask::data_available());
+  }
 
   std::mutex mutex_;
   std::condition_variable reply_arrived_;
@@ -318,6 +352,40 @@ Snapshot Client::snapshot(const std::string& scene) {
     return s;
   }
   throw ClientError(ClientError::Kind::protocol, "the roadmap of '" + scene + "' kept changing generation during the snapshot");
+}
+
+msg::Reply Client::call(msg::Request request, const std::string& server, std::chrono::milliseconds timeout) {
+  const std::string target = server.empty() ? owner_of(request.scene()) : server;
+  msg::Reply reply = impl_->call(std::move(request), target, timeout);
+  if (!reply.ok()) throw ClientError(ClientError::Kind::rejected, reply.error());
+  return reply;
+}
+
+msg::Reply Client::tour(const std::string& scene, double budget, std::uint64_t seed,
+                        const std::vector<std::uint32_t>& targets,
+                        const std::function<void(double seconds, double cost)>& progress) {
+  impl_->ensure_progress_reader();
+  {
+    std::lock_guard lock(impl_->progress_.mutex);
+    impl_->progress_.callback = progress;
+  }
+  msg::Request r = request_for(msg::TOUR, scene);
+  r.budget(budget);
+  r.seed(seed);
+  r.targets(targets);
+  // The daemon answers when the search ends: wait for the budget on top of the usual timeout.
+  const auto timeout = options_.timeout + std::chrono::milliseconds(static_cast<long>(std::max(0.0, budget) * 1000));
+  msg::Reply reply;
+  try {
+    reply = call(r, {}, timeout);
+  } catch (...) {
+    std::lock_guard lock(impl_->progress_.mutex);
+    impl_->progress_.callback = nullptr;
+    throw;
+  }
+  std::lock_guard lock(impl_->progress_.mutex);
+  impl_->progress_.callback = nullptr;
+  return reply;
 }
 
 msg::SceneStatus Client::wait_idle(const std::string& scene, const std::function<void(const msg::SceneStatus&)>& progress,

@@ -546,6 +546,7 @@ GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
     for (std::uint64_t it = 0;; ++it) {
       if (o.max_iterations > 0 && it >= o.max_iterations) break;
       if (o.max_iterations == 0 && elapsed() >= o.budget_seconds) break;
+      if (o.stop != nullptr && o.stop->load()) break;
       if (o.max_iterations > 0 && elapsed() >= o.budget_seconds && o.budget_seconds > 0) break;
       Solution trial = (it % 200 == 199) ? chain_best : current;  // return to the best now and then
       chain.destroy(trial);

@@ -121,6 +121,7 @@ std::string to_string(msg::RequestKind kind) {
     case msg::SNAPSHOT: return "snapshot";
     case msg::DROP: return "drop";
     case msg::VERIFY: return "verify";
+    case msg::TOUR: return "tour";
   }
   return "unknown";
 }

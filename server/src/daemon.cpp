@@ -11,6 +11,8 @@
 #include <cmath>
 
 #include "dds_endpoints.hpp"
+#include "ispars/gip_solver.hpp"
+#include "ispars/inspection_graph.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/scene_catalog.hpp"
 #include "ispars/wire/convert.hpp"
@@ -51,6 +53,7 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
   }
   remove_dropped_stores(config_.data_dir);
   workers_ = std::make_unique<WorkerPool>(config_.workers);
+  tour_workers_ = std::make_unique<WorkerPool>(config_.workers);
   dds_ = std::make_unique<DdsEndpoints>(*this, config_);
   recover_stored_roadmaps();
   for (const std::string& name : config_.preload) {
@@ -76,7 +79,8 @@ void Daemon::shutdown() {
   queue_wake_.notify_all();
   for (auto& t : request_threads_) t.join();
   request_threads_.clear();
-  workers_->stop();  // running builds commit their current chunk and return
+  workers_->stop();       // running builds commit their current chunk and return
+  tour_workers_->stop();  // running tours stop early and reply with their best
   std::vector<std::shared_ptr<RoadmapSession>> sessions;
   {
     std::lock_guard lock(sessions_mutex_);
@@ -127,6 +131,15 @@ void Daemon::handle(const msg::Request& request) {
     case ReplyCache::Admission::new_request:
       break;
   }
+  if (request.kind() == msg::TOUR) {
+    // A tour searches for its whole budget: run it on a tour worker, reply when it ends.
+    tour_workers_->submit([this, request] {
+      msg::Reply r = answer(request);
+      cache_.complete(request.client_id(), request.request_seq(), r);
+      if (dds_) dds_->send_reply(r);
+    });
+    return;
+  }
   reply = answer(request);
   cache_.complete(request.client_id(), request.request_seq(), reply);
   dds_->send_reply(reply);
@@ -173,6 +186,7 @@ msg::Reply Daemon::answer(const msg::Request& request) {
         break;
       }
       case msg::SNAPSHOT: snapshot(request, reply); break;
+      case msg::TOUR: tour(request, reply); break;
       case msg::DROP: {
         const auto s = session(name);
         s->drop();
@@ -398,6 +412,49 @@ void Daemon::snapshot(const msg::Request& request, msg::Reply& reply) {
     for (const Vec3& p : s->scene().pois()) reply.pois().push_back(wire::to_message(p));
   }
   reply.chunk().assign(bytes->begin() + static_cast<std::ptrdiff_t>(begin), bytes->begin() + static_cast<std::ptrdiff_t>(end));
+}
+
+void Daemon::tour(const msg::Request& request, msg::Reply& reply) {
+  const auto s = session(request.scene());
+  if (!std::isfinite(request.budget()) || !(request.budget() > 0.0) || request.budget() > 3600.0) {
+    throw InputError("request", "budget", fmt::format("must be in (0, 3600] seconds, got {}", request.budget()));
+  }
+  if (request.targets().size() > 1'000'000) throw InputError("request", "targets", "more than 1000000 given");
+  const PublishedRoadmap published = s->published();
+  if (!s->status().recipe || published.roadmap->vertex_count() == 0) {
+    throw InputError("request", "scene", fmt::format("scene '{}' has no roadmap yet", request.scene()));
+  }
+  const InspectionGraph graph = InspectionGraph::from_roadmap(*published.roadmap);
+  GipOptions options;
+  options.budget_seconds = request.budget();
+  options.seed = request.seed();
+  options.stop = &stopping_;
+  if (!request.targets().empty()) options.targets = std::vector<PoiId>(request.targets().begin(), request.targets().end());
+  options.on_improvement = [&](double seconds, double cost) {
+    msg::TourProgress progress;
+    progress.client_id(request.client_id());
+    progress.request_seq(request.request_seq());
+    progress.scene(request.scene());
+    progress.seconds(seconds);
+    progress.cost(cost);
+    dds_->publish_tour_progress(progress);
+  };
+  const GipResult r = solve_gip(graph, options);
+  reply.walk(std::vector<std::uint32_t>(r.tour.walk.begin(), r.tour.walk.end()));
+  for (const VertexId v : r.tour.walk) reply.waypoints().push_back(wire::to_message(published.roadmap->position(v)));
+  reply.length(r.tour.cost);
+  reply.covered(static_cast<std::uint32_t>(r.tour.covered.size()));
+  reply.target_count(static_cast<std::uint32_t>(r.targets.size()));
+  reply.lower_bound(r.lower_bound.value_or(0.0));
+  reply.tour_valid(r.validation.valid());
+  for (const auto& [t, c] : r.trace) {
+    reply.trace().push_back(t);
+    reply.trace().push_back(c);
+  }
+  reply.tour_version(published.roadmap->version());
+  reply.message(fmt::format("tour of cost {:.6g} covering {}/{} targets, {} iterations in {:.1f} s", r.tour.cost,
+                            r.tour.covered.size(), r.targets.size(), r.iterations, r.seconds));
+  reply.status(status_message(*s));
 }
 
 msg::SceneStatus Daemon::status_message(const RoadmapSession& session) const {

@@ -56,6 +56,7 @@ class Daemon {
   void build(const msg::Request& request, msg::Reply& reply);
   void extend(const msg::Request& request, msg::Reply& reply);
   void snapshot(const msg::Request& request, msg::Reply& reply);
+  void tour(const msg::Request& request, msg::Reply& reply);
 
   std::shared_ptr<RoadmapSession> session(const std::string& name) const;  // InputError when not loaded
   std::shared_ptr<RoadmapSession> session_or_null(const std::string& name) const;
@@ -94,6 +95,7 @@ class Daemon {
   std::vector<std::thread> request_threads_;
 
   std::unique_ptr<WorkerPool> workers_;
+  std::unique_ptr<WorkerPool> tour_workers_;  // tours run here, never on a request thread
   std::unique_ptr<DdsEndpoints> dds_;
   bool shut_down_ = false;
 };

@@ -58,6 +58,7 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
       update_type_(new msg::UpdateBatchPubSubType()),
       status_type_(new msg::SceneStatusPubSubType()),
       daemon_type_(new msg::DaemonInfoPubSubType()),
+      progress_type_(new msg::TourProgressPubSubType()),
       statuses_([](const msg::SceneStatus& s) { return s.scene(); }) {
   fdds::DomainParticipant* p = participant_.get();
   fdds::Topic* request_topic = make_topic(p, request_type_, wire::kRequestTopic);
@@ -65,6 +66,7 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
   fdds::Topic* update_topic = make_topic(p, update_type_, wire::kUpdatesTopic);
   fdds::Topic* status_topic = make_topic(p, status_type_, wire::kStatusTopic);
   fdds::Topic* daemon_topic = make_topic(p, daemon_type_, wire::kDaemonsTopic);
+  fdds::Topic* progress_topic = make_topic(p, progress_type_, wire::kTourProgressTopic);
   fdds::Publisher* pub = require(p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT), "publisher");
   fdds::Subscriber* sub = require(p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT), "subscriber");
   fdds::StatusMask matched = fdds::StatusMask::publication_matched();
@@ -72,6 +74,7 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
   updates_ = require(pub->create_datawriter(update_topic, wire::updates_writer_qos()), "update writer");
   status_ = require(pub->create_datawriter(status_topic, wire::state_writer_qos()), "status writer");
   daemons_ = require(pub->create_datawriter(daemon_topic, wire::state_writer_qos()), "announcement writer");
+  tour_progress_ = require(pub->create_datawriter(progress_topic, wire::request_reply_writer_qos()), "tour progress writer");
   status_reader_ = require(sub->create_datareader(status_topic, wire::state_reader_qos(), &statuses_), "status reader");
   requests_ = require(sub->create_datareader(request_topic, wire::request_reply_reader_qos(), this,
                                              fdds::StatusMask::data_available()),
@@ -179,6 +182,11 @@ void DdsEndpoints::publish_status(const msg::SceneStatus& status) {
 void DdsEndpoints::announce(const msg::DaemonInfo& info) {
   msg::DaemonInfo copy = info;
   if (!daemons_->write(&copy)) spdlog::error("announcement could not be written");
+}
+
+void DdsEndpoints::publish_tour_progress(const msg::TourProgress& progress) {
+  msg::TourProgress copy = progress;
+  tour_progress_->write(&copy);  // progress is advisory: a lost one is replaced by the next
 }
 
 std::optional<msg::SceneStatus> DdsEndpoints::status_of(const std::string& scene) const { return statuses_.get(scene); }

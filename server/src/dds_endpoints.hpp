@@ -39,6 +39,7 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   void publish_update(const msg::UpdateBatch& batch);
   void publish_status(const msg::SceneStatus& status);
   void announce(const msg::DaemonInfo& info);
+  void publish_tour_progress(const msg::TourProgress& progress);
   /// The latest status of `scene` published by any daemon (this one included).
   [[nodiscard]] std::optional<msg::SceneStatus> status_of(const std::string& scene) const;
   /// Stops delivering requests.
@@ -54,12 +55,14 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   Daemon& daemon_;
   std::string server_id_;
   wire::Participant participant_;
-  eprosima::fastdds::dds::TypeSupport request_type_, reply_type_, update_type_, status_type_, daemon_type_;
+  eprosima::fastdds::dds::TypeSupport request_type_, reply_type_, update_type_, status_type_, daemon_type_,
+      progress_type_;
   eprosima::fastdds::dds::DataReader* requests_ = nullptr;
   eprosima::fastdds::dds::DataWriter* replies_ = nullptr;
   eprosima::fastdds::dds::DataWriter* updates_ = nullptr;
   eprosima::fastdds::dds::DataWriter* status_ = nullptr;
   eprosima::fastdds::dds::DataWriter* daemons_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* tour_progress_ = nullptr;
   eprosima::fastdds::dds::DataReader* status_reader_ = nullptr;
   wire::LatestSamples<msg::SceneStatus> statuses_;
   std::atomic<bool> accepting_{true};

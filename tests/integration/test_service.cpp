@@ -389,6 +389,55 @@ TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
   EXPECT_EQ(client.verify("s0").violations(), 0u);
 }
 
+TEST_F(ServiceTest, ToursAreSearchedByTheDaemonWithProgressAndValidated) {
+  auto daemon = start("d");
+  Client client(client_options(domain_));
+  client.load("s0");
+  client.build("s0", ispars_build(4000));
+  const auto built = client.wait_idle("s0", {}, kLong);
+  std::vector<double> seen;
+  const msg::Reply r = client.tour("s0", 1.0, 3, {}, [&](double, double cost) { seen.push_back(cost); });
+  EXPECT_TRUE(r.tour_valid());
+  EXPECT_EQ(r.covered(), r.target_count());
+  EXPECT_EQ(r.target_count(), built.pois_covered_root());
+  ASSERT_GE(r.walk().size(), 2u);
+  EXPECT_EQ(r.walk().front(), 0u);
+  EXPECT_EQ(r.walk().back(), 0u);
+  EXPECT_EQ(r.waypoints().size(), r.walk().size());
+  EXPECT_EQ(r.tour_version(), built.version());
+  ASSERT_GE(r.trace().size(), 2u);
+  EXPECT_DOUBLE_EQ(r.trace().back(), r.length());
+  EXPECT_LE(r.lower_bound(), r.length());
+  EXPECT_FALSE(seen.empty()) << "no progress was published";
+  // The tour's steps are roadmap edges: check against a snapshot, independently of the daemon.
+  const client::Snapshot snapshot = client.snapshot("s0");
+  double cost = 0;
+  for (std::size_t i = 1; i < r.walk().size(); ++i) {
+    ASSERT_TRUE(snapshot.roadmap.has_edge(r.walk()[i - 1], r.walk()[i]));
+    cost += (snapshot.roadmap.position(r.walk()[i]) - snapshot.roadmap.position(r.walk()[i - 1])).norm();
+  }
+  EXPECT_NEAR(cost, r.length(), 1e-9 * cost);
+  // A subset of targets, and bad tour requests.
+  const msg::Reply two = client.tour("s0", 0.3, 1, {r.walk().size() > 2 ? 0u : 0u});
+  EXPECT_TRUE(two.tour_valid());
+  EXPECT_EQ(two.target_count(), 1u);
+  msg::Request bad;
+  bad.kind(msg::TOUR);
+  bad.scene("s0");
+  bad.budget(-1);
+  EXPECT_NE(client.call_raw(bad, "d").error().find("request: budget: must be in (0, 3600]"), std::string::npos);
+  bad.budget(std::numeric_limits<double>::quiet_NaN());
+  EXPECT_FALSE(client.call_raw(bad, "d").ok());
+  bad.budget(0.2);
+  bad.targets({999999});
+  EXPECT_NE(client.call_raw(bad, "d").error().find("unknown POI ids"), std::string::npos);
+  client.load("s1");
+  bad.scene("s1");
+  bad.targets({});
+  EXPECT_NE(client.call_raw(bad, "d").error().find("has no roadmap yet"), std::string::npos);
+  EXPECT_TRUE(daemon->alive());
+}
+
 TEST_F(ServiceTest, NoDaemonIsATimeoutNamingTheDomain) {
   auto options = client_options(domain_);
   options.timeout = std::chrono::milliseconds(1500);

@@ -10,6 +10,7 @@
 // seed; the trajectory of every chain is fixed by (seed, thread index), so a run capped by
 // iterations is deterministic, and a run capped by time differs only in where it stops.
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -32,6 +33,8 @@ struct GipOptions {
   unsigned threads = 1;
   /// Called (under a lock, from any solver thread) when the best tour improves.
   std::function<void(double seconds, double cost)> on_improvement;
+  /// When set and true, the search stops early and returns the best tour so far.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct GipResult {

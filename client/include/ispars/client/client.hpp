@@ -79,6 +79,11 @@ class Client {
   msg::Reply verify(const std::string& scene);
   /// The whole roadmap, fetched in chunks at one version.
   Snapshot snapshot(const std::string& scene);
+  /// An inspection tour on the scene's roadmap, searched for `budget` seconds; `progress` is
+  /// called with (seconds, best cost) as the daemon improves it. Empty targets: every POI seen
+  /// from the root's component.
+  msg::Reply tour(const std::string& scene, double budget, std::uint64_t seed, const std::vector<std::uint32_t>& targets,
+                  const std::function<void(double seconds, double cost)>& progress = {});
 
   /// Waits until the scene has no job (idle, empty or failed), calling `progress` on each status
   /// change seen meanwhile. Throws ClientError(timeout) after `timeout`.
@@ -89,6 +94,8 @@ class Client {
   /// same sequence number until a reply or the timeout. Throws ClientError(rejected) when the
   /// reply is an error, with the daemon's message.
   msg::Reply call(msg::Request request, const std::string& server = {});
+  /// Like call(), with its own timeout.
+  msg::Reply call(msg::Request request, const std::string& server, std::chrono::milliseconds timeout);
   /// Like call() but returns error replies instead of throwing.
   msg::Reply call_raw(msg::Request request, const std::string& server);
 

@@ -12,6 +12,7 @@ inline constexpr const char* kReplyTopic = "ispars/reply";
 inline constexpr const char* kUpdatesTopic = "ispars/updates";
 inline constexpr const char* kStatusTopic = "ispars/status";
 inline constexpr const char* kDaemonsTopic = "ispars/daemons";
+inline constexpr const char* kTourProgressTopic = "ispars/tour_progress";
 
 /// Requests and replies: reliable, volatile, a deep history per client (keyed by client id),
 /// no limit on the number of clients.
