@@ -10,6 +10,7 @@ deploy/install-deps.sh
 start=$(date +%s)
 deploy/build.sh release -DISPARS_WERROR=ON
 (cd build && ctest --output-on-failure --parallel "$(nproc)" --timeout 900)
+fastdds shm clean >/dev/null 2>&1 || true  # segments left by the kill -9 test
 
 if [ "${ISPARS_SKIP_SANITIZE:-0}" != "1" ]; then
   deploy/build.sh sanitize -DISPARS_WERROR=ON
@@ -22,12 +23,17 @@ if [ "${ISPARS_SKIP_SANITIZE:-0}" != "1" ]; then
   # volume, so this pass exercises the same code on a twentieth of the queries.
   export ISPARS_TEST_QUERY_SCALE=0.05
   (cd build-sanitize && ctest --output-on-failure --parallel "$(nproc)" --timeout 1800)
+  fastdds shm clean >/dev/null 2>&1 || true  # segments left by the kill -9 test
   unset ASAN_OPTIONS LSAN_OPTIONS UBSAN_OPTIONS
 
   deploy/build.sh thread -DISPARS_WERROR=ON
   # Embree builds its BVH on TBB threads, synchronised inside those uninstrumented libraries;
   # tests/tsan.supp hides only races reported inside them.
   export TSAN_OPTIONS="halt_on_error=1 suppressions=$PWD/tests/tsan.supp"
-  (cd build-thread && ctest --output-on-failure --parallel "$(nproc)" --timeout 1800)
+  # The tests labelled `service` drive real isparsd processes over Fast DDS, which is not built
+  # for TSan: its synchronisation is invisible and TSan reports races inside its own sample
+  # buffers. They run in the Release and ASan passes; the daemon's own concurrent parts (session,
+  # store, worker pool, reply cache) are checked here through their unit tests.
+  (cd build-thread && ctest --output-on-failure --parallel "$(nproc)" --timeout 1800 -LE service)
 fi
 echo "test.sh: all tests passed in $(( $(date +%s) - start )) s"

@@ -64,6 +64,9 @@ struct ExperimentOptions {
   // spanner
   std::size_t samples = 4000;
   std::size_t pairs = 1000;
+  // anytime
+  double budget = 30.0;
+  unsigned jobs = 2;
 };
 struct TourCommandOptions {
   std::string roadmap;         ///< A roadmap file (ispars-lab build --out / ispars snapshot --out).
@@ -82,5 +85,6 @@ int run_tour(const TourCommandOptions& options);
 int run_experiment_table(const ExperimentOptions& options);
 int run_experiment_scaling(const ExperimentOptions& options);
 int run_experiment_spanner(const ExperimentOptions& options);
+int run_experiment_anytime(const ExperimentOptions& options);
 
 }  // namespace ispars::lab

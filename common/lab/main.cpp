@@ -97,6 +97,14 @@ int main(int argc, char** argv) {
   spanner_cmd->add_option("--pois", exp.pois, "K")->check(CLI::Range(1, 10'000'000));
   spanner_cmd->add_option("--delta", exp.delta, "delta (0: the scene's)")->check(CLI::Range(0.0, 1e6));
   spanner_cmd->add_option("--seed", exp.seeds, "Seed of the pairs");
+  auto* anytime_cmd = experiment->add_subcommand(
+      "anytime", "Fig. 4: best tour against solver time on Dense, Inspection-SPARS and IRIS-C roadmaps");
+  common(anytime_cmd);
+  anytime_cmd->add_option("--seeds", exp.seeds, "Seeds 1..S")->check(CLI::Range(1, 1000));
+  anytime_cmd->add_option("--budget", exp.budget, "Solver seconds per roadmap (the paper: 150)")->check(CLI::Range(0.1, 1e5));
+  anytime_cmd->add_option("--jobs", exp.jobs, "Roadmaps solved at once (one solver thread each)")->check(CLI::Range(1u, 64u));
+  anytime_cmd->add_option("--csv", exp.csv, "CSV of mean +- sd of the best tour against time");
+  anytime_cmd->add_option("--png", exp.png, "Plot (gnuplot)");
 
   TourCommandOptions tour;
   auto* tour_cmd = app.add_subcommand("tour", "An inspection tour (GIP) on a roadmap file or IRIS files");
@@ -133,6 +141,7 @@ int main(int argc, char** argv) {
       if (exp.seeds == 6) exp.seeds = 10;  // the paper's Fig. 5 uses ten seeds
       return run_experiment_scaling(exp);
     }
+    if (anytime_cmd->parsed()) return run_experiment_anytime(exp);
     if (spanner_cmd->parsed()) {
       if (exp.seeds == 6) exp.seeds = 1;
       return run_experiment_spanner(exp);

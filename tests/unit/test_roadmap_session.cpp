@@ -92,6 +92,33 @@ TEST_F(RoadmapSessionTest, StoppingKeepsTheCommittedChunksAndAReopenedSessionExt
   EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), stopped_at + 500, 9));
 }
 
+TEST_F(RoadmapSessionTest, ReadersOnOtherThreadsSeeConsistentVersionsWhileAJobRuns) {
+  auto session = open();
+  session->request_build(ispars(20000, 2));
+  std::atomic<bool> done{false};
+  std::atomic<std::size_t> reads{0};
+  std::vector<std::thread> readers;
+  for (int r = 0; r < 2; ++r) {
+    readers.emplace_back([&] {
+      std::uint64_t last = 0;
+      while (!done) {
+        const PublishedRoadmap p = session->published();
+        const SessionStatus s = session->status();
+        EXPECT_GE(p.roadmap->version(), last);  // versions never go back
+        EXPECT_EQ(p.roadmap->version(), p.roadmap->changes_since(0).size());
+        last = p.roadmap->version();
+        (void)s;
+        ++reads;
+      }
+    });
+  }
+  session->run_job(never_);
+  done = true;
+  for (auto& t : readers) t.join();
+  EXPECT_GT(reads.load(), 0u);
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), 20000, 2));
+}
+
 TEST_F(RoadmapSessionTest, CancelStopsAfterTheCurrentChunk) {
   RoadmapSession* raw = nullptr;
   SessionCallbacks callbacks;
