@@ -318,6 +318,8 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
     // Commit in chunks of about a quarter second: often enough for live progress and a small
     // loss on a crash, rarely enough that fsync and publishing stay a small share of the time.
     std::uint64_t chunk = 64;
+    auto last_copy = std::chrono::steady_clock::now() - std::chrono::hours(1);
+    double copy_seconds = 0.0;
     bool first = build.has_value();  // a new roadmap commits at least its first chunk (the root)
     while (first || (builder_->samples() < target && !stopping && !cancel_)) {
       const auto t0 = std::chrono::steady_clock::now();
@@ -328,10 +330,22 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       store_->commit(commit, view);
       roadmap_version = view.roadmap->version();
       dense_version = view.dense ? view.dense->version() : 0;
+      // Readers get an immutable copy. A copy costs time in the roadmap's size, so it is taken
+      // only when the last one is older than ten times its own cost (at least every 5 s, and
+      // always at the end): publishing stays a small share of the build however large it grows.
+      const bool last_chunk = builder_->samples() >= target || stopping || cancel_;
+      const double since_copy = seconds_since(last_copy);
+      std::shared_ptr<const Roadmap> copy;
+      if (last_chunk || since_copy >= std::min(5.0, std::max(0.25, 10.0 * copy_seconds))) {
+        const auto c0 = std::chrono::steady_clock::now();
+        copy = std::make_shared<const Roadmap>(*view.roadmap);
+        copy_seconds = seconds_since(c0);
+        last_copy = std::chrono::steady_clock::now();
+      }
       {
         std::lock_guard lock(mutex_);
         samples_done_ = builder_->samples();
-        published_ = {std::make_shared<const Roadmap>(*view.roadmap), recipe.generation, samples_done_};
+        if (copy) published_ = {std::move(copy), recipe.generation, samples_done_};
         dense_vertices_ = view.dense ? view.dense->vertex_count() : 0;
         dense_edges_ = view.dense ? view.dense->edge_count() : 0;
       }

@@ -38,9 +38,9 @@ fdds::DataReaderQos request_reply_reader_qos() {
 fdds::DataWriterQos updates_writer_qos() {
   fdds::DataWriterQos qos = fdds::DATAWRITER_QOS_DEFAULT;
   qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-  qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
+  qos.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
   qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = 256;
+  qos.history().depth = kUpdatesKept;
   qos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
   unlimited_instances(qos);
   return qos;
@@ -49,7 +49,7 @@ fdds::DataWriterQos updates_writer_qos() {
 fdds::DataReaderQos updates_reader_qos() {
   fdds::DataReaderQos qos = fdds::DATAREADER_QOS_DEFAULT;
   qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-  qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
+  qos.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
   qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
   qos.history().depth = 256;
   unlimited_instances(qos);

@@ -19,8 +19,12 @@ inline constexpr const char* kTourProgressTopic = "ispars/tour_progress";
 eprosima::fastdds::dds::DataWriterQos request_reply_writer_qos();
 eprosima::fastdds::dds::DataReaderQos request_reply_reader_qos();
 
-/// Roadmap updates: reliable, volatile, KEEP_LAST per scene, published asynchronously so a slow
-/// subscriber never blocks the build (it sees a version gap and resyncs from a snapshot).
+/// Batches of roadmap updates kept per scene for late joiners.
+inline constexpr int kUpdatesKept = 64;
+
+/// Roadmap updates: reliable, transient-local with the last kUpdatesKept batches per scene (a late
+/// joiner's snapshot may be a few commits old: it finds the batches after it here), published
+/// asynchronously so a slow subscriber never blocks the build (it sees a version gap and resyncs).
 eprosima::fastdds::dds::DataWriterQos updates_writer_qos();
 eprosima::fastdds::dds::DataReaderQos updates_reader_qos();
 
