@@ -137,8 +137,9 @@ int run_experiment_anytime(const ExperimentOptions& options) {
       std::mutex mutex;
       std::size_t next = 0;
       std::map<BuildMethod, GipResult> solved;
+      std::string failure;
       const auto work = [&] {
-        for (;;) {
+        for (;;) try {
           BuildMethod m;
           {
             std::lock_guard lock(mutex);
@@ -153,11 +154,22 @@ int run_experiment_anytime(const ExperimentOptions& options) {
           if (!r.validation.valid()) throw std::runtime_error("invalid tour: " + r.validation.problem);
           std::lock_guard lock(mutex);
           solved.emplace(m, std::move(r));
+        } catch (const std::exception& e) {
+          std::lock_guard lock(mutex);
+          failure = e.what();
+          next = anytime_methods().size();
+          return;
         }
       };
+      if (common.empty()) {
+        std::cerr << fmt::format("{} seed {}: no POI is seen from the root in all three roadmaps; seed skipped\n",
+                                 as.name, seed);
+        continue;
+      }
       for (unsigned j = 1; j < options.jobs; ++j) pool.emplace_back(work);
       work();
       for (auto& t : pool) t.join();
+      if (!failure.empty()) throw std::runtime_error(fmt::format("{} seed {}: {}", as.name, seed, failure));
       for (const BuildMethod m : anytime_methods()) {
         const GipResult& r = solved.at(m);
         traces[m].push_back(r.trace);

@@ -479,7 +479,6 @@ InspectionTour expand(const InspectionGraph& g, const Closure& c, const std::vec
     for (VertexId v = b; v != a; v = parent[v]) leg.push_back(v);
     tour.walk.insert(tour.walk.end(), leg.rbegin(), leg.rend());
   }
-  if (tour.walk.size() == 1) tour.walk.push_back(tour.walk.front());  // the root alone: stay
   for (std::size_t i = 1; i < tour.walk.size(); ++i) {
     if (tour.walk[i] == tour.walk[i - 1]) continue;
     tour.cost += g.edge_cost(tour.walk[i - 1], tour.walk[i]);
@@ -495,15 +494,41 @@ GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
   if (o.root >= g.vertex_count()) {
     throw InputError("tour", "root", fmt::format("vertex {} is not in the graph ({} vertices)", o.root, g.vertex_count()));
   }
-  if (g.neighbors(o.root).empty()) {
-    throw InputError("tour", "root", fmt::format("the root (vertex {}) has no edges: no tour can leave it", o.root));
-  }
   if (!(o.budget_seconds >= 0.0) || !std::isfinite(o.budget_seconds)) {
     throw InputError("tour", "budget", fmt::format("must be a finite number of seconds >= 0, got {}", o.budget_seconds));
+  }
+  if (g.neighbors(o.root).empty()) {
+    // Only a root that sees every target by itself needs no edges.
+    const auto sees = g.visible(o.root);
+    const bool root_suffices =
+        o.targets ? !o.targets->empty() && std::all_of(o.targets->begin(), o.targets->end(), [&](PoiId p) {
+          return std::binary_search(sees.begin(), sees.end(), p);
+        })
+                  : !sees.empty();
+    if (!root_suffices) {
+      throw InputError("tour", "root", fmt::format("the root (vertex {}) has no edges: no tour can leave it", o.root));
+    }
   }
   const std::vector<VertexId> component = g.component_of(o.root);
   GipResult result;
   result.targets = choose_targets(g, o, component);
+  // The root alone sees every target: the tour is staying there.
+  const auto root_sees = g.visible(o.root);
+  if (std::all_of(result.targets.begin(), result.targets.end(), [&](PoiId p) {
+        return std::binary_search(root_sees.begin(), root_sees.end(), p);
+      })) {
+    result.tour.walk = {o.root};
+    result.tour.covered = result.targets;
+    result.trace.push_back({elapsed(), 0.0});
+    result.lower_bound = 0.0;
+    result.candidates = 1;
+    result.validation = validate_tour(g, o.root, result.targets, result.tour);
+    result.seconds = elapsed();
+    return result;
+  }
+  if (g.neighbors(o.root).empty()) {
+    throw InputError("tour", "root", fmt::format("the root (vertex {}) has no edges: no tour can leave it", o.root));
+  }
   const unsigned threads = std::max(1u, o.threads);
   const Closure c = build_closure(g, o.root, result.targets, component, threads);
   result.candidates = c.n;

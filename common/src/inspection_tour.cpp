@@ -22,7 +22,7 @@ TourValidation validate_tour(const InspectionGraph& graph, VertexId root, const 
       fail(fmt::format("step {} names vertex {} outside the graph", i, tour.walk[i]));
       break;
     }
-    if (i == 0) continue;
+    if (i == 0 || tour.walk[i] == tour.walk[i - 1]) continue;  // staying put costs nothing
     const double c = graph.edge_cost(tour.walk[i - 1], tour.walk[i]);
     if (c < 0) {
       v.steps_are_edges = false;

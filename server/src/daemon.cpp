@@ -22,7 +22,7 @@ namespace {
 
 constexpr std::size_t kMaxText = 256;        // client id, scene, method
 constexpr std::size_t kMaxOverrides = 16;
-constexpr std::size_t kSnapshotChunk = 256 * 1024;
+constexpr std::size_t kSnapshotChunk = 1024 * 1024;
 constexpr std::size_t kSnapshotsKept = 4;
 constexpr unsigned kRequestThreads = 4;
 

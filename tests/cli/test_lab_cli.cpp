@@ -250,3 +250,62 @@ TEST_F(LabBuild, BadArgumentsAreNamed) {
 }
 
 }  // namespace
+
+namespace {
+
+class LabTour : public LabCli {};
+
+TEST_F(LabTour, ToursOnRoadmapFilesAndIrisFilesKeepTheJsonContract) {
+  const std::string scene = std::string(ISPARS_SCENES_DIR) + "/water_tower.yaml";
+  const auto roadmap = dir_ / "rm.json";
+  ASSERT_EQ(lab("build " + scene + " --method ispars --samples 1500 --out " + roadmap.string()).exit_code, 0);
+  for (const char* graph : {"roadmap", "dense"}) {
+    const LabRun run = lab("tour " + roadmap.string() + " --graph " + graph + " --budget 5 --iterations 30 --json --out " +
+                           (dir_ / "tour.json").string());
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const std::string last = run.out.substr(run.out.rfind('{'));
+    const auto json = nlohmann::json::parse(last);
+    for (const char* key : {"cost", "covered", "targets", "seconds", "lower_bound", "valid", "trace"}) {
+      EXPECT_TRUE(json.contains(key)) << key;
+    }
+    EXPECT_TRUE(json["valid"].get<bool>());
+    EXPECT_EQ(json["covered"], json["targets"]);
+    EXPECT_LE(json["lower_bound"].get<double>(), json["cost"].get<double>());
+    ASSERT_FALSE(json["trace"].empty());
+    EXPECT_DOUBLE_EQ(json["trace"].back()[1].get<double>(), json["cost"].get<double>());
+    const auto tour = nlohmann::json::parse(slurp(dir_ / "tour.json"));
+    EXPECT_EQ(tour["walk"].front(), 0);
+    EXPECT_EQ(tour["walk"].back(), 0);
+    EXPECT_EQ(tour["positions"].size(), tour["walk"].size());
+  }
+  // The same seed and iteration cap give the same tour.
+  const std::string fixed = "tour " + roadmap.string() + " --budget 60 --iterations 20 --seed 4 --out ";
+  ASSERT_EQ(lab(fixed + (dir_ / "a.json").string()).exit_code, 0);
+  ASSERT_EQ(lab(fixed + (dir_ / "b.json").string()).exit_code, 0);
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "a.json"))["walk"], nlohmann::json::parse(slurp(dir_ / "b.json"))["walk"]);
+  // IRIS files: all edges or valid ones only.
+  const std::string prefix = (dir_ / "wt").string();
+  ASSERT_EQ(lab("build " + scene + " --method irisc --samples 800 --iris " + prefix).exit_code, 0);
+  EXPECT_EQ(lab("tour --iris " + prefix + " --budget 1 --iterations 10 --json").exit_code, 0);
+  EXPECT_EQ(lab("tour --iris " + prefix + " --all-edges --budget 1 --iterations 10 --json").exit_code, 0);
+}
+
+TEST_F(LabTour, BadInputIsNamed) {
+  expect_input_error(lab("tour " + (dir_ / "missing.json").string() + " --budget 1"), (dir_ / "missing.json").string(),
+                     "file");
+  const auto broken = write("broken.json", "{\"graphs\": {\"roadmap\": {\"vertices\": [[0,0,0]], \"visible\": [], \"edges\": []}}}");
+  expect_input_error(lab("tour " + broken.string() + " --budget 1"), broken.string(), "graphs.roadmap.visible");
+  const auto no_dense = write("nodense.json", "{\"graphs\": {\"roadmap\": {\"vertices\": [], \"visible\": [], \"edges\": []}}}");
+  expect_input_error(lab("tour " + no_dense.string() + " --graph dense --budget 1"), no_dense.string(), "graphs.dense");
+  const auto lonely = write("lonely.json", "{\"pois\": [[0,0,0]], \"graphs\": {\"roadmap\": {\"vertices\": [[0,0,0],[1,0,0]], "
+                                           "\"visible\": [[],[0]], \"edges\": []}}}");
+  expect_input_error(lab("tour " + lonely.string() + " --budget 1"), "tour", "root");
+  write("x_vertex", "0 0 0 1 2\n1 0 0 x\n");
+  write("x_edge", "0 1 1 1 0 0 1.5\n");
+  expect_input_error(lab("tour --iris " + (dir_ / "x").string() + " --budget 1"), (dir_ / "x_vertex").string(), "line 2");
+  EXPECT_EQ(lab("tour --budget 1").exit_code, 2);  // no input
+  EXPECT_EQ(lab("tour " + lonely.string() + " --iris x --budget 1").exit_code, 2);  // two inputs
+  EXPECT_EQ(lab("tour " + lonely.string() + " --budget -1").exit_code, 2);
+}
+
+}  // namespace

@@ -169,6 +169,14 @@ TEST(GipSolver, BadInputIsNamed) {
   const std::vector<RoadmapEdge> edges = {{1, 2, 1.0}, {2, 3, 1.0}};
   const InspectionGraph lonely = InspectionGraph::from_edges(4, edges, {{}, {0}, {1}, {2}}, 3);
   expect(lonely, GipOptions{}, "tour: root: the root (vertex 0) has no edges");
+  // A root with no edges that sees every target itself: the tour is staying there.
+  const InspectionGraph sees_all = InspectionGraph::from_edges(4, edges, {{0}, {0}, {1}, {2}}, 3);
+  GipOptions stay;
+  stay.targets = std::vector<PoiId>{0};
+  const GipResult trivial = solve_gip(sees_all, stay);
+  EXPECT_TRUE(trivial.validation.valid()) << trivial.validation.problem;
+  EXPECT_EQ(trivial.tour.walk, (std::vector<VertexId>{0}));
+  EXPECT_EQ(trivial.tour.cost, 0.0);
   const std::vector<RoadmapEdge> split = {{0, 1, 1.0}, {2, 3, 1.0}};
   const InspectionGraph g = InspectionGraph::from_edges(4, split, {{}, {0}, {1}, {2}}, 4);
   GipOptions o;
