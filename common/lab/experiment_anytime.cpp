@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -63,8 +64,7 @@ std::vector<PoiId> seen_from_root(const InspectionGraph& g) {
 }
 
 void plot(const std::string& csv, const std::string& png, double budget) {
-  const std::string script_path = png + ".gnuplot";
-  std::ofstream script(script_path);
+  std::ostringstream script;
   script << "set terminal pngcairo size 1500,500 font 'Sans,11'\nset termoption noenhanced\n"
          << "set output '" << png << "'\nset datafile separator ','\n"
          << "set multiplot layout 1,3 title 'Best tour against solver time (mean +- sd over seeds; same solver and budget "
@@ -83,12 +83,7 @@ void plot(const std::string& csv, const std::string& png, double budget) {
     script << "\n";
   }
   script << "unset multiplot\n";
-  script.close();
-  const std::string command = "gnuplot '" + script_path + "' 2>&1";
-  if (std::system(command.c_str()) != 0) {
-    throw std::runtime_error("gnuplot failed (is gnuplot-nox installed? deploy/install-deps.sh installs it)");
-  }
-  std::remove(script_path.c_str());
+  run_gnuplot(png, script.str());
 }
 
 }  // namespace
@@ -131,7 +126,6 @@ int run_experiment_anytime(const ExperimentOptions& options) {
         std::set_intersection(common.begin(), common.end(), mine.begin(), mine.end(), std::back_inserter(both));
         common = std::move(both);
       }
-      target_counts.push_back(static_cast<double>(common.size()));
       // Solve the three on up to `jobs` cores at once, one solver thread each.
       std::vector<std::thread> pool;
       std::mutex mutex;
@@ -164,8 +158,10 @@ int run_experiment_anytime(const ExperimentOptions& options) {
       if (common.empty()) {
         std::cerr << fmt::format("{} seed {}: no POI is seen from the root in all three roadmaps; seed skipped\n",
                                  as.name, seed);
+        for (const BuildMethod m : anytime_methods()) sizes[m].pop_back();
         continue;
       }
+      target_counts.push_back(static_cast<double>(common.size()));
       for (unsigned j = 1; j < options.jobs; ++j) pool.emplace_back(work);
       work();
       for (auto& t : pool) t.join();

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <map>
 
 #include "commands.hpp"
@@ -25,8 +26,7 @@ std::vector<std::size_t> checkpoints(std::size_t max_samples) {
 }
 
 void write_plot(const std::string& data, const std::string& png, const std::string& title) {
-  const std::string script_path = png + ".gnuplot";
-  std::ofstream script(script_path);
+  std::ostringstream script;
   script << "set terminal pngcairo size 1400,1000 font 'Sans,11'\n"
          << "set termoption noenhanced\n"
          << "set output '" << png << "'\n"
@@ -42,12 +42,7 @@ void write_plot(const std::string& data, const std::string& png, const std::stri
   panel("POIs covered (root component)", 6, false);
   panel("collision checks (point + segment)", 8, true);
   script << "unset multiplot\n";
-  script.close();
-  const std::string command = "gnuplot '" + script_path + "' 2>&1";
-  if (std::system(command.c_str()) != 0) {
-    throw std::runtime_error("gnuplot failed (is gnuplot-nox installed? deploy/install-deps.sh installs it)");
-  }
-  std::remove(script_path.c_str());
+  run_gnuplot(png, script.str());
 }
 
 }  // namespace

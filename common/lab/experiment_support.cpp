@@ -1,10 +1,27 @@
 #include "experiment_support.hpp"
 
+#include <cstdlib>
+#include <fstream>
+
 #include <cmath>
 
 #include "timing.hpp"
 
 namespace ispars::lab {
+
+void run_gnuplot(const std::string& png, const std::string& script) {
+  const std::string script_path = png + ".gnuplot";
+  {
+    std::ofstream file(script_path);
+    file << script;
+  }
+  const std::string command = "gnuplot '" + script_path + "' 2>&1";
+  const int status = std::system(command.c_str());
+  std::remove(script_path.c_str());
+  if (status != 0) {
+    throw std::runtime_error("gnuplot failed (is gnuplot-nox installed? deploy/install-deps.sh installs it)");
+  }
+}
 
 MeanSd mean_sd(const std::vector<double>& values) {
   if (values.empty()) return {};

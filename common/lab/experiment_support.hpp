@@ -12,6 +12,10 @@
 
 namespace ispars::lab {
 
+/// Runs gnuplot on `script` (a complete script, including its output file), through a
+/// temporary file beside `png`. Throws std::runtime_error when gnuplot fails.
+void run_gnuplot(const std::string& png, const std::string& script);
+
 /// Mean and sample standard deviation.
 struct MeanSd {
   double mean = 0.0;

@@ -55,7 +55,7 @@ RoadmapFileGraph read_roadmap_file_graph(const std::filesystem::path& path, cons
     const auto& vertices = g.at("vertices");
     const auto& visible = g.at("visible");
     const auto& edges = g.at("edges");
-    if (vertices.size() != visible.size()) throw InputError(file, field + ".visible", "needs one POI list per vertex");
+    if (vertices.size() != visible.size()) throw InputError(file, "visible", "needs one POI list per vertex");
     RoadmapFileGraph out;
     std::vector<std::vector<PoiId>> lists;
     for (const auto& v : vertices) out.positions.emplace_back(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>());

@@ -5,75 +5,46 @@ namespace fdds = eprosima::fastdds::dds;
 
 namespace {
 
-// Unlimited is spelled 0, on all three fields together (Fast DDS 2.9).
+// Reliable, KEEP_LAST `depth` per instance, no limit on instances (Fast DDS 2.9 spells unlimited
+// 0, on all three resource limits together).
 template <class Qos>
-void unlimited_instances(Qos& qos) {
+Qos reliable(Qos qos, fdds::DurabilityQosPolicyKind durability, int depth) {
+  qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+  qos.durability().kind = durability;
+  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = depth;
   qos.resource_limits().max_samples = 0;
   qos.resource_limits().max_instances = 0;
   qos.resource_limits().max_samples_per_instance = 0;
+  return qos;
 }
 
 }  // namespace
 
 fdds::DataWriterQos request_reply_writer_qos() {
-  fdds::DataWriterQos qos = fdds::DATAWRITER_QOS_DEFAULT;
-  qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-  qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
-  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = 64;
-  unlimited_instances(qos);
-  return qos;
+  return reliable(fdds::DATAWRITER_QOS_DEFAULT, fdds::VOLATILE_DURABILITY_QOS, 64);
 }
 
 fdds::DataReaderQos request_reply_reader_qos() {
-  fdds::DataReaderQos qos = fdds::DATAREADER_QOS_DEFAULT;
-  qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-  qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
-  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = 64;
-  unlimited_instances(qos);
-  return qos;
+  return reliable(fdds::DATAREADER_QOS_DEFAULT, fdds::VOLATILE_DURABILITY_QOS, 64);
 }
 
 fdds::DataWriterQos updates_writer_qos() {
-  fdds::DataWriterQos qos = fdds::DATAWRITER_QOS_DEFAULT;
-  qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-  qos.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
-  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = kUpdatesKept;
+  fdds::DataWriterQos qos = reliable(fdds::DATAWRITER_QOS_DEFAULT, fdds::TRANSIENT_LOCAL_DURABILITY_QOS, kUpdatesKept);
   qos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
-  unlimited_instances(qos);
   return qos;
 }
 
 fdds::DataReaderQos updates_reader_qos() {
-  fdds::DataReaderQos qos = fdds::DATAREADER_QOS_DEFAULT;
-  qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-  qos.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
-  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = 256;
-  unlimited_instances(qos);
-  return qos;
+  return reliable(fdds::DATAREADER_QOS_DEFAULT, fdds::TRANSIENT_LOCAL_DURABILITY_QOS, 256);
 }
 
 fdds::DataWriterQos state_writer_qos() {
-  fdds::DataWriterQos qos = fdds::DATAWRITER_QOS_DEFAULT;
-  qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-  qos.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
-  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = 1;
-  unlimited_instances(qos);
-  return qos;
+  return reliable(fdds::DATAWRITER_QOS_DEFAULT, fdds::TRANSIENT_LOCAL_DURABILITY_QOS, 1);
 }
 
 fdds::DataReaderQos state_reader_qos() {
-  fdds::DataReaderQos qos = fdds::DATAREADER_QOS_DEFAULT;
-  qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-  qos.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
-  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = 1;
-  unlimited_instances(qos);
-  return qos;
+  return reliable(fdds::DATAREADER_QOS_DEFAULT, fdds::TRANSIENT_LOCAL_DURABILITY_QOS, 1);
 }
 
 }  // namespace ispars::wire

@@ -256,9 +256,9 @@ namespace {
 class LabTour : public LabCli {};
 
 TEST_F(LabTour, ToursOnRoadmapFilesAndIrisFilesKeepTheJsonContract) {
-  const std::string scene = std::string(ISPARS_SCENES_DIR) + "/water_tower.yaml";
+  const std::string scene = std::string(ISPARS_SCENES_DIR) + "/demo_tank_tower.yaml";
   const auto roadmap = dir_ / "rm.json";
-  ASSERT_EQ(lab("build " + scene + " --method ispars --samples 1500 --out " + roadmap.string()).exit_code, 0);
+  ASSERT_EQ(lab("build " + scene + " --method ispars --samples 3000 --out " + roadmap.string()).exit_code, 0);
   for (const char* graph : {"roadmap", "dense"}) {
     const LabRun run = lab("tour " + roadmap.string() + " --graph " + graph + " --budget 5 --iterations 30 --json --out " +
                            (dir_ / "tour.json").string());
@@ -285,7 +285,7 @@ TEST_F(LabTour, ToursOnRoadmapFilesAndIrisFilesKeepTheJsonContract) {
   EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "a.json"))["walk"], nlohmann::json::parse(slurp(dir_ / "b.json"))["walk"]);
   // IRIS files: all edges or valid ones only.
   const std::string prefix = (dir_ / "wt").string();
-  ASSERT_EQ(lab("build " + scene + " --method irisc --samples 800 --iris " + prefix).exit_code, 0);
+  ASSERT_EQ(lab("build " + scene + " --method irisc --samples 3000 --iris " + prefix).exit_code, 0);
   EXPECT_EQ(lab("tour --iris " + prefix + " --budget 1 --iterations 10 --json").exit_code, 0);
   EXPECT_EQ(lab("tour --iris " + prefix + " --all-edges --budget 1 --iterations 10 --json").exit_code, 0);
 }
