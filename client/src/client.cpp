@@ -257,9 +257,7 @@ msg::Reply Client::call_raw(msg::Request request, const std::string& server) {
 }
 
 msg::Reply Client::call(msg::Request request, const std::string& server) {
-  msg::Reply reply = call_raw(std::move(request), server);
-  if (!reply.ok()) throw ClientError(ClientError::Kind::rejected, reply.error());
-  return reply;
+  return call(std::move(request), server, options_.timeout);
 }
 
 namespace {

@@ -526,9 +526,6 @@ GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
     result.seconds = elapsed();
     return result;
   }
-  if (g.neighbors(o.root).empty()) {
-    throw InputError("tour", "root", fmt::format("the root (vertex {}) has no edges: no tour can leave it", o.root));
-  }
   const unsigned threads = std::max(1u, o.threads);
   const Closure c = build_closure(g, o.root, result.targets, component, threads);
   result.candidates = c.n;
@@ -568,11 +565,12 @@ GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
     offer(current, index);
     Solution chain_best = current;
     double temperature = 0.05 * current.cost / std::max<std::size_t>(1, current.seq.size());
+    // An iteration cap with a zero budget means "no time limit"; otherwise the budget always holds.
+    const bool timed = o.max_iterations == 0 || o.budget_seconds > 0;
     for (std::uint64_t it = 0;; ++it) {
       if (o.max_iterations > 0 && it >= o.max_iterations) break;
-      if (o.max_iterations == 0 && elapsed() >= o.budget_seconds) break;
+      if (timed && elapsed() >= o.budget_seconds) break;
       if (o.stop != nullptr && o.stop->load()) break;
-      if (o.max_iterations > 0 && elapsed() >= o.budget_seconds && o.budget_seconds > 0) break;
       Solution trial = (it % 200 == 199) ? chain_best : current;  // return to the best now and then
       chain.destroy(trial);
       if (chain.rng().uniform01() < 0.5) {

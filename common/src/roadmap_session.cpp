@@ -38,6 +38,14 @@ std::string roadmap_bytes(const Roadmap& roadmap) { return encode_batch(batch_si
 
 }  // namespace
 
+PublishedRoadmap make_published(std::shared_ptr<const Roadmap> roadmap, std::uint64_t generation,
+                                std::uint64_t samples) {
+  PublishedRoadmap p{std::move(roadmap), generation, samples};
+  p.pois_covered = p.roadmap->covered_pois();
+  p.pois_covered_root = p.roadmap->vertex_count() > 0 ? p.roadmap->covered_pois_in_component_of(0) : 0;
+  return p;
+}
+
 std::string_view to_string(SessionState state) {
   switch (state) {
     case SessionState::empty: return "empty";
@@ -68,8 +76,8 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
   }
   recipe_ = recovery.recipe;
   samples_done_ = samples_target_ = recovery.roadmaps.samples;
-  published_ = {std::make_shared<const Roadmap>(recovery.roadmaps.roadmap), recipe_->generation,
-                recovery.roadmaps.samples};
+  published_ = make_published(std::make_shared<const Roadmap>(recovery.roadmaps.roadmap), recipe_->generation,
+                              recovery.roadmaps.samples);
   if (recovery.roadmaps.dense) {
     dense_vertices_ = recovery.roadmaps.dense->vertex_count();
     dense_edges_ = recovery.roadmaps.dense->edge_count();
@@ -192,7 +200,7 @@ void RoadmapSession::drop() {
     recipe_.reset();
     samples_done_ = samples_target_ = 0;
     dense_vertices_ = dense_edges_ = 0;
-    published_ = {std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0};
+    published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0);
     state_ = SessionState::empty;
   }
   notify_status();
@@ -301,7 +309,7 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       recipe_ = recipe;
       dense_vertices_ = dense_edges_ = 0;
       samples_done_ = 0;
-      published_ = {std::make_shared<const Roadmap>(scene_.pois().size()), recipe.generation, 0};
+      published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), recipe.generation, 0);
     } else {
       ensure_builder(stopping);
       roadmap_version = builder_->roadmap().version();
@@ -335,17 +343,17 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       // always at the end): publishing stays a small share of the build however large it grows.
       const bool last_chunk = builder_->samples() >= target || stopping || cancel_;
       const double since_copy = seconds_since(last_copy);
-      std::shared_ptr<const Roadmap> copy;
+      std::optional<PublishedRoadmap> copy;
       if (last_chunk || since_copy >= std::min(5.0, std::max(0.25, 10.0 * copy_seconds))) {
         const auto c0 = std::chrono::steady_clock::now();
-        copy = std::make_shared<const Roadmap>(*view.roadmap);
+        copy = make_published(std::make_shared<const Roadmap>(*view.roadmap), recipe.generation, builder_->samples());
         copy_seconds = seconds_since(c0);
         last_copy = std::chrono::steady_clock::now();
       }
       {
         std::lock_guard lock(mutex_);
         samples_done_ = builder_->samples();
-        if (copy) published_ = {std::move(copy), recipe.generation, samples_done_};
+        if (copy) published_ = std::move(*copy);
         dense_vertices_ = view.dense ? view.dense->vertex_count() : 0;
         dense_edges_ = view.dense ? view.dense->edge_count() : 0;
       }
@@ -391,13 +399,14 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
     if (recovery) {
       recipe_ = recovery->recipe;
       samples_done_ = recovery->roadmaps.samples;
-      published_ = {std::make_shared<const Roadmap>(recovery->roadmaps.roadmap), recipe_->generation, samples_done_};
+      published_ = make_published(std::make_shared<const Roadmap>(recovery->roadmaps.roadmap), recipe_->generation,
+                                  samples_done_);
       dense_vertices_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->vertex_count() : 0;
       dense_edges_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->edge_count() : 0;
       recovered_ = std::move(recovery->roadmaps);
     } else {
       recipe_.reset();
-      published_ = {std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0};
+      published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0);
       samples_done_ = 0;
       dense_vertices_ = dense_edges_ = 0;
     }
@@ -424,8 +433,8 @@ SessionStatus RoadmapSession::status_locked() const {
   s.dense_vertices = dense_vertices_;
   s.dense_edges = dense_edges_;
   s.poi_count = scene_.pois().size();
-  s.pois_covered = g.covered_pois();
-  s.pois_covered_root = g.vertex_count() > 0 ? g.covered_pois_in_component_of(0) : 0;
+  s.pois_covered = published_.pois_covered;
+  s.pois_covered_root = published_.pois_covered_root;
   return s;
 }
 

@@ -65,12 +65,19 @@ struct BuildRequest {
   bool replace = false;
 };
 
-/// A published roadmap: immutable, shared by every reader that holds it.
+/// A published roadmap: immutable, shared by every reader that holds it, with its coverage
+/// figures computed once when it is published (not on every status query).
 struct PublishedRoadmap {
   std::shared_ptr<const Roadmap> roadmap;
   std::uint64_t generation = 0;
   std::uint64_t samples = 0;
+  std::size_t pois_covered = 0;
+  std::size_t pois_covered_root = 0;
 };
+
+/// Publishes `roadmap`: computes its coverage figures.
+[[nodiscard]] PublishedRoadmap make_published(std::shared_ptr<const Roadmap> roadmap, std::uint64_t generation,
+                                              std::uint64_t samples);
 
 /// Limits a session enforces on requests.
 struct SessionLimits {
