@@ -35,13 +35,16 @@ TEST(WorkerPool, RunsJobsOnItsThreadsAndStopWaitsForRunningOnes) {
 
 TEST(WorkerPool, StopDropsQueuedJobsAndRefusesNewOnes) {
   std::atomic<int> done{0};
-  std::atomic<bool> release{false};
+  std::atomic<bool> release{false}, started{false};
   WorkerPool pool(1);
   pool.submit([&] {
+    started = true;
     while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     ++done;
   });
   pool.submit([&] { ++done; });  // queued behind the first
+  // stop() must find the first job running (a loaded machine may not have started it yet).
+  while (!started) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   std::thread stopper([&] { pool.stop(); });
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
   release = true;
