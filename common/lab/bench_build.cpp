@@ -13,19 +13,6 @@
 #include "timing.hpp"
 
 namespace ispars::lab {
-namespace {
-
-// Peak resident set size of this process in MiB (VmHWM), 0 when unknown.
-double peak_rss_mib() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line)) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
-  }
-  return 0.0;
-}
-
-}  // namespace
 
 int run_bench_build(const BenchBuildOptions& options) {
   const Scene scene = Scene::load(options.scene);
@@ -33,12 +20,13 @@ int run_bench_build(const BenchBuildOptions& options) {
   BuildOptions build;
   build.seed = options.seed;
   build.threads = options.threads;
+  build.variant = *parse_spars_variant(options.variant);
   const auto builder = make_roadmap_builder(method, scene, build);
   const CheckCounts start = scene.counts();
   const double t0 = now_seconds();
   nlohmann::json rows = nlohmann::json::array();
-  std::cout << fmt::format("{} on {}, seed {}, {} thread(s)\n", options.method, scene.config().name, options.seed,
-                           options.threads);
+  std::cout << fmt::format("{} ({} rules) on {}, seed {}, {} thread(s)\n", options.method, options.variant,
+                           scene.config().name, options.seed, options.threads);
   std::cout << fmt::format("{:>9} {:>9} {:>9} {:>9} {:>9} {:>12} {:>12} {:>10}\n", "N", "seconds", "us/sample",
                            "seg/sample", "|V|", "|E|", "dense |E|", "peak MiB");
   std::size_t previous = 0;
@@ -69,7 +57,7 @@ int run_bench_build(const BenchBuildOptions& options) {
   const double seconds = now_seconds() - t0;
   if (options.json) {
     std::cout << nlohmann::json{{"scene", scene.config().name}, {"method", options.method},
-                                {"samples", options.samples}, {"seed", options.seed}, {"threads", options.threads},
+                                {"variant", options.variant}, {"samples", options.samples}, {"seed", options.seed}, {"threads", options.threads},
                                 {"seconds", seconds}, {"samples_per_second", static_cast<double>(options.samples) / seconds},
                                 {"peak_rss_mib", peak_rss_mib()}, {"checkpoints", rows}}
                      .dump()

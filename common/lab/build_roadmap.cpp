@@ -12,6 +12,7 @@
 #include "ispars/roadmap_json.hpp"
 #include "ispars/roadmap_verifier.hpp"
 #include "ispars/spars_builder.hpp"
+#include "experiment_support.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
 
@@ -69,6 +70,7 @@ int run_build(const BuildCommandOptions& options) {
   build_options.seed = options.seed;
   build_options.threads = options.threads;
   build_options.p_accept = options.p_accept;
+  build_options.variant = *parse_spars_variant(options.variant);
 
   const CheckCounts before = scene.counts();
   const double t0 = now_seconds();
@@ -96,10 +98,10 @@ int run_build(const BuildCommandOptions& options) {
                         {"checks", to_json(checks)}};
   if (const Roadmap* dense = builder->dense()) out["dense"] = summary(*dense);
   if (const auto* spars = dynamic_cast<const SparsBuilder*>(builder.get())) {
-    const SparsAdmissions& a = spars->admissions();
-    out["admissions"] = {{"guard", a.guard}, {"bridge", a.bridge}, {"interface_edge", a.interface_edge},
-                         {"interface_vertex", a.interface_vertex}, {"inspection", a.inspection},
-                         {"shortcut_edge", a.shortcut_edge}, {"shortcut_path", a.shortcut_path}};
+    const nlohmann::json causes = to_json(spars->admissions());
+    out["variant"] = options.variant;
+    out["admissions"] = causes["admissions"];
+    out["edges_by_cause"] = causes["edges_by_cause"];
   }
   if (options.verify) {
     const VerificationReport report =
@@ -136,7 +138,9 @@ int run_build(const BuildCommandOptions& options) {
   std::cout << line("roadmap", out["roadmap"]);
   if (out.contains("dense")) std::cout << line("dense", out["dense"]);
   std::cout << fmt::format("checks   {} point, {} segment, {} rays\n", checks.point, checks.segment, checks.rays);
-  if (out.contains("admissions")) std::cout << "admissions " << out["admissions"].dump() << '\n';
+  if (out.contains("admissions")) {
+    std::cout << "admissions " << out["admissions"].dump() << "\nedges by cause " << out["edges_by_cause"].dump() << '\n';
+  }
   if (out.contains("verification")) {
     std::cout << "verification " << out["verification"].dump() << ", invariant violations "
               << (out["invariant_violations"].is_null() ? std::string("n/a (no dense pair)")

@@ -1,5 +1,5 @@
 // `ispars-lab experiment table`: the paper's Table II (|V|, |E|, covered POIs; mean +- sd over
-// seeds) for Dense, SPARS, Inspection-SPARS and IRIS-C, at physical scale and calibrated.
+// seeds) for Dense, SPARS, Inspection-SPARS (both rule sets) and IRIS-C, at physical scale and calibrated.
 
 #include <fmt/format.h>
 
@@ -57,8 +57,18 @@ std::string cell(const std::vector<double>& values, int decimals) {
 }  // namespace
 
 int run_experiment_table(const ExperimentOptions& options) {
-  const std::vector<BuildMethod> methods{BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars,
-                                         BuildMethod::irisc};
+  // Each method, and SPARS and Inspection-SPARS under both rule sets (-alg1: Alg. 1 read literally).
+  struct TableMethod {
+    std::string name;
+    BuildMethod method;
+    SparsVariant variant;
+  };
+  const std::vector<TableMethod> methods{{"dense", BuildMethod::dense, SparsVariant::stretch},
+                                         {"spars", BuildMethod::spars, SparsVariant::stretch},
+                                         {"spars-alg1", BuildMethod::spars, SparsVariant::alg1},
+                                         {"ispars", BuildMethod::ispars, SparsVariant::stretch},
+                                         {"ispars-alg1", BuildMethod::ispars, SparsVariant::alg1},
+                                         {"irisc", BuildMethod::irisc, SparsVariant::stretch}};
   nlohmann::json results = nlohmann::json::array();
   std::cout << fmt::format("# Table II, reproduced ({} seeds; command: ispars-lab experiment table --seeds {})\n\n",
                            options.seeds, options.seeds);
@@ -75,27 +85,29 @@ int run_experiment_table(const ExperimentOptions& options) {
                  "| invariant violations | seconds |\n|---|---|---|---|---|---|---|---|\n";
     for (const auto& [label, delta] : {std::pair<const char*, double>{"physical", base.dense_delta},
                                        std::pair<const char*, double>{"calibrated", calibrated}}) {
-      std::map<BuildMethod, std::vector<RunFigures>> runs;
-      std::map<BuildMethod, std::vector<double>> violations;
+      std::map<std::string, std::vector<RunFigures>> runs;
+      std::map<std::string, std::vector<double>> violations;
       for (std::uint64_t seed = 1; seed <= options.seeds; ++seed) {
         const Scene scene = Scene::build(scene_variant(base, ts.pois, seed, delta));
-        for (const BuildMethod m : methods) {
+        for (const TableMethod& m : methods) {
           BuildOptions build;
           build.seed = seed;
           build.threads = options.threads;
+          build.variant = m.variant;
           const CheckCounts before = scene.counts();
           const double t0 = now_seconds();
-          const auto builder = make_roadmap_builder(m, scene, build);
+          const auto builder = make_roadmap_builder(m.method, scene, build);
           builder->extend(ts.samples);
-          runs[m].push_back(figures_of(*builder, scene.counts() - before, now_seconds() - t0));
+          runs[m.name].push_back(figures_of(*builder, scene.counts() - before, now_seconds() - t0));
           if (builder->dense() != nullptr) {
-            violations[m].push_back(static_cast<double>(
+            violations[m.name].push_back(static_cast<double>(
                 verify_sparse_pair(scene, builder->roadmap(), *builder->dense(), builder->dense_ids())
                     .invariant_violations));
           }
         }
       }
-      for (const BuildMethod m : methods) {
+      for (const TableMethod& tm : methods) {
+        const std::string& m = tm.name;
         std::vector<double> v, e, root, all, secs;
         for (const RunFigures& f : runs[m]) {
           v.push_back(static_cast<double>(f.vertices));
@@ -105,9 +117,9 @@ int run_experiment_table(const ExperimentOptions& options) {
           secs.push_back(f.seconds);
         }
         const std::string viol = violations.count(m) ? cell(violations[m], 1) : "-";
-        std::cout << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.2f} |\n", label, to_string(m), cell(v, 0),
+        std::cout << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.2f} |\n", label, m, cell(v, 0),
                                  cell(e, 0), cell(root, 1), cell(all, 1), viol, mean_sd(secs).mean);
-        results.push_back({{"scene", ts.name}, {"parameters", label}, {"delta", delta}, {"method", to_string(m)},
+        results.push_back({{"scene", ts.name}, {"parameters", label}, {"delta", delta}, {"method", m},
                            {"samples", ts.samples}, {"pois", ts.pois}, {"vertices", v}, {"edges", e},
                            {"covered_root", root}, {"covered", all},
                            {"invariant_violations", violations.count(m) ? nlohmann::json(violations[m]) : nlohmann::json()},

@@ -23,12 +23,29 @@ std::optional<BuildMethod> parse_build_method(std::string_view text) {
   return std::nullopt;
 }
 
+std::string_view to_string(SparsVariant variant) {
+  switch (variant) {
+    case SparsVariant::stretch: return "stretch";
+    case SparsVariant::alg1: return "alg1";
+  }
+  return "?";
+}
+
+std::optional<SparsVariant> parse_spars_variant(std::string_view text) {
+  for (const SparsVariant v : {SparsVariant::stretch, SparsVariant::alg1}) {
+    if (to_string(v) == text) return v;
+  }
+  return std::nullopt;
+}
+
 std::unique_ptr<RoadmapBuilder> make_roadmap_builder(BuildMethod method, const Scene& scene,
                                                      const BuildOptions& options) {
   switch (method) {
     case BuildMethod::dense: return std::make_unique<DenseBuilder>(scene, options);
-    case BuildMethod::spars: return std::make_unique<SparsBuilder>(scene, options, false);
-    case BuildMethod::ispars: return std::make_unique<SparsBuilder>(scene, options, true);
+    case BuildMethod::spars:
+      return std::make_unique<SparsBuilder>(scene, options, SparsRules::for_variant(options.variant, false));
+    case BuildMethod::ispars:
+      return std::make_unique<SparsBuilder>(scene, options, SparsRules::for_variant(options.variant, true));
     case BuildMethod::irisc: return std::make_unique<IriscBuilder>(scene, options);
   }
   return nullptr;

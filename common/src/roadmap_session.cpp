@@ -31,6 +31,7 @@ std::unique_ptr<RoadmapBuilder> builder_for(const Scene& scene, const RoadmapRec
   BuildOptions options;
   options.seed = recipe.seed;
   options.p_accept = recipe.p_accept;
+  options.variant = recipe.variant;
   return make_roadmap_builder(recipe.method, scene, options);
 }
 

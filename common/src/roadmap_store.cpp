@@ -116,6 +116,7 @@ std::string recipe_to_json(const RoadmapRecipe& r) {
                             {"method", std::string(to_string(r.method))},
                             {"seed", r.seed},
                             {"p_accept", r.p_accept},
+                            {"variant", std::string(to_string(r.variant))},
                             {"dense_delta", r.dense_delta},
                             {"sparse_delta", r.sparse_delta},
                             {"stretch", r.stretch},
@@ -143,6 +144,12 @@ RoadmapRecipe recipe_from_json(const std::string& text) {
     r.method = *method;
     r.seed = field("seed").get<std::uint64_t>();
     r.p_accept = field("p_accept").get<double>();
+    r.variant = SparsVariant::alg1;  // recipes written before the variants existed
+    if (j.contains("variant")) {
+      const auto variant = parse_spars_variant(j.at("variant").get<std::string>());
+      if (!variant) throw std::runtime_error("recipe.json: unknown variant");
+      r.variant = *variant;
+    }
     r.dense_delta = field("dense_delta").get<double>();
     r.sparse_delta = field("sparse_delta").get<double>();
     r.stretch = field("stretch").get<double>();

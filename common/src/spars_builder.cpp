@@ -20,10 +20,22 @@ void erase_sorted(std::vector<VertexId>& list, VertexId x) {
 
 }  // namespace
 
-SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, bool inspection_test)
+SparsRules SparsRules::for_variant(SparsVariant variant, bool inspection_test) {
+  SparsRules rules;
+  rules.inspection_test = inspection_test;
+  if (variant == SparsVariant::stretch) {
+    rules.dense_shortcut = false;
+    rules.vertex_join = true;
+    rules.witnessed_pairs = true;
+    rules.bridge_by_edge = true;
+  }
+  return rules;
+}
+
+SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules)
     : scene_(&scene),
       options_(options),
-      inspection_test_(inspection_test),
+      rules_(rules),
       sparse_delta_(scene.config().sparse_delta),
       stretch_(scene.config().stretch),
       rng_(options.seed),
@@ -90,12 +102,19 @@ void SparsBuilder::step(const PreparedSample& sample) {
     interface_test(q);
   }
   // Lines 18-23 (Inspection-SPARS): admit q if it sees a POI no member of W sees.
-  if (inspection_test_ && sparse_of_dense_[q] == kNoVertex && inspection_test(q)) {
+  if (rules_.inspection_test && sparse_of_dense_[q] == kNoVertex && inspection_test(q)) {
     add_guard(q);
     ++admissions_.inspection;
   }
+  // The sparse-vertex stretch rules: an admitted q joins the members of W it has no short route
+  // to; a q left out witnesses the routes between the members of W.
+  if (sparse_of_dense_[q] != kNoVertex) {
+    if (rules_.vertex_join) vertex_join(sparse_of_dense_[q], reachable_);
+  } else if (rules_.witnessed_pairs) {
+    witnessed_pairs(q);
+  }
   // Lines 24-26: shortcut.
-  if (sparse_of_dense_[q] == kNoVertex) shortcut_test(q);
+  if (rules_.dense_shortcut && sparse_of_dense_[q] == kNoVertex) shortcut_test(q);
 }
 
 void SparsBuilder::reachable_guards(const Vec3& q) {
@@ -118,8 +137,23 @@ bool SparsBuilder::bridge_test(VertexId q) {
     }
   }
   if (links.size() < 2) return false;
+  if (rules_.bridge_by_edge) {
+    // Join the nearest member directly to each other component's member in view of it; q is
+    // admitted only for the components it alone can join.
+    std::vector<VertexId> through_q{links.front()};
+    for (std::size_t i = 1; i < links.size(); ++i) {
+      if (scene_->segment_valid(sparse_.position(links.front()), sparse_.position(links[i]))) {
+        connect(links.front(), links[i], admissions_.bridge_edges);
+        ++admissions_.bridge_edge;
+      } else {
+        through_q.push_back(links[i]);
+      }
+    }
+    if (through_q.size() < 2) return true;
+    links = std::move(through_q);
+  }
   const VertexId s = add_guard(q);
-  for (const VertexId w : links) sparse_.add_edge(s, w);
+  for (const VertexId w : links) connect(s, w, admissions_.bridge_edges);
   ++admissions_.bridge;
   return true;
 }
@@ -132,12 +166,12 @@ bool SparsBuilder::interface_test(VertexId q) {
   if (nearby_[0].second != v0 || nearby_[1].second != v1) return false;
   if (sparse_.has_edge(v0, v1)) return false;
   if (scene_->segment_valid(sparse_.position(v0), sparse_.position(v1))) {
-    sparse_.add_edge(v0, v1);
+    connect(v0, v1, admissions_.interface_edges);
     ++admissions_.interface_edge;
   } else {
     const VertexId s = add_guard(q);
-    sparse_.add_edge(s, v0);
-    sparse_.add_edge(s, v1);
+    connect(s, v0, admissions_.interface_edges);
+    connect(s, v1, admissions_.interface_edges);
     ++admissions_.interface_vertex;
   }
   return true;
@@ -149,132 +183,6 @@ bool SparsBuilder::inspection_test(VertexId q) const {
   std::vector<std::uint64_t> cover(seen.size(), 0);
   for (const VertexId w : reachable_) unite(cover, sparse_.visible(w));
   return has_outside(seen, cover);
-}
-
-void SparsBuilder::shortcut_test(VertexId q) {
-  const VertexId v = rep_[q];
-  if (v == kNoVertex || partners_[q].empty()) return;
-
-  // Candidate (v', v''): q supports the interface v|v'; v'' is a sparse neighbour of v, not v'
-  // and not adjacent to v', with a known interface v|v''. The sparse route between the two
-  // interfaces through v is estimated with midpoints: (|v - v'| + |v - v''|) / 2.
-  struct Candidate {
-    VertexId vp;
-    VertexId vpp;
-    double sparse_length;
-    double dense_length = INFINITY;      // shortest dense route from q to a support of v|v''
-    VertexId support = kNoVertex;        // that support
-  };
-  std::vector<Candidate> candidates;
-  std::vector<VertexId> around_v;
-  for (const Neighbor& n : sparse_.neighbors(v)) around_v.push_back(n.vertex);
-  std::sort(around_v.begin(), around_v.end());
-  const Vec3& pv = sparse_.position(v);
-  for (const VertexId vp : partners_[q]) {
-    for (const VertexId vpp : around_v) {
-      if (vpp == vp || sparse_.has_edge(vp, vpp)) continue;
-      const auto it = supports_[v].find(vpp);
-      if (it == supports_[v].end() || it->second.empty()) continue;
-      const double length = 0.5 * ((sparse_.position(vp) - pv).norm() + (sparse_.position(vpp) - pv).norm());
-      candidates.push_back({vp, vpp, length});
-    }
-  }
-  if (candidates.empty()) return;
-
-  // One Dijkstra from q serves every candidate. A dense vertex x supports v|v'' when rep(x) = v
-  // and v'' is among its partners; the first support settled is the nearest (ties: lowest id).
-  // Only routes shorter than sparse_length / t can violate the stretch, so the search stops
-  // once no pending candidate could still be violated, or none is pending.
-  std::size_t pending = candidates.size();
-  const auto pending_bound = [&] {
-    double bound = 0.0;
-    for (const Candidate& c : candidates) {
-      if (c.support == kNoVertex) bound = std::max(bound, c.sparse_length / stretch_);
-    }
-    return bound;
-  };
-  double bound = pending_bound();
-  search_.start(dense_.graph().vertex_count(), q);
-  while (pending > 0) {
-    const auto [d, x] = search_.settle_next(dense_.graph(), bound);
-    if (x == kNoVertex) break;
-    if (rep_[x] != v) continue;
-    bool resolved = false;
-    for (Candidate& c : candidates) {
-      if (c.support == kNoVertex && std::binary_search(partners_[x].begin(), partners_[x].end(), c.vpp)) {
-        c.dense_length = d;
-        c.support = x;
-        --pending;
-        resolved = true;
-      }
-    }
-    if (resolved) bound = pending_bound();
-  }
-
-  for (const Candidate& c : candidates) {
-    // This pair's sparse estimate against this pair's dense route (never another v''s).
-    if (!(c.sparse_length > stretch_ * c.dense_length)) continue;
-
-    ShortcutRecord record{v, c.vp, c.vpp, c.sparse_length, c.dense_length, false, {}, kNoVertex, kNoVertex};
-    if (scene_->segment_valid(sparse_.position(c.vp), sparse_.position(c.vpp))) {
-      sparse_.add_edge(c.vp, c.vpp);
-      ++admissions_.shortcut_edge;
-      record.direct_edge = true;
-      shortcuts_.push_back(std::move(record));
-      return;
-    }
-    // The dense route, extended at each end into the neighbouring visibility regions: it starts
-    // at a dense vertex represented by v' and ends at one represented by v''.
-    std::vector<VertexId> route = search_.path_to(q, c.support);
-    route.insert(route.begin(), interface_neighbor(q, c.vp));
-    route.push_back(interface_neighbor(c.support, c.vpp));
-    record.front_rep = rep_[route.front()];
-    record.back_rep = rep_[route.back()];
-    const std::vector<VertexId> kept = smooth(route);
-    std::vector<VertexId> added;
-    for (const VertexId d : kept) {
-      added.push_back(sparse_of_dense_[d] != kNoVertex ? sparse_of_dense_[d] : add_guard(d));
-    }
-    for (std::size_t i = 1; i < added.size(); ++i) sparse_.add_edge(added[i - 1], added[i]);
-    // Each end joins the representative of its own dense support, checked like any edge.
-    if (scene_->segment_valid(sparse_.position(added.front()), sparse_.position(c.vp))) {
-      sparse_.add_edge(added.front(), c.vp);
-    }
-    if (scene_->segment_valid(sparse_.position(added.back()), sparse_.position(c.vpp))) {
-      sparse_.add_edge(added.back(), c.vpp);
-    }
-    ++admissions_.shortcut_path;
-    record.path = std::move(added);
-    shortcuts_.push_back(std::move(record));
-    return;
-  }
-}
-
-std::vector<VertexId> SparsBuilder::smooth(const std::vector<VertexId>& path) const {
-  // Greedy shortcutting: from each kept vertex jump to the farthest one in direct view.
-  // Consecutive route vertices share a dense edge, so a one-step jump needs no check.
-  std::vector<VertexId> kept{path.front()};
-  std::size_t i = 0;
-  while (i + 1 < path.size()) {
-    std::size_t j = path.size() - 1;
-    const Vec3& from = dense_.graph().position(path[i]);
-    while (j > i + 1 && !scene_->segment_valid(from, dense_.graph().position(path[j]))) --j;
-    kept.push_back(path[j]);
-    i = j;
-  }
-  return kept;
-}
-
-VertexId SparsBuilder::interface_neighbor(VertexId dense_vertex, VertexId rep) const {
-  VertexId best = kNoVertex;
-  double best_cost = INFINITY;
-  for (const Neighbor& n : dense_.graph().neighbors(dense_vertex)) {
-    if (rep_[n.vertex] == rep && (n.cost < best_cost || (n.cost == best_cost && n.vertex < best))) {
-      best = n.vertex;
-      best_cost = n.cost;
-    }
-  }
-  return best;  // exists: dense_vertex supports the interface with rep
 }
 
 VertexId SparsBuilder::add_guard(VertexId d) {
@@ -305,6 +213,10 @@ VertexId SparsBuilder::add_guard(VertexId d) {
   affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
   for (const VertexId x : affected) update_supports(x);
   return s;
+}
+
+void SparsBuilder::connect(VertexId u, VertexId v, std::uint64_t& cause) {
+  if (sparse_.add_edge(u, v)) ++cause;
 }
 
 void SparsBuilder::update_supports(VertexId x) {

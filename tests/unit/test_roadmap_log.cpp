@@ -31,7 +31,7 @@ class RoadmapLogTest : public ::testing::Test {
  protected:
   void build(const std::string& scene_name, int batches) {
     scene_ = &test::shared_scene(scene_name);
-    builder_ = std::make_unique<SparsBuilder>(*scene_, BuildOptions{}, true);
+    builder_ = std::make_unique<SparsBuilder>(*scene_, BuildOptions{}, SparsRules::for_variant(SparsVariant::stretch, true));
     batches_ = build_batches(*builder_, batches);
   }
   [[nodiscard]] std::filesystem::path log_path() const { return dir_.path() / "roadmap.log"; }

@@ -2,6 +2,7 @@
 // compaction's crash window is harmless, and bad commits change nothing.
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <fstream>
 
@@ -169,6 +170,16 @@ TEST_F(RoadmapStoreTest, RecipesRoundTripAndBadOnesAreNamed) {
   EXPECT_EQ(back.seed, recipe_.seed);
   EXPECT_EQ(back.dense_delta, recipe_.dense_delta);
   EXPECT_EQ(back.generation, recipe_.generation);
+  EXPECT_EQ(back.variant, recipe_.variant);
+  RoadmapRecipe paper = recipe_;
+  paper.variant = SparsVariant::alg1;
+  EXPECT_EQ(recipe_from_json(recipe_to_json(paper)).variant, SparsVariant::alg1);
+  // A recipe written before the variants existed was built with Alg. 1's rules.
+  nlohmann::json old = nlohmann::json::parse(recipe_to_json(recipe_));
+  old.erase("variant");
+  EXPECT_EQ(recipe_from_json(old.dump()).variant, SparsVariant::alg1);
+  old["variant"] = "greedy";
+  EXPECT_THROW((void)recipe_from_json(old.dump()), std::runtime_error);
   EXPECT_THROW((void)recipe_from_json("{"), std::runtime_error);
   try {
     (void)recipe_from_json(R"({"scene": "x"})");

@@ -11,6 +11,10 @@
 namespace ispars {
 namespace {
 
+// The default rule set (variant stretch), or Alg. 1 read literally.
+SparsRules default_rules(bool inspection) { return SparsRules::for_variant(SparsVariant::stretch, inspection); }
+SparsRules alg1_rules(bool inspection) { return SparsRules::for_variant(SparsVariant::alg1, inspection); }
+
 struct PairRun {
   std::string scene;
   std::size_t samples;
@@ -25,8 +29,8 @@ TEST_P(InvariantOnSharedScenes, InspectionSparsKeepsItAndSparsAloneDoesNot) {
   for (const std::uint64_t seed : {1, 2}) {
     BuildOptions options;
     options.seed = seed;
-    SparsBuilder ispars(scene, options, true);
-    SparsBuilder spars(scene, options, false);
+    SparsBuilder ispars(scene, options, default_rules(true));
+    SparsBuilder spars(scene, options, default_rules(false));
     ispars.extend(test::scaled(GetParam().samples));
     spars.extend(test::scaled(GetParam().samples));
     const auto ri = verify_sparse_pair(scene, ispars.roadmap(), *ispars.dense(), ispars.dense_ids());
@@ -54,7 +58,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, InvariantOnSharedScenes,
 TEST(SparsBuilder, SparseRoutesStayWithinTheSpannerBound) {
   // d_s <= t d_d + 4 Delta (SPARS's bound, asymptotic) for nearly all pairs already at N = 4000.
   const Scene& scene = test::shared_scene("water_tower");
-  SparsBuilder b(scene, BuildOptions{}, true);
+  SparsBuilder b(scene, BuildOptions{}, default_rules(true));
   b.extend(4000);
   const Roadmap& dense = *b.dense();
   const Roadmap& sparse = b.roadmap();
@@ -84,7 +88,7 @@ TEST(SparsBuilder, SparseRoutesStayWithinTheSpannerBound) {
 TEST(SparsBuilder, EverySparseEdgeCostsItsOwnLengthAndIsValid) {
   // OMPL defect: sparse edge weights computed from dense states indexed by sparse ids.
   const Scene& scene = test::shared_scene("truss_bridge");
-  SparsBuilder b(scene, BuildOptions{}, true);
+  SparsBuilder b(scene, BuildOptions{}, default_rules(true));
   b.extend(4000);
   const Roadmap& g = b.roadmap();
   for (const RoadmapEdge& e : g.edges()) {
@@ -104,7 +108,7 @@ TEST(SparsBuilder, ShortcutPathsJoinTheRepresentativesOfTheirOwnEnds) {
     for (const std::uint64_t seed : {1, 2, 3}) {
       BuildOptions options;
       options.seed = seed;
-      SparsBuilder b(scene, options, false);
+      SparsBuilder b(scene, options, alg1_rules(false));
       b.extend(5000);
       for (const ShortcutRecord& r : b.shortcuts()) {
         if (r.direct_edge) {
@@ -127,7 +131,7 @@ TEST(SparsBuilder, ShortcutPathsJoinTheRepresentativesOfTheirOwnEnds) {
 TEST(SparsBuilder, EachShortcutComparesOnePairsOwnLengths) {
   // OMPL defect: the sparse estimate for one v'' compared with the dense length of another.
   const Scene& scene = test::shared_scene("radio_tower");
-  SparsBuilder b(scene, BuildOptions{}, true);
+  SparsBuilder b(scene, BuildOptions{}, alg1_rules(true));
   b.extend(5000);
   ASSERT_FALSE(b.shortcuts().empty());
   const Roadmap& g = b.roadmap();
@@ -140,31 +144,13 @@ TEST(SparsBuilder, EachShortcutComparesOnePairsOwnLengths) {
   }
 }
 
-// A scene with a single far tile: free space everywhere the tests place samples.
-Scene open_scene(double delta, double big_delta) {
-  TriangleMesh mesh;
-  mesh.vertices = {{40, 40, 40}, {41, 40, 40}, {40, 41, 40}};
-  mesh.triangles = {{0, 1, 2}};
-  SceneConfig c;
-  c.source = "test";
-  c.bounds = {Vec3(-50, -50, -50), Vec3(50, 50, 50)};
-  c.robot_radius = 0.1;
-  c.sensor_range = 1;
-  c.dense_delta = delta;
-  c.sparse_delta = big_delta;
-  c.stretch = 1.05;
-  c.root = Vec3(0, 0, 0);
-  c.pois = PoiSource{3, 1, false, {}};
-  return Scene::build(c, mesh);
-}
-
 PreparedSample valid_at(const Vec3& q) { return PreparedSample{q, true, {}}; }
 
 TEST(SparsBuilder, RadiiAreInclusiveEverywhere) {
   // OMPL defect: <= and < mixed for delta. Here: exactly delta apart is an edge, exactly Delta
   // away is reachable (so no guard is added).
-  const Scene scene = open_scene(2.0, 3.0);
-  SparsBuilder b(scene, BuildOptions{}, false);
+  const Scene scene = test::open_scene(2.0, 3.0);
+  SparsBuilder b(scene, BuildOptions{}, default_rules(false));
   b.step(valid_at(Vec3(2, 0, 0)));   // exactly delta from the root
   EXPECT_TRUE(b.dense()->has_edge(0, 1));
   EXPECT_EQ(b.roadmap().vertex_count(), 1u) << "within Delta of the root: not a guard";
@@ -178,8 +164,9 @@ TEST(SparsBuilder, RadiiAreInclusiveEverywhere) {
 }
 
 TEST(SparsBuilder, GuardBridgeAndInterfaceByHand) {
-  const Scene scene = open_scene(2.0, 3.0);
-  SparsBuilder b(scene, BuildOptions{}, false);
+  // SPARS's own criteria, as Alg. 1 has them: the bridge admits q.
+  const Scene scene = test::open_scene(2.0, 3.0);
+  SparsBuilder b(scene, BuildOptions{}, alg1_rules(false));
   b.step(valid_at(Vec3(5, 0, 0)));  // beyond Delta of the root: guard g1
   ASSERT_EQ(b.roadmap().vertex_count(), 2u);
   EXPECT_FALSE(b.roadmap().same_component(0, 1));
@@ -203,7 +190,7 @@ TEST(SparsBuilder, GuardBridgeAndInterfaceByHand) {
 
 TEST(SparsBuilder, InterfaceSupportsAreConsistentWithRepresentatives) {
   const Scene& scene = test::shared_scene("water_tower");
-  SparsBuilder b(scene, BuildOptions{}, true);
+  SparsBuilder b(scene, BuildOptions{}, default_rules(true));
   b.extend(3000);
   const Roadmap& dense = *b.dense();
   const Roadmap& sparse = b.roadmap();

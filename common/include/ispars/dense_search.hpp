@@ -3,6 +3,9 @@
 // next: only the vertices a search touched are reset, so a small local search costs little
 // however large the graph has grown.
 
+#include <algorithm>
+#include <cmath>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -17,7 +20,15 @@ class DenseSearch {
   void start(std::size_t vertex_count, VertexId source);
   /// Settles the next vertex if its distance is below `bound`; returns (distance, vertex), or
   /// (infinity, kNoVertex) when nothing below the bound is left.
-  std::pair<double, VertexId> settle_next(const Roadmap& graph, double bound);
+  std::pair<double, VertexId> settle_next(const Roadmap& graph, double bound) {
+    return settle_next(graph, bound, [](VertexId, double) { return true; });
+  }
+  /// The same, reaching a neighbour v at tentative distance d only when keep(v, d) holds: a
+  /// goal-directed search passes a keep() that is true on every prefix of the paths it wants.
+  template <class Keep>
+  std::pair<double, VertexId> settle_next(const Roadmap& graph, double bound, Keep&& keep);
+  /// The distance found to v: exact once v is settled, infinity when the search never reached it.
+  [[nodiscard]] double distance(VertexId v) const { return v < distance_.size() ? distance_[v] : INFINITY; }
   /// The settled path from the source to `target`, both included.
   [[nodiscard]] std::vector<VertexId> path_to(VertexId source, VertexId target) const;
 
@@ -27,5 +38,31 @@ class DenseSearch {
   std::vector<VertexId> touched_;
   std::vector<std::pair<double, VertexId>> heap_;  // min-heap on (distance, id)
 };
+
+template <class Keep>
+std::pair<double, VertexId> DenseSearch::settle_next(const Roadmap& graph, double bound, Keep&& keep) {
+  while (!heap_.empty()) {
+    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
+    const auto [d, u] = heap_.back();
+    heap_.pop_back();
+    if (d > distance_[u]) continue;  // stale entry
+    if (!(d < bound)) {
+      heap_.clear();
+      return {INFINITY, kNoVertex};
+    }
+    for (const Neighbor& n : graph.neighbors(u)) {
+      const double nd = d + n.cost;
+      if (nd < distance_[n.vertex] && nd < bound && keep(n.vertex, nd)) {
+        if (std::isinf(distance_[n.vertex])) touched_.push_back(n.vertex);
+        distance_[n.vertex] = nd;
+        parent_[n.vertex] = u;
+        heap_.emplace_back(nd, n.vertex);
+        std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+      }
+    }
+    return {d, u};
+  }
+  return {INFINITY, kNoVertex};
+}
 
 }  // namespace ispars

@@ -18,6 +18,15 @@ enum class BuildMethod { dense, spars, ispars, irisc };
 /// "dense", "spars", "ispars" or "irisc"; nothing for anything else.
 [[nodiscard]] std::optional<BuildMethod> parse_build_method(std::string_view text);
 
+/// The rule set of the spars and ispars sparse roadmaps (spars_builder.hpp, SparsRules).
+/// `stretch` (the default) enforces the stretch between sparse vertices that Theorem 1 needs;
+/// `alg1` is the paper's Alg. 1 read literally, kept to reproduce the paper.
+enum class SparsVariant { stretch, alg1 };
+
+[[nodiscard]] std::string_view to_string(SparsVariant variant);
+/// "stretch" or "alg1"; nothing for anything else.
+[[nodiscard]] std::optional<SparsVariant> parse_spars_variant(std::string_view text);
+
 /// Settings of a build that are not scene parameters.
 struct BuildOptions {
   std::uint64_t seed = 1;
@@ -26,6 +35,8 @@ struct BuildOptions {
   unsigned threads = 1;
   /// IRIS-C: probability of admitting a state that adds no new POI (the paper's 0.2).
   double p_accept = 0.2;
+  /// spars and ispars: which rule set grows the sparse roadmap.
+  SparsVariant variant = SparsVariant::stretch;
 };
 
 /// A roadmap under construction. extend(a) then extend(b) gives exactly the roadmap that

@@ -31,6 +31,9 @@ struct RoadmapRecipe {
   BuildMethod method = BuildMethod::ispars;
   std::uint64_t seed = 1;
   double p_accept = 0.2;
+  /// spars and ispars: the rule set. A recipe.json without one predates the variants and was
+  /// built with Alg. 1's rules, so it reads as alg1 (and replays byte for byte).
+  SparsVariant variant = SparsVariant::stretch;
   double dense_delta = 0.0;   ///< delta used (the scene's, or an override)
   double sparse_delta = 0.0;  ///< Delta used
   double stretch = 0.0;       ///< t used

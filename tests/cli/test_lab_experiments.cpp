@@ -1,0 +1,115 @@
+// ispars-lab's rule-set options and the experiments that measure them (spanner, ablation), run
+// as a user runs them.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "lab_cli_fixture.hpp"
+
+namespace {
+
+using ispars::test::LabCli;
+using ispars::test::LabRun;
+
+class LabVariants : public LabCli {};
+
+nlohmann::json last_json_line(const std::string& out) { return nlohmann::json::parse(out.substr(out.rfind("\n{") + 1)); }
+
+TEST_F(LabVariants, BuildTakesAVariantAndReportsEdgesByCause) {
+  const std::string base = std::string("build ") + ISPARS_SCENES_DIR + "/truss_bridge.yaml --method ispars --samples 2000 --json";
+  const LabRun ours = lab(base);
+  const LabRun paper = lab(base + " --variant alg1");
+  ASSERT_EQ(ours.exit_code, 0) << ours.err;
+  ASSERT_EQ(paper.exit_code, 0) << paper.err;
+  const auto a = nlohmann::json::parse(ours.out);
+  const auto b = nlohmann::json::parse(paper.out);
+  EXPECT_EQ(a["variant"], "stretch");
+  EXPECT_EQ(b["variant"], "alg1");
+  EXPECT_EQ(a["dense"], b["dense"]) << "the same samples make the same dense roadmap";
+  EXPECT_NE(a["roadmap"], b["roadmap"]);
+  // Every sparse edge is counted under exactly one cause.
+  for (const auto* run : {&a, &b}) {
+    std::size_t by_cause = 0;
+    for (const auto& [cause, n] : (*run)["edges_by_cause"].items()) by_cause += n.get<std::size_t>();
+    EXPECT_EQ(by_cause, (*run)["roadmap"]["edges"].get<std::size_t>());
+  }
+  EXPECT_GT(a["edges_by_cause"]["join"].get<int>(), 0);
+  EXPECT_EQ(b["edges_by_cause"]["join"].get<int>(), 0);
+  EXPECT_GT(b["edges_by_cause"]["shortcut"].get<int>(), 0);
+  EXPECT_EQ(lab(base + " --variant greedy").exit_code, 2);
+}
+
+TEST_F(LabVariants, SpannerMeasuresShortPairsPerVariant) {
+  const LabRun run = lab("experiment spanner --scene water_tower --samples 2000 --pois 60 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = last_json_line(run.out);
+  ASSERT_EQ(json["spanner"].size(), 2u);
+  for (const auto& r : json["spanner"]) {
+    ASSERT_EQ(r["viewpoint_stretch"]["bins"].size(), 4u);
+    EXPECT_EQ(r["invariant_violations"], 0);
+    EXPECT_TRUE(r["geometry_ok"].get<bool>());
+    std::size_t by_cause = 0;
+    for (const auto& [cause, n] : r["edges_by_cause"].items()) by_cause += n.get<std::size_t>();
+    EXPECT_EQ(by_cause, r["edges"].get<std::size_t>()) << r["variant"];
+    const auto& near = r["viewpoint_stretch"]["bins"][0]["vs_segment"];
+    ASSERT_GT(near["pairs"].get<int>(), 0);
+    // Sparse vertices within Delta that see each other: the default keeps them within t, always;
+    // Alg. 1 read literally does not.
+    if (r["variant"] == "stretch") {
+      EXPECT_EQ(near["share_over_t"].get<double>(), 0.0);
+      EXPECT_LE(near["max"].get<double>(), 1.05 + 1e-9);
+    } else {
+      EXPECT_EQ(r["variant"], "alg1");
+      EXPECT_GT(near["share_over_t"].get<double>(), 0.0);
+    }
+  }
+  EXPECT_LT(json["spanner"][0]["viewpoint_stretch"]["within_3_Delta"]["vs_dense"]["median"].get<double>(),
+            json["spanner"][1]["viewpoint_stretch"]["within_3_Delta"]["vs_dense"]["median"].get<double>());
+  EXPECT_EQ(lab("experiment spanner --scene water_tower --variants stretch,greedy --samples 10").exit_code, 2);
+  const LabRun no_n = lab("experiment spanner --scene water_tower");
+  EXPECT_EQ(no_n.exit_code, 2);
+  EXPECT_NE(no_n.err.find("--samples"), std::string::npos) << no_n.err;
+  const LabRun unknown = lab("experiment spanner --scene radio_tower --calibrate");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("--scene"), std::string::npos) << unknown.err;
+}
+
+TEST_F(LabVariants, AblationComparesRuleSetsOnTheSameTargetsAndWork) {
+  const LabRun run = lab("experiment ablation --scene water_tower --delta 2.348 --seeds 1 --iterations 50 "
+                         "--rule-sets alg1,stretch,stretch+nearest-witness --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = last_json_line(run.out);
+  ASSERT_EQ(json["summary"].size(), 5u);  // dense, irisc and the three rule sets
+  for (const auto& row : json["summary"]) {
+    EXPECT_GT(row["tour"].get<double>(), 0.0) << row["roadmap"];
+    if (row["roadmap"] == "dense") {
+      EXPECT_DOUBLE_EQ(row["tour_over_dense"].get<double>(), 1.0);
+    } else if (row["roadmap"] != "irisc") {
+      EXPECT_EQ(row["violations"], 0.0) << row["roadmap"];
+    }
+  }
+  const LabRun bad = lab("experiment ablation --scene water_tower --delta 2.3 --rule-sets alg1+teleport");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--rule-sets: rule set 'alg1+teleport': unknown rule 'teleport'"), std::string::npos) << bad.err;
+  EXPECT_EQ(lab("experiment ablation --scene water_tower --delta 2.3 --rule-sets greedy").exit_code, 2);
+}
+
+#ifdef ISPARS_OMPL_BENCH
+TEST_F(LabVariants, OmplBenchTimesBothBuildersOnTheSameScene) {
+  const std::string command = std::string("'") + ISPARS_OMPL_BENCH + "' " + ISPARS_SCENES_DIR +
+                              "/water_tower.yaml --samples 400 --json > '" + (dir_ / "ompl.txt").string() + "' 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << ispars::test::slurp(dir_ / "ompl.txt");
+  const auto json = last_json_line(ispars::test::slurp(dir_ / "ompl.txt"));
+  const auto dense = json["ispars"]["stretch"]["dense_vertices"].get<unsigned>();
+  EXPECT_EQ(json["ispars"]["alg1"]["dense_vertices"].get<unsigned>(), dense) << "the same samples";
+  for (const char* checker : {"our_checker", "fcl"}) {
+    const auto& run = json["ompl_spars"][checker];
+    EXPECT_FALSE(run["capped"].get<bool>()) << checker;
+    EXPECT_EQ(run["dense_vertices"].get<unsigned>(), dense) << checker << ": stopped at our dense count";
+    EXPECT_GT(run["over_ispars"].get<double>(), 0.0);
+  }
+}
+#endif
+
+}  // namespace
