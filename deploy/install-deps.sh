@@ -8,7 +8,8 @@ PACKAGES=(
   libeigen3-dev libfcl-dev libassimp-dev libembree-dev libspdlog-dev libfmt-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools default-jre-headless
   libcli11-dev libnanoflann-dev nlohmann-json3-dev libyaml-cpp-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libompl-dev
+  coinor-libclp-dev
   gnuplot-nox
 )
 

@@ -26,6 +26,7 @@ nlohmann::json status_json(const msg::SceneStatus& s) {
           {"server_id", s.server_id()},
           {"state", ispars::wire::to_string(s.state())},
           {"method", s.method()},
+          {"variant", std::string(s.variant().c_str())},
           {"seed", s.seed()},
           {"generation", s.generation()},
           {"samples_done", s.samples_done()},
@@ -48,7 +49,10 @@ nlohmann::json status_json(const msg::SceneStatus& s) {
 void print_status(const msg::SceneStatus& s) {
   std::cout << fmt::format("{} on {}: {}", s.scene(), s.server_id(), ispars::wire::to_string(s.state()));
   if (!s.method().empty()) {
-    std::cout << fmt::format(", {} seed {}, {}/{} samples\n", s.method(), s.seed(), s.samples_done(), s.samples_target());
+    std::cout << fmt::format(", {}{} seed {}, {}/{} samples\n", s.method(),
+                             s.variant().size() == 0 ? std::string() : fmt::format(" ({} rules)", s.variant().c_str()),
+                             s.seed(),
+                             s.samples_done(), s.samples_target());
     std::cout << fmt::format("  roadmap: {} vertices, {} edges, {} components, version {}\n", s.vertices(), s.edges(),
                              s.components(), s.version());
     if (s.dense_vertices() > 0) {
@@ -284,14 +288,19 @@ int main(int argc, char** argv) {
       }
     } else if (*tour) {
       const bool tty = ::isatty(STDERR_FILENO) != 0;
-      const msg::Reply r = client.tour(scene, budget, tour_seed, targets, [&](double t, double cost) {
+      const msg::Reply r = client.tour(scene, budget, tour_seed, targets, [&](double t, double cost, double bound) {
         if (json) return;
-        std::cerr << fmt::format("{}{:8.2f} s  best tour {:.6g}{}", tty ? "\r" : "", t, cost, tty ? "   " : "\n")
+        std::cerr << fmt::format("{}{:8.2f} s  best tour {:.6g}  proven bound {:.6g}{}", tty ? "\r" : "", t, cost, bound,
+                                 tty ? "   " : "\n")
                   << std::flush;
       });
       if (tty && !json) std::cerr << "\n";
       nlohmann::json trace = nlohmann::json::array();
       for (std::size_t i = 0; i + 1 < r.trace().size(); i += 2) trace.push_back({r.trace()[i], r.trace()[i + 1]});
+      nlohmann::json bound_trace = nlohmann::json::array();
+      for (std::size_t i = 0; i + 1 < r.bound_trace().size(); i += 2) {
+        bound_trace.push_back({r.bound_trace()[i], r.bound_trace()[i + 1]});
+      }
       const double seconds = r.trace().empty() ? 0.0 : r.trace()[r.trace().size() - 2];
       const nlohmann::json result = {{"cost", r.length()},
                                      {"covered", r.covered()},
@@ -300,6 +309,8 @@ int main(int argc, char** argv) {
                                      {"lower_bound", r.lower_bound()},
                                      {"valid", r.tour_valid()},
                                      {"trace", trace},
+                                     {"bound_trace", bound_trace},
+                                     {"bound_complete", r.bound_complete()},
                                      {"walk_steps", r.walk().empty() ? 0 : r.walk().size() - 1},
                                      {"version", r.tour_version()}};
       if (!out.empty()) {
@@ -314,8 +325,11 @@ int main(int argc, char** argv) {
         std::cout << result.dump() << std::endl;
       } else {
         std::cout << r.message() << "\n";
-        std::cout << fmt::format("  {} steps, lower bound {:.6g}, {}\n", r.walk().empty() ? 0 : r.walk().size() - 1,
-                                 r.lower_bound(), r.tour_valid() ? "valid" : "NOT valid");
+        std::cout << fmt::format("  {} steps, proven lower bound {:.6g} (gap {:.1f}%{}), {}\n",
+                                 r.walk().empty() ? 0 : r.walk().size() - 1, r.lower_bound(),
+                                 r.length() > 0 ? 100.0 * (r.length() - r.lower_bound()) / r.length() : 0.0,
+                                 r.bound_complete() ? ", LP solved over all its cuts" : "",
+                                 r.tour_valid() ? "valid" : "NOT valid");
       }
       return r.tour_valid() ? 0 : 1;
     } else if (*snapshot) {

@@ -50,12 +50,12 @@ class TourProgressListener final : public fdds::DataReaderListener {
     while (reader->take_next_sample(&p, &info) == ReturnCode_t::RETCODE_OK) {
       if (!info.valid_data || p.client_id() != client_id) continue;
       std::lock_guard lock(mutex);
-      if (callback) callback(p.seconds(), p.cost());
+      if (callback) callback(p.seconds(), p.cost(), p.lower_bound());
     }
   }
   std::string client_id;
   std::mutex mutex;
-  std::function<void(double, double)> callback;
+  std::function<void(double, double, double)> callback;
 };
 
 class Client::Impl final : public fdds::DataReaderListener {
@@ -361,7 +361,7 @@ msg::Reply Client::call(msg::Request request, const std::string& server, std::ch
 
 msg::Reply Client::tour(const std::string& scene, double budget, std::uint64_t seed,
                         const std::vector<std::uint32_t>& targets,
-                        const std::function<void(double seconds, double cost)>& progress) {
+                        const std::function<void(double seconds, double cost, double bound)>& progress) {
   impl_->ensure_progress_reader();
   {
     std::lock_guard lock(impl_->progress_.mutex);

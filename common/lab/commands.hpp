@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace ispars::lab {
 
@@ -27,6 +28,7 @@ int run_bench_geometry(const BenchGeometryOptions& options);
 struct BuildCommandOptions {
   std::string scene;
   std::string method;
+  std::string variant = "stretch";
   std::size_t samples = 1000;
   std::uint64_t seed = 1;
   unsigned threads = 1;
@@ -41,6 +43,7 @@ int run_build(const BuildCommandOptions& options);
 struct BenchBuildOptions {
   std::string scene;
   std::string method = "ispars";
+  std::string variant = "stretch";
   std::size_t samples = 20'000;
   std::size_t checkpoints = 10;
   std::uint64_t seed = 1;
@@ -48,6 +51,17 @@ struct BenchBuildOptions {
   bool json = false;
 };
 int run_bench_build(const BenchBuildOptions& options);
+
+struct BenchTourOptions {
+  std::string scene;
+  std::string method = "dense";
+  std::size_t samples = 100'000;
+  std::uint64_t seed = 1;
+  double budget = 2.0;
+  std::vector<double> stop_at{0.2, 2.0};  ///< Seconds after the start at which to request a stop.
+  bool json = false;
+};
+int run_bench_tour(const BenchTourOptions& options);
 
 struct ExperimentOptions {
   std::string scenes_dir = ISPARS_DEFAULT_SCENES_DIR;
@@ -57,16 +71,26 @@ struct ExperimentOptions {
   // scaling
   std::string scene = "water_tower";
   std::size_t max_samples = 20'000;
-  std::size_t pois = 100;
+  std::size_t pois = 0;  ///< K; 0: 100 for scaling, the paper's K (or the scene's) for spanner
   double delta = 0.0;  ///< 0: calibrate to the paper's density (water tower: degree 7.36 at N = 4000)
   std::string csv;
   std::string png;
   // spanner
-  std::size_t samples = 4000;
+  std::size_t samples = 0;            ///< 0: the paper's N (with --calibrate)
   std::size_t pairs = 1000;
-  // anytime
-  double budget = 30.0;
+  bool calibrate = false;             ///< delta, N and K of the paper's setting for the scene
+  std::uint64_t build_seed = 1;
+  std::size_t max_sources = 0;        ///< 0: every sparse viewpoint
+  std::vector<std::string> variants{"stretch", "alg1"};
+  // anytime, ablation
+  double budget = 30.0;               ///< anytime without --iterations: seconds per roadmap
+  double cap = 600.0;                 ///< with --iterations: the wall-clock safety cap per tour
   unsigned jobs = 2;
+  std::uint64_t iterations = 30'000;  ///< solver iterations per roadmap (0: the budget alone)
+  bool replot = false;                ///< anytime: only draw --png from an existing --csv
+  double bound_seconds = 20.0;        ///< anytime: seconds of LP bound per roadmap (0: none)
+  std::vector<std::string> rule_sets{"alg1", "alg1+join", "alg1+witness", "alg1-shortcut", "stretch+shortcut",
+                                     "stretch"};
 };
 struct TourCommandOptions {
   std::string roadmap;         ///< A roadmap file (ispars-lab build --out / ispars snapshot --out).
@@ -77,6 +101,8 @@ struct TourCommandOptions {
   std::uint64_t seed = 1;
   unsigned threads = 1;
   std::uint64_t iterations = 0;
+  std::string targets;         ///< A file of POI ids (default: every POI seen from the root's component).
+  std::string bound = "lp";    ///< "lp" or "simple".
   bool json = false;
   std::string out;
 };
@@ -86,5 +112,6 @@ int run_experiment_table(const ExperimentOptions& options);
 int run_experiment_scaling(const ExperimentOptions& options);
 int run_experiment_spanner(const ExperimentOptions& options);
 int run_experiment_anytime(const ExperimentOptions& options);
+int run_experiment_ablation(const ExperimentOptions& options);
 
 }  // namespace ispars::lab

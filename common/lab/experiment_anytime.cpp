@@ -1,46 +1,39 @@
-// `ispars-lab experiment anytime`: the paper's Fig. 4. For each scene and seed, Dense,
-// Inspection-SPARS and IRIS-C roadmaps (calibrated as in Table II), the common target set I_t
-// (POIs seen from the root's component in all three), and the same GIP solver with the same
-// budget on each: mean +- sd of the best tour against time; a CSV, a PNG and a summary table.
+// `ispars-lab experiment anytime`: the paper's Fig. 4. For each scene and seed: Dense,
+// Inspection-SPARS (the default rule set and the literal Alg. 1) and IRIS-C roadmaps,
+// calibrated as in Table II; the common target set I_t (POIs seen from the root's component in
+// all of them); and the same GIP solver with the same work on each (an iteration cap, one
+// solver thread per roadmap). Also Dense routing with each sparse roadmap's viewpoints, which
+// splits a sparse roadmap's loss into "viewpoints lost" and "routing lost".
+// Prints a summary table; writes the best tour against time (CSV, PNG) and every run (JSON).
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <map>
-#include <mutex>
-#include <thread>
+#include <sstream>
 
 #include "commands.hpp"
 #include "experiment_support.hpp"
-#include "ispars/gip_solver.hpp"
-#include "ispars/inspection_graph.hpp"
+#include "ispars/input_error.hpp"
+#include "ispars/irisc_builder.hpp"
+#include "ispars/roadmap_verifier.hpp"
+#include "tour_support.hpp"
 
 namespace ispars::lab {
 namespace {
 
-struct AnytimeScene {
-  const char* name;
-  std::size_t samples;
-  std::size_t pois;
-  double paper_degree;
-};
-
-const std::vector<AnytimeScene>& anytime_scenes() {
-  static const std::vector<AnytimeScene> scenes{{"water_tower", 4000, 100, 2.0 * 14474 / 3933},
-                                                {"truss_bridge", 5000, 500, 2.0 * 27508 / 4955},
-                                                {"caric_city", 7000, 500, 2.0 * 16891 / 6391}};
-  return scenes;
+// The roadmaps of one seed, in this order; the last two are Dense routing with the viewpoints
+// of the two sparse roadmaps.
+const std::vector<std::string>& roadmap_names() {
+  static const std::vector<std::string> names{"dense", "ispars", "ispars-alg1", "irisc", "dense/ispars-viewpoints",
+                                              "dense/alg1-viewpoints"};
+  return names;
 }
-
-const std::vector<BuildMethod>& anytime_methods() {
-  static const std::vector<BuildMethod> methods{BuildMethod::dense, BuildMethod::ispars, BuildMethod::irisc};
-  return methods;
-}
+constexpr std::size_t kPlotted = 4;  // the first four are the figure's curves
 
 // The best cost found by time t (NaN before the first tour).
 double best_at(const std::vector<std::pair<double, double>>& trace, double t) {
@@ -51,34 +44,26 @@ double best_at(const std::vector<std::pair<double, double>>& trace, double t) {
   return best;
 }
 
-std::vector<PoiId> seen_from_root(const InspectionGraph& g) {
-  std::vector<char> seen(g.poi_count(), 0);
-  for (const VertexId v : g.component_of(0)) {
-    for (const PoiId p : g.visible(v)) seen[p] = 1;
-  }
-  std::vector<PoiId> out;
-  for (PoiId p = 0; p < g.poi_count(); ++p) {
-    if (seen[p]) out.push_back(p);
-  }
-  return out;
-}
-
-void plot(const std::string& csv, const std::string& png, double budget) {
+void plot(const std::string& csv, const std::string& png, const std::string& work) {
+  // Per scene: the mean as a line and mean +- sd as a band; x is selected with y so that each
+  // panel scales to its own scene's times.
   std::ostringstream script;
   script << "set terminal pngcairo size 1500,500 font 'Sans,11'\nset termoption noenhanced\n"
          << "set output '" << png << "'\nset datafile separator ','\n"
-         << "set multiplot layout 1,3 title 'Best tour against solver time (mean +- sd over seeds; same solver and budget "
-         << budget << " s per roadmap)'\n"
-         << "set key right top\nset grid\nset xlabel 'solver time [s]'\nset ylabel 'tour length [m]'\n";
-  for (const AnytimeScene& s : anytime_scenes()) {
-    script << "set title '" << s.name << "'\nplot ";
-    bool first = true;
-    for (const BuildMethod m : anytime_methods()) {
-      if (!first) script << ", ";
-      first = false;
-      const std::string sel = fmt::format("(strcol(1) eq '{}' && strcol(2) eq '{}' ? ", s.name, to_string(m));
-      script << "'" << csv << "' skip 1 using 3:" << sel << "$4 : 1/0):" << sel << "$5 : 1/0) with yerrorlines title '"
-             << to_string(m) << "'";
+         << "set multiplot layout 1,3 title 'Best tour against solver time (mean, band +- sd over seeds; " << work
+         << ")'\n"
+         << "set key right top\nset grid\nset logscale x\nset xlabel 'solver time [s] (log)'\n"
+         << "set ylabel 'tour length'\nset style fill transparent solid 0.15 noborder\n";
+  const char* colours[] = {"#7b3294", "#1b9e77", "#56b4e9", "#e69f00"};
+  for (const PaperSetting& s : paper_settings()) {
+    script << "set title '" << s.scene << "'\nplot ";
+    for (std::size_t m = 0; m < kPlotted; ++m) {
+      if (m > 0) script << ", ";
+      const std::string sel = fmt::format("(strcol(1) eq '{}' && strcol(2) eq '{}' && $3 > 0 ? ", s.scene,
+                                          roadmap_names()[m]);
+      script << "'" << csv << "' skip 1 using " << sel << "$3 : 1/0):($4 - $5):($4 + $5) with filledcurves lc rgb '"
+             << colours[m] << "' notitle, '" << csv << "' skip 1 using " << sel << "$3 : 1/0):4 with lines lw 2 lc rgb '"
+             << colours[m] << "' title '" << roadmap_names()[m] << "'";
     }
     script << "\n";
   }
@@ -86,122 +71,180 @@ void plot(const std::string& csv, const std::string& png, double budget) {
   run_gnuplot(png, script.str());
 }
 
+struct Runs {
+  std::vector<std::vector<std::pair<double, double>>> traces;
+  std::vector<double> vertices, edges, costs, over_dense, over_irisc, first, seconds, violations, bounds, gaps;
+  std::size_t complete = 0;  // bounds solved over all their cuts
+};
+
+std::string cell(const std::vector<double>& v, int decimals) {
+  if (v.empty()) return "-";
+  const MeanSd m = mean_sd(v);
+  return fmt::format("{:.{}f} +- {:.{}f}", m.mean, decimals, m.sd, decimals);
+}
+
 }  // namespace
 
 int run_experiment_anytime(const ExperimentOptions& options) {
-  const double budget = options.budget;
-  std::cout << fmt::format(
-      "# Fig. 4, reproduced: tours within a fixed solver budget ({} seeds, {} s per roadmap, 1 solver thread; "
-      "command: ispars-lab experiment anytime --seeds {} --budget {} --jobs {})\n\n",
-      options.seeds, budget, options.seeds, budget, options.jobs);
+  if (options.replot) {
+    if (options.csv.empty() || options.png.empty()) {
+      throw InputError("experiment anytime", "--replot", "needs --csv (to read) and --png (to write)");
+    }
+    plot(options.csv, options.png, "replotted from " + options.csv);
+    return 0;
+  }
+  const SolverWork work{options.iterations, options.iterations > 0 ? options.cap : options.budget, options.jobs};
+  const std::string work_text =
+      work.iterations > 0
+          ? fmt::format("{} solver iterations per roadmap, one solver thread each, {} roadmaps at a time, {:.0f} s cap; "
+                        "LP bound {:.0f} s per roadmap",
+                        work.iterations, work.jobs, work.cap_seconds, options.bound_seconds)
+          : fmt::format("{:.0f} s per roadmap, one solver thread each, {} roadmaps at a time", work.cap_seconds,
+                        work.jobs);
+  std::cout << fmt::format("# Fig. 4, reproduced: {} seeds; the same work for every roadmap: {}\n\n", options.seeds,
+                           work_text);
   std::ofstream csv(options.csv.empty() ? "/dev/null" : options.csv);
   csv << "scene,method,seconds,mean_cost,sd_cost,seeds_with_tour\n";
   nlohmann::json results = nlohmann::json::array();
-  std::cout << "| scene | I_t (mean) | method | \\|V\\| | best tour, mean +- sd | Inspection-SPARS's tour against it | first tour at [s] |\n"
-               "|---|---|---|---|---|---|---|\n";
-  for (const AnytimeScene& as : anytime_scenes()) {
-    const SceneConfig base = parse_scene_config(options.scenes_dir + "/" + as.name + ".yaml");
-    const double delta = calibrate_delta(base, as.samples, as.paper_degree, options.threads);
-    // traces[method][seed]
-    std::map<BuildMethod, std::vector<std::vector<std::pair<double, double>>>> traces;
-    std::map<BuildMethod, std::vector<double>> finals, firsts, sizes;
-    std::vector<double> target_counts;
-    for (std::uint64_t seed = 1; seed <= options.seeds; ++seed) {
-      const Scene scene = Scene::build(scene_variant(base, as.pois, seed, delta));
-      std::map<BuildMethod, InspectionGraph> graphs;
-      for (const BuildMethod m : anytime_methods()) {
-        BuildOptions build;
-        build.seed = seed;
-        build.threads = options.threads;
-        const auto builder = make_roadmap_builder(m, scene, build);
-        builder->extend(as.samples);
-        graphs.emplace(m, InspectionGraph::from_roadmap(builder->roadmap()));
-        sizes[m].push_back(static_cast<double>(builder->roadmap().vertex_count()));
-      }
-      // I_t: POIs seen from the root's component of every roadmap.
-      std::vector<PoiId> common = seen_from_root(graphs.at(anytime_methods().front()));
-      for (const BuildMethod m : anytime_methods()) {
-        const std::vector<PoiId> mine = seen_from_root(graphs.at(m));
-        std::vector<PoiId> both;
-        std::set_intersection(common.begin(), common.end(), mine.begin(), mine.end(), std::back_inserter(both));
-        common = std::move(both);
-      }
-      // Solve the three on up to `jobs` cores at once, one solver thread each.
-      std::vector<std::thread> pool;
-      std::mutex mutex;
-      std::size_t next = 0;
-      std::map<BuildMethod, GipResult> solved;
-      std::string failure;
-      const auto work = [&] {
-        for (;;) try {
-          BuildMethod m;
-          {
-            std::lock_guard lock(mutex);
-            if (next >= anytime_methods().size()) return;
-            m = anytime_methods()[next++];
-          }
-          GipOptions solve;
-          solve.targets = common;
-          solve.budget_seconds = budget;
-          solve.seed = seed;
-          GipResult r = solve_gip(graphs.at(m), solve);
-          if (!r.validation.valid()) throw std::runtime_error("invalid tour: " + r.validation.problem);
-          std::lock_guard lock(mutex);
-          solved.emplace(m, std::move(r));
-        } catch (const std::exception& e) {
-          std::lock_guard lock(mutex);
-          failure = e.what();
-          next = anytime_methods().size();
-          return;
-        }
-      };
+  std::ostringstream summary, per_seed, notes;
+  summary << "| scene | I_t (mean) | roadmap | \\|V\\| | \\|E\\| | best tour, mean +- sd | / Dense | / IRIS-C "
+             "| proven bound, mean (gap; LPs complete) | Inv. 1 violations | first tour [s] | solver seconds |\n"
+             "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  per_seed << "| scene | seed | I_t |";
+  for (const std::string& n : roadmap_names()) per_seed << ' ' << n << " |";
+  per_seed << "\n|---|---|---|";
+  for (std::size_t i = 0; i < roadmap_names().size(); ++i) per_seed << "---|";
+  per_seed << '\n';
+  std::size_t capped = 0;
+  for (const PaperSetting& ps : paper_settings()) {
+    const SceneConfig base = parse_scene_config(options.scenes_dir + "/" + ps.scene + ".yaml");
+    const double delta = calibrate_delta(base, ps.samples, ps.degree, options.threads);
+    std::map<std::string, Runs> runs;
+    std::vector<double> target_counts, dropped;
+    double longest = 0.0;
+    // The first `seeds` seeds whose roadmaps share a target; at most 3x as many are tried.
+    std::vector<std::uint64_t> used, skipped;
+    for (std::uint64_t seed = 1; used.size() < options.seeds && seed <= 3 * options.seeds; ++seed) {
+      const Scene scene = Scene::build(scene_variant(base, ps.pois, seed, delta));
+      BuildOptions build;
+      build.seed = seed;
+      build.threads = options.threads;
+      SparsBuilder stretch(scene, build, SparsRules::for_variant(SparsVariant::stretch, true));
+      SparsBuilder alg1(scene, build, SparsRules::for_variant(SparsVariant::alg1, true));
+      IriscBuilder irisc(scene, build);
+      stretch.extend(ps.samples);
+      alg1.extend(ps.samples);
+      irisc.extend(ps.samples);
+      const Roadmap& dense = *stretch.dense();  // both sparse builders drew the same G_d
+      const std::vector<InspectionGraph> graphs{
+          InspectionGraph::from_roadmap(dense),         InspectionGraph::from_roadmap(stretch.roadmap()),
+          InspectionGraph::from_roadmap(alg1.roadmap()), InspectionGraph::from_roadmap(irisc.roadmap()),
+          with_viewpoints(dense, stretch.dense_ids()),  with_viewpoints(dense, alg1.dense_ids())};
+      std::vector<double> violations(graphs.size(), 0.0);
+      violations[1] = static_cast<double>(
+          verify_sparse_pair(scene, stretch.roadmap(), dense, stretch.dense_ids()).invariant_violations);
+      violations[2] =
+          static_cast<double>(verify_sparse_pair(scene, alg1.roadmap(), dense, alg1.dense_ids()).invariant_violations);
+      std::vector<const InspectionGraph*> pointers;
+      for (const InspectionGraph& g : graphs) pointers.push_back(&g);
+      // I_t: the paper's (over the roadmaps proper), less the few POIs that Dense's root
+      // component sees only through viewpoints outside it when restricted to sparse viewpoints
+      // (a sparse viewpoint is within Delta > delta, possibly in another dense component).
+      const std::size_t paper_targets =
+          common_targets(std::span<const InspectionGraph* const>(pointers.data(), kPlotted)).size();
+      const std::vector<PoiId> common = common_targets(pointers);
       if (common.empty()) {
-        std::cerr << fmt::format("{} seed {}: no POI is seen from the root in all three roadmaps; seed skipped\n",
-                                 as.name, seed);
-        for (const BuildMethod m : anytime_methods()) sizes[m].pop_back();
+        std::cerr << fmt::format("{} seed {}: no POI is seen from the root in every roadmap; seed skipped\n", ps.scene,
+                                 seed);
+        skipped.push_back(seed);
         continue;
       }
+      used.push_back(seed);
+      dropped.push_back(static_cast<double>(paper_targets - common.size()));
       target_counts.push_back(static_cast<double>(common.size()));
-      for (unsigned j = 1; j < options.jobs; ++j) pool.emplace_back(work);
-      work();
-      for (auto& t : pool) t.join();
-      if (!failure.empty()) throw std::runtime_error(fmt::format("{} seed {}: {}", as.name, seed, failure));
-      for (const BuildMethod m : anytime_methods()) {
-        const GipResult& r = solved.at(m);
-        traces[m].push_back(r.trace);
-        finals[m].push_back(r.tour.cost);
-        firsts[m].push_back(r.trace.empty() ? budget : r.trace.front().first);
-        results.push_back({{"scene", as.name}, {"seed", seed}, {"method", to_string(m)}, {"targets", common.size()},
-                           {"vertices", graphs.at(m).vertex_count()}, {"cost", r.tour.cost},
-                           {"lower_bound", r.lower_bound.value_or(0.0)}, {"iterations", r.iterations}});
-      }
-      std::cerr << fmt::format("{} seed {}: I_t = {}; dense {:.1f}, ispars {:.1f}, irisc {:.1f}\n", as.name, seed,
-                               common.size(), solved.at(BuildMethod::dense).tour.cost,
-                               solved.at(BuildMethod::ispars).tour.cost, solved.at(BuildMethod::irisc).tour.cost);
-    }
-    for (const BuildMethod m : anytime_methods()) {
-      for (int k = 0; k <= 100; ++k) {
-        const double t = budget * k / 100.0;
-        std::vector<double> values;
-        for (const auto& trace : traces[m]) {
-          const double v = best_at(trace, t);
-          if (!std::isnan(v)) values.push_back(v);
+      const std::vector<GipResult> tours = solve_each(pointers, common, seed, work);
+      // The proven LP bound of the four roadmaps, on the same targets: it tells "the search got
+      // stuck" (a gap) from "the roadmap holds no better tour" (none).
+      const std::vector<TourBoundResult> bounds =
+          options.bound_seconds > 0.0
+              ? bound_each(std::span<const InspectionGraph* const>(pointers.data(), kPlotted), common,
+                           options.bound_seconds, work.jobs)
+              : std::vector<TourBoundResult>(kPlotted);
+      per_seed << fmt::format("| {} | {} | {} |", ps.scene, seed, common.size());
+      for (std::size_t i = 0; i < graphs.size(); ++i) {
+        const GipResult& r = tours[i];
+        capped += hit_time_cap(r, work);
+        Runs& run = runs[roadmap_names()[i]];
+        run.traces.push_back(r.trace);
+        run.vertices.push_back(static_cast<double>(graphs[i].vertex_count()));
+        run.edges.push_back(static_cast<double>(graphs[i].edge_count()));
+        run.costs.push_back(r.tour.cost);
+        run.over_dense.push_back(r.tour.cost / tours[0].tour.cost);
+        run.over_irisc.push_back(r.tour.cost / tours[3].tour.cost);
+        run.first.push_back(r.trace.empty() ? r.seconds : r.trace.front().first);
+        run.seconds.push_back(r.seconds);
+        run.violations.push_back(violations[i]);
+        if (i < kPlotted && options.bound_seconds > 0.0) {
+          run.bounds.push_back(bounds[i].bound);
+          run.gaps.push_back((r.tour.cost - bounds[i].bound) / r.tour.cost);
+          run.complete += bounds[i].complete;
         }
-        if (values.size() != traces[m].size()) continue;  // plot once every seed has a tour
-        const MeanSd ms = mean_sd(values);
-        csv << fmt::format("{},{},{:.3f},{:.4f},{:.4f},{}\n", as.name, to_string(m), t, ms.mean, ms.sd, values.size());
+        longest = std::max(longest, r.seconds);
+        per_seed << fmt::format(" {:.1f} |", r.tour.cost);
+        results.push_back({{"scene", ps.scene}, {"seed", seed}, {"roadmap", roadmap_names()[i]},
+                           {"targets", common.size()}, {"vertices", graphs[i].vertex_count()},
+                           {"edges", graphs[i].edge_count()}, {"cost", r.tour.cost}, {"seconds", r.seconds},
+                           {"iterations", r.iterations}, {"invariant_violations", violations[i]}, {"trace", r.trace},
+                           {"lower_bound", i < kPlotted ? nlohmann::json(bounds[i].bound) : nlohmann::json()},
+                           {"bound_complete", i < kPlotted && bounds[i].complete}});
       }
-      const MeanSd f = mean_sd(finals[m]);
-      const MeanSd ref = mean_sd(finals[BuildMethod::ispars]);
-      std::cout << fmt::format("| {} | {:.1f} | {} | {:.0f} | {:.1f} +- {:.1f} | {} | {:.2f} |\n", as.name,
-                               mean_sd(target_counts).mean, to_string(m), mean_sd(sizes[m]).mean, f.mean, f.sd,
-                               m == BuildMethod::ispars ? std::string("-")
-                                                        : fmt::format("{:+.1f}%", 100.0 * (ref.mean - f.mean) / f.mean),
-                               mean_sd(firsts[m]).mean);
+      per_seed << '\n';
+      std::cerr << fmt::format("{} seed {}: I_t = {}; dense {:.1f}, ispars {:.1f}, alg1 {:.1f}, irisc {:.1f}\n",
+                               ps.scene, seed, common.size(), tours[0].tour.cost, tours[1].tour.cost,
+                               tours[2].tour.cost, tours[3].tour.cost);
+    }
+    notes << fmt::format("{}: seeds {} (skipped, no common target: {})\n", ps.scene, fmt::join(used, ", "),
+                         skipped.empty() ? std::string("none") : fmt::format("{}", fmt::join(skipped, ", ")));
+    notes << fmt::format("{}: calibrated delta {:.3f}; the paper's I_t less the targets the viewpoint-restricted Dense "
+                         "graphs do not reach from the root: {:.1f} on average (at most {:.0f})\n",
+                         ps.scene, delta, mean_sd(dropped).mean,
+                         dropped.empty() ? 0.0 : *std::max_element(dropped.begin(), dropped.end()));
+    for (std::size_t m = 0; m < roadmap_names().size(); ++m) {
+      const Runs& run = runs[roadmap_names()[m]];
+      if (m < kPlotted) {
+        for (int k = 0; k <= 100; ++k) {
+          const double t = longest * k / 100.0;
+          std::vector<double> values;
+          for (const auto& trace : run.traces) {
+            const double v = best_at(trace, t);
+            if (!std::isnan(v)) values.push_back(v);
+          }
+          if (values.empty() || values.size() != run.traces.size()) continue;  // once every seed has a tour
+          const MeanSd ms = mean_sd(values);
+          csv << fmt::format("{},{},{:.3f},{:.4f},{:.4f},{}\n", ps.scene, roadmap_names()[m], t, ms.mean, ms.sd,
+                             values.size());
+        }
+      }
+      const bool sparse = m == 1 || m == 2;
+      summary << fmt::format("| {} | {:.1f} | {} | {:.0f} | {:.0f} | {} | {:.3f} | {:.3f} | {} | {} | {:.2f} | {:.1f} |\n",
+                             ps.scene, mean_sd(target_counts).mean, roadmap_names()[m], mean_sd(run.vertices).mean,
+                             mean_sd(run.edges).mean, cell(run.costs, 1), mean_sd(run.over_dense).mean,
+                             mean_sd(run.over_irisc).mean,
+                             run.bounds.empty() ? std::string("-")
+                                                : fmt::format("{:.1f} ({:.1f}%; {}/{})", mean_sd(run.bounds).mean,
+                                                              100.0 * mean_sd(run.gaps).mean, run.complete,
+                                                              run.bounds.size()),
+                             sparse ? fmt::format("{:.0f}", mean_sd(run.violations).mean * run.violations.size())
+                                    : std::string("-"),
+                             mean_sd(run.first).mean, mean_sd(run.seconds).mean);
     }
   }
   csv.close();
-  if (!options.csv.empty() && !options.png.empty()) plot(options.csv, options.png, budget);
+  std::cout << summary.str() << fmt::format("\nRuns stopped by the time cap before their iterations: {}\n\n", capped)
+            << notes.str() << '\n'
+            << "Per seed (best tour):\n\n"
+            << per_seed.str();
+  if (!options.csv.empty() && !options.png.empty()) plot(options.csv, options.png, work_text);
   if (options.json) std::cout << nlohmann::json{{"runs", results}}.dump() << std::endl;
   return 0;
 }

@@ -5,6 +5,9 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
+#include "ispars/input_error.hpp"
 #include "timing.hpp"
 
 namespace ispars::lab {
@@ -103,6 +106,75 @@ RunFigures figures_of(const RoadmapBuilder& builder, const CheckCounts& checks, 
   f.checks = checks;
   f.seconds = seconds;
   return f;
+}
+
+nlohmann::json to_json(const SparsAdmissions& a) {
+  return {{"admissions",
+           {{"guard", a.guard}, {"bridge", a.bridge}, {"bridge_edge", a.bridge_edge}, {"interface_edge", a.interface_edge},
+            {"interface_vertex", a.interface_vertex}, {"inspection", a.inspection}, {"shortcut_edge", a.shortcut_edge},
+            {"shortcut_path", a.shortcut_path}, {"shortcut_path_vertices", a.shortcut_path_vertices},
+            {"witness_edge", a.witness_edge}, {"witness_vertex", a.witness_vertex}}},
+          {"edges_by_cause",
+           {{"bridge", a.bridge_edges}, {"interface", a.interface_edges}, {"shortcut", a.shortcut_edges},
+            {"join", a.join_edges}, {"witness", a.witness_edges}}}};
+}
+
+namespace {
+
+nlohmann::json stats_json(const StretchStats& s) {
+  return {{"pairs", s.pairs}, {"disconnected", s.disconnected}, {"median", s.median},
+          {"p95", s.p95},     {"max", s.max},                   {"share_over_t", s.share_over_t}};
+}
+
+nlohmann::json bin_json(const StretchBin& b) {
+  return {{"from_Delta", b.from},
+          {"to_Delta", std::isfinite(b.to) ? nlohmann::json(b.to) : nlohmann::json("inf")},
+          {"vs_dense", stats_json(b.vs_dense)},
+          {"vs_segment", stats_json(b.vs_segment)}};
+}
+
+std::string stats_text(const StretchStats& s) {
+  if (s.pairs == 0) return "no pairs";
+  return fmt::format("{} pairs, median {:.3f}, p95 {:.3f}, max {:.3f}, {:.1f}% > t{}", s.pairs, s.median, s.p95, s.max,
+                     100.0 * s.share_over_t,
+                     s.disconnected ? fmt::format(", {} not joined in G_s", s.disconnected) : std::string());
+}
+
+}  // namespace
+
+nlohmann::json to_json(const RouteStretchReport& r) {
+  nlohmann::json bins = nlohmann::json::array();
+  for (const StretchBin& b : r.bins) bins.push_back(bin_json(b));
+  return {{"viewpoints", r.viewpoints}, {"sources", r.sources}, {"bins", bins},
+          {"within_3_Delta", bin_json(r.within_3_delta)}};
+}
+
+std::string stretch_lines(const RouteStretchReport& r) {
+  std::string out;
+  const auto line = [&](const StretchBin& b) {
+    const std::string range = std::isfinite(b.to) ? fmt::format("[{:.0f},{:.0f}) Delta", b.from, b.to)
+                                                  : fmt::format("[{:.0f},inf) Delta", b.from);
+    out += fmt::format("  {:<14} d_s/d_dense: {}\n  {:<14} d_s/|x-x'|:  {}\n", range, stats_text(b.vs_dense), "",
+                       stats_text(b.vs_segment));
+  };
+  for (const StretchBin& b : r.bins) line(b);
+  line(r.within_3_delta);
+  return out;
+}
+
+const std::vector<PaperSetting>& paper_settings() {
+  // Table II of the paper: N, K and the dense roadmap's mean degree 2|E|/|V|.
+  static const std::vector<PaperSetting> settings{{"water_tower", 4000, 100, 2.0 * 14474 / 3933},
+                                                  {"truss_bridge", 5000, 500, 2.0 * 27508 / 4955},
+                                                  {"caric_city", 7000, 500, 2.0 * 16891 / 6391}};
+  return settings;
+}
+
+const PaperSetting& paper_setting(const std::string& scene) {
+  for (const PaperSetting& s : paper_settings()) {
+    if (scene == s.scene) return s;
+  }
+  throw InputError("experiment", "--scene", "the paper's setting is known for water_tower, truss_bridge and caric_city only");
 }
 
 }  // namespace ispars::lab

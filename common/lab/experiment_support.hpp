@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "ispars/roadmap_builder.hpp"
+#include "ispars/route_stretch.hpp"
+#include "ispars/spars_builder.hpp"
 #include "ispars/scene.hpp"
 
 namespace ispars::lab {
@@ -44,5 +46,24 @@ struct RunFigures {
   double seconds = 0.0;
 };
 [[nodiscard]] RunFigures figures_of(const RoadmapBuilder& builder, const CheckCounts& checks, double seconds);
+
+/// {"admissions": {...}, "edges_by_cause": {...}}.
+[[nodiscard]] nlohmann::json to_json(const SparsAdmissions& a);
+/// A route-stretch report as JSON: per bin, against the dense route and the straight segment.
+[[nodiscard]] nlohmann::json to_json(const RouteStretchReport& r);
+/// One line per bin: "[0,1) Delta: 812 pairs, vs dense median 0.97 p95 1.18 max 2.0 (12.1% > t); ...".
+[[nodiscard]] std::string stretch_lines(const RouteStretchReport& r);
+
+/// The paper's setting for one of its three scenes: N, K and the dense mean degree of Table II.
+struct PaperSetting {
+  const char* scene;
+  std::size_t samples;
+  std::size_t pois;
+  double degree;
+};
+/// water_tower, truss_bridge, caric_city.
+[[nodiscard]] const std::vector<PaperSetting>& paper_settings();
+/// The setting for `scene`; throws InputError (field "--scene") for any other scene.
+[[nodiscard]] const PaperSetting& paper_setting(const std::string& scene);
 
 }  // namespace ispars::lab

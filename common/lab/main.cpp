@@ -9,10 +9,18 @@
 
 #include "commands.hpp"
 #include "ispars/input_error.hpp"
+#include "ispars/roadmap_builder.hpp"
 
 int main(int argc, char** argv) {
   using namespace ispars::lab;
   spdlog::set_level(spdlog::level::warn);
+
+  // A rule-set name that parse_spars_variant knows (the one list of names).
+  const CLI::Validator spars_variant(
+      [](std::string& text) {
+        return ispars::parse_spars_variant(text) ? std::string() : "unknown variant '" + text + "' (stretch, alg1)";
+      },
+      "stretch|alg1");
 
   CLI::App app{"ispars-lab: scene reports, geometry benchmarks and roadmap experiments"};
   app.require_subcommand(1);
@@ -46,11 +54,27 @@ int main(int argc, char** argv) {
   bench_build_cmd->add_option("scene", bench_build.scene, "Scene YAML file")->required();
   bench_build_cmd->add_option("--method", bench_build.method, "dense | spars | ispars | irisc")
       ->check(CLI::IsMember({"dense", "spars", "ispars", "irisc"}));
+  bench_build_cmd->add_option("--variant", bench_build.variant, "spars, ispars: stretch (default) or alg1")
+      ->check(spars_variant);
   bench_build_cmd->add_option("--samples", bench_build.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
   bench_build_cmd->add_option("--checkpoints", bench_build.checkpoints, "Report rows")->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
   bench_build_cmd->add_option("--seed", bench_build.seed, "Seed");
   bench_build_cmd->add_option("--threads", bench_build.threads, "Threads")->check(CLI::Range(1u, 64u));
   bench_build_cmd->add_flag("--json", bench_build.json, "Print one JSON object as the last line of stdout");
+
+  BenchTourOptions bench_tour;
+  auto* bench_tour_cmd = bench->add_subcommand(
+      "tour", "The tour solver on a large roadmap: first tour, budget, memory, stop latency");
+  bench_tour_cmd->add_option("scene", bench_tour.scene, "Scene YAML file")->required();
+  bench_tour_cmd->add_option("--method", bench_tour.method, "dense | spars | ispars | irisc")
+      ->check(CLI::IsMember({"dense", "spars", "ispars", "irisc"}));
+  bench_tour_cmd->add_option("--samples", bench_tour.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{10'000'000}));
+  bench_tour_cmd->add_option("--seed", bench_tour.seed, "Seed of the roadmap and the search");
+  bench_tour_cmd->add_option("--budget", bench_tour.budget, "Seconds of search")->check(CLI::Range(0.01, 3600.0));
+  bench_tour_cmd->add_option("--stop-at", bench_tour.stop_at, "Request a stop this many seconds after the start")
+      ->delimiter(',')
+      ->check(CLI::Range(0.0, 3600.0));
+  bench_tour_cmd->add_flag("--json", bench_tour.json, "Print one JSON object as the last line of stdout");
 
   BuildCommandOptions build;
   auto* build_cmd = app.add_subcommand("build", "Build a roadmap: dense, spars, ispars or irisc");
@@ -61,6 +85,10 @@ int main(int argc, char** argv) {
   build_cmd->add_option("--samples", build.samples, "Samples to draw (N)")
       ->check(CLI::Range(std::size_t{0}, std::size_t{100'000'000}));
   build_cmd->add_option("--seed", build.seed, "Seed of the sample stream");
+  build_cmd->add_option("--variant", build.variant,
+                        "spars, ispars: stretch (default: enforces the stretch between sparse vertices) or alg1 "
+                        "(the paper's Alg. 1 read literally)")
+      ->check(spars_variant);
   build_cmd->add_option("--threads", build.threads, "Threads for per-sample checks (same roadmap for any count)")
       ->check(CLI::Range(1u, 64u));
   build_cmd->add_option("--p-accept", build.p_accept, "IRIS-C: admission probability without new coverage")
@@ -89,22 +117,56 @@ int main(int argc, char** argv) {
   scaling_cmd->add_option("--delta", exp.delta, "delta (0: calibrate to the paper's density)")->check(CLI::Range(0.0, 1e6));
   scaling_cmd->add_option("--csv", exp.csv, "Write per-seed rows here (and means to FILE.summary)");
   scaling_cmd->add_option("--png", exp.png, "Write the plot here (gnuplot)");
-  auto* spanner_cmd = experiment->add_subcommand("spanner", "Path quality: sparse vs dense routes on random pairs");
+  auto* spanner_cmd = experiment->add_subcommand(
+      "spanner", "Route quality: sparse viewpoint pairs against dense routes and segments, by distance, per variant");
   common(spanner_cmd);
   spanner_cmd->add_option("--scene", exp.scene, "Scene name in --scenes");
+  spanner_cmd->add_flag("--calibrate", exp.calibrate,
+                        "The paper's N, K and calibrated delta for the scene (water_tower, truss_bridge, caric_city)");
   spanner_cmd->add_option("--samples", exp.samples, "N")->check(CLI::Range(1, 100'000'000));
-  spanner_cmd->add_option("--pairs", exp.pairs, "Random pairs of dense vertices")->check(CLI::Range(1, 10'000'000));
+  spanner_cmd->add_option("--pairs", exp.pairs, "Random pairs of dense vertices (SPARS's bound)")
+      ->check(CLI::Range(1, 10'000'000));
   spanner_cmd->add_option("--pois", exp.pois, "K")->check(CLI::Range(1, 10'000'000));
-  spanner_cmd->add_option("--delta", exp.delta, "delta (0: the scene's)")->check(CLI::Range(0.0, 1e6));
-  spanner_cmd->add_option("--seed", exp.seeds, "Seed of the pairs");
+  spanner_cmd->add_option("--delta", exp.delta, "delta (0: the scene's, or calibrated)")->check(CLI::Range(0.0, 1e6));
+  spanner_cmd->add_option("--seed", exp.build_seed, "Seed of the build (and of the POIs)");
+  spanner_cmd->add_option("--pairs-seed", exp.seeds, "Seed of the random dense pairs");
+  spanner_cmd->add_option("--max-sources", exp.max_sources, "Measure pairs from at most this many viewpoints (0: all)")
+      ->check(CLI::Range(std::size_t{0}, std::size_t{100'000'000}));
+  spanner_cmd->add_option("--variants", exp.variants, "Rule sets to compare (stretch, alg1)")
+      ->delimiter(',')
+      ->check(spars_variant);
   auto* anytime_cmd = experiment->add_subcommand(
       "anytime", "Fig. 4: best tour against solver time on Dense, Inspection-SPARS and IRIS-C roadmaps");
   common(anytime_cmd);
   anytime_cmd->add_option("--seeds", exp.seeds, "Seeds 1..S")->check(CLI::Range(1, 1000));
-  anytime_cmd->add_option("--budget", exp.budget, "Solver seconds per roadmap (the paper: 150)")->check(CLI::Range(0.1, 1e5));
+  anytime_cmd->add_option("--iterations", exp.iterations,
+                          "Solver iterations per roadmap: the same work for each (0: a time budget instead)")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{100'000'000}));
+  anytime_cmd->add_option("--budget", exp.budget, "With --iterations 0: solver seconds per roadmap (the paper: 150)")
+      ->check(CLI::Range(0.1, 1e5));
+  anytime_cmd->add_option("--cap", exp.cap, "With --iterations: wall-clock cap per tour, seconds")
+      ->check(CLI::Range(0.1, 1e5));
   anytime_cmd->add_option("--jobs", exp.jobs, "Roadmaps solved at once (one solver thread each)")->check(CLI::Range(1u, 64u));
   anytime_cmd->add_option("--csv", exp.csv, "CSV of mean +- sd of the best tour against time");
   anytime_cmd->add_option("--png", exp.png, "Plot (gnuplot)");
+  anytime_cmd->add_flag("--replot", exp.replot, "Only draw --png from the --csv of an earlier run");
+  anytime_cmd->add_option("--bound-seconds", exp.bound_seconds, "Seconds of LP lower bound per roadmap (0: none)")
+      ->check(CLI::Range(0.0, 1e5));
+
+  auto* ablation_cmd = experiment->add_subcommand(
+      "ablation", "Sparse-roadmap rules one by one: size, route stretch, Invariant 1 and tours (same targets, same work)");
+  common(ablation_cmd);
+  ablation_cmd->add_option("--scene", exp.scene, "water_tower, truss_bridge or caric_city (the paper's setting)");
+  ablation_cmd->add_option("--seeds", exp.seeds, "Seeds 1..S")->check(CLI::Range(1, 1000));
+  ablation_cmd->add_option("--delta", exp.delta, "delta (0: calibrated)")->check(CLI::Range(0.0, 1e6));
+  ablation_cmd->add_option("--samples", exp.samples, "N (0: the paper's)")->check(CLI::Range(0, 100'000'000));
+  ablation_cmd->add_option("--rule-sets", exp.rule_sets,
+                           "Rule sets: alg1 or stretch, then +R / -R with R in join, witness, shortcut")
+      ->delimiter(',');
+  ablation_cmd->add_option("--iterations", exp.iterations, "Solver iterations per roadmap")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
+  ablation_cmd->add_option("--cap", exp.cap, "Wall-clock cap per tour, seconds")->check(CLI::Range(0.1, 1e5));
+  ablation_cmd->add_option("--jobs", exp.jobs, "Tours solved at once (one solver thread each)")->check(CLI::Range(1u, 64u));
 
   TourCommandOptions tour;
   auto* tour_cmd = app.add_subcommand("tour", "An inspection tour (GIP) on a roadmap file or IRIS files");
@@ -116,6 +178,9 @@ int main(int argc, char** argv) {
   tour_cmd->add_option("--seed", tour.seed, "Seed");
   tour_cmd->add_option("--threads", tour.threads, "Search threads (one chain each)")->check(CLI::Range(1u, 64u));
   tour_cmd->add_option("--iterations", tour.iterations, "Stop after this many search iterations per thread (deterministic)");
+  tour_cmd->add_option("--targets", tour.targets, "A file of target POI ids (default: all seen from the root)");
+  tour_cmd->add_option("--bound", tour.bound, "lp: prove a lower bound by linear programming beside the search; simple")
+      ->check(CLI::IsMember({"lp", "simple"}));
   tour_cmd->add_flag("--json", tour.json, "Print one JSON object as the last line of stdout");
   tour_cmd->add_option("--out", tour.out, "Write the tour (walk, positions, trace) as JSON");
 
@@ -136,12 +201,15 @@ int main(int argc, char** argv) {
     if (build_cmd->parsed()) return run_build(build);
     if (tour_cmd->parsed()) return run_tour(tour);
     if (bench_build_cmd->parsed()) return run_bench_build(bench_build);
+    if (bench_tour_cmd->parsed()) return run_bench_tour(bench_tour);
     if (table_cmd->parsed()) return run_experiment_table(exp);
     if (scaling_cmd->parsed()) {
       if (exp.seeds == 6) exp.seeds = 10;  // the paper's Fig. 5 uses ten seeds
+      if (exp.pois == 0) exp.pois = 100;   // the paper's K on the water tower
       return run_experiment_scaling(exp);
     }
     if (anytime_cmd->parsed()) return run_experiment_anytime(exp);
+    if (ablation_cmd->parsed()) return run_experiment_ablation(exp);
     if (spanner_cmd->parsed()) {
       if (exp.seeds == 6) exp.seeds = 1;
       return run_experiment_spanner(exp);

@@ -1,8 +1,19 @@
 #include "timing.hpp"
 
 #include <algorithm>
+#include <fstream>
+#include <string>
 
 namespace ispars::lab {
+
+double peak_rss_mib() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  }
+  return 0.0;
+}
 
 double now_seconds() {
   using clock = std::chrono::steady_clock;

@@ -8,6 +8,9 @@
 
 namespace ispars::lab {
 
+/// Peak resident set size of this process in MiB (VmHWM), 0 when unknown.
+[[nodiscard]] double peak_rss_mib();
+
 /// Seconds on a monotonic clock.
 [[nodiscard]] double now_seconds();
 

@@ -3,8 +3,13 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <fstream>
 #include <iostream>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <sstream>
 
 #include "commands.hpp"
 #include "ispars/gip_solver.hpp"
@@ -13,6 +18,36 @@
 #include "json_output.hpp"
 
 namespace ispars::lab {
+namespace {
+
+// POI ids, whitespace-separated; '#' starts a comment.
+std::vector<PoiId> read_targets(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "--targets", "cannot open for reading");
+  std::vector<PoiId> targets;
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    line = line.substr(0, line.find('#'));
+    std::istringstream words(line);
+    for (std::string word; words >> word;) {
+      std::size_t used = 0;
+      unsigned long long id = 0;
+      try {
+        id = std::stoull(word, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != word.size() || word[0] == '-' || id > std::numeric_limits<PoiId>::max()) {
+        throw InputError(path, fmt::format("line {}", number), fmt::format("'{}' is not a POI id", word));
+      }
+      targets.push_back(static_cast<PoiId>(id));
+    }
+  }
+  if (targets.empty()) throw InputError(path, "--targets", "no POI id in the file");
+  return targets;
+}
+
+}  // namespace
 
 int run_tour(const TourCommandOptions& options) {
   if (options.roadmap.empty() == options.iris.empty()) {
@@ -29,17 +64,30 @@ int run_tour(const TourCommandOptions& options) {
   solve.seed = options.seed;
   solve.threads = options.threads;
   solve.max_iterations = options.iterations;
+  solve.lp_bound = options.bound == "lp";
+  if (!options.targets.empty()) solve.targets = read_targets(options.targets);
   const bool live = !options.json && ::isatty(STDERR_FILENO);
   if (live) {
-    solve.on_improvement = [](double t, double cost) {
-      std::cerr << fmt::format("\r{:8.2f} s  best tour {:.6g}   ", t, cost) << std::flush;
+    // Both callbacks run under the solver's locks, but on different threads.
+    auto shown = std::make_shared<std::pair<double, double>>(INFINITY, 0.0);
+    auto mutex = std::make_shared<std::mutex>();
+    const auto show = [shown, mutex](double t, double cost, double bound) {
+      std::lock_guard lock(*mutex);
+      if (cost >= 0) shown->first = cost;
+      if (bound >= 0) shown->second = bound;
+      std::cerr << fmt::format("\r{:8.2f} s  best tour {:.6g}  bound {:.6g}   ", t, shown->first, shown->second)
+                << std::flush;
     };
+    solve.on_improvement = [show](double t, double cost) { show(t, cost, -1.0); };
+    solve.on_bound = [show](double t, double bound) { show(t, -1.0, bound); };
   }
   const GipResult r = solve_gip(input.graph, solve);
   if (live) std::cerr << '\n';
 
   nlohmann::json trace = nlohmann::json::array();
   for (const auto& [t, c] : r.trace) trace.push_back({t, c});
+  nlohmann::json bound_trace = nlohmann::json::array();
+  for (const auto& [t, b] : r.bound_trace) bound_trace.push_back({t, b});
   const nlohmann::json lower = r.lower_bound ? nlohmann::json(*r.lower_bound) : nlohmann::json();
   const nlohmann::json out = {{"cost", r.tour.cost},
                               {"covered", r.tour.covered.size()},
@@ -48,6 +96,12 @@ int run_tour(const TourCommandOptions& options) {
                               {"lower_bound", lower},
                               {"valid", r.validation.valid()},
                               {"trace", trace},
+                              {"bound_trace", bound_trace},
+                              {"bound_complete", r.bound_complete},
+                              {"bound_rounds", r.bound_rounds},
+                              {"bound_cuts", r.bound_cuts},
+                              {"bound_note", r.bound_note},
+                              {"gap", r.lower_bound && r.tour.cost > 0 ? (r.tour.cost - *r.lower_bound) / r.tour.cost : 0.0},
                               {"walk_steps", r.tour.walk.size() - 1},
                               {"candidates", r.candidates},
                               {"iterations", r.iterations},
@@ -75,8 +129,12 @@ int run_tour(const TourCommandOptions& options) {
                              r.tour.walk.size() - 1, r.tour.covered.size(), r.targets.size(),
                              r.validation.valid() ? "valid" : "INVALID: " + r.validation.problem);
     if (r.lower_bound) {
-      std::cout << fmt::format("lower bound {:.6g} (gap {:.1f}%)\n", *r.lower_bound,
-                               100.0 * (r.tour.cost - *r.lower_bound) / r.tour.cost);
+      std::cout << fmt::format("proven lower bound {:.6g} (gap {:.1f}%){}\n", *r.lower_bound,
+                               100.0 * (r.tour.cost - *r.lower_bound) / r.tour.cost,
+                               r.bound_complete ? ", the LP solved over all its cuts"
+                               : !r.bound_note.empty() ? "; no LP bound: " + r.bound_note
+                                                        : fmt::format(", LP after {} rounds and {} cuts", r.bound_rounds,
+                                                                      r.bound_cuts));
     }
     std::cout << fmt::format("{} improvements in {:.2f} s, {} search iterations\n", r.trace.size(), r.seconds,
                              r.iterations);

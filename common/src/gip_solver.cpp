@@ -13,6 +13,9 @@
 
 #include "ispars/input_error.hpp"
 #include "ispars/random.hpp"
+#include "ispars/quick_tour.hpp"
+#include "ispars/tour_bound.hpp"
+#include "ispars/tour_closure.hpp"
 
 namespace ispars {
 namespace {
@@ -20,6 +23,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEps = 1e-9;
+// Above this many vertices in the root's component, a quick first tour comes before the search.
+constexpr std::size_t kQuickTourAbove = 20'000;
 
 // Dijkstra from `source` over the whole graph: distances and predecessors.
 void dijkstra(const InspectionGraph& g, VertexId source, std::vector<double>& dist, std::vector<VertexId>* parent,
@@ -46,15 +51,7 @@ void dijkstra(const InspectionGraph& g, VertexId source, std::vector<double>& di
   }
 }
 
-// The problem on the metric closure: candidate 0 is the root.
-struct Closure {
-  std::vector<VertexId> vertex;                 // candidate -> graph vertex
-  std::vector<std::vector<std::uint32_t>> sees; // candidate -> local target ids
-  std::vector<std::vector<std::uint32_t>> seen_by;  // local target -> candidates
-  std::vector<double> dist;                     // n x n
-  std::size_t n = 0;
-  [[nodiscard]] double d(std::size_t a, std::size_t b) const { return dist[a * n + b]; }
-};
+using Closure = TourClosure;
 
 // A tour on the closure: seq[0] is the root; the tour closes back to it.
 struct Solution {
@@ -81,6 +78,7 @@ class Chain {
     s.count.assign(c_.seen_by.size(), 0);
     s.in_tour.assign(c_.n, 0);
     s.in_tour[0] = 1;
+    c_.ensure_row(0);
     s.uncovered = c_.seen_by.size();
     add_coverage(s, 0);
     return s;
@@ -114,6 +112,7 @@ class Chain {
   }
 
   void insert(Solution& s, std::uint32_t v, std::size_t after, double delta) const {
+    c_.ensure_row(v);  // every tour vertex has its row: distances from the tour cost nothing more
     s.seq.insert(s.seq.begin() + static_cast<std::ptrdiff_t>(after + 1), v);
     s.in_tour[v] = 1;
     s.cost += delta;
@@ -424,47 +423,6 @@ std::vector<PoiId> choose_targets(const InspectionGraph& g, const GipOptions& o,
   return targets;
 }
 
-Closure build_closure(const InspectionGraph& g, VertexId root, const std::vector<PoiId>& targets,
-                      const std::vector<VertexId>& component, unsigned threads) {
-  std::vector<std::int64_t> local(g.poi_count(), -1);
-  for (std::size_t t = 0; t < targets.size(); ++t) local[targets[t]] = static_cast<std::int64_t>(t);
-  Closure c;
-  c.vertex.push_back(root);
-  for (const VertexId v : component) {
-    if (v == root) continue;
-    for (const PoiId p : g.visible(v)) {
-      if (local[p] >= 0) {
-        c.vertex.push_back(v);
-        break;
-      }
-    }
-  }
-  c.n = c.vertex.size();
-  c.sees.resize(c.n);
-  c.seen_by.resize(targets.size());
-  for (std::size_t i = 0; i < c.n; ++i) {
-    for (const PoiId p : g.visible(c.vertex[i])) {
-      if (local[p] >= 0) c.sees[i].push_back(static_cast<std::uint32_t>(local[p]));
-    }
-    std::sort(c.sees[i].begin(), c.sees[i].end());
-    for (const auto t : c.sees[i]) c.seen_by[t].push_back(static_cast<std::uint32_t>(i));
-  }
-  c.dist.assign(c.n * c.n, kInf);
-  std::atomic<std::size_t> next{0};
-  const auto work = [&] {
-    std::vector<double> dist;
-    for (std::size_t i; (i = next++) < c.n;) {
-      dijkstra(g, c.vertex[i], dist, nullptr);
-      for (std::size_t j = 0; j < c.n; ++j) c.dist[i * c.n + j] = dist[c.vertex[j]];
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  return c;
-}
-
 // The closed walk in the graph through the candidates of `seq`, in order.
 InspectionTour expand(const InspectionGraph& g, const Closure& c, const std::vector<std::uint32_t>& seq) {
   InspectionTour tour;
@@ -526,22 +484,82 @@ GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
     result.seconds = elapsed();
     return result;
   }
+  // The LP bound runs beside the search on its own thread, until the search ends.
+  std::atomic<bool> abandon_bound{false};  // set when the search fails, or ends with no bound budget
+  std::mutex bound_mutex;
+  TourBoundResult bounded;
+  std::thread bound_thread;
+  if (o.lp_bound) {
+    TourBoundOptions bo;
+    bo.root = o.root;
+    bo.targets = result.targets;
+    bo.budget_seconds = o.bound_seconds > 0.0 ? o.bound_seconds : o.budget_seconds > 0.0 ? o.budget_seconds : 1e7;
+    bo.should_stop = [&] { return abandon_bound.load() || (o.stop != nullptr && o.stop->load()); };
+    const double offset = elapsed();
+    bo.on_improvement = [&, offset](double seconds, double bound) {
+      std::lock_guard lock(bound_mutex);
+      result.bound_trace.emplace_back(offset + seconds, bound);
+      if (o.on_bound) o.on_bound(offset + seconds, bound);
+    };
+    bound_thread = std::thread([&, bo] { bounded = lp_tour_bound(g, bo); });
+  }
+  struct JoinOnExit {  // if the search throws, the bounding thread is stopped and joined anyway
+    std::atomic<bool>& done;
+    std::thread& thread;
+    ~JoinOnExit() {
+      done = true;
+      if (thread.joinable()) thread.join();
+    }
+  } join_on_exit{abandon_bound, bound_thread};
+  const auto finish_bound = [&] {
+    if (o.bound_seconds <= 0.0 && o.budget_seconds <= 0.0) abandon_bound = true;  // no budget of its own
+    if (bound_thread.joinable()) bound_thread.join();
+    result.lower_bound = std::max(result.lower_bound.value_or(0.0), bounded.bound);
+    result.bound_complete = bounded.complete;
+    result.bound_rounds = bounded.rounds;
+    result.bound_cuts = bounded.cuts;
+    result.bound_note = bounded.skipped;
+  };
+  // A large instance first gets a walk to the nearest unseen viewpoints (quick_tour.hpp), so a
+  // tour is in hand within the budget even before the closure rows for a search tour exist.
+  std::optional<InspectionTour> quick;
+  if (component.size() > kQuickTourAbove) {
+    quick = nearest_viewpoint_tour(g, o.root, result.targets, o.stop);
+    if (quick) {
+      result.trace.push_back({elapsed(), quick->cost});
+      if (o.on_improvement) o.on_improvement(result.trace.back().first, quick->cost);
+    }
+  }
   const unsigned threads = std::max(1u, o.threads);
-  const Closure c = build_closure(g, o.root, result.targets, component, threads);
+  TourClosureOptions closure_options;
+  closure_options.threads = threads;
+  // Rows ahead stop at the budget (the rest come on first use); a lazy row is refused after a stop.
+  const bool timed = o.max_iterations == 0 || o.budget_seconds > 0;
+  // With a quick tour in hand, lazy rows are refused past the budget too.
+  closure_options.should_stop = [&, timed] {
+    return (o.stop != nullptr && o.stop->load()) || (quick && timed && elapsed() >= o.budget_seconds);
+  };
+  closure_options.stop_rows_ahead = [&, timed] { return timed && elapsed() >= o.budget_seconds; };
+  const Closure c(g, o.root, result.targets, component, closure_options);
+  result.thinned = c.thinned;
   result.candidates = c.n;
 
   // A lower bound: every target needs a visit to some vertex seeing it, and a return.
   double bound = 0.0;
-  for (const auto& covering : c.seen_by) {
-    double best = kInf;
-    for (const auto v : covering) best = std::min(best, c.d(0, v) + c.d(v, 0));
-    bound = std::max(bound, best);
+  try {
+    for (const auto& covering : c.seen_by) {
+      double best = kInf;
+      for (const auto v : covering) best = std::min(best, c.d(0, v) + c.d(v, 0));
+      bound = std::max(bound, best);
+    }
+  } catch (const ClosureStopped&) {
+    bound = 0.0;  // stopped before the root's row: no simple bound
   }
   result.lower_bound = bound;
 
   std::mutex mutex;
   Solution best;
-  best.cost = kInf;
+  best.cost = quick ? quick->cost : kInf;  // a search tour is offered only when it beats the quick one
   std::size_t best_chain = 0;
   std::atomic<std::uint64_t> iterations{0};
   const auto offer = [&](const Solution& s, std::size_t chain) {
@@ -557,7 +575,7 @@ GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
       }
     }
   };
-  const auto run_chain = [&](std::size_t index) {
+  const auto search_chain = [&](std::size_t index) {
     Chain chain(c, o.seed * 0x9E3779B97F4A7C15ull + index + 1);
     Solution current = chain.empty();
     chain.repair(current, index == 0 ? 0.0 : 0.3);
@@ -566,7 +584,6 @@ GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
     Solution chain_best = current;
     double temperature = 0.05 * current.cost / std::max<std::size_t>(1, current.seq.size());
     // An iteration cap with a zero budget means "no time limit"; otherwise the budget always holds.
-    const bool timed = o.max_iterations == 0 || o.budget_seconds > 0;
     for (std::uint64_t it = 0;; ++it) {
       if (o.max_iterations > 0 && it >= o.max_iterations) break;
       if (timed && elapsed() >= o.budget_seconds) break;
@@ -591,13 +608,27 @@ GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
       temperature *= 0.9995;
     }
   };
+  const auto run_chain = [&](std::size_t index) {
+    try {
+      search_chain(index);
+    } catch (const ClosureStopped&) {
+      // stopped while a distance row was missing: the best tour offered so far stands
+    }
+  };
   std::vector<std::thread> pool;
   for (unsigned t = 1; t < threads; ++t) pool.emplace_back(run_chain, t);
   run_chain(0);
   for (auto& t : pool) t.join();
 
   result.iterations = iterations;
-  result.tour = expand(g, c, best.seq);
+  result.distance_rows = c.rows();
+  finish_bound();
+  if (best.seq.empty() && !quick) {
+    throw std::runtime_error(fmt::format("tour: stopped before a first tour was found ({} of {} distance rows computed)",
+                                         c.rows(), c.n));
+  }
+  result.tour = best.seq.empty() ? *quick : expand(g, c, best.seq);
+  result.tour.covered.clear();
   std::vector<char> seen(g.poi_count(), 0);
   for (const VertexId v : result.tour.walk) {
     for (const PoiId p : g.visible(v)) seen[p] = 1;

@@ -134,6 +134,9 @@ msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id
   m.generation(generation);
   if (s.recipe) {
     m.method(std::string(to_string(s.recipe->method)));
+    if (s.recipe->method == BuildMethod::spars || s.recipe->method == BuildMethod::ispars) {
+      m.variant(std::string(to_string(s.recipe->variant)));
+    }
     m.seed(s.recipe->seed);
     m.dense_delta(s.recipe->dense_delta);
     m.sparse_delta(s.recipe->sparse_delta);

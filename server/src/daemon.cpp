@@ -25,6 +25,8 @@ constexpr std::size_t kMaxOverrides = 16;
 constexpr std::size_t kSnapshotChunk = 1024 * 1024;
 constexpr std::size_t kSnapshotsKept = 4;
 constexpr unsigned kRequestThreads = 4;
+// Tours admitted (queued or running) per tour worker; past that a TOUR request gets "busy".
+constexpr std::size_t kToursPerWorker = 2;
 
 std::string host_name() {
   char buffer[256] = {};
@@ -75,6 +77,7 @@ void Daemon::shutdown() {
   if (shut_down_) return;
   shut_down_ = true;
   stopping_ = true;
+  stop_tours("");
   if (dds_) dds_->stop_requests();
   queue_wake_.notify_all();
   for (auto& t : request_threads_) t.join();
@@ -132,9 +135,35 @@ void Daemon::handle(const msg::Request& request) {
       break;
   }
   if (request.kind() == msg::TOUR) {
-    // A tour searches for its whole budget: run it on a tour worker, reply when it ends.
+    // A tour searches for its whole budget: run it on a tour worker, reply when it ends. At most
+    // kToursPerWorker per worker wait or run; past that the request is refused, not queued.
+    const std::size_t limit = kToursPerWorker * std::max(1u, config_.workers);
+    bool admitted = false;
+    {
+      std::lock_guard lock(tours_mutex_);
+      if (tours_admitted_ < limit) {
+        ++tours_admitted_;
+        admitted = true;
+      }
+    }
+    if (!admitted) {
+      reply.client_id(request.client_id());
+      reply.request_seq(request.request_seq());
+      reply.server_id(config_.server_id);
+      reply.kind(request.kind());
+      reply.ok(false);
+      reply.error(fmt::format("request: kind: busy: {} tours are queued or running (this daemon's limit); retry later",
+                              limit));
+      cache_.complete(request.client_id(), request.request_seq(), reply);
+      dds_->send_reply(reply);
+      return;
+    }
     tour_workers_->submit([this, request] {
       msg::Reply r = answer(request);
+      {
+        std::lock_guard lock(tours_mutex_);
+        --tours_admitted_;
+      }
       cache_.complete(request.client_id(), request.request_seq(), r);
       if (dds_) dds_->send_reply(r);
     });
@@ -172,7 +201,11 @@ msg::Reply Daemon::answer(const msg::Request& request) {
       case msg::EXTEND: extend(request, reply); break;
       case msg::CANCEL: {
         const auto s = session(name);
-        reply.message(s->cancel() ? "cancelling after the current chunk" : "no build running");
+        const bool build = s->cancel();
+        const std::size_t tours = stop_tours(name);
+        reply.message(fmt::format("{}; {} tour{} stopped (each replies with its best tour so far)",
+                                  build ? "cancelling the build after the current chunk" : "no build running", tours,
+                                  tours == 1 ? "" : "s"));
         reply.status(status_message(*s));
         break;
       }
@@ -424,20 +457,51 @@ void Daemon::tour(const msg::Request& request, msg::Reply& reply) {
   if (!s->status().recipe || published.roadmap->vertex_count() == 0) {
     throw InputError("request", "scene", fmt::format("scene '{}' has no roadmap yet", request.scene()));
   }
+  // This tour's stop flag: set by CANCEL on the scene and at shutdown.
+  const auto stop = std::make_shared<std::atomic<bool>>(stopping_.load());
+  std::multimap<std::string, std::shared_ptr<std::atomic<bool>>>::iterator registered;
+  {
+    std::lock_guard lock(tours_mutex_);
+    registered = running_tours_.emplace(request.scene(), stop);
+  }
+  struct Unregister {
+    Daemon* daemon;
+    std::multimap<std::string, std::shared_ptr<std::atomic<bool>>>::iterator it;
+    ~Unregister() {
+      std::lock_guard lock(daemon->tours_mutex_);
+      daemon->running_tours_.erase(it);
+    }
+  } unregister{this, registered};
+  if (stopping_) stop->store(true);  // shutdown began before the registration
   const InspectionGraph graph = InspectionGraph::from_roadmap(*published.roadmap);
   GipOptions options;
   options.budget_seconds = request.budget();
   options.seed = request.seed();
-  options.stop = &stopping_;
+  options.stop = stop.get();
   if (!request.targets().empty()) options.targets = std::vector<PoiId>(request.targets().begin(), request.targets().end());
-  options.on_improvement = [&](double seconds, double cost) {
+  // Progress carries the best tour and the best bound so far; the two callbacks come from
+  // different threads.
+  std::mutex progress_mutex;
+  double best_cost = 0.0, best_bound = 0.0;
+  const auto publish = [&](double seconds) {
     msg::TourProgress progress;
     progress.client_id(request.client_id());
     progress.request_seq(request.request_seq());
     progress.scene(request.scene());
     progress.seconds(seconds);
-    progress.cost(cost);
+    progress.cost(best_cost);
+    progress.lower_bound(best_bound);
     dds_->publish_tour_progress(progress);
+  };
+  options.on_improvement = [&](double seconds, double cost) {
+    std::lock_guard lock(progress_mutex);
+    best_cost = cost;
+    publish(seconds);
+  };
+  options.on_bound = [&](double seconds, double bound) {
+    std::lock_guard lock(progress_mutex);
+    best_bound = bound;
+    publish(seconds);
   };
   const GipResult r = solve_gip(graph, options);
   reply.walk(std::vector<std::uint32_t>(r.tour.walk.begin(), r.tour.walk.end()));
@@ -451,10 +515,25 @@ void Daemon::tour(const msg::Request& request, msg::Reply& reply) {
     reply.trace().push_back(t);
     reply.trace().push_back(c);
   }
+  for (const auto& [t, b] : r.bound_trace) {
+    reply.bound_trace().push_back(t);
+    reply.bound_trace().push_back(b);
+  }
+  reply.bound_complete(r.bound_complete);
   reply.tour_version(published.roadmap->version());
   reply.message(fmt::format("tour of cost {:.6g} covering {}/{} targets, {} iterations in {:.1f} s", r.tour.cost,
                             r.tour.covered.size(), r.targets.size(), r.iterations, r.seconds));
   reply.status(status_message(*s));
+}
+
+std::size_t Daemon::stop_tours(const std::string& scene) {
+  std::lock_guard lock(tours_mutex_);
+  std::size_t stopped = 0;
+  for (auto& [name, flag] : running_tours_) {
+    if (!scene.empty() && name != scene) continue;
+    if (!flag->exchange(true)) ++stopped;
+  }
+  return stopped;
 }
 
 msg::SceneStatus Daemon::status_message(const RoadmapSession& session) const {

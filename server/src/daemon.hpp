@@ -96,6 +96,13 @@ class Daemon {
 
   std::unique_ptr<WorkerPool> workers_;
   std::unique_ptr<WorkerPool> tour_workers_;  // tours run here, never on a request thread
+  // Tours admitted (queued or running), bounded; the stop flag of each running tour by scene,
+  // set by CANCEL on the scene and at shutdown.
+  std::mutex tours_mutex_;
+  std::size_t tours_admitted_ = 0;
+  std::multimap<std::string, std::shared_ptr<std::atomic<bool>>> running_tours_;
+  /// Sets the stop flag of every running tour on `scene` (every scene when empty); returns how many.
+  std::size_t stop_tours(const std::string& scene);
   std::unique_ptr<DdsEndpoints> dds_;
   bool shut_down_ = false;
 };

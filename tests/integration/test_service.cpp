@@ -395,8 +395,11 @@ TEST_F(ServiceTest, ToursAreSearchedByTheDaemonWithProgressAndValidated) {
   client.load("s0");
   client.build("s0", ispars_build(4000));
   const auto built = client.wait_idle("s0", {}, kLong);
-  std::vector<double> seen;
-  const msg::Reply r = client.tour("s0", 1.0, 3, {}, [&](double, double cost) { seen.push_back(cost); });
+  std::vector<double> seen, bounds;
+  const msg::Reply r = client.tour("s0", 1.0, 3, {}, [&](double, double cost, double bound) {
+    seen.push_back(cost);
+    bounds.push_back(bound);
+  });
   EXPECT_TRUE(r.tour_valid());
   EXPECT_EQ(r.covered(), r.target_count());
   EXPECT_EQ(r.target_count(), built.pois_covered_root());
@@ -408,7 +411,11 @@ TEST_F(ServiceTest, ToursAreSearchedByTheDaemonWithProgressAndValidated) {
   ASSERT_GE(r.trace().size(), 2u);
   EXPECT_DOUBLE_EQ(r.trace().back(), r.length());
   EXPECT_LE(r.lower_bound(), r.length());
+  EXPECT_GT(r.lower_bound(), 0.0);
+  ASSERT_GE(r.bound_trace().size(), 2u) << "the LP bound rose at least once";
+  EXPECT_LE(r.bound_trace().back(), r.lower_bound());
   EXPECT_FALSE(seen.empty()) << "no progress was published";
+  EXPECT_TRUE(std::any_of(bounds.begin(), bounds.end(), [](double b) { return b > 0.0; })) << "no bound was published";
   // The tour's steps are roadmap edges: check against a snapshot, independently of the daemon.
   const client::Snapshot snapshot = client.snapshot("s0");
   double cost = 0;
@@ -436,6 +443,70 @@ TEST_F(ServiceTest, ToursAreSearchedByTheDaemonWithProgressAndValidated) {
   bad.targets({});
   EXPECT_NE(client.call_raw(bad, "d").error().find("has no roadmap yet"), std::string::npos);
   EXPECT_TRUE(daemon->alive());
+}
+
+TEST_F(ServiceTest, ToursAreBoundedAndCancelStopsThemWithTheirBestTour) {
+  // One tour worker: two tours may wait or run, a third is refused at once.
+  auto daemon = start("d", {"--workers", "1"});
+  Client client(client_options(domain_));
+  client.load("s0");
+  client.build("s0", ispars_build(4000));
+  (void)client.wait_idle("s0", {}, kLong);
+  std::vector<msg::Reply> replies(2);
+  std::vector<std::unique_ptr<Client>> clients;
+  for (int i = 0; i < 2; ++i) {
+    clients.push_back(std::make_unique<Client>(client_options(domain_)));
+    (void)clients.back()->stats("s0");  // matched with the daemon before the tours start
+  }
+  std::vector<std::string> failures(2);
+  std::vector<std::thread> tours;
+  for (int i = 0; i < 2; ++i) {
+    tours.emplace_back([&, i] {
+      try {
+        replies[static_cast<std::size_t>(i)] = clients[static_cast<std::size_t>(i)]->tour("s0", 120.0, 1, {});
+      } catch (const std::exception& e) {
+        failures[static_cast<std::size_t>(i)] = e.what();
+      }
+    });
+  }
+  struct JoinAll {
+    std::vector<std::thread>& threads;
+    ~JoinAll() {
+      for (auto& t : threads) {
+        if (t.joinable()) t.join();
+      }
+    }
+  } join_all{tours};
+  // Both are admitted well within 2 s on loopback: a third is then refused at once, naming why.
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  msg::Request third;
+  third.kind(msg::TOUR);
+  third.scene("s0");
+  third.budget(120.0);
+  const msg::Reply refused = client.call_raw(third, "d");
+  EXPECT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().find("request: kind: busy: 2 tours are queued or running"), std::string::npos)
+      << refused.error();
+  // CANCEL on the scene stops the running tour, which replies with its best tour; the queued
+  // one then starts, and a second CANCEL stops it too.
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int round = 0; round < 40; ++round) {
+    const msg::Reply c = client.cancel("s0");
+    EXPECT_TRUE(c.ok()) << c.error();
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    if (!replies[0].walk().empty() && !replies[1].walk().empty()) break;
+  }
+  for (auto& t : tours) t.join();
+  EXPECT_EQ(failures, std::vector<std::string>(2)) << daemon->log();
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 30.0)
+      << "the tours ran on instead of stopping";
+  for (const msg::Reply& r : replies) {
+    EXPECT_TRUE(r.ok()) << r.error();
+    EXPECT_TRUE(r.tour_valid());
+    EXPECT_LE(r.lower_bound(), r.length());
+  }
+  EXPECT_TRUE(daemon->alive());
+  EXPECT_EQ(daemon->terminate(), 0);
 }
 
 TEST_F(ServiceTest, NoDaemonIsATimeoutNamingTheDomain) {

@@ -29,6 +29,27 @@ const Scene& shared_scene(const std::string& name) {
   return *slot;
 }
 
+Scene open_scene(double delta, double big_delta, bool wall) {
+  TriangleMesh mesh;
+  mesh.vertices = {{40, 40, 40}, {41, 40, 40}, {40, 41, 40}};
+  mesh.triangles = {{0, 1, 2}};
+  if (wall) {
+    mesh.vertices.insert(mesh.vertices.end(), {{2.5, -1, -1}, {2.5, 1, -1}, {2.5, 1, 1}, {2.5, -1, 1}});
+    mesh.triangles.insert(mesh.triangles.end(), {{3, 4, 5}, {3, 5, 6}});
+  }
+  SceneConfig c;
+  c.source = "test";
+  c.bounds = {Vec3(-50, -50, -50), Vec3(50, 50, 50)};
+  c.robot_radius = 0.1;
+  c.sensor_range = 1;
+  c.dense_delta = delta;
+  c.sparse_delta = big_delta;
+  c.stretch = 1.05;
+  c.root = Vec3(0, 0, 0);
+  c.pois = PoiSource{3, 1, false, {}};
+  return Scene::build(c, mesh);
+}
+
 TempDir::TempDir() {
   static int counter = 0;
   path_ = std::filesystem::temp_directory_path() /

@@ -19,6 +19,12 @@ const std::vector<std::string>& shared_scene_names();
 /// Loads deploy/scenes/NAME.yaml once per process and keeps it.
 const Scene& shared_scene(const std::string& name);
 
+/// A scene of free space around the origin (bounds +-50, robot radius 0.1, sensor range 1, t
+/// 1.05, root at the origin, 3 POIs) with the given delta and Delta. Its obstacles are a far
+/// tile at (40, 40, 40) and, with `wall`, a square at x = 2.5 (|y|, |z| <= 1) that blocks the
+/// segment from the origin to (5, 0, 0).
+Scene open_scene(double delta, double big_delta, bool wall = false);
+
 /// A fresh temporary directory, removed when the object dies.
 class TempDir {
  public:

@@ -46,13 +46,14 @@ TEST(WireConvert, StatusCarriesTheRecipeAndCounts) {
   SessionStatus s;
   s.scene = "tower";
   s.state = SessionState::building;
-  s.recipe = RoadmapRecipe{"tower", BuildMethod::spars, 4, 0.2, 1.0, 2.0, 1.1, 77};
+  s.recipe = RoadmapRecipe{"tower", BuildMethod::spars, 4, 0.2, SparsVariant::alg1, 1.0, 2.0, 1.1, 77};
   s.samples_done = 10;
   s.samples_target = 20;
   s.vertices = 5;
   const msg::SceneStatus m = to_message(s, "d1", 77);
   EXPECT_EQ(m.state(), msg::SCENE_BUILDING);
   EXPECT_EQ(m.method(), "spars");
+  EXPECT_EQ(m.variant(), "alg1");
   EXPECT_EQ(m.seed(), 4u);
   EXPECT_EQ(m.sparse_delta(), 2.0);
   EXPECT_EQ(m.generation(), 77u);

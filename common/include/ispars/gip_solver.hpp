@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -35,6 +36,15 @@ struct GipOptions {
   std::function<void(double seconds, double cost)> on_improvement;
   /// When set and true, the search stops early and returns the best tour so far.
   const std::atomic<bool>* stop = nullptr;
+  /// Prove a lower bound by linear programming (tour_bound.hpp) beside the search, on one more
+  /// thread, until the LP is solved over all its cuts, `stop` is set or its own budget ends;
+  /// solve_gip returns when both are done.
+  bool lp_bound = true;
+  /// The LP's wall-clock budget in seconds (0: budget_seconds; when that is 0 too, the bound
+  /// stops when the search ends).
+  double bound_seconds = 0.0;
+  /// Called (under a lock, from the bounding thread) when the proven bound rises.
+  std::function<void(double seconds, double bound)> on_bound;
 };
 
 struct GipResult {
@@ -42,9 +52,16 @@ struct GipResult {
   std::vector<PoiId> targets;
   std::vector<std::pair<double, double>> trace;  ///< (seconds, best cost) at each improvement.
   std::optional<double> lower_bound;             ///< A proven lower bound on the optimum.
+  std::vector<std::pair<double, double>> bound_trace;  ///< (seconds, proven bound) at each rise.
+  bool bound_complete = false;                   ///< The LP was solved over all its cuts.
+  std::size_t bound_rounds = 0;                  ///< LP solves.
+  std::size_t bound_cuts = 0;                    ///< LP rows.
+  std::string bound_note;                        ///< Why no LP bound was computed, when none was.
   double seconds = 0.0;
   std::uint64_t iterations = 0;                  ///< Large-neighbourhood iterations, all threads.
   std::size_t candidates = 0;                    ///< Vertices of the metric closure.
+  std::size_t distance_rows = 0;                 ///< Dijkstra rows computed (tour_closure.hpp).
+  std::size_t thinned = 0;                       ///< Target-seeing vertices left out (tour_closure.hpp).
   TourValidation validation;
 };
 

@@ -80,10 +80,10 @@ class Client {
   /// The whole roadmap, fetched in chunks at one version.
   Snapshot snapshot(const std::string& scene);
   /// An inspection tour on the scene's roadmap, searched for `budget` seconds; `progress` is
-  /// called with (seconds, best cost) as the daemon improves it. Empty targets: every POI seen
-  /// from the root's component.
+  /// called with (seconds, best cost, proven bound) as the daemon improves either (0: none yet).
+  /// Empty targets: every POI seen from the root's component.
   msg::Reply tour(const std::string& scene, double budget, std::uint64_t seed, const std::vector<std::uint32_t>& targets,
-                  const std::function<void(double seconds, double cost)>& progress = {});
+                  const std::function<void(double seconds, double cost, double bound)>& progress = {});
 
   /// Waits until the scene has no job (idle, empty or failed), calling `progress` on each status
   /// change seen meanwhile. Throws ClientError(timeout) after `timeout`.

@@ -1,0 +1,138 @@
+#include "tour_support.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <iterator>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "ispars/input_error.hpp"
+
+namespace ispars::lab {
+
+std::vector<PoiId> seen_from_root(const InspectionGraph& graph) {
+  std::vector<char> seen(graph.poi_count(), 0);
+  for (const VertexId v : graph.component_of(0)) {
+    for (const PoiId p : graph.visible(v)) seen[p] = 1;
+  }
+  std::vector<PoiId> out;
+  for (PoiId p = 0; p < graph.poi_count(); ++p) {
+    if (seen[p]) out.push_back(p);
+  }
+  return out;
+}
+
+std::vector<PoiId> common_targets(std::span<const InspectionGraph* const> graphs) {
+  if (graphs.empty()) return {};
+  std::vector<PoiId> common = seen_from_root(*graphs.front());
+  for (const InspectionGraph* g : graphs.subspan(1)) {
+    const std::vector<PoiId> mine = seen_from_root(*g);
+    std::vector<PoiId> both;
+    std::set_intersection(common.begin(), common.end(), mine.begin(), mine.end(), std::back_inserter(both));
+    common = std::move(both);
+  }
+  return common;
+}
+
+InspectionGraph with_viewpoints(const Roadmap& dense, std::span<const VertexId> viewpoints) {
+  std::vector<std::vector<PoiId>> visible(dense.vertex_count());
+  for (const VertexId v : viewpoints) visible[v] = dense.visibility_table().ids(v);
+  return InspectionGraph::from_edges(dense.vertex_count(), dense.edges(), std::move(visible),
+                                     dense.visibility_table().poi_count());
+}
+
+std::vector<GipResult> solve_each(std::span<const InspectionGraph* const> graphs, const std::vector<PoiId>& targets,
+                                  std::uint64_t seed, const SolverWork& work) {
+  std::vector<GipResult> results(graphs.size());
+  std::mutex mutex;
+  std::size_t next = 0;
+  std::string failure;
+  const auto worker = [&] {
+    for (;;) {
+      std::size_t i;
+      {
+        std::lock_guard lock(mutex);
+        if (next >= graphs.size() || !failure.empty()) return;
+        i = next++;
+      }
+      try {
+        GipOptions solve;
+        solve.targets = targets;
+        solve.budget_seconds = work.cap_seconds;
+        solve.max_iterations = work.iterations;
+        solve.seed = seed;
+        solve.lp_bound = false;  // bounds are measured on their own (bound_each), not on the search's time
+        GipResult r = solve_gip(*graphs[i], solve);
+        if (!r.validation.valid()) throw std::runtime_error("invalid tour: " + r.validation.problem);
+        results[i] = std::move(r);
+      } catch (const std::exception& e) {
+        std::lock_guard lock(mutex);
+        failure = e.what();
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned j = 1; j < std::max(1u, work.jobs); ++j) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (!failure.empty()) throw std::runtime_error(failure);
+  return results;
+}
+
+std::vector<TourBoundResult> bound_each(std::span<const InspectionGraph* const> graphs,
+                                       const std::vector<PoiId>& targets, double seconds, unsigned jobs) {
+  std::vector<TourBoundResult> results(graphs.size());
+  std::atomic<std::size_t> next{0};
+  const auto worker = [&] {
+    for (std::size_t i; (i = next++) < graphs.size();) {
+      TourBoundOptions options;
+      options.targets = targets;
+      options.budget_seconds = seconds;
+      results[i] = lp_tour_bound(*graphs[i], options);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned j = 1; j < std::max(1u, jobs); ++j) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  return results;
+}
+
+bool hit_time_cap(const GipResult& result, const SolverWork& work) {
+  return work.iterations > 0 && result.iterations < work.iterations && result.seconds >= work.cap_seconds;
+}
+
+SparsRules parse_rule_set(const std::string& name, const std::string& field) {
+  const auto bad = [&](const std::string& why) {
+    return InputError("experiment", field, "rule set '" + name + "': " + why);
+  };
+  const std::size_t cut = name.find_first_of("+-");
+  const auto variant = parse_spars_variant(name.substr(0, cut));
+  if (!variant) throw bad("must start with alg1 or stretch");
+  SparsRules rules = SparsRules::for_variant(*variant, true);
+  std::size_t at = cut;
+  while (at != std::string::npos) {
+    const bool on = name[at] == '+';
+    const std::size_t end = name.find_first_of("+-", at + 1);
+    const std::string rule = name.substr(at + 1, end == std::string::npos ? std::string::npos : end - at - 1);
+    if (rule == "join") {
+      rules.vertex_join = on;
+    } else if (rule == "witness") {
+      rules.witnessed_pairs = on;
+    } else if (rule == "bridge") {
+      rules.bridge_by_edge = on;
+    } else if (rule == "nearest") {
+      rules.witness_nearest_only = on;
+    } else if (rule == "shortcut") {
+      rules.dense_shortcut = on;
+    } else {
+      throw bad("unknown rule '" + rule + "' (join, witness, shortcut)");
+    }
+    at = end;
+  }
+  return rules;
+}
+
+}  // namespace ispars::lab

@@ -1,0 +1,55 @@
+#pragma once
+// Shared pieces of the lab's tour experiments: the common target set, the Dense graph seen only
+// from chosen viewpoints, and solving several graphs with the same solver work.
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "ispars/gip_solver.hpp"
+#include "ispars/inspection_graph.hpp"
+#include "ispars/spars_builder.hpp"
+#include "ispars/tour_bound.hpp"
+
+namespace ispars::lab {
+
+/// POIs seen by some vertex of the root's component.
+[[nodiscard]] std::vector<PoiId> seen_from_root(const InspectionGraph& graph);
+
+/// I_t: the POIs seen from the root's component in every graph.
+[[nodiscard]] std::vector<PoiId> common_targets(std::span<const InspectionGraph* const> graphs);
+
+/// The dense roadmap as a tour graph in which only `viewpoints` (dense ids) see POIs: Dense
+/// routing with a sparse roadmap's viewpoints. Separates "viewpoints lost" from "routing lost".
+[[nodiscard]] InspectionGraph with_viewpoints(const Roadmap& dense, std::span<const VertexId> viewpoints);
+
+/// The same solver work for every graph: an iteration cap (deterministic, the same on any
+/// machine) with a wall-clock cap as a safety net, one solver thread per graph, `jobs` graphs
+/// at a time.
+struct SolverWork {
+  std::uint64_t iterations = 30'000;
+  double cap_seconds = 600.0;
+  unsigned jobs = 2;
+};
+
+/// Solves each graph for `targets` with `work`; throws std::runtime_error on a solver failure or
+/// an invalid tour. result[i] belongs to graphs[i].
+[[nodiscard]] std::vector<GipResult> solve_each(std::span<const InspectionGraph* const> graphs,
+                                                const std::vector<PoiId>& targets, std::uint64_t seed,
+                                                const SolverWork& work);
+
+/// The LP lower bound (tour_bound.hpp) of each graph for `targets`, `seconds` of wall clock
+/// each, `jobs` graphs at a time. result[i] belongs to graphs[i].
+[[nodiscard]] std::vector<TourBoundResult> bound_each(std::span<const InspectionGraph* const> graphs,
+                                                      const std::vector<PoiId>& targets, double seconds,
+                                                      unsigned jobs);
+
+/// True when the run stopped at the wall-clock cap, before its iteration cap.
+[[nodiscard]] bool hit_time_cap(const GipResult& result, const SolverWork& work);
+
+/// A rule set by name: "alg1" or "stretch", then any of "+R" / "-R" with R in join, witness,
+/// shortcut (e.g. "alg1+join", "stretch+shortcut"). Throws InputError (field `field`) otherwise.
+[[nodiscard]] SparsRules parse_rule_set(const std::string& name, const std::string& field);
+
+}  // namespace ispars::lab
