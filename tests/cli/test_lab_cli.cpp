@@ -209,7 +209,7 @@ TEST_F(LabTour, ToursOnRoadmapFilesAndIrisFilesKeepTheJsonContract) {
   const auto roadmap = dir_ / "rm.json";
   ASSERT_EQ(lab("build " + scene + " --method ispars --samples 3000 --out " + roadmap.string()).exit_code, 0);
   for (const char* graph : {"roadmap", "dense"}) {
-    const LabRun run = lab("tour " + roadmap.string() + " --graph " + graph + " --budget 5 --iterations 30 --json --out " +
+    const LabRun run = lab("tour " + roadmap.string() + " --graph " + graph + " --budget 2 --iterations 30 --json --out " +
                            (dir_ / "tour.json").string());
     ASSERT_EQ(run.exit_code, 0) << run.err;
     const std::string last = run.out.substr(run.out.rfind('{'));
@@ -237,6 +237,45 @@ TEST_F(LabTour, ToursOnRoadmapFilesAndIrisFilesKeepTheJsonContract) {
   ASSERT_EQ(lab("build " + scene + " --method irisc --samples 3000 --iris " + prefix).exit_code, 0);
   EXPECT_EQ(lab("tour --iris " + prefix + " --budget 1 --iterations 10 --json").exit_code, 0);
   EXPECT_EQ(lab("tour --iris " + prefix + " --all-edges --budget 1 --iterations 10 --json").exit_code, 0);
+}
+
+TEST_F(LabTour, ATargetsFileFixesTheTargetSetAndTheLpBoundStaysBelowTheTour) {
+  const std::string scene = std::string(ISPARS_SCENES_DIR) + "/demo_tank_tower.yaml";
+  const auto roadmap = dir_ / "rm.json";
+  ASSERT_EQ(lab("build " + scene + " --method ispars --samples 1500 --out " + roadmap.string()).exit_code, 0);
+  ASSERT_EQ(lab("tour " + roadmap.string() + " --budget 5 --iterations 20 --out " + (dir_ / "all.json").string()).exit_code, 0);
+  const auto all = nlohmann::json::parse(slurp(dir_ / "all.json"))["targets"];
+  ASSERT_GE(all.size(), 3u);
+  const auto targets = write("targets.txt", "# three of them\n" + all[0].dump() + " " + all[2].dump() + "\n\n" +
+                                                all[1].dump() + "  # the second\n");
+  const LabRun run = lab("tour " + roadmap.string() + " --targets " + targets.string() +
+                         " --bound lp --budget 5 --iterations 50 --json --out " + (dir_ / "some.json").string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out.substr(run.out.rfind('{')));
+  EXPECT_EQ(json["targets"], 3);
+  EXPECT_EQ(json["covered"], 3);
+  EXPECT_TRUE(json["valid"].get<bool>());
+  const auto chosen = nlohmann::json::parse(slurp(dir_ / "some.json"))["targets"];
+  EXPECT_EQ(chosen, (nlohmann::json{all[0], all[1], all[2]}));
+  ASSERT_FALSE(json["bound_trace"].empty()) << "an LP bound was proven";
+  EXPECT_GT(json["lower_bound"].get<double>(), 0.0);
+  EXPECT_LE(json["lower_bound"].get<double>(), json["cost"].get<double>() * (1 + 1e-9));
+  for (const auto& step : json["bound_trace"]) EXPECT_LE(step[1].get<double>(), json["lower_bound"].get<double>() + 1e-9);
+
+  const auto bad = write("bad.txt", "1 2\n3 x7\n");
+  expect_input_error(lab("tour " + roadmap.string() + " --targets " + bad.string() + " --budget 1"), bad.string(), "line 2");
+  const auto negative = write("negative.txt", "-4\n");
+  expect_input_error(lab("tour " + roadmap.string() + " --targets " + negative.string() + " --budget 1"),
+                     negative.string(), "line 1");
+  const auto empty = write("empty.txt", "# nothing\n");
+  expect_input_error(lab("tour " + roadmap.string() + " --targets " + empty.string() + " --budget 1"), empty.string(),
+                     "--targets");
+  const auto unknown = write("unknown.txt", "0 4000000\n");
+  const LabRun far = lab("tour " + roadmap.string() + " --targets " + unknown.string() + " --budget 1");
+  expect_input_error(far, "tour", "targets");
+  EXPECT_NE(far.err.find("unknown POI ids (the first: 4000000"), std::string::npos) << far.err;
+  expect_input_error(lab("tour " + roadmap.string() + " --targets " + (dir_ / "none.txt").string() + " --budget 1"),
+                     (dir_ / "none.txt").string(), "--targets");
 }
 
 TEST_F(LabTour, BadInputIsNamed) {
