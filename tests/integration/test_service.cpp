@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "ispars/client/client.hpp"
-#include "ispars/client/local_daemon.hpp"
+#include "support/local_daemon.hpp"
 #include "ispars/client/replica.hpp"
 #include "ispars/roadmap_builder.hpp"
 #include "ispars/roadmap_log.hpp"
@@ -506,7 +506,26 @@ TEST_F(ServiceTest, ToursAreBoundedAndCancelStopsThemWithTheirBestTour) {
     EXPECT_LE(r.lower_bound(), r.length());
   }
   EXPECT_TRUE(daemon->alive());
+  // SIGTERM during a tour: the tour stops, replies with its best tour, and the daemon exits
+  // without waiting for the tour's budget (30 s).
+  msg::Reply last;
+  std::string last_failure;
+  std::thread running([&] {
+    try {
+      last = clients[0]->tour("s0", 30.0, 2, {});
+    } catch (const std::exception& e) {
+      last_failure = e.what();
+    }
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  const auto t1 = std::chrono::steady_clock::now();
   EXPECT_EQ(daemon->terminate(), 0);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count(), 10.0)
+      << "SIGTERM waited for the tour";
+  running.join();
+  EXPECT_EQ(last_failure, "");
+  EXPECT_TRUE(last.ok()) << last.error();
+  EXPECT_TRUE(last.tour_valid());
 }
 
 TEST_F(ServiceTest, NoDaemonIsATimeoutNamingTheDomain) {
