@@ -9,7 +9,7 @@ PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools default-jre-headless
   libcli11-dev libnanoflann-dev nlohmann-json3-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev libompl-dev
-  coinor-libclp-dev
+  coinor-libclp-dev zlib1g-dev
   gnuplot-nox
 )
 

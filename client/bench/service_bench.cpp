@@ -33,7 +33,7 @@
 #include <thread>
 
 #include "ispars/client/client.hpp"
-#include "ispars/client/local_daemon.hpp"
+#include "support/local_daemon.hpp"
 #include "ispars/client/replica.hpp"
 #include "ispars/roadmap_log.hpp"
 #include "ispars/wire/topics.hpp"

@@ -83,18 +83,6 @@ RoadmapBatch from_message(const msg::UpdateBatch& m) {
   return batch;
 }
 
-msg::SceneState to_message(SessionState state) {
-  switch (state) {
-    case SessionState::empty: return msg::SCENE_EMPTY;
-    case SessionState::idle: return msg::SCENE_IDLE;
-    case SessionState::queued: return msg::SCENE_QUEUED;
-    case SessionState::replaying: return msg::SCENE_REPLAYING;
-    case SessionState::building: return msg::SCENE_BUILDING;
-    case SessionState::failed: return msg::SCENE_FAILED;
-  }
-  return msg::SCENE_FAILED;
-}
-
 std::string to_string(msg::SceneState state) {
   switch (state) {
     case msg::SCENE_EMPTY: return "empty";
@@ -124,37 +112,6 @@ std::string to_string(msg::RequestKind kind) {
     case msg::TOUR: return "tour";
   }
   return "unknown";
-}
-
-msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id, std::uint64_t generation) {
-  msg::SceneStatus m;
-  m.scene(s.scene);
-  m.server_id(server_id);
-  m.state(to_message(s.state));
-  m.generation(generation);
-  if (s.recipe) {
-    m.method(std::string(to_string(s.recipe->method)));
-    if (s.recipe->method == BuildMethod::spars || s.recipe->method == BuildMethod::ispars) {
-      m.variant(std::string(to_string(s.recipe->variant)));
-    }
-    m.seed(s.recipe->seed);
-    m.dense_delta(s.recipe->dense_delta);
-    m.sparse_delta(s.recipe->sparse_delta);
-    m.stretch(s.recipe->stretch);
-  }
-  m.samples_done(s.samples_done);
-  m.samples_target(s.samples_target);
-  m.version(s.version);
-  m.vertices(static_cast<std::uint32_t>(s.vertices));
-  m.edges(static_cast<std::uint32_t>(s.edges));
-  m.components(static_cast<std::uint32_t>(s.components));
-  m.dense_vertices(static_cast<std::uint32_t>(s.dense_vertices));
-  m.dense_edges(static_cast<std::uint32_t>(s.dense_edges));
-  m.poi_count(static_cast<std::uint32_t>(s.poi_count));
-  m.pois_covered(static_cast<std::uint32_t>(s.pois_covered));
-  m.pois_covered_root(static_cast<std::uint32_t>(s.pois_covered_root));
-  m.last_error(s.last_error);
-  return m;
 }
 
 }  // namespace ispars::wire

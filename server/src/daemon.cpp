@@ -14,8 +14,9 @@
 #include "ispars/gip_solver.hpp"
 #include "ispars/inspection_graph.hpp"
 #include "ispars/input_error.hpp"
-#include "ispars/scene_catalog.hpp"
+#include "ispars/service/scene_catalog.hpp"
 #include "ispars/wire/convert.hpp"
+#include "status_message.hpp"
 
 namespace ispars::server {
 namespace {
@@ -539,7 +540,7 @@ std::size_t Daemon::stop_tours(const std::string& scene) {
 msg::SceneStatus Daemon::status_message(const RoadmapSession& session) const {
   // Stamped under one lock with the reading, so a later stamp is never an older state.
   std::lock_guard lock(status_mutex_);
-  msg::SceneStatus m = wire::to_message(session.status(), config_.server_id, session.published().generation);
+  msg::SceneStatus m = to_message(session.status(), config_.server_id, session.published().generation);
   m.status_seq(++status_seq_);
   return m;
 }

@@ -15,9 +15,9 @@
 
 #include "daemon_config.hpp"
 #include "ispars.h"
-#include "ispars/roadmap_session.hpp"
+#include "ispars/service/roadmap_session.hpp"
 #include "reply_cache.hpp"
-#include "worker_pool.hpp"
+#include "ispars/service/worker_pool.hpp"
 
 namespace ispars::server {
 

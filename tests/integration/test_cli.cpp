@@ -11,7 +11,7 @@
 #include <sstream>
 #include <thread>
 
-#include "ispars/client/local_daemon.hpp"
+#include "support/local_daemon.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars::test {

@@ -6,7 +6,7 @@
 #include <thread>
 
 #include "ispars/input_error.hpp"
-#include "ispars/roadmap_session.hpp"
+#include "ispars/service/roadmap_session.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

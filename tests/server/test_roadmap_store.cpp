@@ -6,7 +6,7 @@
 
 #include <fstream>
 
-#include "ispars/roadmap_store.hpp"
+#include "ispars/service/roadmap_store.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "ispars/input_error.hpp"
-#include "ispars/scene_catalog.hpp"
+#include "ispars/service/scene_catalog.hpp"
 
 #include <fstream>
 #include "support/test_support.hpp"

@@ -6,7 +6,7 @@
 #include <chrono>
 #include <thread>
 
-#include "worker_pool.hpp"
+#include "ispars/service/worker_pool.hpp"
 
 namespace ispars::server {
 namespace {

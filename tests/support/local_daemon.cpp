@@ -1,4 +1,4 @@
-#include "ispars/client/local_daemon.hpp"
+#include "support/local_daemon.hpp"
 
 #include <fcntl.h>
 #include <signal.h>

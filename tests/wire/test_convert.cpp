@@ -42,25 +42,5 @@ TEST(WireConvert, InconsistentBatchesAreRefused) {
   EXPECT_THROW((void)from_message(m), std::runtime_error);  // backwards
 }
 
-TEST(WireConvert, StatusCarriesTheRecipeAndCounts) {
-  SessionStatus s;
-  s.scene = "tower";
-  s.state = SessionState::building;
-  s.recipe = RoadmapRecipe{"tower", BuildMethod::spars, 4, 0.2, SparsVariant::alg1, 1.0, 2.0, 1.1, 77};
-  s.samples_done = 10;
-  s.samples_target = 20;
-  s.vertices = 5;
-  const msg::SceneStatus m = to_message(s, "d1", 77);
-  EXPECT_EQ(m.state(), msg::SCENE_BUILDING);
-  EXPECT_EQ(m.method(), "spars");
-  EXPECT_EQ(m.variant(), "alg1");
-  EXPECT_EQ(m.seed(), 4u);
-  EXPECT_EQ(m.sparse_delta(), 2.0);
-  EXPECT_EQ(m.generation(), 77u);
-  EXPECT_EQ(m.vertices(), 5u);
-  EXPECT_EQ(to_string(m.state()), "building");
-  EXPECT_EQ(to_string(msg::SCENE_UNLOADED), "unloaded");
-}
-
 }  // namespace
 }  // namespace ispars::wire

@@ -5,7 +5,7 @@
 #include <span>
 #include <vector>
 
-#include "ispars/visibility.hpp"
+#include "ispars/poi_id.hpp"
 
 namespace ispars {
 

@@ -15,7 +15,7 @@
 
 namespace ispars {
 
-/// CRC-32 (IEEE 802.3, reflected, as zlib computes it).
+/// CRC-32 (IEEE 802.3), zlib's.
 [[nodiscard]] std::uint32_t crc32(const void* data, std::size_t size);
 
 /// Checks one record's payload in sequence; returns an empty string to accept it, else what is

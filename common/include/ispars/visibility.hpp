@@ -7,12 +7,10 @@
 
 #include "ispars/check_counters.hpp"
 #include "ispars/embree_scene.hpp"
+#include "ispars/poi_id.hpp"
 #include "ispars/vec.hpp"
 
 namespace ispars {
-
-/// Index of a point of interest in the scene's POI list.
-using PoiId = std::uint32_t;
 
 /// A line of sight stops this far short of its POI, so the surface the POI lies on (and any
 /// surface closer to the POI than this, e.g. at a crease) does not block it. Metres.

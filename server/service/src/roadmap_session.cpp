@@ -1,4 +1,4 @@
-#include "ispars/roadmap_session.hpp"
+#include "ispars/service/roadmap_session.hpp"
 
 #include <fmt/format.h>
 

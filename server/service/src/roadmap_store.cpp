@@ -1,4 +1,4 @@
-#include "ispars/roadmap_store.hpp"
+#include "ispars/service/roadmap_store.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>

@@ -1,4 +1,4 @@
-#include "ispars/scene_catalog.hpp"
+#include "ispars/service/scene_catalog.hpp"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "worker_pool.hpp"
+#include "ispars/service/worker_pool.hpp"
 
 namespace ispars::server {
 

@@ -1,11 +1,10 @@
 #pragma once
-// Conversions between the core library's types and the IDL messages.
+// Conversions between the roadmap types a client needs and the IDL messages.
 
 #include <string>
 
 #include "ispars.h"
 #include "ispars/roadmap_log.hpp"
-#include "ispars/roadmap_session.hpp"
 
 namespace ispars::wire {
 
@@ -20,10 +19,6 @@ namespace ispars::wire {
 /// self-consistent (order and contents disagree, ids out of sequence).
 [[nodiscard]] RoadmapBatch from_message(const msg::UpdateBatch& message);
 
-/// A session status as a status message.
-[[nodiscard]] msg::SceneStatus to_message(const SessionStatus& status, const std::string& server_id,
-                                          std::uint64_t generation);
-[[nodiscard]] msg::SceneState to_message(SessionState state);
 [[nodiscard]] std::string to_string(msg::SceneState state);
 [[nodiscard]] std::string to_string(msg::RequestKind kind);
 

@@ -20,7 +20,7 @@
 #include "ispars/path_query.hpp"
 #include "ispars/roadmap_builder.hpp"
 #include "ispars/roadmap_log.hpp"
-#include "ispars/roadmap_store.hpp"
+#include "ispars/service/roadmap_store.hpp"
 #include "ispars/roadmap_verifier.hpp"
 #include "ispars/scene.hpp"
 

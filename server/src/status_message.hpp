@@ -1,0 +1,19 @@
+#pragma once
+// A session's status as the SceneStatus message the daemon publishes (the service's own type
+// on the wire; clients read the message itself).
+
+#include <cstdint>
+#include <string>
+
+#include "ispars.h"
+#include "ispars/service/roadmap_session.hpp"
+
+namespace ispars::server {
+
+/// `status` as a status message from `server_id`, for the roadmap of `generation`.
+[[nodiscard]] msg::SceneStatus to_message(const SessionStatus& status, const std::string& server_id,
+                                          std::uint64_t generation);
+/// The wire's name for a session state.
+[[nodiscard]] msg::SceneState to_message(SessionState state);
+
+}  // namespace ispars::server
