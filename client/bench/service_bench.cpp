@@ -84,10 +84,8 @@ struct RawEndpoints final : public fdds::DataReaderListener {
   RawEndpoints(int domain, const char* in_topic_name, const char* out_topic_name, bool is_server)
       : participant({domain, "", "ispars", "raw ping-pong"}), server(is_server) {
     fdds::DomainParticipant* p = participant.get();
-    request_type.register_type(p);
-    reply_type.register_type(p);
-    auto* ping = p->create_topic("bench/ping", request_type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
-    auto* pong = p->create_topic("bench/pong", reply_type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+    auto* ping = ispars::wire::find_or_create_topic(p, request_type, "bench/ping");
+    auto* pong = ispars::wire::find_or_create_topic(p, reply_type, "bench/pong");
     (void)in_topic_name;
     (void)out_topic_name;
     auto* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
@@ -152,7 +150,7 @@ nlohmann::json run_rtt(const std::string& daemon_binary, int count) {
   Bench bench(daemon_binary);
   Client client(bench.options());
   client.load("tower");
-  client.build("tower", {"ispars", 2000, 1, {}, false});
+  client.build("tower", {"ispars", 2000, 1, {}, false, {}});
   client.wait_idle("tower", {}, std::chrono::seconds(120));
 
   // The raw echo server runs in its own process, as the daemon does (fork + exec: forking a
@@ -241,7 +239,7 @@ nlohmann::json run_stream(const std::string& daemon_binary, std::uint64_t sample
     }
     for (auto& r : replicas) r->wait_for(0, 0, std::chrono::seconds(30));  // first (empty) sync
     const auto t0 = Clock::now();
-    control.build("tower", {method, samples, 1, {}, false});
+    control.build("tower", {method, samples, 1, {}, false, {}});
     const auto done = control.wait_idle("tower", {}, std::chrono::hours(1));
     const double build_seconds = seconds_since(t0);
     bool all_equal = true;
@@ -275,7 +273,7 @@ nlohmann::json run_snapshot(const std::string& daemon_binary, std::uint64_t vert
   Client client(bench.options());
   client.load("tower");
   // Dense keeps (nearly) every valid sample: the quickest way to a roadmap of this size.
-  client.build("tower", {"dense", vertices + vertices / 20, 1, {}, false});
+  client.build("tower", {"dense", vertices + vertices / 20, 1, {}, false, {}});
   const auto done = client.wait_idle("tower", {}, std::chrono::hours(1));
   std::vector<double> times;
   std::size_t bytes = 0;
@@ -311,7 +309,7 @@ nlohmann::json run_memory(const std::string& daemon_binary, std::uint64_t sample
     client.load("tower");
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     const std::size_t before = rss_kib(bench.daemon->pid());
-    client.build("tower", {method, samples, 1, {}, false});
+    client.build("tower", {method, samples, 1, {}, false, {}});
     const auto done = client.wait_idle("tower", {}, std::chrono::hours(1));
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     const std::size_t after = rss_kib(bench.daemon->pid());

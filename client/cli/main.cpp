@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "ispars/client/client.hpp"
+#include "ispars/build_recipe.hpp"
 #include "ispars/client/replica.hpp"
 #include "ispars/roadmap_json.hpp"
 #include "ispars/roadmap_log.hpp"
@@ -140,11 +141,17 @@ int main(int argc, char** argv) {
   std::vector<std::string> sets;
   auto* build = app.add_subcommand("build", "build a new roadmap");
   build->add_option("scene", scene, "scene name")->required();
-  build->add_option("--method", build_args.method, "dense, spars, ispars or irisc")->required();
+  build->add_option("--method", build_args.method, ispars::build_method_names())->required();
+  build->add_option("--variant", build_args.variant, "spars, ispars: the rule set, " + ispars::spars_variant_names() +
+                                                         " (default stretch)");
   build->add_option("--samples", build_args.samples, "samples to draw")->required()->check(CLI::PositiveNumber);
   build->add_option("--seed", build_args.seed, "random seed");
   build->add_flag("--replace", build_args.replace, "replace an existing roadmap");
-  build->add_option("--set", sets, "parameter override NAME=VALUE (dense_delta, sparse_delta, stretch, p_accept)");
+  std::string set_help = "parameter override NAME=VALUE, one of:";
+  for (const ispars::RecipeParameter& p : ispars::recipe_overrides()) {
+    set_help += fmt::format("\n    {}: {}; {}", p.name, p.doc, p.range);
+  }
+  build->add_option("--set", sets, set_help);
   build->add_flag("--wait", wait, "follow progress until the build ends");
   build->add_flag("--json", json, "print the final status as JSON");
 

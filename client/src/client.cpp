@@ -27,14 +27,6 @@ namespace fdds = eprosima::fastdds::dds;
 
 namespace {
 
-fdds::Topic* find_or_create_topic(fdds::DomainParticipant* p, fdds::TypeSupport& type, const char* name) {
-  type.register_type(p);
-  if (auto* existing = dynamic_cast<fdds::Topic*>(p->lookup_topicdescription(name))) return existing;
-  fdds::Topic* topic = p->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
-  if (topic == nullptr) throw std::runtime_error(std::string("cannot create topic ") + name);
-  return topic;
-}
-
 bool busy_state(msg::SceneState s) {
   return s == msg::SCENE_QUEUED || s == msg::SCENE_BUILDING || s == msg::SCENE_REPLAYING;
 }
@@ -71,10 +63,10 @@ class Client::Impl final : public fdds::DataReaderListener {
                   [this](const msg::SceneStatus&) { status_changed_.notify_all(); }),
         daemons_([](const msg::DaemonInfo& d) { return d.server_id(); }) {
     fdds::DomainParticipant* p = participant_.get();
-    fdds::Topic* request_topic = find_or_create_topic(p, request_type_, wire::kRequestTopic);
-    fdds::Topic* reply_topic = find_or_create_topic(p, reply_type_, wire::kReplyTopic);
-    fdds::Topic* status_topic = find_or_create_topic(p, status_type_, wire::kStatusTopic);
-    fdds::Topic* daemon_topic = find_or_create_topic(p, daemon_type_, wire::kDaemonsTopic);
+    fdds::Topic* request_topic = wire::find_or_create_topic(p, request_type_, wire::kRequestTopic);
+    fdds::Topic* reply_topic = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);
+    fdds::Topic* status_topic = wire::find_or_create_topic(p, status_type_, wire::kStatusTopic);
+    fdds::Topic* daemon_topic = wire::find_or_create_topic(p, daemon_type_, wire::kDaemonsTopic);
     publisher_ = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     subscriber_ = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (!publisher_ || !subscriber_) throw std::runtime_error("cannot create the DDS publisher and subscriber");
@@ -203,7 +195,7 @@ class Client::Impl final : public fdds::DataReaderListener {
     std::lock_guard lock(mutex_);
     if (progress_reader_) return;
     progress_.client_id = id_;
-    fdds::Topic* topic = find_or_create_topic(participant_.get(), progress_type_, wire::kTourProgressTopic);
+    fdds::Topic* topic = wire::find_or_create_topic(participant_.get(), progress_type_, wire::kTourProgressTopic);
     progress_reader_ = subscriber_->create_datareader(topic, wire::request_reply_reader_qos(), &progress_,
                                                       fdds::StatusMask::data_available());
   }
@@ -290,6 +282,7 @@ msg::SceneStatus Client::stats(const std::string& scene) { return call(request_f
 msg::Reply Client::build(const std::string& scene, const BuildArgs& args) {
   msg::Request r = request_for(msg::BUILD, scene);
   r.method(args.method);
+  r.variant(args.variant);
   r.samples(args.samples);
   r.seed(args.seed);
   r.replace(args.replace);

@@ -29,9 +29,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
   Impl(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change)
       : client_(client), scene_(std::move(scene)), on_change_(std::move(on_change)), type_(new msg::UpdateBatchPubSubType()) {
     fdds::DomainParticipant* p = client_.participant().get();
-    type_.register_type(p);
-    topic_ = dynamic_cast<fdds::Topic*>(p->lookup_topicdescription(wire::kUpdatesTopic));
-    if (topic_ == nullptr) topic_ = p->create_topic(wire::kUpdatesTopic, type_.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+    topic_ = wire::find_or_create_topic(p, type_, wire::kUpdatesTopic);
     subscriber_ = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (!topic_ || !subscriber_) throw std::runtime_error("cannot subscribe to roadmap updates");
     reader_ = subscriber_->create_datareader(topic_, wire::updates_reader_qos(), this, fdds::StatusMask::data_available());

@@ -89,7 +89,7 @@ int run_experiment_spanner(const ExperimentOptions& options) {
   nlohmann::json results = nlohmann::json::array();
   for (const std::string& name : options.variants) {
     const auto variant = parse_spars_variant(name);
-    if (!variant) throw InputError("experiment spanner", "--variants", "unknown variant '" + name + "' (stretch, alg1)");
+    if (!variant) throw InputError("experiment spanner", "--variants", "unknown variant '" + name + "' (" + spars_variant_names() + ")");
     BuildOptions build;
     build.seed = options.build_seed;
     build.threads = options.threads;

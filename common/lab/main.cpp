@@ -15,12 +15,21 @@ int main(int argc, char** argv) {
   using namespace ispars::lab;
   spdlog::set_level(spdlog::level::warn);
 
-  // A rule-set name that parse_spars_variant knows (the one list of names).
+  // Method and rule-set names as build_recipe.hpp declares them (the one list of each).
   const CLI::Validator spars_variant(
       [](std::string& text) {
-        return ispars::parse_spars_variant(text) ? std::string() : "unknown variant '" + text + "' (stretch, alg1)";
+        return ispars::parse_spars_variant(text)
+                   ? std::string()
+                   : "unknown variant '" + text + "' (" + ispars::spars_variant_names() + ")";
       },
       "stretch|alg1");
+  const CLI::Validator build_method(
+      [](std::string& text) {
+        return ispars::parse_build_method(text)
+                   ? std::string()
+                   : "unknown method '" + text + "' (" + ispars::build_method_names() + ")";
+      },
+      "dense|spars|ispars|irisc");
 
   CLI::App app{"ispars-lab: scene reports, geometry benchmarks and roadmap experiments"};
   app.require_subcommand(1);
@@ -53,7 +62,7 @@ int main(int argc, char** argv) {
   auto* bench_build_cmd = bench->add_subcommand("build", "Construction time, checks per sample and peak memory against N");
   bench_build_cmd->add_option("scene", bench_build.scene, "Scene YAML file")->required();
   bench_build_cmd->add_option("--method", bench_build.method, "dense | spars | ispars | irisc")
-      ->check(CLI::IsMember({"dense", "spars", "ispars", "irisc"}));
+      ->check(build_method);
   bench_build_cmd->add_option("--variant", bench_build.variant, "spars, ispars: stretch (default) or alg1")
       ->check(spars_variant);
   bench_build_cmd->add_option("--samples", bench_build.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
@@ -67,7 +76,7 @@ int main(int argc, char** argv) {
       "tour", "The tour solver on a large roadmap: first tour, budget, memory, stop latency");
   bench_tour_cmd->add_option("scene", bench_tour.scene, "Scene YAML file")->required();
   bench_tour_cmd->add_option("--method", bench_tour.method, "dense | spars | ispars | irisc")
-      ->check(CLI::IsMember({"dense", "spars", "ispars", "irisc"}));
+      ->check(build_method);
   bench_tour_cmd->add_option("--samples", bench_tour.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{10'000'000}));
   bench_tour_cmd->add_option("--seed", bench_tour.seed, "Seed of the roadmap and the search");
   bench_tour_cmd->add_option("--budget", bench_tour.budget, "Seconds of search")->check(CLI::Range(0.01, 3600.0));
@@ -81,7 +90,7 @@ int main(int argc, char** argv) {
   build_cmd->add_option("scene", build.scene, "Scene YAML file")->required();
   build_cmd->add_option("--method", build.method, "dense | spars | ispars | irisc")
       ->required()
-      ->check(CLI::IsMember({"dense", "spars", "ispars", "irisc"}));
+      ->check(build_method);
   build_cmd->add_option("--samples", build.samples, "Samples to draw (N)")
       ->check(CLI::Range(std::size_t{0}, std::size_t{100'000'000}));
   build_cmd->add_option("--seed", build.seed, "Seed of the sample stream");
@@ -132,7 +141,7 @@ int main(int argc, char** argv) {
   spanner_cmd->add_option("--pairs-seed", exp.seeds, "Seed of the random dense pairs");
   spanner_cmd->add_option("--max-sources", exp.max_sources, "Measure pairs from at most this many viewpoints (0: all)")
       ->check(CLI::Range(std::size_t{0}, std::size_t{100'000'000}));
-  spanner_cmd->add_option("--variants", exp.variants, "Rule sets to compare (stretch, alg1)")
+  spanner_cmd->add_option("--variants", exp.variants, "Rule sets to compare (" + ispars::spars_variant_names() + ")")
       ->delimiter(',')
       ->check(spars_variant);
   auto* anytime_cmd = experiment->add_subcommand(

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
-#include <queue>
 #include <thread>
 
+#include "ispars/graph_search.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/random.hpp"
 #include "ispars/quick_tour.hpp"
@@ -30,31 +30,12 @@ using gip_search::Solution;
 // Above this many vertices in the root's component, a quick first tour comes before the search.
 constexpr std::size_t kQuickTourAbove = 20'000;
 
-// Dijkstra from `source` over the whole graph: distances and predecessors.
-void dijkstra(const InspectionGraph& g, VertexId source, std::vector<double>& dist, std::vector<VertexId>* parent,
-              VertexId stop_at = kNoVertex) {
-  dist.assign(g.vertex_count(), kInf);
-  if (parent) parent->assign(g.vertex_count(), kNoVertex);
-  using Item = std::pair<double, VertexId>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  dist[source] = 0.0;
-  open.push({0.0, source});
-  while (!open.empty()) {
-    const auto [d, v] = open.top();
-    open.pop();
-    if (d > dist[v]) continue;
-    if (v == stop_at) return;
-    for (const Neighbor& n : g.neighbors(v)) {
-      const double nd = d + n.cost;
-      if (nd < dist[n.vertex]) {
-        dist[n.vertex] = nd;
-        if (parent) (*parent)[n.vertex] = v;
-        open.push({nd, n.vertex});
-      }
-    }
-  }
+// Dijkstra from `source` (graph_search.hpp), ending once `stop_at` is settled.
+void dijkstra_to(const InspectionGraph& g, VertexId source, std::vector<double>& dist, std::vector<VertexId>* parent,
+                 VertexId stop_at = kNoVertex) {
+  const SearchSource from{source, 0.0};
+  dijkstra(g, std::span<const SearchSource>(&from, 1), dist, parent, [stop_at](VertexId v) { return v == stop_at; });
 }
-
 
 std::vector<PoiId> choose_targets(const InspectionGraph& g, const GipOptions& o, const std::vector<VertexId>& component) {
   std::vector<char> seen(g.poi_count(), 0);
@@ -104,7 +85,7 @@ InspectionTour expand(const InspectionGraph& g, const Closure& c, const std::vec
   for (std::size_t i = 0; i < seq.size(); ++i) {
     const VertexId a = c.vertex[seq[i]], b = c.vertex[seq[(i + 1) % seq.size()]];
     if (a == b) continue;
-    dijkstra(g, a, dist, &parent, b);
+    dijkstra_to(g, a, dist, &parent, b);
     std::vector<VertexId> leg;
     for (VertexId v = b; v != a; v = parent[v]) leg.push_back(v);
     tour.walk.insert(tour.walk.end(), leg.rbegin(), leg.rend());

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <limits>
-#include <queue>
 
+#include "ispars/graph_search.hpp"
 #include "ispars/input_error.hpp"
 
 namespace ispars {
@@ -58,32 +58,14 @@ RoadmapPath plan_path(const Scene& scene, const Roadmap& roadmap, const Vec3& st
   RoadmapPath path;
   // Straight through, when the two points see each other.
   const double direct = (goal - start).norm();
-  // Dijkstra from a virtual source joined to every start join.
-  const std::size_t n = roadmap.vertex_count();
+  // Dijkstra from every start join at once (the joins' costs as starting distances).
   const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> dist(n, inf);
-  std::vector<VertexId> parent(n, kNoVertex);
-  using Item = std::pair<double, VertexId>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  for (const Join& j : from) {
-    if (j.cost < dist[j.vertex]) {
-      dist[j.vertex] = j.cost;
-      open.push({j.cost, j.vertex});
-    }
-  }
-  while (!open.empty()) {
-    const auto [d, v] = open.top();
-    open.pop();
-    if (d > dist[v]) continue;
-    for (const Neighbor& nb : roadmap.neighbors(v)) {
-      const double nd = d + nb.cost;
-      if (nd < dist[nb.vertex]) {
-        dist[nb.vertex] = nd;
-        parent[nb.vertex] = v;
-        open.push({nd, nb.vertex});
-      }
-    }
-  }
+  std::vector<SearchSource> sources;
+  sources.reserve(from.size());
+  for (const Join& j : from) sources.push_back({j.vertex, j.cost});
+  std::vector<double> dist;
+  std::vector<VertexId> parent;
+  dijkstra(roadmap, sources, dist, &parent);
   VertexId best = kNoVertex;
   double best_cost = inf;
   for (const Join& j : to) {

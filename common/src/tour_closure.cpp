@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <limits>
-#include <queue>
 #include <thread>
+
+#include "ispars/graph_search.hpp"
 
 namespace ispars {
 namespace {
@@ -116,24 +117,8 @@ const double* TourClosure::row(std::size_t a) const {
 
 void TourClosure::compute_row(std::size_t a, std::vector<double>& dist) const {
   // Dijkstra from candidate a over the whole graph; only the candidates' entries are kept.
-  const InspectionGraph& g = *graph_;
-  dist.assign(g.vertex_count(), kInf);
-  using Item = std::pair<double, VertexId>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  dist[vertex[a]] = 0.0;
-  open.push({0.0, vertex[a]});
-  while (!open.empty()) {
-    const auto [d, v] = open.top();
-    open.pop();
-    if (d > dist[v]) continue;
-    for (const Neighbor& nb : g.neighbors(v)) {
-      const double nd = d + nb.cost;
-      if (nd < dist[nb.vertex]) {
-        dist[nb.vertex] = nd;
-        open.push({nd, nb.vertex});
-      }
-    }
-  }
+  const SearchSource from{vertex[a], 0.0};
+  dijkstra(*graph_, std::span<const SearchSource>(&from, 1), dist);
   auto values = std::make_unique<double[]>(n);
   for (std::size_t j = 0; j < n; ++j) values[j] = dist[vertex[j]];
   storage_[a] = std::move(values);

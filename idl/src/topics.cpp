@@ -1,5 +1,8 @@
 #include "ispars/wire/topics.hpp"
 
+#include <stdexcept>
+#include <string>
+
 namespace ispars::wire {
 namespace fdds = eprosima::fastdds::dds;
 
@@ -20,6 +23,16 @@ Qos reliable(Qos qos, fdds::DurabilityQosPolicyKind durability, int depth) {
 }
 
 }  // namespace
+
+fdds::Topic* find_or_create_topic(fdds::DomainParticipant* participant, fdds::TypeSupport& type, const char* name) {
+  // A second registration of the type on one participant (two replicas, say) is not an error
+  // here: if the type is not there, creating the topic fails below and says so.
+  (void)type.register_type(participant);
+  if (auto* existing = dynamic_cast<fdds::Topic*>(participant->lookup_topicdescription(name))) return existing;
+  fdds::Topic* topic = participant->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  if (topic == nullptr) throw std::runtime_error(std::string("cannot create topic ") + name);
+  return topic;
+}
 
 fdds::DataWriterQos request_reply_writer_qos() {
   return reliable(fdds::DATAWRITER_QOS_DEFAULT, fdds::VOLATILE_DURABILITY_QOS, 64);

@@ -23,6 +23,9 @@ namespace ispars::server {
 
 class DdsEndpoints;
 
+/// This machine's host name ("host" when it cannot be read).
+[[nodiscard]] std::string host_name();
+
 class Daemon {
  public:
   /// Joins the domain, reloads every stored roadmap and starts serving. Throws on a bad data
@@ -44,6 +47,7 @@ class Daemon {
 
  private:
   friend class DdsEndpoints;
+
   void serve_requests();
   void handle(const msg::Request& request);
   msg::Reply answer(const msg::Request& request);

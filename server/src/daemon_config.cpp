@@ -23,7 +23,7 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
   DaemonConfig config;
   if (!root || root.IsNull()) return config;
   if (!root.IsMap()) throw InputError(source, "yaml", "the config must be a mapping of keys to values");
-  const std::set<std::string> known{"data_dir", "scene_dir", "domain", "workers", "profile_file", "profile_name",
+  const std::set<std::string> known{"data_dir", "scene_dir", "domain", "workers", "build_threads", "profile_file", "profile_name",
                                     "log_level", "server_id", "max_samples", "snapshot_compact_every", "preload"};
   const std::filesystem::path base = path.parent_path();
   const auto resolve = [&](const std::string& p) {
@@ -39,6 +39,7 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
       if (key == "scene_dir") config.scene_dir = resolve(value.as<std::string>());
       if (key == "domain") config.domain = value.as<int>();
       if (key == "workers") config.workers = value.as<unsigned>();
+      if (key == "build_threads") config.build_threads = value.as<unsigned>();
       if (key == "profile_file") config.profile_file = resolve(value.as<std::string>()).string();
       if (key == "profile_name") config.profile_name = value.as<std::string>();
       if (key == "log_level") config.log_level = value.as<std::string>();
@@ -57,6 +58,9 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
 void check_daemon_config(const DaemonConfig& c, const std::string& source) {
   if (c.domain < 0 || c.domain > 232) throw InputError(source, "domain", fmt::format("must be in 0..232, got {}", c.domain));
   if (c.workers < 1 || c.workers > 64) throw InputError(source, "workers", fmt::format("must be in 1..64, got {}", c.workers));
+  if (c.build_threads < 1 || c.build_threads > 64) {
+    throw InputError(source, "build_threads", fmt::format("must be in 1..64, got {}", c.build_threads));
+  }
   if (c.max_samples < 1) throw InputError(source, "max_samples", "must be at least 1");
   if (c.snapshot_compact_every < 1) throw InputError(source, "snapshot_compact_every", "must be at least 1");
   if (spdlog::level::from_str(c.log_level) == spdlog::level::off && c.log_level != "off") {

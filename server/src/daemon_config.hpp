@@ -13,6 +13,9 @@ struct DaemonConfig {
   std::filesystem::path scene_dir = "/usr/share/ispars/scenes";  ///< The only place scenes load from.
   int domain = 0;                                           ///< DDS domain id.
   unsigned workers = 2;                                     ///< Build worker threads.
+  /// Threads each build uses for its per-sample work (point check, chi); any count gives the
+  /// same roadmap.
+  unsigned build_threads = 1;
   std::string profile_file;   ///< Fast DDS XML profiles; empty: built-in localhost-only settings.
   std::string profile_name = "ispars";
   std::string log_level = "info";

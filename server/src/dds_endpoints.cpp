@@ -28,13 +28,6 @@ wire::ParticipantOptions participant_options(const DaemonConfig& c) {
   return o;
 }
 
-fdds::Topic* make_topic(fdds::DomainParticipant* p, fdds::TypeSupport& type, const char* name) {
-  if (type.register_type(p) != ReturnCode_t::RETCODE_OK) throw std::runtime_error("cannot register the type of " + std::string(name));
-  fdds::Topic* topic = p->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
-  if (topic == nullptr) throw std::runtime_error(std::string("cannot create topic ") + name);
-  return topic;
-}
-
 template <class T>
 T* require(T* entity, const char* what) {
   if (entity == nullptr) throw std::runtime_error(std::string("cannot create the ") + what);
@@ -61,12 +54,12 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
       progress_type_(new msg::TourProgressPubSubType()),
       statuses_([](const msg::SceneStatus& s) { return s.scene(); }) {
   fdds::DomainParticipant* p = participant_.get();
-  fdds::Topic* request_topic = make_topic(p, request_type_, wire::kRequestTopic);
-  fdds::Topic* reply_topic = make_topic(p, reply_type_, wire::kReplyTopic);
-  fdds::Topic* update_topic = make_topic(p, update_type_, wire::kUpdatesTopic);
-  fdds::Topic* status_topic = make_topic(p, status_type_, wire::kStatusTopic);
-  fdds::Topic* daemon_topic = make_topic(p, daemon_type_, wire::kDaemonsTopic);
-  fdds::Topic* progress_topic = make_topic(p, progress_type_, wire::kTourProgressTopic);
+  fdds::Topic* request_topic = wire::find_or_create_topic(p, request_type_, wire::kRequestTopic);
+  fdds::Topic* reply_topic = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);
+  fdds::Topic* update_topic = wire::find_or_create_topic(p, update_type_, wire::kUpdatesTopic);
+  fdds::Topic* status_topic = wire::find_or_create_topic(p, status_type_, wire::kStatusTopic);
+  fdds::Topic* daemon_topic = wire::find_or_create_topic(p, daemon_type_, wire::kDaemonsTopic);
+  fdds::Topic* progress_topic = wire::find_or_create_topic(p, progress_type_, wire::kTourProgressTopic);
   fdds::Publisher* pub = require(p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT), "publisher");
   fdds::Subscriber* sub = require(p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT), "subscriber");
   fdds::StatusMask matched = fdds::StatusMask::publication_matched();

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   std::string data_dir, scene_dir, profile_file, profile_name, log_level, server_id;
   std::optional<int> domain;
   std::optional<unsigned> workers;
+  std::optional<unsigned> build_threads;
   std::optional<std::uint64_t> max_samples;
   std::optional<std::size_t> compact_every;
   std::vector<std::string> preload;
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
   app.add_option("--scene-dir", scene_dir, "the only directory scenes are loaded from");
   app.add_option("--domain", domain, "DDS domain id (default: config, else $ISPARS_DOMAIN, else 0)");
   app.add_option("--workers", workers, "build worker threads");
+  app.add_option("--build-threads", build_threads, "threads each build uses (the roadmap is the same for any count)");
   app.add_option("--profile-file", profile_file, "Fast DDS XML profiles file (default: built-in localhost only)");
   app.add_option("--profile-name", profile_name, "participant profile in the profiles file");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error");
@@ -48,6 +50,7 @@ int main(int argc, char** argv) {
     if (!scene_dir.empty()) config.scene_dir = scene_dir;
     if (domain) config.domain = *domain;
     if (workers) config.workers = *workers;
+    if (build_threads) config.build_threads = *build_threads;
     if (!profile_file.empty()) config.profile_file = profile_file;
     if (!profile_name.empty()) config.profile_name = profile_name;
     if (!log_level.empty()) config.log_level = log_level;

@@ -113,6 +113,7 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   const CliRun extend = run(common_ + " extend tower --samples 500 --wait --json", dir_);
   ASSERT_EQ(extend.code, 0) << extend.err;
   EXPECT_EQ(nlohmann::json::parse(last_line(extend.out))["samples_done"], 30500);
+  EXPECT_EQ(nlohmann::json::parse(last_line(extend.out))["variant"], "stretch") << "the default rule set";
 
   // Errors: one line naming the problem, and the exit code of its kind.
   CliRun r = run(common_ + " build tower --method ispars --samples 100", dir_);
@@ -120,7 +121,16 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   EXPECT_NE(r.err.find("request: replace: scene 'tower' already has a roadmap"), std::string::npos) << r.err;
   r = run(common_ + " build tower --method ispars --samples 100 --replace --set colour=1", dir_);
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("overrides.colour: unknown parameter"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("overrides.colour: unknown parameter (expected dense_delta, sparse_delta, stretch, p_accept)"),
+            std::string::npos)
+      << r.err;
+  r = run(common_ + " build tower --method ispars --samples 100 --replace --variant greedy", dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("request: variant: 'greedy' is not one of stretch, alg1"), std::string::npos) << r.err;
+  r = run(common_ + " build tower --method ispars --samples 100 --replace --set stretch=0.5", dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("request: overrides.stretch: must be at least 1 and at most 100, got 0.5"), std::string::npos)
+      << r.err;
   r = run(common_ + " build tower --method ispars --samples 100 --set stretch", dir_);
   EXPECT_EQ(r.code, 2);
   r = run(common_ + " build tower --method ispars --samples -5", dir_);
@@ -137,6 +147,11 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   r = run(common_ + " verify tower", dir_);
   EXPECT_EQ(r.code, 0);
   EXPECT_NE(r.out.find("verified"), std::string::npos);
+  // The rule set travels with the request into the recipe.
+  r = run(common_ + " build tower --method spars --variant alg1 --samples 300 --replace --wait --json", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(last_line(r.out))["variant"], "alg1");
+  EXPECT_EQ(nlohmann::json::parse(last_line(r.out))["method"], "spars");
   EXPECT_EQ(daemon_->terminate(), 0) << daemon_->log();
 }
 

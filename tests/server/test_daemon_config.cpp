@@ -15,6 +15,7 @@ TEST(DaemonConfig, ReadsEveryKeyAndResolvesPathsAgainstTheFile) {
 scene_dir: /abs/scenes
 domain: 42
 workers: 3
+build_threads: 2
 profile_file: profiles.xml
 profile_name: fleet
 log_level: debug
@@ -28,6 +29,7 @@ preload: [a, b]
   EXPECT_EQ(c.scene_dir, "/abs/scenes");
   EXPECT_EQ(c.domain, 42);
   EXPECT_EQ(c.workers, 3u);
+  EXPECT_EQ(c.build_threads, 2u);
   EXPECT_EQ(c.profile_file, (dir.path() / "profiles.xml").string());
   EXPECT_EQ(c.profile_name, "fleet");
   EXPECT_EQ(c.server_id, "east-1");
@@ -49,6 +51,8 @@ TEST(DaemonConfig, BadValuesAreNamed) {
   };
   expect("domain: 300\n", "domain: must be in 0..232");
   expect("workers: 0\n", "workers: must be in 1..64");
+  expect("build_threads: 65\n", "build_threads: must be in 1..64");
+  expect("build_threads: 0\n", "build_threads: must be in 1..64");
   expect("workers: many\n", "workers: has the wrong type");
   expect("colour: red\n", "colour: unknown key");
   expect("log_level: chatty\n", "log_level: 'chatty' is not one of");

@@ -65,6 +65,26 @@ TEST_F(RoadmapSessionTest, AJobCommitsBatchesThatReplayToThePublishedRoadmap) {
   EXPECT_EQ(report.invariant_violations, 0u);
 }
 
+TEST_F(RoadmapSessionTest, BuildThreadsAndTheVariantReachTheBuilder) {
+  // Two threads per build give the one-thread roadmap; the request's rule set is the recipe's.
+  SessionLimits limits;
+  limits.build_threads = 2;
+  auto session = open({}, limits);
+  BuildRequest request = ispars(3000, 5);
+  request.variant = SparsVariant::alg1;
+  session->request_build(request);
+  session->run_job(never_);
+  ASSERT_TRUE(session->status().recipe);
+  EXPECT_EQ(session->status().recipe->variant, SparsVariant::alg1);
+  BuildOptions options;
+  options.seed = 5;
+  options.variant = SparsVariant::alg1;
+  auto b = make_roadmap_builder(BuildMethod::ispars, scene(), options);
+  b->extend(3000);
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), roadmap_digest(b->roadmap()));
+  EXPECT_NE(roadmap_digest(b->roadmap()), uninterrupted(scene(), 3000, 5)) << "the variants differ here";
+}
+
 TEST_F(RoadmapSessionTest, StoppingKeepsTheCommittedChunksAndAReopenedSessionExtendsExactly) {
   std::uint64_t stopped_at = 0;
   {

@@ -7,25 +7,11 @@
 #include <span>
 #include <string_view>
 
+#include "ispars/build_recipe.hpp"
 #include "ispars/roadmap.hpp"
 #include "ispars/scene.hpp"
 
 namespace ispars {
-
-enum class BuildMethod { dense, spars, ispars, irisc };
-
-[[nodiscard]] std::string_view to_string(BuildMethod method);
-/// "dense", "spars", "ispars" or "irisc"; nothing for anything else.
-[[nodiscard]] std::optional<BuildMethod> parse_build_method(std::string_view text);
-
-/// The rule set of the spars and ispars sparse roadmaps (spars_builder.hpp, SparsRules).
-/// `stretch` (the default) enforces the stretch between sparse vertices that Theorem 1 needs;
-/// `alg1` is the paper's Alg. 1 read literally, kept to reproduce the paper.
-enum class SparsVariant { stretch, alg1 };
-
-[[nodiscard]] std::string_view to_string(SparsVariant variant);
-/// "stretch" or "alg1"; nothing for anything else.
-[[nodiscard]] std::optional<SparsVariant> parse_spars_variant(std::string_view text);
 
 /// Settings of a build that are not scene parameters.
 struct BuildOptions {

@@ -27,9 +27,10 @@ Scene scene_for(const Scene& scene, const RoadmapRecipe& recipe) {
   return scene.with_roadmap_parameters(recipe.dense_delta, recipe.sparse_delta, recipe.stretch, kRequest);
 }
 
-std::unique_ptr<RoadmapBuilder> builder_for(const Scene& scene, const RoadmapRecipe& recipe) {
+std::unique_ptr<RoadmapBuilder> builder_for(const Scene& scene, const RoadmapRecipe& recipe, unsigned threads) {
   BuildOptions options;
   options.seed = recipe.seed;
+  options.threads = threads;
   options.p_accept = recipe.p_accept;
   options.variant = recipe.variant;
   return make_roadmap_builder(recipe.method, scene, options);
@@ -109,29 +110,12 @@ void RoadmapSession::request_build(const BuildRequest& request) {
   RoadmapRecipe recipe;
   recipe.scene = name_;
   recipe.method = request.method;
+  recipe.variant = request.variant;
   recipe.seed = request.seed;
   recipe.dense_delta = scene_.config().dense_delta;
   recipe.sparse_delta = scene_.config().sparse_delta;
   recipe.stretch = scene_.config().stretch;
-  for (const auto& [key, value] : request.overrides) {
-    const std::string field = "overrides." + key;
-    if (!std::isfinite(value)) throw InputError(kRequest, field, fmt::format("must be finite, got {}", value));
-    if (key == "dense_delta") {
-      recipe.dense_delta = value;
-    } else if (key == "sparse_delta") {
-      recipe.sparse_delta = value;
-    } else if (key == "stretch") {
-      recipe.stretch = value;
-    } else if (key == "p_accept") {
-      if (!(value >= 0.0 && value <= 1.0)) {
-        throw InputError(kRequest, field, fmt::format("must be a probability in [0, 1], got {}", value));
-      }
-      recipe.p_accept = value;
-    } else {
-      throw InputError(kRequest, field,
-                       "unknown parameter (expected dense_delta, sparse_delta, stretch or p_accept)");
-    }
-  }
+  for (const auto& [key, value] : request.overrides) set_recipe_override(recipe, key, value, kRequest);
   (void)scene_.with_roadmap_parameters(recipe.dense_delta, recipe.sparse_delta, recipe.stretch,
                                        kRequest);  // throws InputError naming the bad one
   if (!request.overrides.empty()) check_override_scale(recipe);
@@ -247,7 +231,7 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
   }
   notify_status();
   build_scene_ = std::make_unique<Scene>(scene_for(scene_, recipe));
-  auto builder = builder_for(*build_scene_, recipe);
+  auto builder = builder_for(*build_scene_, recipe, limits_.build_threads);
   const std::uint64_t target = recovered_ ? recovered_->samples : 0;
   while (builder->samples() < target) {
     if (stopping || cancel_) throw std::runtime_error("replay interrupted");
@@ -303,7 +287,7 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       recovered_.reset();
       drop_store(store_dir_);
       build_scene_ = std::make_unique<Scene>(scene_for(scene_, recipe));
-      builder_ = builder_for(*build_scene_, recipe);
+      builder_ = builder_for(*build_scene_, recipe, limits_.build_threads);
       store_ = RoadmapStore::create(store_dir_, recipe);
       store_->set_compact_every(limits_.compact_every);
       std::lock_guard lock(mutex_);

@@ -111,55 +111,6 @@ void apply_commit(StoredRoadmaps& r, const BuildCommit& commit) {
   r.samples = commit.samples;
 }
 
-std::string recipe_to_json(const RoadmapRecipe& r) {
-  const nlohmann::json j = {{"scene", r.scene},
-                            {"method", std::string(to_string(r.method))},
-                            {"seed", r.seed},
-                            {"p_accept", r.p_accept},
-                            {"variant", std::string(to_string(r.variant))},
-                            {"dense_delta", r.dense_delta},
-                            {"sparse_delta", r.sparse_delta},
-                            {"stretch", r.stretch},
-                            {"generation", r.generation},
-                            {"format", 1}};
-  return j.dump(2) + "\n";
-}
-
-RoadmapRecipe recipe_from_json(const std::string& text) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(std::string("recipe.json does not parse: ") + e.what());
-  }
-  const auto field = [&](const char* name) -> const nlohmann::json& {
-    if (!j.is_object() || !j.contains(name)) throw std::runtime_error(std::string("recipe.json lacks ") + name);
-    return j.at(name);
-  };
-  RoadmapRecipe r;
-  try {
-    r.scene = field("scene").get<std::string>();
-    const auto method = parse_build_method(field("method").get<std::string>());
-    if (!method) throw std::runtime_error("recipe.json: unknown method");
-    r.method = *method;
-    r.seed = field("seed").get<std::uint64_t>();
-    r.p_accept = field("p_accept").get<double>();
-    r.variant = SparsVariant::alg1;  // recipes written before the variants existed
-    if (j.contains("variant")) {
-      const auto variant = parse_spars_variant(j.at("variant").get<std::string>());
-      if (!variant) throw std::runtime_error("recipe.json: unknown variant");
-      r.variant = *variant;
-    }
-    r.dense_delta = field("dense_delta").get<double>();
-    r.sparse_delta = field("sparse_delta").get<double>();
-    r.stretch = field("stretch").get<double>();
-    r.generation = field("generation").get<std::uint64_t>();
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(std::string("recipe.json has a field of the wrong type: ") + e.what());
-  }
-  return r;
-}
-
 RoadmapStore::RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe)
     : dir_(std::move(dir)), recipe_(std::move(recipe)) {
   // One writer per store, across threads and processes: a second open fails instead of

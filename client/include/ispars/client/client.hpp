@@ -45,6 +45,7 @@ struct BuildArgs {
   std::uint64_t seed = 1;
   std::map<std::string, double> overrides;
   bool replace = false;
+  std::string variant;  ///< spars, ispars: "stretch" or "alg1" (empty: the daemon's default, stretch)
 };
 
 /// A whole roadmap fetched at one version.

@@ -2,8 +2,11 @@
 // The service's topic names and the QoS each endpoint uses, in one place so daemon and clients
 // always agree.
 
+#include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
 
 namespace ispars::wire {
 
@@ -13,6 +16,12 @@ inline constexpr const char* kUpdatesTopic = "ispars/updates";
 inline constexpr const char* kStatusTopic = "ispars/status";
 inline constexpr const char* kDaemonsTopic = "ispars/daemons";
 inline constexpr const char* kTourProgressTopic = "ispars/tour_progress";
+
+/// The topic `name` of `type` on `participant`: registers the type, then returns the topic the
+/// participant already has under that name or creates it. Throws std::runtime_error naming the
+/// topic when it can be neither found nor created. The one way daemon, clients and benchmarks set up a topic.
+eprosima::fastdds::dds::Topic* find_or_create_topic(eprosima::fastdds::dds::DomainParticipant* participant,
+                                                    eprosima::fastdds::dds::TypeSupport& type, const char* name);
 
 /// Requests and replies: reliable, volatile, a deep history per client (keyed by client id),
 /// no limit on the number of clients.

@@ -56,12 +56,14 @@ struct SessionStatus {
   std::string last_error;
 };
 
-/// A build request, as checked by request_build().
+/// A build request, as checked by request_build(): the recipe's choices, the scene parameters
+/// it overrides (by name, recipe_overrides() in build_recipe.hpp) and the job's size.
 struct BuildRequest {
   BuildMethod method = BuildMethod::ispars;
+  SparsVariant variant = SparsVariant::stretch;
   std::uint64_t samples = 0;
   std::uint64_t seed = 1;
-  std::map<std::string, double> overrides;  ///< dense_delta, sparse_delta, stretch, p_accept.
+  std::map<std::string, double> overrides;
   bool replace = false;
 };
 
@@ -83,6 +85,7 @@ struct PublishedRoadmap {
 struct SessionLimits {
   std::uint64_t max_samples = 50'000'000;  ///< Per build or extend request.
   std::size_t compact_every = 64;          ///< Journal commits between store compactions.
+  unsigned build_threads = 1;              ///< Threads per build (any count: the same roadmap).
 };
 
 /// What the session tells its owner.

@@ -25,21 +25,6 @@
 
 namespace ispars {
 
-/// What a roadmap is built from: enough to rebuild it exactly.
-struct RoadmapRecipe {
-  std::string scene;
-  BuildMethod method = BuildMethod::ispars;
-  std::uint64_t seed = 1;
-  double p_accept = 0.2;
-  /// spars and ispars: the rule set. A recipe.json without one predates the variants and was
-  /// built with Alg. 1's rules, so it reads as alg1 (and replays byte for byte).
-  SparsVariant variant = SparsVariant::stretch;
-  double dense_delta = 0.0;   ///< delta used (the scene's, or an override)
-  double sparse_delta = 0.0;  ///< Delta used
-  double stretch = 0.0;       ///< t used
-  std::uint64_t generation = 0;  ///< Distinguishes successive roadmaps of one scene.
-};
-
 /// One durable step of a build.
 struct BuildCommit {
   std::uint64_t samples = 0;            ///< Samples drawn in total after this commit.
@@ -130,9 +115,5 @@ void apply_commit(StoredRoadmaps& roadmaps, const BuildCommit& commit);
 /// creation or removal (".new-NAME", ".dropped-NAME") are removed by remove_dropped_stores().
 void drop_store(const std::filesystem::path& dir);
 void remove_dropped_stores(const std::filesystem::path& data_dir);
-
-/// recipe.json text, and back (throws std::runtime_error naming the bad field).
-[[nodiscard]] std::string recipe_to_json(const RoadmapRecipe& recipe);
-[[nodiscard]] RoadmapRecipe recipe_from_json(const std::string& text);
 
 }  // namespace ispars

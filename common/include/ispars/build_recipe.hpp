@@ -1,0 +1,75 @@
+#pragma once
+// How a roadmap is built, in one typed form from the request to the store: the method, the rule
+// set, the seed and the scene parameters a build may override. Each parameter an override may
+// set is declared once here (name, range, one line of doc); the CLI help, the service's
+// validation and the store's recipe.json all read this table.
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace ispars {
+
+/// The roadmap a build grows.
+enum class BuildMethod { dense, spars, ispars, irisc };
+
+[[nodiscard]] std::string_view to_string(BuildMethod method);
+/// "dense", "spars", "ispars" or "irisc"; nothing for anything else.
+[[nodiscard]] std::optional<BuildMethod> parse_build_method(std::string_view text);
+/// The method names, for help texts and errors: "dense, spars, ispars, irisc".
+[[nodiscard]] std::string build_method_names();
+
+/// The rule set of the spars and ispars sparse roadmaps (spars_builder.hpp, SparsRules).
+/// `stretch` (the default) enforces the stretch between sparse vertices that Theorem 1 needs;
+/// `alg1` is the paper's Alg. 1 read literally, kept to reproduce the paper.
+enum class SparsVariant { stretch, alg1 };
+
+[[nodiscard]] std::string_view to_string(SparsVariant variant);
+/// "stretch" or "alg1"; nothing for anything else.
+[[nodiscard]] std::optional<SparsVariant> parse_spars_variant(std::string_view text);
+/// The variant names, for help texts and errors: "stretch, alg1".
+[[nodiscard]] std::string spars_variant_names();
+
+/// What a roadmap is built from: enough to rebuild it exactly.
+struct RoadmapRecipe {
+  std::string scene;
+  BuildMethod method = BuildMethod::ispars;
+  std::uint64_t seed = 1;
+  double p_accept = 0.2;
+  /// spars and ispars: the rule set. A recipe.json without one predates the variants and was
+  /// built with Alg. 1's rules, so it reads as alg1 (and replays byte for byte).
+  SparsVariant variant = SparsVariant::stretch;
+  double dense_delta = 0.0;   ///< delta used (the scene's, or an override)
+  double sparse_delta = 0.0;  ///< Delta used
+  double stretch = 0.0;       ///< t used
+  std::uint64_t generation = 0;  ///< Distinguishes successive roadmaps of one scene.
+};
+
+/// A recipe parameter a build request may override, declared once.
+struct RecipeParameter {
+  std::string_view name;
+  double min = 0.0;  ///< Smallest value accepted (inclusive).
+  double max = 0.0;  ///< Largest value accepted (inclusive).
+  std::string_view range;  ///< The range in words, for errors: "must be <range>, got <value>".
+  std::string_view doc;    ///< One line: what it is, and its default.
+  double RoadmapRecipe::*field = nullptr;
+};
+
+/// dense_delta, sparse_delta, stretch and p_accept, in that order.
+[[nodiscard]] std::span<const RecipeParameter> recipe_overrides();
+/// The override names, for help texts and errors: "dense_delta, sparse_delta, stretch, p_accept".
+[[nodiscard]] std::string recipe_override_names();
+
+/// Sets the override `name` to `value`. Throws InputError (file `file`, field "overrides.NAME")
+/// when the name is unknown, or the value is not finite or out of its declared range. Checks
+/// that depend on the scene (its scale) are the caller's.
+void set_recipe_override(RoadmapRecipe& recipe, std::string_view name, double value, std::string_view file);
+
+/// recipe.json: the recipe and a format number.
+[[nodiscard]] std::string recipe_to_json(const RoadmapRecipe& recipe);
+/// Throws std::runtime_error naming what is missing or wrong.
+[[nodiscard]] RoadmapRecipe recipe_from_json(const std::string& text);
+
+}  // namespace ispars

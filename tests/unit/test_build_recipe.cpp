@@ -1,0 +1,90 @@
+// The build recipe: names, declared override ranges enforced in one place, recipe.json.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "ispars/build_recipe.hpp"
+#include "ispars/input_error.hpp"
+
+namespace ispars {
+namespace {
+
+std::string override_error(const std::string& name, double value) {
+  RoadmapRecipe recipe;
+  try {
+    set_recipe_override(recipe, name, value, "request");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(BuildRecipe, NamesRoundTripAndListsComeFromOnePlace) {
+  for (const BuildMethod m : {BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars, BuildMethod::irisc}) {
+    EXPECT_EQ(parse_build_method(to_string(m)), m);
+    EXPECT_NE(build_method_names().find(to_string(m)), std::string::npos);
+  }
+  for (const SparsVariant v : {SparsVariant::stretch, SparsVariant::alg1}) EXPECT_EQ(parse_spars_variant(to_string(v)), v);
+  EXPECT_FALSE(parse_build_method("Dense"));
+  EXPECT_FALSE(parse_spars_variant(""));
+  EXPECT_EQ(build_method_names(), "dense, spars, ispars, irisc");
+  EXPECT_EQ(spars_variant_names(), "stretch, alg1");
+  EXPECT_EQ(recipe_override_names(), "dense_delta, sparse_delta, stretch, p_accept");
+  for (const RecipeParameter& p : recipe_overrides()) {
+    EXPECT_LT(p.min, p.max) << p.name;
+    EXPECT_FALSE(p.doc.empty()) << p.name;
+    EXPECT_FALSE(p.range.empty()) << p.name;
+  }
+}
+
+TEST(BuildRecipe, OverridesAreSetWithinTheirRangeAndRefusedOutsideIt) {
+  RoadmapRecipe recipe;
+  set_recipe_override(recipe, "dense_delta", 0.5, "request");
+  set_recipe_override(recipe, "sparse_delta", 0.75, "request");
+  set_recipe_override(recipe, "stretch", 1.0, "request");  // the bounds are inclusive
+  set_recipe_override(recipe, "p_accept", 1.0, "request");
+  EXPECT_EQ(recipe.dense_delta, 0.5);
+  EXPECT_EQ(recipe.sparse_delta, 0.75);
+  EXPECT_EQ(recipe.stretch, 1.0);
+  EXPECT_EQ(recipe.p_accept, 1.0);
+  // Every declared bound is enforced: just past each end is refused, naming field and range.
+  for (const RecipeParameter& p : recipe_overrides()) {
+    for (const double bad : {std::nextafter(p.min, -INFINITY), std::nextafter(p.max, INFINITY)}) {
+      const std::string e = override_error(std::string(p.name), bad);
+      EXPECT_NE(e.find("request: overrides." + std::string(p.name) + ": must be " + std::string(p.range)),
+                std::string::npos)
+          << e;
+    }
+    EXPECT_EQ(override_error(std::string(p.name), p.min), "");
+    EXPECT_EQ(override_error(std::string(p.name), p.max), "");
+    EXPECT_NE(override_error(std::string(p.name), std::numeric_limits<double>::quiet_NaN()).find("must be finite"),
+              std::string::npos);
+  }
+  EXPECT_NE(override_error("dense_delta", 1e9).find("at most 1e6 metres"), std::string::npos);
+  EXPECT_NE(override_error("colour", 1.0).find("request: overrides.colour: unknown parameter (expected dense_delta"),
+            std::string::npos);
+  // A long unknown name is cut in the message, not echoed whole.
+  EXPECT_LT(override_error(std::string(10'000, 'x'), 1.0).size(), 200u);
+}
+
+TEST(BuildRecipe, RecipeJsonRoundTripsAndOldRecipesReadAsAlg1) {
+  RoadmapRecipe r{"tower", BuildMethod::irisc, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 42};
+  const RoadmapRecipe back = recipe_from_json(recipe_to_json(r));
+  EXPECT_EQ(back.scene, "tower");
+  EXPECT_EQ(back.method, BuildMethod::irisc);
+  EXPECT_EQ(back.seed, 9u);
+  EXPECT_EQ(back.p_accept, 0.3);
+  EXPECT_EQ(back.variant, SparsVariant::alg1);
+  EXPECT_EQ(back.dense_delta, 1.25);
+  EXPECT_EQ(back.sparse_delta, 2.5);
+  EXPECT_EQ(back.stretch, 1.5);
+  EXPECT_EQ(back.generation, 42u);
+  EXPECT_THROW((void)recipe_from_json("{"), std::runtime_error);
+  EXPECT_THROW((void)recipe_from_json(R"({"scene": "t"})"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace ispars
