@@ -14,6 +14,9 @@
 #include "ispars/tour_closure.hpp"
 
 namespace ispars::gip_search {
+// Internal linkage: one translation unit (gip_solver.cpp) uses this, and the compiler inlines
+// the search's small helpers into their callers far more readily than for external ones.
+namespace {
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 inline constexpr double kEps = 1e-9;
@@ -350,4 +353,5 @@ class Chain {
   Rng rng_;
 };
 
+}  // namespace
 }  // namespace ispars::gip_search

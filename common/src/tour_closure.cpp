@@ -90,6 +90,7 @@ TourClosure::TourClosure(const InspectionGraph& graph, VertexId root, const std:
   storage_.resize(n);
 
   if (n > options.rows_ahead_up_to) return;  // rows on first use
+  matrix_ = std::make_unique<double[]>(n * n);
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
     std::vector<double> scratch;
@@ -104,6 +105,7 @@ TourClosure::TourClosure(const InspectionGraph& graph, VertexId root, const std:
   for (unsigned t = 1; t < options.threads; ++t) pool.emplace_back(work);
   work();
   for (auto& t : pool) t.join();
+  complete_ = row_count_.load() == n;  // else stopped by the budget: the rest come on first use
 }
 
 const double* TourClosure::row(std::size_t a) const {
@@ -119,10 +121,15 @@ void TourClosure::compute_row(std::size_t a, std::vector<double>& dist) const {
   // Dijkstra from candidate a over the whole graph; only the candidates' entries are kept.
   const SearchSource from{vertex[a], 0.0};
   dijkstra(*graph_, std::span<const SearchSource>(&from, 1), dist);
-  auto values = std::make_unique<double[]>(n);
+  double* values = nullptr;
+  if (matrix_) {
+    values = matrix_.get() + a * n;
+  } else {
+    storage_[a] = std::make_unique<double[]>(n);
+    values = storage_[a].get();
+  }
   for (std::size_t j = 0; j < n; ++j) values[j] = dist[vertex[j]];
-  storage_[a] = std::move(values);
-  rows_[a].store(storage_[a].get(), std::memory_order_release);
+  rows_[a].store(values, std::memory_order_release);
   ++row_count_;
 }
 

@@ -40,6 +40,7 @@ class TourClosure {
   /// Shortest-path length between candidates a and b (symmetric; computes a row if neither has
   /// one yet; throws ClosureStopped if that is needed after should_stop()). Safe from many threads.
   [[nodiscard]] double d(std::size_t a, std::size_t b) const {
+    if (complete_) return matrix_[a * n + b];  // the search's hot path: one load, no atomics
     if (const double* r = rows_[a].load(std::memory_order_acquire)) return r[b];
     if (const double* r = rows_[b].load(std::memory_order_acquire)) return r[a];
     return row(a)[b];
@@ -48,7 +49,7 @@ class TourClosure {
   /// Computes candidate a's row now if it has none: the search calls this for every vertex it
   /// puts in a tour, so that d(tour vertex, anything) never needs another row.
   void ensure_row(std::size_t a) const {
-    if (rows_[a].load(std::memory_order_acquire) == nullptr) (void)row(a);
+    if (!complete_ && rows_[a].load(std::memory_order_acquire) == nullptr) (void)row(a);
   }
 
   std::size_t n = 0;                                 ///< Candidates.
@@ -67,7 +68,10 @@ class TourClosure {
   const InspectionGraph* graph_;
   std::function<bool()> should_stop_;
   std::unique_ptr<std::atomic<const double*>[]> rows_;
-  mutable std::vector<std::unique_ptr<double[]>> storage_;
+  mutable std::vector<std::unique_ptr<double[]>> storage_;  // lazy rows
+  // Rows computed ahead live in one n x n block; when every row is there, d() reads it directly.
+  std::unique_ptr<double[]> matrix_;
+  bool complete_ = false;
   mutable std::mutex mutex_;
   mutable std::atomic<std::size_t> row_count_{0};
 };
