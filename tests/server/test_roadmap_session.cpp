@@ -157,6 +157,38 @@ TEST_F(RoadmapSessionTest, CancelStopsAfterTheCurrentChunk) {
   EXPECT_NE(s.last_error.find("cancelled"), std::string::npos);
 }
 
+TEST_F(RoadmapSessionTest, VerifyAndDropRightAfterAJobTurnsIdleWaitForItsLastStatus) {
+  // The job reports idle, then still holds the builder while its last status goes out (over DDS in
+  // the daemon, which can be slow). A verify or drop that sees idle at that moment must wait for it,
+  // not answer "a build is running" (CI saw exactly that).
+  std::atomic<bool> idle_seen{false};
+  SessionCallbacks callbacks;
+  callbacks.on_status = [&](const SessionStatus& s) {
+    if (s.state != SessionState::idle || s.samples_done == 0) return;
+    idle_seen = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  };
+  auto session = open(callbacks);
+  session->request_build(ispars(500));
+  std::thread job([&] { session->run_job(never_); });
+  while (!idle_seen) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_EQ(session->status().state, SessionState::idle);
+  EXPECT_EQ(session->verify().invariant_violations, 0u);
+  job.join();
+  // A queued job is still refused by name.
+  session->request_extend(100);
+  EXPECT_THROW((void)session->verify(), InputError);
+  EXPECT_THROW(session->drop(), InputError);
+  session->run_job(never_);
+  idle_seen = false;
+  session->request_extend(100);
+  std::thread again([&] { session->run_job(never_); });
+  while (!idle_seen) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  session->drop();
+  again.join();
+  EXPECT_EQ(session->status().state, SessionState::empty);
+}
+
 TEST_F(RoadmapSessionTest, CancellingAQueuedReplaceKeepsTheOldRoadmap) {
   auto session = open();
   session->request_build(ispars(800));

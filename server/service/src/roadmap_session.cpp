@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "ispars/input_error.hpp"
 
@@ -169,12 +170,28 @@ bool RoadmapSession::busy() const {
   return state_ == SessionState::queued || state_ == SessionState::building || state_ == SessionState::replaying;
 }
 
+template <typename Lock>
+Lock RoadmapSession::lock_idle_job(std::string_view what) const {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  for (;;) {
+    Lock job(job_mutex_, std::try_to_lock);
+    const bool queued_or_running = busy();
+    if (job.owns_lock() && !queued_or_running) return job;
+    if (queued_or_running) {
+      throw InputError(kRequest, "scene", fmt::format("a build is running on scene '{}'; {} when it is idle", name_, what));
+    }
+    if (std::chrono::steady_clock::now() >= deadline) {
+      throw InputError(kRequest, "scene", fmt::format("scene '{}' is busy with a verify or a drop; {} later", name_, what));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+}
+
 void RoadmapSession::drop() {
-  std::unique_lock job(job_mutex_, std::try_to_lock);
+  const auto job = lock_idle_job<std::unique_lock<std::shared_mutex>>("drop");
   {
     // Under both locks throughout, so no request can be accepted while the store goes away.
     std::lock_guard lock(mutex_);
-    if (!job.owns_lock()) throw InputError(kRequest, "scene", fmt::format("a build is running on scene '{}'", name_));
     check_can_start("scene");
     if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
     store_.reset();
@@ -452,10 +469,7 @@ RoadmapPath RoadmapSession::path(const Vec3& from, const Vec3& to) const {
 }
 
 VerificationReport RoadmapSession::verify() const {
-  std::unique_lock job(job_mutex_, std::try_to_lock);
-  if (!job.owns_lock() || busy()) {
-    throw InputError(kRequest, "scene", fmt::format("a build is running on scene '{}'; verify when it is idle", name_));
-  }
+  const auto job = lock_idle_job<std::shared_lock<std::shared_mutex>>("verify");
   std::optional<RoadmapRecipe> recipe;
   {
     std::lock_guard lock(mutex_);

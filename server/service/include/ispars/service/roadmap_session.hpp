@@ -14,8 +14,10 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <shared_mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "ispars/path_query.hpp"
 #include "ispars/roadmap_builder.hpp"
@@ -146,6 +148,11 @@ class RoadmapSession {
   void ensure_builder(const std::atomic<bool>& stopping);
   void check_can_start(const char* field) const;  // with mutex_ held
   void check_override_scale(const RoadmapRecipe& recipe) const;
+  // Takes job_mutex_ (shared or alone) once no job is queued or running; a job that has just
+  // turned idle still holds it while it publishes its last status, so this waits for it briefly.
+  // Throws InputError, naming `what`, when a job is queued or running.
+  template <typename Lock>
+  Lock lock_idle_job(std::string_view what) const;
 
   const std::string name_;
   const Scene scene_;
@@ -153,7 +160,8 @@ class RoadmapSession {
   const SessionLimits limits_;
   const SessionCallbacks callbacks_;
 
-  mutable std::mutex job_mutex_;  // held by run_job, verify and drop: whoever touches the builder
+  // Whoever touches the builder holds this: run_job and drop alone, verify shared with other verifies.
+  mutable std::shared_mutex job_mutex_;
   // Owned by the job thread (under job_mutex_):
   std::unique_ptr<Scene> build_scene_;
   std::unique_ptr<RoadmapBuilder> builder_;
