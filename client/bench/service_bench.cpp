@@ -78,7 +78,7 @@ struct Bench {
   std::unique_ptr<LocalDaemon> daemon;
 };
 
-// ---- raw ping-pong: the same Request/Reply types and QoS, no service logic -----------------
+// ---- raw ping-pong: the same QueryRequest/Reply types and QoS, no service logic ------------
 
 struct RawEndpoints final : public fdds::DataReaderListener {
   RawEndpoints(int domain, const char* in_topic_name, const char* out_topic_name, bool is_server)
@@ -99,7 +99,7 @@ struct RawEndpoints final : public fdds::DataReaderListener {
   void on_data_available(fdds::DataReader* r) override {
     fdds::SampleInfo info;
     if (server) {
-      ispars::msg::Request request;
+      ispars::msg::QueryRequest request;
       while (r->take_next_sample(&request, &info) == ReturnCode_t::RETCODE_OK) {
         if (!info.valid_data) continue;
         ispars::msg::Reply reply = reply_template;
@@ -126,7 +126,7 @@ struct RawEndpoints final : public fdds::DataReaderListener {
     return pub.current_count > 0 && sub.current_count > 0;
   }
 
-  double round_trip(ispars::msg::Request& request) {
+  double round_trip(ispars::msg::QueryRequest& request) {
     const auto t0 = Clock::now();
     writer->write(&request);
     std::unique_lock lock(mutex);
@@ -136,7 +136,7 @@ struct RawEndpoints final : public fdds::DataReaderListener {
 
   ispars::wire::Participant participant;
   bool server;
-  fdds::TypeSupport request_type{new ispars::msg::RequestPubSubType()};
+  fdds::TypeSupport request_type{new ispars::msg::QueryRequestPubSubType()};
   fdds::TypeSupport reply_type{new ispars::msg::ReplyPubSubType()};
   fdds::DataWriter* writer = nullptr;
   fdds::DataReader* reader = nullptr;
@@ -156,9 +156,7 @@ nlohmann::json run_rtt(const std::string& daemon_binary, int count) {
   // The raw echo server runs in its own process, as the daemon does (fork + exec: forking a
   // process that already runs DDS threads is unsafe). It answers with the daemon's own stats
   // reply, so both paths move samples of the same serialized size.
-  ispars::msg::Request stats_request;
-  stats_request.kind(ispars::msg::STATS);
-  stats_request.scene("tower");
+  const ispars::msg::QueryRequest stats_request = ispars::client::make_query(ispars::msg::STATS, "tower");
   const pid_t echo = ::fork();
   if (echo == 0) {
     const std::string domain = std::to_string(bench.domain);
@@ -174,7 +172,7 @@ nlohmann::json run_rtt(const std::string& daemon_binary, int count) {
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
 
   std::vector<double> service, direct;
-  ispars::msg::Request ping = stats_request;
+  ispars::msg::QueryRequest ping = stats_request;
   ping.client_id("raw");
   std::uint64_t seq = 0;
   for (int w = 0; w < 50; ++w) {  // warm-up, both paths
@@ -211,9 +209,7 @@ nlohmann::json run_rtt(const std::string& daemon_binary, int count) {
 int run_echo(int domain) {
   ispars::client::ClientOptions options = ispars::client::local_client_options(domain);
   Client client(options);
-  ispars::msg::Request stats_request;
-  stats_request.kind(ispars::msg::STATS);
-  stats_request.scene("tower");
+  const ispars::msg::QueryRequest stats_request = ispars::client::make_query(ispars::msg::STATS, "tower");
   RawEndpoints server(domain, "", "", true);
   server.reply_template = client.call(stats_request);
   sigset_t stop;

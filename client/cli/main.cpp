@@ -23,11 +23,11 @@ using ispars::client::ClientError;
 namespace msg = ispars::msg;
 
 nlohmann::json status_json(const msg::SceneStatus& s) {
-  return {{"scene", s.scene()},
-          {"server_id", s.server_id()},
+  return {{"scene", s.scene().to_string()},
+          {"server_id", s.server_id().to_string()},
           {"state", ispars::wire::to_string(s.state())},
-          {"method", s.method()},
-          {"variant", std::string(s.variant().c_str())},
+          {"method", s.method().to_string()},
+          {"variant", s.variant().to_string()},
           {"seed", s.seed()},
           {"generation", s.generation()},
           {"samples_done", s.samples_done()},
@@ -48,9 +48,9 @@ nlohmann::json status_json(const msg::SceneStatus& s) {
 }
 
 void print_status(const msg::SceneStatus& s) {
-  std::cout << fmt::format("{} on {}: {}", s.scene(), s.server_id(), ispars::wire::to_string(s.state()));
-  if (!s.method().empty()) {
-    std::cout << fmt::format(", {}{} seed {}, {}/{} samples\n", s.method(),
+  std::cout << fmt::format("{} on {}: {}", s.scene().to_string(), s.server_id().to_string(), ispars::wire::to_string(s.state()));
+  if (s.method().size() != 0) {
+    std::cout << fmt::format(", {}{} seed {}, {}/{} samples\n", s.method().to_string(),
                              s.variant().size() == 0 ? std::string() : fmt::format(" ({} rules)", s.variant().c_str()),
                              s.seed(),
                              s.samples_done(), s.samples_target());
@@ -237,13 +237,13 @@ int main(int argc, char** argv) {
       if (list_json) {
         nlohmann::json list = nlohmann::json::array();
         for (const auto& e : entries) {
-          list.push_back({{"name", e.name()}, {"server_id", e.server_id()}, {"loaded", e.loaded()},
+          list.push_back({{"name", e.name().to_string()}, {"server_id", e.server_id().to_string()}, {"loaded", e.loaded()},
                           {"has_roadmap", e.has_roadmap()}});
         }
         std::cout << nlohmann::json{{"scenes", list}}.dump() << std::endl;
       } else {
         for (const auto& e : entries) {
-          std::cout << fmt::format("{:<24} {:<28} {}{}\n", e.name(), e.server_id(), e.loaded() ? "loaded" : "-",
+          std::cout << fmt::format("{:<24} {:<28} {}{}\n", e.name().to_string(), e.server_id().to_string(), e.loaded() ? "loaded" : "-",
                                    e.has_roadmap() ? ", stored roadmap" : "");
         }
       }
@@ -281,10 +281,12 @@ int main(int argc, char** argv) {
       std::cout << client.drop(scene).message() << "\n";
     } else if (*verify) {
       const msg::Reply r = client.verify(scene);
-      std::cout << (r.violations() == 0 ? "verified: " : "NOT verified: ") << r.message() << "\n";
-      return r.violations() == 0 ? 0 : 1;
+      const std::uint64_t violations = r.body().verify().violations();
+      std::cout << (violations == 0 ? "verified: " : "NOT verified: ") << r.message() << "\n";
+      return violations == 0 ? 0 : 1;
     } else if (*path) {
-      const msg::Reply r = client.path(scene, {from[0], from[1], from[2]}, {to[0], to[1], to[2]});
+      const msg::Reply reply = client.path(scene, {from[0], from[1], from[2]}, {to[0], to[1], to[2]});
+      const msg::PathResult& r = reply.body().path();
       if (json) {
         nlohmann::json points = nlohmann::json::array();
         for (const auto& p : r.waypoints()) points.push_back({p.x(), p.y(), p.z()});
@@ -295,13 +297,14 @@ int main(int argc, char** argv) {
       }
     } else if (*tour) {
       const bool tty = ::isatty(STDERR_FILENO) != 0;
-      const msg::Reply r = client.tour(scene, budget, tour_seed, targets, [&](double t, double cost, double bound) {
+      const msg::Reply reply = client.tour(scene, budget, tour_seed, targets, [&](double t, double cost, double bound) {
         if (json) return;
         std::cerr << fmt::format("{}{:8.2f} s  best tour {:.6g}  proven bound {:.6g}{}", tty ? "\r" : "", t, cost, bound,
                                  tty ? "   " : "\n")
                   << std::flush;
       });
       if (tty && !json) std::cerr << "\n";
+      const msg::TourResult& r = reply.body().tour();
       nlohmann::json trace = nlohmann::json::array();
       for (std::size_t i = 0; i + 1 < r.trace().size(); i += 2) trace.push_back({r.trace()[i], r.trace()[i + 1]});
       nlohmann::json bound_trace = nlohmann::json::array();
@@ -309,17 +312,17 @@ int main(int argc, char** argv) {
         bound_trace.push_back({r.bound_trace()[i], r.bound_trace()[i + 1]});
       }
       const double seconds = r.trace().empty() ? 0.0 : r.trace()[r.trace().size() - 2];
-      const nlohmann::json result = {{"cost", r.length()},
+      const nlohmann::json result = {{"cost", r.cost()},
                                      {"covered", r.covered()},
                                      {"targets", r.target_count()},
                                      {"seconds", seconds},
                                      {"lower_bound", r.lower_bound()},
-                                     {"valid", r.tour_valid()},
+                                     {"valid", r.valid()},
                                      {"trace", trace},
                                      {"bound_trace", bound_trace},
                                      {"bound_complete", r.bound_complete()},
                                      {"walk_steps", r.walk().empty() ? 0 : r.walk().size() - 1},
-                                     {"version", r.tour_version()}};
+                                     {"version", r.version()}};
       if (!out.empty()) {
         nlohmann::json positions = nlohmann::json::array();
         for (const auto& p : r.waypoints()) positions.push_back({p.x(), p.y(), p.z()});
@@ -331,14 +334,14 @@ int main(int argc, char** argv) {
       if (json) {
         std::cout << result.dump() << std::endl;
       } else {
-        std::cout << r.message() << "\n";
+        std::cout << reply.message() << "\n";
         std::cout << fmt::format("  {} steps, proven lower bound {:.6g} (gap {:.1f}%{}), {}\n",
                                  r.walk().empty() ? 0 : r.walk().size() - 1, r.lower_bound(),
-                                 r.length() > 0 ? 100.0 * (r.length() - r.lower_bound()) / r.length() : 0.0,
+                                 r.cost() > 0 ? 100.0 * (r.cost() - r.lower_bound()) / r.cost() : 0.0,
                                  r.bound_complete() ? ", LP solved over all its cuts" : "",
-                                 r.tour_valid() ? "valid" : "NOT valid");
+                                 r.valid() ? "valid" : "NOT valid");
       }
-      return r.tour_valid() ? 0 : 1;
+      return r.valid() ? 0 : 1;
     } else if (*snapshot) {
       const ispars::client::Snapshot s = client.snapshot(scene);
       write_text(out, ispars::roadmap_file_json(scene, s.root, s.pois, s.roadmap, nullptr));

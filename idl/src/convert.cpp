@@ -96,8 +96,8 @@ std::string to_string(msg::SceneState state) {
   return "unknown";
 }
 
-std::string to_string(msg::RequestKind kind) {
-  switch (kind) {
+std::string to_string(msg::Operation operation) {
+  switch (operation) {
     case msg::LIST_SCENES: return "list";
     case msg::LOAD_SCENE: return "load";
     case msg::UNLOAD_SCENE: return "unload";
@@ -112,6 +112,53 @@ std::string to_string(msg::RequestKind kind) {
     case msg::TOUR: return "tour";
   }
   return "unknown";
+}
+
+msg::ReplyBody empty_reply_body(msg::Operation operation) {
+  msg::ReplyBody body;
+  switch (operation) {
+    case msg::LIST_SCENES: body.list_scenes(msg::SceneList{}); break;
+    case msg::LOAD_SCENE: body.load_scene(msg::NoArgs{}); break;
+    case msg::UNLOAD_SCENE: body.unload_scene(msg::NoArgs{}); break;
+    case msg::BUILD: body.build(msg::NoArgs{}); break;
+    case msg::EXTEND: body.extend(msg::NoArgs{}); break;
+    case msg::CANCEL: body.cancel(msg::NoArgs{}); break;
+    case msg::STATS: body.stats(msg::NoArgs{}); break;
+    case msg::PATH: body.path(msg::PathResult{}); break;
+    case msg::SNAPSHOT: body.snapshot(msg::SnapshotChunk{}); break;
+    case msg::DROP: body.drop(msg::NoArgs{}); break;
+    case msg::VERIFY: body.verify(msg::VerifyResult{}); break;
+    case msg::TOUR: body.tour(msg::TourResult{}); break;
+  }
+  return body;
+}
+
+msg::QueryArgs query_args(msg::Operation operation) {
+  msg::QueryArgs args;
+  switch (operation) {
+    case msg::LIST_SCENES: args.list_scenes(msg::NoArgs{}); break;
+    case msg::STATS: args.stats(msg::NoArgs{}); break;
+    case msg::PATH: args.path(msg::PathArgs{}); break;
+    case msg::SNAPSHOT: args.snapshot(msg::SnapshotArgs{}); break;
+    case msg::VERIFY: args.verify(msg::NoArgs{}); break;
+    case msg::TOUR: args.tour(msg::TourArgs{}); break;
+    default: throw std::invalid_argument(to_string(operation) + " is not a query");
+  }
+  return args;
+}
+
+msg::ChangeArgs change_args(msg::Operation operation) {
+  msg::ChangeArgs args;
+  switch (operation) {
+    case msg::LOAD_SCENE: args.load_scene(msg::NoArgs{}); break;
+    case msg::UNLOAD_SCENE: args.unload_scene(msg::NoArgs{}); break;
+    case msg::BUILD: args.build(msg::BuildArgs{}); break;
+    case msg::EXTEND: args.extend(msg::ExtendArgs{}); break;
+    case msg::CANCEL: args.cancel(msg::NoArgs{}); break;
+    case msg::DROP: args.drop(msg::NoArgs{}); break;
+    default: throw std::invalid_argument(to_string(operation) + " is not a change");
+  }
+  return args;
 }
 
 }  // namespace ispars::wire

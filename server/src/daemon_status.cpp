@@ -1,14 +1,35 @@
-// What isparsd tells the domain: each scene's status, stamped in order, and the daemon's own
-// announcement (host, pid, scenes available and loaded).
+// What isparsd tells the domain: the service's events as messages. Each scene's status, stamped
+// in order; committed batches as updates; and the daemon's own announcement (protocol, host, pid,
+// scenes available and loaded).
 
 #include <unistd.h>
 
 #include "daemon.hpp"
 #include "dds_endpoints.hpp"
 #include "ispars/service/scene_catalog.hpp"
+#include "ispars/wire/convert.hpp"
 #include "status_message.hpp"
 
 namespace ispars::server {
+
+ServiceEvents Daemon::service_events() {
+  ServiceEvents events;
+  events.on_commit = [this](const std::string& scene, const RoadmapBatch& batch, std::uint64_t generation,
+                            std::uint64_t samples) {
+    dds_->publish_update(wire::to_message(batch, scene, config_.server_id, generation, samples));
+  };
+  events.on_status = [this](const RoadmapSession& session) { publish_status(session); };
+  events.on_unloaded = [this](const std::string& scene) { publish_unloaded(scene); };
+  events.on_scenes_changed = [this] { announce(); };
+  events.owner_elsewhere = [this](const std::string& scene) -> std::optional<std::string> {
+    const auto other = dds_->status_of(scene);
+    if (other && other->server_id() != config_.server_id && other->state() != msg::SCENE_UNLOADED) {
+      return other->server_id().to_string();
+    }
+    return std::nullopt;
+  };
+  return events;
+}
 
 msg::SceneStatus Daemon::status_message(const RoadmapSession& session) const {
   // Stamped under one lock with the reading, so a later stamp is never an older state.
@@ -18,17 +39,14 @@ msg::SceneStatus Daemon::status_message(const RoadmapSession& session) const {
   return m;
 }
 
-void Daemon::publish_status(const std::string& scene) {
-  if (!dds_) return;
-  const auto s = session_or_null(scene);
-  if (!s) return;
+void Daemon::publish_status(const RoadmapSession& session) {
   std::lock_guard lock(publish_mutex_);
-  dds_->publish_status(status_message(*s));
+  dds_->publish_status(status_message(session));
 }
 
-void Daemon::publish_unloaded(const std::string& name) {
+void Daemon::publish_unloaded(const std::string& scene) {
   msg::SceneStatus status;
-  status.scene(name);
+  status.scene(scene);
   status.server_id(config_.server_id);
   status.state(msg::SCENE_UNLOADED);
   std::lock_guard lock(publish_mutex_);
@@ -42,12 +60,12 @@ void Daemon::publish_unloaded(const std::string& name) {
 void Daemon::announce() {
   msg::DaemonInfo info;
   info.server_id(config_.server_id);
+  info.protocol(msg::PROTOCOL_VERSION);
   info.host(host_name());
   info.pid(static_cast<std::int32_t>(::getpid()));
-  info.available(list_scene_names(config_.scene_dir));
-  {
-    std::lock_guard lock(sessions_mutex_);
-    for (const auto& [name, s] : sessions_) info.loaded().push_back(name);
+  for (const std::string& name : list_scene_names(config_.scene_dir)) info.available().push_back(name);
+  if (service_) {
+    for (const std::string& name : service_->loaded_scenes()) info.loaded().push_back(name);
   }
   dds_->announce(info);
 }

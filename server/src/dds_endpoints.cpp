@@ -46,15 +46,17 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
     : daemon_(daemon),
       server_id_(config.server_id),
       participant_(participant_options(config)),
-      request_type_(new msg::RequestPubSubType()),
+      query_type_(new msg::QueryRequestPubSubType()),
+      change_type_(new msg::ChangeRequestPubSubType()),
       reply_type_(new msg::ReplyPubSubType()),
       update_type_(new msg::UpdateBatchPubSubType()),
       status_type_(new msg::SceneStatusPubSubType()),
       daemon_type_(new msg::DaemonInfoPubSubType()),
       progress_type_(new msg::TourProgressPubSubType()),
-      statuses_([](const msg::SceneStatus& s) { return s.scene(); }) {
+      statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); }) {
   fdds::DomainParticipant* p = participant_.get();
-  fdds::Topic* request_topic = wire::find_or_create_topic(p, request_type_, wire::kRequestTopic);
+  fdds::Topic* query_topic = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
+  fdds::Topic* change_topic = wire::find_or_create_topic(p, change_type_, wire::kChangeTopic);
   fdds::Topic* reply_topic = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);
   fdds::Topic* update_topic = wire::find_or_create_topic(p, update_type_, wire::kUpdatesTopic);
   fdds::Topic* status_topic = wire::find_or_create_topic(p, status_type_, wire::kStatusTopic);
@@ -69,9 +71,12 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
   daemons_ = require(pub->create_datawriter(daemon_topic, wire::state_writer_qos()), "announcement writer");
   tour_progress_ = require(pub->create_datawriter(progress_topic, wire::request_reply_writer_qos()), "tour progress writer");
   status_reader_ = require(sub->create_datareader(status_topic, wire::state_reader_qos(), &statuses_), "status reader");
-  requests_ = require(sub->create_datareader(request_topic, wire::request_reply_reader_qos(), this,
-                                             fdds::StatusMask::data_available()),
-                      "request reader");
+  queries_ = require(sub->create_datareader(query_topic, wire::request_reply_reader_qos(), this,
+                                            fdds::StatusMask::data_available()),
+                     "query reader");
+  changes_ = require(sub->create_datareader(change_topic, wire::request_reply_reader_qos(), this,
+                                            fdds::StatusMask::data_available()),
+                     "change reader");
   sender_ = std::thread([this] { send_pending_replies(); });
 }
 
@@ -84,7 +89,8 @@ DdsEndpoints::~DdsEndpoints() {
   outbox_wake_.notify_all();
   if (sender_.joinable()) sender_.join();
   // Detach the listeners, then delete the entities while the listener objects still exist.
-  if (requests_) requests_->set_listener(nullptr);
+  if (queries_) queries_->set_listener(nullptr);
+  if (changes_) changes_->set_listener(nullptr);
   if (replies_) replies_->set_listener(nullptr);
   if (status_reader_) status_reader_->set_listener(nullptr);
   participant_->delete_contained_entities();
@@ -92,13 +98,27 @@ DdsEndpoints::~DdsEndpoints() {
 
 void DdsEndpoints::stop_requests() { accepting_ = false; }
 
-void DdsEndpoints::on_data_available(fdds::DataReader* reader) {
-  msg::Request request;
+namespace {
+
+template <class Request>
+void take_requests(fdds::DataReader* reader, Daemon& daemon, const std::string& server_id,
+                   const std::atomic<bool>& accepting) {
+  Request request;
   fdds::SampleInfo info;
   while (reader->take_next_sample(&request, &info) == ReturnCode_t::RETCODE_OK) {
-    if (!info.valid_data || !accepting_) continue;
-    if (request.server_id() != server_id_) continue;  // addressed to another daemon
-    daemon_.enqueue(std::move(request));
+    if (!info.valid_data || !accepting) continue;
+    if (request.server_id() != server_id) continue;  // addressed to another daemon
+    daemon.receive(std::move(request));
+  }
+}
+
+}  // namespace
+
+void DdsEndpoints::on_data_available(fdds::DataReader* reader) {
+  if (reader == queries_) {
+    take_requests<msg::QueryRequest>(reader, daemon_, server_id_, accepting_);
+  } else if (reader == changes_) {
+    take_requests<msg::ChangeRequest>(reader, daemon_, server_id_, accepting_);
   }
 }
 
@@ -121,7 +141,7 @@ void DdsEndpoints::send_reply(const msg::Reply& reply, std::chrono::milliseconds
   // no request thread is held by a client that is slow to match or gone.
   {
     std::lock_guard lock(matched_mutex_);
-    if (matched_clients_.count(reply.client_id()) > 0) {
+    if (matched_clients_.count(reply.client_id().to_string()) > 0) {
       write_reply(reply);
       return;
     }
@@ -147,7 +167,7 @@ void DdsEndpoints::send_pending_replies() {
       bool matched = false;
       {
         std::lock_guard m(matched_mutex_);
-        matched = matched_clients_.count(it->reply.client_id()) > 0;
+        matched = matched_clients_.count(it->reply.client_id().to_string()) > 0;
       }
       if (matched || now >= it->deadline) {
         if (!matched) {

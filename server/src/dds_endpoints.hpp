@@ -1,6 +1,6 @@
 #pragma once
-// The daemon's DDS side: one participant, the request reader, and the reply, update, status and
-// announcement writers.
+// The daemon's DDS side: one participant, the query and change request readers, and the reply,
+// update, status and announcement writers.
 
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
@@ -45,7 +45,7 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   /// Stops delivering requests.
   void stop_requests();
 
-  // DataReaderListener (requests)
+  // DataReaderListener (queries and changes)
   void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
   // DataWriterListener (replies): tracks which clients' reply readers have matched.
   void on_publication_matched(eprosima::fastdds::dds::DataWriter* writer,
@@ -55,9 +55,10 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   Daemon& daemon_;
   std::string server_id_;
   wire::Participant participant_;
-  eprosima::fastdds::dds::TypeSupport request_type_, reply_type_, update_type_, status_type_, daemon_type_,
-      progress_type_;
-  eprosima::fastdds::dds::DataReader* requests_ = nullptr;
+  eprosima::fastdds::dds::TypeSupport query_type_, change_type_, reply_type_, update_type_, status_type_,
+      daemon_type_, progress_type_;
+  eprosima::fastdds::dds::DataReader* queries_ = nullptr;
+  eprosima::fastdds::dds::DataReader* changes_ = nullptr;
   eprosima::fastdds::dds::DataWriter* replies_ = nullptr;
   eprosima::fastdds::dds::DataWriter* updates_ = nullptr;
   eprosima::fastdds::dds::DataWriter* status_ = nullptr;

@@ -33,7 +33,7 @@ void ReplyCache::complete(const std::string& client, std::uint64_t seq, const ms
   const auto r = it->second.replies.find(seq);
   if (r == it->second.replies.end()) return;
   // Snapshot chunks are large and reading one again is harmless: not kept; a retry re-reads it.
-  if (reply.kind() == msg::SNAPSHOT) {
+  if (reply.body()._d() == msg::SNAPSHOT) {
     it->second.replies.erase(r);
     return;
   }

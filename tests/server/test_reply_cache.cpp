@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ispars/wire/convert.hpp"
 #include "reply_cache.hpp"
 
 namespace ispars::server {
@@ -10,7 +11,7 @@ namespace {
 msg::Reply reply(std::uint64_t seq, const std::string& text) {
   msg::Reply r;
   r.request_seq(seq);
-  r.kind(msg::STATS);
+  r.body(wire::empty_reply_body(msg::STATS));
   r.message(text);
   return r;
 }
@@ -46,8 +47,8 @@ TEST(ReplyCache, SnapshotChunksAreNotKept) {
   msg::Reply out;
   cache.admit("a", 1, out);
   msg::Reply chunk = reply(1, "");
-  chunk.kind(msg::SNAPSHOT);
-  chunk.chunk().resize(1000);
+  chunk.body(wire::empty_reply_body(msg::SNAPSHOT));
+  chunk.body().snapshot().bytes().resize(1000);
   cache.complete("a", 1, chunk);
   EXPECT_EQ(cache.admit("a", 1, out), ReplyCache::Admission::new_request);  // re-read, harmless
 }

@@ -48,6 +48,12 @@ struct BuildArgs {
   std::string variant;  ///< spars, ispars: "stretch" or "alg1" (empty: the daemon's default, stretch)
 };
 
+/// A query (list, stats, path, snapshot, verify, tour) or a change (load, unload, build, extend,
+/// cancel, drop) on `scene` with defaulted arguments, for call() or call_raw(). Throws
+/// std::invalid_argument when `operation` is of the other kind.
+[[nodiscard]] msg::QueryRequest make_query(msg::Operation operation, const std::string& scene);
+[[nodiscard]] msg::ChangeRequest make_change(msg::Operation operation, const std::string& scene);
+
 /// A whole roadmap fetched at one version.
 struct Snapshot {
   std::string scene;
@@ -93,12 +99,15 @@ class Client {
 
   /// Sends one request to the daemon that owns its scene (or to `server`), retrying with the
   /// same sequence number until a reply or the timeout. Throws ClientError(rejected) when the
-  /// reply is an error, with the daemon's message.
-  msg::Reply call(msg::Request request, const std::string& server = {});
+  /// reply is an error, with the daemon's message, and ClientError(protocol) when the daemon
+  /// speaks another protocol version (nothing is sent then).
+  msg::Reply call(msg::QueryRequest request, const std::string& server = {});
+  msg::Reply call(msg::ChangeRequest request, const std::string& server = {});
   /// Like call(), with its own timeout.
-  msg::Reply call(msg::Request request, const std::string& server, std::chrono::milliseconds timeout);
+  msg::Reply call(msg::QueryRequest request, const std::string& server, std::chrono::milliseconds timeout);
   /// Like call() but returns error replies instead of throwing.
-  msg::Reply call_raw(msg::Request request, const std::string& server);
+  msg::Reply call_raw(msg::QueryRequest request, const std::string& server);
+  msg::Reply call_raw(msg::ChangeRequest request, const std::string& server);
 
   /// The daemon owning `scene`; for a scene no one owns, options.server or the first daemon
   /// (by id) that offers it. Throws ClientError(no_daemon) when none is running.

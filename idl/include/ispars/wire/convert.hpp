@@ -20,6 +20,15 @@ namespace ispars::wire {
 [[nodiscard]] RoadmapBatch from_message(const msg::UpdateBatch& message);
 
 [[nodiscard]] std::string to_string(msg::SceneState state);
-[[nodiscard]] std::string to_string(msg::RequestKind kind);
+/// The operation's short name ("list", "load", ..., "tour"); "unknown" for a value outside the enum.
+[[nodiscard]] std::string to_string(msg::Operation operation);
+
+/// A reply body whose discriminator is `operation`, with that operation's member defaulted (a
+/// union's discriminator can only be set together with its member).
+[[nodiscard]] msg::ReplyBody empty_reply_body(msg::Operation operation);
+/// The same for requests: query and change arguments for `operation`, defaulted. Throws
+/// std::invalid_argument when `operation` is not a query (resp. a change).
+[[nodiscard]] msg::QueryArgs query_args(msg::Operation operation);
+[[nodiscard]] msg::ChangeArgs change_args(msg::Operation operation);
 
 }  // namespace ispars::wire

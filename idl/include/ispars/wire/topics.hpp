@@ -10,7 +10,10 @@
 
 namespace ispars::wire {
 
-inline constexpr const char* kRequestTopic = "ispars/request";
+/// Requests that read (list, stats, path, snapshot, verify, tour).
+inline constexpr const char* kQueryTopic = "ispars/query";
+/// Requests that change what a daemon holds (load, unload, build, extend, cancel, drop).
+inline constexpr const char* kChangeTopic = "ispars/change";
 inline constexpr const char* kReplyTopic = "ispars/reply";
 inline constexpr const char* kUpdatesTopic = "ispars/updates";
 inline constexpr const char* kStatusTopic = "ispars/status";

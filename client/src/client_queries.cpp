@@ -1,0 +1,122 @@
+// The client's longer exchanges: a snapshot pulled in chunks at one version, a tour with live
+// progress, and waiting for a scene's job to end.
+
+#include "client_impl.hpp"
+#include "ispars/roadmap_log.hpp"
+
+namespace ispars::client {
+namespace {
+
+bool busy_state(msg::SceneState s) {
+  return s == msg::SCENE_QUEUED || s == msg::SCENE_BUILDING || s == msg::SCENE_REPLAYING;
+}
+
+}  // namespace
+
+Snapshot Client::snapshot(const std::string& scene) {
+  const std::string server = owner_of(scene);
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    msg::QueryRequest r = make_query(msg::SNAPSHOT, scene);
+    const msg::Reply first = call(r, server);
+    const msg::SnapshotChunk& chunk0 = first.body().snapshot();
+    Snapshot s;
+    s.scene = scene;
+    s.generation = chunk0.generation();
+    s.version = chunk0.version();
+    s.status = first.status();
+    s.root = wire::from_message(chunk0.root());
+    for (const auto& p : chunk0.pois()) s.pois.push_back(wire::from_message(p));
+    std::string bytes(chunk0.bytes().begin(), chunk0.bytes().end());
+    bool restarted = false;
+    for (std::uint32_t i = 1; i < chunk0.chunk_count(); ++i) {
+      r.args().snapshot().generation(s.generation);
+      r.args().snapshot().version(s.version);
+      r.args().snapshot().chunk_index(i);
+      const msg::Reply part = call_raw(r, server);
+      if (!part.ok()) {  // the roadmap was rebuilt meanwhile: start again
+        restarted = true;
+        break;
+      }
+      const auto& more = part.body().snapshot().bytes();
+      bytes.append(more.begin(), more.end());
+    }
+    if (restarted) continue;
+    try {
+      s.roadmap = Roadmap(s.pois.size());
+      apply_batch(s.roadmap, decode_batch(bytes));
+    } catch (const std::runtime_error& e) {
+      throw ClientError(ClientError::Kind::protocol, std::string("snapshot of '") + scene + "' is damaged: " + e.what());
+    }
+    return s;
+  }
+  throw ClientError(ClientError::Kind::protocol, "the roadmap of '" + scene + "' kept changing generation during the snapshot");
+}
+
+msg::Reply Client::tour(const std::string& scene, double budget, std::uint64_t seed,
+                        const std::vector<std::uint32_t>& targets,
+                        const std::function<void(double seconds, double cost, double bound)>& progress) {
+  impl_->ensure_progress_reader();
+  {
+    std::lock_guard lock(impl_->progress_.mutex);
+    impl_->progress_.callback = progress;
+  }
+  msg::QueryRequest r = make_query(msg::TOUR, scene);
+  r.args().tour().budget(budget);
+  r.args().tour().seed(seed);
+  r.args().tour().targets(targets);
+  // The daemon answers when the search ends: wait for the budget on top of the usual timeout.
+  const auto timeout = options_.timeout + std::chrono::milliseconds(static_cast<long>(std::max(0.0, budget) * 1000));
+  msg::Reply reply;
+  try {
+    reply = call(r, {}, timeout);
+  } catch (...) {
+    std::lock_guard lock(impl_->progress_.mutex);
+    impl_->progress_.callback = nullptr;
+    throw;
+  }
+  std::lock_guard lock(impl_->progress_.mutex);
+  impl_->progress_.callback = nullptr;
+  return reply;
+}
+
+msg::SceneStatus Client::wait_idle(const std::string& scene, const std::function<void(const msg::SceneStatus&)>& progress,
+                                   std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  msg::SceneStatus last = stats(scene);  // through the owner: fails clearly when not loaded
+  if (progress) progress(last);
+  std::uint64_t seen_version = last.version();
+  std::uint64_t seen_samples = last.samples_done();
+  msg::SceneState seen_state = last.state();
+  while (busy_state(last.state())) {
+    if (std::chrono::steady_clock::now() >= deadline) {
+      throw ClientError(ClientError::Kind::timeout, fmt::format("scene '{}' still {} after {:.0f} s", scene,
+                                                                wire::to_string(last.state()), timeout.count() / 1000.0));
+    }
+    impl_->statuses_.wait_for(std::chrono::milliseconds(500), [&](const auto& latest) {
+      const auto it = latest.find(scene);
+      return it != latest.end() && (it->second.samples_done() != seen_samples || it->second.state() != seen_state ||
+                                    it->second.version() != seen_version);
+    });
+    if (const auto s = impl_->statuses_.get(scene); s && s->status_seq() < last.status_seq() &&
+                                                     s->server_id() == last.server_id()) {
+      // older than what we know: ignore
+    } else if (s) {
+      if (s->server_id() != last.server_id() || s->state() == msg::SCENE_UNLOADED) {
+        throw ClientError(ClientError::Kind::protocol, fmt::format("scene '{}' was unloaded while waiting", scene));
+      }
+      last = *s;
+    } else if (!impl_->daemons_.get(last.server_id().to_string())) {
+      throw ClientError(ClientError::Kind::no_daemon, fmt::format("daemon {} went away while building '{}'",
+                                                                  last.server_id().to_string(), scene));
+    }
+    if (last.samples_done() != seen_samples || last.state() != seen_state || last.version() != seen_version) {
+      seen_samples = last.samples_done();
+      seen_state = last.state();
+      seen_version = last.version();
+      if (progress) progress(last);
+    }
+  }
+  return last;
+}
+
+}  // namespace ispars::client

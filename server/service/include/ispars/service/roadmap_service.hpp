@@ -1,0 +1,188 @@
+#pragma once
+// The roadmap service without its transport: the scenes a daemon holds (one RoadmapSession each),
+// every operation a client may ask for in typed form, build jobs and tours on the service's own
+// worker pools, and tour admission. The DDS layer (server/src) decodes a request, calls one of
+// these functions, and encodes what it returns; unit tests call them directly.
+//
+// Every operation checks its arguments here, once, and throws InputError (file "request", the
+// field named) for a bad one; no operation that throws has changed anything.
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "ispars/gip_solver.hpp"
+#include "ispars/service/roadmap_session.hpp"
+#include "ispars/service/worker_pool.hpp"
+
+namespace ispars {
+
+/// Where a service finds scenes and keeps roadmaps, and what it allows.
+struct ServiceSettings {
+  std::string server_id;              ///< This service's name in messages ("daemon X").
+  std::filesystem::path scene_dir;    ///< The only directory scenes load from.
+  std::filesystem::path data_dir;     ///< One store directory per scene.
+  SessionLimits limits;               ///< Per session: samples per request, compaction, build threads.
+  unsigned build_workers = 2;         ///< Builds running at once (each on its own thread).
+  unsigned tour_workers = 2;          ///< Tours running at once.
+  std::size_t tours_per_worker = 2;   ///< Tours admitted (queued or running) per tour worker.
+};
+
+/// A scene the service can load, as listed.
+struct SceneListing {
+  std::string name;
+  bool loaded = false;
+  bool has_roadmap = false;  ///< Loaded with a roadmap, or not loaded with a store on disk.
+};
+
+/// What the service tells its owner (the transport). Called on the thread that caused the event.
+struct ServiceEvents {
+  /// A committed batch of a scene's roadmap (on the job's thread, in order).
+  std::function<void(const std::string& scene, const RoadmapBatch& batch, std::uint64_t generation,
+                     std::uint64_t samples)>
+      on_commit;
+  /// A loaded scene's status changed.
+  std::function<void(const RoadmapSession& session)> on_status;
+  /// A scene is no longer held (unloaded, or the service stopped).
+  std::function<void(const std::string& scene)> on_unloaded;
+  /// The set of loaded scenes changed.
+  std::function<void()> on_scenes_changed;
+  /// Another service that holds `scene`, if any; a load of it is refused.
+  std::function<std::optional<std::string>(const std::string& scene)> owner_elsewhere;
+};
+
+/// A tour request in typed form.
+struct TourRequest {
+  std::vector<PoiId> targets;   ///< Empty: every POI seen from the root's component.
+  double budget_seconds = 1.0;  ///< In (0, kMaxTourBudget].
+  std::uint64_t seed = 1;
+};
+inline constexpr double kMaxTourBudget = 3600.0;
+inline constexpr std::size_t kMaxTourTargets = 1'000'000;
+
+/// A finished tour: the search's result on the roadmap version it searched.
+struct TourOutcome {
+  GipResult result;
+  std::vector<Vec3> waypoints;  ///< The walk's positions.
+  std::uint64_t version = 0;
+};
+
+/// How a tour reports: progress as it improves (best cost and proven bound so far, 0: none yet;
+/// from two threads), then exactly one of done or failed, on a tour worker.
+struct TourCallbacks {
+  std::function<void(double seconds, double cost, double bound)> progress;
+  std::function<void(TourOutcome outcome)> done;
+  std::function<void(const std::string& error)> failed;
+};
+
+/// One slice of a roadmap encoded at one version, for transfer in bounded chunks.
+struct SnapshotSlice {
+  std::uint64_t generation = 0;
+  std::uint64_t version = 0;
+  std::uint32_t chunk_index = 0;
+  std::uint32_t chunk_count = 0;
+  std::shared_ptr<const std::string> encoded;  ///< The whole encoding; this slice is [begin, end).
+  std::size_t begin = 0;
+  std::size_t end = 0;
+};
+inline constexpr std::size_t kSnapshotChunkBytes = 1024 * 1024;
+
+/// A verification and whether the roadmap's method promises Invariant 1 (only Inspection-SPARS).
+struct VerifyOutcome {
+  VerificationReport report;
+  bool invariant_promised = false;
+  /// Problems the method promises to avoid (0: verified).
+  [[nodiscard]] std::uint64_t violations() const;
+};
+
+/// What a cancel stopped.
+struct CancelOutcome {
+  bool build_cancelled = false;
+  std::size_t tours_stopped = 0;
+};
+
+class RoadmapService {
+ public:
+  /// A service over `settings` with no scene loaded. Throws std::runtime_error when the scene
+  /// directory does not exist. Removes leftovers of dropped stores.
+  RoadmapService(ServiceSettings settings, ServiceEvents events);
+  /// Same as stop().
+  ~RoadmapService();
+  RoadmapService(const RoadmapService&) = delete;
+  RoadmapService& operator=(const RoadmapService&) = delete;
+
+  /// Loads every scene with a stored roadmap (a failure is logged and skips that scene).
+  void load_stored_roadmaps();
+  /// Stops: tours stop early and report their best, builds commit their current chunk and stop,
+  /// queued jobs are dropped, and every loaded scene is reported unloaded. Idempotent.
+  void stop();
+
+  // Queries.
+  [[nodiscard]] std::vector<SceneListing> list_scenes() const;
+  [[nodiscard]] std::vector<std::string> loaded_scenes() const;
+  [[nodiscard]] SessionStatus stats(const std::string& scene) const;
+  [[nodiscard]] RoadmapPath path(const std::string& scene, const Vec3& from, const Vec3& to) const;
+  /// Chunk `chunk_index` of the roadmap at `version` of `generation` (version 0: the latest).
+  [[nodiscard]] SnapshotSlice snapshot(const std::string& scene, std::uint64_t version, std::uint64_t generation,
+                                       std::uint32_t chunk_index);
+  [[nodiscard]] VerifyOutcome verify(const std::string& scene) const;
+  /// Admits a tour and runs it on a tour worker. Throws InputError for bad arguments, a scene
+  /// without a roadmap, or when the tour queue is full ("busy").
+  void start_tour(const std::string& scene, TourRequest request, TourCallbacks callbacks);
+
+  // Changes.
+  /// Loads `scene` (with its stored roadmap); returns its session and whether it was loaded by
+  /// this call (false: it already was).
+  std::pair<std::shared_ptr<RoadmapSession>, bool> load(const std::string& scene);
+  void unload(const std::string& scene);
+  void build(const std::string& scene, const BuildRequest& request);
+  void extend(const std::string& scene, std::uint64_t samples);
+  CancelOutcome cancel(const std::string& scene);
+  void drop(const std::string& scene);
+
+  /// The loaded session of `scene`; InputError naming the scene when it is not loaded.
+  [[nodiscard]] std::shared_ptr<RoadmapSession> session(const std::string& scene) const;
+  [[nodiscard]] const ServiceSettings& settings() const { return settings_; }
+
+ private:
+  std::shared_ptr<RoadmapSession> session_or_null(const std::string& scene) const;
+  std::shared_ptr<RoadmapSession> open_session(const std::string& scene);
+  void schedule(const std::shared_ptr<RoadmapSession>& session);
+  void run_tour(const std::shared_ptr<RoadmapSession>& session, const TourRequest& request,
+                const TourCallbacks& callbacks, const std::shared_ptr<std::atomic<bool>>& stop);
+  std::size_t stop_tours(const std::string& scene);  // every scene when empty
+
+  const ServiceSettings settings_;
+  const ServiceEvents events_;
+  std::atomic<bool> stopping_{false};
+
+  mutable std::mutex sessions_mutex_;
+  std::map<std::string, std::shared_ptr<RoadmapSession>> sessions_;
+  std::set<std::string> loading_;  // names being loaded (reserved)
+
+  struct EncodedSnapshot {
+    std::string scene;
+    std::uint64_t generation = 0;
+    std::uint64_t version = 0;
+    std::shared_ptr<const std::string> bytes;
+  };
+  std::mutex snapshots_mutex_;
+  std::vector<EncodedSnapshot> snapshots_;  // the few most recent, oldest first
+
+  std::mutex tours_mutex_;
+  std::size_t tours_admitted_ = 0;
+  std::multimap<std::string, std::shared_ptr<std::atomic<bool>>> running_tours_;  // stop flags by scene
+
+  server::WorkerPool builds_;
+  server::WorkerPool tours_;
+};
+
+}  // namespace ispars

@@ -1,0 +1,217 @@
+// The roadmap service's scenes and changes: loading and unloading sessions, builds and extends
+// scheduled on the build workers, cancel and drop. Queries that take time (snapshots, tours,
+// verification) are in roadmap_service_queries.cpp.
+
+#include "ispars/service/roadmap_service.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "ispars/input_error.hpp"
+#include "ispars/service/roadmap_store.hpp"
+#include "ispars/service/scene_catalog.hpp"
+
+namespace ispars {
+namespace {
+
+constexpr const char* kRequest = "request";
+
+}  // namespace
+
+RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events)
+    : settings_(std::move(settings)),
+      events_(std::move(events)),
+      builds_(std::max(1u, settings_.build_workers)),
+      tours_(std::max(1u, settings_.tour_workers)) {
+  if (!std::filesystem::is_directory(settings_.scene_dir)) {
+    throw std::runtime_error("scene directory " + settings_.scene_dir.string() + " does not exist");
+  }
+  std::filesystem::create_directories(settings_.data_dir);
+  remove_dropped_stores(settings_.data_dir);
+}
+
+RoadmapService::~RoadmapService() { stop(); }
+
+void RoadmapService::stop() {
+  if (stopping_.exchange(true)) return;
+  stop_tours("");
+  builds_.stop();  // running builds commit their current chunk and return
+  tours_.stop();   // running tours stop early and report their best
+  std::vector<std::string> names;
+  {
+    std::lock_guard lock(sessions_mutex_);
+    for (const auto& [name, s] : sessions_) names.push_back(name);
+  }
+  if (events_.on_unloaded) {
+    for (const auto& name : names) events_.on_unloaded(name);
+  }
+}
+
+void RoadmapService::load_stored_roadmaps() {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(settings_.data_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!entry.is_directory() || !valid_scene_name(name)) continue;
+    if (!std::filesystem::exists(entry.path() / "recipe.json")) continue;
+    try {
+      if (!session_or_null(name)) open_session(name);
+    } catch (const std::exception& e) {
+      spdlog::error("stored roadmap of scene '{}' not reloaded: {}", name, e.what());
+    }
+  }
+}
+
+std::vector<SceneListing> RoadmapService::list_scenes() const {
+  std::vector<SceneListing> out;
+  std::lock_guard lock(sessions_mutex_);
+  for (const std::string& name : list_scene_names(settings_.scene_dir)) {
+    SceneListing e;
+    e.name = name;
+    if (const auto it = sessions_.find(name); it != sessions_.end()) {
+      e.loaded = true;
+      e.has_roadmap = it->second->status().recipe.has_value();
+    } else {
+      e.has_roadmap = std::filesystem::exists(settings_.data_dir / name / "recipe.json");
+    }
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+std::vector<std::string> RoadmapService::loaded_scenes() const {
+  std::lock_guard lock(sessions_mutex_);
+  std::vector<std::string> out;
+  for (const auto& [name, s] : sessions_) out.push_back(name);
+  return out;
+}
+
+std::shared_ptr<RoadmapSession> RoadmapService::session_or_null(const std::string& scene) const {
+  std::lock_guard lock(sessions_mutex_);
+  const auto it = sessions_.find(scene);
+  return it == sessions_.end() ? nullptr : it->second;
+}
+
+std::shared_ptr<RoadmapSession> RoadmapService::session(const std::string& scene) const {
+  if (auto s = session_or_null(scene)) return s;
+  if (!valid_scene_name(scene)) (void)scene_file(settings_.scene_dir, scene);  // names the bad name
+  throw InputError(kRequest, "scene",
+                   fmt::format("scene '{}' is not loaded on daemon {}", scene, settings_.server_id));
+}
+
+SessionStatus RoadmapService::stats(const std::string& scene) const { return session(scene)->status(); }
+
+RoadmapPath RoadmapService::path(const std::string& scene, const Vec3& from, const Vec3& to) const {
+  return session(scene)->path(from, to);
+}
+
+std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& name) {
+  const std::filesystem::path file = scene_file(settings_.scene_dir, name);
+  // Reserve the name: two concurrent loads must not both open the scene's store.
+  {
+    std::lock_guard lock(sessions_mutex_);
+    if (sessions_.count(name) || !loading_.insert(name).second) {
+      throw InputError(kRequest, "scene", fmt::format("scene '{}' is already loaded or being loaded", name));
+    }
+  }
+  struct Unreserve {
+    RoadmapService& service;
+    const std::string& name;
+    ~Unreserve() {
+      std::lock_guard lock(service.sessions_mutex_);
+      service.loading_.erase(name);
+    }
+  } unreserve{*this, name};
+  if (events_.owner_elsewhere) {
+    if (const auto other = events_.owner_elsewhere(name)) {
+      throw InputError(kRequest, "scene", fmt::format("scene '{}' is owned by daemon {}", name, *other));
+    }
+  }
+  Scene scene = Scene::load(file);
+  SessionCallbacks callbacks;
+  callbacks.on_commit = [this, name](const RoadmapBatch& batch, std::uint64_t generation, std::uint64_t samples) {
+    if (events_.on_commit) events_.on_commit(name, batch, generation, samples);
+  };
+  callbacks.on_status = [this, name](const SessionStatus&) {
+    if (!events_.on_status) return;
+    if (const auto s = session_or_null(name)) events_.on_status(*s);
+  };
+  auto session = std::make_shared<RoadmapSession>(name, std::move(scene), settings_.data_dir / name,
+                                                  settings_.limits, std::move(callbacks));
+  {
+    std::lock_guard lock(sessions_mutex_);
+    sessions_.emplace(name, session);
+  }
+  if (!session->recovery_note().empty()) spdlog::info("scene '{}': {}", name, session->recovery_note());
+  spdlog::info("loaded scene '{}' ({} triangles, {} POIs)", name, session->scene().mesh().triangle_count(),
+               session->scene().pois().size());
+  if (events_.on_status) events_.on_status(*session);
+  if (events_.on_scenes_changed) events_.on_scenes_changed();
+  return session;
+}
+
+std::pair<std::shared_ptr<RoadmapSession>, bool> RoadmapService::load(const std::string& scene) {
+  if (auto s = session_or_null(scene)) return {s, false};
+  return {open_session(scene), true};
+}
+
+void RoadmapService::unload(const std::string& scene) {
+  const auto s = session(scene);
+  if (s->busy()) {
+    throw InputError(kRequest, "scene", fmt::format("a build is running on scene '{}'; cancel it first", scene));
+  }
+  s->close();  // atomically with the busy check inside: no job can start on it any more
+  {
+    std::lock_guard lock(sessions_mutex_);
+    sessions_.erase(scene);
+  }
+  if (events_.on_unloaded) events_.on_unloaded(scene);
+  if (events_.on_scenes_changed) events_.on_scenes_changed();
+}
+
+void RoadmapService::build(const std::string& scene, const BuildRequest& request) {
+  const auto s = session(scene);
+  s->request_build(request);
+  schedule(s);
+}
+
+void RoadmapService::extend(const std::string& scene, std::uint64_t samples) {
+  const auto s = session(scene);
+  s->request_extend(samples);
+  schedule(s);
+}
+
+CancelOutcome RoadmapService::cancel(const std::string& scene) {
+  const auto s = session(scene);
+  CancelOutcome out;
+  out.build_cancelled = s->cancel();
+  out.tours_stopped = stop_tours(scene);
+  return out;
+}
+
+void RoadmapService::drop(const std::string& scene) { session(scene)->drop(); }
+
+void RoadmapService::schedule(const std::shared_ptr<RoadmapSession>& session) {
+  builds_.submit([this, session] {
+    spdlog::info("scene '{}': job started", session->name());
+    session->run_job(stopping_);
+    const SessionStatus st = session->status();
+    if (st.state == SessionState::failed) {
+      spdlog::error("scene '{}': job failed: {}", session->name(), st.last_error);
+    } else {
+      spdlog::info("scene '{}': job ended at {} samples, {} vertices, {} edges{}", session->name(), st.samples_done,
+                   st.vertices, st.edges, st.last_error.empty() ? "" : " (" + st.last_error + ")");
+    }
+  });
+}
+
+std::size_t RoadmapService::stop_tours(const std::string& scene) {
+  std::lock_guard lock(tours_mutex_);
+  std::size_t stopped = 0;
+  for (auto& [name, flag] : running_tours_) {
+    if (!scene.empty() && name != scene) continue;
+    if (!flag->exchange(true)) ++stopped;
+  }
+  return stopped;
+}
+
+}  // namespace ispars

@@ -1,0 +1,169 @@
+// The roadmap service's long queries: snapshots in chunks (encoded once per version, kept for
+// the chunks that follow), verification, and tours (admitted up to a bound, run on the tour
+// workers, stopped by a cancel on their scene and by stop()).
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "ispars/inspection_graph.hpp"
+#include "ispars/input_error.hpp"
+#include "ispars/service/roadmap_service.hpp"
+
+namespace ispars {
+namespace {
+
+constexpr const char* kRequest = "request";
+constexpr std::size_t kSnapshotsKept = 4;
+
+}  // namespace
+
+std::uint64_t VerifyOutcome::violations() const {
+  return report.invalid_vertices + report.invalid_edges + report.wrong_costs + report.sparse_not_dense +
+         (invariant_promised ? report.invariant_violations : 0);
+}
+
+VerifyOutcome RoadmapService::verify(const std::string& scene) const {
+  const auto s = session(scene);
+  VerifyOutcome out;
+  out.report = s->verify();
+  // Invariant 1 is Inspection-SPARS's promise; SPARS and the others do not make it.
+  const auto recipe = s->status().recipe;
+  out.invariant_promised = recipe && recipe->method == BuildMethod::ispars;
+  return out;
+}
+
+SnapshotSlice RoadmapService::snapshot(const std::string& scene, std::uint64_t version, std::uint64_t generation,
+                                       std::uint32_t chunk_index) {
+  const auto s = session(scene);
+  std::shared_ptr<const std::string> bytes;
+  if (version != 0) {
+    std::lock_guard lock(snapshots_mutex_);
+    for (const auto& e : snapshots_) {
+      if (e.scene == scene && e.generation == generation && e.version == version) bytes = e.bytes;
+    }
+  }
+  if (!bytes) {
+    const PublishedRoadmap published = s->published();
+    if (version == 0) {
+      generation = published.generation;
+      version = published.roadmap->version();
+    } else if (published.generation != generation || published.roadmap->version() < version) {
+      throw InputError(kRequest, "snapshot_version",
+                       fmt::format("version {} of roadmap generation {} is no longer available; start the snapshot again",
+                                   version, generation));
+    }
+    bytes = std::make_shared<const std::string>(encode_batch(batch_range(*published.roadmap, 0, version)));
+    std::lock_guard lock(snapshots_mutex_);
+    snapshots_.push_back({scene, generation, version, bytes});
+    if (snapshots_.size() > kSnapshotsKept) snapshots_.erase(snapshots_.begin());
+  }
+  const std::size_t count = std::max<std::size_t>(1, (bytes->size() + kSnapshotChunkBytes - 1) / kSnapshotChunkBytes);
+  if (chunk_index >= count) {
+    throw InputError(kRequest, "chunk_index", fmt::format("{} is past the last chunk ({})", chunk_index, count - 1));
+  }
+  SnapshotSlice slice;
+  slice.generation = generation;
+  slice.version = version;
+  slice.chunk_index = chunk_index;
+  slice.chunk_count = static_cast<std::uint32_t>(count);
+  slice.begin = std::size_t{chunk_index} * kSnapshotChunkBytes;
+  slice.end = std::min(bytes->size(), slice.begin + kSnapshotChunkBytes);
+  slice.encoded = std::move(bytes);
+  return slice;
+}
+
+void RoadmapService::start_tour(const std::string& scene, TourRequest request, TourCallbacks callbacks) {
+  const auto s = session(scene);
+  if (!std::isfinite(request.budget_seconds) || !(request.budget_seconds > 0.0) ||
+      request.budget_seconds > kMaxTourBudget) {
+    throw InputError(kRequest, "budget",
+                     fmt::format("must be in (0, {}] seconds, got {}", kMaxTourBudget, request.budget_seconds));
+  }
+  if (request.targets.size() > kMaxTourTargets) {
+    throw InputError(kRequest, "targets", fmt::format("{} given; at most {}", request.targets.size(), kMaxTourTargets));
+  }
+  if (!s->status().recipe || s->published().roadmap->vertex_count() == 0) {
+    throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap yet", scene));
+  }
+  // At most tours_per_worker per worker wait or run; past that the request is refused, not queued.
+  const std::size_t limit = settings_.tours_per_worker * std::max(1u, settings_.tour_workers);
+  auto stop = std::make_shared<std::atomic<bool>>(false);
+  {
+    std::lock_guard lock(tours_mutex_);
+    if (tours_admitted_ >= limit) {
+      throw InputError(kRequest, "kind",
+                       fmt::format("busy: {} tours are queued or running (this daemon's limit); retry later", limit));
+    }
+    ++tours_admitted_;
+    running_tours_.emplace(scene, stop);  // a cancel on the scene stops it, queued or running
+  }
+  tours_.submit([this, s, request = std::move(request), callbacks = std::move(callbacks), stop] {
+    run_tour(s, request, callbacks, stop);
+  });
+}
+
+void RoadmapService::run_tour(const std::shared_ptr<RoadmapSession>& session, const TourRequest& request,
+                              const TourCallbacks& callbacks, const std::shared_ptr<std::atomic<bool>>& stop) {
+  struct Release {
+    RoadmapService& service;
+    const std::shared_ptr<std::atomic<bool>>& stop;
+    ~Release() {
+      std::lock_guard lock(service.tours_mutex_);
+      --service.tours_admitted_;
+      for (auto it = service.running_tours_.begin(); it != service.running_tours_.end(); ++it) {
+        if (it->second == stop) {
+          service.running_tours_.erase(it);
+          break;
+        }
+      }
+    }
+  } release{*this, stop};
+  if (stopping_) stop->store(true);  // stop() began before the tour started
+  if (stop->load()) {  // cancelled while it waited for a worker: there is no tour to give
+    if (callbacks.failed) {
+      callbacks.failed(stopping_ ? "request: scene: the daemon stopped before the tour started"
+                                 : "request: scene: the tour was cancelled before it started");
+    }
+    return;
+  }
+  try {
+    const PublishedRoadmap published = session->published();
+    const InspectionGraph graph = InspectionGraph::from_roadmap(*published.roadmap);
+    GipOptions options;
+    options.budget_seconds = request.budget_seconds;
+    options.seed = request.seed;
+    options.stop = stop.get();
+    if (!request.targets.empty()) options.targets = request.targets;
+    // Progress carries the best tour and the best bound so far; the two callbacks come from
+    // different threads.
+    std::mutex progress_mutex;
+    double best_cost = 0.0, best_bound = 0.0;
+    options.on_improvement = [&](double seconds, double cost) {
+      std::lock_guard lock(progress_mutex);
+      best_cost = cost;
+      if (callbacks.progress) callbacks.progress(seconds, best_cost, best_bound);
+    };
+    options.on_bound = [&](double seconds, double bound) {
+      std::lock_guard lock(progress_mutex);
+      best_bound = bound;
+      if (callbacks.progress) callbacks.progress(seconds, best_cost, best_bound);
+    };
+    TourOutcome outcome;
+    outcome.result = solve_gip(graph, options);
+    for (const VertexId v : outcome.result.tour.walk) outcome.waypoints.push_back(published.roadmap->position(v));
+    outcome.version = published.roadmap->version();
+    if (callbacks.done) callbacks.done(std::move(outcome));
+  } catch (const InputError& e) {
+    if (callbacks.failed) callbacks.failed(e.what());
+  } catch (const std::exception& e) {
+    if (stop->load()) {  // stopped before the search found a first tour
+      if (callbacks.failed) callbacks.failed(std::string("request: scene: the tour was stopped: ") + e.what());
+      return;
+    }
+    if (callbacks.failed) callbacks.failed(std::string("internal error: ") + e.what());
+  }
+}
+
+}  // namespace ispars

@@ -1,0 +1,217 @@
+// A session's build job: replaying the recipe into a builder after a restart, then growing the
+// roadmap chunk by chunk, each chunk committed to the store, published, and reported.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "ispars/service/roadmap_session.hpp"
+#include "roadmap_session_detail.hpp"
+
+namespace ispars {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::unique_ptr<RoadmapBuilder> builder_for(const Scene& scene, const RoadmapRecipe& recipe, unsigned threads) {
+  BuildOptions options;
+  options.seed = recipe.seed;
+  options.threads = threads;
+  options.p_accept = recipe.p_accept;
+  options.variant = recipe.variant;
+  return make_roadmap_builder(recipe.method, scene, options);
+}
+
+std::string roadmap_bytes(const Roadmap& roadmap) { return encode_batch(batch_since(roadmap, 0)); }
+
+}  // namespace
+
+RoadmapsView RoadmapSession::live_view() const {
+  return {builder_->samples(), &builder_->roadmap(), builder_->dense(), builder_->dense_ids()};
+}
+
+void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
+  if (builder_) return;
+  RoadmapRecipe recipe;
+  {
+    std::lock_guard lock(mutex_);
+    recipe = *recipe_;
+    state_ = SessionState::replaying;
+  }
+  notify_status();
+  build_scene_ = std::make_unique<Scene>(session_detail::scene_for(scene_, recipe));
+  auto builder = builder_for(*build_scene_, recipe, limits_.build_threads);
+  const std::uint64_t target = recovered_ ? recovered_->samples : 0;
+  while (builder->samples() < target) {
+    if (stopping || cancel_) throw std::runtime_error("replay interrupted");
+    builder->extend(std::min<std::uint64_t>(5000, target - builder->samples()));
+  }
+  if (recovered_) {
+    const bool same = roadmap_bytes(builder->roadmap()) == roadmap_bytes(recovered_->roadmap) &&
+                      (builder->dense() == nullptr) == !recovered_->dense.has_value() &&
+                      (builder->dense() == nullptr || roadmap_bytes(*builder->dense()) == roadmap_bytes(*recovered_->dense)) &&
+                      std::equal(builder->dense_ids().begin(), builder->dense_ids().end(),
+                                 recovered_->dense_ids.begin(), recovered_->dense_ids.end());
+    if (!same) {
+      throw std::runtime_error(fmt::format("replaying the recipe to {} samples did not reproduce the stored roadmap",
+                                           target));
+    }
+  }
+  builder_ = std::move(builder);
+  recovered_.reset();
+}
+
+void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
+  std::lock_guard job(job_mutex_);
+  std::optional<RoadmapRecipe> build;
+  std::uint64_t samples = 0;
+  RoadmapRecipe recipe;
+  bool cancelled_early = false;
+  {
+    std::lock_guard lock(mutex_);
+    if (state_ != SessionState::queued) return;
+    build = pending_recipe_;
+    samples = pending_samples_;
+    pending_recipe_.reset();
+    pending_samples_ = 0;
+    if (cancel_ || stopping) {  // cancelled while queued: nothing is touched
+      state_ = recipe_ ? SessionState::idle : SessionState::empty;
+      last_error_ = cancel_ ? "cancelled before it started" : "daemon stopped before the job started";
+      cancel_ = false;
+      cancelled_early = true;
+    } else {
+      recipe = build ? *build : *recipe_;
+    }
+  }
+  if (cancelled_early) {
+    notify_status();
+    return;
+  }
+  try {
+    std::uint64_t roadmap_version = 0;
+    std::uint64_t dense_version = 0;
+    if (build) {
+      store_.reset();
+      builder_.reset();
+      recovered_.reset();
+      drop_store(store_dir_);
+      build_scene_ = std::make_unique<Scene>(session_detail::scene_for(scene_, recipe));
+      builder_ = builder_for(*build_scene_, recipe, limits_.build_threads);
+      store_ = RoadmapStore::create(store_dir_, recipe);
+      store_->set_compact_every(limits_.compact_every);
+      std::lock_guard lock(mutex_);
+      recipe_ = recipe;
+      dense_vertices_ = dense_edges_ = 0;
+      samples_done_ = 0;
+      published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), recipe.generation, 0);
+    } else {
+      ensure_builder(stopping);
+      roadmap_version = builder_->roadmap().version();
+      dense_version = builder_->dense() ? builder_->dense()->version() : 0;
+    }
+    const std::uint64_t target = builder_->samples() + samples;
+    {
+      std::lock_guard lock(mutex_);
+      samples_target_ = target;
+      state_ = SessionState::building;
+    }
+    notify_status();
+
+    // Commit in chunks of about a quarter second: often enough for live progress and a small
+    // loss on a crash, rarely enough that fsync and publishing stay a small share of the time.
+    std::uint64_t chunk = 64;
+    auto last_copy = std::chrono::steady_clock::now() - std::chrono::hours(1);
+    double copy_seconds = 0.0;
+    bool first = build.has_value();  // a new roadmap commits at least its first chunk (the root)
+    while (first || (builder_->samples() < target && !stopping && !cancel_)) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::uint64_t n = std::min(chunk, target - builder_->samples());
+      builder_->extend(n);
+      const RoadmapsView view = live_view();
+      BuildCommit commit = commit_since(view, roadmap_version, dense_version);
+      store_->commit(commit, view);
+      roadmap_version = view.roadmap->version();
+      dense_version = view.dense ? view.dense->version() : 0;
+      // Readers get an immutable copy. A copy costs time in the roadmap's size, so it is taken
+      // only when the last one is older than ten times its own cost (at least every 5 s, and
+      // always at the end): publishing stays a small share of the build however large it grows.
+      const bool last_chunk = builder_->samples() >= target || stopping || cancel_;
+      const double since_copy = seconds_since(last_copy);
+      std::optional<PublishedRoadmap> copy;
+      if (last_chunk || since_copy >= std::min(5.0, std::max(0.25, 10.0 * copy_seconds))) {
+        const auto c0 = std::chrono::steady_clock::now();
+        copy = make_published(std::make_shared<const Roadmap>(*view.roadmap), recipe.generation, builder_->samples());
+        copy_seconds = seconds_since(c0);
+        last_copy = std::chrono::steady_clock::now();
+      }
+      {
+        std::lock_guard lock(mutex_);
+        samples_done_ = builder_->samples();
+        if (copy) published_ = std::move(*copy);
+        dense_vertices_ = view.dense ? view.dense->vertex_count() : 0;
+        dense_edges_ = view.dense ? view.dense->edge_count() : 0;
+      }
+      if (callbacks_.on_commit) callbacks_.on_commit(commit.roadmap, recipe.generation, commit.samples);
+      notify_status();
+      const double took = seconds_since(t0);
+      if (took < 0.1) chunk = std::min<std::uint64_t>(chunk * 2, 100'000);
+      if (took > 0.5) chunk = std::max<std::uint64_t>(chunk / 2, 16);
+      first = false;
+    }
+    {
+      std::lock_guard lock(mutex_);
+      if (cancel_) last_error_ = fmt::format("cancelled at {} of {} samples", samples_done_, samples_target_);
+      if (stopping && samples_done_ < samples_target_) {
+        last_error_ = fmt::format("daemon stopped at {} of {} samples", samples_done_, samples_target_);
+      }
+      samples_target_ = samples_done_;
+      state_ = SessionState::idle;
+      cancel_ = false;
+    }
+  } catch (const std::exception& e) {
+    // Whatever the builder holds past the last commit is not trusted: reopen the store.
+    builder_.reset();
+    build_scene_.reset();
+    store_.reset();
+    recovered_.reset();
+    std::string error = e.what();
+    std::optional<StoreRecovery> recovery;
+    try {
+      if (std::filesystem::exists(store_dir_)) {
+        recovery.emplace();
+        store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), *recovery);
+        store_->set_compact_every(limits_.compact_every);
+      }
+    } catch (const std::exception& reopen) {
+      error += std::string("; reopening the store failed: ") + reopen.what();
+      recovery.reset();
+      store_.reset();
+    }
+    // What the store holds now is the truth: make everything the session shows agree with it.
+    std::lock_guard lock(mutex_);
+    last_error_ = error;
+    if (recovery) {
+      recipe_ = recovery->recipe;
+      samples_done_ = recovery->roadmaps.samples;
+      published_ = make_published(std::make_shared<const Roadmap>(recovery->roadmaps.roadmap), recipe_->generation,
+                                  samples_done_);
+      dense_vertices_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->vertex_count() : 0;
+      dense_edges_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->edge_count() : 0;
+      recovered_ = std::move(recovery->roadmaps);
+    } else {
+      recipe_.reset();
+      published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0);
+      samples_done_ = 0;
+      dense_vertices_ = dense_edges_ = 0;
+    }
+    samples_target_ = samples_done_;
+    state_ = SessionState::failed;
+    cancel_ = false;
+  }
+  notify_status();
+}
+
+}  // namespace ispars

@@ -1,0 +1,73 @@
+#pragma once
+// The fixture of the service integration tests: a scene directory of four small scenes, daemons
+// started on one random domain (localhost only), and the helpers the tests share.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ispars/client/client.hpp"
+#include "ispars/roadmap_builder.hpp"
+#include "ispars/roadmap_log.hpp"
+#include "ispars/scene.hpp"
+#include "support/local_daemon.hpp"
+#include "support/test_support.hpp"
+
+namespace ispars::test {
+
+
+using client::BuildArgs;
+using DaemonProcess = client::LocalDaemon;
+using client::random_domain;
+inline const auto client_options = client::local_client_options;
+using client::Client;
+using client::ClientError;
+using client::make_change;
+using client::make_query;
+
+inline constexpr auto kLong = std::chrono::seconds(120);
+
+class ServiceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    domain_ = random_domain();
+    scene_dir_ = dir_.path() / "scenes";
+    client::write_tank_tower_scenes(scene_dir_, {"s0", "s1", "s2", "s3"});
+  }
+  std::unique_ptr<DaemonProcess> start(const std::string& id, std::vector<std::string> extra = {}) {
+    return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id, std::move(extra));
+  }
+  TempDir dir_;
+  int domain_ = 0;
+  std::filesystem::path scene_dir_;
+};
+
+// "s0".."s3" (built by appending: GCC 12 warns falsely on "s" + std::to_string(n)).
+inline std::string scene_name(unsigned n) {
+  std::string name = "s";
+  name += std::to_string(n);
+  return name;
+}
+
+inline BuildArgs ispars_build(std::uint64_t samples, std::uint64_t seed = 1, bool replace = false) {
+  BuildArgs a;
+  a.method = "ispars";
+  a.samples = samples;
+  a.seed = seed;
+  a.replace = replace;
+  return a;
+}
+
+// The roadmap an uninterrupted in-process build of `samples` gives: the reference for the daemon.
+inline std::uint64_t reference_digest(const std::filesystem::path& scene_file, std::uint64_t samples, std::uint64_t seed) {
+  const Scene scene = Scene::load(scene_file);
+  BuildOptions options;
+  options.seed = seed;
+  const auto builder = make_roadmap_builder(BuildMethod::ispars, scene, options);
+  builder->extend(samples);
+  return roadmap_digest(builder->roadmap());
+}
+
+}  // namespace ispars::test

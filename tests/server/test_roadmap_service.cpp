@@ -1,0 +1,202 @@
+// The service core without DDS: every operation in typed form, its events, tour admission and
+// stopping, and refusals that change nothing.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <fstream>
+#include <thread>
+
+#include "ispars/input_error.hpp"
+#include "ispars/service/roadmap_service.hpp"
+#include "support/test_support.hpp"
+
+namespace ispars {
+namespace {
+
+using namespace std::chrono_literals;
+
+class RoadmapServiceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::filesystem::create_directories(dir_.path() / "scenes");
+    int seed = 1;
+    for (const char* name : {"s0", "s1"}) {
+      std::ofstream(dir_.path() / "scenes" / (std::string(name) + ".yaml"))
+          << "procedural: {kind: tank_tower, seed: " << seed++ << "}\n";
+    }
+  }
+  ServiceSettings settings(unsigned tour_workers = 1) const {
+    ServiceSettings s;
+    s.server_id = "unit";
+    s.scene_dir = dir_.path() / "scenes";
+    s.data_dir = dir_.path() / "data";
+    s.build_workers = 1;
+    s.tour_workers = tour_workers;
+    s.tours_per_worker = 1;
+    return s;
+  }
+  static BuildRequest ispars(std::uint64_t samples) {
+    BuildRequest r;
+    r.samples = samples;
+    return r;
+  }
+  // Waits until the scene has no job queued or running.
+  static SessionStatus wait_idle(const RoadmapService& service, const std::string& scene) {
+    for (int i = 0; i < 6000; ++i) {
+      const SessionStatus s = service.stats(scene);
+      if (s.state != SessionState::queued && s.state != SessionState::building && s.state != SessionState::replaying) {
+        return s;
+      }
+      std::this_thread::sleep_for(10ms);
+    }
+    ADD_FAILURE() << scene << " never became idle";
+    return service.stats(scene);
+  }
+  test::TempDir dir_;
+};
+
+TEST_F(RoadmapServiceTest, OperationsRunWithoutDdsAndReportThroughEvents) {
+  std::atomic<int> commits{0}, statuses{0}, scene_changes{0};
+  std::vector<std::string> unloaded;
+  std::mutex unloaded_mutex;
+  ServiceEvents events;
+  events.on_commit = [&](const std::string& scene, const RoadmapBatch&, std::uint64_t, std::uint64_t) {
+    EXPECT_EQ(scene, "s0");
+    ++commits;
+  };
+  events.on_status = [&](const RoadmapSession&) { ++statuses; };
+  events.on_scenes_changed = [&] { ++scene_changes; };
+  events.on_unloaded = [&](const std::string& scene) {
+    std::lock_guard lock(unloaded_mutex);
+    unloaded.push_back(scene);
+  };
+  RoadmapService service(settings(), events);
+  const auto listed = service.list_scenes();
+  ASSERT_EQ(listed.size(), 2u);
+  EXPECT_FALSE(listed[0].loaded);
+  EXPECT_TRUE(service.load("s0").second);
+  EXPECT_FALSE(service.load("s0").second) << "a second load is not a new session";
+  EXPECT_EQ(scene_changes.load(), 1);
+  service.build("s0", ispars(1500));
+  const SessionStatus built = wait_idle(service, "s0");
+  EXPECT_EQ(built.state, SessionState::idle);
+  EXPECT_EQ(built.samples_done, 1500u);
+  EXPECT_GT(commits.load(), 0);
+  EXPECT_GT(statuses.load(), 2);
+  service.extend("s0", 500);
+  EXPECT_EQ(wait_idle(service, "s0").samples_done, 2000u);
+  EXPECT_EQ(service.verify("s0").violations(), 0u);
+  EXPECT_TRUE(service.verify("s0").invariant_promised);
+  // A snapshot chunk decodes to the published roadmap.
+  const SnapshotSlice slice = service.snapshot("s0", 0, 0, 0);
+  ASSERT_EQ(slice.chunk_count, 1u);
+  Roadmap copy(service.session("s0")->scene().pois().size());
+  apply_batch(copy, decode_batch(slice.encoded->substr(slice.begin, slice.end - slice.begin)));
+  EXPECT_EQ(roadmap_digest(copy), roadmap_digest(*service.session("s0")->published().roadmap));
+  service.unload("s0");
+  EXPECT_THROW((void)service.stats("s0"), InputError);
+  EXPECT_TRUE(service.list_scenes()[0].has_roadmap) << "the store stays on disk";
+  EXPECT_EQ(unloaded, std::vector<std::string>{"s0"});
+  // The stored roadmap is loaded again as it was.
+  service.load_stored_roadmaps();
+  EXPECT_EQ(service.stats("s0").samples_done, 2000u);
+}
+
+TEST_F(RoadmapServiceTest, RefusalsNameTheFieldAndChangeNothing) {
+  RoadmapService service(settings(), {});
+  const auto refused = [&](const auto& call, const std::string& needle) {
+    try {
+      call();
+      ADD_FAILURE() << "not refused: " << needle;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  refused([&] { (void)service.load("../s0"); }, "request: scene: '../s0' is not a scene name");
+  refused([&] { (void)service.stats("s1"); }, "request: scene: scene 's1' is not loaded on daemon unit");
+  (void)service.load("s0");
+  refused([&] { service.build("s0", ispars(0)); }, "request: samples: must be at least 1");
+  refused([&] { service.extend("s0", 0); }, "request: samples: must be at least 1");
+  refused([&] { service.extend("s0", 10); }, "has no roadmap to extend");
+  TourRequest tour;
+  refused([&] { service.start_tour("s0", tour, {}); }, "has no roadmap yet");
+  EXPECT_EQ(service.stats("s0").state, SessionState::empty);
+  service.build("s0", ispars(800));
+  wait_idle(service, "s0");
+  tour.budget_seconds = 0.0;
+  refused([&] { service.start_tour("s0", tour, {}); }, "request: budget: must be in (0, 3600]");
+  tour.budget_seconds = 3601.0;
+  refused([&] { service.start_tour("s0", tour, {}); }, "request: budget");
+  tour.budget_seconds = 1.0;
+  tour.targets.assign(kMaxTourTargets + 1, 0);
+  refused([&] { service.start_tour("s0", tour, {}); }, "request: targets: 1000001 given");
+  refused([&] { service.build("s0", ispars(10)); }, "request: replace");
+  EXPECT_EQ(service.stats("s0").samples_done, 800u);
+}
+
+TEST_F(RoadmapServiceTest, ToursAreAdmittedUpToTheBoundAndCancelAndStopEndThem) {
+  RoadmapService service(settings(/*tour_workers=*/1), {});
+  (void)service.load("s0");
+  service.build("s0", ispars(1500));
+  wait_idle(service, "s0");
+  std::mutex mutex;
+  std::condition_variable changed;
+  int done = 0;
+  std::vector<double> costs;
+  std::atomic<int> progress{0};
+  const auto callbacks = [&] {
+    TourCallbacks c;
+    c.progress = [&](double, double, double) { ++progress; };
+    c.done = [&](TourOutcome outcome) {
+      std::lock_guard lock(mutex);
+      EXPECT_TRUE(outcome.result.validation.valid());
+      EXPECT_EQ(outcome.waypoints.size(), outcome.result.tour.walk.size());
+      costs.push_back(outcome.result.tour.cost);
+      ++done;
+      changed.notify_all();
+    };
+    c.failed = [&](const std::string& error) { ADD_FAILURE() << error; };
+    return c;
+  };
+  TourRequest tour;
+  tour.budget_seconds = 600.0;
+  service.start_tour("s0", tour, callbacks());  // one worker, one admitted per worker
+  try {
+    service.start_tour("s0", tour, callbacks());
+    ADD_FAILURE() << "a second tour was admitted past the bound";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("busy: 1 tours are queued or running"), std::string::npos) << e.what();
+  }
+  std::this_thread::sleep_for(300ms);
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(service.cancel("s0").tours_stopped, 1u);
+  {
+    std::unique_lock lock(mutex);
+    ASSERT_TRUE(changed.wait_for(lock, 30s, [&] { return done == 1; })) << "cancel did not end the tour";
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10.0);
+  EXPECT_GT(progress.load(), 0);
+  // The slot is free again once the tour has returned; stop() ends a running tour with its best.
+  bool admitted = false;
+  for (int i = 0; i < 200 && !admitted; ++i) {
+    try {
+      service.start_tour("s0", tour, callbacks());
+      admitted = true;
+    } catch (const InputError&) {
+      std::this_thread::sleep_for(10ms);
+    }
+  }
+  ASSERT_TRUE(admitted) << "the finished tour's slot was never released";
+  std::this_thread::sleep_for(300ms);
+  service.stop();
+  std::lock_guard lock(mutex);
+  EXPECT_EQ(done, 2);
+  ASSERT_EQ(costs.size(), 2u);
+  EXPECT_GT(costs[1], 0.0);
+}
+
+}  // namespace
+}  // namespace ispars
