@@ -35,7 +35,7 @@
 #include "ispars/client/client.hpp"
 #include "support/local_daemon.hpp"
 #include "ispars/client/replica.hpp"
-#include "ispars/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_log.hpp"
 #include "ispars/wire/topics.hpp"
 #include "isparsPubSubTypes.h"
 

@@ -10,10 +10,10 @@
 #include <iostream>
 
 #include "ispars/client/client.hpp"
-#include "ispars/build_recipe.hpp"
+#include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/client/replica.hpp"
-#include "ispars/roadmap_json.hpp"
-#include "ispars/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_json.hpp"
+#include "ispars/roadmap/roadmap_log.hpp"
 #include "ispars/wire/convert.hpp"
 
 namespace {

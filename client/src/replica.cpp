@@ -13,7 +13,7 @@
 #include <set>
 #include <thread>
 
-#include "ispars/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_log.hpp"
 #include "ispars/wire/convert.hpp"
 #include "ispars/wire/topics.hpp"
 #include "isparsPubSubTypes.h"

@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "ispars/brute_force.hpp"
-#include "ispars/fcl_checker.hpp"
-#include "ispars/scene.hpp"
+#include "ispars/reference/brute_force.hpp"
+#include "ispars/reference/fcl_checker.hpp"
+#include "ispars/scene/scene.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
 

@@ -20,10 +20,10 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "ispars/fcl_checker.hpp"
+#include "ispars/reference/fcl_checker.hpp"
 #include "ispars/input_error.hpp"
-#include "ispars/roadmap_builder.hpp"
-#include "ispars/scene.hpp"
+#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/scene/scene.hpp"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;

@@ -11,7 +11,7 @@
 
 #include "commands.hpp"
 #include "experiment_support.hpp"
-#include "ispars/gip_solver.hpp"
+#include "ispars/tour/gip_solver.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
 

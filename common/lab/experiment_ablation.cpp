@@ -11,8 +11,8 @@
 
 #include "commands.hpp"
 #include "experiment_support.hpp"
-#include "ispars/irisc_builder.hpp"
-#include "ispars/roadmap_verifier.hpp"
+#include "ispars/builders/irisc_builder.hpp"
+#include "ispars/builders/roadmap_verifier.hpp"
 #include "tour_support.hpp"
 
 namespace ispars::lab {

@@ -13,10 +13,10 @@
 
 #include "commands.hpp"
 #include "experiment_support.hpp"
-#include "ispars/graph_search.hpp"
+#include "ispars/search/graph_search.hpp"
 #include "ispars/input_error.hpp"
-#include "ispars/roadmap_verifier.hpp"
-#include "ispars/spars_builder.hpp"
+#include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/builders/spars_builder.hpp"
 #include "timing.hpp"
 
 namespace ispars::lab {

@@ -7,10 +7,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ispars/roadmap_builder.hpp"
-#include "ispars/route_stretch.hpp"
-#include "ispars/spars_builder.hpp"
-#include "ispars/scene.hpp"
+#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/builders/route_stretch.hpp"
+#include "ispars/builders/spars_builder.hpp"
+#include "ispars/scene/scene.hpp"
 
 namespace ispars::lab {
 

@@ -9,7 +9,7 @@
 
 #include "commands.hpp"
 #include "experiment_support.hpp"
-#include "ispars/roadmap_verifier.hpp"
+#include "ispars/builders/roadmap_verifier.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
 

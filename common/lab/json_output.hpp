@@ -3,8 +3,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ispars/check_counters.hpp"
-#include "ispars/vec.hpp"
+#include "ispars/geometry/check_counters.hpp"
+#include "ispars/geometry/vec.hpp"
 
 namespace ispars::lab {
 

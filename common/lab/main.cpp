@@ -9,7 +9,7 @@
 
 #include "commands.hpp"
 #include "ispars/input_error.hpp"
-#include "ispars/roadmap_builder.hpp"
+#include "ispars/builders/roadmap_builder.hpp"
 
 int main(int argc, char** argv) {
   using namespace ispars::lab;

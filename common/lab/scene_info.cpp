@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "ispars/scene.hpp"
+#include "ispars/scene/scene.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
 

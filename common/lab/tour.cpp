@@ -12,9 +12,9 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "ispars/gip_solver.hpp"
+#include "ispars/tour/gip_solver.hpp"
 #include "ispars/input_error.hpp"
-#include "ispars/roadmap_json.hpp"
+#include "ispars/roadmap/roadmap_json.hpp"
 #include "json_output.hpp"
 
 namespace ispars::lab {

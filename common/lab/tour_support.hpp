@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "ispars/gip_solver.hpp"
-#include "ispars/inspection_graph.hpp"
-#include "ispars/spars_builder.hpp"
-#include "ispars/tour_bound.hpp"
+#include "ispars/tour/gip_solver.hpp"
+#include "ispars/roadmap/inspection_graph.hpp"
+#include "ispars/builders/spars_builder.hpp"
+#include "ispars/tour/tour_bound.hpp"
 
 namespace ispars::lab {
 

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "ispars/client/client.hpp"
-#include "ispars/roadmap_builder.hpp"
-#include "ispars/roadmap_log.hpp"
-#include "ispars/scene.hpp"
+#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/scene/scene.hpp"
 #include "support/local_daemon.hpp"
 #include "support/test_support.hpp"
 

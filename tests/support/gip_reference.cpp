@@ -6,7 +6,7 @@
 #include <queue>
 #include <vector>
 
-#include "ispars/random.hpp"
+#include "ispars/geometry/random.hpp"
 
 namespace ispars::test {
 

@@ -3,7 +3,7 @@
 
 #include <cstdint>
 
-#include "ispars/inspection_graph.hpp"
+#include "ispars/roadmap/inspection_graph.hpp"
 
 namespace ispars::test {
 

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "ispars/random.hpp"
-#include "ispars/roadmap.hpp"
-#include "ispars/scene.hpp"
+#include "ispars/geometry/random.hpp"
+#include "ispars/roadmap/roadmap.hpp"
+#include "ispars/scene/scene.hpp"
 
 namespace ispars::test {
 

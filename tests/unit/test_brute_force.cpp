@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/brute_force.hpp"
+#include "ispars/reference/brute_force.hpp"
 
 namespace ispars {
 namespace {

@@ -6,7 +6,7 @@
 #include <limits>
 #include <string>
 
-#include "ispars/build_recipe.hpp"
+#include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/input_error.hpp"
 
 namespace ispars {

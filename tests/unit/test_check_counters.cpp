@@ -4,9 +4,9 @@
 
 #include <thread>
 
-#include "ispars/check_counters.hpp"
-#include "ispars/procedural.hpp"
-#include "ispars/scene.hpp"
+#include "ispars/geometry/check_counters.hpp"
+#include "ispars/scene/procedural.hpp"
+#include "ispars/scene/scene.hpp"
 
 namespace ispars {
 namespace {

@@ -8,8 +8,8 @@
 #include <memory>
 #include <thread>
 
-#include "ispars/brute_force.hpp"
-#include "ispars/procedural.hpp"
+#include "ispars/reference/brute_force.hpp"
+#include "ispars/scene/procedural.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "ispars/distance.hpp"
-#include "ispars/random.hpp"
+#include "ispars/geometry/distance.hpp"
+#include "ispars/geometry/random.hpp"
 
 namespace ispars {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "ispars/brute_force.hpp"
-#include "ispars/fcl_checker.hpp"
+#include "ispars/reference/brute_force.hpp"
+#include "ispars/reference/fcl_checker.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

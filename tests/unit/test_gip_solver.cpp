@@ -7,9 +7,9 @@
 #include <limits>
 #include <queue>
 
-#include "ispars/gip_solver.hpp"
+#include "ispars/tour/gip_solver.hpp"
 #include "ispars/input_error.hpp"
-#include "ispars/random.hpp"
+#include "ispars/geometry/random.hpp"
 #include "support/gip_reference.hpp"
 
 namespace ispars {

@@ -2,10 +2,10 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/brute_force.hpp"
+#include "ispars/reference/brute_force.hpp"
 #include "ispars/input_error.hpp"
-#include "ispars/poi_sampling.hpp"
-#include "ispars/procedural.hpp"
+#include "ispars/scene/poi_sampling.hpp"
+#include "ispars/scene/procedural.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/poi_set.hpp"
+#include "ispars/roadmap/poi_set.hpp"
 
 namespace ispars {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "ispars/point_grid.hpp"
-#include "ispars/random.hpp"
+#include "ispars/geometry/point_grid.hpp"
+#include "ispars/geometry/random.hpp"
 
 namespace ispars {
 namespace {

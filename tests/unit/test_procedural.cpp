@@ -4,8 +4,8 @@
 
 #include <map>
 
-#include "ispars/procedural.hpp"
-#include "ispars/scene.hpp"
+#include "ispars/scene/procedural.hpp"
+#include "ispars/scene/scene.hpp"
 
 namespace ispars {
 namespace {

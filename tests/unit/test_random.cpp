@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "ispars/random.hpp"
+#include "ispars/geometry/random.hpp"
 
 namespace ispars {
 namespace {

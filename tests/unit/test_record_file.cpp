@@ -4,7 +4,7 @@
 
 #include <fstream>
 
-#include "ispars/record_file.hpp"
+#include "ispars/roadmap/record_file.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

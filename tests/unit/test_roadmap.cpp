@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/roadmap.hpp"
+#include "ispars/roadmap/roadmap.hpp"
 
 namespace ispars {
 namespace {

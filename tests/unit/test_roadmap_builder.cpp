@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/procedural.hpp"
-#include "ispars/roadmap_builder.hpp"
-#include "ispars/roadmap_verifier.hpp"
+#include "ispars/scene/procedural.hpp"
+#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/builders/roadmap_verifier.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -6,8 +6,8 @@
 #include <limits>
 #include <memory>
 
-#include "ispars/roadmap_log.hpp"
-#include "ispars/spars_builder.hpp"
+#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/builders/spars_builder.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

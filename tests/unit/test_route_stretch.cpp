@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "ispars/route_stretch.hpp"
+#include "ispars/builders/route_stretch.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

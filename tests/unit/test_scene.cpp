@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "ispars/input_error.hpp"
-#include "ispars/procedural.hpp"
-#include "ispars/scene.hpp"
+#include "ispars/scene/procedural.hpp"
+#include "ispars/scene/scene.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

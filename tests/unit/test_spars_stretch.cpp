@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/graph_search.hpp"
-#include "ispars/roadmap_verifier.hpp"
-#include "ispars/spars_builder.hpp"
+#include "ispars/search/graph_search.hpp"
+#include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/builders/spars_builder.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

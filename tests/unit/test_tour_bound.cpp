@@ -7,9 +7,9 @@
 #include <chrono>
 #include <numeric>
 
-#include "ispars/cut_separation.hpp"
-#include "ispars/gip_solver.hpp"
-#include "ispars/tour_bound.hpp"
+#include "ispars/tour/cut_separation.hpp"
+#include "ispars/tour/gip_solver.hpp"
+#include "ispars/tour/tour_bound.hpp"
 #include "support/gip_reference.hpp"
 
 namespace ispars {

@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "ispars/input_error.hpp"
-#include "ispars/procedural.hpp"
-#include "ispars/triangle_mesh.hpp"
+#include "ispars/scene/procedural.hpp"
+#include "ispars/scene/triangle_mesh.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

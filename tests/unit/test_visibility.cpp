@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <thread>
 
-#include "ispars/brute_force.hpp"
+#include "ispars/reference/brute_force.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/roadmap_builder.hpp"
+#include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/wire/convert.hpp"
 #include "support/test_support.hpp"
 

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "ispars/inspection_graph.hpp"
+#include "ispars/roadmap/inspection_graph.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_service.hpp"
 

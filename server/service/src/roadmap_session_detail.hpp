@@ -2,8 +2,8 @@
 // What the session's two source files share (roadmap_session.cpp: requests and queries;
 // roadmap_session_job.cpp: the build job).
 
-#include "ispars/build_recipe.hpp"
-#include "ispars/scene.hpp"
+#include "ispars/roadmap/build_recipe.hpp"
+#include "ispars/scene/scene.hpp"
 
 namespace ispars::session_detail {
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "ispars.h"
-#include "ispars/roadmap.hpp"
+#include "ispars/roadmap/roadmap.hpp"
 #include "ispars/wire/participant.hpp"
 
 namespace ispars::client {

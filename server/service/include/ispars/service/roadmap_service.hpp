@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "ispars/gip_solver.hpp"
+#include "ispars/tour/gip_solver.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/worker_pool.hpp"
 

@@ -19,12 +19,12 @@
 #include <string>
 #include <string_view>
 
-#include "ispars/path_query.hpp"
-#include "ispars/roadmap_builder.hpp"
-#include "ispars/roadmap_log.hpp"
+#include "ispars/search/path_query.hpp"
+#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/roadmap/roadmap_log.hpp"
 #include "ispars/service/roadmap_store.hpp"
-#include "ispars/roadmap_verifier.hpp"
-#include "ispars/scene.hpp"
+#include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/scene/scene.hpp"
 
 namespace ispars {
 

@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "ispars/record_file.hpp"
-#include "ispars/roadmap.hpp"
-#include "ispars/roadmap_builder.hpp"
-#include "ispars/roadmap_log.hpp"
+#include "ispars/roadmap/record_file.hpp"
+#include "ispars/roadmap/roadmap.hpp"
+#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/roadmap/roadmap_log.hpp"
 
 namespace ispars {
 

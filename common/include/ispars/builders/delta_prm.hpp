@@ -1,0 +1,36 @@
+#pragma once
+// The dense roadmap G_d: a delta-PRM, every valid sample joined to every vertex within delta.
+
+#include <utility>
+#include <vector>
+
+#include "ispars/geometry/point_grid.hpp"
+#include "ispars/roadmap/roadmap.hpp"
+#include "ispars/scene/scene.hpp"
+
+namespace ispars {
+
+/// G_d with its neighbour index. Edges: every pair within delta (<= delta) whose segment is valid.
+class DeltaPrm {
+ public:
+  DeltaPrm(const Scene& scene, double delta);
+
+  /// Inserts a valid configuration seeing `visible` and its edges; returns its vertex.
+  VertexId insert(const Vec3& q, std::span<const PoiId> visible);
+  /// (distance, id) of the dense vertices within `radius` of q, nearest first.
+  void within(const Vec3& q, double radius, std::vector<std::pair<double, std::uint32_t>>& out) const {
+    grid_.within(q, radius, graph_.positions(), out);
+  }
+
+  [[nodiscard]] const Roadmap& graph() const { return graph_; }
+  [[nodiscard]] double delta() const { return delta_; }
+
+ private:
+  const Scene* scene_;
+  double delta_;
+  Roadmap graph_;
+  PointGrid grid_;
+  std::vector<std::pair<double, std::uint32_t>> near_;
+};
+
+}  // namespace ispars

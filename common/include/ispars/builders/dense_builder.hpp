@@ -1,0 +1,26 @@
+#pragma once
+// The paper's "Dense" baseline: the delta-PRM alone.
+
+#include "ispars/builders/delta_prm.hpp"
+#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/geometry/sample_batch.hpp"
+
+namespace ispars {
+
+/// Every valid sample joins the roadmap with an edge to every vertex within delta in view.
+class DenseBuilder final : public RoadmapBuilder {
+ public:
+  DenseBuilder(const Scene& scene, const BuildOptions& options);
+  void extend(std::size_t samples) override;
+  void step(const Vec3& sample) override;
+  [[nodiscard]] const Roadmap& roadmap() const override { return prm_.graph(); }
+
+ private:
+  const Scene* scene_;
+  BuildOptions options_;
+  Rng rng_;
+  DeltaPrm prm_;
+  std::vector<PreparedSample> batch_;
+};
+
+}  // namespace ispars

@@ -1,0 +1,57 @@
+#pragma once
+// Incremental roadmap construction: Dense (delta-PRM), SPARS, Inspection-SPARS and IRIS-C.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include "ispars/roadmap/build_recipe.hpp"
+#include "ispars/roadmap/roadmap.hpp"
+#include "ispars/scene/scene.hpp"
+
+namespace ispars {
+
+/// Settings of a build that are not scene parameters.
+struct BuildOptions {
+  std::uint64_t seed = 1;
+  /// Threads for the per-sample work that does not depend on the roadmap (point check, chi).
+  /// Any count gives the same roadmap.
+  unsigned threads = 1;
+  /// IRIS-C: probability of admitting a state that adds no new POI (the paper's 0.2).
+  double p_accept = 0.2;
+  /// spars and ispars: which rule set grows the sparse roadmap.
+  SparsVariant variant = SparsVariant::stretch;
+};
+
+/// A roadmap under construction. extend(a) then extend(b) gives exactly the roadmap that
+/// extend(a + b) gives: the samples come from one seeded stream.
+class RoadmapBuilder {
+ public:
+  virtual ~RoadmapBuilder() = default;
+
+  /// Draws and processes `samples` more samples (a sample may be invalid and be dropped).
+  virtual void extend(std::size_t samples) = 0;
+  /// Processes one given sample of the sampling box (not drawn from the builder's stream, and
+  /// not counted in samples()). Invalid samples are dropped.
+  virtual void step(const Vec3& sample) = 0;
+  /// The method's roadmap: the sparse one for spars and ispars. Vertex 0 is the root.
+  [[nodiscard]] virtual const Roadmap& roadmap() const = 0;
+  /// The paired dense roadmap (spars and ispars), else nullptr.
+  [[nodiscard]] virtual const Roadmap* dense() const { return nullptr; }
+  /// For each vertex of roadmap(), the same sample's vertex in dense() (spars, ispars).
+  [[nodiscard]] virtual std::span<const VertexId> dense_ids() const { return {}; }
+
+  /// Samples drawn so far.
+  [[nodiscard]] std::size_t samples() const { return samples_; }
+
+ protected:
+  std::size_t samples_ = 0;
+};
+
+/// A builder for `method` over `scene` (which must outlive it), holding just the root.
+[[nodiscard]] std::unique_ptr<RoadmapBuilder> make_roadmap_builder(BuildMethod method, const Scene& scene,
+                                                                   const BuildOptions& options);
+
+}  // namespace ispars

@@ -1,0 +1,36 @@
+#pragma once
+// Exact checks of a built roadmap: what SPARS and the paper promise, counted, never assumed.
+
+#include <cstdint>
+#include <span>
+
+#include "ispars/roadmap/roadmap.hpp"
+#include "ispars/scene/scene.hpp"
+
+namespace ispars {
+
+/// Violation counts; all zero is a clean roadmap.
+struct VerificationReport {
+  std::uint64_t invalid_vertices = 0;  ///< Vertices failing the point check.
+  std::uint64_t invalid_edges = 0;     ///< Edges whose swept segment is not valid.
+  std::uint64_t wrong_costs = 0;       ///< Edges whose cost is not |u - v|.
+  std::uint64_t sparse_not_dense = 0;  ///< Sparse vertices that are not their dense vertex.
+  /// Invariant 1: pairs (dense q, POI p in chi(q)) with no sparse q' seeing p, |q - q'| <= Delta
+  /// and a valid segment q-q'.
+  std::uint64_t invariant_violations = 0;
+  std::uint64_t invariant_vertices = 0;  ///< Dense vertices with at least one such POI.
+
+  [[nodiscard]] bool geometry_ok() const {
+    return invalid_vertices == 0 && invalid_edges == 0 && wrong_costs == 0 && sparse_not_dense == 0;
+  }
+};
+
+/// Every vertex valid, every edge valid with cost = length.
+[[nodiscard]] VerificationReport verify_roadmap(const Scene& scene, const Roadmap& roadmap);
+
+/// verify_roadmap on both graphs, plus: sparse vertex i is dense vertex dense_ids[i], and the
+/// local inspection-coverage invariant over every dense vertex.
+[[nodiscard]] VerificationReport verify_sparse_pair(const Scene& scene, const Roadmap& sparse,
+                                                    const Roadmap& dense, std::span<const VertexId> dense_ids);
+
+}  // namespace ispars

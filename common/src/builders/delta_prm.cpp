@@ -1,0 +1,18 @@
+#include "ispars/builders/delta_prm.hpp"
+
+namespace ispars {
+
+DeltaPrm::DeltaPrm(const Scene& scene, double delta)
+    : scene_(&scene), delta_(delta), graph_(scene.pois().size()), grid_(delta) {}
+
+VertexId DeltaPrm::insert(const Vec3& q, std::span<const PoiId> visible) {
+  grid_.within(q, delta_, graph_.positions(), near_);
+  const VertexId id = graph_.add_vertex(q, visible);
+  grid_.insert(id, q);
+  for (const auto& [distance, other] : near_) {
+    if (scene_->segment_valid(graph_.position(other), q)) graph_.add_edge(other, id);
+  }
+  return id;
+}
+
+}  // namespace ispars

@@ -1,0 +1,249 @@
+#include "ispars/builders/spars_builder.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ispars {
+namespace {
+
+constexpr std::size_t kBatch = 256;
+
+void insert_sorted(std::vector<VertexId>& list, VertexId x) {
+  const auto it = std::lower_bound(list.begin(), list.end(), x);
+  if (it == list.end() || *it != x) list.insert(it, x);
+}
+
+void erase_sorted(std::vector<VertexId>& list, VertexId x) {
+  const auto it = std::lower_bound(list.begin(), list.end(), x);
+  if (it != list.end() && *it == x) list.erase(it);
+}
+
+}  // namespace
+
+SparsRules SparsRules::for_variant(SparsVariant variant, bool inspection_test) {
+  SparsRules rules;
+  rules.inspection_test = inspection_test;
+  if (variant == SparsVariant::stretch) {
+    rules.dense_shortcut = false;
+    rules.vertex_join = true;
+    rules.witnessed_pairs = true;
+    rules.bridge_by_edge = true;
+  }
+  return rules;
+}
+
+SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules)
+    : scene_(&scene),
+      options_(options),
+      rules_(rules),
+      sparse_delta_(scene.config().sparse_delta),
+      stretch_(scene.config().stretch),
+      rng_(options.seed),
+      dense_(scene, scene.config().dense_delta),
+      sparse_(scene.pois().size()),
+      sparse_grid_(scene.config().sparse_delta) {
+  // Alg. 1, line 1: G_d and G_s start with the root.
+  PreparedSample root;
+  root.q = scene.config().root;
+  root.valid = true;
+  scene.visible_pois(root.q, root.visible);
+  const VertexId r = dense_.insert(root.q, root.visible);
+  sparse_of_dense_.push_back(kNoVertex);
+  rep_.push_back(kNoVertex);
+  rep_distance_.push_back(INFINITY);
+  support_rep_.push_back(kNoVertex);
+  partners_.emplace_back();
+  add_guard(r);
+}
+
+void SparsBuilder::extend(std::size_t samples) {
+  while (samples > 0) {
+    const std::size_t n = std::min(samples, kBatch);
+    prepare_samples(*scene_, rng_, n, options_.threads, batch_);
+    for (const PreparedSample& sample : batch_) step(sample);
+    samples -= n;
+    samples_ += n;
+  }
+}
+
+void SparsBuilder::step(const Vec3& sample) {
+  PreparedSample prepared{sample, scene_->point_valid(sample), {}};
+  if (prepared.valid) scene_->visible_pois(sample, prepared.visible);
+  step(prepared);
+}
+
+void SparsBuilder::step(const PreparedSample& sample) {
+  if (!sample.valid) return;
+  // Lines 4-9: q joins G_d with its delta-edges.
+  const VertexId q = dense_.insert(sample.q, sample.visible);
+  sparse_of_dense_.push_back(kNoVertex);
+  rep_.push_back(kNoVertex);
+  rep_distance_.push_back(INFINITY);
+  support_rep_.push_back(kNoVertex);
+  partners_.emplace_back();
+
+  // Line 10: W = ReachableGuards(q, Delta, G_s); its nearest member is rep(q).
+  reachable_guards(sample.q);
+  if (!reachable_.empty()) {
+    rep_[q] = reachable_.front();
+    rep_distance_[q] = (sparse_.position(reachable_.front()) - sample.q).norm();
+  }
+  // q's supports from its neighbours; each neighbour gains at most one partner, rep(q).
+  update_supports(q);
+  if (rep_[q] != kNoVertex) {
+    for (const Neighbor& n : dense_.graph().neighbors(q)) add_partner(n.vertex, rep_[q]);
+  }
+
+  // Lines 11-17: guard, bridge, interface.
+  if (reachable_.empty()) {
+    add_guard(q);
+    ++admissions_.guard;
+  } else if (!bridge_test(q)) {
+    interface_test(q);
+  }
+  // Lines 18-23 (Inspection-SPARS): admit q if it sees a POI no member of W sees.
+  if (rules_.inspection_test && sparse_of_dense_[q] == kNoVertex && inspection_test(q)) {
+    add_guard(q);
+    ++admissions_.inspection;
+  }
+  // The sparse-vertex stretch rules: an admitted q joins the members of W it has no short route
+  // to; a q left out witnesses the routes between the members of W.
+  if (sparse_of_dense_[q] != kNoVertex) {
+    if (rules_.vertex_join) vertex_join(sparse_of_dense_[q], reachable_);
+  } else if (rules_.witnessed_pairs) {
+    witnessed_pairs(q);
+  }
+  // Lines 24-26: shortcut.
+  if (rules_.dense_shortcut && sparse_of_dense_[q] == kNoVertex) shortcut_test(q);
+}
+
+void SparsBuilder::reachable_guards(const Vec3& q) {
+  sparse_grid_.within(q, sparse_delta_, sparse_.positions(), nearby_);
+  reachable_.clear();
+  for (const auto& [distance, s] : nearby_) {
+    if (scene_->segment_valid(sparse_.position(s), q)) reachable_.push_back(s);
+  }
+}
+
+bool SparsBuilder::bridge_test(VertexId q) {
+  // The nearest reachable member of each component of G_s that W touches.
+  std::vector<VertexId> links;
+  std::vector<VertexId> components;
+  for (const VertexId w : reachable_) {
+    const VertexId c = sparse_.component(w);
+    if (std::find(components.begin(), components.end(), c) == components.end()) {
+      components.push_back(c);
+      links.push_back(w);
+    }
+  }
+  if (links.size() < 2) return false;
+  if (rules_.bridge_by_edge) {
+    // Join the nearest member directly to each other component's member in view of it; q is
+    // admitted only for the components it alone can join.
+    std::vector<VertexId> through_q{links.front()};
+    for (std::size_t i = 1; i < links.size(); ++i) {
+      if (scene_->segment_valid(sparse_.position(links.front()), sparse_.position(links[i]))) {
+        connect(links.front(), links[i], admissions_.bridge_edges);
+        ++admissions_.bridge_edge;
+      } else {
+        through_q.push_back(links[i]);
+      }
+    }
+    if (through_q.size() < 2) return true;
+    links = std::move(through_q);
+  }
+  const VertexId s = add_guard(q);
+  for (const VertexId w : links) connect(s, w, admissions_.bridge_edges);
+  ++admissions_.bridge;
+  return true;
+}
+
+bool SparsBuilder::interface_test(VertexId q) {
+  // The two nearest sparse vertices within Delta must both be reachable and not adjacent.
+  if (nearby_.size() < 2 || reachable_.size() < 2) return false;
+  const VertexId v0 = reachable_[0];
+  const VertexId v1 = reachable_[1];
+  if (nearby_[0].second != v0 || nearby_[1].second != v1) return false;
+  if (sparse_.has_edge(v0, v1)) return false;
+  if (scene_->segment_valid(sparse_.position(v0), sparse_.position(v1))) {
+    connect(v0, v1, admissions_.interface_edges);
+    ++admissions_.interface_edge;
+  } else {
+    const VertexId s = add_guard(q);
+    connect(s, v0, admissions_.interface_edges);
+    connect(s, v1, admissions_.interface_edges);
+    ++admissions_.interface_vertex;
+  }
+  return true;
+}
+
+bool SparsBuilder::inspection_test(VertexId q) const {
+  // I_Delta(q, G_s) = union of chi(w) over w in W; admit when chi(q) reaches outside it.
+  const PoiBits seen = dense_.graph().visible(q);
+  std::vector<std::uint64_t> cover(seen.size(), 0);
+  for (const VertexId w : reachable_) unite(cover, sparse_.visible(w));
+  return has_outside(seen, cover);
+}
+
+VertexId SparsBuilder::add_guard(VertexId d) {
+  const Vec3 p = dense_.graph().position(d);
+  const VertexId s = sparse_.add_vertex(p, dense_.graph().visibility_table().ids(d));
+  dense_of_sparse_.push_back(d);
+  sparse_of_dense_[d] = s;
+  sparse_grid_.insert(s, p);
+  supports_.emplace_back();
+
+  // Dense vertices within Delta that now see s closer than their representative take it.
+  std::vector<std::pair<double, std::uint32_t>> near;
+  dense_.within(p, sparse_delta_, near);
+  std::vector<VertexId> changed;
+  for (const auto& [distance, x] : near) {
+    if (!(distance < rep_distance_[x])) continue;  // ties keep the older (lower id) vertex
+    if (x != d && !scene_->segment_valid(p, dense_.graph().position(x))) continue;
+    rep_[x] = s;
+    rep_distance_[x] = distance;
+    changed.push_back(x);
+  }
+  // Interface supports depend on the representatives of a vertex and of its neighbours.
+  std::vector<VertexId> affected = changed;
+  for (const VertexId x : changed) {
+    for (const Neighbor& n : dense_.graph().neighbors(x)) affected.push_back(n.vertex);
+  }
+  std::sort(affected.begin(), affected.end());
+  affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+  for (const VertexId x : affected) update_supports(x);
+  return s;
+}
+
+void SparsBuilder::connect(VertexId u, VertexId v, std::uint64_t& cause) {
+  if (sparse_.add_edge(u, v)) ++cause;
+}
+
+void SparsBuilder::update_supports(VertexId x) {
+  for (const VertexId vp : partners_[x]) erase_sorted(supports_[support_rep_[x]][vp], x);
+  partners_[x].clear();
+  support_rep_[x] = rep_[x];
+  if (rep_[x] == kNoVertex) return;
+  for (const Neighbor& n : dense_.graph().neighbors(x)) {
+    const VertexId other = rep_[n.vertex];
+    if (other != kNoVertex && other != rep_[x]) insert_sorted(partners_[x], other);
+  }
+  for (const VertexId vp : partners_[x]) insert_sorted(supports_[rep_[x]][vp], x);
+}
+
+void SparsBuilder::add_partner(VertexId x, VertexId partner) {
+  const VertexId rep = rep_[x];
+  if (rep == kNoVertex || rep == partner) return;
+  auto& partners = partners_[x];
+  const auto it = std::lower_bound(partners.begin(), partners.end(), partner);
+  if (it != partners.end() && *it == partner) return;
+  partners.insert(it, partner);
+  insert_sorted(supports_[rep][partner], x);
+}
+
+std::vector<VertexId> SparsBuilder::interface_supports(VertexId v, VertexId v2) const {
+  const auto it = supports_[v].find(v2);
+  return it == supports_[v].end() ? std::vector<VertexId>{} : it->second;
+}
+
+}  // namespace ispars

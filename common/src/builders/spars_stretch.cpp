@@ -1,0 +1,146 @@
+// The sparse-vertex stretch rules. Theorem 1's proof bounds the sparse route between two sparse
+// viewpoints by t times the continuous route (its "sparse-endpoint refinement"); nothing in
+// Alg. 1 enforces that between sparse vertices. Two rules do, with the same t:
+// - vertex join: a new sparse vertex s takes an edge to each w in W(s) that it has no sparse
+//   route to within t |s - w| (the direct segment is valid, so d_C(s, w) = |s - w|);
+// - witnessed pairs: a sample q left out of G_s is a witness that w and w' of W(q) are at most
+//   |w - q| + |q - w'| apart; a pair whose sparse route exceeds t times that is repaired.
+// docs/sparse-stretch.md has the argument and the measurements.
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+
+#include "ispars/builders/spars_builder.hpp"
+
+namespace ispars {
+
+std::size_t SparsBuilder::first_long_route(VertexId from, std::span<const VertexId> targets,
+                                           std::span<const double> bounds) {
+  // One goal-directed Dijkstra from `from` serves every target. A vertex v reached at distance
+  // d is kept only if d + |v - target| is within some unsettled target's bound: every prefix of
+  // a route within its bound passes, so the distances found are exact. The search stops once
+  // every target is settled, or nothing within the largest bound is left.
+  const double limit = *std::max_element(bounds.begin(), bounds.end());
+  open_targets_.clear();  // (position, bound, index) of the targets not settled yet
+  for (std::size_t k = 0; k < targets.size(); ++k) open_targets_.push_back({sparse_.position(targets[k]), bounds[k], k});
+  const auto useful = [&](VertexId v, double d) {
+    const Vec3& p = sparse_.position(v);
+    for (const OpenTarget& t : open_targets_) {
+      const double slack = t.bound * (1.0 + 1e-12) - d;  // never prune a route at its bound by rounding
+      if (slack >= 0.0 && (p - t.position).squaredNorm() <= slack * slack) return true;
+    }
+    return false;
+  };
+  sparse_search_.start(sparse_.vertex_count(), from);
+  while (!open_targets_.empty()) {
+    const auto [d, x] = sparse_search_.settle_next(sparse_, limit, useful);
+    if (x == kNoVertex) break;
+    std::erase_if(open_targets_, [&](const OpenTarget& t) { return targets[t.index] == x; });
+  }
+  std::size_t first = targets.size();
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    const double d = sparse_search_.distance(targets[k]);
+    if (std::isfinite(d)) remember_route(from, targets[k], d);
+    if (first == targets.size() && !(d <= bounds[k])) first = k;
+  }
+  return first;
+}
+
+void SparsBuilder::remember_route(VertexId a, VertexId b, double length) {
+  const auto [it, inserted] = known_routes_.try_emplace(pair_key(a, b), length);
+  if (!inserted) it->second = std::min(it->second, length);
+}
+
+double SparsBuilder::known_route(VertexId a, VertexId b) const {
+  if (sparse_.has_edge(a, b)) return (sparse_.position(a) - sparse_.position(b)).norm();
+  const auto it = known_routes_.find(pair_key(a, b));
+  return it == known_routes_.end() ? INFINITY : it->second;
+}
+
+std::uint64_t SparsBuilder::pair_key(VertexId a, VertexId b) {
+  return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+}
+
+void SparsBuilder::vertex_join(VertexId s, const std::vector<VertexId>& reachable) {
+  // Nearest first: a near join may shorten the routes to the farther members.
+  const Vec3 ps = sparse_.position(s);
+  std::vector<VertexId> todo;
+  std::vector<double> bounds;
+  for (const VertexId w : reachable) {
+    if (w == s) continue;
+    const double bound = stretch_ * (sparse_.position(w) - ps).norm();
+    if (known_route(s, w) <= bound) continue;
+    todo.push_back(w);
+    bounds.push_back(bound);
+  }
+  std::size_t done = 0;
+  while (done < todo.size()) {
+    const std::span<const VertexId> rest(todo.data() + done, todo.size() - done);
+    const std::size_t k = first_long_route(s, rest, std::span<const double>(bounds.data() + done, rest.size()));
+    if (k == rest.size()) break;
+    connect(s, rest[k], admissions_.join_edges);
+    done += k + 1;  // the members before it have short routes, and keep them
+  }
+}
+
+bool SparsBuilder::witnessed_pairs(VertexId q) {
+  const Vec3 pq = dense_.graph().position(q);
+  const std::vector<VertexId> w = reachable_;  // W(q), nearest first
+  if (w.size() < 2) return false;
+  std::vector<double> to_q(w.size());
+  for (std::size_t i = 0; i < w.size(); ++i) to_q[i] = (sparse_.position(w[i]) - pq).norm();
+
+  VertexId admitted = kNoVertex;
+  const std::size_t firsts = rules_.witness_nearest_only ? 1 : w.size() - 1;
+  std::vector<VertexId> todo;
+  std::vector<double> bounds;
+  for (std::size_t i = 0; i < firsts; ++i) {
+    // A pair with a route already known within the bound (an edge, or a route an earlier
+    // search found: routes only get shorter) needs no search.
+    todo.clear();
+    bounds.clear();
+    for (std::size_t j = i + 1; j < w.size(); ++j) {
+      const double bound = stretch_ * (to_q[i] + to_q[j]);
+      if (known_route(w[i], w[j]) <= bound) continue;
+      todo.push_back(w[j]);
+      bounds.push_back(bound);
+    }
+    std::size_t done = 0;
+    while (done < todo.size()) {
+      const std::span<const VertexId> rest(todo.data() + done, todo.size() - done);
+      const std::size_t k =
+          first_long_route(w[i], rest, std::span<const double>(bounds.data() + done, rest.size()));
+      if (k == rest.size()) break;
+      // Repair: the direct edge when its segment is valid, otherwise the route through q.
+      const VertexId far = rest[k];
+      if (scene_->segment_valid(sparse_.position(w[i]), sparse_.position(far))) {
+        connect(w[i], far, admissions_.witness_edges);
+        ++admissions_.witness_edge;
+      } else {
+        if (admitted == kNoVertex) {
+          admitted = add_guard(q);
+          ++admissions_.witness_vertex;
+        }
+        connect(admitted, w[i], admissions_.witness_edges);
+        connect(admitted, far, admissions_.witness_edges);
+      }
+      done += k + 1;
+    }
+  }
+  if (admitted != kNoVertex && rules_.vertex_join) vertex_join(admitted, w);
+  return admitted != kNoVertex;
+}
+
+std::vector<VertexId> SparsBuilder::reachable_from(VertexId s) const {
+  const Vec3 p = sparse_.position(s);
+  std::vector<std::pair<double, std::uint32_t>> near;
+  sparse_grid_.within(p, sparse_delta_, sparse_.positions(), near);
+  std::vector<VertexId> out;
+  for (const auto& [distance, v] : near) {
+    if (v != s && scene_->segment_valid(p, sparse_.position(v))) out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace ispars

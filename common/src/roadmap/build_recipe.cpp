@@ -1,0 +1,148 @@
+#include "ispars/roadmap/build_recipe.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "ispars/input_error.hpp"
+
+namespace ispars {
+namespace {
+
+constexpr std::array<BuildMethod, 4> kMethods{BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars,
+                                              BuildMethod::irisc};
+constexpr std::array<SparsVariant, 2> kVariants{SparsVariant::stretch, SparsVariant::alg1};
+
+constexpr std::array<RecipeParameter, 4> kOverrides{{
+    {"dense_delta", 1e-6, 1e6, "positive (at least 1e-6, at most 1e6 metres)",
+     "delta, the dense roadmap's connection radius in metres (default: the scene's)", &RoadmapRecipe::dense_delta},
+    {"sparse_delta", 1e-6, 1e6, "positive (at least 1e-6, at most 1e6 metres)",
+     "Delta, the sparse roadmap's visibility radius in metres (default: the scene's)", &RoadmapRecipe::sparse_delta},
+    {"stretch", 1.0, 100.0, "at least 1 and at most 100", "t, the spanner's stretch factor (default: the scene's)",
+     &RoadmapRecipe::stretch},
+    {"p_accept", 0.0, 1.0, "a probability in [0, 1]",
+     "IRIS-C: probability of admitting a state that adds no POI (default 0.2)", &RoadmapRecipe::p_accept},
+}};
+
+template <typename Items, typename Name>
+std::string join_names(const Items& items, Name name) {
+  std::string out;
+  for (const auto& item : items) out += (out.empty() ? "" : ", ") + std::string(name(item));
+  return out;
+}
+
+}  // namespace
+
+std::string_view to_string(BuildMethod method) {
+  switch (method) {
+    case BuildMethod::dense: return "dense";
+    case BuildMethod::spars: return "spars";
+    case BuildMethod::ispars: return "ispars";
+    case BuildMethod::irisc: return "irisc";
+  }
+  return "?";
+}
+
+std::optional<BuildMethod> parse_build_method(std::string_view text) {
+  for (const BuildMethod m : kMethods) {
+    if (to_string(m) == text) return m;
+  }
+  return std::nullopt;
+}
+
+std::string build_method_names() {
+  return join_names(kMethods, [](BuildMethod m) { return to_string(m); });
+}
+
+std::string_view to_string(SparsVariant variant) {
+  switch (variant) {
+    case SparsVariant::stretch: return "stretch";
+    case SparsVariant::alg1: return "alg1";
+  }
+  return "?";
+}
+
+std::optional<SparsVariant> parse_spars_variant(std::string_view text) {
+  for (const SparsVariant v : kVariants) {
+    if (to_string(v) == text) return v;
+  }
+  return std::nullopt;
+}
+
+std::string spars_variant_names() {
+  return join_names(kVariants, [](SparsVariant v) { return to_string(v); });
+}
+
+std::span<const RecipeParameter> recipe_overrides() { return kOverrides; }
+
+std::string recipe_override_names() {
+  return join_names(kOverrides, [](const RecipeParameter& p) { return p.name; });
+}
+
+void set_recipe_override(RoadmapRecipe& recipe, std::string_view name, double value, std::string_view file) {
+  const std::string field = "overrides." + std::string(name.substr(0, 64));
+  for (const RecipeParameter& p : kOverrides) {
+    if (p.name != name) continue;
+    if (!std::isfinite(value)) throw InputError(std::string(file), field, fmt::format("must be finite, got {}", value));
+    if (value < p.min || value > p.max) {
+      throw InputError(std::string(file), field, fmt::format("must be {}, got {}", p.range, value));
+    }
+    recipe.*(p.field) = value;
+    return;
+  }
+  throw InputError(std::string(file), field, fmt::format("unknown parameter (expected {})", recipe_override_names()));
+}
+
+std::string recipe_to_json(const RoadmapRecipe& r) {
+  const nlohmann::json j = {{"scene", r.scene},
+                            {"method", std::string(to_string(r.method))},
+                            {"seed", r.seed},
+                            {"p_accept", r.p_accept},
+                            {"variant", std::string(to_string(r.variant))},
+                            {"dense_delta", r.dense_delta},
+                            {"sparse_delta", r.sparse_delta},
+                            {"stretch", r.stretch},
+                            {"generation", r.generation},
+                            {"format", 1}};
+  return j.dump(2) + "\n";
+}
+
+RoadmapRecipe recipe_from_json(const std::string& text) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("recipe.json does not parse: ") + e.what());
+  }
+  const auto field = [&](const char* name) -> const nlohmann::json& {
+    if (!j.is_object() || !j.contains(name)) throw std::runtime_error(std::string("recipe.json lacks ") + name);
+    return j.at(name);
+  };
+  RoadmapRecipe r;
+  try {
+    r.scene = field("scene").get<std::string>();
+    const auto method = parse_build_method(field("method").get<std::string>());
+    if (!method) throw std::runtime_error("recipe.json: unknown method");
+    r.method = *method;
+    r.seed = field("seed").get<std::uint64_t>();
+    r.p_accept = field("p_accept").get<double>();
+    r.variant = SparsVariant::alg1;  // recipes written before the variants existed
+    if (j.contains("variant")) {
+      const auto variant = parse_spars_variant(j.at("variant").get<std::string>());
+      if (!variant) throw std::runtime_error("recipe.json: unknown variant");
+      r.variant = *variant;
+    }
+    r.dense_delta = field("dense_delta").get<double>();
+    r.sparse_delta = field("sparse_delta").get<double>();
+    r.stretch = field("stretch").get<double>();
+    r.generation = field("generation").get<std::uint64_t>();
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("recipe.json has a field of the wrong type: ") + e.what());
+  }
+  return r;
+}
+
+}  // namespace ispars

@@ -1,0 +1,221 @@
+#include "ispars/roadmap/roadmap_log.hpp"
+
+#include <algorithm>
+#include <utility>
+#include <stdexcept>
+
+#include "ispars/roadmap/record_file.hpp"
+
+namespace ispars {
+namespace {
+
+constexpr std::string_view kMagic{"ISPLOG01"};
+
+}  // namespace
+
+RoadmapBatch batch_since(const Roadmap& roadmap, std::uint64_t version) {
+  return batch_range(roadmap, version, roadmap.version());
+}
+
+RoadmapBatch batch_range(const Roadmap& roadmap, std::uint64_t from, std::uint64_t to) {
+  RoadmapBatch batch;
+  batch.to_version = std::min(to, roadmap.version());
+  batch.from_version = std::min(from, batch.to_version);
+  const auto changes = roadmap.changes_since(batch.from_version).first(batch.to_version - batch.from_version);
+  for (const RoadmapChange& change : changes) {
+    batch.changes.push_back(change);
+    if (change.kind == RoadmapChange::Kind::vertex) {
+      batch.positions.push_back(roadmap.position(change.index));
+      batch.visible.push_back(roadmap.visibility_table().ids(change.index));
+    } else {
+      batch.edges.push_back(roadmap.edges()[change.index]);
+    }
+  }
+  return batch;
+}
+
+std::uint64_t roadmap_digest(const Roadmap& roadmap) {
+  const std::string bytes = encode_batch(batch_since(roadmap, 0));
+  std::uint64_t hash = 0xcbf29ce484222325ull;
+  for (const char c : bytes) {
+    hash ^= static_cast<unsigned char>(c);
+    hash *= 0x100000001b3ull;
+  }
+  return hash;
+}
+
+namespace {
+
+// Everything apply_batch needs to hold, checked before the replica is touched: a batch from the
+// network or a damaged file is refused whole, never half-applied.
+void check_batch_fits(const Roadmap& replica, const RoadmapBatch& batch) {
+  if (replica.version() != batch.from_version) {
+    throw std::runtime_error("batch starts at version " + std::to_string(batch.from_version) +
+                             " but the replica is at " + std::to_string(replica.version()));
+  }
+  if (batch.to_version < batch.from_version || batch.to_version - batch.from_version != batch.changes.size()) {
+    throw std::runtime_error("batch does not end at its version");
+  }
+  if (batch.visible.size() != batch.positions.size()) throw std::runtime_error("batch POI lists do not match its vertices");
+  const std::size_t pois = replica.visibility_table().poi_count();
+  std::size_t vertex = 0;
+  std::size_t edge = 0;
+  std::vector<std::uint64_t> added;  // u * 2^32 + v with u < v, for the duplicate check
+  added.reserve(batch.edges.size());
+  const auto position = [&](VertexId v) -> const Vec3& {
+    return v < replica.vertex_count() ? replica.position(v) : batch.positions[v - replica.vertex_count()];
+  };
+  for (const RoadmapChange& change : batch.changes) {
+    if (change.kind == RoadmapChange::Kind::vertex) {
+      if (vertex >= batch.positions.size() || change.index != replica.vertex_count() + vertex) {
+        throw std::runtime_error("batch vertex out of order");
+      }
+      if (!batch.positions[vertex].allFinite()) throw std::runtime_error("batch vertex position is not finite");
+      for (const PoiId id : batch.visible[vertex]) {
+        if (id >= pois) throw std::runtime_error("batch vertex sees POI " + std::to_string(id) + " of " + std::to_string(pois));
+      }
+      ++vertex;
+    } else {
+      if (edge >= batch.edges.size() || change.index != replica.edge_count() + edge) {
+        throw std::runtime_error("batch edge out of order");
+      }
+      const RoadmapEdge& e = batch.edges[edge++];
+      const std::size_t known = replica.vertex_count() + vertex;
+      if (e.u >= known || e.v >= known || e.u == e.v) throw std::runtime_error("batch edge does not fit the replica");
+      const auto [lo, hi] = std::minmax(e.u, e.v);
+      added.push_back((std::uint64_t{lo} << 32) | hi);
+      if (e.u < replica.vertex_count() && e.v < replica.vertex_count() && replica.has_edge(e.u, e.v)) {
+        throw std::runtime_error("batch edge is a duplicate");
+      }
+      if ((position(e.u) - position(e.v)).norm() != e.cost) throw std::runtime_error("batch edge cost is not its length");
+    }
+  }
+  if (vertex != batch.positions.size() || edge != batch.edges.size()) {
+    throw std::runtime_error("batch holds vertices or edges its change list does not");
+  }
+  std::sort(added.begin(), added.end());
+  if (std::adjacent_find(added.begin(), added.end()) != added.end()) throw std::runtime_error("batch edge is a duplicate");
+}
+
+}  // namespace
+
+void apply_batch(Roadmap& replica, const RoadmapBatch& batch) {
+  check_batch_fits(replica, batch);
+  std::size_t vertex = 0;
+  std::size_t edge = 0;
+  for (const RoadmapChange& change : batch.changes) {
+    if (change.kind == RoadmapChange::Kind::vertex) {
+      replica.add_vertex(batch.positions[vertex], batch.visible[vertex]);
+      ++vertex;
+    } else {
+      const RoadmapEdge& e = batch.edges[edge++];
+      replica.add_edge(e.u, e.v);
+    }
+  }
+}
+
+std::string encode_batch(const RoadmapBatch& batch) {
+  std::string out;
+  put_bytes(out, batch.from_version);
+  put_bytes(out, batch.to_version);
+  put_bytes(out, static_cast<std::uint32_t>(batch.changes.size()));
+  for (const RoadmapChange& c : batch.changes) {
+    put_bytes(out, static_cast<std::uint8_t>(c.kind));
+    put_bytes(out, c.index);
+  }
+  put_bytes(out, static_cast<std::uint32_t>(batch.positions.size()));
+  for (std::size_t i = 0; i < batch.positions.size(); ++i) {
+    for (int k = 0; k < 3; ++k) put_bytes(out, batch.positions[i][k]);
+    put_bytes(out, static_cast<std::uint32_t>(batch.visible[i].size()));
+    for (const PoiId id : batch.visible[i]) put_bytes(out, id);
+  }
+  put_bytes(out, static_cast<std::uint32_t>(batch.edges.size()));
+  for (const RoadmapEdge& e : batch.edges) {
+    put_bytes(out, e.u);
+    put_bytes(out, e.v);
+    put_bytes(out, e.cost);
+  }
+  return out;
+}
+
+RoadmapBatch decode_batch(const std::string& payload) {
+  ByteReader in(payload);
+  RoadmapBatch batch;
+  batch.from_version = in.get<std::uint64_t>();
+  batch.to_version = in.get<std::uint64_t>();
+  const auto changes = in.get<std::uint32_t>();
+  if (changes > payload.size()) throw std::runtime_error("batch change count is impossible");
+  for (std::uint32_t i = 0; i < changes; ++i) {
+    const auto kind = in.get<std::uint8_t>();
+    if (kind > 1) throw std::runtime_error("batch change has an unknown kind");
+    batch.changes.push_back({static_cast<RoadmapChange::Kind>(kind), in.get<std::uint32_t>()});
+  }
+  const auto vertices = in.get<std::uint32_t>();
+  if (vertices > payload.size()) throw std::runtime_error("batch vertex count is impossible");
+  for (std::uint32_t i = 0; i < vertices; ++i) {
+    Vec3 p;
+    for (int k = 0; k < 3; ++k) p[k] = in.get<double>();
+    batch.positions.push_back(p);
+    const auto count = in.get<std::uint32_t>();
+    if (count > payload.size()) throw std::runtime_error("batch POI count is impossible");
+    std::vector<PoiId> ids(count);
+    for (auto& id : ids) id = in.get<PoiId>();
+    batch.visible.push_back(std::move(ids));
+  }
+  const auto edges = in.get<std::uint32_t>();
+  if (edges > payload.size()) throw std::runtime_error("batch edge count is impossible");
+  for (std::uint32_t i = 0; i < edges; ++i) {
+    RoadmapEdge e;
+    e.u = in.get<VertexId>();
+    e.v = in.get<VertexId>();
+    e.cost = in.get<double>();
+    batch.edges.push_back(e);
+  }
+  if (!in.done()) throw std::runtime_error("batch payload has trailing bytes");
+  return batch;
+}
+
+LogReplay read_roadmap_log(const std::filesystem::path& path) {
+  LogReplay replay;
+  std::uint64_t version = 0;
+  bool first = true;
+  RecordReplay records = read_record_file(path, kMagic, [&](const std::string& payload) -> std::string {
+    RoadmapBatch batch;
+    try {
+      batch = decode_batch(payload);
+    } catch (const std::runtime_error& e) {
+      return std::string("undecodable record: ") + e.what();
+    }
+    if (!first && batch.from_version != version) return "record out of sequence";
+    first = false;
+    version = batch.to_version;
+    replay.batches.push_back(std::move(batch));
+    return {};
+  });
+  replay.valid_bytes = records.valid_bytes;
+  replay.torn_tail = records.torn_tail;
+  replay.tail_problem = std::move(records.tail_problem);
+  return replay;
+}
+
+RoadmapLogWriter::RoadmapLogWriter(const std::filesystem::path& path) {
+  const LogReplay existing = read_roadmap_log(path);
+  torn_tail_ = existing.torn_tail;
+  empty_ = existing.batches.empty();
+  version_ = empty_ ? 0 : existing.batches.back().to_version;
+  file_ = std::make_unique<RecordFileWriter>(path, kMagic, existing.valid_bytes);
+}
+
+RoadmapLogWriter::~RoadmapLogWriter() = default;
+
+void RoadmapLogWriter::append(const RoadmapBatch& batch) {
+  if (!empty_ && batch.from_version != version_) {
+    throw std::invalid_argument("batch from version " + std::to_string(batch.from_version) +
+                                " does not continue the log at version " + std::to_string(version_));
+  }
+  file_->append(encode_batch(batch));
+  empty_ = false;
+  version_ = batch.to_version;
+}
+
+}  // namespace ispars

@@ -1,0 +1,82 @@
+#include "ispars/scene/scene.hpp"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "ispars/input_error.hpp"
+#include "ispars/scene/poi_sampling.hpp"
+#include "ispars/scene/procedural.hpp"
+
+namespace ispars {
+
+Scene Scene::load(const std::filesystem::path& yaml_path) {
+  return build(parse_scene_config(yaml_path));
+}
+
+Scene Scene::with_roadmap_parameters(double dense_delta, double sparse_delta, double stretch,
+                                     const std::string& source) const {
+  SceneConfig config = *config_;
+  config.source = source;
+  config.dense_delta = dense_delta;
+  config.sparse_delta = sparse_delta;
+  config.stretch = stretch;
+  check_scene_config(config);
+  config.source = config_->source;
+  Scene copy = *this;
+  copy.config_ = std::make_shared<const SceneConfig>(std::move(config));
+  return copy;
+}
+
+Scene Scene::build(const SceneConfig& config) {
+  check_scene_config(config);
+  TriangleMesh mesh = config.procedural
+                          ? make_procedural_mesh(config.procedural->kind, config.procedural->seed)
+                          : load_triangle_mesh(config.mesh, "mesh");
+  return build(config, std::move(mesh));
+}
+
+Scene Scene::build(const SceneConfig& config, TriangleMesh mesh) {
+  check_scene_config(config);
+  if (mesh.empty()) throw InputError(config.source, "mesh", "mesh contains no triangles");
+  if (config.scale != 1.0) mesh.scale(config.scale);
+
+  std::vector<Vec3> pois;
+  if (!config.pois.file.empty()) {
+    pois = read_poi_file(config.pois.file, "pois.file");
+  } else {
+    try {
+      pois = sample_pois_on_surface(mesh, config.pois.count, config.pois.seed, config.pois.skip_ground);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(config.source, "pois", e.what());
+    }
+  }
+
+  Scene scene;
+  scene.config_ = std::make_shared<const SceneConfig>(config);
+  scene.mesh_ = std::make_shared<const TriangleMesh>(std::move(mesh));
+  scene.embree_ = std::make_shared<const EmbreeScene>(*scene.mesh_);
+  scene.collision_ =
+      std::make_shared<const CollisionChecker>(scene.embree_, config.bounds, config.robot_radius);
+  scene.visibility_ =
+      std::make_shared<const VisibilityOracle>(scene.embree_, std::move(pois), config.sensor_range);
+
+  const double distance = scene.collision_->distance_to_surface(config.root);
+  if (!(distance > config.robot_radius)) {
+    throw InputError(config.source, "root",
+                     fmt::format("[{}, {}, {}] is in collision: {:.3f} m from the mesh, robot_radius {}",
+                                 config.root.x(), config.root.y(), config.root.z(), distance,
+                                 config.robot_radius));
+  }
+  return scene;
+}
+
+Vec3 Scene::sample_valid_configuration(Rng& rng, int max_attempts) const {
+  for (int i = 0; i < max_attempts; ++i) {
+    const Vec3 q = rng.uniform_in(config_->bounds);
+    if (collision_->point_valid(q)) return q;
+  }
+  throw std::runtime_error(fmt::format("no valid configuration in {} samples of the bounds", max_attempts));
+}
+
+}  // namespace ispars

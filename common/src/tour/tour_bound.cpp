@@ -1,0 +1,168 @@
+#include "ispars/tour/tour_bound.hpp"
+
+#include <ClpEventHandler.hpp>
+#include <ClpSimplex.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <unordered_set>
+
+#include "ispars/tour/cut_separation.hpp"
+
+namespace ispars {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Stops Clp between iterations when the caller's stop flag is set or the deadline passes.
+class StopHandler final : public ClpEventHandler {
+ public:
+  StopHandler(const std::function<bool()>* stop, Clock::time_point deadline) : stop_(stop), deadline_(deadline) {}
+  int event(Event which) override {
+    if (which != endOfIteration) return -1;
+    if ((*stop_ && (*stop_)()) || Clock::now() >= deadline_) return 0;
+    return -1;
+  }
+  ClpEventHandler* clone() const override { return new StopHandler(*this); }
+
+ private:
+  const std::function<bool()>* stop_;
+  Clock::time_point deadline_;
+};
+
+// The cut x(delta(S)) >= 2 as the sorted columns of the edges leaving S.
+std::vector<int> cut_columns(const CutGraph& g, const std::vector<char>& in_s) {
+  std::vector<int> columns;
+  for (std::size_t e = 0; e < g.edges.size(); ++e) {
+    if (in_s[g.edges[e].first] != in_s[g.edges[e].second]) columns.push_back(static_cast<int>(e));
+  }
+  return columns;
+}
+
+std::uint64_t signature(const std::vector<int>& columns) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (const int c : columns) h = (h ^ static_cast<std::uint64_t>(c)) * 1099511628211ull;
+  return h ^ columns.size();
+}
+
+// A bound that the dual y proves exactly: with y clipped to >= 0 and scaled by lambda so that
+// every reduced cost is >= 0, lambda * 2 * sum(y) is a dual objective, hence a lower bound.
+double proven_bound(const ClpSimplex& lp, const std::vector<double>& costs) {
+  const int rows = lp.numberRows();
+  const double* dual = lp.dualRowSolution();
+  std::vector<double> load(costs.size(), 0.0);
+  const CoinPackedMatrix* m = lp.matrix();
+  const int* index = m->getIndices();
+  const CoinBigIndex* start = m->getVectorStarts();
+  const int* length = m->getVectorLengths();
+  double value = 0.0;
+  std::vector<double> y(static_cast<std::size_t>(rows));
+  for (int r = 0; r < rows; ++r) {
+    y[r] = std::max(0.0, dual[r]);
+    value += 2.0 * y[r];
+  }
+  // Column-major matrix: column j's rows are index[start[j] .. start[j] + length[j]).
+  double lambda = 1.0;
+  for (std::size_t j = 0; j < costs.size(); ++j) {
+    double a = 0.0;
+    for (CoinBigIndex k = start[j]; k < start[j] + length[j]; ++k) a += y[index[k]];
+    if (a > costs[j]) lambda = std::min(lambda, costs[j] / a);
+  }
+  return std::max(0.0, lambda * value * (1.0 - 1e-9));
+}
+
+}  // namespace
+
+TourBoundResult lp_tour_bound(const InspectionGraph& graph, const TourBoundOptions& o) {
+  const auto t0 = Clock::now();
+  const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
+                                 std::max(0.0, std::min(o.budget_seconds, 1e7))));
+  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  const auto stopped = [&] { return (o.should_stop && o.should_stop()) || Clock::now() >= deadline; };
+  TourBoundResult result;
+
+  if (graph.edge_count() > o.max_edges) {  // checked before copying anything
+    result.skipped = fmt::format("the graph has {} edges, more than the LP's limit of {}", graph.edge_count(),
+                                 o.max_edges);
+    return result;
+  }
+  const CutGraph g = CutGraph::of_component(graph, o.root, o.targets);
+  if (g.groups.empty()) {
+    result.complete = true;  // the root sees every target: the empty tour is optimal
+    return result;
+  }
+
+  ClpSimplex lp;
+  lp.setLogLevel(0);
+  StopHandler handler(&o.should_stop, deadline);
+  lp.passInEventHandler(&handler);
+  std::vector<double> costs(g.edges.size());
+  for (std::size_t e = 0; e < g.edges.size(); ++e) costs[e] = g.costs[e];
+  const std::vector<double> lower(costs.size(), 0.0), upper(costs.size(), COIN_DBL_MAX);
+  lp.addColumns(static_cast<int>(costs.size()), lower.data(), upper.data(), costs.data(), nullptr, nullptr, nullptr);
+
+  std::unordered_set<std::uint64_t> known;
+  std::vector<int> row_starts{0}, row_columns;
+  const auto queue_cut = [&](const std::vector<char>& in_s) {
+    std::vector<int> columns = cut_columns(g, in_s);
+    if (columns.empty() || !known.insert(signature(columns)).second) return;
+    row_columns.insert(row_columns.end(), columns.begin(), columns.end());
+    row_starts.push_back(static_cast<int>(row_columns.size()));
+  };
+  const auto flush_cuts = [&] {
+    const int added = static_cast<int>(row_starts.size()) - 1;
+    if (added > 0) {
+      const std::vector<double> row_lower(static_cast<std::size_t>(added), 2.0);
+      const std::vector<double> row_upper(static_cast<std::size_t>(added), COIN_DBL_MAX);
+      const std::vector<double> ones(row_columns.size(), 1.0);
+      lp.addRows(added, row_lower.data(), row_upper.data(), row_starts.data(), row_columns.data(), ones.data());
+      result.cuts += static_cast<std::size_t>(added);
+    }
+    row_starts.assign(1, 0);
+    row_columns.clear();
+    return added;
+  };
+
+  // Start from the cut around the root and the cut around each group.
+  std::vector<char> in_s(g.vertex_count, 0);
+  in_s[g.root] = 1;
+  queue_cut(in_s);
+  for (const auto& group : g.groups) {
+    std::fill(in_s.begin(), in_s.end(), 1);
+    for (const std::uint32_t v : group) in_s[v] = 0;
+    queue_cut(in_s);
+  }
+  flush_cuts();
+
+  MaxFlow flow(g);
+  while (!stopped()) {
+    lp.dual();
+    ++result.rounds;
+    if (lp.status() != 0) break;  // stopped by the event handler, or numerically lost: keep what is proven
+    const double bound = proven_bound(lp, costs);
+    if (bound > result.bound) {
+      result.bound = bound;
+      result.trace.emplace_back(elapsed(), bound);
+      if (o.on_improvement) o.on_improvement(elapsed(), bound);
+    }
+    // Separation: a group the root sends less than 2 units of flow to, on capacities x.
+    flow.set_capacities(lp.primalColumnSolution());
+    for (const auto& group : g.groups) {
+      if (stopped()) break;
+      if (flow.max_flow_to(group, 2.0) >= 2.0 - 1e-6) continue;
+      queue_cut(flow.source_side());
+      queue_cut(flow.sink_side_complement());
+    }
+    if (stopped()) break;
+    if (flush_cuts() == 0) {
+      result.complete = true;
+      break;
+    }
+  }
+  return result;
+}
+
+}  // namespace ispars

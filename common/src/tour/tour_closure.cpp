@@ -1,0 +1,136 @@
+#include "ispars/tour/tour_closure.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <thread>
+
+#include "ispars/search/graph_search.hpp"
+
+namespace ispars {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Keeps, for every target, its k richest viewers (most targets seen, then lowest id), with the
+// largest k that stays within `limit` candidates (at least 1 per target).
+std::vector<std::size_t> thin(const std::vector<std::vector<std::uint32_t>>& sees, std::size_t targets,
+                              std::size_t limit) {
+  std::vector<std::size_t> rank(sees.size());
+  for (std::size_t i = 0; i < rank.size(); ++i) rank[i] = i;
+  std::stable_sort(rank.begin() + 1, rank.end(), [&](std::size_t a, std::size_t b) {
+    return sees[a].size() > sees[b].size();
+  });
+  const auto keep_with = [&](std::size_t k) {
+    std::vector<std::size_t> taken(targets, 0);
+    std::vector<std::size_t> kept{0};  // the root
+    for (std::size_t r = 1; r < rank.size(); ++r) {
+      bool wanted = false;
+      for (const auto t : sees[rank[r]]) wanted = wanted || taken[t] < k;
+      if (!wanted) continue;
+      for (const auto t : sees[rank[r]]) ++taken[t];
+      kept.push_back(rank[r]);
+    }
+    return kept;
+  };
+  std::size_t lo = 1, hi = 1;
+  while (keep_with(hi * 2).size() <= limit && hi < sees.size()) hi *= 2;
+  hi *= 2;
+  while (hi - lo > 1) {  // largest k within the limit
+    const std::size_t mid = (lo + hi) / 2;
+    (keep_with(mid).size() <= limit ? lo : hi) = mid;
+  }
+  std::vector<std::size_t> kept = keep_with(lo);
+  std::sort(kept.begin(), kept.end());
+  return kept;
+}
+
+}  // namespace
+
+TourClosure::TourClosure(const InspectionGraph& graph, VertexId root, const std::vector<PoiId>& targets,
+                         const std::vector<VertexId>& component, const TourClosureOptions& options)
+    : graph_(&graph), should_stop_(options.should_stop) {
+  std::vector<std::int64_t> local(graph.poi_count(), -1);
+  for (std::size_t t = 0; t < targets.size(); ++t) local[targets[t]] = static_cast<std::int64_t>(t);
+  vertex.push_back(root);
+  for (const VertexId v : component) {
+    if (v == root) continue;
+    for (const PoiId p : graph.visible(v)) {
+      if (local[p] >= 0) {
+        vertex.push_back(v);
+        break;
+      }
+    }
+  }
+  sees.resize(vertex.size());
+  for (std::size_t i = 0; i < vertex.size(); ++i) {
+    for (const PoiId p : graph.visible(vertex[i])) {
+      if (local[p] >= 0) sees[i].push_back(static_cast<std::uint32_t>(local[p]));
+    }
+    std::sort(sees[i].begin(), sees[i].end());
+  }
+  if (vertex.size() > options.max_candidates) {
+    const std::vector<std::size_t> kept = thin(sees, targets.size(), options.max_candidates);
+    thinned = vertex.size() - kept.size();
+    std::vector<VertexId> kept_vertex;
+    std::vector<std::vector<std::uint32_t>> kept_sees;
+    for (const std::size_t i : kept) {
+      kept_vertex.push_back(vertex[i]);
+      kept_sees.push_back(std::move(sees[i]));
+    }
+    vertex = std::move(kept_vertex);
+    sees = std::move(kept_sees);
+  }
+  n = vertex.size();
+  seen_by.resize(targets.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    for (const auto t : sees[i]) seen_by[t].push_back(static_cast<std::uint32_t>(i));
+  }
+  rows_ = std::make_unique<std::atomic<const double*>[]>(n);
+  for (std::size_t i = 0; i < n; ++i) rows_[i].store(nullptr);
+  storage_.resize(n);
+
+  if (n > options.rows_ahead_up_to) return;  // rows on first use
+  matrix_ = std::make_unique<double[]>(n * n);
+  std::atomic<std::size_t> next{0};
+  const auto work = [&] {
+    std::vector<double> scratch;
+    for (std::size_t i; (i = next++) < n;) {
+      if ((should_stop_ && should_stop_()) || (options.stop_rows_ahead && options.stop_rows_ahead())) {
+        return;  // the rest come on first use
+      }
+      compute_row(i, scratch);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < options.threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  complete_ = row_count_.load() == n;  // else stopped by the budget: the rest come on first use
+}
+
+const double* TourClosure::row(std::size_t a) const {
+  std::lock_guard lock(mutex_);
+  if (const double* r = rows_[a].load(std::memory_order_acquire)) return r;
+  if (should_stop_ && should_stop_()) throw ClosureStopped();
+  std::vector<double> scratch;
+  compute_row(a, scratch);
+  return rows_[a].load(std::memory_order_acquire);
+}
+
+void TourClosure::compute_row(std::size_t a, std::vector<double>& dist) const {
+  // Dijkstra from candidate a over the whole graph; only the candidates' entries are kept.
+  const SearchSource from{vertex[a], 0.0};
+  dijkstra(*graph_, std::span<const SearchSource>(&from, 1), dist);
+  double* values = nullptr;
+  if (matrix_) {
+    values = matrix_.get() + a * n;
+  } else {
+    storage_[a] = std::make_unique<double[]>(n);
+    values = storage_[a].get();
+  }
+  for (std::size_t j = 0; j < n; ++j) values[j] = dist[vertex[j]];
+  rows_[a].store(values, std::memory_order_release);
+  ++row_count_;
+}
+
+}  // namespace ispars
