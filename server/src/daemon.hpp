@@ -22,6 +22,7 @@ class DdsEndpoints;
 /// This machine's host name ("host" when it cannot be read).
 [[nodiscard]] std::string host_name();
 
+/// One isparsd: its data directory (held by a lock file), its DDS endpoints and its service.
 class Daemon {
  public:
   /// Joins the domain, reloads every stored roadmap and starts serving. Throws on a bad data

@@ -8,6 +8,7 @@
 
 namespace ispars::server {
 
+/// Everything isparsd is configured with, file and flags merged.
 struct DaemonConfig {
   std::filesystem::path data_dir = "/var/lib/ispars";       ///< Stored roadmaps, one directory per scene.
   std::filesystem::path scene_dir = "/usr/share/ispars/scenes";  ///< The only place scenes load from.

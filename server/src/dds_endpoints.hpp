@@ -27,6 +27,7 @@ namespace ispars::server {
 
 class Daemon;
 
+/// The daemon's DDS entities: requests in; replies, updates, statuses and announcements out.
 class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
                            public eprosima::fastdds::dds::DataWriterListener {
  public:

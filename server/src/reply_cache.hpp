@@ -13,6 +13,7 @@
 
 namespace ispars::server {
 
+/// Recent replies per client, bounded in clients and per client, so a retry is never run twice.
 class ReplyCache {
  public:
   /// What to do with an incoming request.

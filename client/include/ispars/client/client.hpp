@@ -29,6 +29,7 @@ class ClientError : public std::runtime_error {
   Kind kind_;
 };
 
+/// How a client joins the domain and how long it waits.
 struct ClientOptions {
   wire::ParticipantOptions participant;
   /// How long a call waits for a daemon and its reply, retries included.
@@ -39,6 +40,7 @@ struct ClientOptions {
   std::string server;
 };
 
+/// A build as a client asks for it (the daemon checks every field).
 struct BuildArgs {
   std::string method = "ispars";
   std::uint64_t samples = 0;
@@ -65,6 +67,7 @@ struct Snapshot {
   msg::SceneStatus status;
 };
 
+/// A connection to every isparsd on a domain: calls addressed to each scene's owner.
 class Client {
  public:
   /// Joins the domain (throws std::runtime_error when the participant cannot be created).

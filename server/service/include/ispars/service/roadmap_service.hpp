@@ -109,6 +109,7 @@ struct CancelOutcome {
   std::size_t tours_stopped = 0;
 };
 
+/// The scenes one daemon holds and every operation on them, safe to call from many threads.
 class RoadmapService {
  public:
   /// A service over `settings` with no scene loaded. Throws std::runtime_error when the scene

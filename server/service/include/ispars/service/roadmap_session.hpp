@@ -98,6 +98,7 @@ struct SessionCallbacks {
   std::function<void(const SessionStatus& status)> on_status;
 };
 
+/// One loaded scene: its persistent roadmap, the job that grows it, and consistent reads of it.
 class RoadmapSession {
  public:
   /// A session for `scene` named `name`, storing its roadmap in `store_dir`. When the directory

@@ -1,5 +1,5 @@
 #pragma once
-// A fixed pool of threads running queued jobs (the daemon's builds).
+// A fixed pool of threads running queued jobs: the daemon's requests, builds and tours.
 
 #include <condition_variable>
 #include <deque>
@@ -10,6 +10,7 @@
 
 namespace ispars::server {
 
+/// Runs submitted jobs in order on a fixed number of threads.
 class WorkerPool {
  public:
   explicit WorkerPool(unsigned threads);
