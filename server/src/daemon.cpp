@@ -21,7 +21,33 @@ namespace {
 // Client ids are GUID strings (about 50 bytes); the IDL bound (128) is above this limit, so an
 // id the transport cut is refused, never taken for another client's.
 constexpr std::size_t kMaxClientId = 100;
-constexpr unsigned kRequestThreads = 4;
+constexpr unsigned kQuickThreads = 2;
+constexpr unsigned kSlowThreads = 2;
+
+// Operations whose cost grows with the scene or the roadmap.
+bool slow_operation(msg::Operation operation) {
+  switch (operation) {
+    case msg::LOAD_SCENE:
+    case msg::PATH:
+    case msg::SNAPSHOT:
+    case msg::VERIFY:
+    case msg::DROP: return true;
+    default: return false;
+  }
+}
+
+// A reply to `request` from `server_id`, ok until told otherwise, its body the request's operation.
+template <class Request>
+msg::Reply reply_to(const Request& request, const std::string& server_id) {
+  msg::Reply reply;
+  reply.client_id(request.client_id());
+  reply.request_seq(request.request_seq());
+  reply.server_id(server_id);
+  reply.protocol(msg::PROTOCOL_VERSION);
+  reply.ok(true);
+  reply.body(wire::empty_reply_body(request.args()._d()));
+  return reply;
+}
 
 }  // namespace
 
@@ -43,6 +69,7 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
   settings.limits.build_threads = config_.build_threads;
   settings.build_workers = config_.workers;
   settings.tour_workers = config_.workers;
+  settings.memory_budget_bytes = memory_budget_bytes(config_);
   try {
     dds_ = std::make_unique<DdsEndpoints>(*this, config_);
     service_ = std::make_unique<RoadmapService>(std::move(settings), service_events());
@@ -60,10 +87,12 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
     }
   }
   announce();
-  request_threads_ = std::make_unique<WorkerPool>(kRequestThreads);
-  spdlog::info("isparsd {} serving on DDS domain {} (scenes from {}, data in {}, {} build workers, protocol {})",
+  quick_lane_ = std::make_unique<WorkerPool>(kQuickThreads, config_.request_queue);
+  slow_lane_ = std::make_unique<WorkerPool>(kSlowThreads, config_.request_queue);
+  spdlog::info("isparsd {} serving on DDS domain {} (scenes from {}, data in {}, {} build workers, memory budget "
+               "{:.1f} GiB, protocol {})",
                config_.server_id, config_.domain, config_.scene_dir.string(), config_.data_dir.string(),
-               config_.workers, msg::PROTOCOL_VERSION);
+               config_.workers, memory_budget_bytes(config_) / (1024.0 * 1024.0 * 1024.0), msg::PROTOCOL_VERSION);
 }
 
 Daemon::~Daemon() { shutdown(); }
@@ -72,7 +101,9 @@ void Daemon::shutdown() {
   if (shut_down_) return;
   shut_down_ = true;
   if (dds_) dds_->stop_requests();
-  if (request_threads_) request_threads_->stop();  // requests being answered finish; queued ones are dropped
+  // Requests being answered finish; queued ones are dropped (their clients retry elsewhere or time out).
+  if (quick_lane_) quick_lane_->stop();
+  if (slow_lane_) slow_lane_->stop();
   if (service_) service_->stop();                  // tours reply with their best; builds commit and stop
   service_.reset();
   dds_.reset();
@@ -81,39 +112,57 @@ void Daemon::shutdown() {
   spdlog::info("isparsd {} stopped", config_.server_id);
 }
 
-void Daemon::receive(msg::QueryRequest request) {
-  if (request_threads_) request_threads_->submit([this, request = std::move(request)] { handle(request); });
-}
-
-void Daemon::receive(msg::ChangeRequest request) {
-  if (request_threads_) request_threads_->submit([this, request = std::move(request)] { handle(request); });
-}
+void Daemon::receive(msg::QueryRequest request) { dispatch(std::move(request)); }
+void Daemon::receive(msg::ChangeRequest request) { dispatch(std::move(request)); }
 
 template <class Request>
-void Daemon::handle(const Request& request) {
+void Daemon::dispatch(Request request) {
+  if (!quick_lane_ || !slow_lane_) return;  // not serving yet, or stopped
   const std::string client = request.client_id().to_string();
   if (client.empty() || client.size() > kMaxClientId) {
     spdlog::warn("dropped a request with an unusable client id ({} bytes)", client.size());
     return;  // nowhere to send a reply
   }
-  msg::Reply reply;
-  switch (cache_.admit(client, request.request_seq(), reply)) {
+  // Retries are settled here, before any queue: a retry of a request still waiting or running
+  // takes no place in a lane, and one already answered is answered again from the cache.
+  msg::Reply cached;
+  switch (cache_.admit(client, request.request_seq(), cached)) {
     case ReplyCache::Admission::in_progress:
-      return;  // a retry of a request still running: its reply is on the way
+      return;  // its reply is on the way
     case ReplyCache::Admission::answered:
       spdlog::debug("answering retry {} #{} from the cache", client, request.request_seq());
-      dds_->send_reply(reply);
+      dds_->send_reply(cached);
       return;
     case ReplyCache::Admission::new_request:
       break;
   }
+  const bool slow = slow_operation(request.args()._d());
+  WorkerPool& lane = slow ? *slow_lane_ : *quick_lane_;
+  const auto shared = std::make_shared<const Request>(std::move(request));
+  if (!lane.submit([this, shared] { handle(*shared); })) {
+    cache_.forget(client, shared->request_seq());
+    refuse_busy(*shared, lane, slow ? "slow" : "quick");
+  }
+}
+
+template <class Request>
+void Daemon::refuse_busy(const Request& request, const WorkerPool& lane, const char* lane_name) {
+  spdlog::warn("{} #{} {} refused: the {} lane holds {} requests", request.client_id().to_string(),
+               request.request_seq(), wire::to_string(request.args()._d()), lane_name, lane.max_queued());
+  if (!dds_) return;
+  msg::Reply reply = reply_to(request, config_.server_id);
+  reply.ok(false);
+  reply.error(fmt::format("request: kind: busy: {} requests are queued on this daemon's {} lane (its limit); "
+                          "retry later",
+                          lane.max_queued(), lane_name));
+  dds_->send_reply(reply);  // not cached: a retry is a new chance
+}
+
+template <class Request>
+void Daemon::handle(const Request& request) {
+  msg::Reply reply = reply_to(request, config_.server_id);
   const msg::Operation operation = request.args()._d();
-  reply.client_id(request.client_id());
-  reply.request_seq(request.request_seq());
-  reply.server_id(config_.server_id);
-  reply.protocol(msg::PROTOCOL_VERSION);
-  reply.ok(true);
-  reply.body(wire::empty_reply_body(operation));
+  const std::string client = request.client_id().to_string();
   const std::string scene = request.scene().to_string();
   bool now = true;
   try {
@@ -137,9 +186,6 @@ void Daemon::handle(const Request& request) {
   }
   if (now) finish(reply);
 }
-
-template void Daemon::handle(const msg::QueryRequest&);
-template void Daemon::handle(const msg::ChangeRequest&);
 
 void Daemon::finish(const msg::Reply& reply) {
   cache_.complete(reply.client_id().to_string(), reply.request_seq(), reply);

@@ -39,14 +39,21 @@ class Daemon {
 
   [[nodiscard]] const std::string& server_id() const { return config_.server_id; }
 
-  /// Called by the DDS layer for every request addressed to this daemon (any thread); the
-  /// request is answered on one of the request threads.
+  /// Called by the DDS layer for every request addressed to this daemon (any thread). Quick
+  /// operations (list, stats, cancel, unload, build, extend, tour) are answered on the quick lane,
+  /// the others (load, path, snapshot, verify, drop) on the slow lane, so STATS and CANCEL answer
+  /// however many slow requests wait. Each lane queues at most config.request_queue requests;
+  /// past that a request is refused at once as busy.
   void receive(msg::QueryRequest request);
   void receive(msg::ChangeRequest request);
 
  private:
   template <class Request>
+  void dispatch(Request request);
+  template <class Request>
   void handle(const Request& request);
+  template <class Request>
+  void refuse_busy(const Request& request, const WorkerPool& lane, const char* lane_name);
   /// Fills `reply` from the service. Returns false when the reply is sent later (a tour).
   bool answer(const msg::QueryRequest& request, msg::Reply& reply);
   bool answer(const msg::ChangeRequest& request, msg::Reply& reply);
@@ -67,7 +74,8 @@ class Daemon {
   std::mutex publish_mutex_;  // writes statuses in stamp order
   std::unique_ptr<DdsEndpoints> dds_;
   std::unique_ptr<RoadmapService> service_;
-  std::unique_ptr<WorkerPool> request_threads_;  // every request is answered here
+  std::unique_ptr<WorkerPool> quick_lane_;  // list, stats, cancel, unload, build, extend, tour
+  std::unique_ptr<WorkerPool> slow_lane_;   // load, path, snapshot, verify, drop
   bool shut_down_ = false;
 };
 

@@ -4,6 +4,8 @@
 #include <spdlog/common.h>
 #include <yaml-cpp/yaml.h>
 
+#include <unistd.h>
+
 #include <set>
 
 #include "ispars/input_error.hpp"
@@ -24,7 +26,8 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
   if (!root || root.IsNull()) return config;
   if (!root.IsMap()) throw InputError(source, "yaml", "the config must be a mapping of keys to values");
   const std::set<std::string> known{"data_dir", "scene_dir", "domain", "workers", "build_threads", "profile_file", "profile_name",
-                                    "log_level", "server_id", "max_samples", "snapshot_compact_every", "preload"};
+                                    "log_level", "server_id", "max_samples", "snapshot_compact_every", "preload",
+                                    "request_queue", "memory_budget_mb"};
   const std::filesystem::path base = path.parent_path();
   const auto resolve = [&](const std::string& p) {
     const std::filesystem::path fp(p);
@@ -47,12 +50,22 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
       if (key == "max_samples") config.max_samples = value.as<std::uint64_t>();
       if (key == "snapshot_compact_every") config.snapshot_compact_every = value.as<std::size_t>();
       if (key == "preload") config.preload = value.as<std::vector<std::string>>();
+      if (key == "request_queue") config.request_queue = value.as<std::size_t>();
+      if (key == "memory_budget_mb") config.memory_budget_mb = value.as<std::uint64_t>();
     } catch (const YAML::Exception&) {
       throw InputError(source, key, fmt::format("has the wrong type (line {})", value.Mark().line + 1));
     }
   }
   check_daemon_config(config, source);
   return config;
+}
+
+double memory_budget_bytes(const DaemonConfig& config) {
+  if (config.memory_budget_mb != 0) return static_cast<double>(config.memory_budget_mb) * 1024.0 * 1024.0;
+  const long pages = ::sysconf(_SC_PHYS_PAGES);
+  const long page = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return 4.0 * 1024.0 * 1024.0 * 1024.0;  // unknown: 4 GiB
+  return 0.5 * static_cast<double>(pages) * static_cast<double>(page);
 }
 
 void check_daemon_config(const DaemonConfig& c, const std::string& source) {
@@ -67,7 +80,15 @@ void check_daemon_config(const DaemonConfig& c, const std::string& source) {
     throw InputError(source, "log_level", fmt::format("'{}' is not one of trace, debug, info, warn, error, critical, off",
                                                       c.log_level));
   }
-  if (c.server_id.size() > 128) throw InputError(source, "server_id", "is longer than 128 characters");
+  if (c.server_id.size() > 64) throw InputError(source, "server_id", "is longer than 64 characters");
+  if (c.memory_budget_mb != 0 && (c.memory_budget_mb < 16 || c.memory_budget_mb > (1ull << 30))) {
+    throw InputError(source, "memory_budget_mb",
+                     fmt::format("must be 0 (half of this machine's memory) or in 16..{}, got {}", 1ull << 30,
+                                 c.memory_budget_mb));
+  }
+  if (c.request_queue < 1 || c.request_queue > 100'000) {
+    throw InputError(source, "request_queue", fmt::format("must be in 1..100000, got {}", c.request_queue));
+  }
 }
 
 }  // namespace ispars::server

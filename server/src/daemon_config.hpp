@@ -24,7 +24,15 @@ struct DaemonConfig {
   std::uint64_t max_samples = 50'000'000;  ///< Per build or extend request.
   std::size_t snapshot_compact_every = 64;  ///< Journal commits between compactions.
   std::vector<std::string> preload;  ///< Scenes to load at start.
+  /// Requests each lane (quick, slow) holds waiting; past that a request is refused as busy.
+  std::size_t request_queue = 256;
+  /// MiB the roadmaps of all loaded scenes may be expected to hold together; 0: half of this
+  /// machine's memory. A build or extend whose estimate does not fit is refused before it starts.
+  std::uint64_t memory_budget_mb = 0;
 };
+
+/// The memory budget in bytes: config.memory_budget_mb, or half of physical memory when 0.
+[[nodiscard]] double memory_budget_bytes(const DaemonConfig& config);
 
 /// Reads a config file. Throws InputError naming the file and field on a bad or unknown key.
 [[nodiscard]] DaemonConfig load_daemon_config(const std::filesystem::path& path);

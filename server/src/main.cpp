@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   std::optional<unsigned> build_threads;
   std::optional<std::uint64_t> max_samples;
   std::optional<std::size_t> compact_every;
+  std::optional<std::size_t> request_queue;
+  std::optional<std::uint64_t> memory_budget_mb;
   std::vector<std::string> preload;
   app.add_option("-c,--config", config_file, "YAML config file (flags override it)")->check(CLI::ExistingFile);
   app.add_option("--data-dir", data_dir, "where roadmaps are stored");
@@ -34,6 +36,10 @@ int main(int argc, char** argv) {
   app.add_option("--max-samples", max_samples, "largest build or extend a request may ask for");
   app.add_option("--compact-every", compact_every, "journal commits between compacted snapshots");
   app.add_option("--load", preload, "scenes to load at start");
+  app.add_option("--memory-budget-mb", memory_budget_mb,
+                 "MiB all loaded roadmaps may be expected to hold; builds past it are refused (0: half of RAM)");
+  app.add_option("--request-queue", request_queue,
+                 "requests each lane (quick, slow) holds waiting before it answers busy (1..100000, default 256)");
   CLI11_PARSE(app, argc, argv);
 
   // Block the stop signals in every thread; main waits for them below.
@@ -57,6 +63,8 @@ int main(int argc, char** argv) {
     if (!server_id.empty()) config.server_id = server_id;
     if (max_samples) config.max_samples = *max_samples;
     if (compact_every) config.snapshot_compact_every = *compact_every;
+    if (request_queue) config.request_queue = *request_queue;
+    if (memory_budget_mb) config.memory_budget_mb = *memory_budget_mb;
     config.preload.insert(config.preload.end(), preload.begin(), preload.end());
     ispars::server::check_daemon_config(config, config_file.empty() ? "isparsd" : config_file);
 

@@ -40,4 +40,12 @@ void ReplyCache::complete(const std::string& client, std::uint64_t seq, const ms
   r->second = reply;
 }
 
+void ReplyCache::forget(const std::string& client, std::uint64_t seq) {
+  std::lock_guard lock(mutex_);
+  const auto it = clients_.find(client);
+  if (it == clients_.end()) return;
+  const auto r = it->second.replies.find(seq);
+  if (r != it->second.replies.end() && !r->second) it->second.replies.erase(r);
+}
+
 }  // namespace ispars::server

@@ -26,6 +26,8 @@ class ReplyCache {
   Admission admit(const std::string& client, std::uint64_t seq, msg::Reply& reply);
   /// Stores the reply of a request admitted as new.
   void complete(const std::string& client, std::uint64_t seq, const msg::Reply& reply);
+  /// Forgets a request admitted as new that was not run (refused as busy): its retry is new.
+  void forget(const std::string& client, std::uint64_t seq);
 
  private:
   struct Client {

@@ -28,6 +28,9 @@ using client::make_change;
 using client::make_query;
 
 inline constexpr auto kLong = std::chrono::seconds(120);
+// The largest memory budget a daemon accepts (1 PiB), for tests that start builds of millions of
+// samples only to stop them early: the budget would refuse them (rightly) before they start.
+inline constexpr const char* kNoBudget = "1073741824";
 
 class ServiceTest : public ::testing::Test {
  protected:

@@ -129,7 +129,7 @@ TEST_F(ServiceTest, LateJoinerReplicaEqualsTheServersSnapshot) {
 }
 
 TEST_F(ServiceTest, KillNineDuringABuildThenRestartRecoversAVerifiedRoadmap) {
-  auto daemon = start("d", {"--compact-every", "5"});
+  auto daemon = start("d", {"--compact-every", "5", "--memory-budget-mb", kNoBudget});
   {
     Client client(client_options(domain_));
     client.load("s1");
@@ -170,7 +170,7 @@ TEST_F(ServiceTest, KillNineDuringABuildThenRestartRecoversAVerifiedRoadmap) {
 }
 
 TEST_F(ServiceTest, SigtermFinishesTheBatchPersistsAndExitsZero) {
-  auto daemon = start("d");
+  auto daemon = start("d", {"--memory-budget-mb", kNoBudget});
   std::uint64_t before = 0;
   {
     Client client(client_options(domain_));
@@ -229,7 +229,7 @@ TEST_F(ServiceTest, TwoDaemonsSplitScenesAndNeverBothAnswer) {
 }
 
 TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
-  auto daemon = start("d", {"--max-samples", "1000000"});
+  auto daemon = start("d", {"--max-samples", "1000000", "--memory-budget-mb", kNoBudget});
   Client client(client_options(domain_));
   client.load("s0");
   const auto expect_error = [&](const auto& request, const std::string& needle) {

@@ -23,6 +23,8 @@ server_id: east-1
 max_samples: 1000
 snapshot_compact_every: 7
 preload: [a, b]
+request_queue: 9
+memory_budget_mb: 2048
 )");
   const DaemonConfig c = load_daemon_config(path);
   EXPECT_EQ(c.data_dir, dir.path() / "data");
@@ -36,6 +38,10 @@ preload: [a, b]
   EXPECT_EQ(c.max_samples, 1000u);
   EXPECT_EQ(c.snapshot_compact_every, 7u);
   EXPECT_EQ(c.preload, (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(c.request_queue, 9u);
+  EXPECT_EQ(c.memory_budget_mb, 2048u);
+  EXPECT_DOUBLE_EQ(memory_budget_bytes(c), 2048.0 * 1024 * 1024);
+  EXPECT_GT(memory_budget_bytes(DaemonConfig{}), 0.0) << "the default is half of this machine's memory";
 }
 
 TEST(DaemonConfig, BadValuesAreNamed) {
@@ -55,6 +61,10 @@ TEST(DaemonConfig, BadValuesAreNamed) {
   expect("build_threads: 0\n", "build_threads: must be in 1..64");
   expect("workers: many\n", "workers: has the wrong type");
   expect("colour: red\n", "colour: unknown key");
+  expect("memory_budget_mb: 8\n", "memory_budget_mb: must be 0 (half of this machine's memory) or in 16..");
+  expect("request_queue: 0\n", "request_queue: must be in 1..100000, got 0");
+  expect("request_queue: 100001\n", "request_queue: must be in 1..100000");
+  expect("server_id: " + std::string(65, 'x') + "\n", "server_id: is longer than 64 characters");
   expect("log_level: chatty\n", "log_level: 'chatty' is not one of");
   expect("[1, 2]\n", "yaml: the config must be a mapping");
   expect("domain: [\n", "yaml");

@@ -28,6 +28,17 @@ TEST(ReplyCache, RetriesAreAnsweredFromTheCacheAndInProgressOnesAreNotRunAgain) 
   EXPECT_EQ(cache.admit("c2", 5, out), ReplyCache::Admission::new_request);
 }
 
+TEST(ReplyCache, AForgottenRequestIsNewAgainButAnAnsweredOneIsKept) {
+  ReplyCache cache;
+  msg::Reply out;
+  ASSERT_EQ(cache.admit("c", 1, out), ReplyCache::Admission::new_request);
+  cache.forget("c", 1);  // refused as busy, never run
+  EXPECT_EQ(cache.admit("c", 1, out), ReplyCache::Admission::new_request);
+  cache.complete("c", 1, reply(1, "ran"));
+  cache.forget("c", 1);  // only requests still in progress are forgotten
+  EXPECT_EQ(cache.admit("c", 1, out), ReplyCache::Admission::answered);
+}
+
 TEST(ReplyCache, MemoryIsBoundedPerClientAndInClients) {
   ReplyCache cache(/*clients=*/2, /*per_client=*/3);
   msg::Reply out;

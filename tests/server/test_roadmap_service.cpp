@@ -137,6 +137,75 @@ TEST_F(RoadmapServiceTest, RefusalsNameTheFieldAndChangeNothing) {
   EXPECT_EQ(service.stats("s0").samples_done, 800u);
 }
 
+// Peak resident memory of this process (VmHWM), in MiB.
+double peak_rss_mib() {
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmHWM:") {
+      double kib = 0.0;
+      status >> kib;
+      return kib / 1024.0;
+    }
+  }
+  return 0.0;
+}
+
+TEST_F(RoadmapServiceTest, BuildsPastTheMemoryBudgetAreRefusedBeforeAnyMemoryGrows) {
+  ServiceSettings s = settings();
+  s.memory_budget_bytes = 64.0 * 1024 * 1024;
+  RoadmapService service(s, {});
+  (void)service.load("s0");
+  (void)service.load("s1");
+  const double rss_before = peak_rss_mib();
+  const auto refused = [&](const std::string& scene, const BuildRequest& request) {
+    try {
+      service.build(scene, request);
+      ADD_FAILURE() << "accepted a build past the budget";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("request: samples: the roadmap would hold about"), std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find("more than this daemon's memory budget leaves"), std::string::npos)
+          << e.what();
+    }
+  };
+  BuildRequest huge_delta = ispars(3000);
+  huge_delta.overrides["dense_delta"] = 1e6;
+  refused("s0", huge_delta);
+  refused("s0", ispars(50'000'000));  // huge N
+  BuildRequest tiny_delta_huge_n = ispars(40'000'000);
+  tiny_delta_huge_n.overrides["dense_delta"] = 0.1;
+  refused("s0", tiny_delta_huge_n);
+  EXPECT_LT(peak_rss_mib() - rss_before, 16.0) << "a refused build grew memory";
+  EXPECT_EQ(service.stats("s0").state, SessionState::empty) << "a refusal changed nothing";
+  // What fits is built; the budget then counts it against the other scene.
+  service.build("s0", ispars(2000));
+  wait_idle(service, "s0");
+  const double held = service.session("s0")->expected_cost().bytes;
+  EXPECT_GT(held, 0.0);
+  double fits = 0.0;
+  std::uint64_t n = 2000;
+  for (; n < 10'000'000; n = n * 5 / 4) {  // the largest s1 build that fits beside s0
+    const auto scene = service.session("s1");
+    RoadmapRecipe recipe;
+    recipe.dense_delta = scene->scene().config().dense_delta;
+    recipe.sparse_delta = scene->scene().config().sparse_delta;
+    fits = estimate_build_cost(scene->scene(), recipe, n * 5 / 4, free_fraction(scene->scene())).bytes;
+    if (fits + held > s.memory_budget_bytes) break;
+  }
+  refused("s1", ispars(n * 5 / 4));
+  service.unload("s0");  // its share is free again
+  service.build("s1", ispars(n * 5 / 4));
+  EXPECT_EQ(wait_idle(service, "s1").state, SessionState::idle);
+  // An extend is costed at its total: the roadmap grows into what the budget no longer has.
+  try {
+    service.extend("s1", 50'000'000);
+    ADD_FAILURE() << "an extend past the budget was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("memory budget"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(RoadmapServiceTest, ToursAreAdmittedUpToTheBoundAndCancelAndStopEndThem) {
   RoadmapService service(settings(/*tour_workers=*/1), {});
   (void)service.load("s0");

@@ -54,5 +54,27 @@ TEST(WorkerPool, StopDropsQueuedJobsAndRefusesNewOnes) {
   EXPECT_EQ(done.load(), 1);
 }
 
+TEST(WorkerPool, ABoundedQueueRefusesPastItsLimitAndAcceptsAgainOnceItDrains) {
+  std::atomic<bool> release{false}, started{false};
+  std::atomic<int> done{0};
+  WorkerPool pool(1, /*max_queued=*/2);
+  ASSERT_TRUE(pool.submit([&] {
+    started = true;
+    while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    ++done;
+  }));
+  while (!started) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_TRUE(pool.submit([&] { ++done; }));
+  EXPECT_TRUE(pool.submit([&] { ++done; }));
+  EXPECT_EQ(pool.queued(), 2u);
+  EXPECT_FALSE(pool.submit([&] { ++done; })) << "a third job waited past the bound";
+  release = true;
+  while (done < 3) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_TRUE(pool.submit([&] { ++done; }));
+  while (done < 4) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  pool.stop();
+  EXPECT_EQ(done.load(), 4);
+}
+
 }  // namespace
 }  // namespace ispars::server

@@ -64,7 +64,7 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
   fdds::DataWriter* queries_ = nullptr;
   fdds::DataWriter* announcements_ = nullptr;
   std::string id_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::condition_variable arrived_;
   std::map<std::uint64_t, msg::Reply> replies_by_seq_;
 };
@@ -72,17 +72,44 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
 RawPeer::RawPeer(int domain) : impl_(std::make_unique<Impl>(domain)) {}
 RawPeer::~RawPeer() = default;
 
-std::optional<msg::Reply> RawPeer::send(msg::QueryRequest request, std::chrono::milliseconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  for (;;) {  // both directions matched first, as a client does
+namespace {
+
+// Waits until the query writer and the reply reader have both matched a daemon.
+bool wait_matched(fdds::DataWriter* writer, fdds::DataReader* reader, std::chrono::steady_clock::time_point deadline) {
+  for (;;) {
     fdds::PublicationMatchedStatus pub;
     fdds::SubscriptionMatchedStatus sub;
-    impl_->queries_->get_publication_matched_status(pub);
-    impl_->replies_->get_subscription_matched_status(sub);
-    if (pub.current_count > 0 && sub.current_count > 0) break;
-    if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
+    writer->get_publication_matched_status(pub);
+    reader->get_subscription_matched_status(sub);
+    if (pub.current_count > 0 && sub.current_count > 0) return true;
+    if (std::chrono::steady_clock::now() >= deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
+}
+
+}  // namespace
+
+bool RawPeer::post(msg::QueryRequest request, std::chrono::milliseconds timeout) {
+  if (!wait_matched(impl_->queries_, impl_->replies_, std::chrono::steady_clock::now() + timeout)) return false;
+  request.client_id(impl_->id_);
+  return impl_->queries_->write(&request);
+}
+
+std::size_t RawPeer::replies_received() const {
+  std::lock_guard lock(impl_->mutex_);
+  return impl_->replies_by_seq_.size();
+}
+
+std::vector<msg::Reply> RawPeer::replies() const {
+  std::lock_guard lock(impl_->mutex_);
+  std::vector<msg::Reply> out;
+  for (const auto& [seq, reply] : impl_->replies_by_seq_) out.push_back(reply);
+  return out;
+}
+
+std::optional<msg::Reply> RawPeer::send(msg::QueryRequest request, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  if (!wait_matched(impl_->queries_, impl_->replies_, deadline)) return std::nullopt;
   request.client_id(impl_->id_);
   const std::uint64_t seq = request.request_seq();
   // Resent every second until answered (the daemon de-duplicates), as a client does.

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "ispars.h"
 
@@ -23,6 +24,13 @@ class RawPeer {
   /// Sends `request` as given except for its client id (this peer's), and waits for the reply to
   /// that id and sequence number; nullopt after `timeout`.
   std::optional<msg::Reply> send(msg::QueryRequest request, std::chrono::milliseconds timeout);
+  /// Writes `request` as given except for its client id, without waiting for a reply (the first
+  /// write waits, up to `timeout`, for the daemon to match). False when nothing matched.
+  bool post(msg::QueryRequest request, std::chrono::milliseconds timeout = std::chrono::seconds(30));
+  /// Replies received so far (to sends and posts alike), by sequence number.
+  [[nodiscard]] std::size_t replies_received() const;
+  /// The replies received so far.
+  [[nodiscard]] std::vector<msg::Reply> replies() const;
   /// Publishes `info` on the announcement topic, as a daemon does; kept while this peer lives.
   void announce(const msg::DaemonInfo& info);
 

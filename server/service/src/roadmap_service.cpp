@@ -105,7 +105,7 @@ RoadmapPath RoadmapService::path(const std::string& scene, const Vec3& from, con
 }
 
 std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& name) {
-  const std::filesystem::path file = scene_file(settings_.scene_dir, name);
+  (void)scene_file(settings_.scene_dir, name);  // names a bad name before anything is reserved
   // Reserve the name: two concurrent loads must not both open the scene's store.
   {
     std::lock_guard lock(sessions_mutex_);
@@ -126,7 +126,7 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
       throw InputError(kRequest, "scene", fmt::format("scene '{}' is owned by daemon {}", name, *other));
     }
   }
-  Scene scene = Scene::load(file);
+  Scene scene = Scene::build(load_scene_config(settings_.scene_dir, name));
   SessionCallbacks callbacks;
   callbacks.on_commit = [this, name](const RoadmapBatch& batch, std::uint64_t generation, std::uint64_t samples) {
     if (events_.on_commit) events_.on_commit(name, batch, generation, samples);
@@ -135,8 +135,10 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
     if (!events_.on_status) return;
     if (const auto s = session_or_null(name)) events_.on_status(*s);
   };
+  callbacks.admit_cost = [this, name](const BuildCost& cost) { admit_cost(name, cost); };
   auto session = std::make_shared<RoadmapSession>(name, std::move(scene), settings_.data_dir / name,
                                                   settings_.limits, std::move(callbacks));
+  set_reserved(name, session->expected_cost().bytes);  // a stored roadmap is held whatever the budget
   {
     std::lock_guard lock(sessions_mutex_);
     sessions_.emplace(name, session);
@@ -164,6 +166,7 @@ void RoadmapService::unload(const std::string& scene) {
     std::lock_guard lock(sessions_mutex_);
     sessions_.erase(scene);
   }
+  set_reserved(scene, 0.0);
   if (events_.on_unloaded) events_.on_unloaded(scene);
   if (events_.on_scenes_changed) events_.on_scenes_changed();
 }
@@ -188,7 +191,38 @@ CancelOutcome RoadmapService::cancel(const std::string& scene) {
   return out;
 }
 
-void RoadmapService::drop(const std::string& scene) { session(scene)->drop(); }
+void RoadmapService::drop(const std::string& scene) {
+  session(scene)->drop();
+  set_reserved(scene, 0.0);
+}
+
+void RoadmapService::admit_cost(const std::string& scene, const BuildCost& cost) {
+  std::lock_guard lock(budget_mutex_);
+  double others = 0.0;
+  for (const auto& [name, bytes] : reserved_bytes_) {
+    if (name != scene) others += bytes;
+  }
+  if (others + cost.bytes > settings_.memory_budget_bytes) {
+    constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+    throw InputError(kRequest, "samples",
+                     fmt::format("the roadmap would hold about {:.2f} GiB ({:.3g} vertices, {:.3g} edges expected), "
+                                 "more than this daemon's memory budget leaves: {:.2f} of {:.2f} GiB (other scenes "
+                                 "hold {:.2f}); ask for fewer samples or a smaller dense_delta",
+                                 cost.bytes / kGiB, cost.vertices, cost.edges,
+                                 std::max(0.0, settings_.memory_budget_bytes - others) / kGiB,
+                                 settings_.memory_budget_bytes / kGiB, others / kGiB));
+  }
+  reserved_bytes_[scene] = cost.bytes;
+}
+
+void RoadmapService::set_reserved(const std::string& scene, double bytes) {
+  std::lock_guard lock(budget_mutex_);
+  if (bytes > 0.0) {
+    reserved_bytes_[scene] = bytes;
+  } else {
+    reserved_bytes_.erase(scene);
+  }
+}
 
 void RoadmapService::schedule(const std::shared_ptr<RoadmapSession>& session) {
   builds_.submit([this, session] {

@@ -99,9 +99,24 @@ void RoadmapService::start_tour(const std::string& scene, TourRequest request, T
     ++tours_admitted_;
     running_tours_.emplace(scene, stop);  // a cancel on the scene stops it, queued or running
   }
-  tours_.submit([this, s, request = std::move(request), callbacks = std::move(callbacks), stop] {
+  const bool queued = tours_.submit([this, s, request = std::move(request), callbacks = std::move(callbacks), stop] {
     run_tour(s, request, callbacks, stop);
   });
+  if (!queued) {  // only when stopping
+    release_tour(stop);
+    throw InputError(kRequest, "scene", "the daemon is stopping");
+  }
+}
+
+void RoadmapService::release_tour(const std::shared_ptr<std::atomic<bool>>& stop) {
+  std::lock_guard lock(tours_mutex_);
+  --tours_admitted_;
+  for (auto it = running_tours_.begin(); it != running_tours_.end(); ++it) {
+    if (it->second == stop) {
+      running_tours_.erase(it);
+      return;
+    }
+  }
 }
 
 void RoadmapService::run_tour(const std::shared_ptr<RoadmapSession>& session, const TourRequest& request,
@@ -109,16 +124,7 @@ void RoadmapService::run_tour(const std::shared_ptr<RoadmapSession>& session, co
   struct Release {
     RoadmapService& service;
     const std::shared_ptr<std::atomic<bool>>& stop;
-    ~Release() {
-      std::lock_guard lock(service.tours_mutex_);
-      --service.tours_admitted_;
-      for (auto it = service.running_tours_.begin(); it != service.running_tours_.end(); ++it) {
-        if (it->second == stop) {
-          service.running_tours_.erase(it);
-          break;
-        }
-      }
-    }
+    ~Release() { service.release_tour(stop); }
   } release{*this, stop};
   if (stopping_) stop->store(true);  // stop() began before the tour started
   if (stop->load()) {  // cancelled while it waited for a worker: there is no tour to give

@@ -107,6 +107,7 @@ void RoadmapSession::request_build(const BuildRequest& request) {
   (void)scene_.with_roadmap_parameters(recipe.dense_delta, recipe.sparse_delta, recipe.stretch,
                                        kRequest);  // throws InputError naming the bad one
   if (!request.overrides.empty()) check_override_scale(recipe);
+  const BuildCost cost = estimate(recipe, request.samples);
   {
     std::lock_guard lock(mutex_);
     check_can_start("scene");
@@ -115,6 +116,7 @@ void RoadmapSession::request_build(const BuildRequest& request) {
                        fmt::format("scene '{}' already has a roadmap ({} samples); set replace to rebuild it",
                                    name_, samples_done_));
     }
+    if (callbacks_.admit_cost) callbacks_.admit_cost(cost);  // the last check: nothing refuses after it
     // Increasing, even if the clock steps back, so replicas always see a new roadmap as new.
     recipe.generation = std::max(new_generation(), (recipe_ ? recipe_->generation : 0) + 1);
     pending_recipe_ = recipe;  // the job makes it the roadmap's recipe when it starts
@@ -135,6 +137,7 @@ void RoadmapSession::request_extend(std::uint64_t samples) {
     std::lock_guard lock(mutex_);
     check_can_start("scene");
     if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap to extend", name_));
+    if (callbacks_.admit_cost) callbacks_.admit_cost(estimate(*recipe_, samples_done_ + samples));
     pending_recipe_.reset();
     pending_samples_ = samples;
     last_error_.clear();
@@ -199,6 +202,17 @@ void RoadmapSession::close() {
   std::lock_guard lock(mutex_);
   check_can_start("scene");
   closed_ = true;
+}
+
+BuildCost RoadmapSession::estimate(const RoadmapRecipe& recipe, std::uint64_t total_samples) const {
+  std::call_once(free_fraction_once_, [&] { free_fraction_ = free_fraction(scene_); });
+  return estimate_build_cost(scene_, recipe, total_samples, free_fraction_);
+}
+
+BuildCost RoadmapSession::expected_cost() const {
+  std::lock_guard lock(mutex_);
+  if (!recipe_) return {};
+  return estimate(*recipe_, std::max(samples_target_, samples_done_));
 }
 
 void RoadmapSession::check_override_scale(const RoadmapRecipe& recipe) const {

@@ -7,6 +7,20 @@
 #include "ispars/input_error.hpp"
 
 namespace ispars {
+namespace {
+
+// Whether `path`, with every symlink followed, lies inside `dir` (also resolved).
+bool inside_directory(const std::filesystem::path& dir, const std::filesystem::path& path) {
+  std::error_code ec;
+  const auto real_dir = std::filesystem::weakly_canonical(dir, ec);
+  if (ec) return false;
+  const auto real = std::filesystem::weakly_canonical(path, ec);
+  if (ec) return false;
+  const auto rel = real.lexically_relative(real_dir);
+  return !rel.empty() && *rel.begin() != ".." && !rel.is_absolute();
+}
+
+}  // namespace
 
 bool valid_scene_name(std::string_view name) {
   if (name.empty() || name.size() > 64 || name.front() == '.') return false;
@@ -31,10 +45,7 @@ std::filesystem::path scene_file(const std::filesystem::path& scene_dir, std::st
   if (!std::filesystem::is_regular_file(file, ec)) {
     throw InputError("request", "scene", fmt::format("no scene '{}' in the daemon's scene directory", name));
   }
-  const auto dir = std::filesystem::weakly_canonical(scene_dir, ec);
-  const auto real = std::filesystem::weakly_canonical(file, ec);
-  const auto rel = real.lexically_relative(dir);
-  if (ec || rel.empty() || *rel.begin() == "..") {
+  if (!inside_directory(scene_dir, file)) {
     throw InputError("request", "scene", fmt::format("scene '{}' resolves outside the scene directory", name));
   }
   return file;
@@ -50,6 +61,20 @@ std::vector<std::string> list_scene_names(const std::filesystem::path& scene_dir
   }
   std::sort(names.begin(), names.end());
   return names;
+}
+
+SceneConfig load_scene_config(const std::filesystem::path& scene_dir, std::string_view name) {
+  SceneConfig config = parse_scene_config(scene_file(scene_dir, name));
+  const auto check = [&](const std::filesystem::path& referenced, const char* key) {
+    if (referenced.empty() || inside_directory(scene_dir, referenced)) return;
+    throw InputError("request", "scene",
+                     fmt::format("scene '{}': {} '{}' is outside the scene directory (a scene file may name only "
+                                 "files inside it)",
+                                 name, key, referenced.string()));
+  };
+  check(config.mesh, "mesh");
+  check(config.pois.file, "pois.file");
+  return config;
 }
 
 }  // namespace ispars

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -34,6 +35,9 @@ struct ServiceSettings {
   unsigned build_workers = 2;         ///< Builds running at once (each on its own thread).
   unsigned tour_workers = 2;          ///< Tours running at once.
   std::size_t tours_per_worker = 2;   ///< Tours admitted (queued or running) per tour worker.
+  /// Memory the roadmaps of all loaded scenes may be expected to hold together (estimated before
+  /// each build or extend, build_cost.hpp); a build or extend past it is refused.
+  double memory_budget_bytes = std::numeric_limits<double>::infinity();
 };
 
 /// A scene the service can load, as listed.
@@ -159,7 +163,11 @@ class RoadmapService {
   void schedule(const std::shared_ptr<RoadmapSession>& session);
   void run_tour(const std::shared_ptr<RoadmapSession>& session, const TourRequest& request,
                 const TourCallbacks& callbacks, const std::shared_ptr<std::atomic<bool>>& stop);
+  void release_tour(const std::shared_ptr<std::atomic<bool>>& stop);  // its admission and stop flag
   std::size_t stop_tours(const std::string& scene);  // every scene when empty
+  // The memory budget: what each scene's roadmap is expected to hold, by scene.
+  void admit_cost(const std::string& scene, const BuildCost& cost);
+  void set_reserved(const std::string& scene, double bytes);
 
   const ServiceSettings settings_;
   const ServiceEvents events_;
@@ -177,6 +185,9 @@ class RoadmapService {
   };
   std::mutex snapshots_mutex_;
   std::vector<EncodedSnapshot> snapshots_;  // the few most recent, oldest first
+
+  std::mutex budget_mutex_;
+  std::map<std::string, double> reserved_bytes_;
 
   std::mutex tours_mutex_;
   std::size_t tours_admitted_ = 0;

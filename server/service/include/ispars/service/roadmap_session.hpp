@@ -19,6 +19,7 @@
 #include <string>
 #include <string_view>
 
+#include "ispars/builders/build_cost.hpp"
 #include "ispars/search/path_query.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/roadmap_log.hpp"
@@ -96,6 +97,10 @@ struct SessionCallbacks {
   std::function<void(const RoadmapBatch& batch, std::uint64_t generation, std::uint64_t samples)> on_commit;
   /// The status changed (state, progress or counts).
   std::function<void(const SessionStatus& status)> on_status;
+  /// Called with the estimate of the roadmap a build or extend would make, as the last check
+  /// before it is recorded (with the session's lock held: it must not call into this session).
+  /// Throws InputError to refuse it. Not set: no memory budget.
+  std::function<void(const BuildCost& cost)> admit_cost;
 };
 
 /// One loaded scene: its persistent roadmap, the job that grows it, and consistent reads of it.
@@ -135,6 +140,9 @@ class RoadmapSession {
   /// InputError while one runs.
   [[nodiscard]] VerificationReport verify() const;
 
+  /// The estimate of the roadmap as recorded (its recipe at its sample target; zero without one).
+  [[nodiscard]] BuildCost expected_cost() const;
+
   [[nodiscard]] const std::string& name() const { return name_; }
   [[nodiscard]] const Scene& scene() const { return scene_; }
   /// Whether a job is queued or running.
@@ -149,6 +157,7 @@ class RoadmapSession {
   void ensure_builder(const std::atomic<bool>& stopping);
   void check_can_start(const char* field) const;  // with mutex_ held
   void check_override_scale(const RoadmapRecipe& recipe) const;
+  BuildCost estimate(const RoadmapRecipe& recipe, std::uint64_t total_samples) const;
   // Takes job_mutex_ (shared or alone) once no job is queued or running; a job that has just
   // turned idle still holds it while it publishes its last status, so this waits for it briefly.
   // Throws InputError, naming `what`, when a job is queued or running.
@@ -160,6 +169,8 @@ class RoadmapSession {
   const std::filesystem::path store_dir_;
   const SessionLimits limits_;
   const SessionCallbacks callbacks_;
+  mutable std::once_flag free_fraction_once_;
+  mutable double free_fraction_ = 1.0;  // of the scene's sampling box, measured on first need
 
   // Whoever touches the builder holds this: run_job and drop alone, verify shared with other verifies.
   mutable std::shared_mutex job_mutex_;

@@ -1,10 +1,13 @@
 #pragma once
-// Scene names as the service accepts them: resolved only inside one scene directory.
+// Scene names and scene files as the service accepts them: resolved only inside one scene
+// directory, and naming only files inside it.
 
 #include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "ispars/scene/scene_config.hpp"
 
 namespace ispars {
 
@@ -16,6 +19,11 @@ namespace ispars {
 
 /// The names of the scenes in a directory (its valid NAME.yaml files), sorted.
 [[nodiscard]] std::vector<std::string> list_scene_names(const std::filesystem::path& scene_dir);
+
+/// The scene file of `name` (see scene_file), parsed, with every file it names (mesh, POI file)
+/// checked to lie inside the scene directory after following symlinks: an absolute path, a
+/// "../" or a symlink out is refused (InputError, field "scene", naming the key and the path).
+[[nodiscard]] SceneConfig load_scene_config(const std::filesystem::path& scene_dir, std::string_view name);
 
 /// Whether `name` is a valid scene name (see scene_file).
 [[nodiscard]] bool valid_scene_name(std::string_view name);

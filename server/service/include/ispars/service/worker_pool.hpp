@@ -4,6 +4,7 @@
 #include <condition_variable>
 #include <deque>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -13,19 +14,25 @@ namespace ispars::server {
 /// Runs submitted jobs in order on a fixed number of threads.
 class WorkerPool {
  public:
-  explicit WorkerPool(unsigned threads);
+  /// `threads` threads; at most `max_queued` jobs wait for one (submit refuses past that).
+  explicit WorkerPool(unsigned threads, std::size_t max_queued = std::numeric_limits<std::size_t>::max());
   /// Finishes the running jobs (queued ones are dropped) and joins the threads.
   ~WorkerPool();
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
 
-  void submit(std::function<void()> job);
+  /// Queues `job`; false (and the job dropped) when the pool is stopping or its queue is full.
+  bool submit(std::function<void()> job);
+  /// Jobs waiting for a thread.
+  [[nodiscard]] std::size_t queued() const;
+  [[nodiscard]] std::size_t max_queued() const { return max_queued_; }
   /// Stops taking jobs, drops the queued ones, and waits for the running ones.
   void stop();
 
  private:
   void run();
-  std::mutex mutex_;
+  const std::size_t max_queued_;
+  mutable std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<std::function<void()>> jobs_;
   bool stopping_ = false;
