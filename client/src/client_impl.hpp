@@ -23,6 +23,7 @@
 
 #include "ispars/client/client.hpp"
 #include "ispars/wire/convert.hpp"
+#include "ispars/wire/identity.hpp"
 #include "ispars/wire/latest_samples.hpp"
 #include "ispars/wire/topics.hpp"
 #include "isparsPubSubTypes.h"
@@ -79,9 +80,7 @@ class Client::Impl final : public fdds::DataReaderListener {
     if (!reply_reader_ || !queries_ || !changes_ || !status_reader_ || !daemon_reader_) {
       throw std::runtime_error("cannot create the client's DDS readers and writers");
     }
-    std::ostringstream guid;
-    guid << reply_reader_->guid();
-    id_ = guid.str();
+    id_ = wire::identity_of(participant_->guid().guidPrefix);
     std::random_device rd;
     next_seq_ = (static_cast<std::uint64_t>(rd()) << 20) + 1;  // distinct across restarts with one GUID
   }

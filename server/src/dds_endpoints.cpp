@@ -7,10 +7,10 @@
 #include <fastdds/rtps/common/InstanceHandle.h>
 #include <spdlog/spdlog.h>
 
-#include <sstream>
 #include <stdexcept>
 
 #include "daemon.hpp"
+#include "ispars/wire/identity.hpp"
 #include "ispars/wire/topics.hpp"
 #include "isparsPubSubTypes.h"
 
@@ -32,12 +32,6 @@ template <class T>
 T* require(T* entity, const char* what) {
   if (entity == nullptr) throw std::runtime_error(std::string("cannot create the ") + what);
   return entity;
-}
-
-std::string guid_string(const eprosima::fastrtps::rtps::InstanceHandle_t& handle) {
-  std::ostringstream out;
-  out << eprosima::fastrtps::rtps::iHandle2GUID(handle);
-  return out.str();
 }
 
 }  // namespace
@@ -108,6 +102,9 @@ void take_requests(fdds::DataReader* reader, Daemon& daemon, const std::string& 
   while (reader->take_next_sample(&request, &info) == ReturnCode_t::RETCODE_OK) {
     if (!info.valid_data || !accepting) continue;
     if (request.server_id() != server_id) continue;  // addressed to another daemon
+    // The sender is who the transport says, whatever the request claims: replies, retries and
+    // the reply cache are keyed by it, so no client can answer, pre-empt or poison another's.
+    request.client_id(wire::sender_identity(info));
     daemon.receive(std::move(request));
   }
 }
@@ -123,7 +120,7 @@ void DdsEndpoints::on_data_available(fdds::DataReader* reader) {
 }
 
 void DdsEndpoints::on_publication_matched(fdds::DataWriter*, const fdds::PublicationMatchedStatus& info) {
-  const std::string reader = guid_string(info.last_subscription_handle);
+  const std::string reader = wire::identity_of(info.last_subscription_handle);
   {
     std::lock_guard lock(matched_mutex_);
     if (info.current_count_change > 0) {

@@ -83,7 +83,7 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   std::thread sender_;
 
   mutable std::mutex matched_mutex_;
-  std::multiset<std::string> matched_clients_;  // reply reader GUIDs (= client ids)
+  std::multiset<std::string> matched_clients_;  // identities (GUID prefixes) of matched reply readers
 };
 
 }  // namespace ispars::server

@@ -1,9 +1,12 @@
 // The protocol version, checked on both sides: a daemon answers a request of another version
 // with an error naming both versions (not a timeout), and a client refuses, before sending, to
-// address a daemon that announces another version.
+// address a daemon that announces another version. And the sender's identity, taken from the
+// transport: a request that claims another client's id is answered to its real sender.
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <thread>
 
 #include "ispars/client/client.hpp"
 #include "ispars/wire/convert.hpp"
@@ -75,6 +78,34 @@ TEST_F(ProtocolTest, AClientRefusesToAddressADaemonOfAnotherVersion) {
               std::string::npos)
         << e.what();
   }
+}
+
+TEST_F(ProtocolTest, TheSenderIsWhoTheTransportSaysNotWhatTheRequestClaims) {
+  client::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
+  RawPeer victim(domain_), impostor(domain_);
+  ASSERT_NE(victim.identity(), impostor.identity());
+  // The impostor claims the victim's id for a STATS with sequence number 7.
+  msg::QueryRequest forged = client::make_query(msg::STATS, "s0");
+  forged.client_id(victim.identity());
+  forged.server_id("d");
+  forged.request_seq(7);
+  forged.protocol(msg::PROTOCOL_VERSION);
+  ASSERT_TRUE(impostor.post(forged));
+  for (int i = 0; i < 200 && impostor.replies_received() == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_EQ(impostor.replies_received(), 1u) << "the reply went to the claimed id, not to its sender";
+  EXPECT_EQ(impostor.replies()[0].client_id(), impostor.identity());
+  // The victim's own request 7 is its own: answered afresh, not from the impostor's entry.
+  msg::QueryRequest own = client::make_query(msg::LIST_SCENES, "");
+  own.server_id("d");
+  own.request_seq(7);
+  own.protocol(msg::PROTOCOL_VERSION);
+  const auto reply = victim.send(own, std::chrono::seconds(30));
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_TRUE(reply->ok()) << reply->error();
+  EXPECT_EQ(reply->body()._d(), msg::LIST_SCENES) << "the victim got the impostor's cached reply";
+  EXPECT_EQ(victim.replies_received(), 1u) << "the victim also received the impostor's reply";
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "ispars/wire/identity.hpp"
 #include "ispars/wire/participant.hpp"
 #include "ispars/wire/topics.hpp"
 #include "isparsPubSubTypes.h"
@@ -36,9 +37,7 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
     queries_ = pub->create_datawriter(query, wire::request_reply_writer_qos());
     announcements_ = pub->create_datawriter(daemons, wire::state_writer_qos());
     if (!replies_ || !queries_ || !announcements_) throw std::runtime_error("raw peer: endpoints not created");
-    std::ostringstream guid;
-    guid << replies_->guid();
-    id_ = guid.str();
+    id_ = wire::identity_of(participant_->guid().guidPrefix);
   }
   ~Impl() override {
     replies_->set_listener(nullptr);
@@ -91,9 +90,10 @@ bool wait_matched(fdds::DataWriter* writer, fdds::DataReader* reader, std::chron
 
 bool RawPeer::post(msg::QueryRequest request, std::chrono::milliseconds timeout) {
   if (!wait_matched(impl_->queries_, impl_->replies_, std::chrono::steady_clock::now() + timeout)) return false;
-  request.client_id(impl_->id_);
   return impl_->queries_->write(&request);
 }
+
+const std::string& RawPeer::identity() const { return impl_->id_; }
 
 std::size_t RawPeer::replies_received() const {
   std::lock_guard lock(impl_->mutex_);

@@ -1,7 +1,7 @@
 #pragma once
 // A bare DDS peer on the service's topics, for tests that must send what the client library never
 // would (a request of another protocol version) or pose as a daemon (an announcement of another
-// version). Its client id is its reply reader's GUID, as a client's is.
+// version). Its identity is its participant's GUID prefix, as a client's is.
 
 #include <chrono>
 #include <memory>
@@ -24,13 +24,16 @@ class RawPeer {
   /// Sends `request` as given except for its client id (this peer's), and waits for the reply to
   /// that id and sequence number; nullopt after `timeout`.
   std::optional<msg::Reply> send(msg::QueryRequest request, std::chrono::milliseconds timeout);
-  /// Writes `request` as given except for its client id, without waiting for a reply (the first
-  /// write waits, up to `timeout`, for the daemon to match). False when nothing matched.
+  /// Writes `request` exactly as given (its client id too: a forged one is the point of some
+  /// tests), without waiting for a reply (waits, up to `timeout`, for the daemon to match).
+  /// False when nothing matched.
   bool post(msg::QueryRequest request, std::chrono::milliseconds timeout = std::chrono::seconds(30));
   /// Replies received so far (to sends and posts alike), by sequence number.
   [[nodiscard]] std::size_t replies_received() const;
   /// The replies received so far.
   [[nodiscard]] std::vector<msg::Reply> replies() const;
+  /// This peer's identity as the daemon reads it from the transport (its GUID prefix).
+  [[nodiscard]] const std::string& identity() const;
   /// Publishes `info` on the announcement topic, as a daemon does; kept while this peer lives.
   void announce(const msg::DaemonInfo& info);
 

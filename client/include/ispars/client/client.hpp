@@ -117,7 +117,8 @@ class Client {
   std::string owner_of(const std::string& scene);
   /// Daemons seen on the domain (waits up to the timeout for the first).
   std::vector<msg::DaemonInfo> daemons();
-  /// This client's id (the GUID of its reply reader).
+  /// This client's identity: its participant's GUID prefix (24 hex digits), as the daemon reads
+  /// it from the transport and writes it into every reply to this client.
   [[nodiscard]] const std::string& id() const;
   [[nodiscard]] const ClientOptions& options() const { return options_; }
   /// The participant, for readers of other topics (replicas).
