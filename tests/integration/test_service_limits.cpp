@@ -77,20 +77,6 @@ TEST_F(ServiceTest, SlowRequestsNeverHoldBackStatsAndAFullLaneAnswersBusy) {
   EXPECT_TRUE(daemon->alive());
 }
 
-// Peak resident memory (VmHWM) of process `pid`, in MiB.
-double peak_rss_mib(pid_t pid) {
-  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmHWM:") {
-      double kib = 0.0;
-      status >> kib;
-      return kib / 1024.0;
-    }
-  }
-  return 0.0;
-}
-
 TEST_F(ServiceTest, ExhaustionAttemptsAreRefusedBeforeMemoryGrows) {
   auto daemon = start("d");  // the default budget: half of this machine's memory
   Client client(client_options(domain_));

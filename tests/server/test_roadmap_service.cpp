@@ -137,27 +137,13 @@ TEST_F(RoadmapServiceTest, RefusalsNameTheFieldAndChangeNothing) {
   EXPECT_EQ(service.stats("s0").samples_done, 800u);
 }
 
-// Peak resident memory of this process (VmHWM), in MiB.
-double peak_rss_mib() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmHWM:") {
-      double kib = 0.0;
-      status >> kib;
-      return kib / 1024.0;
-    }
-  }
-  return 0.0;
-}
-
 TEST_F(RoadmapServiceTest, BuildsPastTheMemoryBudgetAreRefusedBeforeAnyMemoryGrows) {
   ServiceSettings s = settings();
   s.memory_budget_bytes = 64.0 * 1024 * 1024;
   RoadmapService service(s, {});
   (void)service.load("s0");
   (void)service.load("s1");
-  const double rss_before = peak_rss_mib();
+  const double rss_before = test::peak_rss_mib();
   const auto refused = [&](const std::string& scene, const BuildRequest& request) {
     try {
       service.build(scene, request);
@@ -176,7 +162,7 @@ TEST_F(RoadmapServiceTest, BuildsPastTheMemoryBudgetAreRefusedBeforeAnyMemoryGro
   BuildRequest tiny_delta_huge_n = ispars(40'000'000);
   tiny_delta_huge_n.overrides["dense_delta"] = 0.1;
   refused("s0", tiny_delta_huge_n);
-  EXPECT_LT(peak_rss_mib() - rss_before, 16.0) << "a refused build grew memory";
+  EXPECT_LT(test::peak_rss_mib() - rss_before, 16.0) << "a refused build grew memory";
   EXPECT_EQ(service.stats("s0").state, SessionState::empty) << "a refusal changed nothing";
   // What fits is built; the budget then counts it against the other scene.
   service.build("s0", ispars(2000));

@@ -68,6 +68,19 @@ std::filesystem::path TempDir::write(const std::string& name, const std::string&
   return file;
 }
 
+double peak_rss_mib(int pid) {
+  std::ifstream status(pid == 0 ? std::string("/proc/self/status") : "/proc/" + std::to_string(pid) + "/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmHWM:") {
+      double kib = 0.0;
+      status >> kib;
+      return kib / 1024.0;
+    }
+  }
+  return 0.0;
+}
+
 std::string fingerprint(const Roadmap& roadmap) {
   std::ostringstream out;
   out << std::hexfloat;

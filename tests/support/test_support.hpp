@@ -45,6 +45,9 @@ class TempDir {
 /// references run 10x slower there, and the full-volume agreement runs in the Release pass.
 std::size_t scaled(std::size_t n);
 
+/// Peak resident memory (VmHWM) of process `pid` (0: this process), in MiB; 0 when unreadable.
+double peak_rss_mib(int pid = 0);
+
 /// Half uniform in the bounds, half within about two robot radii of a random triangle (chosen
 /// by index, so small triangles get their share), clamped into the bounds.
 std::vector<Vec3> mixed_query_points(const Scene& scene, Rng& rng, std::size_t count);
