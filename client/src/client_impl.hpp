@@ -26,6 +26,7 @@
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/latest_samples.hpp"
 #include "ispars/wire/topics.hpp"
+#include "ispars/wire/safe_type.hpp"
 #include "isparsPubSubTypes.h"
 
 namespace ispars::client {
@@ -53,11 +54,11 @@ class Client::Impl final : public fdds::DataReaderListener {
   explicit Impl(const ClientOptions& options)
       : options_(options),
         participant_(options.participant),
-        query_type_(new msg::QueryRequestPubSubType()),
-        change_type_(new msg::ChangeRequestPubSubType()),
-        reply_type_(new msg::ReplyPubSubType()),
-        status_type_(new msg::SceneStatusPubSubType()),
-        daemon_type_(new msg::DaemonInfoPubSubType()),
+        query_type_(new wire::SafeType<msg::QueryRequestPubSubType>()),
+        change_type_(new wire::SafeType<msg::ChangeRequestPubSubType>()),
+        reply_type_(new wire::SafeType<msg::ReplyPubSubType>()),
+        status_type_(new wire::SafeType<msg::SceneStatusPubSubType>()),
+        daemon_type_(new wire::SafeType<msg::DaemonInfoPubSubType>()),
         statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); },
                   [this](const msg::SceneStatus&) { status_changed_.notify_all(); }),
         daemons_([](const msg::DaemonInfo& d) { return d.server_id().to_string(); }) {
@@ -196,7 +197,7 @@ class Client::Impl final : public fdds::DataReaderListener {
   wire::LatestSamples<msg::DaemonInfo> daemons_;
   std::string id_;
 
-  fdds::TypeSupport progress_type_{new msg::TourProgressPubSubType()};
+  fdds::TypeSupport progress_type_{new wire::SafeType<msg::TourProgressPubSubType>()};
   fdds::DataReader* progress_reader_ = nullptr;
   TourProgressListener progress_;
 

@@ -16,6 +16,7 @@
 #include "ispars/roadmap/roadmap_log.hpp"
 #include "ispars/wire/convert.hpp"
 #include "ispars/wire/topics.hpp"
+#include "ispars/wire/safe_type.hpp"
 #include "isparsPubSubTypes.h"
 
 namespace ispars::client {
@@ -27,7 +28,7 @@ namespace fdds = eprosima::fastdds::dds;
 class RoadmapReplica::Impl final : public fdds::DataReaderListener {
  public:
   Impl(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change)
-      : client_(client), scene_(std::move(scene)), on_change_(std::move(on_change)), type_(new msg::UpdateBatchPubSubType()) {
+      : client_(client), scene_(std::move(scene)), on_change_(std::move(on_change)), type_(new wire::SafeType<msg::UpdateBatchPubSubType>()) {
     fdds::DomainParticipant* p = client_.participant().get();
     topic_ = wire::find_or_create_topic(p, type_, wire::kUpdatesTopic);
     subscriber_ = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);

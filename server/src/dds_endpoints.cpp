@@ -12,6 +12,7 @@
 #include "daemon.hpp"
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/topics.hpp"
+#include "ispars/wire/safe_type.hpp"
 #include "isparsPubSubTypes.h"
 
 namespace ispars::server {
@@ -40,13 +41,13 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
     : daemon_(daemon),
       server_id_(config.server_id),
       participant_(participant_options(config)),
-      query_type_(new msg::QueryRequestPubSubType()),
-      change_type_(new msg::ChangeRequestPubSubType()),
-      reply_type_(new msg::ReplyPubSubType()),
-      update_type_(new msg::UpdateBatchPubSubType()),
-      status_type_(new msg::SceneStatusPubSubType()),
-      daemon_type_(new msg::DaemonInfoPubSubType()),
-      progress_type_(new msg::TourProgressPubSubType()),
+      query_type_(new wire::SafeType<msg::QueryRequestPubSubType>()),
+      change_type_(new wire::SafeType<msg::ChangeRequestPubSubType>()),
+      reply_type_(new wire::SafeType<msg::ReplyPubSubType>()),
+      update_type_(new wire::SafeType<msg::UpdateBatchPubSubType>()),
+      status_type_(new wire::SafeType<msg::SceneStatusPubSubType>()),
+      daemon_type_(new wire::SafeType<msg::DaemonInfoPubSubType>()),
+      progress_type_(new wire::SafeType<msg::TourProgressPubSubType>()),
       statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); }) {
   fdds::DomainParticipant* p = participant_.get();
   fdds::Topic* query_topic = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);

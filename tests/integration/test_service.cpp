@@ -315,6 +315,11 @@ TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
   }
   // A build, then requests that conflict with it.
   client.build("s0", ispars_build(900'000));
+  // Once its first chunk is committed, the scene has a roadmap that the cancel below keeps (a
+  // build cancelled while still queued leaves none, and a loaded machine can be that slow).
+  for (int i = 0; i < 3000 && client.stats("s0").samples_done() == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
   expect_error(build("s0"), "already running");
   {
     msg::ChangeRequest r = make_change(msg::EXTEND, "s0");

@@ -18,6 +18,7 @@
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/participant.hpp"
 #include "ispars/wire/topics.hpp"
+#include "ispars/wire/safe_type.hpp"
 #include "isparsPubSubTypes.h"
 
 namespace ispars::test {
@@ -56,9 +57,9 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
   }
 
   wire::Participant participant_;
-  fdds::TypeSupport query_type_{new msg::QueryRequestPubSubType()};
-  fdds::TypeSupport reply_type_{new msg::ReplyPubSubType()};
-  fdds::TypeSupport daemon_type_{new msg::DaemonInfoPubSubType()};
+  fdds::TypeSupport query_type_{new wire::SafeType<msg::QueryRequestPubSubType>()};
+  fdds::TypeSupport reply_type_{new wire::SafeType<msg::ReplyPubSubType>()};
+  fdds::TypeSupport daemon_type_{new wire::SafeType<msg::DaemonInfoPubSubType>()};
   fdds::DataReader* replies_ = nullptr;
   fdds::DataWriter* queries_ = nullptr;
   fdds::DataWriter* announcements_ = nullptr;

@@ -1,0 +1,91 @@
+#include "support/raw_bytes_writer.hpp"
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/topic/TopicDataType.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+#include <thread>
+
+#include "ispars/wire/participant.hpp"
+#include "ispars/wire/topics.hpp"
+
+namespace ispars::test {
+namespace fdds = eprosima::fastdds::dds;
+namespace rtps = eprosima::fastrtps::rtps;
+
+namespace {
+
+// The request type's name and key kind, with a payload of whatever bytes are given.
+class BytesType final : public fdds::TopicDataType {
+ public:
+  BytesType() {
+    setName("ispars::msg::QueryRequest");
+    m_typeSize = 1 << 20;
+    m_isGetKeyDefined = true;
+  }
+  bool serialize(void* data, rtps::SerializedPayload_t* payload) override {
+    const auto* bytes = static_cast<const std::string*>(data);
+    if (bytes->size() > payload->max_size) return false;
+    std::memcpy(payload->data, bytes->data(), bytes->size());
+    payload->length = static_cast<std::uint32_t>(bytes->size());
+    payload->encapsulation = CDR_LE;
+    return true;
+  }
+  bool deserialize(rtps::SerializedPayload_t*, void*) override { return false; }
+  std::function<std::uint32_t()> getSerializedSizeProvider(void* data) override {
+    return [data] { return static_cast<std::uint32_t>(static_cast<const std::string*>(data)->size()); };
+  }
+  void* createData() override { return new std::string(); }
+  void deleteData(void* data) override { delete static_cast<std::string*>(data); }
+  bool getKey(void* data, rtps::InstanceHandle_t* handle, bool) override {
+    // One instance per distinct leading bytes, so samples are not all one instance's history.
+    const auto* bytes = static_cast<const std::string*>(data);
+    std::memset(handle->value, 0, 16);
+    std::memcpy(handle->value, bytes->data(), std::min<std::size_t>(16, bytes->size()));
+    return true;
+  }
+};
+
+}  // namespace
+
+class RawBytesWriter::Impl {
+ public:
+  explicit Impl(int domain) : participant({domain, "", "ispars", "raw bytes"}) {
+    fdds::DomainParticipant* p = participant.get();
+    fdds::Topic* topic = wire::find_or_create_topic(p, type, wire::kQueryTopic);
+    fdds::Publisher* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    if (!pub) throw std::runtime_error("raw bytes: no publisher");
+    writer = pub->create_datawriter(topic, wire::request_reply_writer_qos());
+    if (!writer) throw std::runtime_error("raw bytes: no writer");
+  }
+  ~Impl() { participant->delete_contained_entities(); }
+  wire::Participant participant;
+  fdds::TypeSupport type{new BytesType()};
+  fdds::DataWriter* writer = nullptr;
+};
+
+RawBytesWriter::RawBytesWriter(int domain) : impl_(std::make_unique<Impl>(domain)) {}
+RawBytesWriter::~RawBytesWriter() = default;
+
+bool RawBytesWriter::wait_matched() {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  for (;;) {
+    fdds::PublicationMatchedStatus status;
+    impl_->writer->get_publication_matched_status(status);
+    if (status.current_count > 0) return true;
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
+bool RawBytesWriter::write(const std::string& bytes) {
+  std::string copy = bytes;
+  return impl_->writer->write(&copy);
+}
+
+}  // namespace ispars::test
