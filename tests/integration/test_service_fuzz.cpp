@@ -6,7 +6,6 @@
 #include <atomic>
 #include <limits>
 #include <random>
-#include <regex>
 #include <thread>
 
 #include "integration/service_fixture.hpp"
@@ -137,8 +136,11 @@ TEST_F(ServiceTest, AThousandMalformedRequestsWhileEightClientsQuery) {
       if (!r.ok()) {
         ++refused;
         // "WHAT: FIELD: problem" (request, path or tour), never an internal error.
-        EXPECT_TRUE(std::regex_search(r.error(), std::regex("^(request|path|tour): [a-z_.]+: ")))
-            << "not a named refusal: " << r.error();
+        const std::string& error = r.error();
+        const bool named = (error.rfind("request: ", 0) == 0 || error.rfind("path: ", 0) == 0 ||
+                            error.rfind("tour: ", 0) == 0) &&
+                           error.find(": ", error.find(": ") + 2) != std::string::npos;
+        EXPECT_TRUE(named) << "not a named refusal: " << error;
       }
     }
   }
