@@ -33,6 +33,7 @@
 #include <thread>
 
 #include "ispars/client/client.hpp"
+#include "bench_common.hpp"
 #include "support/local_daemon.hpp"
 #include "ispars/client/replica.hpp"
 #include "ispars/roadmap/roadmap_log.hpp"
@@ -41,185 +42,7 @@
 
 namespace {
 
-namespace fdds = eprosima::fastdds::dds;
-using Clock = std::chrono::steady_clock;
-using ispars::client::Client;
-using ispars::client::LocalDaemon;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const auto i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
-  return v[std::min(i, v.size() - 1)];
-}
-
-// A temporary working directory with the scenes, a data directory and a running daemon.
-struct Bench {
-  Bench(const std::string& daemon_binary, std::vector<std::string> extra = {}) {
-    char pattern[] = "/tmp/ispars-bench-XXXXXX";
-    dir = ::mkdtemp(pattern);
-    ispars::client::write_tank_tower_scenes(dir / "scenes", {"tower", "tower2"});
-    domain = ispars::client::random_domain();
-    daemon = std::make_unique<LocalDaemon>(daemon_binary, domain, dir / "data", dir / "scenes", "bench", std::move(extra));
-  }
-  ~Bench() {
-    daemon.reset();
-    std::filesystem::remove_all(dir);
-  }
-  ispars::client::ClientOptions options() const {
-    auto o = ispars::client::local_client_options(domain);
-    o.timeout = std::chrono::seconds(120);
-    return o;
-  }
-  std::filesystem::path dir;
-  int domain = 0;
-  std::unique_ptr<LocalDaemon> daemon;
-};
-
-// ---- raw ping-pong: the same QueryRequest/Reply types and QoS, no service logic ------------
-
-struct RawEndpoints final : public fdds::DataReaderListener {
-  RawEndpoints(int domain, const char* in_topic_name, const char* out_topic_name, bool is_server)
-      : participant({domain, "", "ispars", "raw ping-pong"}), server(is_server) {
-    fdds::DomainParticipant* p = participant.get();
-    auto* ping = ispars::wire::find_or_create_topic(p, request_type, "bench/ping");
-    auto* pong = ispars::wire::find_or_create_topic(p, reply_type, "bench/pong");
-    (void)in_topic_name;
-    (void)out_topic_name;
-    auto* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-    auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-    writer = pub->create_datawriter(server ? pong : ping, ispars::wire::request_reply_writer_qos());
-    reader = sub->create_datareader(server ? ping : pong, ispars::wire::request_reply_reader_qos(), this,
-                                    fdds::StatusMask::data_available());
-  }
-  ~RawEndpoints() override { reader->set_listener(nullptr); }
-
-  void on_data_available(fdds::DataReader* r) override {
-    fdds::SampleInfo info;
-    if (server) {
-      ispars::msg::QueryRequest request;
-      while (r->take_next_sample(&request, &info) == ReturnCode_t::RETCODE_OK) {
-        if (!info.valid_data) continue;
-        ispars::msg::Reply reply = reply_template;
-        reply.client_id(request.client_id());
-        reply.request_seq(request.request_seq());
-        writer->write(&reply);
-      }
-    } else {
-      ispars::msg::Reply reply;
-      while (r->take_next_sample(&reply, &info) == ReturnCode_t::RETCODE_OK) {
-        if (!info.valid_data) continue;
-        std::lock_guard lock(mutex);
-        last_seq = reply.request_seq();
-        arrived.notify_all();
-      }
-    }
-  }
-
-  bool matched() {
-    fdds::PublicationMatchedStatus pub;
-    fdds::SubscriptionMatchedStatus sub;
-    writer->get_publication_matched_status(pub);
-    reader->get_subscription_matched_status(sub);
-    return pub.current_count > 0 && sub.current_count > 0;
-  }
-
-  double round_trip(ispars::msg::QueryRequest& request) {
-    const auto t0 = Clock::now();
-    writer->write(&request);
-    std::unique_lock lock(mutex);
-    arrived.wait_for(lock, std::chrono::seconds(5), [&] { return last_seq == request.request_seq(); });
-    return seconds_since(t0);
-  }
-
-  ispars::wire::Participant participant;
-  bool server;
-  fdds::TypeSupport request_type{new ispars::msg::QueryRequestPubSubType()};
-  fdds::TypeSupport reply_type{new ispars::msg::ReplyPubSubType()};
-  fdds::DataWriter* writer = nullptr;
-  fdds::DataReader* reader = nullptr;
-  ispars::msg::Reply reply_template;
-  std::mutex mutex;
-  std::condition_variable arrived;
-  std::uint64_t last_seq = 0;
-};
-
-nlohmann::json run_rtt(const std::string& daemon_binary, int count) {
-  Bench bench(daemon_binary);
-  Client client(bench.options());
-  client.load("tower");
-  client.build("tower", {"ispars", 2000, 1, {}, false, {}});
-  client.wait_idle("tower", {}, std::chrono::seconds(120));
-
-  // The raw echo server runs in its own process, as the daemon does (fork + exec: forking a
-  // process that already runs DDS threads is unsafe). It answers with the daemon's own stats
-  // reply, so both paths move samples of the same serialized size.
-  const ispars::msg::QueryRequest stats_request = ispars::client::make_query(ispars::msg::STATS, "tower");
-  const pid_t echo = ::fork();
-  if (echo == 0) {
-    const std::string domain = std::to_string(bench.domain);
-    const std::string self = std::filesystem::canonical("/proc/self/exe").string();
-    ::execl(self.c_str(), self.c_str(), "echo", "--domain", domain.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  RawEndpoints raw(bench.domain, "", "", false);
-  for (int i = 0; !raw.matched(); ++i) {
-    if (i > 3000) throw std::runtime_error("the raw echo server did not match within 30 s");
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-
-  std::vector<double> service, direct;
-  ispars::msg::QueryRequest ping = stats_request;
-  ping.client_id("raw");
-  std::uint64_t seq = 0;
-  for (int w = 0; w < 50; ++w) {  // warm-up, both paths
-    (void)client.call(stats_request);
-    ping.request_seq(++seq);
-    (void)raw.round_trip(ping);
-  }
-  for (int block = 0; block < count / 100; ++block) {
-    for (int i = 0; i < 100; ++i) {
-      const auto t0 = Clock::now();
-      (void)client.call(stats_request);
-      service.push_back(seconds_since(t0));
-    }
-    for (int i = 0; i < 100; ++i) {
-      ping.request_seq(++seq);
-      direct.push_back(raw.round_trip(ping));
-    }
-  }
-  ::kill(echo, SIGTERM);
-  ::waitpid(echo, nullptr, 0);
-  const double sm = percentile(service, 0.5) * 1e6, sp = percentile(service, 0.99) * 1e6;
-  const double rm = percentile(direct, 0.5) * 1e6, rp = percentile(direct, 0.99) * 1e6;
-  return {{"bench", "rtt"},
-          {"round_trips", service.size()},
-          {"service_median_us", sm},
-          {"service_p99_us", sp},
-          {"raw_median_us", rm},
-          {"raw_p99_us", rp},
-          {"median_ratio", sm / rm},
-          {"p99_ratio", sp / rp}};
-}
-
-// The raw ping-pong's server side (a hidden subcommand run by `rtt`).
-int run_echo(int domain) {
-  ispars::client::ClientOptions options = ispars::client::local_client_options(domain);
-  Client client(options);
-  const ispars::msg::QueryRequest stats_request = ispars::client::make_query(ispars::msg::STATS, "tower");
-  RawEndpoints server(domain, "", "", true);
-  server.reply_template = client.call(stats_request);
-  sigset_t stop;
-  sigemptyset(&stop);
-  sigaddset(&stop, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop, nullptr);
-  int signal = 0;
-  sigwait(&stop, &signal);
-  return 0;
-}
+using namespace ispars::bench;
 
 nlohmann::json run_stream(const std::string& daemon_binary, std::uint64_t samples, const std::string& method) {
   nlohmann::json rows = nlohmann::json::array();
@@ -333,6 +156,10 @@ int main(int argc, char** argv) {
   int count = 2000;
   auto* rtt = app.add_subcommand("rtt", "stats round trip against a raw Fast DDS ping-pong");
   rtt->add_option("--count", count, "round trips per path (multiple of 100)");
+  std::string keystore_script;
+  rtt->add_option("--security", keystore_script,
+                  "also measure under DDS Security, with a keystore this script makes "
+                  "(deploy/security/make-keystore.sh)");
   std::uint64_t samples = 20000;
   std::string method = "dense";
   auto* stream = app.add_subcommand("stream", "update streaming to 0, 1 and 8 subscribers");
@@ -347,13 +174,17 @@ int main(int argc, char** argv) {
   auto* memory = app.add_subcommand("memory", "daemon memory per 100,000 dense vertices");
   memory->add_option("--samples", memory_samples, "samples per build");
   int echo_domain = 0;
+  std::string echo_security, echo_client, echo_reply;
   auto* echo = app.add_subcommand("echo", "")->group("");  // hidden: rtt's raw echo server
   echo->add_option("--domain", echo_domain);
+  echo->add_option("--security", echo_security);
+  echo->add_option("--client", echo_client);
+  echo->add_option("--reply", echo_reply);
   CLI11_PARSE(app, argc, argv);
   try {
-    if (*echo) return run_echo(echo_domain);
+    if (*echo) return run_echo(echo_domain, echo_security, echo_client, echo_reply);
     nlohmann::json out;
-    if (*rtt) out = run_rtt(daemon, std::max(100, count));
+    if (*rtt) out = run_rtt(daemon, std::max(100, count), keystore_script);
     if (*stream) out = run_stream(daemon, samples, method);
     if (*snapshot) out = run_snapshot(daemon, vertices, repeats);
     if (*memory) out = run_memory(daemon, memory_samples);

@@ -116,11 +116,14 @@ int main(int argc, char** argv) {
   ispars::client::ClientOptions options;
   int domain = 0;
   double timeout_s = 15;
-  std::string profile_file, profile_name = "ispars";
+  std::string profile_file, profile_name = "ispars", security;
   app.add_option("--domain", domain, "DDS domain id")->envname("ISPARS_DOMAIN")->check(CLI::Range(0, 232));
   app.add_option("--profile-file", profile_file, "Fast DDS XML profiles file (default: built-in localhost only)")
       ->envname("ISPARS_PROFILE_FILE");
   app.add_option("--profile-name", profile_name, "participant profile in the profiles file");
+  app.add_option("--security", security,
+                 "DDS Security identity directory (deploy/security/make-keystore.sh); default: no security")
+      ->envname("ISPARS_SECURITY");
   app.add_option("--timeout", timeout_s, "seconds to wait for a daemon and each reply")->check(CLI::PositiveNumber);
   app.add_option("--server", options.server, "the daemon to load a scene on, when several offer it");
 
@@ -226,6 +229,7 @@ int main(int argc, char** argv) {
   options.participant.domain = domain;
   options.participant.profile_file = profile_file;
   options.participant.profile_name = profile_name;
+  options.participant.security = security;
   options.participant.name = "ispars cli";
   options.timeout = std::chrono::milliseconds(static_cast<long>(timeout_s * 1000));
   const auto long_wait = std::chrono::hours(24 * 365);
@@ -373,7 +377,7 @@ int main(int argc, char** argv) {
     return 0;
   } catch (const ClientError& e) {
     std::cerr << "ispars: " << e.what() << "\n";
-    return e.kind() == ClientError::Kind::rejected ? 1 : 3;
+    return e.kind() == ClientError::Kind::rejected || e.kind() == ClientError::Kind::forbidden ? 1 : 3;
   } catch (const CLI::ValidationError& e) {
     std::cerr << "ispars: " << e.what() << "\n";
     return 2;

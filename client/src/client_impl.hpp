@@ -68,20 +68,24 @@ class Client::Impl final : public fdds::DataReaderListener {
     fdds::Topic* reply_topic = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);
     fdds::Topic* status_topic = wire::find_or_create_topic(p, status_type_, wire::kStatusTopic);
     fdds::Topic* daemon_topic = wire::find_or_create_topic(p, daemon_type_, wire::kDaemonsTopic);
+    id_ = wire::identity_of(participant_->guid().guidPrefix);
     publisher_ = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     subscriber_ = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-    if (!publisher_ || !subscriber_) throw std::runtime_error("cannot create the DDS publisher and subscriber");
-    // The reply reader first: its GUID is this client's id.
-    reply_reader_ = subscriber_->create_datareader(reply_topic, wire::request_reply_reader_qos(), this,
-                                                   fdds::StatusMask::data_available());
+    // Replies and tour progress arrive in this client's own partition: no other client's reader
+    // matches the daemon's writer for it, and this one matches no one else's.
+    reply_subscriber_ = p->create_subscriber(wire::reply_subscriber_qos(id_));
+    if (!publisher_ || !subscriber_ || !reply_subscriber_) {
+      throw std::runtime_error("cannot create the DDS publisher and subscribers");
+    }
+    reply_reader_ = reply_subscriber_->create_datareader(reply_topic, wire::request_reply_reader_qos(), this,
+                                                         fdds::StatusMask::data_available());
     queries_ = publisher_->create_datawriter(query_topic, wire::request_reply_writer_qos());
-    changes_ = publisher_->create_datawriter(change_topic, wire::request_reply_writer_qos());
+    change_topic_ = change_topic;  // its writer is made on the first change request
     status_reader_ = subscriber_->create_datareader(status_topic, wire::state_reader_qos(), &statuses_);
     daemon_reader_ = subscriber_->create_datareader(daemon_topic, wire::state_reader_qos(), &daemons_);
-    if (!reply_reader_ || !queries_ || !changes_ || !status_reader_ || !daemon_reader_) {
+    if (!reply_reader_ || !queries_ || !status_reader_ || !daemon_reader_) {
       throw std::runtime_error("cannot create the client's DDS readers and writers");
     }
-    id_ = wire::identity_of(participant_->guid().guidPrefix);
     std::random_device rd;
     next_seq_ = (static_cast<std::uint64_t>(rd()) << 20) + 1;  // distinct across restarts with one GUID
   }
@@ -121,7 +125,16 @@ class Client::Impl final : public fdds::DataReaderListener {
   }
 
   fdds::DataWriter* writer_for(const msg::QueryRequest&) const { return queries_; }
-  fdds::DataWriter* writer_for(const msg::ChangeRequest&) const { return changes_; }
+  // The change writer, made on first use: under DDS Security a viewer's permissions refuse it,
+  // and such a client still queries and follows updates. Null when refused.
+  fdds::DataWriter* writer_for(const msg::ChangeRequest&) {
+    std::lock_guard lock(mutex_);
+    if (changes_ == nullptr && !changes_refused_) {
+      changes_ = publisher_->create_datawriter(change_topic_, wire::request_reply_writer_qos());
+      changes_refused_ = changes_ == nullptr;
+    }
+    return changes_;
+  }
 
   template <class Request>
   msg::Reply call(Request request, const std::string& server, std::chrono::milliseconds timeout) {
@@ -140,6 +153,12 @@ class Client::Impl final : public fdds::DataReaderListener {
                                     server, info->protocol(), msg::PROTOCOL_VERSION));
     }
     fdds::DataWriter* writer = writer_for(request);
+    if (writer == nullptr) {
+      throw ClientError(ClientError::Kind::forbidden,
+                        fmt::format("this client's DDS Security permissions do not allow {} (topic {}): use an "
+                                    "operator identity",
+                                    wire::to_string(request.args()._d()), wire::kChangeTopic));
+    }
     request.client_id(id_);
     request.server_id(server);
     request.protocol(msg::PROTOCOL_VERSION);
@@ -149,8 +168,9 @@ class Client::Impl final : public fdds::DataReaderListener {
     waiting_.insert(seq);
     while (std::chrono::steady_clock::now() < deadline) {
       lock.unlock();
-      // Both directions matched before sending (DDS-RPC 1.0 sec. 7.6.2): our reply reader with a
-      // reply writer, our request writer with a request reader.
+      // Our request writer matched a request reader before sending (DDS-RPC 1.0 sec. 7.6.2). The
+      // daemon makes its writer for our partition on our first request and holds the reply until
+      // our reply reader has matched it.
       wait_matched(writer, deadline);
       Request copy = request;
       writer->write(&copy);
@@ -174,10 +194,8 @@ class Client::Impl final : public fdds::DataReaderListener {
   void wait_matched(fdds::DataWriter* writer, std::chrono::steady_clock::time_point deadline) {
     for (;;) {
       fdds::PublicationMatchedStatus pub;
-      fdds::SubscriptionMatchedStatus sub;
       writer->get_publication_matched_status(pub);
-      reply_reader_->get_subscription_matched_status(sub);
-      if ((pub.current_count > 0 && sub.current_count > 0) || std::chrono::steady_clock::now() >= deadline) return;
+      if (pub.current_count > 0 || std::chrono::steady_clock::now() >= deadline) return;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }
@@ -187,9 +205,12 @@ class Client::Impl final : public fdds::DataReaderListener {
   fdds::TypeSupport query_type_, change_type_, reply_type_, status_type_, daemon_type_;
   fdds::Publisher* publisher_ = nullptr;
   fdds::Subscriber* subscriber_ = nullptr;
+  fdds::Subscriber* reply_subscriber_ = nullptr;  // in this client's reply partition
   fdds::DataReader* reply_reader_ = nullptr;
   fdds::DataWriter* queries_ = nullptr;
+  fdds::Topic* change_topic_ = nullptr;
   fdds::DataWriter* changes_ = nullptr;
+  bool changes_refused_ = false;
   fdds::DataReader* status_reader_ = nullptr;
   fdds::DataReader* daemon_reader_ = nullptr;
   std::condition_variable status_changed_;
@@ -207,7 +228,7 @@ class Client::Impl final : public fdds::DataReaderListener {
     if (progress_reader_) return;
     progress_.client_id = id_;
     fdds::Topic* topic = wire::find_or_create_topic(participant_.get(), progress_type_, wire::kTourProgressTopic);
-    progress_reader_ = subscriber_->create_datareader(topic, wire::request_reply_reader_qos(), &progress_,
+    progress_reader_ = reply_subscriber_->create_datareader(topic, wire::request_reply_reader_qos(), &progress_,
                                                       fdds::StatusMask::data_available());
   }
 

@@ -24,6 +24,20 @@ Qos reliable(Qos qos, fdds::DurabilityQosPolicyKind durability, int depth) {
 
 }  // namespace
 
+std::string reply_partition(const std::string& identity) { return "ispars.client." + identity; }
+
+fdds::PublisherQos reply_publisher_qos(const std::string& identity) {
+  fdds::PublisherQos qos = fdds::PUBLISHER_QOS_DEFAULT;
+  qos.partition().push_back(reply_partition(identity).c_str());
+  return qos;
+}
+
+fdds::SubscriberQos reply_subscriber_qos(const std::string& identity) {
+  fdds::SubscriberQos qos = fdds::SUBSCRIBER_QOS_DEFAULT;
+  qos.partition().push_back(reply_partition(identity).c_str());
+  return qos;
+}
+
 fdds::Topic* find_or_create_topic(fdds::DomainParticipant* participant, fdds::TypeSupport& type, const char* name) {
   // A second registration of the type on one participant (two replicas, say) is not an error
   // here: if the type is not there, creating the topic fails below and says so.

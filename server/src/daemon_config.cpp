@@ -27,7 +27,7 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
   if (!root.IsMap()) throw InputError(source, "yaml", "the config must be a mapping of keys to values");
   const std::set<std::string> known{"data_dir", "scene_dir", "domain", "workers", "build_threads", "profile_file", "profile_name",
                                     "log_level", "server_id", "max_samples", "snapshot_compact_every", "preload",
-                                    "request_queue", "memory_budget_mb"};
+                                    "request_queue", "memory_budget_mb", "security"};
   const std::filesystem::path base = path.parent_path();
   const auto resolve = [&](const std::string& p) {
     const std::filesystem::path fp(p);
@@ -45,6 +45,7 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
       if (key == "build_threads") config.build_threads = value.as<unsigned>();
       if (key == "profile_file") config.profile_file = resolve(value.as<std::string>()).string();
       if (key == "profile_name") config.profile_name = value.as<std::string>();
+      if (key == "security") config.security = resolve(value.as<std::string>()).string();
       if (key == "log_level") config.log_level = value.as<std::string>();
       if (key == "server_id") config.server_id = value.as<std::string>();
       if (key == "max_samples") config.max_samples = value.as<std::uint64_t>();

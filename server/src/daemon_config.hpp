@@ -19,6 +19,8 @@ struct DaemonConfig {
   unsigned build_threads = 1;
   std::string profile_file;   ///< Fast DDS XML profiles; empty: built-in localhost-only settings.
   std::string profile_name = "ispars";
+  /// A DDS Security identity directory (deploy/security/make-keystore.sh); empty: no security.
+  std::string security;
   std::string log_level = "info";
   std::string server_id;      ///< Unique on the domain; empty: HOST-PID.
   std::uint64_t max_samples = 50'000'000;  ///< Per build or extend request.

@@ -25,6 +25,7 @@ wire::ParticipantOptions participant_options(const DaemonConfig& c) {
   o.domain = c.domain;
   o.profile_file = c.profile_file;
   o.profile_name = c.profile_name;
+  o.security = c.security;
   o.name = "isparsd " + c.server_id;
   return o;
 }
@@ -59,12 +60,10 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
   fdds::Topic* progress_topic = wire::find_or_create_topic(p, progress_type_, wire::kTourProgressTopic);
   fdds::Publisher* pub = require(p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT), "publisher");
   fdds::Subscriber* sub = require(p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT), "subscriber");
-  fdds::StatusMask matched = fdds::StatusMask::publication_matched();
-  replies_ = require(pub->create_datawriter(reply_topic, wire::request_reply_writer_qos(), this, matched), "reply writer");
+  routes_ = std::make_unique<ReplyRoutes>(p, reply_topic, progress_topic, this);
   updates_ = require(pub->create_datawriter(update_topic, wire::updates_writer_qos()), "update writer");
   status_ = require(pub->create_datawriter(status_topic, wire::state_writer_qos()), "status writer");
   daemons_ = require(pub->create_datawriter(daemon_topic, wire::state_writer_qos()), "announcement writer");
-  tour_progress_ = require(pub->create_datawriter(progress_topic, wire::request_reply_writer_qos()), "tour progress writer");
   status_reader_ = require(sub->create_datareader(status_topic, wire::state_reader_qos(), &statuses_), "status reader");
   queries_ = require(sub->create_datareader(query_topic, wire::request_reply_reader_qos(), this,
                                             fdds::StatusMask::data_available()),
@@ -86,7 +85,6 @@ DdsEndpoints::~DdsEndpoints() {
   // Detach the listeners, then delete the entities while the listener objects still exist.
   if (queries_) queries_->set_listener(nullptr);
   if (changes_) changes_->set_listener(nullptr);
-  if (replies_) replies_->set_listener(nullptr);
   if (status_reader_) status_reader_->set_listener(nullptr);
   participant_->delete_contained_entities();
 }
@@ -112,7 +110,13 @@ void take_requests(fdds::DataReader* reader, Daemon& daemon, const std::string& 
 
 }  // namespace
 
+thread_local bool DdsEndpoints::in_dds_callback = false;
+
 void DdsEndpoints::on_data_available(fdds::DataReader* reader) {
+  in_dds_callback = true;
+  struct Reset {
+    ~Reset() { in_dds_callback = false; }
+  } reset;
   if (reader == queries_) {
     take_requests<msg::QueryRequest>(reader, daemon_, server_id_, accepting_);
   } else if (reader == changes_) {
@@ -128,6 +132,7 @@ void DdsEndpoints::on_publication_matched(fdds::DataWriter*, const fdds::Publica
       matched_clients_.insert(reader);
     } else if (info.current_count_change < 0) {
       if (const auto it = matched_clients_.find(reader); it != matched_clients_.end()) matched_clients_.erase(it);
+      if (matched_clients_.count(reader) == 0) routes_->reader_left(reader);
     }
   }
   outbox_wake_.notify_all();
@@ -136,32 +141,51 @@ void DdsEndpoints::on_publication_matched(fdds::DataWriter*, const fdds::Publica
 void DdsEndpoints::send_reply(const msg::Reply& reply, std::chrono::milliseconds wait) {
   // DDS-RPC 1.0 sec. 7.6.2: a reply written before the client's reply reader matched is lost.
   // A reply to a matched client goes out at once; others wait (bounded) on the sender thread, so
-  // no request thread is held by a client that is slow to match or gone.
-  {
-    std::lock_guard lock(matched_mutex_);
-    if (matched_clients_.count(reply.client_id().to_string()) > 0) {
+  // no request thread is held by a client that is slow to match or gone. The client's route (its
+  // partition's writer) is made on the sender thread on its first reply.
+  // Replies made inside DDS's own callback (busy refusals, cached replies) always go through the
+  // sender thread: creating or waiting for a route there would deadlock with DDS's receive locks.
+  const std::string client = reply.client_id().to_string();
+  if (!in_dds_callback && routes_->has(client)) {
+    bool matched = false;
+    {
+      std::lock_guard lock(matched_mutex_);
+      matched = matched_clients_.count(client) > 0;
+    }
+    // Never into DDS with matched_mutex_ held: DDS's discovery thread takes it (in
+    // on_publication_matched) while holding its own locks.
+    if (matched) {
       write_reply(reply);
       return;
     }
   }
   {
     std::lock_guard lock(outbox_mutex_);
+    if (outbox_.size() >= kMaxOutbox) {
+      spdlog::warn("reply outbox full ({} replies); dropping the reply to {} #{} (it will retry)", outbox_.size(),
+                   client, reply.request_seq());
+      return;
+    }
     outbox_.push_back({reply, std::chrono::steady_clock::now() + wait});
   }
   outbox_wake_.notify_all();
 }
 
 void DdsEndpoints::write_reply(const msg::Reply& reply) {
-  msg::Reply copy = reply;
-  if (!replies_->write(&copy)) spdlog::error("reply to {} #{} could not be written", reply.client_id(), reply.request_seq());
+  if (!routes_->write_reply(reply)) spdlog::error("reply to {} #{} could not be written", reply.client_id(), reply.request_seq());
 }
 
 void DdsEndpoints::send_pending_replies() {
+  std::list<PendingReply> due;
   std::unique_lock lock(outbox_mutex_);
   while (!closing_) {
     outbox_wake_.wait_for(lock, std::chrono::milliseconds(20), [&] { return closing_ || !outbox_.empty(); });
+    std::list<PendingReply> pending;
+    pending.splice(pending.end(), outbox_);
+    lock.unlock();  // into DDS without outbox_mutex_: DDS's callbacks queue replies under it
+    for (auto& item : pending) routes_->open(item.reply.client_id().to_string());
     const auto now = std::chrono::steady_clock::now();
-    for (auto it = outbox_.begin(); it != outbox_.end();) {
+    for (auto it = pending.begin(); it != pending.end();) {
       bool matched = false;
       {
         std::lock_guard m(matched_mutex_);
@@ -172,11 +196,13 @@ void DdsEndpoints::send_pending_replies() {
           spdlog::warn("client {} has no matched reply reader; replying anyway (it will retry)", it->reply.client_id());
         }
         write_reply(it->reply);
-        it = outbox_.erase(it);
+        it = pending.erase(it);
       } else {
         ++it;
       }
     }
+    lock.lock();
+    outbox_.splice(outbox_.begin(), pending);  // still waiting for their reader, ahead of newer ones
   }
 }
 
@@ -196,8 +222,7 @@ void DdsEndpoints::announce(const msg::DaemonInfo& info) {
 }
 
 void DdsEndpoints::publish_tour_progress(const msg::TourProgress& progress) {
-  msg::TourProgress copy = progress;
-  tour_progress_->write(&copy);  // progress is advisory: a lost one is replaced by the next
+  routes_->write_progress(progress);  // advisory: a lost one is replaced by the next
 }
 
 std::optional<msg::SceneStatus> DdsEndpoints::status_of(const std::string& scene) const { return statuses_.get(scene); }

@@ -22,6 +22,7 @@
 #include "ispars.h"
 #include "ispars/wire/latest_samples.hpp"
 #include "ispars/wire/participant.hpp"
+#include "reply_routes.hpp"
 
 namespace ispars::server {
 
@@ -48,7 +49,7 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
 
   // DataReaderListener (queries and changes)
   void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
-  // DataWriterListener (replies): tracks which clients' reply readers have matched.
+  // DataWriterListener (each client's reply writer): tracks which clients' reply readers have matched.
   void on_publication_matched(eprosima::fastdds::dds::DataWriter* writer,
                               const eprosima::fastdds::dds::PublicationMatchedStatus& info) override;
 
@@ -60,16 +61,20 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
       daemon_type_, progress_type_;
   eprosima::fastdds::dds::DataReader* queries_ = nullptr;
   eprosima::fastdds::dds::DataReader* changes_ = nullptr;
-  eprosima::fastdds::dds::DataWriter* replies_ = nullptr;
   eprosima::fastdds::dds::DataWriter* updates_ = nullptr;
   eprosima::fastdds::dds::DataWriter* status_ = nullptr;
   eprosima::fastdds::dds::DataWriter* daemons_ = nullptr;
-  eprosima::fastdds::dds::DataWriter* tour_progress_ = nullptr;
   eprosima::fastdds::dds::DataReader* status_reader_ = nullptr;
   wire::LatestSamples<msg::SceneStatus> statuses_;
+  std::unique_ptr<ReplyRoutes> routes_;  // each client's replies in its own partition
   std::atomic<bool> accepting_{true};
 
   void write_reply(const msg::Reply& reply);
+  /// True on a thread inside this object's DDS request callback.
+  static thread_local bool in_dds_callback;
+  /// Replies waiting for their client's reader at most; past this, a reply is dropped (logged;
+  /// its client retries).
+  static constexpr std::size_t kMaxOutbox = 16384;
   void send_pending_replies();  // the sender thread
 
   struct PendingReply {

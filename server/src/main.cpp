@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   using ispars::server::DaemonConfig;
   CLI::App app{"isparsd: holds scenes and persistent Inspection-SPARS roadmaps, and serves them over DDS"};
   std::string config_file;
-  std::string data_dir, scene_dir, profile_file, profile_name, log_level, server_id;
+  std::string data_dir, scene_dir, profile_file, profile_name, log_level, server_id, security;
   std::optional<int> domain;
   std::optional<unsigned> workers;
   std::optional<unsigned> build_threads;
@@ -31,6 +31,8 @@ int main(int argc, char** argv) {
   app.add_option("--build-threads", build_threads, "threads each build uses (the roadmap is the same for any count)");
   app.add_option("--profile-file", profile_file, "Fast DDS XML profiles file (default: built-in localhost only)");
   app.add_option("--profile-name", profile_name, "participant profile in the profiles file");
+  app.add_option("--security", security,
+                 "DDS Security identity directory (deploy/security/make-keystore.sh); default: no security");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error");
   app.add_option("--server-id", server_id, "this daemon's unique id on the domain (default HOST-PID)");
   app.add_option("--max-samples", max_samples, "largest build or extend a request may ask for");
@@ -59,6 +61,7 @@ int main(int argc, char** argv) {
     if (build_threads) config.build_threads = *build_threads;
     if (!profile_file.empty()) config.profile_file = profile_file;
     if (!profile_name.empty()) config.profile_name = profile_name;
+    if (!security.empty()) config.security = security;
     if (!log_level.empty()) config.log_level = log_level;
     if (!server_id.empty()) config.server_id = server_id;
     if (max_samples) config.max_samples = *max_samples;

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -35,8 +36,23 @@ ClientOptions local_client_options(int domain) {
   return options;
 }
 
+std::filesystem::path make_keystore(const std::string& script, const std::filesystem::path& dir,
+                                    const std::vector<std::string>& identities) {
+  std::string command = "'" + script + "' '" + dir.string() + "'";
+  for (const std::string& id : identities) command += " '" + id + "'";
+  command += " 2>&1";
+  std::string output;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) throw std::runtime_error("cannot run " + script);
+  char buffer[512];
+  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) output += buffer;
+  if (::pclose(pipe) != 0) throw std::runtime_error(command + " failed:\n" + output);
+  return dir;
+}
+
 LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::filesystem::path data_dir,
-                         std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args)
+                         std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args,
+                         const std::string& probe_security)
     : domain_(domain), server_id_(std::move(server_id)) {
   log_path_ = data_dir.parent_path() / (server_id_ + "-" + std::to_string(::getpid()) + ".log");
   std::vector<std::string> args = {daemon_binary, "--domain", std::to_string(domain), "--data-dir", data_dir.string(),
@@ -57,7 +73,9 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
     ::_exit(127);
   }
   // Ready when a client sees the announcement.
-  Client probe(local_client_options(domain));
+  ClientOptions probe_options = local_client_options(domain);
+  probe_options.participant.security = probe_security;
+  Client probe(probe_options);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (std::chrono::steady_clock::now() < deadline) {
     if (!alive()) throw std::runtime_error("isparsd exited at start:\n" + log());

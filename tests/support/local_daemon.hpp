@@ -21,12 +21,20 @@ void write_tank_tower_scenes(const std::filesystem::path& dir, const std::vector
 /// Client options for `domain`, with a generous timeout for loaded machines.
 ClientOptions local_client_options(int domain);
 
+/// Runs deploy/security/make-keystore.sh (the script at `script`) into `dir` for `identities`
+/// ("ROLE:NAME" each) and returns dir; throws with the script's output when it fails.
+std::filesystem::path make_keystore(const std::string& script, const std::filesystem::path& dir,
+                                    const std::vector<std::string>& identities);
+
 class LocalDaemon {
  public:
   /// Starts `daemon_binary` and waits until a client sees its announcement (throws after 20 s).
   /// Its output goes to a log file beside data_dir.
+  /// `probe_security`: the DDS Security identity the readiness probe uses (a secured daemon's
+  /// announcement reaches only authenticated clients).
   LocalDaemon(const std::string& daemon_binary, int domain, std::filesystem::path data_dir,
-              std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args = {});
+              std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args = {},
+              const std::string& probe_security = "");
   /// Stops it with SIGTERM if it still runs.
   ~LocalDaemon();
   LocalDaemon(const LocalDaemon&) = delete;

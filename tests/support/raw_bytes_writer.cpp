@@ -23,8 +23,8 @@ namespace {
 // The request type's name and key kind, with a payload of whatever bytes are given.
 class BytesType final : public fdds::TopicDataType {
  public:
-  BytesType() {
-    setName("ispars::msg::QueryRequest");
+  explicit BytesType(const std::string& type_name) {
+    setName(type_name.c_str());
     m_typeSize = 1 << 20;
     m_isGetKeyDefined = true;
   }
@@ -55,9 +55,10 @@ class BytesType final : public fdds::TopicDataType {
 
 class RawBytesWriter::Impl {
  public:
-  explicit Impl(int domain) : participant({domain, "", "ispars", "raw bytes"}) {
+  Impl(int domain, const std::string& security, const std::string& topic_name, const std::string& type_name)
+      : participant({domain, "", "ispars", "raw bytes", security}), type(new BytesType(type_name)) {
     fdds::DomainParticipant* p = participant.get();
-    fdds::Topic* topic = wire::find_or_create_topic(p, type, wire::kQueryTopic);
+    fdds::Topic* topic = wire::find_or_create_topic(p, type, topic_name.c_str());
     fdds::Publisher* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     if (!pub) throw std::runtime_error("raw bytes: no publisher");
     writer = pub->create_datawriter(topic, wire::request_reply_writer_qos());
@@ -65,15 +66,17 @@ class RawBytesWriter::Impl {
   }
   ~Impl() { participant->delete_contained_entities(); }
   wire::Participant participant;
-  fdds::TypeSupport type{new BytesType()};
+  fdds::TypeSupport type;
   fdds::DataWriter* writer = nullptr;
 };
 
-RawBytesWriter::RawBytesWriter(int domain) : impl_(std::make_unique<Impl>(domain)) {}
+RawBytesWriter::RawBytesWriter(int domain, const std::string& security, const std::string& topic,
+                               const std::string& type_name)
+    : impl_(std::make_unique<Impl>(domain, security, topic, type_name)) {}
 RawBytesWriter::~RawBytesWriter() = default;
 
-bool RawBytesWriter::wait_matched() {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+bool RawBytesWriter::wait_matched(int seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
   for (;;) {
     fdds::PublicationMatchedStatus status;
     impl_->writer->get_publication_matched_status(status);

@@ -1,6 +1,6 @@
 #pragma once
-// A DDS writer of arbitrary bytes on the service's query topic, under the request type's name:
-// what a broken or hostile peer can put on the wire, which no typed writer can (fuzz tests).
+// A DDS writer of arbitrary bytes on one of the service's topics under its type's name: what a
+// broken or hostile peer can put on the wire, which no typed writer can (fuzz and security tests).
 
 #include <memory>
 #include <string>
@@ -9,14 +9,17 @@ namespace ispars::test {
 
 class RawBytesWriter {
  public:
-  /// Joins `domain` (localhost only) with a writer on ispars/query.
-  explicit RawBytesWriter(int domain);
+  /// Joins `domain` (localhost only; as the DDS Security identity `security` unless empty) with a
+  /// writer on `topic` whose type is named `type_name`. Throws when DDS refuses the writer (a
+  /// permission denied, under security).
+  explicit RawBytesWriter(int domain, const std::string& security = "", const std::string& topic = "ispars/query",
+                          const std::string& type_name = "ispars::msg::QueryRequest");
   ~RawBytesWriter();
   RawBytesWriter(const RawBytesWriter&) = delete;
   RawBytesWriter& operator=(const RawBytesWriter&) = delete;
 
-  /// Waits (up to 30 s) for a reader to match; false when none did.
-  bool wait_matched();
+  /// Waits (up to `seconds`) for a reader to match; false when none did.
+  bool wait_matched(int seconds = 30);
   /// Writes `bytes` as one sample's whole serialized payload (encapsulation header included).
   bool write(const std::string& bytes);
 

@@ -26,19 +26,18 @@ namespace fdds = eprosima::fastdds::dds;
 
 class RawPeer::Impl final : public fdds::DataReaderListener {
  public:
-  explicit Impl(int domain) : participant_({domain, "", "ispars", "raw peer"}) {
+  Impl(int domain, const std::string& security) : participant_({domain, "", "ispars", "raw peer", security}) {
     fdds::DomainParticipant* p = participant_.get();
     auto* query = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
     auto* reply = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);
-    auto* daemons = wire::find_or_create_topic(p, daemon_type_, wire::kDaemonsTopic);
+    id_ = wire::identity_of(participant_->guid().guidPrefix);
     auto* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-    auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    auto* sub = p->create_subscriber(wire::reply_subscriber_qos(id_));
     if (!pub || !sub) throw std::runtime_error("raw peer: no publisher or subscriber");
     replies_ = sub->create_datareader(reply, wire::request_reply_reader_qos(), this, fdds::StatusMask::data_available());
     queries_ = pub->create_datawriter(query, wire::request_reply_writer_qos());
-    announcements_ = pub->create_datawriter(daemons, wire::state_writer_qos());
-    if (!replies_ || !queries_ || !announcements_) throw std::runtime_error("raw peer: endpoints not created");
-    id_ = wire::identity_of(participant_->guid().guidPrefix);
+    publisher_ = pub;
+    if (!replies_ || !queries_) throw std::runtime_error("raw peer: endpoints not created");
   }
   ~Impl() override {
     replies_->set_listener(nullptr);
@@ -49,8 +48,12 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
     msg::Reply reply;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&reply, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data || reply.client_id() != id_) continue;
+      if (!info.valid_data) continue;
       std::lock_guard lock(mutex_);
+      if (reply.client_id() != id_) {
+        ++foreign_;
+        continue;
+      }
       replies_by_seq_[reply.request_seq()] = reply;
       arrived_.notify_all();
     }
@@ -62,26 +65,32 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
   fdds::TypeSupport daemon_type_{new wire::SafeType<msg::DaemonInfoPubSubType>()};
   fdds::DataReader* replies_ = nullptr;
   fdds::DataWriter* queries_ = nullptr;
-  fdds::DataWriter* announcements_ = nullptr;
+  fdds::Publisher* publisher_ = nullptr;
+  fdds::DataWriter* announcements_ = nullptr;  // made by the first announce()
   std::string id_;
   mutable std::mutex mutex_;
   std::condition_variable arrived_;
   std::map<std::uint64_t, msg::Reply> replies_by_seq_;
+  std::size_t foreign_ = 0;
 };
 
-RawPeer::RawPeer(int domain) : impl_(std::make_unique<Impl>(domain)) {}
+RawPeer::RawPeer(int domain, const std::string& security) : impl_(std::make_unique<Impl>(domain, security)) {}
+
+std::size_t RawPeer::foreign_replies() const {
+  std::lock_guard lock(impl_->mutex_);
+  return impl_->foreign_;
+}
 RawPeer::~RawPeer() = default;
 
 namespace {
 
-// Waits until the query writer and the reply reader have both matched a daemon.
-bool wait_matched(fdds::DataWriter* writer, fdds::DataReader* reader, std::chrono::steady_clock::time_point deadline) {
+// Waits until the query writer has matched a daemon (its writer for this peer's reply partition
+// is made on the first request).
+bool wait_matched(fdds::DataWriter* writer, fdds::DataReader*, std::chrono::steady_clock::time_point deadline) {
   for (;;) {
     fdds::PublicationMatchedStatus pub;
-    fdds::SubscriptionMatchedStatus sub;
     writer->get_publication_matched_status(pub);
-    reader->get_subscription_matched_status(sub);
-    if (pub.current_count > 0 && sub.current_count > 0) return true;
+    if (pub.current_count > 0) return true;
     if (std::chrono::steady_clock::now() >= deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
@@ -128,6 +137,11 @@ std::optional<msg::Reply> RawPeer::send(msg::QueryRequest request, std::chrono::
 }
 
 void RawPeer::announce(const msg::DaemonInfo& info) {
+  if (impl_->announcements_ == nullptr) {
+    auto* daemons = wire::find_or_create_topic(impl_->participant_.get(), impl_->daemon_type_, wire::kDaemonsTopic);
+    impl_->announcements_ = impl_->publisher_->create_datawriter(daemons, wire::state_writer_qos());
+    if (impl_->announcements_ == nullptr) throw std::runtime_error("raw peer: announcement writer not created");
+  }
   msg::DaemonInfo copy = info;
   impl_->announcements_->write(&copy);
 }

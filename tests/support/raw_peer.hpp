@@ -15,8 +15,9 @@ namespace ispars::test {
 
 class RawPeer {
  public:
-  /// Joins `domain` with the localhost-only settings.
-  explicit RawPeer(int domain);
+  /// Joins `domain` with the localhost-only settings (as the DDS Security identity `security`
+  /// unless empty).
+  explicit RawPeer(int domain, const std::string& security = "");
   ~RawPeer();
   RawPeer(const RawPeer&) = delete;
   RawPeer& operator=(const RawPeer&) = delete;
@@ -28,6 +29,9 @@ class RawPeer {
   /// tests), without waiting for a reply (waits, up to `timeout`, for the daemon to match).
   /// False when nothing matched.
   bool post(msg::QueryRequest request, std::chrono::milliseconds timeout = std::chrono::seconds(30));
+  /// Replies that arrived addressed to another client (the daemon keeps them off this peer's
+  /// partition, so this stays 0).
+  [[nodiscard]] std::size_t foreign_replies() const;
   /// Replies received so far (to sends and posts alike), by sequence number.
   [[nodiscard]] std::size_t replies_received() const;
   /// The replies received so far.

@@ -21,7 +21,10 @@ namespace ispars::client {
 /// A failed call. kind() tells a missing daemon and a timeout from a request the daemon refused.
 class ClientError : public std::runtime_error {
  public:
-  enum class Kind { no_daemon, timeout, rejected, protocol };
+  /// no_daemon: none found; timeout: no reply in time; rejected: the daemon refused (its message
+  /// says why); protocol: another protocol version; forbidden: this client's DDS Security
+  /// permissions do not let it send that request (a viewer's change request).
+  enum class Kind { no_daemon, timeout, rejected, protocol, forbidden };
   ClientError(Kind kind, const std::string& what) : std::runtime_error(what), kind_(kind) {}
   [[nodiscard]] Kind kind() const { return kind_; }
 

@@ -2,6 +2,7 @@
 // Creating DDS participants the same way in the daemon, the clients, the tests and benchmarks.
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/core/policy/QosPolicies.hpp>
 
 #include <memory>
 #include <string>
@@ -17,7 +18,16 @@ struct ParticipantOptions {
   /// The participant profile in profile_file to use.
   std::string profile_name = "ispars";
   std::string name = "ispars";
+  /// An identity directory made by deploy/security/make-keystore.sh (cert.pem, key.pem,
+  /// permissions.p7s, ca.pem, governance.p7s). Empty: no DDS Security, and a secured daemon
+  /// neither sees nor hears this participant.
+  std::string security;
 };
+
+/// The DDS Security properties (PKI-DH authentication, access control by signed governance and
+/// permissions, AES-GCM encryption) for the identity directory `dir`. Throws std::runtime_error
+/// naming the first file that is missing or unreadable.
+[[nodiscard]] eprosima::fastdds::dds::PropertyPolicyQos security_properties(const std::string& dir);
 
 /// Owns a participant and deletes it (with its entities) on destruction.
 class Participant {

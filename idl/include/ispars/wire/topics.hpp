@@ -4,9 +4,13 @@
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/publisher/qos/PublisherQos.hpp>
+#include <fastdds/dds/subscriber/qos/SubscriberQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <string>
 
 namespace ispars::wire {
 
@@ -19,6 +23,16 @@ inline constexpr const char* kUpdatesTopic = "ispars/updates";
 inline constexpr const char* kStatusTopic = "ispars/status";
 inline constexpr const char* kDaemonsTopic = "ispars/daemons";
 inline constexpr const char* kTourProgressTopic = "ispars/tour_progress";
+
+/// The DDS partition a client's replies and tour progress travel in: "ispars.client." followed by
+/// the client's identity (its participant's GUID prefix, 24 hex digits). The daemon writes each
+/// client's replies in that client's partition only, so no other reader matches them and no other
+/// client gets their bytes. Under DDS Security the permissions let each subject subscribe only to
+/// the partitions of its own certificate (the prefix's first 6 bytes are bound to it).
+[[nodiscard]] std::string reply_partition(const std::string& identity);
+/// A publisher (daemon) or subscriber (client) QoS in `identity`'s reply partition.
+[[nodiscard]] eprosima::fastdds::dds::PublisherQos reply_publisher_qos(const std::string& identity);
+[[nodiscard]] eprosima::fastdds::dds::SubscriberQos reply_subscriber_qos(const std::string& identity);
 
 /// The topic `name` of `type` on `participant`: registers the type, then returns the topic the
 /// participant already has under that name or creates it. Throws std::runtime_error naming the

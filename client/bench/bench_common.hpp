@@ -1,0 +1,74 @@
+#pragma once
+// What every ispars-bench subcommand shares: a daemon of its own in a temporary directory, and
+// the statistics it prints.
+
+#include <nlohmann/json.hpp>
+#include <stdlib.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ispars/client/client.hpp"
+#include "support/local_daemon.hpp"
+
+namespace ispars::bench {
+
+using Clock = std::chrono::steady_clock;
+using ispars::client::Client;
+using ispars::client::LocalDaemon;
+
+inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+inline double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const auto i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
+  return v[std::min(i, v.size() - 1)];
+}
+
+// A temporary working directory with the scenes, a data directory and a running daemon.
+struct Bench {
+  /// `daemon_identity`, `probe_identity`: DDS Security identity directories of the daemon and of
+  /// its readiness probe (empty: no security).
+  Bench(const std::string& daemon_binary, std::vector<std::string> extra = {}, const std::string& daemon_identity = "",
+        const std::string& probe_identity = "") {
+    char pattern[] = "/tmp/ispars-bench-XXXXXX";
+    dir = ::mkdtemp(pattern);
+    ispars::client::write_tank_tower_scenes(dir / "scenes", {"tower", "tower2"});
+    domain = ispars::client::random_domain();
+    if (!daemon_identity.empty()) {
+      extra.push_back("--security");
+      extra.push_back(daemon_identity);
+    }
+    daemon = std::make_unique<LocalDaemon>(daemon_binary, domain, dir / "data", dir / "scenes", "bench", std::move(extra),
+                                           probe_identity);
+  }
+  ~Bench() {
+    daemon.reset();
+    std::filesystem::remove_all(dir);
+  }
+  ispars::client::ClientOptions options() const {
+    auto o = ispars::client::local_client_options(domain);
+    o.timeout = std::chrono::seconds(120);
+    o.participant.security = client_identity;
+    return o;
+  }
+  std::filesystem::path dir;
+  std::string client_identity;  ///< what options() gives clients (empty: no security)
+  int domain = 0;
+  std::unique_ptr<LocalDaemon> daemon;
+};
+
+/// `ispars-bench rtt`: see rtt_bench.cpp. `keystore_script` empty: without DDS Security only.
+nlohmann::json run_rtt(const std::string& daemon_binary, int count, const std::string& keystore_script);
+/// The raw ping-pong's echo server (a hidden subcommand `rtt` starts): answers pings from
+/// `client_identity` with the reply `reply_hex` (serialized, as hex digits).
+int run_echo(int domain, const std::string& security, const std::string& client_identity, const std::string& reply_hex);
+/// A reply serialized as hex digits, decoded.
+msg::Reply reply_from_hex(const std::string& hex);
+
+}  // namespace ispars::bench

@@ -1,0 +1,280 @@
+// DDS Security with real certificates (deploy/security/make-keystore.sh) and real daemons: who
+// may see, query, change and publish what; and replies that reach their requester only, with
+// and without security.
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+
+#include <sys/wait.h>
+
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "integration/service_fixture.hpp"
+#include "ispars/client/replica.hpp"
+#include "ispars/wire/participant.hpp"
+#include "ispars/wire/topics.hpp"
+#include "isparsPubSubTypes.h"
+#include "support/raw_bytes_writer.hpp"
+#include "support/raw_peer.hpp"
+
+namespace ispars::test {
+namespace {
+
+namespace fdds = eprosima::fastdds::dds;
+namespace fs = std::filesystem;
+
+// One keystore for every test here: a daemon, an operator, a viewer, and a rogue that holds the
+// viewer's genuine certificate with permissions to publish everything, signed (with the
+// governance) by an authority of its own, as a viewer who wanted more rights could make them.
+class SecureServiceTest : public ServiceTest {
+ protected:
+  static void SetUpTestSuite() {
+    keystore_ = new TempDir();
+    client::make_keystore(ISPARS_SOURCE_DIR "/deploy/security/make-keystore.sh", keystore_->path(),
+                          {"daemon:d", "operator:op", "viewer:view"});
+    const fs::path rogue = keystore_->path() / "identities" / "rogue";
+    fs::copy(identity("view"), rogue);
+    std::ofstream(rogue / "permissions.xml")
+        << "<?xml version=\"1.0\" encoding=\"UTF-8\"?><dds><permissions><grant name=\"rogue\">"
+           "<subject_name>CN=view,O=ispars</subject_name><validity><not_before>2020-01-01T00:00:00</not_before>"
+           "<not_after>2099-01-01T00:00:00</not_after></validity><allow_rule><domains><id_range><min>0</min>"
+           "<max>232</max></id_range></domains><publish><topics><topic>*</topic></topics></publish>"
+           "<subscribe><topics><topic>*</topic></topics></subscribe></allow_rule><default>DENY</default>"
+           "</grant></permissions></dds>\n";
+    const std::string r = rogue.string();
+    const std::string script = "cd '" + r +
+                               "' && openssl ecparam -name prime256v1 -genkey -noout -out rogue_ca.key && "
+                               "openssl req -x509 -new -key rogue_ca.key -out permissions_ca.pem -days 30 "
+                               "-subj '/O=ispars/CN=rogue CA' 2>/dev/null && "
+                               "openssl smime -sign -text -in permissions.xml -out permissions.p7s "
+                               "-signer permissions_ca.pem -inkey rogue_ca.key 2>/dev/null && "
+                               "openssl smime -sign -text -in ../../governance.xml -out governance.p7s "
+                               "-signer permissions_ca.pem -inkey rogue_ca.key 2>/dev/null";
+    ASSERT_EQ(std::system(script.c_str()), 0);
+  }
+  static void TearDownTestSuite() {
+    delete keystore_;
+    keystore_ = nullptr;
+  }
+  static std::string identity(const std::string& name) { return (keystore_->path() / "identities" / name).string(); }
+
+  std::unique_ptr<DaemonProcess> start_secure(const std::string& id) {
+    return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id,
+                                           std::vector<std::string>{"--security", identity("d")}, identity("op"));
+  }
+  client::ClientOptions options_as(const std::string& name) const {
+    auto o = client_options(domain_);
+    o.participant.security = identity(name);
+    return o;
+  }
+  static bool loaded_on(Client& client, const std::string& scene) {
+    for (const auto& d : client.daemons()) {
+      if (std::find(d.loaded().begin(), d.loaded().end(), scene) != d.loaded().end()) return true;
+    }
+    return false;
+  }
+
+  static TempDir* keystore_;
+};
+
+TempDir* SecureServiceTest::keystore_ = nullptr;
+
+std::string serialized_load(const std::string& scene, const std::string& server) {
+  msg::ChangeRequest request = make_change(msg::LOAD_SCENE, scene);
+  request.server_id(server);
+  request.protocol(msg::PROTOCOL_VERSION);
+  request.request_seq(1);
+  msg::ChangeRequestPubSubType type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&request)());
+  EXPECT_TRUE(type.serialize(&request, &payload));
+  return std::string(reinterpret_cast<const char*>(payload.data), payload.length);
+}
+
+TEST_F(SecureServiceTest, TheKeystoreBindsEachClientsReplyPartitionToItsCertificate) {
+  auto daemon = start_secure("d");
+  Client op(options_as("op"));
+  std::ifstream in(fs::path(identity("op")) / "reply_partitions");
+  std::string pattern;
+  in >> pattern;  // ispars.client.<12 hex digits>*
+  ASSERT_EQ(pattern.size(), std::string("ispars.client.").size() + 13);
+  const std::string head = pattern.substr(std::string("ispars.client.").size(), 12);
+  EXPECT_EQ(op.id().substr(0, 12), head) << "PKI-DH fixes the first 6 bytes of the GUID prefix from the subject";
+  op.load("s0");
+  EXPECT_EQ(op.stats("s0").scene(), "s0");
+}
+
+TEST_F(SecureServiceTest, AnUnauthenticatedParticipantSeesAndWritesNothing) {
+  auto daemon = start_secure("d");
+  Client op(options_as("op"));
+  op.load("s0");
+  auto plain_options = client_options(domain_);
+  plain_options.timeout = std::chrono::seconds(3);
+  Client plain(plain_options);
+  EXPECT_TRUE(plain.daemons().empty()) << "a secured daemon's announcement reached an unauthenticated client";
+  EXPECT_FALSE(plain.latest_status("s0").has_value());
+  EXPECT_THROW(plain.stats("s0"), ClientError);
+  RawBytesWriter change(domain_, "", wire::kChangeTopic, "ispars::msg::ChangeRequest");
+  EXPECT_FALSE(change.wait_matched(3));
+  change.write(serialized_load("s1", "d"));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  EXPECT_FALSE(loaded_on(op, "s1"));
+  EXPECT_TRUE(daemon->alive());
+}
+
+TEST_F(SecureServiceTest, AViewerQueriesAndFollowsUpdatesButItsChangesNeverReachTheDaemon) {
+  auto daemon = start_secure("d");
+  Client op(options_as("op"));
+  op.load("s0");
+  Client viewer(options_as("view"));
+  client::RoadmapReplica replica(viewer, "s0");
+  op.build("s0", ispars_build(1500));
+  const auto done = op.wait_idle("s0", {}, kLong);
+  replica.wait_for(done.generation(), done.version(), kLong);
+  EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(op.snapshot("s0").roadmap));
+  EXPECT_EQ(viewer.stats("s0").vertices(), done.vertices());
+
+  // Through the client library: refused before anything is sent.
+  try {
+    viewer.load("s1");
+    FAIL() << "a viewer loaded a scene";
+  } catch (const ClientError& e) {
+    EXPECT_EQ(e.kind(), ClientError::Kind::forbidden) << e.what();
+  }
+  // The command line says why and exits 1.
+  const fs::path err = dir_.path() / "cli-stderr.txt";
+  const std::string command = std::string(ISPARS_CLI) + " --domain " + std::to_string(domain_) + " --security " +
+                              identity("view") + " scenes load s1 2> " + err.string();
+  const int status = std::system(command.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << status;
+  std::stringstream text;
+  text << std::ifstream(err).rdbuf();
+  EXPECT_NE(text.str().find("permissions do not allow load (topic ispars/change)"), std::string::npos) << text.str();
+  // A raw writer with the viewer's permissions: DDS refuses to create it.
+  EXPECT_THROW(RawBytesWriter(domain_, identity("view"), wire::kChangeTopic, "ispars::msg::ChangeRequest"),
+               std::runtime_error);
+  // The viewer's certificate with permissions it signed itself: its writer exists, but the daemon
+  // never matches it, and a change written anyway does not arrive.
+  RawBytesWriter rogue(domain_, identity("rogue"), wire::kChangeTopic, "ispars::msg::ChangeRequest");
+  EXPECT_FALSE(rogue.wait_matched(5));
+  rogue.write(serialized_load("s1", "d"));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  EXPECT_FALSE(loaded_on(op, "s1"));
+  EXPECT_EQ(op.stats("s0").vertices(), done.vertices());
+}
+
+TEST_F(SecureServiceTest, AnOperatorBuildsVerifiesAndDrops) {
+  auto daemon = start_secure("d");
+  Client op(options_as("op"));
+  op.load("s0");
+  op.build("s0", ispars_build(1200));
+  const auto done = op.wait_idle("s0", {}, kLong);
+  EXPECT_GT(done.vertices(), 0u);
+  EXPECT_TRUE(op.verify("s0").ok());
+  op.drop("s0");
+  EXPECT_EQ(op.stats("s0").vertices(), 0u);
+  op.unload("s0");
+  EXPECT_FALSE(loaded_on(op, "s0"));
+}
+
+TEST_F(SecureServiceTest, AForgedStatusOrUpdateFromANonDaemonIdentityChangesNothing) {
+  auto daemon = start_secure("d");
+  Client op(options_as("op"));
+  op.load("s0");
+  Client viewer(options_as("view"));
+  client::RoadmapReplica replica(viewer, "s0");
+  op.build("s0", ispars_build(1500));
+  const auto done = op.wait_idle("s0", {}, kLong);
+  replica.wait_for(done.generation(), done.version(), kLong);
+  const auto digest = roadmap_digest(replica.roadmap());
+
+  // An operator may not publish status or updates at all.
+  EXPECT_THROW(RawBytesWriter(domain_, identity("op"), wire::kStatusTopic, "ispars::msg::SceneStatus"),
+               std::runtime_error);
+  EXPECT_THROW(RawBytesWriter(domain_, identity("op"), wire::kUpdatesTopic, "ispars::msg::UpdateBatch"),
+               std::runtime_error);
+  // The rogue may, by its own signature; nobody matches it.
+  wire::Participant rogue({domain_, "", "ispars", "rogue", identity("rogue")});
+  fdds::TypeSupport status_type(new msg::SceneStatusPubSubType());
+  fdds::TypeSupport update_type(new msg::UpdateBatchPubSubType());
+  auto* publisher = rogue->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  auto* status_writer = publisher->create_datawriter(wire::find_or_create_topic(rogue.get(), status_type, wire::kStatusTopic),
+                                                     wire::state_writer_qos());
+  auto* update_writer = publisher->create_datawriter(
+      wire::find_or_create_topic(rogue.get(), update_type, wire::kUpdatesTopic), wire::updates_writer_qos());
+  ASSERT_NE(status_writer, nullptr);
+  ASSERT_NE(update_writer, nullptr);
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  fdds::PublicationMatchedStatus matched;
+  status_writer->get_publication_matched_status(matched);
+  EXPECT_EQ(matched.current_count, 0);
+  msg::SceneStatus forged = done;
+  forged.state(msg::SCENE_FAILED);
+  forged.vertices(1);
+  forged.last_error("forged");
+  status_writer->write(&forged);
+  msg::UpdateBatch batch;
+  batch.scene("s0");
+  batch.server_id("intruder");
+  batch.generation(done.generation() + 1);
+  batch.from_version(0);
+  batch.to_version(done.version() + 5);
+  update_writer->write(&batch);
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  const auto seen = viewer.latest_status("s0");
+  ASSERT_TRUE(seen.has_value());
+  EXPECT_EQ(seen->state(), done.state());
+  EXPECT_EQ(seen->vertices(), done.vertices());
+  EXPECT_EQ(replica.snapshots_taken(), 1u) << "a forged batch made the replica resync";
+  EXPECT_EQ(roadmap_digest(replica.roadmap()), digest);
+  EXPECT_EQ(op.stats("s0").vertices(), done.vertices());
+}
+
+// Another client's replies, snapshot chunks included, never reach a reader that is not theirs.
+void expect_replies_reach_only_their_requester(Client& requester, RawPeer& bystander) {
+  msg::QueryRequest list = make_query(msg::LIST_SCENES, "");
+  list.server_id("d");
+  list.protocol(msg::PROTOCOL_VERSION);
+  list.request_seq(7);
+  ASSERT_TRUE(bystander.send(list, std::chrono::seconds(30)).has_value());
+  requester.load("s0");
+  requester.build("s0", ispars_build(1500));
+  requester.wait_idle("s0", {}, kLong);
+  for (int i = 0; i < 20; ++i) (void)requester.stats("s0");
+  (void)requester.snapshot("s0");
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  EXPECT_EQ(bystander.foreign_replies(), 0u);
+  EXPECT_EQ(bystander.replies_received(), 1u);
+}
+
+TEST_F(ServiceTest, RepliesReachOnlyTheirRequester) {
+  auto daemon = start("d");
+  Client requester(client_options(domain_));
+  RawPeer bystander(domain_);
+  expect_replies_reach_only_their_requester(requester, bystander);
+}
+
+TEST_F(SecureServiceTest, RepliesReachOnlyTheirRequesterAndNoSubjectMayReadAnothersPartition) {
+  auto daemon = start_secure("d");
+  Client requester(options_as("op"));
+  RawPeer bystander(domain_, identity("view"));
+  expect_replies_reach_only_their_requester(requester, bystander);
+  // A viewer that asks for every client's partition, or the operator's own, is refused.
+  wire::Participant snoop({domain_, "", "ispars", "snoop", identity("view")});
+  fdds::TypeSupport reply_type(new msg::ReplyPubSubType());
+  fdds::Topic* topic = wire::find_or_create_topic(snoop.get(), reply_type, wire::kReplyTopic);
+  for (const std::string& partition : {std::string("*"), std::string("ispars.client.*"), wire::reply_partition(requester.id())}) {
+    fdds::SubscriberQos qos = fdds::SUBSCRIBER_QOS_DEFAULT;
+    qos.partition().push_back(partition.c_str());
+    fdds::Subscriber* sub = snoop->create_subscriber(qos);
+    ASSERT_NE(sub, nullptr);
+    EXPECT_EQ(sub->create_datareader(topic, wire::request_reply_reader_qos()), nullptr) << partition;
+  }
+}
+
+}  // namespace
+}  // namespace ispars::test
