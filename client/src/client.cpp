@@ -17,6 +17,8 @@ std::optional<msg::SceneStatus> Client::latest_status(const std::string& scene) 
   return impl_->statuses_.get(scene);
 }
 
+std::string Client::daemon_identity(const std::string& server_id) const { return impl_->daemons_.sender(server_id); }
+
 std::string Client::owner_of(const std::string& scene) {
   const auto pick = [&](const std::vector<msg::DaemonInfo>& all) -> std::string {
     for (const auto& d : all) {

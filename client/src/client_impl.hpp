@@ -59,9 +59,15 @@ class Client::Impl final : public fdds::DataReaderListener {
         reply_type_(new wire::SafeType<msg::ReplyPubSubType>()),
         status_type_(new wire::SafeType<msg::SceneStatusPubSubType>()),
         daemon_type_(new wire::SafeType<msg::DaemonInfoPubSubType>()),
+        // A scene's status counts only when written by the participant that announces the daemon
+        // it names (transport identity): a status from anyone else is held, never shown.
         statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); },
-                  [this](const msg::SceneStatus&) { status_changed_.notify_all(); }),
-        daemons_([](const msg::DaemonInfo& d) { return d.server_id().to_string(); }) {
+                  [this](const msg::SceneStatus&) { status_changed_.notify_all(); },
+                  [this](const msg::SceneStatus& s, const std::string& sender) {
+                    return !sender.empty() && daemons_.sender(s.server_id().to_string()) == sender;
+                  }),
+        daemons_([](const msg::DaemonInfo& d) { return d.server_id().to_string(); },
+                 [this](const msg::DaemonInfo&) { statuses_.recheck(); }) {
     fdds::DomainParticipant* p = participant_.get();
     fdds::Topic* query_topic = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
     fdds::Topic* change_topic = wire::find_or_create_topic(p, change_type_, wire::kChangeTopic);

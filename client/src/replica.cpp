@@ -15,6 +15,7 @@
 
 #include "ispars/roadmap/roadmap_log.hpp"
 #include "ispars/wire/convert.hpp"
+#include "ispars/wire/identity.hpp"
 #include "ispars/wire/topics.hpp"
 #include "ispars/wire/safe_type.hpp"
 #include "isparsPubSubTypes.h"
@@ -55,6 +56,9 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
     fdds::SampleInfo info;
     while (reader->take_next_sample(&batch, &info) == ReturnCode_t::RETCODE_OK) {
       if (!info.valid_data || batch.scene() != scene_) continue;
+      // Only from the participant that announces the daemon the batch names (transport
+      // identity): a forged batch never makes the replica resync.
+      if (client_.daemon_identity(batch.server_id().to_string()) != wire::sender_identity(info)) continue;
       {
         std::lock_guard lock(mutex_);
         inbox_.push_back(std::move(batch));

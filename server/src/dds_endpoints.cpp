@@ -49,7 +49,14 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
       status_type_(new wire::SafeType<msg::SceneStatusPubSubType>()),
       daemon_type_(new wire::SafeType<msg::DaemonInfoPubSubType>()),
       progress_type_(new wire::SafeType<msg::TourProgressPubSubType>()),
-      statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); }) {
+      daemons_seen_([](const msg::DaemonInfo& d) { return d.server_id().to_string(); },
+                    [this](const msg::DaemonInfo&) { statuses_.recheck(); }),
+      // A status counts only from the participant that announces the daemon it names: a forged
+      // one cannot make this daemon refuse a load.
+      statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); }, {},
+                [this](const msg::SceneStatus& s, const std::string& sender) {
+                  return !sender.empty() && daemons_seen_.sender(s.server_id().to_string()) == sender;
+                }) {
   fdds::DomainParticipant* p = participant_.get();
   fdds::Topic* query_topic = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
   fdds::Topic* change_topic = wire::find_or_create_topic(p, change_type_, wire::kChangeTopic);
@@ -64,6 +71,8 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
   updates_ = require(pub->create_datawriter(update_topic, wire::updates_writer_qos()), "update writer");
   status_ = require(pub->create_datawriter(status_topic, wire::state_writer_qos()), "status writer");
   daemons_ = require(pub->create_datawriter(daemon_topic, wire::state_writer_qos()), "announcement writer");
+  daemons_reader_ = require(sub->create_datareader(daemon_topic, wire::state_reader_qos(), &daemons_seen_),
+                            "announcement reader");
   status_reader_ = require(sub->create_datareader(status_topic, wire::state_reader_qos(), &statuses_), "status reader");
   queries_ = require(sub->create_datareader(query_topic, wire::request_reply_reader_qos(), this,
                                             fdds::StatusMask::data_available()),
@@ -86,6 +95,7 @@ DdsEndpoints::~DdsEndpoints() {
   if (queries_) queries_->set_listener(nullptr);
   if (changes_) changes_->set_listener(nullptr);
   if (status_reader_) status_reader_->set_listener(nullptr);
+  if (daemons_reader_) daemons_reader_->set_listener(nullptr);
   participant_->delete_contained_entities();
 }
 

@@ -65,7 +65,9 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   eprosima::fastdds::dds::DataWriter* status_ = nullptr;
   eprosima::fastdds::dds::DataWriter* daemons_ = nullptr;
   eprosima::fastdds::dds::DataReader* status_reader_ = nullptr;
-  wire::LatestSamples<msg::SceneStatus> statuses_;
+  wire::LatestSamples<msg::DaemonInfo> daemons_seen_;  // every daemon's announcement, with its sender
+  wire::LatestSamples<msg::SceneStatus> statuses_;     // only from the participant announcing the daemon named
+  eprosima::fastdds::dds::DataReader* daemons_reader_ = nullptr;
   std::unique_ptr<ReplyRoutes> routes_;  // each client's replies in its own partition
   std::atomic<bool> accepting_{true};
 

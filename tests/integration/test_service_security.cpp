@@ -84,6 +84,48 @@ class SecureServiceTest : public ServiceTest {
 
 TempDir* SecureServiceTest::keystore_ = nullptr;
 
+// Writes a status and an update batch for a scene in the name of daemon "d", as any participant
+// can try (as the DDS Security identity `security` unless empty).
+struct Forger {
+  Forger(int domain, const std::string& security)
+      : participant({domain, "", "ispars", "forger", security}) {
+    auto* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    status = publisher->create_datawriter(wire::find_or_create_topic(participant.get(), status_type, wire::kStatusTopic),
+                                          wire::state_writer_qos());
+    updates = publisher->create_datawriter(
+        wire::find_or_create_topic(participant.get(), update_type, wire::kUpdatesTopic), wire::updates_writer_qos());
+    if (status == nullptr || updates == nullptr) throw std::runtime_error("forger: writers refused");
+  }
+  // A FAILED status with one vertex, and a batch far ahead of `real`'s version (a gap).
+  void forge(const msg::SceneStatus& real) {
+    msg::SceneStatus forged = real;
+    forged.state(msg::SCENE_FAILED);
+    forged.vertices(1);
+    forged.last_error("forged");
+    status->write(&forged);
+    msg::UpdateBatch batch;
+    batch.scene(real.scene());
+    batch.server_id(real.server_id());
+    batch.generation(real.generation());
+    batch.from_version(real.version() + 3);
+    batch.to_version(real.version() + 5);
+    updates->write(&batch);
+  }
+  // A status saying daemon `server` holds `scene`, which would make other daemons refuse to load it.
+  void claim(const std::string& scene, const std::string& server) {
+    msg::SceneStatus claim;
+    claim.scene(scene);
+    claim.server_id(server);
+    claim.state(msg::SCENE_IDLE);
+    status->write(&claim);
+  }
+  wire::Participant participant;
+  fdds::TypeSupport status_type{new msg::SceneStatusPubSubType()};
+  fdds::TypeSupport update_type{new msg::UpdateBatchPubSubType()};
+  fdds::DataWriter* status = nullptr;
+  fdds::DataWriter* updates = nullptr;
+};
+
 std::string serialized_load(const std::string& scene, const std::string& server) {
   msg::ChangeRequest request = make_change(msg::LOAD_SCENE, scene);
   request.server_id(server);
@@ -191,6 +233,7 @@ TEST_F(SecureServiceTest, AForgedStatusOrUpdateFromANonDaemonIdentityChangesNoth
   const auto done = op.wait_idle("s0", {}, kLong);
   replica.wait_for(done.generation(), done.version(), kLong);
   const auto digest = roadmap_digest(replica.roadmap());
+  const std::size_t snapshots = replica.snapshots_taken();  // a build may already have caused one or two
 
   // An operator may not publish status or updates at all.
   EXPECT_THROW(RawBytesWriter(domain_, identity("op"), wire::kStatusTopic, "ispars::msg::SceneStatus"),
@@ -198,40 +241,53 @@ TEST_F(SecureServiceTest, AForgedStatusOrUpdateFromANonDaemonIdentityChangesNoth
   EXPECT_THROW(RawBytesWriter(domain_, identity("op"), wire::kUpdatesTopic, "ispars::msg::UpdateBatch"),
                std::runtime_error);
   // The rogue may, by its own signature; nobody matches it.
-  wire::Participant rogue({domain_, "", "ispars", "rogue", identity("rogue")});
-  fdds::TypeSupport status_type(new msg::SceneStatusPubSubType());
-  fdds::TypeSupport update_type(new msg::UpdateBatchPubSubType());
-  auto* publisher = rogue->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-  auto* status_writer = publisher->create_datawriter(wire::find_or_create_topic(rogue.get(), status_type, wire::kStatusTopic),
-                                                     wire::state_writer_qos());
-  auto* update_writer = publisher->create_datawriter(
-      wire::find_or_create_topic(rogue.get(), update_type, wire::kUpdatesTopic), wire::updates_writer_qos());
-  ASSERT_NE(status_writer, nullptr);
-  ASSERT_NE(update_writer, nullptr);
+  Forger rogue(domain_, identity("rogue"));
   std::this_thread::sleep_for(std::chrono::seconds(2));
   fdds::PublicationMatchedStatus matched;
-  status_writer->get_publication_matched_status(matched);
+  rogue.status->get_publication_matched_status(matched);
   EXPECT_EQ(matched.current_count, 0);
-  msg::SceneStatus forged = done;
-  forged.state(msg::SCENE_FAILED);
-  forged.vertices(1);
-  forged.last_error("forged");
-  status_writer->write(&forged);
-  msg::UpdateBatch batch;
-  batch.scene("s0");
-  batch.server_id("intruder");
-  batch.generation(done.generation() + 1);
-  batch.from_version(0);
-  batch.to_version(done.version() + 5);
-  update_writer->write(&batch);
+  rogue.forge(done);
   std::this_thread::sleep_for(std::chrono::seconds(1));
   const auto seen = viewer.latest_status("s0");
   ASSERT_TRUE(seen.has_value());
   EXPECT_EQ(seen->state(), done.state());
   EXPECT_EQ(seen->vertices(), done.vertices());
-  EXPECT_EQ(replica.snapshots_taken(), 1u) << "a forged batch made the replica resync";
+  EXPECT_EQ(replica.snapshots_taken(), snapshots) << "a forged batch made the replica resync";
   EXPECT_EQ(roadmap_digest(replica.roadmap()), digest);
   EXPECT_EQ(op.stats("s0").vertices(), done.vertices());
+}
+
+// Without security: a participant that is not the announcing daemon writes a status and an
+// update in daemon d's name. Clients read statuses and updates only from the participant that
+// announces the daemon they name (transport identity), so nothing changes for them.
+TEST_F(ServiceTest, AForgedStatusOrUpdateFromAnotherParticipantChangesNothing) {
+  auto daemon = start("d");
+  Client op(client_options(domain_));
+  op.load("s0");
+  client::RoadmapReplica replica(op, "s0");
+  op.build("s0", ispars_build(1500));
+  const auto done = op.wait_idle("s0", {}, kLong);
+  replica.wait_for(done.generation(), done.version(), kLong);
+  const auto digest = roadmap_digest(replica.roadmap());
+  const std::size_t snapshots = replica.snapshots_taken();
+  Forger forger(domain_, "");
+  fdds::PublicationMatchedStatus matched;
+  for (int i = 0; i < 300 && matched.current_count == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    forger.status->get_publication_matched_status(matched);
+  }
+  ASSERT_GT(matched.current_count, 0) << "without security the forger's writer matches (the point of the test)";
+  forger.forge(done);
+  forger.claim("s1", "ghost");
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  EXPECT_NO_THROW(op.load("s1")) << "a forged claim made the daemon refuse a load";
+  const auto seen = op.latest_status("s0");
+  ASSERT_TRUE(seen.has_value());
+  EXPECT_EQ(seen->state(), done.state());
+  EXPECT_EQ(seen->vertices(), done.vertices());
+  EXPECT_EQ(replica.snapshots_taken(), snapshots) << "a forged batch made the replica resync";
+  EXPECT_EQ(roadmap_digest(replica.roadmap()), digest);
+  EXPECT_NE(op.daemon_identity("d"), "");
 }
 
 // Another client's replies, snapshot chunks included, never reach a reader that is not theirs.

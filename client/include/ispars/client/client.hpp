@@ -126,8 +126,12 @@ class Client {
   [[nodiscard]] const ClientOptions& options() const { return options_; }
   /// The participant, for readers of other topics (replicas).
   [[nodiscard]] wire::Participant& participant();
-  /// The latest status of `scene` seen on the status topic.
+  /// The latest status of `scene` seen on the status topic, written by the participant that
+  /// announces the daemon the status names (a status from any other participant is not shown).
   [[nodiscard]] std::optional<msg::SceneStatus> latest_status(const std::string& scene) const;
+  /// The transport identity (wire::identity_of) of the participant announcing daemon
+  /// `server_id`; empty when no such daemon is seen.
+  [[nodiscard]] std::string daemon_identity(const std::string& server_id) const;
 
  private:
   class Impl;
