@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 // viewer's genuine certificate with permissions to publish everything, signed (with the
 // governance) by an authority of its own, as a viewer who wanted more rights could make them.
 class SecureServiceTest : public ServiceTest {
- protected:
+ public:  // BuiltAndFollowed uses the helpers
   static void SetUpTestSuite() {
     keystore_ = new TempDir();
     client::make_keystore(ISPARS_SOURCE_DIR "/deploy/security/make-keystore.sh", keystore_->path(),
@@ -83,6 +83,28 @@ class SecureServiceTest : public ServiceTest {
 };
 
 TempDir* SecureServiceTest::keystore_ = nullptr;
+
+// Builds s0 as `op` while `replica` follows it; returns the build's last status.
+msg::SceneStatus build_followed(Client& op, client::RoadmapReplica& replica) {
+  op.build("s0", ispars_build(1500));
+  const auto done = op.wait_idle("s0", {}, kLong);
+  replica.wait_for(done.generation(), done.version(), kLong);
+  return done;
+}
+
+// A secured daemon "d"; an operator that loaded and built s0; a viewer whose replica followed.
+struct BuiltAndFollowed {
+  explicit BuiltAndFollowed(SecureServiceTest& test)
+      : daemon(test.start_secure("d")), op(test.options_as("op")), viewer(test.options_as("view")),
+        replica((op.load("s0"), viewer), "s0"), done(build_followed(op, replica)) {}
+  std::tuple<Client&, Client&, client::RoadmapReplica&, const msg::SceneStatus&> parts() {
+    return {op, viewer, replica, done};
+  }
+  std::unique_ptr<DaemonProcess> daemon;
+  Client op, viewer;
+  client::RoadmapReplica replica;
+  msg::SceneStatus done;
+};
 
 // Writes a status and an update batch for a scene in the name of daemon "d", as any participant
 // can try (as the DDS Security identity `security` unless empty).
@@ -169,14 +191,8 @@ TEST_F(SecureServiceTest, AnUnauthenticatedParticipantSeesAndWritesNothing) {
 }
 
 TEST_F(SecureServiceTest, AViewerQueriesAndFollowsUpdatesButItsChangesNeverReachTheDaemon) {
-  auto daemon = start_secure("d");
-  Client op(options_as("op"));
-  op.load("s0");
-  Client viewer(options_as("view"));
-  client::RoadmapReplica replica(viewer, "s0");
-  op.build("s0", ispars_build(1500));
-  const auto done = op.wait_idle("s0", {}, kLong);
-  replica.wait_for(done.generation(), done.version(), kLong);
+  BuiltAndFollowed world(*this);
+  auto [op, viewer, replica, done] = world.parts();
   EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(op.snapshot("s0").roadmap));
   EXPECT_EQ(viewer.stats("s0").vertices(), done.vertices());
 
@@ -224,14 +240,8 @@ TEST_F(SecureServiceTest, AnOperatorBuildsVerifiesAndDrops) {
 }
 
 TEST_F(SecureServiceTest, AForgedStatusOrUpdateFromANonDaemonIdentityChangesNothing) {
-  auto daemon = start_secure("d");
-  Client op(options_as("op"));
-  op.load("s0");
-  Client viewer(options_as("view"));
-  client::RoadmapReplica replica(viewer, "s0");
-  op.build("s0", ispars_build(1500));
-  const auto done = op.wait_idle("s0", {}, kLong);
-  replica.wait_for(done.generation(), done.version(), kLong);
+  BuiltAndFollowed world(*this);
+  auto [op, viewer, replica, done] = world.parts();
   const auto digest = roadmap_digest(replica.roadmap());
   const std::size_t snapshots = replica.snapshots_taken();  // a build may already have caused one or two
 
@@ -265,9 +275,7 @@ TEST_F(ServiceTest, AForgedStatusOrUpdateFromAnotherParticipantChangesNothing) {
   Client op(client_options(domain_));
   op.load("s0");
   client::RoadmapReplica replica(op, "s0");
-  op.build("s0", ispars_build(1500));
-  const auto done = op.wait_idle("s0", {}, kLong);
-  replica.wait_for(done.generation(), done.version(), kLong);
+  const auto done = build_followed(op, replica);
   const auto digest = roadmap_digest(replica.roadmap());
   const std::size_t snapshots = replica.snapshots_taken();
   Forger forger(domain_, "");
