@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <fstream>
 #include <thread>
 
 #include "ispars/input_error.hpp"
@@ -137,6 +138,40 @@ TEST_F(RoadmapSessionTest, ReadersOnOtherThreadsSeeConsistentVersionsWhileAJobRu
   for (auto& t : readers) t.join();
   EXPECT_GT(reads.load(), 0u);
   EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), 20000, 2));
+}
+
+// A store damaged beyond a torn tail: the scene loads FAILED with the damage as its last error,
+// nothing is read, cut or rebuilt implicitly; drop (or build with replace) discards it explicitly.
+TEST_F(RoadmapSessionTest, ADamagedStoreLoadsFailedAndIsDiscardedOnlyWhenAsked) {
+  {
+    auto session = open();
+    session->request_build(ispars(1500, 3));
+    session->run_job(never_);
+  }
+  const auto snapshot = dir_.path() / "tower" / "snapshot.bin";
+  const auto journal = dir_.path() / "tower" / "journal.log";
+  write_file_atomically(snapshot, "ISPSNP01 damaged");
+  const auto bytes_of = [](const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  const std::string journal_before = bytes_of(journal);
+  auto session = open();
+  EXPECT_EQ(session->status().state, SessionState::failed);
+  EXPECT_NE(session->status().last_error.find("snapshot.bin is damaged"), std::string::npos)
+      << session->status().last_error;
+  EXPECT_EQ(session->published().roadmap->vertex_count(), 0u);
+  EXPECT_THROW(session->request_build(ispars(800, 3)), InputError);  // without replace
+  EXPECT_THROW(session->request_extend(100), InputError);
+  EXPECT_EQ(bytes_of(snapshot), "ISPSNP01 damaged");
+  EXPECT_EQ(bytes_of(journal), journal_before);
+  session->drop();
+  EXPECT_EQ(session->status().state, SessionState::empty);
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / "tower"));
+  session->request_build(ispars(800, 3));
+  session->run_job(never_);
+  EXPECT_EQ(session->status().state, SessionState::idle) << session->status().last_error;
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), 800, 3));
 }
 
 TEST_F(RoadmapSessionTest, CancelStopsAfterTheCurrentChunk) {

@@ -122,6 +122,40 @@ TEST_F(RoadmapStoreTest, ACrashAtAnyByteOfTheJournalRecoversACommittedState) {
   }
 }
 
+// A flipped bit in commit 4 of 6 is not a torn tail: opening refuses, names the file and the
+// offset, and leaves every byte as it was (before, the journal was cut to 3 commits).
+TEST_F(RoadmapStoreTest, ACorruptCommitInTheMiddleIsReportedAndNothingIsCut) {
+  const auto path = dir_.path() / "bridge";
+  {
+    auto store = RoadmapStore::create(path, recipe_);
+    store->set_compact_every(1000);
+    (void)build_and_commit(*store, 6, 150);
+  }
+  std::string journal = slurp(path / "journal.log");
+  const RecordReplay intact = read_record_file(path / "journal.log", "ISPJRN01", [](const std::string&) {
+    return std::string();
+  });
+  ASSERT_EQ(intact.payloads.size(), 6u);
+  std::size_t offset = 8;  // the magic, then records of 8 header bytes and a payload each
+  for (int i = 0; i < 3; ++i) offset += 8 + intact.payloads[static_cast<std::size_t>(i)].size();
+  journal[offset + 8 + intact.payloads[3].size() / 2] ^= 0x10;
+  spit(path / "journal.log", journal);
+  StoreRecovery r;
+  try {
+    (void)RoadmapStore::open(path, scene_->pois().size(), r);
+    FAIL() << "a corrupt middle was opened";
+  } catch (const StoreDamage& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("journal.log is damaged at byte " + std::to_string(offset) + " (commit 4)"), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("record checksum mismatch"), std::string::npos) << what;
+  }
+  EXPECT_EQ(slurp(path / "journal.log"), journal) << "the damaged journal was rewritten";
+  // A damaged snapshot is refused the same way.
+  write_file_atomically(path / "snapshot.bin", "ISPSNP01 and then garbage");
+  EXPECT_THROW((void)RoadmapStore::open(path, scene_->pois().size(), r), StoreDamage);
+}
+
 TEST_F(RoadmapStoreTest, ACrashBetweenSnapshotAndJournalResetLosesNothingAndDuplicatesNothing) {
   const auto path = dir_.path() / "bridge";
   std::vector<Committed> states;

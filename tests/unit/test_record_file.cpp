@@ -80,6 +80,44 @@ TEST(RecordFile, AFlippedByteOrARejectedRecordEndsTheValidPrefix) {
   EXPECT_TRUE(replay.torn_tail);
 }
 
+// Only an incomplete last record is what a crash while appending leaves. A record that fails its
+// checksum with more bytes after it, or an intact record the check refuses, is damage.
+TEST(RecordFile, OnlyAnIncompleteLastRecordIsATornTailAnythingElseIsDamage) {
+  test::TempDir dir;
+  const auto path = dir.path() / "r.log";
+  const std::vector<std::string> payloads = {"one", "two", "three", "four", "five"};
+  {
+    RecordFileWriter writer(path, "MAGIC001", 0);
+    for (const auto& p : payloads) writer.append(p);
+  }
+  const std::string bytes = slurp(path);
+  std::vector<std::size_t> starts;  // where each record's header begins
+  for (std::size_t at = 8, i = 0; i < payloads.size(); at += 8 + payloads[i].size(), ++i) starts.push_back(at);
+  const auto read_with = [&](const std::string& content, const RecordCheck& check) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << content;
+    return read_record_file(path, "MAGIC001", check);
+  };
+  for (std::size_t r = 0; r < payloads.size(); ++r) {  // a flipped payload byte in each record
+    std::string flipped = bytes;
+    flipped[starts[r] + 8] ^= 0x01;
+    const RecordReplay replay = read_with(flipped, accept_all);
+    EXPECT_EQ(replay.payloads.size(), r);
+    EXPECT_EQ(replay.valid_bytes, starts[r]);
+    EXPECT_EQ(replay.damaged, r + 1 < payloads.size()) << "record " << r;
+  }
+  for (std::size_t cut = starts.back() + 1; cut < bytes.size(); ++cut) {  // the last record cut short
+    const RecordReplay replay = read_with(bytes.substr(0, cut), accept_all);
+    EXPECT_TRUE(replay.torn_tail);
+    EXPECT_FALSE(replay.damaged) << "cut at " << cut;
+  }
+  const RecordReplay refused = read_with(bytes, [](const std::string& p) {
+    return p == "five" ? std::string("five is refused") : std::string();
+  });
+  EXPECT_TRUE(refused.damaged) << "an intact record the check refuses is not a torn write";
+  EXPECT_EQ(refused.payloads.size(), 4u);
+  EXPECT_FALSE(read_with(bytes, accept_all).damaged);
+}
+
 TEST(RecordFile, AnotherMagicIsAnErrorAndAMissingFileIsEmpty) {
   test::TempDir dir;
   EXPECT_TRUE(read_record_file(dir.path() / "none", "MAGIC001", accept_all).payloads.empty());

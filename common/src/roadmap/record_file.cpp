@@ -98,10 +98,14 @@ RecordReplay read_record_file(const std::filesystem::path& path, std::string_vie
     }
     std::string payload = data.substr(at + 8, length);
     if (crc32(payload.data(), payload.size()) != checksum) {
+      // The last record may be torn (its pages not all written before a crash); one with more
+      // bytes after it was complete once, and has been damaged since.
+      replay.damaged = at + 8 + length < data.size();
       replay.tail_problem = "record checksum mismatch";
       break;
     }
     if (std::string problem = check(payload); !problem.empty()) {
+      replay.damaged = true;  // a whole, intact record that cannot be used
       replay.tail_problem = std::move(problem);
       break;
     }

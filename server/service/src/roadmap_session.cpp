@@ -57,7 +57,16 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
   published_.roadmap = std::make_shared<const Roadmap>(scene_.pois().size());
   if (!std::filesystem::exists(store_dir_)) return;
   StoreRecovery recovery;
-  store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), recovery);
+  try {
+    store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), recovery);
+  } catch (const StoreDamage& e) {
+    // Loaded, FAILED, and serving nothing from the store, whose files stay as they are until an
+    // explicit drop (or build with replace) discards them.
+    damage_ = e.what();
+    last_error_ = damage_;
+    state_ = SessionState::failed;
+    return;
+  }
   store_->set_compact_every(limits_.compact_every);
   if (recovery.recipe.scene != name_) {
     throw std::runtime_error(fmt::format("store {} belongs to scene '{}', not '{}'", store_dir_.string(),
@@ -111,6 +120,10 @@ void RoadmapSession::request_build(const BuildRequest& request) {
   {
     std::lock_guard lock(mutex_);
     check_can_start("scene");
+    if (!damage_.empty() && !request.replace) {
+      throw InputError(kRequest, "replace",
+                       fmt::format("scene '{}': {}; set replace to discard it and build anew", name_, damage_));
+    }
     if (recipe_ && !request.replace) {
       throw InputError(kRequest, "replace",
                        fmt::format("scene '{}' already has a roadmap ({} samples); set replace to rebuild it",
@@ -136,6 +149,7 @@ void RoadmapSession::request_extend(std::uint64_t samples) {
   {
     std::lock_guard lock(mutex_);
     check_can_start("scene");
+    if (!damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
     if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap to extend", name_));
     if (callbacks_.admit_cost) callbacks_.admit_cost(estimate(*recipe_, samples_done_ + samples));
     pending_recipe_.reset();
@@ -183,7 +197,9 @@ void RoadmapSession::drop() {
     // Under both locks throughout, so no request can be accepted while the store goes away.
     std::lock_guard lock(mutex_);
     check_can_start("scene");
-    if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
+    if (!recipe_ && damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
+    damage_.clear();  // an explicit drop discards a damaged store too
+    last_error_.clear();
     store_.reset();
     builder_.reset();
     build_scene_.reset();

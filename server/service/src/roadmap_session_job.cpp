@@ -104,6 +104,7 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       store_->set_compact_every(limits_.compact_every);
       std::lock_guard lock(mutex_);
       recipe_ = recipe;
+      damage_.clear();  // a damaged store, if there was one, was discarded by this build (replace)
       dense_vertices_ = dense_edges_ = 0;
       samples_done_ = 0;
       published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), recipe.generation, 0);

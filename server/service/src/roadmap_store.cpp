@@ -1,5 +1,7 @@
 #include "ispars/service/roadmap_store.hpp"
 
+#include <fmt/format.h>
+
 #include <fcntl.h>
 #include <sys/file.h>
 #include <unistd.h>
@@ -162,7 +164,9 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
     const RecordReplay snapshot =
         read_record_file(snapshot_path(dir), kSnapshotMagic, [](const std::string&) { return std::string(); });
     if (snapshot.payloads.size() != 1 || snapshot.torn_tail) {
-      throw std::runtime_error(snapshot_path(dir).string() + " is damaged: " + snapshot.tail_problem);
+      throw StoreDamage(fmt::format("{} is damaged at byte {}: {}; left untouched for inspection",
+                                    snapshot_path(dir).string(), snapshot.valid_bytes,
+                                    snapshot.tail_problem.empty() ? "not exactly one record" : snapshot.tail_problem));
     }
     const BuildCommit whole = decode_commit(snapshot.payloads.front());
     apply_commit(r, whole);
@@ -184,6 +188,15 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
       return std::string("unusable commit: ") + e.what();
     }
   });
+  if (journal.damaged) {
+    // Not a crash's torn tail: stop before the writer would cut it, and say where.
+    throw StoreDamage(fmt::format("{} is damaged at byte {} (commit {}): {}; the {} bytes from there on are left "
+                                  "untouched for inspection (drop the scene's roadmap, or build with replace, to "
+                                  "discard them)",
+                                  journal_path(dir).string(), journal.valid_bytes, journal.payloads.size() + 1,
+                                  journal.tail_problem,
+                                  std::filesystem::file_size(journal_path(dir)) - journal.valid_bytes));
+  }
   recovered.torn_tail = journal.torn_tail;
   recovered.tail_problem = journal.tail_problem;
 

@@ -19,15 +19,19 @@ namespace ispars {
 [[nodiscard]] std::uint32_t crc32(const void* data, std::size_t size);
 
 /// Checks one record's payload in sequence; returns an empty string to accept it, else what is
-/// wrong (the record and everything after it are then treated as a torn tail).
+/// wrong (reading stops there, and the file is damaged: see RecordReplay::damaged).
 using RecordCheck = std::function<std::string(const std::string& payload)>;
 
 /// What reading a record file found.
 struct RecordReplay {
   std::vector<std::string> payloads;  ///< Every accepted record, in order.
   std::uint64_t valid_bytes = 0;      ///< Length of the valid prefix of the file.
-  bool torn_tail = false;             ///< Bytes after the valid prefix were dropped.
+  bool torn_tail = false;             ///< Bytes follow the valid prefix.
   std::string tail_problem;           ///< What was wrong with them.
+  /// The bytes after the valid prefix are not what a crash while appending leaves (an incomplete
+  /// last record): a record with more bytes after it fails its checksum, or a whole record was
+  /// refused by the check. Such a file must be left as it is and reported, never cut.
+  bool damaged = false;
 };
 
 /// Reads a record file (a missing or empty file has no records). Throws std::runtime_error when

@@ -189,6 +189,7 @@ class RoadmapSession {
   std::optional<RoadmapRecipe> pending_recipe_;  // a queued build's recipe
   bool closed_ = false;
   std::string last_error_;
+  std::string damage_;  // the stored roadmap could not be opened (StoreDamage): nothing was read or changed
   std::size_t dense_vertices_ = 0;
   std::size_t dense_edges_ = 0;
   PublishedRoadmap published_;

@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -53,12 +54,19 @@ struct RoadmapsView {
   std::span<const VertexId> dense_ids;
 };
 
+/// A store whose files are damaged beyond a torn journal tail (a corrupt record in the middle,
+/// an unusable commit, a damaged snapshot). The message names the file, the byte offset and the
+/// problem; the files are left exactly as they were, for inspection.
+struct StoreDamage : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 /// What opening a store recovered.
 struct StoreRecovery {
   RoadmapRecipe recipe;
   StoredRoadmaps roadmaps;
   std::size_t journal_commits = 0;  ///< Commits replayed from the journal after the snapshot.
-  bool torn_tail = false;           ///< A torn or corrupt journal tail was dropped.
+  bool torn_tail = false;           ///< A torn journal tail (an incomplete last record) was dropped.
   std::string tail_problem;
 };
 
