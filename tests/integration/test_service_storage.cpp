@@ -57,5 +57,34 @@ TEST_F(ServiceTest, ACorruptJournalMiddleFailsItsSceneLoudlyAndTheOthersServe) {
   EXPECT_TRUE(daemon->alive());
 }
 
+// The scene file was edited between two runs of the daemon (another procedural seed: another
+// mesh). The old roadmap is not served as idle, replayed or extended: the scene is FAILED naming
+// the change, its files stay, and a build with replace rebuilds it.
+TEST_F(ServiceTest, AnEditedSceneFailsItsStoredRoadmapUntilRebuilt) {
+  {
+    auto daemon = start("d");
+    Client c(client_options(domain_));
+    c.load("s0");
+    c.build("s0", ispars_build(1500));
+    c.wait_idle("s0", {}, kLong);
+    ASSERT_EQ(daemon->terminate(), 0);
+  }
+  std::ofstream(scene_dir_ / "s0.yaml") << "procedural: {kind: tank_tower, seed: 77}\n";
+  const auto recipe = dir_.path() / "data-d" / "s0" / "recipe.json";
+  const std::string recipe_before = bytes_of(recipe);
+  auto daemon = start("d");
+  Client c(client_options(domain_));
+  const auto s0 = c.stats("s0");
+  EXPECT_EQ(s0.state(), msg::SCENE_FAILED);
+  EXPECT_NE(s0.last_error().find("was built on another version of the scene"), std::string::npos) << s0.last_error();
+  EXPECT_EQ(s0.vertices(), 0u);
+  EXPECT_THROW(c.extend("s0", 500), ClientError);
+  EXPECT_EQ(bytes_of(recipe), recipe_before);
+  c.build("s0", ispars_build(1500, 1, true));
+  const auto rebuilt = c.wait_idle("s0", {}, kLong);
+  EXPECT_EQ(rebuilt.state(), msg::SCENE_IDLE) << rebuilt.last_error();
+  EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 1500, 1));
+}
+
 }  // namespace
 }  // namespace ispars::test

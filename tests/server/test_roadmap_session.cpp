@@ -174,6 +174,37 @@ TEST_F(RoadmapSessionTest, ADamagedStoreLoadsFailedAndIsDiscardedOnlyWhenAsked) 
   EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), 800, 3));
 }
 
+// The scene changed since its roadmap was built (here its delta): the stored roadmap is not
+// served, replayed or extended, and stays on disk until a rebuild with replace.
+TEST_F(RoadmapSessionTest, ARoadmapOfAnotherVersionOfTheSceneLoadsFailedUntilRebuilt) {
+  {
+    auto session = open();
+    session->request_build(ispars(1200, 5));
+    session->run_job(never_);
+    ASSERT_EQ(session->status().state, SessionState::idle);
+  }
+  const SceneConfig& c = scene().config();
+  const Scene edited = scene().with_roadmap_parameters(c.dense_delta * 0.9, c.sparse_delta, c.stretch, "edited");
+  auto session = std::make_unique<RoadmapSession>("tower", edited, dir_.path() / "tower", SessionLimits{},
+                                                  SessionCallbacks{});
+  EXPECT_EQ(session->status().state, SessionState::failed);
+  EXPECT_NE(session->status().last_error.find("was built on another version of the scene"), std::string::npos)
+      << session->status().last_error;
+  EXPECT_EQ(session->published().roadmap->vertex_count(), 0u);
+  EXPECT_THROW(session->request_extend(100), InputError);
+  EXPECT_THROW(session->request_build(ispars(800, 5)), InputError);
+  EXPECT_TRUE(std::filesystem::exists(dir_.path() / "tower" / "recipe.json"));
+  BuildRequest replace = ispars(800, 5);
+  replace.replace = true;
+  session->request_build(replace);
+  session->run_job(never_);
+  EXPECT_EQ(session->status().state, SessionState::idle) << session->status().last_error;
+  // Reopened on the edited scene, the new roadmap is served.
+  session.reset();
+  session = std::make_unique<RoadmapSession>("tower", edited, dir_.path() / "tower", SessionLimits{}, SessionCallbacks{});
+  EXPECT_EQ(session->status().state, SessionState::idle) << session->status().last_error;
+}
+
 TEST_F(RoadmapSessionTest, CancelStopsAfterTheCurrentChunk) {
   RoadmapSession* raw = nullptr;
   SessionCallbacks callbacks;

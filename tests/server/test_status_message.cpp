@@ -12,7 +12,7 @@ TEST(StatusMessage, StatusCarriesTheRecipeAndCounts) {
   SessionStatus s;
   s.scene = "tower";
   s.state = SessionState::building;
-  s.recipe = RoadmapRecipe{"tower", BuildMethod::spars, 4, 0.2, SparsVariant::alg1, 1.0, 2.0, 1.1, 77};
+  s.recipe = RoadmapRecipe{"tower", BuildMethod::spars, 4, 0.2, SparsVariant::alg1, 1.0, 2.0, 1.1, 77, "", 0};
   s.samples_done = 10;
   s.samples_target = 20;
   s.vertices = 5;

@@ -71,7 +71,7 @@ TEST(BuildRecipe, OverridesAreSetWithinTheirRangeAndRefusedOutsideIt) {
 }
 
 TEST(BuildRecipe, RecipeJsonRoundTripsAndOldRecipesReadAsAlg1) {
-  RoadmapRecipe r{"tower", BuildMethod::irisc, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 42};
+  RoadmapRecipe r{"tower", BuildMethod::irisc, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 42, "0123456789abcdef", 7};
   const RoadmapRecipe back = recipe_from_json(recipe_to_json(r));
   EXPECT_EQ(back.scene, "tower");
   EXPECT_EQ(back.method, BuildMethod::irisc);
@@ -82,6 +82,22 @@ TEST(BuildRecipe, RecipeJsonRoundTripsAndOldRecipesReadAsAlg1) {
   EXPECT_EQ(back.sparse_delta, 2.5);
   EXPECT_EQ(back.stretch, 1.5);
   EXPECT_EQ(back.generation, 42u);
+  EXPECT_EQ(back.scene_fingerprint, "0123456789abcdef");
+  EXPECT_EQ(back.builder_version, 7u);
+  // A store of a newer format is refused by name; one that predates fingerprints reads without.
+  std::string newer = recipe_to_json(r);
+  newer.replace(newer.find("\"format\": 1"), std::string("\"format\": 1").size(), "\"format\": 2");
+  try {
+    (void)recipe_from_json(newer);
+    FAIL() << "a newer format was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("format 2, newer than this ispars reads (1)"), std::string::npos) << e.what();
+  }
+  const RoadmapRecipe old_store = recipe_from_json(
+      R"({"scene": "t", "method": "ispars", "seed": 1, "p_accept": 0.2, "dense_delta": 1, "sparse_delta": 2,
+          "stretch": 3, "generation": 4, "format": 1})");
+  EXPECT_TRUE(old_store.scene_fingerprint.empty());
+  EXPECT_EQ(old_store.builder_version, 0u);
   EXPECT_THROW((void)recipe_from_json("{"), std::runtime_error);
   EXPECT_THROW((void)recipe_from_json(R"({"scene": "t"})"), std::runtime_error);
 }

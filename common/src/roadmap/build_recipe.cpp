@@ -106,7 +106,9 @@ std::string recipe_to_json(const RoadmapRecipe& r) {
                             {"sparse_delta", r.sparse_delta},
                             {"stretch", r.stretch},
                             {"generation", r.generation},
-                            {"format", 1}};
+                            {"scene_fingerprint", r.scene_fingerprint},
+                            {"builder_version", r.builder_version},
+                            {"format", kRecipeFormat}};
   return j.dump(2) + "\n";
 }
 
@@ -139,6 +141,12 @@ RoadmapRecipe recipe_from_json(const std::string& text) {
     r.sparse_delta = field("sparse_delta").get<double>();
     r.stretch = field("stretch").get<double>();
     r.generation = field("generation").get<std::uint64_t>();
+    if (j.contains("format") && j.at("format").get<int>() > kRecipeFormat) {
+      throw std::runtime_error("recipe.json is format " + std::to_string(j.at("format").get<int>()) +
+                               ", newer than this ispars reads (" + std::to_string(kRecipeFormat) + ")");
+    }
+    if (j.contains("scene_fingerprint")) r.scene_fingerprint = j.at("scene_fingerprint").get<std::string>();
+    if (j.contains("builder_version")) r.builder_version = j.at("builder_version").get<std::uint32_t>();
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(std::string("recipe.json has a field of the wrong type: ") + e.what());
   }

@@ -1,5 +1,7 @@
 #include "ispars/service/roadmap_session.hpp"
 
+#include "ispars/scene/scene_fingerprint.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -55,6 +57,7 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
       limits_(limits),
       callbacks_(std::move(callbacks)) {
   published_.roadmap = std::make_shared<const Roadmap>(scene_.pois().size());
+  fingerprint_ = scene_fingerprint(scene_);
   if (!std::filesystem::exists(store_dir_)) return;
   StoreRecovery recovery;
   try {
@@ -71,6 +74,13 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
   if (recovery.recipe.scene != name_) {
     throw std::runtime_error(fmt::format("store {} belongs to scene '{}', not '{}'", store_dir_.string(),
                                          recovery.recipe.scene, name_));
+  }
+  if (std::string why = stale_store_reason(recovery.recipe); !why.empty()) {
+    store_.reset();  // nothing recovered is served; the files stay as they are
+    damage_ = std::move(why);
+    last_error_ = damage_;
+    state_ = SessionState::failed;
+    return;
   }
   recipe_ = recovery.recipe;
   samples_done_ = samples_target_ = recovery.roadmaps.samples;
@@ -89,6 +99,20 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
 }
 
 RoadmapSession::~RoadmapSession() = default;
+
+std::string RoadmapSession::stale_store_reason(const RoadmapRecipe& stored) const {
+  if (!stored.scene_fingerprint.empty() && stored.scene_fingerprint != fingerprint_) {
+    return fmt::format("the stored roadmap of scene '{}' was built on another version of the scene (its mesh, POIs "
+                       "or parameters changed: fingerprint {} stored, {} now); it is left untouched",
+                       name_, stored.scene_fingerprint, fingerprint_);
+  }
+  if (stored.builder_version != 0 && stored.builder_version != kBuilderVersion) {
+    return fmt::format("the stored roadmap of scene '{}' was made by builder version {}, and this ispars has "
+                       "version {}; it is left untouched",
+                       name_, stored.builder_version, kBuilderVersion);
+  }
+  return {};
+}
 
 void RoadmapSession::check_can_start(const char* field) const {
   if (closed_) throw InputError(kRequest, "scene", fmt::format("scene '{}' was unloaded", name_));
@@ -132,6 +156,8 @@ void RoadmapSession::request_build(const BuildRequest& request) {
     if (callbacks_.admit_cost) callbacks_.admit_cost(cost);  // the last check: nothing refuses after it
     // Increasing, even if the clock steps back, so replicas always see a new roadmap as new.
     recipe.generation = std::max(new_generation(), (recipe_ ? recipe_->generation : 0) + 1);
+    recipe.scene_fingerprint = fingerprint_;
+    recipe.builder_version = kBuilderVersion;
     pending_recipe_ = recipe;  // the job makes it the roadmap's recipe when it starts
     pending_samples_ = request.samples;
     last_error_.clear();

@@ -45,7 +45,18 @@ struct RoadmapRecipe {
   double sparse_delta = 0.0;  ///< Delta used
   double stretch = 0.0;       ///< t used
   std::uint64_t generation = 0;  ///< Distinguishes successive roadmaps of one scene.
+  /// scene_fingerprint() of the scene it was built on; empty in stores that predate it (then
+  /// unchecked).
+  std::string scene_fingerprint;
+  /// kBuilderVersion when it was built; 0 in stores that predate it (then unchecked).
+  std::uint32_t builder_version = 0;
 };
+
+/// Bumped whenever a builder's output for the same recipe changes: a stored roadmap of another
+/// builder version is not replayed or extended (it would not match), only rebuilt or dropped.
+inline constexpr std::uint32_t kBuilderVersion = 1;
+/// The recipe.json format this code writes; it refuses to read a newer one.
+inline constexpr int kRecipeFormat = 1;
 
 /// A recipe parameter a build request may override, declared once.
 struct RecipeParameter {

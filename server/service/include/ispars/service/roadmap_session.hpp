@@ -156,6 +156,9 @@ class RoadmapSession {
   RoadmapsView live_view() const;
   void ensure_builder(const std::atomic<bool>& stopping);
   void check_can_start(const char* field) const;  // with mutex_ held
+  // Why the stored roadmap (of recipe `stored`) must not be served here: another version of the
+  // scene, or of the builders. Empty when it may.
+  [[nodiscard]] std::string stale_store_reason(const RoadmapRecipe& stored) const;
   void check_override_scale(const RoadmapRecipe& recipe) const;
   BuildCost estimate(const RoadmapRecipe& recipe, std::uint64_t total_samples) const;
   // Takes job_mutex_ (shared or alone) once no job is queued or running; a job that has just
@@ -189,6 +192,7 @@ class RoadmapSession {
   std::optional<RoadmapRecipe> pending_recipe_;  // a queued build's recipe
   bool closed_ = false;
   std::string last_error_;
+  std::string fingerprint_;  // scene_fingerprint(scene_), recorded in every recipe built here
   std::string damage_;  // the stored roadmap could not be opened (StoreDamage): nothing was read or changed
   std::size_t dense_vertices_ = 0;
   std::size_t dense_edges_ = 0;
