@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
   sigemptyset(&stop_signals);
   sigaddset(&stop_signals, SIGTERM);
   sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGHUP);  // never a stop: see below
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
   try {
@@ -77,7 +78,13 @@ int main(int argc, char** argv) {
 
     ispars::server::Daemon daemon(std::move(config));
     int signal = 0;
-    sigwait(&stop_signals, &signal);
+    for (;;) {
+      sigwait(&stop_signals, &signal);
+      if (signal != SIGHUP) break;
+      // Logs go to stdout and stderr (the journal under systemd): nothing to reopen; the config
+      // is read at start only.
+      spdlog::info("SIGHUP: still serving (logs need no reopening; restart to apply a changed config)");
+    }
     spdlog::info("{}: finishing the current batches and stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
     daemon.shutdown();
     return 0;

@@ -100,8 +100,10 @@ TEST_F(RoadmapServiceTest, OperationsRunWithoutDdsAndReportThroughEvents) {
   EXPECT_THROW((void)service.stats("s0"), InputError);
   EXPECT_TRUE(service.list_scenes()[0].has_roadmap) << "the store stays on disk";
   EXPECT_EQ(unloaded, std::vector<std::string>{"s0"});
-  // The stored roadmap is loaded again as it was.
+  // A restart's reload skips an unloaded scene; a load brings its stored roadmap back as it was.
   service.load_stored_roadmaps();
+  EXPECT_THROW((void)service.stats("s0"), InputError);
+  EXPECT_TRUE(service.load("s0").second);
   EXPECT_EQ(service.stats("s0").samples_done, 2000u);
 }
 

@@ -240,6 +240,20 @@ TEST_F(RoadmapStoreTest, DroppingRemovesTheStoreAndLeftoversAreCleanedAtStart) {
   EXPECT_TRUE(std::filesystem::exists(dir_.path() / "scene.new"));
 }
 
+TEST_F(RoadmapStoreTest, AnUnloadMarkIsDurableAndRemovable) {
+  const auto path = dir_.path() / "bridge";
+  { auto store = RoadmapStore::create(path, recipe_); }
+  EXPECT_FALSE(marked_unloaded(path));
+  mark_unloaded(path, true);
+  EXPECT_TRUE(marked_unloaded(path));
+  StoreRecovery r;
+  { auto store = RoadmapStore::open(path, scene_->pois().size(), r); }  // the mark does not disturb the store
+  mark_unloaded(path, false);
+  EXPECT_FALSE(marked_unloaded(path));
+  mark_unloaded(path, false);  // unmarking twice is harmless
+  EXPECT_FALSE(marked_unloaded(path));
+}
+
 TEST_F(RoadmapStoreTest, ASecondWriterCannotOpenAStoreInUse) {
   const auto path = dir_.path() / "bridge";
   auto first = RoadmapStore::create(path, recipe_);

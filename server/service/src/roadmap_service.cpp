@@ -53,6 +53,10 @@ void RoadmapService::load_stored_roadmaps() {
     const std::string name = entry.path().filename().string();
     if (!entry.is_directory() || !valid_scene_name(name)) continue;
     if (!std::filesystem::exists(entry.path() / "recipe.json")) continue;
+    if (marked_unloaded(entry.path())) {
+      spdlog::info("scene '{}' has a stored roadmap but was unloaded; a load request loads it", name);
+      continue;
+    }
     try {
       if (!session_or_null(name)) open_session(name);
     } catch (const std::exception& e) {
@@ -138,6 +142,7 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
   callbacks.admit_cost = [this, name](const BuildCost& cost) { admit_cost(name, cost); };
   auto session = std::make_shared<RoadmapSession>(name, std::move(scene), settings_.data_dir / name,
                                                   settings_.limits, std::move(callbacks));
+  if (std::filesystem::exists(settings_.data_dir / name)) mark_unloaded(settings_.data_dir / name, false);
   set_reserved(name, session->expected_cost().bytes);  // a stored roadmap is held whatever the budget
   {
     std::lock_guard lock(sessions_mutex_);
@@ -167,6 +172,8 @@ void RoadmapService::unload(const std::string& scene) {
     sessions_.erase(scene);
   }
   set_reserved(scene, 0.0);
+  // Remembered across restarts: the stored roadmap stays, but is not reloaded until asked.
+  if (std::filesystem::exists(settings_.data_dir / scene / "recipe.json")) mark_unloaded(settings_.data_dir / scene, true);
   if (events_.on_unloaded) events_.on_unloaded(scene);
   if (events_.on_scenes_changed) events_.on_scenes_changed();
 }

@@ -231,6 +231,18 @@ void drop_store(const std::filesystem::path& dir) {
   std::filesystem::remove_all(aside);
 }
 
+void mark_unloaded(const std::filesystem::path& dir, bool unloaded) {
+  const std::filesystem::path marker = dir / "unloaded";
+  if (unloaded) {
+    write_file_atomically(marker, "unloaded by request; a load request loads it again\n");
+  } else if (std::filesystem::exists(marker)) {
+    std::filesystem::remove(marker);
+    fsync_directory_of(marker);
+  }
+}
+
+bool marked_unloaded(const std::filesystem::path& dir) { return std::filesystem::exists(dir / "unloaded"); }
+
 void remove_dropped_stores(const std::filesystem::path& data_dir) {
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(data_dir, ec)) {

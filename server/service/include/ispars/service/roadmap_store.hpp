@@ -122,6 +122,12 @@ void apply_commit(StoredRoadmaps& roadmaps, const BuildCommit& commit);
 /// Removes a store: renames it aside (atomic), then deletes it. Leftovers of an interrupted
 /// creation or removal (".new-NAME", ".dropped-NAME") are removed by remove_dropped_stores().
 void drop_store(const std::filesystem::path& dir);
+
+/// Marks (or unmarks) the store in `dir` as unloaded: a daemon that restarts does not reload an
+/// unloaded scene's stored roadmap until the scene is loaded again. Durable (fsync'ed).
+void mark_unloaded(const std::filesystem::path& dir, bool unloaded);
+/// Whether the store in `dir` is marked unloaded.
+[[nodiscard]] bool marked_unloaded(const std::filesystem::path& dir);
 void remove_dropped_stores(const std::filesystem::path& data_dir);
 
 }  // namespace ispars
