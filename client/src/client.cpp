@@ -19,6 +19,10 @@ std::optional<msg::SceneStatus> Client::latest_status(const std::string& scene) 
 
 std::string Client::daemon_identity(const std::string& server_id) const { return impl_->daemons_.sender(server_id); }
 
+bool Client::written_by_daemon(const std::string& server_id, const std::string& sender) const {
+  return wire::written_by_daemon(impl_->daemons_, server_id, sender);
+}
+
 std::string Client::owner_of(const std::string& scene) {
   const auto pick = [&](const std::vector<msg::DaemonInfo>& all) -> std::string {
     for (const auto& d : all) {

@@ -23,6 +23,7 @@
 
 #include "ispars/client/client.hpp"
 #include "ispars/wire/convert.hpp"
+#include "ispars/wire/daemon_trust.hpp"
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/latest_samples.hpp"
 #include "ispars/wire/topics.hpp"
@@ -63,9 +64,7 @@ class Client::Impl final : public fdds::DataReaderListener {
         // it names (transport identity): a status from anyone else is held, never shown.
         statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); },
                   [this](const msg::SceneStatus&) { status_changed_.notify_all(); },
-                  [this](const msg::SceneStatus& s, const std::string& sender) {
-                    return !sender.empty() && daemons_.sender(s.server_id().to_string()) == sender;
-                  }),
+                  wire::statuses_from_their_daemon(daemons_)),
         daemons_([](const msg::DaemonInfo& d) { return d.server_id().to_string(); },
                  [this](const msg::DaemonInfo&) { statuses_.recheck(); }) {
     fdds::DomainParticipant* p = participant_.get();

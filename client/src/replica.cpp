@@ -58,7 +58,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
       if (!info.valid_data || batch.scene() != scene_) continue;
       // Only from the participant that announces the daemon the batch names (transport
       // identity): a forged batch never makes the replica resync.
-      if (client_.daemon_identity(batch.server_id().to_string()) != wire::sender_identity(info)) continue;
+      if (!client_.written_by_daemon(batch.server_id().to_string(), wire::sender_identity(info))) continue;
       {
         std::lock_guard lock(mutex_);
         inbox_.push_back(std::move(batch));

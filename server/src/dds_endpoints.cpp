@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "daemon.hpp"
+#include "ispars/wire/daemon_trust.hpp"
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/topics.hpp"
 #include "ispars/wire/safe_type.hpp"
@@ -54,9 +55,7 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
       // A status counts only from the participant that announces the daemon it names: a forged
       // one cannot make this daemon refuse a load.
       statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); }, {},
-                [this](const msg::SceneStatus& s, const std::string& sender) {
-                  return !sender.empty() && daemons_seen_.sender(s.server_id().to_string()) == sender;
-                }) {
+                wire::statuses_from_their_daemon(daemons_seen_)) {
   fdds::DomainParticipant* p = participant_.get();
   fdds::Topic* query_topic = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
   fdds::Topic* change_topic = wire::find_or_create_topic(p, change_type_, wire::kChangeTopic);

@@ -86,7 +86,7 @@ namespace {
 
 // Waits until the query writer has matched a daemon (its writer for this peer's reply partition
 // is made on the first request).
-bool wait_matched(fdds::DataWriter* writer, fdds::DataReader*, std::chrono::steady_clock::time_point deadline) {
+bool wait_matched(fdds::DataWriter* writer, std::chrono::steady_clock::time_point deadline) {
   for (;;) {
     fdds::PublicationMatchedStatus pub;
     writer->get_publication_matched_status(pub);
@@ -99,7 +99,7 @@ bool wait_matched(fdds::DataWriter* writer, fdds::DataReader*, std::chrono::stea
 }  // namespace
 
 bool RawPeer::post(msg::QueryRequest request, std::chrono::milliseconds timeout) {
-  if (!wait_matched(impl_->queries_, impl_->replies_, std::chrono::steady_clock::now() + timeout)) return false;
+  if (!wait_matched(impl_->queries_, std::chrono::steady_clock::now() + timeout)) return false;
   return impl_->queries_->write(&request);
 }
 
@@ -119,7 +119,7 @@ std::vector<msg::Reply> RawPeer::replies() const {
 
 std::optional<msg::Reply> RawPeer::send(msg::QueryRequest request, std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
-  if (!wait_matched(impl_->queries_, impl_->replies_, deadline)) return std::nullopt;
+  if (!wait_matched(impl_->queries_, deadline)) return std::nullopt;
   request.client_id(impl_->id_);
   const std::uint64_t seq = request.request_seq();
   // Resent every second until answered (the daemon de-duplicates), as a client does.

@@ -142,7 +142,7 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
   callbacks.admit_cost = [this, name](const BuildCost& cost) { admit_cost(name, cost); };
   auto session = std::make_shared<RoadmapSession>(name, std::move(scene), settings_.data_dir / name,
                                                   settings_.limits, std::move(callbacks));
-  if (std::filesystem::exists(settings_.data_dir / name)) mark_unloaded(settings_.data_dir / name, false);
+  mark_unloaded(settings_.data_dir / name, false);
   set_reserved(name, session->expected_cost().bytes);  // a stored roadmap is held whatever the budget
   {
     std::lock_guard lock(sessions_mutex_);
@@ -173,7 +173,7 @@ void RoadmapService::unload(const std::string& scene) {
   }
   set_reserved(scene, 0.0);
   // Remembered across restarts: the stored roadmap stays, but is not reloaded until asked.
-  if (std::filesystem::exists(settings_.data_dir / scene / "recipe.json")) mark_unloaded(settings_.data_dir / scene, true);
+  mark_unloaded(settings_.data_dir / scene, true);
   if (events_.on_unloaded) events_.on_unloaded(scene);
   if (events_.on_scenes_changed) events_.on_scenes_changed();
 }

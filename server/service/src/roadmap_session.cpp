@@ -63,11 +63,7 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
   try {
     store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), recovery);
   } catch (const StoreDamage& e) {
-    // Loaded, FAILED, and serving nothing from the store, whose files stay as they are until an
-    // explicit drop (or build with replace) discards them.
-    damage_ = e.what();
-    last_error_ = damage_;
-    state_ = SessionState::failed;
+    refuse_store(e.what());
     return;
   }
   store_->set_compact_every(limits_.compact_every);
@@ -76,10 +72,7 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
                                          recovery.recipe.scene, name_));
   }
   if (std::string why = stale_store_reason(recovery.recipe); !why.empty()) {
-    store_.reset();  // nothing recovered is served; the files stay as they are
-    damage_ = std::move(why);
-    last_error_ = damage_;
-    state_ = SessionState::failed;
+    refuse_store(std::move(why));
     return;
   }
   recipe_ = recovery.recipe;
@@ -99,6 +92,15 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
 }
 
 RoadmapSession::~RoadmapSession() = default;
+
+void RoadmapSession::refuse_store(std::string why) {
+  // Loaded, FAILED, and serving nothing from the store, whose files stay as they are until an
+  // explicit drop (or build with replace) discards them.
+  store_.reset();
+  damage_ = std::move(why);
+  last_error_ = damage_;
+  state_ = SessionState::failed;
+}
 
 std::string RoadmapSession::stale_store_reason(const RoadmapRecipe& stored) const {
   if (!stored.scene_fingerprint.empty() && stored.scene_fingerprint != fingerprint_) {

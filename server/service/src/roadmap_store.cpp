@@ -234,6 +234,7 @@ void drop_store(const std::filesystem::path& dir) {
 void mark_unloaded(const std::filesystem::path& dir, bool unloaded) {
   const std::filesystem::path marker = dir / "unloaded";
   if (unloaded) {
+    if (!std::filesystem::exists(recipe_path(dir))) return;  // no stored roadmap to keep out
     write_file_atomically(marker, "unloaded by request; a load request loads it again\n");
   } else if (std::filesystem::exists(marker)) {
     std::filesystem::remove(marker);

@@ -132,6 +132,9 @@ class Client {
   /// The transport identity (wire::identity_of) of the participant announcing daemon
   /// `server_id`; empty when no such daemon is seen.
   [[nodiscard]] std::string daemon_identity(const std::string& server_id) const;
+  /// Whether `sender` announces daemon `server_id` (wire::written_by_daemon): the rule for
+  /// believing a status or an update that names that daemon.
+  [[nodiscard]] bool written_by_daemon(const std::string& server_id, const std::string& sender) const;
 
  private:
   class Impl;

@@ -53,8 +53,9 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
           senders_[key] = sender;
           held_.erase(key);
           changed = message;
-        } else if (alive && (held_.size() < kMaxHeld || held_.count(key_(message)) > 0)) {
-          held_[key_(message)] = {message, sender, handle};
+        } else if (alive) {
+          const std::string key = key_(message);
+          if (held_.size() < kMaxHeld || held_.count(key) > 0) held_[key] = {message, sender, handle};
         } else if (const auto it = keys_.find(handle); it != keys_.end()) {
           latest_.erase(it->second);
           senders_.erase(it->second);

@@ -159,6 +159,8 @@ class RoadmapSession {
   // Why the stored roadmap (of recipe `stored`) must not be served here: another version of the
   // scene, or of the builders. Empty when it may.
   [[nodiscard]] std::string stale_store_reason(const RoadmapRecipe& stored) const;
+  // Marks the stored roadmap unusable (`why`): FAILED, nothing served, files untouched.
+  void refuse_store(std::string why);
   void check_override_scale(const RoadmapRecipe& recipe) const;
   BuildCost estimate(const RoadmapRecipe& recipe, std::uint64_t total_samples) const;
   // Takes job_mutex_ (shared or alone) once no job is queued or running; a job that has just

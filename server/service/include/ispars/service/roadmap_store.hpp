@@ -124,7 +124,8 @@ void apply_commit(StoredRoadmaps& roadmaps, const BuildCommit& commit);
 void drop_store(const std::filesystem::path& dir);
 
 /// Marks (or unmarks) the store in `dir` as unloaded: a daemon that restarts does not reload an
-/// unloaded scene's stored roadmap until the scene is loaded again. Durable (fsync'ed).
+/// unloaded scene's stored roadmap until the scene is loaded again. Durable (fsync'ed). Nothing
+/// to mark (or unmark) when `dir` holds no store.
 void mark_unloaded(const std::filesystem::path& dir, bool unloaded);
 /// Whether the store in `dir` is marked unloaded.
 [[nodiscard]] bool marked_unloaded(const std::filesystem::path& dir);

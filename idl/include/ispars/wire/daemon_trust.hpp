@@ -1,0 +1,28 @@
+#pragma once
+// Whose statuses and updates to believe: a SceneStatus or UpdateBatch that names daemon S counts
+// only when its writer belongs to the participant that announces S on ispars/daemons (transport
+// identity, never a field). One rule for clients, replicas and daemons.
+
+#include <string>
+
+#include "ispars.h"
+#include "ispars/wire/latest_samples.hpp"
+
+namespace ispars::wire {
+
+/// Whether `sender` (wire::identity_of of a sample's writer) announces daemon `server_id`.
+[[nodiscard]] inline bool written_by_daemon(const LatestSamples<msg::DaemonInfo>& daemons, const std::string& server_id,
+                                            const std::string& sender) {
+  return !sender.empty() && daemons.sender(server_id) == sender;
+}
+
+/// The accept rule of a LatestSamples<SceneStatus>: only from the daemon each status names.
+/// `daemons` must outlive the rule.
+[[nodiscard]] inline LatestSamples<msg::SceneStatus>::Accept statuses_from_their_daemon(
+    const LatestSamples<msg::DaemonInfo>& daemons) {
+  return [&daemons](const msg::SceneStatus& s, const std::string& sender) {
+    return written_by_daemon(daemons, s.server_id().to_string(), sender);
+  };
+}
+
+}  // namespace ispars::wire
