@@ -18,6 +18,8 @@ namespace rtps = eprosima::fastrtps::rtps;
 
 namespace {
 
+constexpr std::uint32_t kLocalParticipants = 64;
+
 fdds::DomainParticipantQos localhost_qos(const std::string& name) {
   fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
   qos.name(name);
@@ -28,6 +30,10 @@ fdds::DomainParticipantQos localhost_qos(const std::string& name) {
   qos.transport().user_transports.push_back(shm);
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
   udp->interfaceWhiteList.emplace_back("127.0.0.1");
+  // The initial peer is every participant port on 127.0.0.1 up to this many participants (the
+  // default, 4, leaves two participants numbered 4 and up never discovering each other: with
+  // three daemons and their clients on one host, some client would never see some daemon).
+  udp->maxInitialPeersRange = kLocalParticipants;
   qos.transport().user_transports.push_back(udp);
   rtps::Locator_t peer;
   rtps::IPLocator::setIPv4(peer, "127.0.0.1");

@@ -68,6 +68,30 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
     }
   }
 
+  /// A writer left (its participant stopped, or its lease expired after a crash): the instances
+  /// it wrote last are gone with it. (Fast DDS 2.9 marks such instances NOT_ALIVE_NO_WRITERS
+  /// without delivering a sample to say so.)
+  void on_subscription_matched(eprosima::fastdds::dds::DataReader*,
+                               const eprosima::fastdds::dds::SubscriptionMatchedStatus& status) override {
+    if (status.current_count_change >= 0) return;
+    const std::string gone = identity_of(status.last_publication_handle);
+    {
+      std::lock_guard lock(mutex_);
+      for (auto it = senders_.begin(); it != senders_.end();) {
+        if (it->second != gone) {
+          ++it;
+          continue;
+        }
+        latest_.erase(it->first);
+        std::erase_if(keys_, [&](const auto& entry) { return entry.second == it->first; });
+        it = senders_.erase(it);
+      }
+      std::erase_if(held_, [&](const auto& entry) { return entry.second.sender == gone; });
+      ++changes_;
+    }
+    changed_.notify_all();
+  }
+
   /// The latest sample for `key`, if its instance is alive.
   [[nodiscard]] std::optional<Message> get(const std::string& key) const {
     std::lock_guard lock(mutex_);
