@@ -4,6 +4,7 @@
 #include "ispars/client/client.hpp"
 
 #include "client_impl.hpp"
+#include "ispars/wire/scene_owner.hpp"
 
 namespace ispars::client {
 
@@ -24,29 +25,44 @@ bool Client::written_by_daemon(const std::string& server_id, const std::string& 
 }
 
 std::string Client::owner_of(const std::string& scene) {
-  const auto pick = [&](const std::vector<msg::DaemonInfo>& all) -> std::string {
-    for (const auto& d : all) {
-      if (std::find(d.loaded().begin(), d.loaded().end(), scene) != d.loaded().end()) return d.server_id().to_string();
-    }
-    return {};
-  };
   std::vector<msg::DaemonInfo> all = daemons();
   if (all.empty()) throw ClientError(ClientError::Kind::no_daemon, impl_->no_daemon_message());
-  if (std::string owner = pick(all); !owner.empty()) return owner;
+  if (std::string holder = wire::holder_of(scene, all); !holder.empty()) return holder;
   // A second daemon may be discovered a moment after the first: give announcements a moment.
   impl_->daemons_.wait_for(std::chrono::milliseconds(500), [&](const auto& latest) {
     for (const auto& [id, d] : latest) {
-      if (std::find(d.loaded().begin(), d.loaded().end(), scene) != d.loaded().end()) return true;
+      if (wire::holds(d, scene)) return true;
     }
     return false;
   });
   all = impl_->daemons_.all();
-  if (std::string owner = pick(all); !owner.empty()) return owner;
-  if (!options_.server.empty()) return options_.server;
-  for (const auto& d : all) {  // sorted by id
-    if (std::find(d.available().begin(), d.available().end(), scene) != d.available().end()) return d.server_id().to_string();
-  }
-  return all.front().server_id().to_string();  // it will say what is wrong with the name
+  if (!options_.server.empty() && wire::holder_of(scene, all).empty()) return options_.server;
+  // The fleet's rule (wire/scene_owner.hpp), as every daemon computes it.
+  if (std::string owner = wire::owner_of(scene, all); !owner.empty()) return owner;
+  return all.front().server_id().to_string();  // no daemon offers it: it will say what is wrong with the name
+}
+
+std::string Client::new_owner_of(const std::string& scene, const std::string& gone,
+                                 std::chrono::steady_clock::time_point deadline) {
+  // The fleet takes a scene over when its holder leaves: wait for the new holder to announce it.
+  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+  impl_->daemons_.wait_for(std::max(left, std::chrono::milliseconds(0)), [&](const auto& latest) {
+    for (const auto& [id, d] : latest) {
+      if (id != gone && wire::holds(d, scene)) return true;
+    }
+    return false;
+  });
+  std::vector<msg::DaemonInfo> all = impl_->daemons_.all();
+  std::erase_if(all, [&](const msg::DaemonInfo& d) { return d.server_id() == gone; });
+  std::string owner = wire::owner_of(scene, all);
+  // It holds the scene from its claim on; it serves it once loaded, when it publishes a status.
+  const auto until_loaded =
+      std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+  impl_->statuses_.wait_for(std::max(until_loaded, std::chrono::milliseconds(0)), [&](const auto& latest) {
+    const auto it = latest.find(scene);
+    return it != latest.end() && it->second.server_id() == owner && it->second.state() != msg::SCENE_UNLOADED;
+  });
+  return owner;
 }
 
 msg::QueryRequest make_query(msg::Operation operation, const std::string& scene) {
@@ -63,14 +79,31 @@ msg::ChangeRequest make_change(msg::Operation operation, const std::string& scen
   return r;
 }
 
+template <class Request>
+msg::Reply Client::routed(Request request, const std::string& server, std::chrono::milliseconds timeout) {
+  if (!server.empty()) return impl_->call(std::move(request), server, timeout);
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  const std::string scene = request.scene().to_string();
+  std::string target = owner_of(scene);
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    try {
+      return impl_->call(request, target, std::max(left, std::chrono::milliseconds(1)));
+    } catch (const ClientError& e) {
+      if (e.kind() != ClientError::Kind::no_daemon || std::chrono::steady_clock::now() >= deadline) throw;
+      std::string next = new_owner_of(scene, target, deadline);
+      if (next.empty() || next == target) throw;
+      target = std::move(next);
+    }
+  }
+}
+
 msg::Reply Client::call_raw(msg::QueryRequest request, const std::string& server) {
-  const std::string target = server.empty() ? owner_of(request.scene().to_string()) : server;
-  return impl_->call(std::move(request), target, options_.timeout);
+  return routed(std::move(request), server, options_.timeout);
 }
 
 msg::Reply Client::call_raw(msg::ChangeRequest request, const std::string& server) {
-  const std::string target = server.empty() ? owner_of(request.scene().to_string()) : server;
-  return impl_->call(std::move(request), target, options_.timeout);
+  return routed(std::move(request), server, options_.timeout);
 }
 
 msg::Reply Client::call(msg::QueryRequest request, const std::string& server) {
@@ -78,15 +111,13 @@ msg::Reply Client::call(msg::QueryRequest request, const std::string& server) {
 }
 
 msg::Reply Client::call(msg::ChangeRequest request, const std::string& server) {
-  const std::string target = server.empty() ? owner_of(request.scene().to_string()) : server;
-  msg::Reply reply = impl_->call(std::move(request), target, options_.timeout);
+  msg::Reply reply = routed(std::move(request), server, options_.timeout);
   if (!reply.ok()) throw ClientError(ClientError::Kind::rejected, reply.error());
   return reply;
 }
 
 msg::Reply Client::call(msg::QueryRequest request, const std::string& server, std::chrono::milliseconds timeout) {
-  const std::string target = server.empty() ? owner_of(request.scene().to_string()) : server;
-  msg::Reply reply = impl_->call(std::move(request), target, timeout);
+  msg::Reply reply = routed(std::move(request), server, timeout);
   if (!reply.ok()) throw ClientError(ClientError::Kind::rejected, reply.error());
   return reply;
 }

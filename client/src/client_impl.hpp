@@ -187,7 +187,12 @@ class Client::Impl final : public fdds::DataReaderListener {
         waiting_.erase(seq);
         return reply;
       }
-      if (!daemons_.get(server)) break;  // the daemon went away
+      if (!daemons_.get(server)) {
+        waiting_.erase(seq);
+        throw ClientError(ClientError::Kind::no_daemon,
+                          fmt::format("daemon {} left DDS domain {} before answering {}", server,
+                                      options_.participant.domain, wire::to_string(request.args()._d())));
+      }
     }
     waiting_.erase(seq);
     throw ClientError(ClientError::Kind::timeout,

@@ -72,12 +72,14 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
   settings.memory_budget_bytes = memory_budget_bytes(config_);
   try {
     dds_ = std::make_unique<DdsEndpoints>(*this, config_);
+    join_fleet();  // the other daemons seen, this one's id unique, claims possible
     service_ = std::make_unique<RoadmapService>(std::move(settings), service_events());
   } catch (...) {
     dds_.reset();
     ::close(lock_fd_);
     throw;
   }
+  announce();
   service_->load_stored_roadmaps();
   for (const std::string& name : config_.preload) {
     try {
@@ -89,6 +91,7 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
   announce();
   quick_lane_ = std::make_unique<WorkerPool>(kQuickThreads, config_.request_queue);
   slow_lane_ = std::make_unique<WorkerPool>(kSlowThreads, config_.request_queue);
+  fleet_thread_ = std::thread([this] { watch_fleet(); });
   spdlog::info("isparsd {} serving on DDS domain {} (scenes from {}, data in {}, {} build workers, memory budget "
                "{:.1f} GiB, protocol {})",
                config_.server_id, config_.domain, config_.scene_dir.string(), config_.data_dir.string(),
@@ -100,7 +103,14 @@ Daemon::~Daemon() { shutdown(); }
 void Daemon::shutdown() {
   if (shut_down_) return;
   shut_down_ = true;
+  leaving_ = true;
   if (dds_) dds_->stop_requests();
+  {
+    std::lock_guard lock(fleet_mutex_);
+    fleet_stop_ = true;
+  }
+  fleet_wake_.notify_all();
+  if (fleet_thread_.joinable()) fleet_thread_.join();
   // Requests being answered finish; queued ones are dropped (their clients retry elsewhere or time out).
   if (quick_lane_) quick_lane_->stop();
   if (slow_lane_) slow_lane_->stop();

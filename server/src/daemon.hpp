@@ -5,15 +5,18 @@
 // into the reply. The service's events become status, update and announcement messages.
 
 #include <atomic>
+#include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 
 #include "daemon_config.hpp"
 #include "ispars.h"
 #include "ispars/service/roadmap_service.hpp"
 #include "ispars/service/worker_pool.hpp"
 #include "reply_cache.hpp"
+#include "scene_claims.hpp"
 
 namespace ispars::server {
 
@@ -46,6 +49,10 @@ class Daemon {
   /// past that a request is refused at once as busy.
   void receive(msg::QueryRequest request);
   void receive(msg::ChangeRequest request);
+  /// Called by the DDS layer (inside its callbacks: quick, no DDS calls) when an announcement
+  /// changed, and for every status another daemon published.
+  void fleet_changed();
+  void status_seen(const msg::SceneStatus& status);
 
  private:
   template <class Request>
@@ -64,7 +71,13 @@ class Daemon {
   void publish_status(const RoadmapSession& session);
   void publish_unloaded(const std::string& scene);
   void announce();
+  msg::DaemonInfo self_info() const;
   ServiceEvents service_events();
+  // The fleet (daemon_fleet.cpp): waiting for the other daemons at start, then a thread that
+  // gives up contested scenes and takes over those whose holder left.
+  void join_fleet();
+  void watch_fleet();
+  void take_over(const OrphanScene& orphan);
 
   DaemonConfig config_;
   int lock_fd_ = -1;
@@ -72,10 +85,17 @@ class Daemon {
   mutable std::mutex status_mutex_;  // stamps statuses in order
   mutable std::uint64_t status_seq_ = 0;
   std::mutex publish_mutex_;  // writes statuses in stamp order
+  std::unique_ptr<SceneClaims> claims_;
+  std::mutex announce_mutex_;  // announcements written in the order they were made
   std::unique_ptr<DdsEndpoints> dds_;
   std::unique_ptr<RoadmapService> service_;
   std::unique_ptr<WorkerPool> quick_lane_;  // list, stats, cancel, unload, build, extend, tour
   std::unique_ptr<WorkerPool> slow_lane_;   // load, path, snapshot, verify, drop
+  std::mutex fleet_mutex_;
+  std::condition_variable fleet_wake_;
+  bool fleet_stop_ = false;
+  std::thread fleet_thread_;
+  std::atomic<bool> leaving_{false};  // shutting down
   bool shut_down_ = false;
 };
 

@@ -27,7 +27,7 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
   if (!root.IsMap()) throw InputError(source, "yaml", "the config must be a mapping of keys to values");
   const std::set<std::string> known{"data_dir", "scene_dir", "domain", "workers", "build_threads", "profile_file", "profile_name",
                                     "log_level", "server_id", "max_samples", "snapshot_compact_every", "preload",
-                                    "request_queue", "memory_budget_mb", "security"};
+                                    "request_queue", "memory_budget_mb", "security", "discovery_wait_ms"};
   const std::filesystem::path base = path.parent_path();
   const auto resolve = [&](const std::string& p) {
     const std::filesystem::path fp(p);
@@ -53,6 +53,7 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
       if (key == "preload") config.preload = value.as<std::vector<std::string>>();
       if (key == "request_queue") config.request_queue = value.as<std::size_t>();
       if (key == "memory_budget_mb") config.memory_budget_mb = value.as<std::uint64_t>();
+      if (key == "discovery_wait_ms") config.discovery_wait_ms = value.as<std::uint32_t>();
     } catch (const YAML::Exception&) {
       throw InputError(source, key, fmt::format("has the wrong type (line {})", value.Mark().line + 1));
     }
@@ -89,6 +90,9 @@ void check_daemon_config(const DaemonConfig& c, const std::string& source) {
   }
   if (c.request_queue < 1 || c.request_queue > 100'000) {
     throw InputError(source, "request_queue", fmt::format("must be in 1..100000, got {}", c.request_queue));
+  }
+  if (c.discovery_wait_ms < 100 || c.discovery_wait_ms > 60'000) {
+    throw InputError(source, "discovery_wait_ms", fmt::format("must be in 100..60000, got {}", c.discovery_wait_ms));
   }
 }
 

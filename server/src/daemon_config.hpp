@@ -31,6 +31,9 @@ struct DaemonConfig {
   /// MiB the roadmaps of all loaded scenes may be expected to hold together; 0: half of this
   /// machine's memory. A build or extend whose estimate does not fit is refused before it starts.
   std::uint64_t memory_budget_mb = 0;
+  /// Milliseconds to listen for the other daemons on the domain before announcing, reloading
+  /// stored roadmaps or claiming a scene (the fleet's ownership rule needs them all seen).
+  std::uint32_t discovery_wait_ms = 1000;
 };
 
 /// The memory budget in bytes: config.memory_budget_mb, or half of physical memory when 0.

@@ -1,6 +1,6 @@
 // What isparsd tells the domain: the service's events as messages. Each scene's status, stamped
 // in order; committed batches as updates; and the daemon's own announcement (protocol, host, pid,
-// scenes available and loaded).
+// scenes available, claimed and stored).
 
 #include <unistd.h>
 
@@ -21,12 +21,12 @@ ServiceEvents Daemon::service_events() {
   events.on_status = [this](const RoadmapSession& session) { publish_status(session); };
   events.on_unloaded = [this](const std::string& scene) { publish_unloaded(scene); };
   events.on_scenes_changed = [this] { announce(); };
-  events.owner_elsewhere = [this](const std::string& scene) -> std::optional<std::string> {
-    const auto other = dds_->status_of(scene);
-    if (other && other->server_id() != config_.server_id && other->state() != msg::SCENE_UNLOADED) {
-      return other->server_id().to_string();
-    }
-    return std::nullopt;
+  events.claim = [this](const std::string& scene) { claims_->claim(scene); };
+  events.release = [this](const std::string& scene) {
+    claims_->release(scene);
+    // A stopping daemon keeps its last announcement: it vanishes with the daemon, and the
+    // fleet takes its scenes over as after a crash.
+    if (!leaving_) announce();
   };
   return events;
 }
@@ -57,17 +57,25 @@ void Daemon::publish_unloaded(const std::string& scene) {
   dds_->publish_status(status);
 }
 
-void Daemon::announce() {
+msg::DaemonInfo Daemon::self_info() const {
   msg::DaemonInfo info;
   info.server_id(config_.server_id);
   info.protocol(msg::PROTOCOL_VERSION);
+  info.version(ISPARS_VERSION);
   info.host(host_name());
   info.pid(static_cast<std::int32_t>(::getpid()));
   for (const std::string& name : list_scene_names(config_.scene_dir)) info.available().push_back(name);
+  // Claimed scenes (being loaded or loaded) are announced as held: no other daemon claims them.
+  for (const std::string& name : claims_->claimed()) info.loaded().push_back(name);
   if (service_) {
-    for (const std::string& name : service_->loaded_scenes()) info.loaded().push_back(name);
+    for (const std::string& name : service_->stored_scenes()) info.stored().push_back(name);
   }
-  dds_->announce(info);
+  return info;
+}
+
+void Daemon::announce() {
+  std::lock_guard lock(announce_mutex_);  // the latest state is the last written
+  dds_->announce(self_info());
 }
 
 }  // namespace ispars::server

@@ -51,10 +51,14 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
       daemon_type_(new wire::SafeType<msg::DaemonInfoPubSubType>()),
       progress_type_(new wire::SafeType<msg::TourProgressPubSubType>()),
       daemons_seen_([](const msg::DaemonInfo& d) { return d.server_id().to_string(); },
-                    [this](const msg::DaemonInfo&) { statuses_.recheck(); }),
+                    [this](const msg::DaemonInfo&) {
+                      statuses_.recheck();
+                      daemon_.fleet_changed();
+                    }),
       // A status counts only from the participant that announces the daemon it names: a forged
-      // one cannot make this daemon refuse a load.
-      statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); }, {},
+      // one cannot plant a recipe for a takeover.
+      statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); },
+                [this](const msg::SceneStatus& s) { daemon_.status_seen(s); },
                 wire::statuses_from_their_daemon(daemons_seen_)) {
   fdds::DomainParticipant* p = participant_.get();
   fdds::Topic* query_topic = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
@@ -234,6 +238,10 @@ void DdsEndpoints::publish_tour_progress(const msg::TourProgress& progress) {
   routes_->write_progress(progress);  // advisory: a lost one is replaced by the next
 }
 
-std::optional<msg::SceneStatus> DdsEndpoints::status_of(const std::string& scene) const { return statuses_.get(scene); }
+std::vector<msg::DaemonInfo> DdsEndpoints::other_daemons() const {
+  std::vector<msg::DaemonInfo> out = daemons_seen_.all();
+  std::erase_if(out, [&](const msg::DaemonInfo& d) { return d.server_id() == server_id_; });
+  return out;
+}
 
 }  // namespace ispars::server

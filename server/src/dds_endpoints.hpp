@@ -17,6 +17,7 @@
 #include <set>
 #include <thread>
 #include <string>
+#include <vector>
 
 #include "daemon_config.hpp"
 #include "ispars.h"
@@ -42,8 +43,10 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   void publish_status(const msg::SceneStatus& status);
   void announce(const msg::DaemonInfo& info);
   void publish_tour_progress(const msg::TourProgress& progress);
-  /// The latest status of `scene` published by any daemon (this one included).
-  [[nodiscard]] std::optional<msg::SceneStatus> status_of(const std::string& scene) const;
+  /// The latest announcement of every other live daemon on the domain.
+  [[nodiscard]] std::vector<msg::DaemonInfo> other_daemons() const;
+  /// Whether a live participant announces daemon `server_id` (before this one announces: another).
+  [[nodiscard]] bool announced(const std::string& server_id) const { return daemons_seen_.get(server_id).has_value(); }
   /// Stops delivering requests.
   void stop_requests();
 

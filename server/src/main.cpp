@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   std::optional<std::size_t> compact_every;
   std::optional<std::size_t> request_queue;
   std::optional<std::uint64_t> memory_budget_mb;
+  std::optional<std::uint32_t> discovery_wait_ms;
   std::vector<std::string> preload;
   app.add_option("-c,--config", config_file, "YAML config file (flags override it)")->check(CLI::ExistingFile);
   app.add_option("--data-dir", data_dir, "where roadmaps are stored");
@@ -42,6 +43,8 @@ int main(int argc, char** argv) {
                  "MiB all loaded roadmaps may be expected to hold; builds past it are refused (0: half of RAM)");
   app.add_option("--request-queue", request_queue,
                  "requests each lane (quick, slow) holds waiting before it answers busy (1..100000, default 256)");
+  app.add_option("--discovery-wait-ms", discovery_wait_ms,
+                 "how long to listen for the other daemons before claiming scenes (100..60000, default 1000)");
   CLI11_PARSE(app, argc, argv);
 
   // Block the stop signals in every thread; main waits for them below.
@@ -69,6 +72,7 @@ int main(int argc, char** argv) {
     if (compact_every) config.snapshot_compact_every = *compact_every;
     if (request_queue) config.request_queue = *request_queue;
     if (memory_budget_mb) config.memory_budget_mb = *memory_budget_mb;
+    if (discovery_wait_ms) config.discovery_wait_ms = *discovery_wait_ms;
     config.preload.insert(config.preload.end(), preload.begin(), preload.end());
     ispars::server::check_daemon_config(config, config_file.empty() ? "isparsd" : config_file);
 

@@ -29,6 +29,7 @@ msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id
     m.dense_delta(s.recipe->dense_delta);
     m.sparse_delta(s.recipe->sparse_delta);
     m.stretch(s.recipe->stretch);
+    m.p_accept(s.recipe->p_accept);
   }
   m.samples_done(s.samples_done);
   m.samples_target(s.samples_target);

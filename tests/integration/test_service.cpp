@@ -7,11 +7,13 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <random>
 #include <thread>
 
 #include "integration/service_fixture.hpp"
 #include "ispars/client/replica.hpp"
+#include "ispars/wire/scene_owner.hpp"
 
 namespace ispars::test {
 namespace {
@@ -191,41 +193,43 @@ TEST_F(ServiceTest, SigtermFinishesTheBatchPersistsAndExitsZero) {
   EXPECT_EQ(roadmap_digest(client.snapshot("s2").roadmap), reference_digest(scene_dir_ / "s2.yaml", after.samples_done(), 5));
 }
 
-TEST_F(ServiceTest, TwoDaemonsSplitScenesAndNeverBothAnswer) {
+TEST_F(ServiceTest, TwoDaemonsSplitScenesByTheFleetRuleAndNeverBothAnswer) {
   auto a = start("alpha");
   auto b = start("beta");
-  auto options = client_options(domain_);
-  options.server = "alpha";
-  Client to_alpha(options);
-  options.server = "beta";
-  Client to_beta(options);
-  EXPECT_EQ(to_alpha.load("s0").server_id(), "alpha");
-  EXPECT_EQ(to_beta.load("s1").server_id(), "beta");
-  // s0 is alpha's: a load addressed to beta is refused, naming the owner.
-  const msg::Reply refused = to_beta.call_raw(make_change(msg::LOAD_SCENE, "s0"), "beta");
-  EXPECT_FALSE(refused.ok());
-  EXPECT_NE(refused.error().find("owned by daemon alpha"), std::string::npos) << refused.error();
-  // Requests go to each scene's owner, whichever client sends them.
   Client any(client_options(domain_));
-  EXPECT_EQ(any.stats("s0").server_id(), "alpha");
-  EXPECT_EQ(any.stats("s1").server_id(), "beta");
+  // Each scene goes to the daemon the rule assigns (both offer every scene), whoever sends it.
+  std::map<std::string, std::string> owner;
+  for (unsigned i = 0; i < 4; ++i) {
+    const std::string s = scene_name(i);
+    owner[s] = wire::outranks(s, "alpha", "beta") ? "alpha" : "beta";
+    EXPECT_EQ(any.load(s).server_id(), owner[s]) << s;
+  }
+  // A load addressed to the other daemon is refused, naming the owner.
+  const std::string other = owner["s0"] == "alpha" ? "beta" : "alpha";
+  const msg::Reply refused = any.call_raw(make_change(msg::LOAD_SCENE, "s0"), other);
+  EXPECT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().find("owned by daemon " + owner["s0"]), std::string::npos) << refused.error();
   any.build("s0", ispars_build(1000));
   any.build("s1", ispars_build(1000));
-  EXPECT_EQ(any.wait_idle("s0", {}, kLong).server_id(), "alpha");
-  EXPECT_EQ(any.wait_idle("s1", {}, kLong).server_id(), "beta");
+  EXPECT_EQ(any.wait_idle("s0", {}, kLong).server_id(), owner["s0"]);
+  EXPECT_EQ(any.wait_idle("s1", {}, kLong).server_id(), owner["s1"]);
   // Each daemon lists its own view; both are listed.
   const auto entries = any.list_scenes();
   EXPECT_EQ(entries.size(), 8u);
-  int loaded_alpha = 0, loaded_beta = 0;
+  std::map<std::string, int> loaded;
   for (const auto& e : entries) {
-    if (e.loaded() && e.server_id() == "alpha") ++loaded_alpha;
-    if (e.loaded() && e.server_id() == "beta") ++loaded_beta;
+    if (e.loaded()) ++loaded[e.server_id().to_string()];
   }
-  EXPECT_EQ(loaded_alpha, 1);
-  EXPECT_EQ(loaded_beta, 1);
-  // After alpha unloads s0, beta may take it.
-  to_alpha.unload("s0");
-  EXPECT_EQ(to_beta.call(make_change(msg::LOAD_SCENE, "s0"), "beta").server_id(), "beta");
+  for (const auto& [scene, id] : owner) --loaded[id];
+  for (const auto& [id, n] : loaded) EXPECT_EQ(n, 0) << id;
+  // Unloaded, s0 stays the other daemon's to refuse: the rule, not who asks, names its owner;
+  // its owner keeps it (it now has a stored roadmap of s0).
+  any.unload("s0");
+  const msg::Reply again = any.call_raw(make_change(msg::LOAD_SCENE, "s0"), other);
+  EXPECT_FALSE(again.ok());
+  EXPECT_NE(again.error().find("belongs to daemon " + owner["s0"] + " by the fleet's rule"), std::string::npos)
+      << again.error();
+  EXPECT_EQ(any.load("s0").server_id(), owner["s0"]);
 }
 
 TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {

@@ -7,6 +7,10 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
 #include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/service/scene_catalog.hpp"
@@ -42,8 +46,9 @@ void RoadmapService::stop() {
     std::lock_guard lock(sessions_mutex_);
     for (const auto& [name, s] : sessions_) names.push_back(name);
   }
-  if (events_.on_unloaded) {
-    for (const auto& name : names) events_.on_unloaded(name);
+  for (const auto& name : names) {
+    if (events_.on_unloaded) events_.on_unloaded(name);
+    if (events_.release) events_.release(name);
   }
 }
 
@@ -125,11 +130,15 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
       service.loading_.erase(name);
     }
   } unreserve{*this, name};
-  if (events_.owner_elsewhere) {
-    if (const auto other = events_.owner_elsewhere(name)) {
-      throw InputError(kRequest, "scene", fmt::format("scene '{}' is owned by daemon {}", name, *other));
+  if (events_.claim) events_.claim(name);
+  struct Unclaim {
+    const ServiceEvents& events;
+    const std::string& name;
+    bool held = false;
+    ~Unclaim() {
+      if (!held && events.release) events.release(name);
     }
-  }
+  } unclaim{events_, name};
   Scene scene = Scene::build(load_scene_config(settings_.scene_dir, name));
   SessionCallbacks callbacks;
   callbacks.on_commit = [this, name](const RoadmapBatch& batch, std::uint64_t generation, std::uint64_t samples) {
@@ -148,6 +157,7 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
     std::lock_guard lock(sessions_mutex_);
     sessions_.emplace(name, session);
   }
+  unclaim.held = true;
   if (!session->recovery_note().empty()) spdlog::info("scene '{}': {}", name, session->recovery_note());
   spdlog::info("loaded scene '{}' ({} triangles, {} POIs)", name, session->scene().mesh().triangle_count(),
                session->scene().pois().size());
@@ -167,15 +177,52 @@ void RoadmapService::unload(const std::string& scene) {
     throw InputError(kRequest, "scene", fmt::format("a build is running on scene '{}'; cancel it first", scene));
   }
   s->close();  // atomically with the busy check inside: no job can start on it any more
+  // Remembered across restarts: the stored roadmap stays, but is not reloaded until asked.
+  mark_unloaded(settings_.data_dir / scene, true);
+  forget(scene);
+}
+
+void RoadmapService::yield(const std::string& scene) {
+  const auto s = session_or_null(scene);
+  if (!s) return;
+  stop_tours(scene);
+  // A build stops after its current chunk (cancel within half a second); a queued one at its start.
+  for (;;) {
+    (void)s->cancel();
+    try {
+      s->close();
+      break;
+    } catch (const InputError&) {
+      if (stopping_) return;  // stop() reports every scene unloaded
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  forget(scene);
+  spdlog::warn("scene '{}' given up to its owner (its stored roadmap stays)", scene);
+}
+
+void RoadmapService::forget(const std::string& scene) {
   {
     std::lock_guard lock(sessions_mutex_);
     sessions_.erase(scene);
   }
   set_reserved(scene, 0.0);
-  // Remembered across restarts: the stored roadmap stays, but is not reloaded until asked.
-  mark_unloaded(settings_.data_dir / scene, true);
   if (events_.on_unloaded) events_.on_unloaded(scene);
+  if (events_.release) events_.release(scene);
   if (events_.on_scenes_changed) events_.on_scenes_changed();
+}
+
+std::vector<std::string> RoadmapService::stored_scenes() const {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(settings_.data_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_directory() && valid_scene_name(name) && std::filesystem::exists(entry.path() / "recipe.json")) {
+      out.push_back(name);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 void RoadmapService::build(const std::string& scene, const BuildRequest& request) {

@@ -104,7 +104,9 @@ class Client {
                              std::chrono::milliseconds timeout);
 
   /// Sends one request to the daemon that owns its scene (or to `server`), retrying with the
-  /// same sequence number until a reply or the timeout. Throws ClientError(rejected) when the
+  /// same sequence number until a reply or the timeout. When the owner leaves the domain before
+  /// answering, the request follows the scene to the daemon that takes it over (unless `server`
+  /// was named). Throws ClientError(rejected) when the
   /// reply is an error, with the daemon's message, and ClientError(protocol) when the daemon
   /// speaks another protocol version (nothing is sent then).
   msg::Reply call(msg::QueryRequest request, const std::string& server = {});
@@ -115,8 +117,9 @@ class Client {
   msg::Reply call_raw(msg::QueryRequest request, const std::string& server);
   msg::Reply call_raw(msg::ChangeRequest request, const std::string& server);
 
-  /// The daemon owning `scene`; for a scene no one owns, options.server or the first daemon
-  /// (by id) that offers it. Throws ClientError(no_daemon) when none is running.
+  /// The daemon owning `scene` under the fleet's rule (ispars/wire/scene_owner.hpp): the live
+  /// daemon holding it, else options.server when set, else the daemon the rule assigns it to.
+  /// Throws ClientError(no_daemon) when none is running.
   std::string owner_of(const std::string& scene);
   /// Daemons seen on the domain (waits up to the timeout for the first).
   std::vector<msg::DaemonInfo> daemons();
@@ -138,6 +141,12 @@ class Client {
 
  private:
   class Impl;
+  /// call_raw() to `server`, or to the scene's owner, following the scene when its owner leaves.
+  template <class Request>
+  msg::Reply routed(Request request, const std::string& server, std::chrono::milliseconds timeout);
+  /// The owner of `scene` once daemon `gone` has left: waits (until `deadline`) for another to hold it.
+  std::string new_owner_of(const std::string& scene, const std::string& gone,
+                           std::chrono::steady_clock::time_point deadline);
   ClientOptions options_;
   std::unique_ptr<Impl> impl_;
 };

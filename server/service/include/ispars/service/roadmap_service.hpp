@@ -59,8 +59,12 @@ struct ServiceEvents {
   std::function<void(const std::string& scene)> on_unloaded;
   /// The set of loaded scenes changed.
   std::function<void()> on_scenes_changed;
-  /// Another service that holds `scene`, if any; a load of it is refused.
-  std::function<std::optional<std::string>(const std::string& scene)> owner_elsewhere;
+  /// Called before a scene is loaded; throws InputError (naming the owner) when this service may
+  /// not hold it. Each successful claim is matched by exactly one `release`.
+  std::function<void(const std::string& scene)> claim;
+  /// A claimed scene is not held any more: its load failed, it was unloaded or given up, or the
+  /// service stopped.
+  std::function<void(const std::string& scene)> release;
 };
 
 /// A tour request in typed form.
@@ -148,6 +152,12 @@ class RoadmapService {
   /// this call (false: it already was).
   std::pair<std::shared_ptr<RoadmapSession>, bool> load(const std::string& scene);
   void unload(const std::string& scene);
+  /// Gives `scene` up to the daemon that owns it: stops its build (after the current chunk) and
+  /// its tours, waits for them, and unloads it. Unlike unload() the stored roadmap stays eligible
+  /// for reloading at restart. Does nothing when the scene is not loaded.
+  void yield(const std::string& scene);
+  /// Scenes with a stored roadmap in the data directory (loaded or not).
+  [[nodiscard]] std::vector<std::string> stored_scenes() const;
   void build(const std::string& scene, const BuildRequest& request);
   void extend(const std::string& scene, std::uint64_t samples);
   CancelOutcome cancel(const std::string& scene);
@@ -160,6 +170,7 @@ class RoadmapService {
  private:
   std::shared_ptr<RoadmapSession> session_or_null(const std::string& scene) const;
   std::shared_ptr<RoadmapSession> open_session(const std::string& scene);
+  void forget(const std::string& scene);  // erases a closed session; events
   void schedule(const std::shared_ptr<RoadmapSession>& session);
   void run_tour(const std::shared_ptr<RoadmapSession>& session, const TourRequest& request,
                 const TourCallbacks& callbacks, const std::shared_ptr<std::atomic<bool>>& stop);

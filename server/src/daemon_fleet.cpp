@@ -1,0 +1,119 @@
+// isparsd in a fleet of daemons: joining (listening for the others before claiming anything,
+// refusing an id another daemon announces), then a thread that applies the ownership rule as the
+// fleet changes: a scene claimed here and by a daemon that outranks this one is given up, and a
+// scene whose holder left is taken over and rebuilt from its recipe (builds are deterministic).
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <thread>
+
+#include "daemon.hpp"
+#include "dds_endpoints.hpp"
+#include "ispars/input_error.hpp"
+
+namespace ispars::server {
+namespace {
+
+constexpr std::chrono::milliseconds kFleetPeriod{100};  // how often the rule is re-applied
+
+// The build that gives the roadmap `status` describes: its recipe, to its sample count (to its
+// target when it was still building). Empty when the status names no roadmap.
+std::optional<BuildRequest> rebuild_request(const msg::SceneStatus& status) {
+  const auto method = parse_build_method(status.method().to_string());
+  if (!method) return std::nullopt;
+  BuildRequest request;
+  request.method = *method;
+  if (const std::string v = status.variant().to_string(); !v.empty()) {
+    const auto variant = parse_spars_variant(v);
+    if (!variant) return std::nullopt;
+    request.variant = *variant;
+  }
+  request.seed = status.seed();
+  const bool running = status.state() == msg::SCENE_BUILDING || status.state() == msg::SCENE_QUEUED ||
+                       status.state() == msg::SCENE_REPLAYING;
+  request.samples = running ? std::max(status.samples_target(), status.samples_done()) : status.samples_done();
+  if (request.samples == 0) return std::nullopt;
+  const std::pair<const char*, double> values[] = {{"dense_delta", status.dense_delta()},
+                                                   {"sparse_delta", status.sparse_delta()},
+                                                   {"stretch", status.stretch()},
+                                                   {"p_accept", status.p_accept()}};
+  for (const auto& [name, value] : values) {
+    if (value > 0.0) request.overrides.emplace(name, value);
+  }
+  return request;
+}
+
+bool same_recipe(const RoadmapRecipe& mine, const BuildRequest& wanted) {
+  const auto value = [&](const char* name) {
+    const auto it = wanted.overrides.find(name);
+    return it == wanted.overrides.end() ? 0.0 : it->second;
+  };
+  const bool has_variant = wanted.method == BuildMethod::spars || wanted.method == BuildMethod::ispars;
+  return mine.method == wanted.method && mine.seed == wanted.seed && (!has_variant || mine.variant == wanted.variant) &&
+         mine.dense_delta == value("dense_delta") && mine.sparse_delta == value("sparse_delta") &&
+         mine.stretch == value("stretch") && mine.p_accept == value("p_accept");
+}
+
+}  // namespace
+
+void Daemon::join_fleet() {
+  claims_ = std::make_unique<SceneClaims>(
+      config_.server_id, Fleet{[this] { return dds_->other_daemons(); }, [this] { return self_info(); },
+                               [this] { announce(); }});
+  // Announcements are transient-local: every live daemon's reaches a new reader once discovery
+  // has matched them, which on one host takes milliseconds and on a network a little more.
+  std::this_thread::sleep_for(std::chrono::milliseconds(config_.discovery_wait_ms));
+  if (dds_->announced(config_.server_id)) {
+    throw std::runtime_error(fmt::format("server id '{}' is already announced on DDS domain {} by another running "
+                                         "daemon; give each daemon its own server_id",
+                                         config_.server_id, config_.domain));
+  }
+}
+
+void Daemon::fleet_changed() { fleet_wake_.notify_all(); }
+
+void Daemon::status_seen(const msg::SceneStatus& status) {
+  if (claims_) claims_->observe(status);
+}
+
+void Daemon::watch_fleet() {
+  std::unique_lock lock(fleet_mutex_);
+  while (!fleet_stop_) {
+    fleet_wake_.wait_for(lock, kFleetPeriod);
+    if (fleet_stop_) break;
+    lock.unlock();
+    for (const std::string& scene : claims_->contested()) {
+      spdlog::warn("scene '{}' is also claimed by a daemon that outranks {} under the fleet's rule; giving it up",
+                   scene, config_.server_id);
+      service_->yield(scene);
+    }
+    for (const OrphanScene& orphan : claims_->orphans()) take_over(orphan);
+    lock.lock();
+  }
+}
+
+void Daemon::take_over(const OrphanScene& orphan) {
+  spdlog::warn("daemon {} left while holding scene '{}'; this daemon takes it over", orphan.former_owner,
+               orphan.scene);
+  try {
+    const auto [session, loaded_now] = service_->load(orphan.scene);
+    const auto request = orphan.last_status ? rebuild_request(*orphan.last_status) : std::nullopt;
+    if (!request) return;  // it held no roadmap, or a damaged one: loaded as it is here
+    const SessionStatus mine = session->status();
+    if (mine.recipe && same_recipe(*mine.recipe, *request) && mine.samples_done <= request->samples) {
+      if (mine.samples_done < request->samples) service_->extend(orphan.scene, request->samples - mine.samples_done);
+    } else {
+      BuildRequest build = *request;
+      build.replace = mine.recipe.has_value();
+      service_->build(orphan.scene, build);
+    }
+    spdlog::info("scene '{}' taken over from {}: rebuilding its {} roadmap (seed {}) to {} samples", orphan.scene,
+                 orphan.former_owner, orphan.last_status->method().to_string(), request->seed, request->samples);
+  } catch (const std::exception& e) {
+    spdlog::error("taking over scene '{}' from {} failed: {}", orphan.scene, orphan.former_owner, e.what());
+  }
+}
+
+}  // namespace ispars::server

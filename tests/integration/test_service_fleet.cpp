@@ -1,0 +1,162 @@
+// A fleet of daemons on one domain: one owner per scene under the fleet's rule, however many
+// daemons claim it at the same instant, and a takeover when the owner dies, which clients follow
+// without being told and which rebuilds the same roadmap from the recipe.
+
+#include <gtest/gtest.h>
+
+#include <barrier>
+#include <chrono>
+#include <thread>
+
+#include "integration/service_fixture.hpp"
+#include "ispars/wire/scene_owner.hpp"
+
+namespace ispars::test {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The daemons holding `scene`, as their announcements say.
+std::vector<std::string> holders(Client& client, const std::string& scene) {
+  std::vector<std::string> out;
+  for (const auto& d : client.daemons()) {
+    if (wire::holds(d, scene)) out.push_back(d.server_id().to_string());
+  }
+  return out;
+}
+
+class FleetTest : public ServiceTest {
+ protected:
+  // Starts daemons `ids` at the same instant (each with `extra`), returns once all announce.
+  std::vector<std::unique_ptr<DaemonProcess>> start_together(const std::vector<std::string>& ids,
+                                                              const std::vector<std::string>& extra = {}) {
+    std::vector<std::unique_ptr<DaemonProcess>> daemons(ids.size());
+    std::vector<std::thread> threads;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      threads.emplace_back([&, i] { daemons[i] = start(ids[i], extra); });
+    }
+    for (auto& t : threads) t.join();
+    return daemons;
+  }
+};
+
+TEST_F(FleetTest, ThreeDaemonsLoadingOneSceneAtTheSameMomentLeaveExactlyOneOwner) {
+  const std::vector<std::string> ids{"east", "west", "north"};
+  auto daemons = start_together(ids);
+  std::vector<std::unique_ptr<Client>> clients;
+  for (std::size_t i = 0; i < ids.size(); ++i) clients.push_back(std::make_unique<Client>(client_options(domain_)));
+  Client observer(client_options(domain_));
+  for (int round = 0; round < 20; ++round) {
+    const std::string scene = scene_name(static_cast<unsigned>(round % 4));
+    // Each client addresses a different daemon, all released at once.
+    std::barrier go(static_cast<std::ptrdiff_t>(ids.size()));
+    std::vector<msg::Reply> replies(ids.size());
+    std::vector<std::thread> threads;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      threads.emplace_back([&, i] {
+        go.arrive_and_wait();
+        try {
+          replies[i] = clients[i]->call_raw(make_change(msg::LOAD_SCENE, scene), ids[i]);
+        } catch (const std::exception& e) {
+          replies[i].ok(false);
+          replies[i].error(e.what());
+        }
+      });
+    }
+    for (auto& t : threads) t.join();
+    std::vector<std::string> accepted;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      if (replies[i].ok()) {
+        accepted.push_back(ids[i]);
+      } else {
+        EXPECT_NE(replies[i].error().find("daemon"), std::string::npos) << replies[i].error();
+      }
+    }
+    if (accepted.size() != 1u) {
+      for (auto& d : daemons) std::fprintf(stderr, "=== %s\n%s\n", d->server_id().c_str(), d->log().c_str());
+      for (auto& r : replies) std::fprintf(stderr, "reply: %s\n", r.error().c_str());
+    }
+    ASSERT_EQ(accepted.size(), 1u) << "round " << round;
+    const std::string owner = observer.owner_of(scene);
+    EXPECT_EQ(accepted[0], owner) << "round " << round;
+    EXPECT_EQ(holders(observer, scene), std::vector<std::string>{owner}) << "round " << round;
+    observer.unload(scene);
+  }
+  for (auto& d : daemons) EXPECT_TRUE(d->alive());
+}
+
+TEST_F(FleetTest, DaemonsStartedTogetherWithTheSameSceneToLoadLeaveOneOwner) {
+  for (int round = 0; round < 3; ++round) {
+    const std::vector<std::string> ids{"a" + std::to_string(round), "b" + std::to_string(round),
+                                       "c" + std::to_string(round)};
+    auto daemons = start_together(ids, {"--load", "s2"});
+    Client observer(client_options(domain_));
+    // Each daemon announces, then claims what it preloads: wait for the three claims to settle.
+    const auto deadline = Clock::now() + std::chrono::seconds(20);
+    int refused = 0;
+    while (Clock::now() < deadline) {
+      refused = 0;
+      for (auto& d : daemons) refused += d->log().find("preload of scene 's2' failed") != std::string::npos ? 1 : 0;
+      if (refused == 2 && holders(observer, "s2").size() == 1) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    EXPECT_EQ(refused, 2) << "round " << round;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));  // and stay settled
+    const auto held = holders(observer, "s2");
+    ASSERT_EQ(held.size(), 1u) << "round " << round;
+    EXPECT_EQ(observer.stats("s2").server_id(), held[0]);
+    for (auto& d : daemons) {
+      if (d->server_id() != held[0]) {
+        EXPECT_NE(d->log().find("daemon " + held[0]), std::string::npos);  // the refusal names the owner
+      }
+    }
+    for (auto& d : daemons) EXPECT_EQ(d->terminate(), 0);
+  }
+}
+
+TEST_F(FleetTest, ADaemonWhoseIdIsAlreadyAnnouncedRefusesToStart) {
+  auto first = start("same");
+  // Its own data directory, its own process; the probe sees "same" at once (the first's).
+  DaemonProcess second(ISPARS_DAEMON, domain_, dir_.path() / "data-second", scene_dir_, "same");
+  const auto deadline = Clock::now() + std::chrono::seconds(20);
+  while (second.alive() && Clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_FALSE(second.alive());
+  EXPECT_NE(second.log().find("server id 'same' is already announced on DDS domain"), std::string::npos) << second.log();
+  EXPECT_TRUE(first->alive());
+  Client client(client_options(domain_));
+  EXPECT_EQ(client.load("s0").server_id(), "same");
+}
+
+TEST_F(FleetTest, WhenTheOwnerIsKilledAnotherTakesOverAndRebuildsTheSameRoadmap) {
+  auto daemons = start_together({"one", "two", "three"});
+  Client client(client_options(domain_));
+  client.load("s1");
+  client.build("s1", ispars_build(1500, 3));
+  const msg::SceneStatus built = client.wait_idle("s1", {}, kLong);
+  const std::uint64_t digest = roadmap_digest(client.snapshot("s1").roadmap);
+  const std::string first_owner = built.server_id().to_string();
+  for (auto& d : daemons) {
+    if (d->server_id() == first_owner) d->kill9();
+  }
+  const auto killed = Clock::now();
+  // The client addresses the scene, not a daemon: its next request follows the scene.
+  const msg::SceneStatus after = client.stats("s1");
+  const double answered_after = std::chrono::duration<double>(Clock::now() - killed).count();
+  EXPECT_NE(after.server_id(), first_owner);
+  std::vector<msg::DaemonInfo> live = client.daemons();
+  std::erase_if(live, [&](const msg::DaemonInfo& d) { return d.server_id() == first_owner; });
+  EXPECT_EQ(after.server_id(), wire::assigned_daemon("s1", live));
+  // The bound: the participant lease (3 s on localhost), the claim window, the scene's load.
+  EXPECT_LT(answered_after, 8.0) << "the new owner answered " << answered_after << " s after the kill";
+  std::printf("takeover: %s answered stats on s1 %.2f s after %s was killed\n", after.server_id().c_str(),
+              answered_after, first_owner.c_str());
+  const msg::SceneStatus rebuilt = client.wait_idle("s1", {}, kLong);
+  EXPECT_EQ(rebuilt.samples_done(), built.samples_done());
+  EXPECT_EQ(rebuilt.method(), "ispars");
+  EXPECT_EQ(rebuilt.seed(), 3u);
+  EXPECT_EQ(roadmap_digest(client.snapshot("s1").roadmap), digest);
+  EXPECT_EQ(holders(client, "s1"), std::vector<std::string>{after.server_id().to_string()});
+}
+
+}  // namespace
+}  // namespace ispars::test

@@ -1,0 +1,194 @@
+// SceneClaims over a scripted fleet: claims refused to a holder or the assigned daemon, claims
+// made at the same instant on stale views, scenes given up, and takeovers after a holder left.
+
+#include <gtest/gtest.h>
+
+#include <mutex>
+
+#include "ispars/input_error.hpp"
+#include "ispars/wire/scene_owner.hpp"
+#include "scene_claims.hpp"
+
+namespace ispars::server {
+namespace {
+
+msg::DaemonInfo info(const std::string& id, std::vector<std::string> loaded = {}) {
+  msg::DaemonInfo d;
+  d.server_id(id);
+  d.available().push_back("s");
+  for (const auto& s : loaded) d.loaded().push_back(s);
+  return d;
+}
+
+// A fleet whose other daemons the test sets; `after_announce` replaces them when this daemon
+// announces (what the others did meanwhile, seen only after the claim went out).
+struct ScriptedFleet {
+  std::mutex mutex;
+  std::vector<msg::DaemonInfo> others;
+  std::optional<std::vector<msg::DaemonInfo>> after_announce;
+  int announcements = 0;
+  SceneClaims* claims = nullptr;
+  std::string self;
+
+  Fleet fleet() {
+    return Fleet{[this] {
+                   std::lock_guard lock(mutex);
+                   return others;
+                 },
+                 [this] {
+                   msg::DaemonInfo d = info(self);
+                   for (const auto& s : claims->claimed()) d.loaded().push_back(s);
+                   return d;
+                 },
+                 [this] {
+                   std::lock_guard lock(mutex);
+                   ++announcements;
+                   if (after_announce) others = *std::exchange(after_announce, std::nullopt);
+                 }};
+  }
+};
+
+// Two daemon ids: `high` outranks `low` for scene "s".
+struct Ranked {
+  std::string high = "a", low = "b";
+  Ranked() {
+    if (!wire::outranks("s", high, low)) std::swap(high, low);
+  }
+};
+
+struct Claims {
+  ScriptedFleet fleet;
+  std::unique_ptr<SceneClaims> claims;
+  explicit Claims(const std::string& self) {
+    fleet.self = self;
+    claims = std::make_unique<SceneClaims>(self, fleet.fleet());
+    fleet.claims = claims.get();
+  }
+};
+
+std::string claim_error(SceneClaims& claims, const std::string& scene) {
+  try {
+    claims.claim(scene);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SceneClaims, ASceneHeldElsewhereIsRefusedNamingItsHolder) {
+  const Ranked r;
+  Claims c(r.high);
+  c.fleet.others = {info(r.low, {"s"})};  // the lower-ranked daemon holds it: it keeps it
+  EXPECT_NE(claim_error(*c.claims, "s").find("scene 's' is owned by daemon " + r.low), std::string::npos);
+  EXPECT_TRUE(c.claims->claimed().empty());
+  EXPECT_EQ(c.fleet.announcements, 0);
+}
+
+TEST(SceneClaims, ASceneAssignedElsewhereIsRefusedNamingTheRule) {
+  const Ranked r;
+  Claims c(r.low);
+  c.fleet.others = {info(r.high)};
+  const std::string error = claim_error(*c.claims, "s");
+  EXPECT_NE(error.find("belongs to daemon " + r.high + " by the fleet's rule"), std::string::npos) << error;
+  EXPECT_TRUE(c.claims->claimed().empty());
+}
+
+TEST(SceneClaims, AnAssignedSceneIsClaimedAnnouncedAndReleased) {
+  const Ranked r;
+  Claims c(r.high);
+  c.fleet.others = {info(r.low)};
+  EXPECT_EQ(claim_error(*c.claims, "s"), "");
+  EXPECT_EQ(c.claims->claimed(), std::vector<std::string>{"s"});
+  EXPECT_EQ(c.fleet.announcements, 1);
+  EXPECT_EQ(claim_error(*c.claims, "s"), "");  // already claimed: no second announcement
+  EXPECT_EQ(c.fleet.announcements, 1);
+  c.claims->release("s");
+  EXPECT_TRUE(c.claims->claimed().empty());
+}
+
+TEST(SceneClaims, OfTwoClaimsAtTheSameInstantTheOutrankedOneWithdraws) {
+  const Ranked r;
+  // The lower-ranked daemon saw no other daemon when it claimed; during its claim window the
+  // higher-ranked one turns up holding the scene.
+  Claims low(r.low);
+  low.fleet.after_announce = std::vector<msg::DaemonInfo>{info(r.high, {"s"})};
+  const std::string error = claim_error(*low.claims, "s");
+  EXPECT_NE(error.find("daemon " + r.high + " claimed scene 's' at the same moment"), std::string::npos) << error;
+  EXPECT_TRUE(low.claims->claimed().empty());
+  EXPECT_EQ(low.fleet.announcements, 2);  // the claim, then its withdrawal
+  // The higher-ranked daemon, in the mirror situation, keeps its claim.
+  Claims high(r.high);
+  high.fleet.after_announce = std::vector<msg::DaemonInfo>{info(r.low, {"s"})};
+  EXPECT_EQ(claim_error(*high.claims, "s"), "");
+  EXPECT_TRUE(high.claims->contested().empty());
+}
+
+TEST(SceneClaims, AClaimSeenOnlyAfterTheWindowIsContestedAndGivenUpByTheOutranked) {
+  const Ranked r;
+  Claims low(r.low);
+  EXPECT_EQ(claim_error(*low.claims, "s"), "");  // alone on its view
+  low.fleet.others = {info(r.high, {"s"})};        // a late announcement: both hold it
+  EXPECT_EQ(low.claims->contested(), std::vector<std::string>{"s"});
+  Claims high(r.high);
+  EXPECT_EQ(claim_error(*high.claims, "s"), "");
+  high.fleet.others = {info(r.low, {"s"})};
+  EXPECT_TRUE(high.claims->contested().empty());
+}
+
+msg::SceneStatus status(const std::string& server, msg::SceneState state, const std::string& method) {
+  msg::SceneStatus s;
+  s.scene("s");
+  s.server_id(server);
+  s.state(state);
+  s.method(method);
+  s.seed(7);
+  s.samples_done(1234);
+  return s;
+}
+
+TEST(SceneClaims, AHolderThatLeavesIsTakenOverOnceWithItsLastRecipe) {
+  const Ranked r;
+  Claims c(r.low);
+  const std::string gone = "gone";
+  c.fleet.others = {info(gone, {"s"}), info(r.high)};
+  EXPECT_TRUE(c.claims->orphans().empty());  // held by a live daemon
+  c.claims->observe(status(gone, msg::SCENE_IDLE, "ispars"));
+  c.claims->observe(status(gone, msg::SCENE_UNLOADED, ""));  // a stopping daemon's last word
+  c.fleet.others = {info(r.high)};                            // `gone` left
+  EXPECT_TRUE(c.claims->orphans().empty());  // the rule gives it to r.high, not here
+  c.fleet.others = {};                        // r.high left too, before taking it
+  const auto orphans = c.claims->orphans();
+  ASSERT_EQ(orphans.size(), 1u);
+  EXPECT_EQ(orphans[0].scene, "s");
+  EXPECT_EQ(orphans[0].former_owner, gone);
+  ASSERT_TRUE(orphans[0].last_status.has_value());
+  EXPECT_EQ(orphans[0].last_status->method(), "ispars");
+  EXPECT_EQ(orphans[0].last_status->samples_done(), 1234u);
+  EXPECT_TRUE(c.claims->orphans().empty());  // reported once
+}
+
+TEST(SceneClaims, ASceneReleasedOnPurposeIsNoOrphan) {
+  Claims c("me");
+  c.fleet.others = {info("other", {"s"})};
+  EXPECT_TRUE(c.claims->orphans().empty());
+  c.fleet.others = {info("other")};  // still live, unloaded it
+  EXPECT_TRUE(c.claims->orphans().empty());
+  c.fleet.others = {};  // then left: it held nothing any more
+  EXPECT_TRUE(c.claims->orphans().empty());
+}
+
+TEST(SceneClaims, ADroppedRoadmapIsNotRebuiltByTheTaker) {
+  Claims c("me");
+  c.fleet.others = {info("other", {"s"})};
+  (void)c.claims->orphans();
+  c.claims->observe(status("other", msg::SCENE_IDLE, "ispars"));
+  c.claims->observe(status("other", msg::SCENE_EMPTY, ""));  // dropped
+  c.fleet.others = {};
+  const auto orphans = c.claims->orphans();
+  ASSERT_EQ(orphans.size(), 1u);
+  ASSERT_TRUE(orphans[0].last_status.has_value());
+  EXPECT_EQ(orphans[0].last_status->method(), "");
+}
+
+}  // namespace
+}  // namespace ispars::server
