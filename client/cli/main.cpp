@@ -357,9 +357,14 @@ int main(int argc, char** argv) {
       (void)client.stats(scene);  // fails clearly when the scene is not loaded anywhere
       Progress progress(true);
       ispars::client::RoadmapReplica replica(client, scene);
+      bool retired = false;
       while (!g_interrupted) {
         const auto s = client.latest_status(scene);
         if (s) progress(*s);
+        if (replica.retirements() > 0) {  // dropped or unloaded: nothing left to follow
+          retired = true;
+          break;
+        }
         if (until_idle && s && s->state() != msg::SCENE_BUILDING && s->state() != msg::SCENE_QUEUED &&
             s->state() != msg::SCENE_REPLAYING && replica.snapshots_taken() > 0) {
           const msg::SceneStatus now = client.stats(scene);
@@ -372,6 +377,16 @@ int main(int argc, char** argv) {
       std::cout << fmt::format("replica of {}: version {}, {} vertices, {} edges, digest {:016x} ({} snapshots, {} batches)\n",
                                scene, g.version(), g.vertex_count(), g.edge_count(), ispars::roadmap_digest(g),
                                replica.snapshots_taken(), replica.batches_applied());
+      if (retired) {
+        const auto s = client.latest_status(scene);
+        const std::string what = !s                                     ? "dropped or unloaded"
+                                 : s->state() == msg::SCENE_UNLOADED ? "unloaded"
+                                 : s->state() == msg::SCENE_EMPTY     ? "dropped"
+                                                                      : "dropped or unloaded";
+        std::cerr << fmt::format("ispars: the roadmap of scene '{}' was {} while watching{}\n", scene, what,
+                                 dump.empty() ? "" : "; nothing written to " + dump);
+        return 1;
+      }
       if (!dump.empty()) write_text(dump, ispars::roadmap_file_json(scene, replica.root(), replica.pois(), g, nullptr));
     }
     return 0;

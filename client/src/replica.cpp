@@ -88,8 +88,13 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
       std::deque<msg::UpdateBatch> batches;
       {
         std::unique_lock lock(mutex_);
-        wake_.wait(lock, [&] { return stopping_ || !inbox_.empty(); });
+        wake_.wait_for(lock, kStatusPeriod, [&] { return stopping_ || !inbox_.empty(); });
         batches.swap(inbox_);
+      }
+      if (owner_dropped_or_unloaded()) {
+        forget_roadmap();
+        need_sync = true;  // a later build or load brings it back
+        continue;
       }
       for (const msg::UpdateBatch& b : batches) {
         if (!apply(b)) {
@@ -129,6 +134,35 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
       last_error_ = e.what();
       return false;
     }
+  }
+
+  // Whether the daemon this replica follows says the roadmap it holds is gone: its status (as
+  // believed: only from that daemon) is EMPTY (dropped) or UNLOADED.
+  bool owner_dropped_or_unloaded() {
+    std::string owner;
+    {
+      std::lock_guard lock(state_mutex_);
+      if (generation_ == 0) return false;  // holds no built roadmap
+      owner = owner_;
+    }
+    const auto status = client_.latest_status(scene_);
+    return status && status->server_id() == owner &&
+           (status->state() == msg::SCENE_EMPTY || status->state() == msg::SCENE_UNLOADED);
+  }
+
+  // The roadmap was dropped or its scene unloaded: the copy is no longer what any daemon serves.
+  void forget_roadmap() {
+    {
+      std::lock_guard lock(state_mutex_);
+      if (generation_ != 0) retired_.insert(generation_);
+      roadmap_ = Roadmap(pois_.size());
+      generation_ = 0;
+      samples_ = 0;
+      ++retirements_;
+      last_error_ = "the roadmap of scene '" + scene_ + "' was dropped or unloaded on daemon " + owner_;
+    }
+    state_changed_.notify_all();
+    notify(true);
   }
 
   // Applies one batch; false when it shows a gap or another generation (resync needed).
@@ -176,6 +210,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
   std::mutex mutex_;  // inbox and stopping
   std::condition_variable wake_;
   std::deque<msg::UpdateBatch> inbox_;
+  static constexpr std::chrono::milliseconds kStatusPeriod{100};  // how often the status is looked at
   bool stopping_ = false;
   std::thread thread_;
 
@@ -190,6 +225,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
   std::vector<Vec3> pois_;
   std::size_t snapshots_ = 0;
   std::size_t batches_ = 0;
+  std::size_t retirements_ = 0;
   std::string last_error_;
 };
 
@@ -208,6 +244,10 @@ std::uint64_t RoadmapReplica::version() const {
 std::uint64_t RoadmapReplica::generation() const {
   std::lock_guard lock(impl_->state_mutex_);
   return impl_->generation_;
+}
+std::size_t RoadmapReplica::retirements() const {
+  std::lock_guard lock(impl_->state_mutex_);
+  return impl_->retirements_;
 }
 std::size_t RoadmapReplica::snapshots_taken() const {
   std::lock_guard lock(impl_->state_mutex_);

@@ -193,6 +193,7 @@ bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
     }
     case msg::DROP:
       service_->drop(scene);
+      dds_->retire_updates(scene);  // replicas drop their copy; the kept batches are released
       reply.message(fmt::format("dropped the roadmap of '{}'", scene));
       break;
     default:

@@ -45,6 +45,7 @@ void Daemon::publish_status(const RoadmapSession& session) {
 }
 
 void Daemon::publish_unloaded(const std::string& scene) {
+  dds_->retire_updates(scene);
   msg::SceneStatus status;
   status.scene(scene);
   status.server_id(config_.server_id);

@@ -224,6 +224,22 @@ void DdsEndpoints::publish_update(const msg::UpdateBatch& batch) {
   if (!updates_->write(&copy)) spdlog::error("update {}..{} of {} could not be written", batch.from_version(), batch.to_version(), batch.scene());
 }
 
+void DdsEndpoints::retire_updates(const std::string& scene) {
+  msg::UpdateBatch key;
+  key.scene(scene);
+  // The handle is computed from the key (Fast DDS 2.9 has no lookup_instance); a scene never
+  // published here has no instance, and then there is nothing to dispose.
+  if (updates_->dispose(&key, fdds::HANDLE_NIL) != ReturnCode_t::RETCODE_OK) {
+    spdlog::debug("no updates of {} to dispose", scene);
+    return;
+  }
+  // Unregistered, the instance's kept batches leave the writer's history: a late joiner gets none.
+  if (updates_->unregister_instance(&key, fdds::HANDLE_NIL) != ReturnCode_t::RETCODE_OK) {
+    spdlog::warn("the updates of {} were disposed but not unregistered", scene);
+  }
+  spdlog::debug("updates of {} disposed", scene);
+}
+
 void DdsEndpoints::publish_status(const msg::SceneStatus& status) {
   msg::SceneStatus copy = status;
   if (!status_->write(&copy)) spdlog::error("status of {} could not be written", status.scene());

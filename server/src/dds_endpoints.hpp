@@ -40,6 +40,9 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   /// client retries with the same id if it is still lost.
   void send_reply(const msg::Reply& reply, std::chrono::milliseconds wait = std::chrono::milliseconds(2000));
   void publish_update(const msg::UpdateBatch& batch);
+  /// Disposes `scene`'s update instance (its roadmap was dropped, or the scene left this daemon):
+  /// its kept batches are released and every replica is told.
+  void retire_updates(const std::string& scene);
   void publish_status(const msg::SceneStatus& status);
   void announce(const msg::DaemonInfo& info);
   void publish_tour_progress(const msg::TourProgress& progress);

@@ -63,6 +63,7 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
   fdds::TypeSupport query_type_{new wire::SafeType<msg::QueryRequestPubSubType>()};
   fdds::TypeSupport reply_type_{new wire::SafeType<msg::ReplyPubSubType>()};
   fdds::TypeSupport daemon_type_{new wire::SafeType<msg::DaemonInfoPubSubType>()};
+  fdds::TypeSupport update_type_{new wire::SafeType<msg::UpdateBatchPubSubType>()};
   fdds::DataReader* replies_ = nullptr;
   fdds::DataWriter* queries_ = nullptr;
   fdds::Publisher* publisher_ = nullptr;
@@ -134,6 +135,24 @@ std::optional<msg::Reply> RawPeer::send(msg::QueryRequest request, std::chrono::
     }
   }
   return std::nullopt;
+}
+
+std::size_t RawPeer::kept_update_batches(const std::string& scene, std::chrono::milliseconds wait) {
+  fdds::DomainParticipant* p = impl_->participant_.get();
+  auto* topic = wire::find_or_create_topic(p, impl_->update_type_, wire::kUpdatesTopic);
+  auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  auto* reader = sub ? sub->create_datareader(topic, wire::updates_reader_qos()) : nullptr;
+  if (reader == nullptr) throw std::runtime_error("raw peer: update reader not created");
+  std::this_thread::sleep_for(wait);
+  std::size_t count = 0;
+  msg::UpdateBatch batch;
+  fdds::SampleInfo info;
+  while (reader->take_next_sample(&batch, &info) == ReturnCode_t::RETCODE_OK) {
+    if (info.valid_data && batch.scene() == scene) ++count;
+  }
+  sub->delete_datareader(reader);
+  p->delete_subscriber(sub);
+  return count;
 }
 
 void RawPeer::announce(const msg::DaemonInfo& info) {

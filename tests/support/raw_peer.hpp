@@ -38,6 +38,9 @@ class RawPeer {
   [[nodiscard]] std::vector<msg::Reply> replies() const;
   /// This peer's identity as the daemon reads it from the transport (its GUID prefix).
   [[nodiscard]] const std::string& identity() const;
+  /// Joins the updates topic as a late joiner, waits `wait`, and returns how many batches of
+  /// `scene` the writers' kept history delivered.
+  std::size_t kept_update_batches(const std::string& scene, std::chrono::milliseconds wait);
   /// Publishes `info` on the announcement topic, as a daemon does; kept while this peer lives.
   void announce(const msg::DaemonInfo& info);
 

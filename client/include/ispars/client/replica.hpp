@@ -45,6 +45,9 @@ class RoadmapReplica {
   [[nodiscard]] std::vector<Vec3> pois() const;
   /// Waits until the replica reaches `version` of `generation` (0: any generation).
   bool wait_for(std::uint64_t generation, std::uint64_t version, std::chrono::milliseconds timeout) const;
+  /// Times the owner's status said the roadmap followed was dropped (EMPTY) or its scene unloaded:
+  /// each empties the replica (generation 0) until a later build or load brings it back.
+  [[nodiscard]] std::size_t retirements() const;
   /// The last error of a sync attempt (empty when none).
   [[nodiscard]] std::string last_error() const;
 
