@@ -33,7 +33,11 @@ class FleetTest : public ServiceTest {
     std::vector<std::unique_ptr<DaemonProcess>> daemons(ids.size());
     std::vector<std::thread> threads;
     for (std::size_t i = 0; i < ids.size(); ++i) {
-      threads.emplace_back([&, i] { daemons[i] = start(ids[i], extra); });
+      threads.emplace_back([&, i] {
+        std::vector<std::string> args = extra;
+        args.insert(args.end(), {"--discovery-wait-ms", "1000"});  // the default: daemons starting together
+        daemons[i] = start(ids[i], args);
+      });
     }
     for (auto& t : threads) t.join();
     return daemons;

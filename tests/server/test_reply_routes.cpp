@@ -50,11 +50,14 @@ struct ClientReader {
     fdds::Subscriber* sub = participant->create_subscriber(wire::reply_subscriber_qos(identity));
     reader = sub->create_datareader(topic, wire::request_reply_reader_qos());
   }
-  std::size_t take_all() {
+  // Takes every reply; returns how many have a sequence number of at least `from`.
+  std::size_t take_all(std::uint64_t from = 0) {
     std::size_t n = 0;
     msg::Reply reply;
     fdds::SampleInfo info;
-    while (reader->take_next_sample(&reply, &info) == ReturnCode_t::RETCODE_OK) n += info.valid_data ? 1 : 0;
+    while (reader->take_next_sample(&reply, &info) == ReturnCode_t::RETCODE_OK) {
+      n += info.valid_data && reply.request_seq() >= from ? 1 : 0;
+    }
     return n;
   }
   wire::Participant participant;
@@ -74,16 +77,20 @@ TEST(ReplyRoutes, AReplyReachesTheReaderInItsClientsPartitionAndNoOther) {
   Routes r(8);
   ClientReader a(r.domain, "aaaa"), b(r.domain, "bbbb");
   ASSERT_TRUE(r.routes->open("aaaa"));
-  for (int i = 0; i < 500; ++i) {  // until a's reader matched the route's writer
-    fdds::SubscriptionMatchedStatus s;
-    a.reader->get_subscription_matched_status(s);
-    if (s.current_count > 0) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  for (std::uint64_t seq = 1; seq <= 10; ++seq) ASSERT_TRUE(r.routes->write_reply(reply_to("aaaa", seq)));
+  // Until the match is seen from both ends (discovery is not symmetric in time: a reply written
+  // before the writer knows the reader is lost, as for any volatile writer). The writer end is
+  // seen by a first reply arriving; replies 1.. are then sent and must all arrive.
   std::size_t got = 0;
+  for (int i = 0; i < 500 && got == 0; ++i) {
+    ASSERT_TRUE(r.routes->write_reply(reply_to("aaaa", 0)));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    got = a.take_all();
+  }
+  ASSERT_GT(got, 0u) << "the route never matched the client's reader";
+  got = 0;
+  for (std::uint64_t seq = 1; seq <= 10; ++seq) ASSERT_TRUE(r.routes->write_reply(reply_to("aaaa", seq)));
   for (int i = 0; i < 300 && got < 10; ++i) {
-    got += a.take_all();
+    got += a.take_all(1);  // late copies of the probe (0) aside
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   EXPECT_EQ(got, 10u);

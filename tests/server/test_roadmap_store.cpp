@@ -94,7 +94,8 @@ TEST_F(RoadmapStoreTest, ReopeningRecoversTheLastCommitThroughSnapshotsAndJourna
   EXPECT_EQ(test::fingerprint(r.roadmaps.roadmap), test::fingerprint(builder_->roadmap()));
   EXPECT_TRUE(std::equal(r.roadmaps.dense_ids.begin(), r.roadmaps.dense_ids.end(), builder_->dense_ids().begin(),
                          builder_->dense_ids().end()));
-  EXPECT_THROW(RoadmapStore::create(path, recipe_), std::runtime_error);  // never over a store
+  // Over a store, a new one is made aside: it takes the place at its first commit, not before.
+  EXPECT_NE(RoadmapStore::create(path, recipe_)->dir(), path);
 }
 
 TEST_F(RoadmapStoreTest, ACrashAtAnyByteOfTheJournalRecoversACommittedState) {
@@ -290,6 +291,67 @@ TEST_F(RoadmapStoreTest, CommitsThatLeaveTheSparseRoadmapUnchangedSurviveACompac
   EXPECT_EQ(r.journal_commits, 40u);
   EXPECT_EQ(r.roadmaps.samples, samples);
   EXPECT_EQ(roadmap_digest(*r.roadmaps.dense), dense_digest);
+}
+
+}  // namespace
+}  // namespace ispars
+
+namespace ispars {
+namespace {
+
+TEST_F(RoadmapStoreTest, AReplacingStoreLeavesTheOldOneWholeUntilItsFirstCommit) {
+  const auto path = dir_.path() / "bridge";
+  std::vector<Committed> old_states;
+  {
+    auto store = RoadmapStore::create(path, recipe_);
+    old_states = build_and_commit(*store, 3, 40);
+  }
+  const std::string old_journal = slurp(path / "journal.log");
+  RoadmapRecipe next = recipe_;
+  next.seed = 12;
+  next.generation = 43;
+  {
+    auto replacing = RoadmapStore::create(path, next);  // a crash now: the old store as it was
+    EXPECT_EQ(slurp(path / "journal.log"), old_journal);
+    EXPECT_EQ(RoadmapStore::read_recipe(path).generation, 42u);
+  }
+  remove_dropped_stores(dir_.path());  // the next start: the staging store that never took its place goes
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / ".new-bridge"));
+  StoreRecovery still;
+  (void)RoadmapStore::open(path, scene_->pois().size(), still);
+  expect_state(still, old_states.back());
+
+  auto replacing = RoadmapStore::create(path, next);
+  recipe_ = next;
+  const auto new_states = build_and_commit(*replacing, 1, 40);  // its first commit: now it is the store
+  EXPECT_EQ(replacing->dir(), path);
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / ".new-bridge"));
+  EXPECT_EQ(RoadmapStore::read_recipe(path).generation, 43u);
+  replacing.reset();
+  StoreRecovery now;
+  (void)RoadmapStore::open(path, scene_->pois().size(), now);
+  expect_state(now, new_states.back());
+}
+
+TEST_F(RoadmapStoreTest, AReplacementCaughtBetweenTheFallbackRenamesIsPutInPlaceAtStart) {
+  // What the fallback (no RENAME_EXCHANGE) leaves after a crash between its two renames: the new
+  // store, with its first commit, under its staging name, and no store under the scene's name.
+  const auto staging = dir_.path() / ".new-bridge";
+  std::vector<Committed> states;
+  {
+    auto store = RoadmapStore::create(staging, recipe_);
+    states = build_and_commit(*store, 1, 40);
+  }
+  remove_dropped_stores(dir_.path());
+  EXPECT_FALSE(std::filesystem::exists(staging));
+  StoreRecovery r;
+  (void)RoadmapStore::open(dir_.path() / "bridge", scene_->pois().size(), r);
+  expect_state(r, states.back());
+  // A staging store without a commit is only removed.
+  { auto empty = RoadmapStore::create(dir_.path() / ".new-other", recipe_); }
+  remove_dropped_stores(dir_.path());
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / ".new-other"));
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / "other"));
 }
 
 }  // namespace

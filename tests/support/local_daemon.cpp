@@ -1,5 +1,6 @@
 #include "support/local_daemon.hpp"
 
+#include <algorithm>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -57,6 +58,11 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
   log_path_ = data_dir.parent_path() / (server_id_ + "-" + std::to_string(::getpid()) + ".log");
   std::vector<std::string> args = {daemon_binary, "--domain", std::to_string(domain), "--data-dir", data_dir.string(),
                                    "--scene-dir", scene_dir.string(), "--server-id", server_id_, "--log-level", "debug"};
+  // One daemon per test mostly: listening 300 ms for others is plenty on localhost (fleet tests
+  // that start several at once pass their own).
+  if (std::find(extra_args.begin(), extra_args.end(), "--discovery-wait-ms") == extra_args.end()) {
+    args.insert(args.end(), {"--discovery-wait-ms", "300"});
+  }
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   pid_ = ::fork();
   if (pid_ < 0) throw std::runtime_error("fork failed");

@@ -94,20 +94,15 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
     std::uint64_t roadmap_version = 0;
     std::uint64_t dense_version = 0;
     if (build) {
+      // The old roadmap (if any) stays published and stored until this build's first commit: the
+      // new store is made aside and takes its place then (RoadmapStore::create).
       store_.reset();
       builder_.reset();
       recovered_.reset();
-      drop_store(store_dir_);
       build_scene_ = std::make_unique<Scene>(session_detail::scene_for(scene_, recipe));
       builder_ = builder_for(*build_scene_, recipe, limits_.build_threads);
       store_ = RoadmapStore::create(store_dir_, recipe);
       store_->set_compact_every(limits_.compact_every);
-      std::lock_guard lock(mutex_);
-      recipe_ = recipe;
-      damage_.clear();  // a damaged store, if there was one, was discarded by this build (replace)
-      dense_vertices_ = dense_edges_ = 0;
-      samples_done_ = 0;
-      published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), recipe.generation, 0);
     } else {
       ensure_builder(stopping);
       roadmap_version = builder_->roadmap().version();
@@ -150,6 +145,10 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       }
       {
         std::lock_guard lock(mutex_);
+        if (build && first) {  // the new roadmap is stored: it replaces the old one everywhere now
+          recipe_ = recipe;
+          damage_.clear();  // a damaged store, if there was one, was discarded by this build (replace)
+        }
         samples_done_ = builder_->samples();
         if (copy) published_ = std::move(*copy);
         dense_vertices_ = view.dense ? view.dense->vertex_count() : 0;

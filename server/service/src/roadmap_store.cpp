@@ -8,10 +8,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
+#include <system_error>
 
 namespace ispars {
 namespace {
@@ -131,7 +134,6 @@ RoadmapStore::~RoadmapStore() {
 }
 
 std::unique_ptr<RoadmapStore> RoadmapStore::create(const std::filesystem::path& dir, const RoadmapRecipe& recipe) {
-  if (std::filesystem::exists(dir)) throw std::runtime_error("store " + dir.string() + " already exists");
   // Build it aside and rename it into place, so a crash leaves no half-made store. Scene names
   // never start with '.', so the staging name can never be another scene's store.
   const std::filesystem::path staging = dir.parent_path() / (".new-" + dir.filename().string());
@@ -139,11 +141,36 @@ std::unique_ptr<RoadmapStore> RoadmapStore::create(const std::filesystem::path& 
   std::filesystem::create_directories(staging);
   write_file_atomically(recipe_path(staging), recipe_to_json(recipe));
   RecordFileWriter(journal_path(staging), kJournalMagic, 0);
-  std::filesystem::rename(staging, dir);
-  fsync_directory_of(dir);
-  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(dir, recipe));
-  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournalMagic, kJournalMagic.size());
+  const bool replacing = std::filesystem::exists(dir);
+  if (!replacing) {
+    std::filesystem::rename(staging, dir);
+    fsync_directory_of(dir);
+  }
+  const std::filesystem::path& at = replacing ? staging : dir;
+  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(at, recipe));
+  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(at), kJournalMagic, kJournalMagic.size());
+  if (replacing) store->replaces_ = dir;
   return store;
+}
+
+void RoadmapStore::take_place() {
+  // One atomic exchange of the two directories: the path names the old store until the call
+  // and the new one after it, never neither. The old one is then removed from the staging name.
+  const std::filesystem::path staging = dir_;
+  if (::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, replaces_.c_str(), RENAME_EXCHANGE) != 0) {
+    if (errno != EINVAL && errno != ENOSYS) {
+      throw std::system_error(errno, std::generic_category(), "cannot put the new store in place of " + replaces_.string());
+    }
+    // A filesystem without RENAME_EXCHANGE: the old store aside, then the new one in place. A
+    // crash in between leaves only .new-NAME, with its first commit, which remove_dropped_stores()
+    // puts in place at the next start.
+    drop_store(replaces_);
+    std::filesystem::rename(staging, replaces_);
+  }
+  fsync_directory_of(replaces_);
+  std::filesystem::remove_all(staging);  // the old store, if exchanged
+  dir_ = replaces_;
+  replaces_.clear();
 }
 
 RoadmapRecipe RoadmapStore::read_recipe(const std::filesystem::path& dir) {
@@ -208,6 +235,7 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
 void RoadmapStore::commit(const BuildCommit& commit, const RoadmapsView& current) {
   journal_->append(encode_commit(commit));
   ++journal_commits_;
+  if (!replaces_.empty()) take_place();
   if (journal_commits_ >= compact_every_) compact(current);
 }
 
@@ -248,7 +276,21 @@ void remove_dropped_stores(const std::filesystem::path& data_dir) {
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(data_dir, ec)) {
     const std::string name = entry.path().filename().string();
-    if (name.rfind(".dropped-", 0) == 0 || name.rfind(".new-", 0) == 0) std::filesystem::remove_all(entry.path());
+    if (name.rfind(".dropped-", 0) == 0) {
+      std::filesystem::remove_all(entry.path());
+    } else if (name.rfind(".new-", 0) == 0) {
+      // A replacing store caught between the two renames of the fallback: it holds its first
+      // commit (the journal longer than its header) and its old store is gone, so it is the truth.
+      const std::filesystem::path target = data_dir / name.substr(5);
+      std::error_code size_error;
+      const auto journal_size = std::filesystem::file_size(journal_path(entry.path()), size_error);
+      if (!std::filesystem::exists(target) && !size_error && journal_size > kJournalMagic.size()) {
+        std::filesystem::rename(entry.path(), target);
+        fsync_directory_of(target);
+      } else {
+        std::filesystem::remove_all(entry.path());  // a staging store that never took its place
+      }
+    }
   }
 }
 

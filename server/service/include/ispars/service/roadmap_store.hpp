@@ -78,7 +78,9 @@ class RoadmapStore {
   RoadmapStore(const RoadmapStore&) = delete;
   RoadmapStore& operator=(const RoadmapStore&) = delete;
 
-  /// Makes a new store for `recipe` at `dir`, which must not exist yet.
+  /// Makes a new store for `recipe` at `dir`. When a store is there already (a replacing build),
+  /// the new one is made aside and takes its place atomically at its first commit: until then
+  /// the old store stays whole, and a crash leaves it as it was.
   static std::unique_ptr<RoadmapStore> create(const std::filesystem::path& dir, const RoadmapRecipe& recipe);
   /// Opens the store at `dir`, recovering the last committed roadmaps. Throws std::runtime_error
   /// when the recipe or the snapshot is unreadable.
@@ -88,8 +90,9 @@ class RoadmapStore {
   /// The recipe of the store at `dir` (to find its scene before opening it).
   [[nodiscard]] static RoadmapRecipe read_recipe(const std::filesystem::path& dir);
 
-  /// Appends a commit durably. After `compact_every` journal commits, also writes a snapshot of
-  /// `current` and starts a new journal.
+  /// Appends a commit durably (the first commit of a replacing store then puts it in place of
+  /// the old one). After `compact_every` journal commits, also writes a snapshot of `current` and
+  /// starts a new journal.
   void commit(const BuildCommit& commit, const RoadmapsView& current);
   /// Writes a snapshot of `current` and starts an empty journal.
   void compact(const RoadmapsView& current);
@@ -102,7 +105,9 @@ class RoadmapStore {
 
  private:
   RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe);
+  void take_place();  // a replacing store: swaps itself with the store at replaces_
   std::filesystem::path dir_;
+  std::filesystem::path replaces_;  // a replacing store before its first commit: the store it replaces
   RoadmapRecipe recipe_;
   std::unique_ptr<RecordFileWriter> journal_;
   std::size_t journal_commits_ = 0;
@@ -129,6 +134,9 @@ void drop_store(const std::filesystem::path& dir);
 void mark_unloaded(const std::filesystem::path& dir, bool unloaded);
 /// Whether the store in `dir` is marked unloaded.
 [[nodiscard]] bool marked_unloaded(const std::filesystem::path& dir);
+/// At start: removes what an interrupted drop or creation left (".dropped-NAME", a staging
+/// ".new-NAME"), and puts in place a replacing store caught between the two renames of the
+/// fallback swap (".new-NAME" with a commit and no "NAME").
 void remove_dropped_stores(const std::filesystem::path& data_dir);
 
 }  // namespace ispars
