@@ -3,6 +3,8 @@
 
 #include "ispars/client/client.hpp"
 
+#include <type_traits>
+
 #include "client_impl.hpp"
 #include "ispars/wire/scene_owner.hpp"
 
@@ -93,6 +95,16 @@ msg::Reply Client::routed(Request request, const std::string& server, std::chron
       if (e.kind() != ClientError::Kind::no_daemon || std::chrono::steady_clock::now() >= deadline) throw;
       std::string next = new_owner_of(scene, target, deadline);
       if (next.empty() || next == target) throw;
+      // A query or a load is safe to send again. Another change may have been done before the
+      // owner left (and its takeover rebuilds the roadmap): the caller decides.
+      if constexpr (std::is_same_v<Request, msg::ChangeRequest>) {
+        if (request.args()._d() != msg::LOAD_SCENE) {
+          throw ClientError(ClientError::Kind::no_daemon,
+                            fmt::format("{}; scene '{}' moved to daemon {}, which takes it over from its recipe "
+                                        "(check `ispars stats {}` before sending the {} again)",
+                                        e.what(), scene, next, scene, wire::to_string(request.args()._d())));
+        }
+      }
       target = std::move(next);
     }
   }

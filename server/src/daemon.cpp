@@ -70,6 +70,9 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
   settings.build_workers = config_.workers;
   settings.tour_workers = config_.workers;
   settings.memory_budget_bytes = memory_budget_bytes(config_);
+  claims_ = std::make_unique<SceneClaims>(
+      config_.server_id, Fleet{[this] { return dds_->other_daemons(); }, [this] { return self_info(); },
+                               [this] { announce(); }});
   try {
     dds_ = std::make_unique<DdsEndpoints>(*this, config_);
     join_fleet();  // the other daemons seen, this one's id unique, claims possible

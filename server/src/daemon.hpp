@@ -69,13 +69,13 @@ class Daemon {
 
   msg::SceneStatus status_message(const RoadmapSession& session) const;
   void publish_status(const RoadmapSession& session);
-  void publish_unloaded(const std::string& scene);
+  void publish_unloaded(const std::string& scene, bool given_up);
   void announce();
   msg::DaemonInfo self_info() const;
   ServiceEvents service_events();
   // The fleet (daemon_fleet.cpp): waiting for the other daemons at start, then a thread that
   // gives up contested scenes and takes over those whose holder left.
-  void join_fleet();
+  void join_fleet();  // after dds_ exists: listens, refuses a duplicate id
   void watch_fleet();
   void take_over(const OrphanScene& orphan);
 
@@ -85,7 +85,7 @@ class Daemon {
   mutable std::mutex status_mutex_;  // stamps statuses in order
   mutable std::uint64_t status_seq_ = 0;
   std::mutex publish_mutex_;  // writes statuses in stamp order
-  std::unique_ptr<SceneClaims> claims_;
+  std::unique_ptr<SceneClaims> claims_;  // made before dds_: DDS callbacks read it
   std::mutex announce_mutex_;  // announcements written in the order they were made
   std::unique_ptr<DdsEndpoints> dds_;
   std::unique_ptr<RoadmapService> service_;

@@ -59,13 +59,13 @@ bool same_recipe(const RoadmapRecipe& mine, const BuildRequest& wanted) {
 }  // namespace
 
 void Daemon::join_fleet() {
-  claims_ = std::make_unique<SceneClaims>(
-      config_.server_id, Fleet{[this] { return dds_->other_daemons(); }, [this] { return self_info(); },
-                               [this] { announce(); }});
-  // Announcements are transient-local: every live daemon's reaches a new reader once discovery
-  // has matched them, which on one host takes milliseconds and on a network a little more.
+  // Announced at once (holding nothing), so that a daemon started at the same instant with the
+  // same id sees this one as this one sees it. Announcements are transient-local: every live
+  // daemon's reaches a new reader once discovery has matched them, which on one host takes
+  // milliseconds and on a network a little more.
+  announce();
   std::this_thread::sleep_for(std::chrono::milliseconds(config_.discovery_wait_ms));
-  if (dds_->announced(config_.server_id)) {
+  if (dds_->id_announced_elsewhere()) {
     throw std::runtime_error(fmt::format("server id '{}' is already announced on DDS domain {} by another running "
                                          "daemon; give each daemon its own server_id",
                                          config_.server_id, config_.domain));
@@ -84,10 +84,15 @@ void Daemon::watch_fleet() {
     fleet_wake_.wait_for(lock, kFleetPeriod);
     if (fleet_stop_) break;
     lock.unlock();
+    if (dds_->take_id_contested()) {
+      spdlog::error("another participant on DDS domain {} announces this daemon's server id '{}'; announcing again",
+                    config_.domain, config_.server_id);
+      announce();
+    }
     for (const std::string& scene : claims_->contested()) {
       spdlog::warn("scene '{}' is also claimed by a daemon that outranks {} under the fleet's rule; giving it up",
                    scene, config_.server_id);
-      service_->yield(scene);
+      service_->yield(scene, leaving_);
     }
     for (const OrphanScene& orphan : claims_->orphans()) take_over(orphan);
     lock.lock();

@@ -19,7 +19,7 @@ ServiceEvents Daemon::service_events() {
     dds_->publish_update(wire::to_message(batch, scene, config_.server_id, generation, samples));
   };
   events.on_status = [this](const RoadmapSession& session) { publish_status(session); };
-  events.on_unloaded = [this](const std::string& scene) { publish_unloaded(scene); };
+  events.on_unloaded = [this](const std::string& scene, bool given_up) { publish_unloaded(scene, given_up); };
   events.on_scenes_changed = [this] { announce(); };
   events.claim = [this](const std::string& scene) { claims_->claim(scene); };
   events.release = [this](const std::string& scene) {
@@ -44,8 +44,9 @@ void Daemon::publish_status(const RoadmapSession& session) {
   dds_->publish_status(status_message(session));
 }
 
-void Daemon::publish_unloaded(const std::string& scene) {
+void Daemon::publish_unloaded(const std::string& scene, bool given_up) {
   dds_->retire_updates(scene);
+  if (given_up) return;  // the owner's statuses are the scene's: no stale UNLOADED after them
   msg::SceneStatus status;
   status.scene(scene);
   status.server_id(config_.server_id);

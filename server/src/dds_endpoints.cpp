@@ -54,6 +54,16 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
                     [this](const msg::DaemonInfo&) {
                       statuses_.recheck();
                       daemon_.fleet_changed();
+                    },
+                    // Every announcement is accepted; one of this daemon's id by another
+                    // participant is noted (judged per sample, with its own sender: DDS delivers
+                    // on several threads, this daemon's own samples among them).
+                    [this](const msg::DaemonInfo& d, const std::string& sender) {
+                      if (d.server_id() == server_id_ && sender != own_identity_) {
+                        id_elsewhere_ = true;
+                        id_contested_ = true;
+                      }
+                      return true;
                     }),
       // A status counts only from the participant that announces the daemon it names: a forged
       // one cannot plant a recipe for a takeover.
@@ -61,6 +71,7 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
                 [this](const msg::SceneStatus& s) { daemon_.status_seen(s); },
                 wire::statuses_from_their_daemon(daemons_seen_)) {
   fdds::DomainParticipant* p = participant_.get();
+  own_identity_ = wire::identity_of(p->guid().guidPrefix);
   fdds::Topic* query_topic = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
   fdds::Topic* change_topic = wire::find_or_create_topic(p, change_type_, wire::kChangeTopic);
   fdds::Topic* reply_topic = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);

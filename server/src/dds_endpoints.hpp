@@ -48,8 +48,11 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   void publish_tour_progress(const msg::TourProgress& progress);
   /// The latest announcement of every other live daemon on the domain.
   [[nodiscard]] std::vector<msg::DaemonInfo> other_daemons() const;
-  /// Whether a live participant announces daemon `server_id` (before this one announces: another).
-  [[nodiscard]] bool announced(const std::string& server_id) const { return daemons_seen_.get(server_id).has_value(); }
+  /// Whether another participant has announced this daemon's server id since this one joined.
+  [[nodiscard]] bool id_announced_elsewhere() const { return id_elsewhere_; }
+  /// True once after another participant announced this daemon's server id (then re-announce,
+  /// so that readers keep this daemon's announcement as the latest).
+  [[nodiscard]] bool take_id_contested() { return id_contested_.exchange(false); }
   /// Stops delivering requests.
   void stop_requests();
 
@@ -76,6 +79,9 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   eprosima::fastdds::dds::DataReader* daemons_reader_ = nullptr;
   std::unique_ptr<ReplyRoutes> routes_;  // each client's replies in its own partition
   std::atomic<bool> accepting_{true};
+  std::string own_identity_;  // this participant's GUID prefix (wire::identity_of)
+  std::atomic<bool> id_elsewhere_{false};
+  std::atomic<bool> id_contested_{false};
 
   void write_reply(const msg::Reply& reply);
   /// True on a thread inside this object's DDS request callback.

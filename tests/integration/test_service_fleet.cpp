@@ -97,10 +97,17 @@ TEST_F(FleetTest, DaemonsStartedTogetherWithTheSameSceneToLoadLeaveOneOwner) {
     Client observer(client_options(domain_));
     // Each daemon announces, then claims what it preloads: wait for the three claims to settle.
     const auto deadline = Clock::now() + std::chrono::seconds(20);
+    // Each of the two others was refused its preload, or (announcements slower than the claim
+    // window) gave the scene up afterwards.
+    const auto settled = [&](const std::unique_ptr<DaemonProcess>& d) {
+      const std::string log = d->log();
+      return log.find("preload of scene 's2' failed") != std::string::npos ||
+             log.find("scene 's2' given up to its owner") != std::string::npos;
+    };
     int refused = 0;
     while (Clock::now() < deadline) {
       refused = 0;
-      for (auto& d : daemons) refused += d->log().find("preload of scene 's2' failed") != std::string::npos ? 1 : 0;
+      for (auto& d : daemons) refused += settled(d) ? 1 : 0;
       if (refused == 2 && holders(observer, "s2").size() == 1) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
@@ -120,15 +127,36 @@ TEST_F(FleetTest, DaemonsStartedTogetherWithTheSameSceneToLoadLeaveOneOwner) {
 
 TEST_F(FleetTest, ADaemonWhoseIdIsAlreadyAnnouncedRefusesToStart) {
   auto first = start("same");
-  // Its own data directory, its own process; the probe sees "same" at once (the first's).
-  DaemonProcess second(ISPARS_DAEMON, domain_, dir_.path() / "data-second", scene_dir_, "same");
-  const auto deadline = Clock::now() + std::chrono::seconds(20);
-  while (second.alive() && Clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  EXPECT_FALSE(second.alive());
-  EXPECT_NE(second.log().find("server id 'same' is already announced on DDS domain"), std::string::npos) << second.log();
-  EXPECT_TRUE(first->alive());
+  // Its own data directory, its own process: it exits at start (LocalDaemon says so).
+  try {
+    DaemonProcess second(ISPARS_DAEMON, domain_, dir_.path() / "data-second", scene_dir_, "same");
+    ADD_FAILURE() << "a second daemon 'same' started:\n" << second.log();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("server id 'same' is already announced on DDS domain"), std::string::npos)
+        << e.what();
+  }
+  ASSERT_TRUE(first->alive()) << first->log();
   Client client(client_options(domain_));
   EXPECT_EQ(client.load("s0").server_id(), "same");
+}
+
+TEST_F(FleetTest, TwoDaemonsStartedAtTheSameInstantWithOneIdBothRefuse) {
+  // Each announces at once and listens: each sees the other's announcement of its own id.
+  std::string errors[2];
+  std::vector<std::thread> threads;
+  for (int i = 0; i < 2; ++i) {
+    threads.emplace_back([&, i] {
+      try {
+        DaemonProcess d(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + std::to_string(i)), scene_dir_, "twin",
+                        {"--discovery-wait-ms", "1000"});
+        errors[i] = "started:\n" + d.log();
+      } catch (const std::runtime_error& e) {
+        errors[i] = e.what();  // LocalDaemon: "isparsd exited at start" with its log
+      }
+    });
+  }
+  for (auto& t : threads) t.join();
+  for (const auto& e : errors) EXPECT_NE(e.find("server id 'twin' is already announced"), std::string::npos) << e;
 }
 
 TEST_F(FleetTest, WhenTheOwnerIsKilledAnotherTakesOverAndRebuildsTheSameRoadmap) {
@@ -150,8 +178,9 @@ TEST_F(FleetTest, WhenTheOwnerIsKilledAnotherTakesOverAndRebuildsTheSameRoadmap)
   std::vector<msg::DaemonInfo> live = client.daemons();
   std::erase_if(live, [&](const msg::DaemonInfo& d) { return d.server_id() == first_owner; });
   EXPECT_EQ(after.server_id(), wire::assigned_daemon("s1", live));
-  // The bound: the participant lease (3 s on localhost), the claim window, the scene's load.
-  EXPECT_LT(answered_after, 8.0) << "the new owner answered " << answered_after << " s after the kill";
+  // The bound: the participant lease (3 s on localhost), the client's retry (1 s), the claim
+  // window (0.3 s) and the scene's load, with room for a loaded 2-core machine.
+  EXPECT_LT(answered_after, 12.0) << "the new owner answered " << answered_after << " s after the kill";
   std::printf("takeover: %s answered stats on s1 %.2f s after %s was killed\n", after.server_id().c_str(),
               answered_after, first_owner.c_str());
   const msg::SceneStatus rebuilt = client.wait_idle("s1", {}, kLong);

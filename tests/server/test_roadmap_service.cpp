@@ -11,6 +11,7 @@
 
 #include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_service.hpp"
+#include "ispars/service/roadmap_store.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
@@ -69,7 +70,7 @@ TEST_F(RoadmapServiceTest, OperationsRunWithoutDdsAndReportThroughEvents) {
   };
   events.on_status = [&](const RoadmapSession&) { ++statuses; };
   events.on_scenes_changed = [&] { ++scene_changes; };
-  events.on_unloaded = [&](const std::string& scene) {
+  events.on_unloaded = [&](const std::string& scene, bool) {
     std::lock_guard lock(unloaded_mutex);
     unloaded.push_back(scene);
   };
@@ -253,6 +254,57 @@ TEST_F(RoadmapServiceTest, ToursAreAdmittedUpToTheBoundAndCancelAndStopEndThem) 
   EXPECT_EQ(done, 2);
   ASSERT_EQ(costs.size(), 2u);
   EXPECT_GT(costs[1], 0.0);
+}
+
+}  // namespace
+}  // namespace ispars
+
+namespace ispars {
+namespace {
+
+TEST_F(RoadmapServiceTest, AYieldedSceneStopsItsBuildsAndLeavesWithoutAnUnloadedMark) {
+  std::mutex mutex;
+  std::vector<std::pair<std::string, bool>> unloaded;
+  std::vector<std::string> claimed, released;
+  ServiceEvents events;
+  events.claim = [&](const std::string& s) {
+    std::lock_guard lock(mutex);
+    claimed.push_back(s);
+  };
+  events.release = [&](const std::string& s) {
+    std::lock_guard lock(mutex);
+    released.push_back(s);
+  };
+  events.on_unloaded = [&](const std::string& s, bool given_up) {
+    std::lock_guard lock(mutex);
+    unloaded.emplace_back(s, given_up);
+  };
+  auto s = settings();
+  s.memory_budget_bytes = 1e18;
+  RoadmapService service(s, events);
+  (void)service.load("s0");
+  (void)service.load("s1");
+  service.build("s0", ispars(2'000));
+  wait_idle(service, "s0");
+  service.build("s1", ispars(50'000'000));  // runs on the only build worker
+  for (int i = 0; i < 3000 && service.stats("s1").samples_done == 0; ++i) std::this_thread::sleep_for(10ms);
+  ASSERT_GT(service.stats("s1").samples_done, 0u);  // running, with a commit
+  service.extend("s0", 1'000);  // queued behind it: cancelled at once by the yield
+  const std::atomic<bool> give_up{false};
+  const auto t0 = std::chrono::steady_clock::now();
+  service.yield("s0", give_up);
+  service.yield("s1", give_up);  // the running build stops after its current chunk
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, 5s);
+  EXPECT_TRUE(service.loaded_scenes().empty());
+  {
+    std::lock_guard lock(mutex);
+    EXPECT_EQ(unloaded, (std::vector<std::pair<std::string, bool>>{{"s0", true}, {"s1", true}}));
+    EXPECT_EQ(released, claimed);
+  }
+  // Not marked unloaded: a restart reloads the stored roadmap; a yield of an unloaded scene is a no-op.
+  EXPECT_FALSE(marked_unloaded(dir_.path() / "data" / "s0"));
+  service.yield("s0", give_up);
+  EXPECT_EQ(service.stored_scenes(), (std::vector<std::string>{"s0", "s1"}));
 }
 
 }  // namespace

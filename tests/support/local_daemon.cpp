@@ -55,7 +55,7 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
                          std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args,
                          const std::string& probe_security)
     : domain_(domain), server_id_(std::move(server_id)) {
-  log_path_ = data_dir.parent_path() / (server_id_ + "-" + std::to_string(::getpid()) + ".log");
+  log_path_ = data_dir.parent_path() / (server_id_ + "-" + data_dir.filename().string() + "-" + std::to_string(::getpid()) + ".log");
   std::vector<std::string> args = {daemon_binary, "--domain", std::to_string(domain), "--data-dir", data_dir.string(),
                                    "--scene-dir", scene_dir.string(), "--server-id", server_id_, "--log-level", "debug"};
   // One daemon per test mostly: listening 300 ms for others is plenty on localhost (fleet tests
@@ -78,15 +78,18 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
     ::execv(argv[0], argv.data());
     ::_exit(127);
   }
-  // Ready when a client sees the announcement.
+  // Ready when it says it serves (it announces itself earlier, while it listens for the other
+  // daemons) and a client sees its announcement.
   ClientOptions probe_options = local_client_options(domain);
   probe_options.participant.security = probe_security;
   Client probe(probe_options);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (std::chrono::steady_clock::now() < deadline) {
     if (!alive()) throw std::runtime_error("isparsd exited at start:\n" + log());
-    for (const auto& d : probe.daemons()) {
-      if (d.server_id() == server_id_) return;
+    if (log().find("isparsd " + server_id_ + " serving on DDS domain") != std::string::npos) {
+      for (const auto& d : probe.daemons()) {
+        if (d.server_id() == server_id_) return;
+      }
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }

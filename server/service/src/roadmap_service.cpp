@@ -47,8 +47,8 @@ void RoadmapService::stop() {
     for (const auto& [name, s] : sessions_) names.push_back(name);
   }
   for (const auto& name : names) {
-    if (events_.on_unloaded) events_.on_unloaded(name);
     if (events_.release) events_.release(name);
+    if (events_.on_unloaded) events_.on_unloaded(name, /*given_up=*/false);
   }
 }
 
@@ -179,36 +179,39 @@ void RoadmapService::unload(const std::string& scene) {
   s->close();  // atomically with the busy check inside: no job can start on it any more
   // Remembered across restarts: the stored roadmap stays, but is not reloaded until asked.
   mark_unloaded(settings_.data_dir / scene, true);
-  forget(scene);
+  forget(scene, /*given_up=*/false);
 }
 
-void RoadmapService::yield(const std::string& scene) {
+void RoadmapService::yield(const std::string& scene, const std::atomic<bool>& give_up) {
   const auto s = session_or_null(scene);
   if (!s) return;
   stop_tours(scene);
-  // A build stops after its current chunk (cancel within half a second); a queued one at its start.
+  // A running build stops after its current chunk (within half a second); a queued one at once.
   for (;;) {
+    if (stopping_ || give_up) return;          // stop() reports every scene unloaded
+    if (session_or_null(scene) != s) return;  // unloaded (or unloaded and loaded again) meanwhile
     (void)s->cancel();
     try {
       s->close();
       break;
     } catch (const InputError&) {
-      if (stopping_) return;  // stop() reports every scene unloaded
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }
-  forget(scene);
+  forget(scene, /*given_up=*/true);
   spdlog::warn("scene '{}' given up to its owner (its stored roadmap stays)", scene);
 }
 
-void RoadmapService::forget(const std::string& scene) {
+void RoadmapService::forget(const std::string& scene, bool given_up) {
+  // The claim goes first: a load racing this one then claims anew instead of reusing a claim
+  // about to be released.
+  if (events_.release) events_.release(scene);
   {
     std::lock_guard lock(sessions_mutex_);
     sessions_.erase(scene);
   }
   set_reserved(scene, 0.0);
-  if (events_.on_unloaded) events_.on_unloaded(scene);
-  if (events_.release) events_.release(scene);
+  if (events_.on_unloaded) events_.on_unloaded(scene, given_up);
   if (events_.on_scenes_changed) events_.on_scenes_changed();
 }
 

@@ -189,11 +189,22 @@ void RoadmapSession::request_extend(std::uint64_t samples) {
 }
 
 bool RoadmapSession::cancel() {
-  std::lock_guard lock(mutex_);
-  if (state_ != SessionState::queued && state_ != SessionState::building && state_ != SessionState::replaying) {
-    return false;
+  {
+    std::lock_guard lock(mutex_);
+    if (state_ != SessionState::building && state_ != SessionState::replaying) {
+      if (state_ != SessionState::queued) return false;
+      // Not started: cancelled now, not when a build worker gets to it (run_job then finds it
+      // no longer queued and returns).
+      pending_recipe_.reset();
+      pending_samples_ = 0;
+      state_ = recipe_ ? SessionState::idle : SessionState::empty;
+      last_error_ = "cancelled before it started";
+    } else {
+      cancel_ = true;
+      return true;
+    }
   }
-  cancel_ = true;
+  notify_status();
   return true;
 }
 

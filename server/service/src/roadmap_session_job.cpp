@@ -111,7 +111,9 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
     const std::uint64_t target = builder_->samples() + samples;
     {
       std::lock_guard lock(mutex_);
-      samples_target_ = target;
+      // A new roadmap's target shows from its first commit on, with its recipe: until then the
+      // status describes the old roadmap only (a takeover rebuilds from the status).
+      if (!build) samples_target_ = target;
       state_ = SessionState::building;
     }
     notify_status();
@@ -147,6 +149,7 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
         std::lock_guard lock(mutex_);
         if (build && first) {  // the new roadmap is stored: it replaces the old one everywhere now
           recipe_ = recipe;
+          samples_target_ = target;
           damage_.clear();  // a damaged store, if there was one, was discarded by this build (replace)
         }
         samples_done_ = builder_->samples();

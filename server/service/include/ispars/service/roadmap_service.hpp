@@ -55,8 +55,9 @@ struct ServiceEvents {
       on_commit;
   /// A loaded scene's status changed.
   std::function<void(const RoadmapSession& session)> on_status;
-  /// A scene is no longer held (unloaded, or the service stopped).
-  std::function<void(const std::string& scene)> on_unloaded;
+  /// A scene is no longer held (unloaded, given up to its owner, or the service stopped);
+  /// `given_up`: to another daemon, which publishes the scene's statuses from now on.
+  std::function<void(const std::string& scene, bool given_up)> on_unloaded;
   /// The set of loaded scenes changed.
   std::function<void()> on_scenes_changed;
   /// Called before a scene is loaded; throws InputError (naming the owner) when this service may
@@ -153,9 +154,11 @@ class RoadmapService {
   std::pair<std::shared_ptr<RoadmapSession>, bool> load(const std::string& scene);
   void unload(const std::string& scene);
   /// Gives `scene` up to the daemon that owns it: stops its build (after the current chunk) and
-  /// its tours, waits for them, and unloads it. Unlike unload() the stored roadmap stays eligible
-  /// for reloading at restart. Does nothing when the scene is not loaded.
-  void yield(const std::string& scene);
+  /// its tours, waits for them, and unloads it without an UNLOADED status (the owner's statuses
+  /// are the scene's now). Unlike unload() the stored roadmap stays eligible for reloading at
+  /// restart. Returns at once when the scene is not loaded (or was unloaded meanwhile), and
+  /// without unloading when `give_up` becomes true (the daemon is stopping).
+  void yield(const std::string& scene, const std::atomic<bool>& give_up);
   /// Scenes with a stored roadmap in the data directory (loaded or not).
   [[nodiscard]] std::vector<std::string> stored_scenes() const;
   void build(const std::string& scene, const BuildRequest& request);
@@ -170,7 +173,7 @@ class RoadmapService {
  private:
   std::shared_ptr<RoadmapSession> session_or_null(const std::string& scene) const;
   std::shared_ptr<RoadmapSession> open_session(const std::string& scene);
-  void forget(const std::string& scene);  // erases a closed session; events
+  void forget(const std::string& scene, bool given_up);  // erases a closed session; events
   void schedule(const std::shared_ptr<RoadmapSession>& session);
   void run_tour(const std::shared_ptr<RoadmapSession>& session, const TourRequest& request,
                 const TourCallbacks& callbacks, const std::shared_ptr<std::atomic<bool>>& stop);
