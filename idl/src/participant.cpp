@@ -18,7 +18,8 @@ namespace rtps = eprosima::fastrtps::rtps;
 
 namespace {
 
-constexpr std::uint32_t kLocalParticipants = 64;
+// Participant ports are 7400 + 250 * domain + 10 + 2 * id: at domain 232, ids up to 62 fit.
+constexpr std::uint32_t kLocalParticipants = 32;
 
 fdds::DomainParticipantQos localhost_qos(const std::string& name) {
   fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
@@ -156,6 +157,14 @@ void route_fastdds_log_to_spdlog() {
     fdds::Log::RegisterConsumer(std::make_unique<SpdlogConsumer>());
     fdds::Log::SetVerbosity(fdds::Log::Kind::Warning);
   });
+}
+
+void stop_fastdds_log_routing() {
+  // Fast DDS logs from its own thread, which outlives main; spdlog's loggers do not (static
+  // destruction). Entries still queued go out now, then no consumer refers to spdlog.
+  fdds::Log::Flush();
+  fdds::Log::ClearConsumers();
+  fdds::Log::KillThread();
 }
 
 }  // namespace ispars::wire

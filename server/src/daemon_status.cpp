@@ -45,7 +45,10 @@ void Daemon::publish_status(const RoadmapSession& session) {
 }
 
 void Daemon::publish_unloaded(const std::string& scene, bool given_up) {
-  dds_->retire_updates(scene);
+  // A stopping daemon leaves its updates as they are: its writer goes with its participant. (Its
+  // last batches may still be in flight on the asynchronous writer, and removing them from the
+  // history just before the writer is deleted crashed the daemon now and then at SIGTERM.)
+  if (!leaving_) dds_->retire_updates(scene);
   if (given_up) return;  // the owner's statuses are the scene's: no stale UNLOADED after them
   msg::SceneStatus status;
   status.scene(scene);

@@ -79,6 +79,10 @@ int main(int argc, char** argv) {
     spdlog::set_level(spdlog::level::from_str(config.log_level));
     spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
     ispars::wire::route_fastdds_log_to_spdlog();
+    // Undone when this scope ends, after the daemon (declared below) is gone, on every path.
+    struct StopRouting {
+      ~StopRouting() { ispars::wire::stop_fastdds_log_routing(); }
+    } stop_routing;
 
     ispars::server::Daemon daemon(std::move(config));
     int signal = 0;

@@ -110,3 +110,78 @@ TEST_F(ProtocolTest, TheSenderIsWhoTheTransportSaysNotWhatTheRequestClaims) {
 
 }  // namespace
 }  // namespace ispars::test
+
+namespace ispars::test {
+namespace {
+
+TEST_F(ProtocolTest, ARetryIsAnsweredFromTheCacheNotServedAgain) {
+  client::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
+  Client client(client::local_client_options(domain_));
+  client.load("s0");
+  RawPeer peer(domain_);
+  msg::QueryRequest stats = client::make_query(msg::STATS, "s0");
+  stats.server_id("d");
+  stats.protocol(msg::PROTOCOL_VERSION);
+  stats.request_seq(7);
+  const auto first = peer.send(stats, std::chrono::seconds(30));
+  ASSERT_TRUE(first.has_value());
+  ASSERT_TRUE(first->ok()) << first->error();
+  // Two retries of #7: each answered, with the very reply of the first (a status served again
+  // would carry a later status_seq).
+  ASSERT_TRUE(peer.post(stats));
+  ASSERT_TRUE(peer.post(stats));
+  for (int i = 0; i < 500 && peer.replies_to(7) < 3; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(peer.replies_to(7), 3u);
+  ASSERT_TRUE(peer.reply_to(7).has_value());
+  EXPECT_EQ(peer.reply_to(7)->status().status_seq(), first->status().status_seq());
+  stats.request_seq(8);  // a new request is served anew
+  const auto next = peer.send(stats, std::chrono::seconds(30));
+  ASSERT_TRUE(next.has_value());
+  EXPECT_GT(next->status().status_seq(), first->status().status_seq());
+}
+
+}  // namespace
+}  // namespace ispars::test
+
+namespace ispars::test {
+namespace {
+
+TEST_F(ProtocolTest, ARoadmapOfSeveralMegabytesTravelsInChunksAtOneVersion) {
+  client::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d",
+                             {"--memory-budget-mb", "1073741824"});
+  Client client(client::local_client_options(domain_));
+  client.load("s0");
+  client::BuildArgs dense;
+  dense.method = "dense";  // every pair within delta: many edges, a large encoding
+  dense.samples = 15000;
+  client.build("s0", dense);
+  const msg::SceneStatus built = client.wait_idle("s0", {}, std::chrono::minutes(5));
+  RawPeer peer(domain_);
+  msg::QueryRequest first = client::make_query(msg::SNAPSHOT, "s0");
+  first.server_id("d");
+  first.protocol(msg::PROTOCOL_VERSION);
+  first.request_seq(1);
+  const auto chunk0 = peer.send(first, std::chrono::seconds(30));
+  ASSERT_TRUE(chunk0.has_value());
+  ASSERT_TRUE(chunk0->ok()) << chunk0->error();
+  const std::uint32_t chunks = chunk0->body().snapshot().chunk_count();
+  EXPECT_GE(chunks, 2u) << "the roadmap fits one chunk: the test needs a larger one";
+  // The client pulls every chunk at chunk 0's version and decodes the whole roadmap.
+  const client::Snapshot whole = client.snapshot("s0");
+  EXPECT_EQ(whole.version, built.version());
+  EXPECT_EQ(whole.roadmap.vertex_count(), built.vertices());
+  EXPECT_EQ(whole.roadmap.edge_count(), built.edges());
+  // Past the last chunk: an error naming the field, not a hang.
+  msg::QueryRequest past = first;
+  past.request_seq(2);
+  past.args().snapshot().version(chunk0->body().snapshot().version());
+  past.args().snapshot().generation(chunk0->body().snapshot().generation());
+  past.args().snapshot().chunk_index(chunks);
+  const auto refused = peer.send(past, std::chrono::seconds(30));
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_FALSE(refused->ok());
+  EXPECT_NE(refused->error().find("chunk"), std::string::npos) << refused->error();
+}
+
+}  // namespace
+}  // namespace ispars::test

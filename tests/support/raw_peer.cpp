@@ -55,6 +55,7 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
         continue;
       }
       replies_by_seq_[reply.request_seq()] = reply;
+      ++deliveries_[reply.request_seq()];
       arrived_.notify_all();
     }
   }
@@ -72,6 +73,7 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
   mutable std::mutex mutex_;
   std::condition_variable arrived_;
   std::map<std::uint64_t, msg::Reply> replies_by_seq_;
+  std::map<std::uint64_t, std::size_t> deliveries_;  // replies received, by sequence number
   std::size_t foreign_ = 0;
 };
 
@@ -135,6 +137,19 @@ std::optional<msg::Reply> RawPeer::send(msg::QueryRequest request, std::chrono::
     }
   }
   return std::nullopt;
+}
+
+std::size_t RawPeer::replies_to(std::uint64_t seq) const {
+  std::lock_guard lock(impl_->mutex_);
+  const auto it = impl_->deliveries_.find(seq);
+  return it == impl_->deliveries_.end() ? 0 : it->second;
+}
+
+std::optional<msg::Reply> RawPeer::reply_to(std::uint64_t seq) const {
+  std::lock_guard lock(impl_->mutex_);
+  const auto it = impl_->replies_by_seq_.find(seq);
+  if (it == impl_->replies_by_seq_.end()) return std::nullopt;
+  return it->second;
 }
 
 std::size_t RawPeer::kept_update_batches(const std::string& scene, std::chrono::milliseconds wait) {

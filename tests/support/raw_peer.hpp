@@ -38,6 +38,9 @@ class RawPeer {
   [[nodiscard]] std::vector<msg::Reply> replies() const;
   /// This peer's identity as the daemon reads it from the transport (its GUID prefix).
   [[nodiscard]] const std::string& identity() const;
+  /// Replies received to sequence number `seq` (each retry answered counts), and the latest.
+  [[nodiscard]] std::size_t replies_to(std::uint64_t seq) const;
+  [[nodiscard]] std::optional<msg::Reply> reply_to(std::uint64_t seq) const;
   /// Joins the updates topic as a late joiner, waits `wait`, and returns how many batches of
   /// `scene` the writers' kept history delivered.
   std::size_t kept_update_batches(const std::string& scene, std::chrono::milliseconds wait);

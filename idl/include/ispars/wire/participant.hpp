@@ -51,5 +51,8 @@ class Participant {
 
 /// Routes Fast DDS's own log messages (warnings and errors) to spdlog, once per process.
 void route_fastdds_log_to_spdlog();
+/// Undoes route_fastdds_log_to_spdlog before the process exits: Fast DDS's logging thread would
+/// otherwise write through spdlog after spdlog is destroyed (a crash at exit).
+void stop_fastdds_log_routing();
 
 }  // namespace ispars::wire
