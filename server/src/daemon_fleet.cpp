@@ -17,6 +17,7 @@ namespace ispars::server {
 namespace {
 
 constexpr std::chrono::milliseconds kFleetPeriod{100};  // how often the rule is re-applied
+constexpr std::chrono::seconds kReannouncePeriod{5};    // after another participant announced this id
 
 // The build that gives the roadmap `status` describes: its recipe, to its sample count (to its
 // target when it was still building). Empty when the status names no roadmap.
@@ -79,12 +80,16 @@ void Daemon::status_seen(const msg::SceneStatus& status) {
 }
 
 void Daemon::watch_fleet() {
+  auto last_reannounce = std::chrono::steady_clock::now() - kReannouncePeriod;
   std::unique_lock lock(fleet_mutex_);
   while (!fleet_stop_) {
     fleet_wake_.wait_for(lock, kFleetPeriod);
     if (fleet_stop_) break;
     lock.unlock();
-    if (dds_->take_id_contested()) {
+    // At most every few seconds: two running daemons with one id would otherwise answer each
+    // other's announcements without end.
+    if (dds_->take_id_contested() && std::chrono::steady_clock::now() - last_reannounce >= kReannouncePeriod) {
+      last_reannounce = std::chrono::steady_clock::now();
       spdlog::error("another participant on DDS domain {} announces this daemon's server id '{}'; announcing again",
                     config_.domain, config_.server_id);
       announce();

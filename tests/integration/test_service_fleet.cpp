@@ -129,7 +129,9 @@ TEST_F(FleetTest, ADaemonWhoseIdIsAlreadyAnnouncedRefusesToStart) {
   auto first = start("same");
   // Its own data directory, its own process: it exits at start (LocalDaemon says so).
   try {
-    DaemonProcess second(ISPARS_DAEMON, domain_, dir_.path() / "data-second", scene_dir_, "same");
+    // Listening as long as a fleet daemon does by default: the first's announcement must reach it.
+    DaemonProcess second(ISPARS_DAEMON, domain_, dir_.path() / "data-second", scene_dir_, "same",
+                         {"--discovery-wait-ms", "1000"});
     ADD_FAILURE() << "a second daemon 'same' started:\n" << second.log();
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("server id 'same' is already announced on DDS domain"), std::string::npos)
