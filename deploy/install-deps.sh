@@ -10,6 +10,7 @@ PACKAGES=(
   libcli11-dev libnanoflann-dev nlohmann-json3-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev libompl-dev
   coinor-libclp-dev zlib1g-dev
+  libsystemd-dev libcpp-httplib-dev
   gnuplot-nox
 )
 

@@ -14,6 +14,7 @@
 #include "dds_endpoints.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/wire/convert.hpp"
+#include "metrics_endpoint.hpp"
 
 namespace ispars::server {
 namespace {
@@ -74,11 +75,16 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
       config_.server_id, Fleet{[this] { return dds_->other_daemons(); }, [this] { return self_info(); },
                                [this] { announce(); }});
   try {
-    dds_ = std::make_unique<DdsEndpoints>(*this, config_);
+    open_metrics_endpoint();
+    joined_ms_ = static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(
+                                                std::chrono::system_clock::now().time_since_epoch())
+                                                .count());
+    dds_ = std::make_unique<DdsEndpoints>(*this, config_, joined_ms_);
     join_fleet();  // the other daemons seen, this one's id unique, claims possible
     service_ = std::make_unique<RoadmapService>(std::move(settings), service_events());
   } catch (...) {
     dds_.reset();
+    metrics_endpoint_.reset();
     ::close(lock_fd_);
     throw;
   }
@@ -95,6 +101,7 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
   quick_lane_ = std::make_unique<WorkerPool>(kQuickThreads, config_.request_queue);
   slow_lane_ = std::make_unique<WorkerPool>(kSlowThreads, config_.request_queue);
   fleet_thread_ = std::thread([this] { watch_fleet(); });
+  start_serving();
   spdlog::info("isparsd {} serving on DDS domain {} (scenes from {}, data in {}, {} build workers, memory budget "
                "{:.1f} GiB, protocol {})",
                config_.server_id, config_.domain, config_.scene_dir.string(), config_.data_dir.string(),
@@ -107,6 +114,8 @@ void Daemon::shutdown() {
   if (shut_down_) return;
   shut_down_ = true;
   leaving_ = true;
+  serving_ = false;
+  notifier_.stopping("stopping: running builds commit their current chunk");
   if (dds_) dds_->stop_requests();
   {
     std::lock_guard lock(fleet_mutex_);
@@ -118,6 +127,7 @@ void Daemon::shutdown() {
   if (quick_lane_) quick_lane_->stop();
   if (slow_lane_) slow_lane_->stop();
   if (service_) service_->stop();                  // tours reply with their best; builds commit and stop
+  metrics_endpoint_.reset();  // it reads the service and the endpoints
   service_.reset();
   dds_.reset();
   if (lock_fd_ >= 0) ::close(lock_fd_);
@@ -168,11 +178,13 @@ void Daemon::refuse_busy(const Request& request, const WorkerPool& lane, const c
   reply.error(fmt::format("request: kind: busy: {} requests are queued on this daemon's {} lane (its limit); "
                           "retry later",
                           lane.max_queued(), lane_name));
+  metrics_.count_request(wire::to_string(request.args()._d()), RequestOutcome::busy, 0.0);
   dds_->send_reply(reply);  // not cached: a retry is a new chance
 }
 
 template <class Request>
 void Daemon::handle(const Request& request) {
+  const auto taken = std::chrono::steady_clock::now();
   msg::Reply reply = reply_to(request, config_.server_id);
   const msg::Operation operation = request.args()._d();
   const std::string client = request.client_id().to_string();
@@ -197,7 +209,7 @@ void Daemon::handle(const Request& request) {
     spdlog::error("{} #{} {} '{}' failed: {}", client, request.request_seq(), wire::to_string(operation),
                   scene.substr(0, 64), e.what());
   }
-  if (now) finish(reply);
+  if (now) finish(reply, taken);
 }
 
 void Daemon::finish(const msg::Reply& reply) {

@@ -5,6 +5,7 @@
 // into the reply. The service's events become status, update and announcement messages.
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -12,15 +13,18 @@
 #include <thread>
 
 #include "daemon_config.hpp"
+#include "daemon_metrics.hpp"
 #include "ispars.h"
 #include "ispars/service/roadmap_service.hpp"
 #include "ispars/service/worker_pool.hpp"
 #include "reply_cache.hpp"
 #include "scene_claims.hpp"
+#include "systemd_notify.hpp"
 
 namespace ispars::server {
 
 class DdsEndpoints;
+class MetricsEndpoint;
 
 /// This machine's host name ("host" when it cannot be read).
 [[nodiscard]] std::string host_name();
@@ -41,6 +45,13 @@ class Daemon {
   void shutdown();
 
   [[nodiscard]] const std::string& server_id() const { return config_.server_id; }
+  /// True once an older daemon with this daemon's server id was seen after this one started:
+  /// this daemon has then asked itself to stop (SIGTERM to its own process) and exits non-zero.
+  [[nodiscard]] bool displaced() const { return displaced_; }
+
+  /// SIGHUP: applies what can change while serving (the log: its file, reopened, and its level)
+  /// from `fresh`, and logs the keys that changed but need a restart.
+  void reload(const DaemonConfig& fresh);
 
   /// Called by the DDS layer for every request addressed to this daemon (any thread). Quick
   /// operations (list, stats, cancel, unload, build, extend, tour) are answered on the quick lane,
@@ -78,6 +89,13 @@ class Daemon {
   void join_fleet();  // after dds_ exists: listens, refuses a duplicate id
   void watch_fleet();
   void take_over(const OrphanScene& orphan);
+  // For operators (daemon_operator.cpp): readiness, watchdog, metrics and health.
+  void open_metrics_endpoint();  // first of all: a port in use stops the start
+  void start_serving();          // READY
+  void tend_watchdog();        // from the fleet thread: probes the quick lane, pings WATCHDOG
+  [[nodiscard]] bool healthy() const;
+  [[nodiscard]] std::string metrics_text() const;
+  void finish(const msg::Reply& reply, std::chrono::steady_clock::time_point taken);  // counts, then finish()
 
   DaemonConfig config_;
   int lock_fd_ = -1;
@@ -96,6 +114,15 @@ class Daemon {
   bool fleet_stop_ = false;
   std::thread fleet_thread_;
   std::atomic<bool> leaving_{false};  // shutting down
+  std::atomic<bool> displaced_{false};
+  std::uint64_t joined_ms_ = 0;  // announced: of two daemons with one id, the later one stops
+  SystemdNotifier notifier_;
+  DaemonMetrics metrics_;
+  std::unique_ptr<MetricsEndpoint> metrics_endpoint_;
+  std::atomic<bool> serving_{false};
+  std::atomic<bool> probe_pending_{false};                           // a watchdog probe waits on the quick lane
+  std::atomic<std::chrono::steady_clock::rep> probe_answered_{0};  // when the quick lane last ran one
+  std::chrono::steady_clock::time_point last_watchdog_{};
   bool shut_down_ = false;
 };
 

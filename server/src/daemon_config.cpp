@@ -4,6 +4,7 @@
 #include <spdlog/common.h>
 #include <yaml-cpp/yaml.h>
 
+#include <arpa/inet.h>
 #include <unistd.h>
 
 #include <set>
@@ -27,7 +28,8 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
   if (!root.IsMap()) throw InputError(source, "yaml", "the config must be a mapping of keys to values");
   const std::set<std::string> known{"data_dir", "scene_dir", "domain", "workers", "build_threads", "profile_file", "profile_name",
                                     "log_level", "server_id", "max_samples", "snapshot_compact_every", "preload",
-                                    "request_queue", "memory_budget_mb", "security", "discovery_wait_ms"};
+                                    "request_queue", "memory_budget_mb", "security", "discovery_wait_ms",
+                                    "log_file", "log_file_mb", "metrics"};
   const std::filesystem::path base = path.parent_path();
   const auto resolve = [&](const std::string& p) {
     const std::filesystem::path fp(p);
@@ -54,6 +56,9 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
       if (key == "request_queue") config.request_queue = value.as<std::size_t>();
       if (key == "memory_budget_mb") config.memory_budget_mb = value.as<std::uint64_t>();
       if (key == "discovery_wait_ms") config.discovery_wait_ms = value.as<std::uint32_t>();
+      if (key == "log_file") config.log_file = resolve(value.as<std::string>());
+      if (key == "log_file_mb") config.log_file_mb = value.as<std::uint64_t>();
+      if (key == "metrics") config.metrics = value.as<std::string>();
     } catch (const YAML::Exception&) {
       throw InputError(source, key, fmt::format("has the wrong type (line {})", value.Mark().line + 1));
     }
@@ -94,6 +99,38 @@ void check_daemon_config(const DaemonConfig& c, const std::string& source) {
   if (c.discovery_wait_ms < 100 || c.discovery_wait_ms > 60'000) {
     throw InputError(source, "discovery_wait_ms", fmt::format("must be in 100..60000, got {}", c.discovery_wait_ms));
   }
+  if (c.log_file_mb < 1 || c.log_file_mb > 100'000) {
+    throw InputError(source, "log_file_mb", fmt::format("must be in 1..100000, got {}", c.log_file_mb));
+  }
+  if (!c.log_file.empty()) {
+    if (c.log_file.string().size() > 4096) throw InputError(source, "log_file", "is longer than 4096 characters");
+    const std::filesystem::path dir = c.log_file.parent_path().empty() ? "." : c.log_file.parent_path();
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) {
+      throw InputError(source, "log_file", fmt::format("its directory {} does not exist", dir.string()));
+    }
+  }
+  if (!c.metrics.empty()) (void)parse_listen_address(c.metrics, source, "metrics");
+}
+
+ListenAddress parse_listen_address(const std::string& text, const std::string& source, const std::string& field) {
+  const auto colon = text.rfind(':');
+  const auto bad = [&](const std::string& why) {
+    return InputError(source, field, fmt::format("'{}' {}; write ADDRESS:PORT, e.g. 127.0.0.1:9464",
+                                                 text.substr(0, 64), why));
+  };
+  if (text.size() > 64 || colon == std::string::npos) throw bad("is not an address and a port");
+  ListenAddress out;
+  out.host = text.substr(0, colon);
+  in_addr parsed{};
+  if (::inet_pton(AF_INET, out.host.c_str(), &parsed) != 1) throw bad("does not start with an IPv4 address");
+  const std::string port = text.substr(colon + 1);
+  if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos ||
+      std::stoul(port) > 65535) {
+    throw bad("has no port in 0..65535");
+  }
+  out.port = static_cast<int>(std::stoul(port));
+  return out;
 }
 
 }  // namespace ispars::server

@@ -22,6 +22,13 @@ struct DaemonConfig {
   /// A DDS Security identity directory (deploy/security/make-keystore.sh); empty: no security.
   std::string security;
   std::string log_level = "info";
+  /// Where the log goes: empty for standard output (the journal under systemd), else this file,
+  /// rotated at log_file_mb (4 older files kept) and reopened on SIGHUP.
+  std::filesystem::path log_file;
+  std::uint64_t log_file_mb = 64;
+  /// "ADDRESS:PORT" of the HTTP endpoint serving /metrics (Prometheus text) and /healthz; empty:
+  /// none. Port 0 takes any free port (the log names it).
+  std::string metrics;
   std::string server_id;      ///< Unique on the domain; empty: HOST-PID.
   std::uint64_t max_samples = 50'000'000;  ///< Per build or extend request.
   std::size_t snapshot_compact_every = 64;  ///< Journal commits between compactions.
@@ -41,6 +48,16 @@ struct DaemonConfig {
 
 /// Reads a config file. Throws InputError naming the file and field on a bad or unknown key.
 [[nodiscard]] DaemonConfig load_daemon_config(const std::filesystem::path& path);
+
+/// An address to listen on: an IPv4 address and a port (0: any free port).
+struct ListenAddress {
+  std::string host;
+  int port = 0;
+};
+
+/// Parses "ADDRESS:PORT"; throws InputError naming `source` and `field` when it is not one.
+[[nodiscard]] ListenAddress parse_listen_address(const std::string& text, const std::string& source,
+                                                 const std::string& field);
 
 /// Checks a config (after flags are applied): throws InputError naming the field.
 void check_daemon_config(const DaemonConfig& config, const std::string& source);

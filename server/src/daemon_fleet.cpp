@@ -6,6 +6,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <thread>
 
@@ -88,6 +91,14 @@ void Daemon::watch_fleet() {
     lock.unlock();
     // At most every few seconds: two running daemons with one id would otherwise answer each
     // other's announcements without end.
+    if (const std::string older = dds_->older_namesake(); !older.empty() && !displaced_.exchange(true)) {
+      // Discovery slower than the wait at start: two daemons with one id ran. The one that
+      // joined first keeps serving; this one stops as if told to.
+      spdlog::error("server id '{}' is also announced by a daemon that joined DDS domain {} before this one ({}); "
+                    "this daemon stops: give each daemon its own server_id",
+                    config_.server_id, config_.domain, older);
+      ::kill(::getpid(), SIGTERM);
+    }
     if (dds_->take_id_contested() && std::chrono::steady_clock::now() - last_reannounce >= kReannouncePeriod) {
       last_reannounce = std::chrono::steady_clock::now();
       spdlog::error("another participant on DDS domain {} announces this daemon's server id '{}'; announcing again",
@@ -100,6 +111,7 @@ void Daemon::watch_fleet() {
       service_->yield(scene, leaving_);
     }
     for (const OrphanScene& orphan : claims_->orphans()) take_over(orphan);
+    tend_watchdog();
     lock.lock();
   }
 }

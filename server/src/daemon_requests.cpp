@@ -216,6 +216,7 @@ void Daemon::start_tour(const msg::QueryRequest& request, const msg::Reply& head
   tour.budget_seconds = a.budget();
   tour.seed = a.seed();
   const std::string scene = request.scene().to_string();
+  const auto taken = std::chrono::steady_clock::now();
   TourCallbacks callbacks;
   callbacks.progress = [this, header, scene](double seconds, double cost, double bound) {
     msg::TourProgress progress;
@@ -227,7 +228,7 @@ void Daemon::start_tour(const msg::QueryRequest& request, const msg::Reply& head
     progress.lower_bound(bound);
     dds_->publish_tour_progress(progress);
   };
-  callbacks.done = [this, header, scene](TourOutcome outcome) {
+  callbacks.done = [this, header, scene, taken](TourOutcome outcome) {
     msg::Reply reply = header;
     const GipResult& r = outcome.result;
     reply.message(fmt::format("tour of cost {:.6g} covering {}/{} targets, {} iterations in {:.1f} s", r.tour.cost,
@@ -238,13 +239,13 @@ void Daemon::start_tour(const msg::QueryRequest& request, const msg::Reply& head
     } catch (const std::exception&) {
       // unloaded meanwhile: the tour still stands, on the version it names
     }
-    finish(reply);
+    finish(reply, taken);
   };
-  callbacks.failed = [this, header](const std::string& error) {
+  callbacks.failed = [this, header, taken](const std::string& error) {
     msg::Reply reply = header;
     reply.ok(false);
     reply.error(error);
-    finish(reply);
+    finish(reply, taken);
   };
   service_->start_tour(scene, std::move(tour), std::move(callbacks));
 }

@@ -41,7 +41,9 @@ msg::SceneStatus Daemon::status_message(const RoadmapSession& session) const {
 
 void Daemon::publish_status(const RoadmapSession& session) {
   std::lock_guard lock(publish_mutex_);
-  dds_->publish_status(status_message(session));
+  const msg::SceneStatus status = status_message(session);
+  metrics_.observe_samples(status.scene().to_string(), status.samples_done());
+  dds_->publish_status(status);
 }
 
 void Daemon::publish_unloaded(const std::string& scene, bool given_up) {
@@ -69,6 +71,7 @@ msg::DaemonInfo Daemon::self_info() const {
   info.version(ISPARS_VERSION);
   info.host(host_name());
   info.pid(static_cast<std::int32_t>(::getpid()));
+  info.joined_ms(joined_ms_);
   for (const std::string& name : list_scene_names(config_.scene_dir)) info.available().push_back(name);
   // Claimed scenes (being loaded or loaded) are announced as held: no other daemon claims them.
   for (const std::string& name : claims_->claimed()) info.loaded().push_back(name);

@@ -7,6 +7,7 @@
 #include <fastdds/rtps/common/InstanceHandle.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "daemon.hpp"
@@ -39,7 +40,7 @@ T* require(T* entity, const char* what) {
 
 }  // namespace
 
-DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
+DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint64_t joined_ms)
     : daemon_(daemon),
       server_id_(config.server_id),
       participant_(participant_options(config)),
@@ -59,10 +60,7 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
                     // participant is noted (judged per sample, with its own sender: DDS delivers
                     // on several threads, this daemon's own samples among them).
                     [this](const msg::DaemonInfo& d, const std::string& sender) {
-                      if (d.server_id() == server_id_ && sender != own_identity_) {
-                        id_elsewhere_ = true;
-                        id_contested_ = true;
-                      }
+                      if (d.server_id() == server_id_ && sender != own_identity_) note_namesake(d, sender);
                       return true;
                     }),
       // A status counts only from the participant that announces the daemon it names: a forged
@@ -72,6 +70,7 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config)
                 wire::statuses_from_their_daemon(daemons_seen_)) {
   fdds::DomainParticipant* p = participant_.get();
   own_identity_ = wire::identity_of(p->guid().guidPrefix);
+  joined_ms_ = joined_ms;
   fdds::Topic* query_topic = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
   fdds::Topic* change_topic = wire::find_or_create_topic(p, change_type_, wire::kChangeTopic);
   fdds::Topic* reply_topic = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);
@@ -263,6 +262,38 @@ void DdsEndpoints::announce(const msg::DaemonInfo& info) {
 
 void DdsEndpoints::publish_tour_progress(const msg::TourProgress& progress) {
   routes_->write_progress(progress);  // advisory: a lost one is replaced by the next
+}
+
+void DdsEndpoints::note_namesake(const msg::DaemonInfo& other, const std::string& sender) {
+  id_elsewhere_ = true;
+  const bool other_is_older =
+      other.joined_ms() < joined_ms_ || (other.joined_ms() == joined_ms_ && sender < own_identity_);
+  if (!other_is_older) {
+    id_contested_ = true;  // this one stays: re-announce so that readers keep it as the latest
+    return;
+  }
+  std::lock_guard lock(namesake_mutex_);
+  older_namesake_ = fmt::format("host {}, pid {}", other.host().to_string(), other.pid());
+}
+
+std::uint64_t DdsEndpoints::update_subscribers() const {
+  fdds::PublicationMatchedStatus matched;
+  if (updates_->get_publication_matched_status(matched) != ReturnCode_t::RETCODE_OK) return 0;
+  return static_cast<std::uint64_t>(std::max(0, matched.current_count));
+}
+
+std::uint64_t DdsEndpoints::reply_clients() const {
+  std::lock_guard lock(matched_mutex_);
+  std::uint64_t distinct = 0;
+  for (auto it = matched_clients_.begin(); it != matched_clients_.end(); it = matched_clients_.upper_bound(*it)) {
+    ++distinct;
+  }
+  return distinct;
+}
+
+std::string DdsEndpoints::older_namesake() const {
+  std::lock_guard lock(namesake_mutex_);
+  return older_namesake_;
 }
 
 std::vector<msg::DaemonInfo> DdsEndpoints::other_daemons() const {

@@ -33,7 +33,7 @@ class Daemon;
 class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
                            public eprosima::fastdds::dds::DataWriterListener {
  public:
-  DdsEndpoints(Daemon& daemon, const DaemonConfig& config);
+  DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint64_t joined_ms);
   ~DdsEndpoints() override;
 
   /// Writes a reply once the client's reply reader has matched (waiting at most `wait`); the
@@ -53,6 +53,14 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   /// True once after another participant announced this daemon's server id (then re-announce,
   /// so that readers keep this daemon's announcement as the latest).
   [[nodiscard]] bool take_id_contested() { return id_contested_.exchange(false); }
+  /// The daemon (host and pid) that announces this daemon's server id and joined the domain
+  /// before it (ties go to the lower participant GUID); empty while there is none. This daemon
+  /// must then stop.
+  [[nodiscard]] std::string older_namesake() const;
+  /// Readers matched to the updates writer (replicas, watchers), and clients whose reply readers
+  /// are matched: for the metrics.
+  [[nodiscard]] std::uint64_t update_subscribers() const;
+  [[nodiscard]] std::uint64_t reply_clients() const;
   /// Stops delivering requests.
   void stop_requests();
 
@@ -82,8 +90,12 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   std::string own_identity_;  // this participant's GUID prefix (wire::identity_of)
   std::atomic<bool> id_elsewhere_{false};
   std::atomic<bool> id_contested_{false};
+  std::uint64_t joined_ms_ = 0;  // this daemon's DaemonInfo.joined_ms (set before any reader exists)
+  mutable std::mutex namesake_mutex_;
+  std::string older_namesake_;
 
   void write_reply(const msg::Reply& reply);
+  void note_namesake(const msg::DaemonInfo& other, const std::string& sender);
   /// True on a thread inside this object's DDS request callback.
   static thread_local bool in_dds_callback;
   /// Replies waiting for their client's reader at most; past this, a reply is dropped (logged;

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "daemon.hpp"
+#include "daemon_log.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/wire/participant.hpp"
 
@@ -23,6 +24,8 @@ int main(int argc, char** argv) {
   std::optional<std::size_t> request_queue;
   std::optional<std::uint64_t> memory_budget_mb;
   std::optional<std::uint32_t> discovery_wait_ms;
+  std::optional<std::uint64_t> log_file_mb;
+  std::string log_file, metrics;
   std::vector<std::string> preload;
   app.add_option("-c,--config", config_file, "YAML config file (flags override it)")->check(CLI::ExistingFile);
   app.add_option("--data-dir", data_dir, "where roadmaps are stored");
@@ -45,6 +48,11 @@ int main(int argc, char** argv) {
                  "requests each lane (quick, slow) holds waiting before it answers busy (1..100000, default 256)");
   app.add_option("--discovery-wait-ms", discovery_wait_ms,
                  "how long to listen for the other daemons before claiming scenes (100..60000, default 1000)");
+  app.add_option("--log-file", log_file, "log to this file, rotated by size and reopened on SIGHUP (default: stdout)");
+  app.add_option("--log-file-mb", log_file_mb, "MiB a log file reaches before it is rotated (1..100000, default 64)");
+  app.add_option("--metrics", metrics,
+                 "ADDRESS:PORT serving /metrics (Prometheus) and /healthz over HTTP, e.g. 127.0.0.1:9464 "
+                 "(default: none)");
   CLI11_PARSE(app, argc, argv);
 
   // Block the stop signals in every thread; main waits for them below.
@@ -52,10 +60,11 @@ int main(int argc, char** argv) {
   sigemptyset(&stop_signals);
   sigaddset(&stop_signals, SIGTERM);
   sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGHUP);  // never a stop: see below
+  sigaddset(&stop_signals, SIGHUP);  // never a stop: a reload (see below)
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
-  try {
+  // The config: the file (read again on SIGHUP), then the flags over it.
+  const auto configure = [&] {
     DaemonConfig config = config_file.empty() ? DaemonConfig{} : ispars::server::load_daemon_config(config_file);
     if (config_file.empty()) config.domain = ispars::wire::domain_from_environment();
     if (!data_dir.empty()) config.data_dir = data_dir;
@@ -73,11 +82,17 @@ int main(int argc, char** argv) {
     if (request_queue) config.request_queue = *request_queue;
     if (memory_budget_mb) config.memory_budget_mb = *memory_budget_mb;
     if (discovery_wait_ms) config.discovery_wait_ms = *discovery_wait_ms;
+    if (!log_file.empty()) config.log_file = log_file;
+    if (log_file_mb) config.log_file_mb = *log_file_mb;
+    if (!metrics.empty()) config.metrics = metrics;
     config.preload.insert(config.preload.end(), preload.begin(), preload.end());
     ispars::server::check_daemon_config(config, config_file.empty() ? "isparsd" : config_file);
+    return config;
+  };
 
-    spdlog::set_level(spdlog::level::from_str(config.log_level));
-    spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
+  try {
+    DaemonConfig config = configure();
+    ispars::server::start_daemon_log(config);
     ispars::wire::route_fastdds_log_to_spdlog();
     // Undone when this scope ends, after the daemon (declared below) is gone, on every path.
     struct StopRouting {
@@ -89,13 +104,19 @@ int main(int argc, char** argv) {
     for (;;) {
       sigwait(&stop_signals, &signal);
       if (signal != SIGHUP) break;
-      // Logs go to stdout and stderr (the journal under systemd): nothing to reopen; the config
-      // is read at start only.
-      spdlog::info("SIGHUP: still serving (logs need no reopening; restart to apply a changed config)");
+      try {
+        daemon.reload(configure());
+      } catch (const std::exception& e) {
+        spdlog::error("SIGHUP: the config was not reloaded: {}; serving on as before", e.what());
+      }
     }
-    spdlog::info("{}: finishing the current batches and stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+    if (daemon.displaced()) {
+      spdlog::error("stopping: an older daemon serves server id '{}'", daemon.server_id());
+    } else {
+      spdlog::info("{}: finishing the current batches and stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+    }
     daemon.shutdown();
-    return 0;
+    return daemon.displaced() ? 1 : 0;
   } catch (const ispars::InputError& e) {
     std::cerr << "isparsd: " << e.what() << "\n";
     return 2;

@@ -30,12 +30,8 @@ CliRun run(const std::string& args, const test::TempDir& dir) {
   const int status = std::system(command.c_str());
   CliRun r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream o(out), e(err);
-  std::stringstream so, se;
-  so << o.rdbuf();
-  se << e.rdbuf();
-  r.out = so.str();
-  r.err = se.str();
+  r.out = test::read_text(out);
+  r.err = test::read_text(err);
   return r;
 }
 
@@ -43,13 +39,6 @@ std::string last_line(const std::string& text) {
   const auto end = text.find_last_not_of('\n');
   const auto start = text.rfind('\n', end);
   return text.substr(start == std::string::npos ? 0 : start + 1, end - (start == std::string::npos ? 0 : start + 1) + 1);
-}
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 class CliTest : public ::testing::Test {
@@ -105,9 +94,9 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   ASSERT_EQ(run(common_ + " snapshot tower --out " + snapshot.string(), dir_).code, 0);
   for (int i = 0; i < 300 && !std::filesystem::exists(dump); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  ASSERT_TRUE(std::filesystem::exists(dump)) << slurp(dir_.path() / "watch.txt");
-  EXPECT_EQ(slurp(dump), slurp(snapshot)) << "the live replica must equal the snapshot, byte for byte";
-  const auto file = nlohmann::json::parse(slurp(snapshot));
+  ASSERT_TRUE(std::filesystem::exists(dump)) << test::read_text(dir_.path() / "watch.txt");
+  EXPECT_EQ(test::read_text(dump), test::read_text(snapshot)) << "the live replica must equal the snapshot, byte for byte";
+  const auto file = nlohmann::json::parse(test::read_text(snapshot));
   EXPECT_EQ(file["graphs"]["roadmap"]["vertices"].size(), status["vertices"].get<std::size_t>());
   EXPECT_EQ(file["pois"].size(), status["poi_count"].get<std::size_t>());
   const CliRun extend = run(common_ + " extend tower --samples 500 --wait --json", dir_);

@@ -10,6 +10,7 @@
 
 #include "integration/service_fixture.hpp"
 #include "ispars/wire/scene_owner.hpp"
+#include "support/raw_peer.hpp"
 
 namespace ispars::test {
 namespace {
@@ -125,14 +126,20 @@ TEST_F(FleetTest, DaemonsStartedTogetherWithTheSameSceneToLoadLeaveOneOwner) {
   }
 }
 
-TEST_F(FleetTest, ADaemonWhoseIdIsAlreadyAnnouncedRefusesToStart) {
+TEST_F(FleetTest, ADaemonWhoseIdIsAlreadyAnnouncedRefusesToStartOrStopsOnceItSeesIt) {
   auto first = start("same");
-  // Its own data directory, its own process: it exits at start (LocalDaemon says so).
+  // Its own data directory, its own process. It refuses at start when the first's announcement
+  // reaches it within its discovery wait; when discovery is slower (a loaded machine), it starts,
+  // sees the older namesake and stops by itself.
   try {
-    // Listening as long as a fleet daemon does by default: the first's announcement must reach it.
     DaemonProcess second(ISPARS_DAEMON, domain_, dir_.path() / "data-second", scene_dir_, "same",
                          {"--discovery-wait-ms", "1000"});
-    ADD_FAILURE() << "a second daemon 'same' started:\n" << second.log();
+    const std::optional<int> status = second.exit_within(std::chrono::seconds(15));
+    ASSERT_TRUE(status.has_value()) << "a second daemon 'same' kept running:\n" << second.log();
+    EXPECT_EQ(*status, 1) << second.log();
+    EXPECT_NE(second.log().find("server id 'same' is also announced by a daemon that joined DDS domain"),
+              std::string::npos)
+        << second.log();
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("server id 'same' is already announced on DDS domain"), std::string::npos)
         << e.what();
@@ -140,6 +147,42 @@ TEST_F(FleetTest, ADaemonWhoseIdIsAlreadyAnnouncedRefusesToStart) {
   ASSERT_TRUE(first->alive()) << first->log();
   Client client(client_options(domain_));
   EXPECT_EQ(client.load("s0").server_id(), "same");
+}
+
+// A running daemon that sees its id announced by another participant: the one that joined the
+// domain first keeps serving, whichever way discovery ordered the two.
+TEST_F(FleetTest, OfTwoRunningDaemonsWithOneIdTheOneThatJoinedLaterStops) {
+  auto daemon = start("same");
+  const auto now_ms = static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
+  msg::DaemonInfo namesake;
+  namesake.server_id("same");
+  namesake.protocol(msg::PROTOCOL_VERSION);
+  namesake.host("elsewhere");
+  namesake.pid(4242);
+  {
+    RawPeer younger(domain_);  // joined after the daemon: the daemon stays and announces itself again
+    namesake.joined_ms(now_ms + 60'000);
+    younger.announce(namesake);
+    const auto deadline = Clock::now() + std::chrono::seconds(10);
+    while (Clock::now() < deadline && daemon->log().find("announcing again") == std::string::npos) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    EXPECT_NE(daemon->log().find("announces this daemon's server id 'same'; announcing again"), std::string::npos)
+        << daemon->log();
+    EXPECT_FALSE(daemon->exit_within(std::chrono::milliseconds(500)).has_value()) << daemon->log();
+  }
+  RawPeer older(domain_);  // joined a minute before it: the daemon stops
+  namesake.joined_ms(now_ms - 60'000);
+  older.announce(namesake);
+  const std::optional<int> status = daemon->exit_within(std::chrono::seconds(15));
+  ASSERT_TRUE(status.has_value()) << daemon->log();
+  EXPECT_EQ(*status, 1);
+  EXPECT_NE(daemon->log().find("joined DDS domain " + std::to_string(domain_) +
+                               " before this one (host elsewhere, pid 4242); this daemon stops"),
+            std::string::npos)
+      << daemon->log();
 }
 
 TEST_F(FleetTest, TwoDaemonsStartedAtTheSameInstantWithOneIdBothRefuse) {

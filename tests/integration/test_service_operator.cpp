@@ -3,6 +3,8 @@
 #include <signal.h>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "integration/service_fixture.hpp"
@@ -20,7 +22,7 @@ TEST_F(ServiceTest, SighupNeitherStopsTheDaemonNorDisturbsItsRequests) {
     EXPECT_TRUE(daemon->alive());
     EXPECT_EQ(c.stats("s0").scene(), "s0");
   }
-  EXPECT_NE(daemon->log().find("SIGHUP: still serving"), std::string::npos);
+  EXPECT_NE(daemon->log().find("SIGHUP: log reopened (level debug)"), std::string::npos) << daemon->log();
   EXPECT_EQ(daemon->terminate(), 0) << "SIGTERM still stops it cleanly";
 }
 
@@ -59,6 +61,81 @@ TEST_F(ServiceTest, AnUnloadSurvivesARestartAndALoadBringsTheRoadmapBack) {
   auto daemon = start("d");
   Client c(client_options(domain_));
   EXPECT_EQ(c.stats("s0").vertices(), vertices) << "loaded again, it is reloaded at start again";
+}
+
+// SIGHUP after an outside rotation (logrotate renames the file): the daemon writes a new file at
+// the configured path, applies a new log level from the edited config, names the changed keys it
+// applies only at a restart, and keeps serving; a broken config changes nothing.
+TEST_F(ServiceTest, SighupReopensTheLogFileAndAppliesTheConfigsLogLevel) {
+  const auto log_file = dir_.path() / "logs" / "isparsd.log";
+  std::filesystem::create_directories(log_file.parent_path());
+  const auto config = dir_.path() / "isparsd.yaml";
+  const auto write_config = [&](const std::string& level, int workers) {
+    std::ofstream(config) << "log_file: " << log_file.string() << "\nlog_level: " << level
+                          << "\nworkers: " << workers << "\n";
+  };
+  write_config("info", 2);
+  // --log-level is not given here: the config's level is the one SIGHUP re-reads.
+  DaemonProcess daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", scene_dir_, "d",
+                       {"--config", config.string(), "--log-file", log_file.string()});
+  Client c(client_options(domain_));
+  c.load("s0");
+  c.load("s1");
+  c.unload("s1");  // logs what it does with the updates of s1 at debug level
+  const std::string before = read_text(log_file);
+  EXPECT_NE(before.find("isparsd d serving on DDS domain"), std::string::npos) << before;
+  EXPECT_EQ(before.find(" debug "), std::string::npos) << "level info logged debug lines";
+
+  std::filesystem::rename(log_file, log_file.string() + ".1");
+  write_config("debug", 3);
+  ASSERT_EQ(::kill(daemon.pid(), SIGHUP), 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < deadline && read_text(log_file).find("SIGHUP") == std::string::npos) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_NE(read_text(log_file).find("SIGHUP: log reopened (level debug); changed but applied only at a restart: "
+                                     "workers"),
+            std::string::npos)
+      << read_text(log_file);
+  EXPECT_EQ(c.stats("s0").scene(), "s0");
+  c.load("s1");
+  c.unload("s1");
+  EXPECT_NE(read_text(log_file).find(" debug "), std::string::npos)
+      << "the new level was not applied:\n"
+      << read_text(log_file);
+  EXPECT_EQ(read_text(log_file.string() + ".1"), before) << "the rotated file was written after the reopen";
+
+  std::ofstream(config) << "log_level: [not, a, level]\n";
+  ASSERT_EQ(::kill(daemon.pid(), SIGHUP), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_NE(read_text(log_file).find("SIGHUP: the config was not reloaded: " + config.string() + ": log_level"),
+            std::string::npos)
+      << read_text(log_file);
+  EXPECT_TRUE(daemon.alive());
+  EXPECT_EQ(c.stats("s0").scene(), "s0");
+  EXPECT_EQ(daemon.terminate(), 0);
+}
+
+TEST_F(ServiceTest, ALogFileOrMetricsAddressThatCannotBeUsedStopsTheStartWithItsName) {
+  const auto run = [&](const std::vector<std::string>& extra) {
+    std::string cmd = std::string(ISPARS_DAEMON) + " --domain " + std::to_string(domain_) + " --data-dir " +
+                      (dir_.path() / "data").string() + " --scene-dir " + scene_dir_.string();
+    for (const auto& a : extra) cmd += " '" + a + "'";
+    return run_command(cmd + " 2>&1");
+  };
+  const auto [missing_status, missing] = run({"--log-file", (dir_.path() / "no" / "such" / "x.log").string()});
+  EXPECT_EQ(missing_status, 2);
+  EXPECT_NE(missing.find("log_file: its directory " + (dir_.path() / "no" / "such").string() + " does not exist"),
+            std::string::npos)
+      << missing;
+  for (const std::string bad : {"localhost:9464", "127.0.0.1", "127.0.0.1:70000", "127.0.0.1:-1", "::1:80"}) {
+    const auto [status, out] = run({"--metrics", bad});
+    EXPECT_EQ(status, 2) << bad;
+    EXPECT_NE(out.find("isparsd: metrics: '" + bad + "'"), std::string::npos) << out;
+  }
+  const auto [size_status, size_out] = run({"--log-file-mb", "0"});
+  EXPECT_EQ(size_status, 2);
+  EXPECT_NE(size_out.find("log_file_mb: must be in 1..100000, got 0"), std::string::npos) << size_out;
 }
 
 }  // namespace

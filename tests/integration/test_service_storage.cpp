@@ -10,13 +10,6 @@
 namespace ispars::test {
 namespace {
 
-std::string bytes_of(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST_F(ServiceTest, ACorruptJournalMiddleFailsItsSceneLoudlyAndTheOthersServe) {
   const std::vector<std::string> no_compaction = {"--compact-every", "100000"};
   std::uint64_t s1_vertices = 0;
@@ -34,7 +27,7 @@ TEST_F(ServiceTest, ACorruptJournalMiddleFailsItsSceneLoudlyAndTheOthersServe) {
   const auto journal = dir_.path() / "data-d" / "s0" / "journal.log";
   const RecordReplay intact = read_record_file(journal, "ISPJRN01", [](const std::string&) { return std::string(); });
   ASSERT_GE(intact.payloads.size(), 3u) << "the build committed too few chunks for a middle";
-  std::string damaged = bytes_of(journal);
+  std::string damaged = read_text(journal);
   const std::size_t second = 8 + 8 + intact.payloads[0].size();  // the second commit's header
   damaged[second + 8 + intact.payloads[1].size() / 2] ^= 0x01;
   std::ofstream(journal, std::ios::binary | std::ios::trunc) << damaged;
@@ -53,7 +46,7 @@ TEST_F(ServiceTest, ACorruptJournalMiddleFailsItsSceneLoudlyAndTheOthersServe) {
   } catch (const ClientError& e) {
     EXPECT_NE(std::string(e.what()).find("damaged"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(bytes_of(journal), damaged) << "the damaged journal was changed";
+  EXPECT_EQ(read_text(journal), damaged) << "the damaged journal was changed";
   EXPECT_TRUE(daemon->alive());
 }
 
@@ -71,7 +64,7 @@ TEST_F(ServiceTest, AnEditedSceneFailsItsStoredRoadmapUntilRebuilt) {
   }
   std::ofstream(scene_dir_ / "s0.yaml") << "procedural: {kind: tank_tower, seed: 77}\n";
   const auto recipe = dir_.path() / "data-d" / "s0" / "recipe.json";
-  const std::string recipe_before = bytes_of(recipe);
+  const std::string recipe_before = read_text(recipe);
   auto daemon = start("d");
   Client c(client_options(domain_));
   const auto s0 = c.stats("s0");
@@ -79,7 +72,7 @@ TEST_F(ServiceTest, AnEditedSceneFailsItsStoredRoadmapUntilRebuilt) {
   EXPECT_NE(s0.last_error().find("was built on another version of the scene"), std::string::npos) << s0.last_error();
   EXPECT_EQ(s0.vertices(), 0u);
   EXPECT_THROW(c.extend("s0", 500), ClientError);
-  EXPECT_EQ(bytes_of(recipe), recipe_before);
+  EXPECT_EQ(read_text(recipe), recipe_before);
   c.build("s0", ispars_build(1500, 1, true));
   const auto rebuilt = c.wait_idle("s0", {}, kLong);
   EXPECT_EQ(rebuilt.state(), msg::SCENE_IDLE) << rebuilt.last_error();

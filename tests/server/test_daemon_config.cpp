@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "daemon_config.hpp"
 #include "ispars/input_error.hpp"
 #include "support/test_support.hpp"
@@ -25,7 +27,11 @@ snapshot_compact_every: 7
 preload: [a, b]
 request_queue: 9
 memory_budget_mb: 2048
+log_file: logs/isparsd.log
+log_file_mb: 8
+metrics: 127.0.0.1:9464
 )");
+  std::filesystem::create_directories(dir.path() / "logs");
   const DaemonConfig c = load_daemon_config(path);
   EXPECT_EQ(c.data_dir, dir.path() / "data");
   EXPECT_EQ(c.scene_dir, "/abs/scenes");
@@ -40,6 +46,9 @@ memory_budget_mb: 2048
   EXPECT_EQ(c.preload, (std::vector<std::string>{"a", "b"}));
   EXPECT_EQ(c.request_queue, 9u);
   EXPECT_EQ(c.memory_budget_mb, 2048u);
+  EXPECT_EQ(c.log_file, dir.path() / "logs" / "isparsd.log");
+  EXPECT_EQ(c.log_file_mb, 8u);
+  EXPECT_EQ(c.metrics, "127.0.0.1:9464");
   EXPECT_DOUBLE_EQ(memory_budget_bytes(c), 2048.0 * 1024 * 1024);
   EXPECT_GT(memory_budget_bytes(DaemonConfig{}), 0.0) << "the default is half of this machine's memory";
 }
@@ -68,7 +77,28 @@ TEST(DaemonConfig, BadValuesAreNamed) {
   expect("log_level: chatty\n", "log_level: 'chatty' is not one of");
   expect("[1, 2]\n", "yaml: the config must be a mapping");
   expect("domain: [\n", "yaml");
+  expect("log_file_mb: 0\n", "log_file_mb: must be in 1..100000, got 0");
+  expect("log_file_mb: 100001\n", "log_file_mb: must be in 1..100000");
+  expect("log_file: nowhere/x.log\n", "log_file: its directory " + (dir.path() / "nowhere").string() + " does not exist");
+  expect("metrics: localhost:9464\n", "metrics: 'localhost:9464' does not start with an IPv4 address");
+  expect("metrics: 127.0.0.1\n", "metrics: '127.0.0.1' is not an address and a port");
+  expect("metrics: 127.0.0.1:65536\n", "has no port in 0..65535");
+  expect("metrics: '127.0.0.1:'\n", "has no port in 0..65535");
+  expect("metrics: 127.0.0.1:+80\n", "has no port in 0..65535");
+  expect("metrics: " + std::string(70, '1') + ":80\n", "is not an address and a port");
   EXPECT_THROW((void)load_daemon_config(dir.path() / "missing.yaml"), InputError);
+}
+
+TEST(DaemonConfig, AListenAddressIsAnIpv4AddressAndAPort) {
+  const ListenAddress any = parse_listen_address("0.0.0.0:0", "isparsd", "metrics");
+  EXPECT_EQ(any.host, "0.0.0.0");
+  EXPECT_EQ(any.port, 0);
+  const ListenAddress local = parse_listen_address("127.0.0.1:65535", "isparsd", "metrics");
+  EXPECT_EQ(local.host, "127.0.0.1");
+  EXPECT_EQ(local.port, 65535);
+  EXPECT_THROW((void)parse_listen_address("127.0.0.256:80", "isparsd", "metrics"), InputError);
+  EXPECT_THROW((void)parse_listen_address("[::1]:80", "isparsd", "metrics"), InputError);
+  EXPECT_THROW((void)parse_listen_address(":80", "isparsd", "metrics"), InputError);
 }
 
 }  // namespace

@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -17,8 +20,20 @@
 namespace ispars::client {
 
 int random_domain() {
+  // Tests run in parallel, each in its own process: a domain is taken by locking its file (held
+  // until the process exits), so no two running tests share one, whatever the random start.
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "ispars-test-domains";
+  std::filesystem::create_directories(dir);
   std::random_device rd;
-  return 100 + static_cast<int>(rd() % 133);
+  const int start = static_cast<int>(rd() % 133);
+  for (int i = 0; i < 133; ++i) {
+    const int domain = 100 + (start + i) % 133;
+    const int fd = ::open((dir / (std::to_string(domain) + ".lock")).c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (fd < 0) continue;
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) return domain;  // fd stays open: the lock lives with the process
+    ::close(fd);
+  }
+  throw std::runtime_error("every DDS domain in 100..232 is taken by a running test");
 }
 
 void write_tank_tower_scenes(const std::filesystem::path& dir, const std::vector<std::string>& names) {
@@ -57,13 +72,24 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
     : domain_(domain), server_id_(std::move(server_id)) {
   log_path_ = data_dir.parent_path() / (server_id_ + "-" + data_dir.filename().string() + "-" + std::to_string(::getpid()) + ".log");
   std::vector<std::string> args = {daemon_binary, "--domain", std::to_string(domain), "--data-dir", data_dir.string(),
-                                   "--scene-dir", scene_dir.string(), "--server-id", server_id_, "--log-level", "debug"};
+                                   "--scene-dir", scene_dir.string(), "--server-id", server_id_};
+  // Debug logs unless the caller sets the level itself, or through a config file (which a flag
+  // would override).
+  if (std::find(extra_args.begin(), extra_args.end(), "--log-level") == extra_args.end() &&
+      std::find(extra_args.begin(), extra_args.end(), "--config") == extra_args.end()) {
+    args.insert(args.end(), {"--log-level", "debug"});
+  }
   // One daemon per test mostly: listening 300 ms for others is plenty on localhost (fleet tests
   // that start several at once pass their own).
   if (std::find(extra_args.begin(), extra_args.end(), "--discovery-wait-ms") == extra_args.end()) {
     args.insert(args.end(), {"--discovery-wait-ms", "300"});
   }
   args.insert(args.end(), extra_args.begin(), extra_args.end());
+  // A daemon told to log to a file says "serving" there, not on its output.
+  if (const auto it = std::find(extra_args.begin(), extra_args.end(), "--log-file");
+      it != extra_args.end() && it + 1 != extra_args.end()) {
+    own_log_path_ = *(it + 1);
+  }
   pid_ = ::fork();
   if (pid_ < 0) throw std::runtime_error("fork failed");
   if (pid_ == 0) {
@@ -93,7 +119,9 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  throw std::runtime_error("isparsd " + server_id_ + " did not announce itself within 20 s:\n" + log());
+  const std::string so_far = log();
+  kill9();  // no destructor runs for a constructor that throws: the process must not outlive the test
+  throw std::runtime_error("isparsd " + server_id_ + " did not announce itself within 20 s:\n" + so_far);
 }
 
 LocalDaemon::~LocalDaemon() {
@@ -109,6 +137,20 @@ bool LocalDaemon::alive() {
     return false;
   }
   return r == 0;
+}
+
+std::optional<int> LocalDaemon::exit_within(std::chrono::milliseconds limit) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  while (pid_ > 0) {
+    int status = 0;
+    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+      pid_ = -1;
+      return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+    }
+    if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return std::nullopt;
 }
 
 int LocalDaemon::wait_exit() {
@@ -131,10 +173,13 @@ void LocalDaemon::kill9() {
 }
 
 std::string LocalDaemon::log() const {
-  std::ifstream in(log_path_);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  std::string text;
+  for (const auto& path : {log_path_, own_log_path_}) {
+    if (path.empty()) continue;
+    std::ifstream in(path, std::ios::binary);
+    text.append(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  return text;
 }
 
 }  // namespace ispars::client

@@ -4,7 +4,9 @@
 
 #include <sys/types.h>
 
+#include <chrono>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,8 +48,11 @@ class LocalDaemon {
   void kill9();
   /// Whether the process is still running.
   bool alive();
+  /// Waits up to `limit` for the process to exit by itself: its exit status (or -signal), or
+  /// nullopt when it still runs.
+  std::optional<int> exit_within(std::chrono::milliseconds limit);
   [[nodiscard]] const std::string& server_id() const { return server_id_; }
-  /// The daemon's log so far.
+  /// The daemon's log so far: its output, then the file it was told to log to (--log-file).
   [[nodiscard]] std::string log() const;
   [[nodiscard]] pid_t pid() const { return pid_; }
 
@@ -57,6 +62,7 @@ class LocalDaemon {
   int domain_;
   std::string server_id_;
   std::filesystem::path log_path_;
+  std::filesystem::path own_log_path_;  // --log-file, when given
 };
 
 }  // namespace ispars::client

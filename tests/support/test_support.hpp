@@ -3,6 +3,7 @@
 // the surface, where the decisions are close and bugs show.
 
 #include <filesystem>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,12 @@ class TempDir {
 /// min(n, 20). The sanitizer pass of deploy/test.sh sets a small scale: the brute-force
 /// references run 10x slower there, and the full-volume agreement runs in the Release pass.
 std::size_t scaled(std::size_t n);
+
+/// The whole content of file `path` (bytes as they are); empty when it cannot be read.
+std::string read_text(const std::filesystem::path& path);
+
+/// Runs `command` with /bin/sh; its exit status (-1 when it did not exit) and its standard output.
+std::pair<int, std::string> run_command(const std::string& command);
 
 /// Peak resident memory (VmHWM) of process `pid` (0: this process), in MiB; 0 when unreadable.
 double peak_rss_mib(int pid = 0);

@@ -1,0 +1,138 @@
+// isparsd for its operator: READY, STOPPING and WATCHDOG to systemd, the /metrics and /healthz
+// endpoint, and SIGHUP's reload.
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "daemon.hpp"
+#include "daemon_log.hpp"
+#include "dds_endpoints.hpp"
+#include "ispars/wire/convert.hpp"
+#include "metrics_endpoint.hpp"
+
+namespace ispars::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The keys of `a` and `b` that differ and apply only at start.
+std::vector<std::string> changed_needing_restart(const DaemonConfig& a, const DaemonConfig& b) {
+  std::vector<std::string> out;
+  const auto check = [&](bool same, const char* key) {
+    if (!same) out.emplace_back(key);
+  };
+  check(a.data_dir == b.data_dir, "data_dir");
+  check(a.scene_dir == b.scene_dir, "scene_dir");
+  check(a.domain == b.domain, "domain");
+  check(a.workers == b.workers, "workers");
+  check(a.build_threads == b.build_threads, "build_threads");
+  check(a.profile_file == b.profile_file && a.profile_name == b.profile_name, "profile_file/profile_name");
+  check(a.security == b.security, "security");
+  check(a.server_id == b.server_id, "server_id");
+  check(a.max_samples == b.max_samples, "max_samples");
+  check(a.snapshot_compact_every == b.snapshot_compact_every, "snapshot_compact_every");
+  check(a.preload == b.preload, "preload");
+  check(a.request_queue == b.request_queue, "request_queue");
+  check(a.memory_budget_mb == b.memory_budget_mb, "memory_budget_mb");
+  check(a.discovery_wait_ms == b.discovery_wait_ms, "discovery_wait_ms");
+  check(a.metrics == b.metrics, "metrics");
+  return out;
+}
+
+}  // namespace
+
+void Daemon::open_metrics_endpoint() {
+  if (config_.metrics.empty()) return;
+  // Before anything runs: a port in use stops the start. Until serving_, a scrape sees only the
+  // counters (the service and endpoints are being made), and /healthz says 503.
+  const ListenAddress at = parse_listen_address(config_.metrics, "isparsd", "metrics");
+  metrics_endpoint_ = std::make_unique<MetricsEndpoint>(at, [this] { return metrics_text(); },
+                                                        [this] { return healthy(); });
+  spdlog::info("metrics on http://{}:{}/metrics, health on /healthz", at.host, metrics_endpoint_->port());
+}
+
+void Daemon::start_serving() {
+  probe_answered_ = Clock::now().time_since_epoch().count();
+  serving_ = true;
+  notifier_.ready(fmt::format("serving on DDS domain {} as {}", config_.domain, config_.server_id));
+}
+
+void Daemon::tend_watchdog() {
+  // The quick lane answers STATS and CANCEL: when it stops taking work, the daemon is wedged, and
+  // systemd (WatchdogSec) should restart it. A probe is queued there; a ping goes out only while
+  // the last probe ran within the watchdog's timeout.
+  if (!probe_pending_.exchange(true)) {
+    if (!quick_lane_->submit([this] {
+          probe_answered_ = Clock::now().time_since_epoch().count();
+          probe_pending_ = false;
+        })) {
+      probe_pending_ = false;  // a full lane is busy, not wedged: the next tick tries again
+    }
+  }
+  const auto period = notifier_.watchdog_period();
+  if (!period || !healthy()) return;
+  const auto now = Clock::now();
+  if (now - last_watchdog_ < *period) return;
+  last_watchdog_ = now;
+  notifier_.watchdog();
+}
+
+bool Daemon::healthy() const {
+  if (!serving_ || leaving_) return false;
+  // Twice the watchdog period (its whole timeout), or 10 s without one.
+  const auto limit = notifier_.watchdog_period() ? 2 * *notifier_.watchdog_period()
+                                                 : std::chrono::duration_cast<std::chrono::microseconds>(
+                                                       std::chrono::seconds(10));
+  const Clock::time_point answered{Clock::duration(probe_answered_.load())};
+  return Clock::now() - answered <= limit;
+}
+
+std::string Daemon::metrics_text() const {
+  DaemonGauges g;
+  if (service_ && serving_) {
+    for (const std::string& scene : service_->loaded_scenes()) {
+      try {
+        const SessionStatus s = service_->stats(scene);
+        g.scenes.push_back({scene, std::string(to_string(s.state)), s.samples_done, s.vertices, s.edges, s.poi_count,
+                            s.pois_covered});
+      } catch (const std::exception&) {
+        // unloaded since it was listed
+      }
+    }
+  }
+  if (dds_ && serving_) {
+    g.update_subscribers = dds_->update_subscribers();
+    g.reply_clients = dds_->reply_clients();
+    g.other_daemons = dds_->other_daemons().size();
+  }
+  g.resident_bytes = resident_memory_bytes();
+  g.memory_budget_bytes = memory_budget_bytes(config_);
+  return metrics_.render(g);
+}
+
+void Daemon::finish(const msg::Reply& reply, Clock::time_point taken) {
+  const std::string& error = reply.error();
+  const RequestOutcome outcome = reply.ok()                               ? RequestOutcome::ok
+                                 : error.rfind("internal error", 0) == 0 ? RequestOutcome::failed
+                                                                          : RequestOutcome::refused;
+  metrics_.count_request(wire::to_string(reply.body()._d()), outcome,
+                         std::chrono::duration<double>(Clock::now() - taken).count());
+  finish(reply);
+}
+
+void Daemon::reload(const DaemonConfig& fresh) {
+  notifier_.reloading();
+  const bool reopened = reopen_daemon_log(fresh);
+  if (reopened) {
+    config_.log_file = fresh.log_file;
+    config_.log_file_mb = fresh.log_file_mb;
+    config_.log_level = fresh.log_level;
+  }
+  const std::vector<std::string> later = changed_needing_restart(config_, fresh);
+  spdlog::info("SIGHUP: {} (level {}){}", reopened ? "log reopened" : "log kept", config_.log_level,
+               later.empty() ? std::string()
+                             : fmt::format("; changed but applied only at a restart: {}", fmt::join(later, ", ")));
+  notifier_.ready(fmt::format("serving on DDS domain {} as {}", config_.domain, config_.server_id));
+}
+
+}  // namespace ispars::server
