@@ -8,6 +8,8 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <cstring>
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -57,8 +59,13 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
   std::filesystem::create_directories(config_.data_dir);
   const auto lock_path = config_.data_dir / ".isparsd.lock";
   lock_fd_ = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (lock_fd_ < 0 || ::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
-    if (lock_fd_ >= 0) ::close(lock_fd_);
+  if (lock_fd_ < 0) {
+    // A read-only or foreign data directory: every commit would fail, so the daemon does not start.
+    throw std::runtime_error(fmt::format("data directory {} is not writable ({}: {})", config_.data_dir.string(),
+                                         lock_path.filename().string(), std::strerror(errno)));
+  }
+  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(lock_fd_);
     throw std::runtime_error("data directory " + config_.data_dir.string() + " is in use by another isparsd");
   }
   ServiceSettings settings;
@@ -83,25 +90,30 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
     join_fleet();  // the other daemons seen, this one's id unique, claims possible
     service_ = std::make_unique<RoadmapService>(std::move(settings), service_events());
   } catch (...) {
+    metrics_endpoint_.reset();  // first: its thread reads dds_
     dds_.reset();
-    metrics_endpoint_.reset();
     ::close(lock_fd_);
     throw;
   }
-  announce();
-  service_->load_stored_roadmaps();
-  for (const std::string& name : config_.preload) {
-    try {
-      (void)service_->load(name);
-    } catch (const std::exception& e) {
-      spdlog::error("preload of scene '{}' failed: {}", name, e.what());
+  try {
+    announce();
+    service_->load_stored_roadmaps();
+    for (const std::string& name : config_.preload) {
+      try {
+        (void)service_->load(name);
+      } catch (const std::exception& e) {
+        spdlog::error("preload of scene '{}' failed: {}", name, e.what());
+      }
     }
+    announce();
+    quick_lane_ = std::make_unique<WorkerPool>(kQuickThreads, config_.request_queue);
+    slow_lane_ = std::make_unique<WorkerPool>(kSlowThreads, config_.request_queue);
+    fleet_thread_ = std::thread([this] { watch_fleet(); });
+    start_serving();
+  } catch (...) {
+    shutdown();  // joins whatever threads were started, releases the lock
+    throw;
   }
-  announce();
-  quick_lane_ = std::make_unique<WorkerPool>(kQuickThreads, config_.request_queue);
-  slow_lane_ = std::make_unique<WorkerPool>(kSlowThreads, config_.request_queue);
-  fleet_thread_ = std::thread([this] { watch_fleet(); });
-  start_serving();
   spdlog::info("isparsd {} serving on DDS domain {} (scenes from {}, data in {}, {} build workers, memory budget "
                "{:.1f} GiB, protocol {})",
                config_.server_id, config_.domain, config_.scene_dir.string(), config_.data_dir.string(),
@@ -123,6 +135,7 @@ void Daemon::shutdown() {
   }
   fleet_wake_.notify_all();
   if (fleet_thread_.joinable()) fleet_thread_.join();
+  if (watchdog_thread_.joinable()) watchdog_thread_.join();
   // Requests being answered finish; queued ones are dropped (their clients retry elsewhere or time out).
   if (quick_lane_) quick_lane_->stop();
   if (slow_lane_) slow_lane_->stop();

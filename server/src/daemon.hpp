@@ -9,6 +9,7 @@
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
@@ -25,6 +26,15 @@ namespace ispars::server {
 
 class DdsEndpoints;
 class MetricsEndpoint;
+
+/// Thrown at start when another running daemon announces this daemon's server id.
+struct ServerIdTaken : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// isparsd's exit status when another daemon serves its server id (at start, or seen later):
+/// systemd must not restart it (RestartPreventExitStatus).
+inline constexpr int kExitServerIdTaken = 3;
 
 /// This machine's host name ("host" when it cannot be read).
 [[nodiscard]] std::string host_name();
@@ -92,7 +102,7 @@ class Daemon {
   // For operators (daemon_operator.cpp): readiness, watchdog, metrics and health.
   void open_metrics_endpoint();  // first of all: a port in use stops the start
   void start_serving();          // READY
-  void tend_watchdog();        // from the fleet thread: probes the quick lane, pings WATCHDOG
+  void watch_health();           // its own thread: probes the quick lane, pings WATCHDOG
   [[nodiscard]] bool healthy() const;
   [[nodiscard]] std::string metrics_text() const;
   void finish(const msg::Reply& reply, std::chrono::steady_clock::time_point taken);  // counts, then finish()
@@ -120,9 +130,9 @@ class Daemon {
   DaemonMetrics metrics_;
   std::unique_ptr<MetricsEndpoint> metrics_endpoint_;
   std::atomic<bool> serving_{false};
-  std::atomic<bool> probe_pending_{false};                           // a watchdog probe waits on the quick lane
-  std::atomic<std::chrono::steady_clock::rep> probe_answered_{0};  // when the quick lane last ran one
-  std::chrono::steady_clock::time_point last_watchdog_{};
+  std::atomic<bool> probe_pending_{false};                          // a health probe waits on the quick lane
+  std::atomic<std::chrono::steady_clock::rep> last_progress_{0};  // when the quick lane last finished a job
+  std::thread watchdog_thread_;
   bool shut_down_ = false;
 };
 

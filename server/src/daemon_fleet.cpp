@@ -70,7 +70,7 @@ void Daemon::join_fleet() {
   announce();
   std::this_thread::sleep_for(std::chrono::milliseconds(config_.discovery_wait_ms));
   if (dds_->id_announced_elsewhere()) {
-    throw std::runtime_error(fmt::format("server id '{}' is already announced on DDS domain {} by another running "
+    throw ServerIdTaken(fmt::format("server id '{}' is already announced on DDS domain {} by another running "
                                          "daemon; give each daemon its own server_id",
                                          config_.server_id, config_.domain));
   }
@@ -111,7 +111,6 @@ void Daemon::watch_fleet() {
       service_->yield(scene, leaving_);
     }
     for (const OrphanScene& orphan : claims_->orphans()) take_over(orphan);
-    tend_watchdog();
     lock.lock();
   }
 }

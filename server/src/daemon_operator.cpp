@@ -28,7 +28,7 @@ std::vector<std::string> changed_needing_restart(const DaemonConfig& a, const Da
   check(a.build_threads == b.build_threads, "build_threads");
   check(a.profile_file == b.profile_file && a.profile_name == b.profile_name, "profile_file/profile_name");
   check(a.security == b.security, "security");
-  check(a.server_id == b.server_id, "server_id");
+  check(b.server_id.empty() || a.server_id == b.server_id, "server_id");  // empty: the HOST-PID default
   check(a.max_samples == b.max_samples, "max_samples");
   check(a.snapshot_compact_every == b.snapshot_compact_every, "snapshot_compact_every");
   check(a.preload == b.preload, "preload");
@@ -52,44 +52,53 @@ void Daemon::open_metrics_endpoint() {
 }
 
 void Daemon::start_serving() {
-  probe_answered_ = Clock::now().time_since_epoch().count();
+  last_progress_ = Clock::now().time_since_epoch().count();
   serving_ = true;
+  watchdog_thread_ = std::thread([this] { watch_health(); });
   notifier_.ready(fmt::format("serving on DDS domain {} as {}", config_.domain, config_.server_id));
 }
 
-void Daemon::tend_watchdog() {
-  // The quick lane answers STATS and CANCEL: when it stops taking work, the daemon is wedged, and
-  // systemd (WatchdogSec) should restart it. A probe is queued there; a ping goes out only while
-  // the last probe ran within the watchdog's timeout.
-  if (!probe_pending_.exchange(true)) {
-    if (!quick_lane_->submit([this] {
-          probe_answered_ = Clock::now().time_since_epoch().count();
-          probe_pending_ = false;
-        })) {
-      probe_pending_ = false;  // a full lane is busy, not wedged: the next tick tries again
+void Daemon::watch_health() {
+  // The quick lane answers STATS and CANCEL: when it stops finishing work, the daemon is wedged,
+  // and systemd (WatchdogSec) should restart it. A probe keeps a job there while nothing else
+  // runs; the lane counts as alive while its finished-job count moves. Its own thread, so that a
+  // slow takeover or a long load on the fleet thread never delays a ping.
+  std::uint64_t seen = quick_lane_->completed();
+  auto last_ping = Clock::now() - std::chrono::hours(1);
+  std::unique_lock lock(fleet_mutex_);
+  while (!fleet_stop_) {
+    fleet_wake_.wait_for(lock, std::chrono::milliseconds(100));
+    if (fleet_stop_) break;
+    const std::uint64_t done = quick_lane_->completed();
+    if (done != seen) {
+      seen = done;
+      last_progress_ = Clock::now().time_since_epoch().count();
+    }
+    if (!probe_pending_.exchange(true) && !quick_lane_->submit([this] { probe_pending_ = false; })) {
+      probe_pending_ = false;  // a full lane: its own jobs show whether it moves
+    }
+    const auto period = notifier_.watchdog_period();
+    if (period && healthy() && Clock::now() - last_ping >= *period) {
+      last_ping = Clock::now();
+      notifier_.watchdog();
     }
   }
-  const auto period = notifier_.watchdog_period();
-  if (!period || !healthy()) return;
-  const auto now = Clock::now();
-  if (now - last_watchdog_ < *period) return;
-  last_watchdog_ = now;
-  notifier_.watchdog();
 }
 
 bool Daemon::healthy() const {
   if (!serving_ || leaving_) return false;
-  // Twice the watchdog period (its whole timeout), or 10 s without one.
+  // The watchdog's whole timeout (twice its ping period), or 10 s without one.
   const auto limit = notifier_.watchdog_period() ? 2 * *notifier_.watchdog_period()
                                                  : std::chrono::duration_cast<std::chrono::microseconds>(
                                                        std::chrono::seconds(10));
-  const Clock::time_point answered{Clock::duration(probe_answered_.load())};
-  return Clock::now() - answered <= limit;
+  const Clock::time_point progressed{Clock::duration(last_progress_.load())};
+  return Clock::now() - progressed <= limit;
 }
 
 std::string Daemon::metrics_text() const {
   DaemonGauges g;
-  if (service_ && serving_) {
+  // serving_ first: until it is set, service_ and dds_ are being made on another thread.
+  if (serving_ && service_) {
     for (const std::string& scene : service_->loaded_scenes()) {
       try {
         const SessionStatus s = service_->stats(scene);
@@ -100,7 +109,7 @@ std::string Daemon::metrics_text() const {
       }
     }
   }
-  if (dds_ && serving_) {
+  if (serving_ && dds_) {
     g.update_subscribers = dds_->update_subscribers();
     g.reply_clients = dds_->reply_clients();
     g.other_daemons = dds_->other_daemons().size();

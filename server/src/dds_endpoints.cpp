@@ -266,8 +266,13 @@ void DdsEndpoints::publish_tour_progress(const msg::TourProgress& progress) {
 
 void DdsEndpoints::note_namesake(const msg::DaemonInfo& other, const std::string& sender) {
   id_elsewhere_ = true;
+  // A joining time before 2024 or a day ahead of this clock is no time (a machine without a
+  // real-time clock, or a forged announcement): such a namesake never counts as the older one.
+  constexpr std::uint64_t kEarliest = 1'704'067'200'000;  // 2024-01-01
+  constexpr std::uint64_t kSkew = 86'400'000;
+  const bool plausible = other.joined_ms() >= kEarliest && other.joined_ms() <= joined_ms_ + kSkew;
   const bool other_is_older =
-      other.joined_ms() < joined_ms_ || (other.joined_ms() == joined_ms_ && sender < own_identity_);
+      plausible && (other.joined_ms() < joined_ms_ || (other.joined_ms() == joined_ms_ && sender < own_identity_));
   if (!other_is_older) {
     id_contested_ = true;  // this one stays: re-announce so that readers keep it as the latest
     return;

@@ -116,10 +116,13 @@ int main(int argc, char** argv) {
       spdlog::info("{}: finishing the current batches and stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
     }
     daemon.shutdown();
-    return daemon.displaced() ? 1 : 0;
+    return daemon.displaced() ? ispars::server::kExitServerIdTaken : 0;
   } catch (const ispars::InputError& e) {
     std::cerr << "isparsd: " << e.what() << "\n";
     return 2;
+  } catch (const ispars::server::ServerIdTaken& e) {
+    std::cerr << "isparsd: " << e.what() << "\n";
+    return ispars::server::kExitServerIdTaken;
   } catch (const std::exception& e) {
     std::cerr << "isparsd: " << e.what() << "\n";
     return 1;

@@ -23,7 +23,8 @@ MetricsEndpoint::MetricsEndpoint(const ListenAddress& address, std::function<std
   s.set_payload_max_length(1024);  // GET only: no body of any size is wanted
   s.set_read_timeout(2, 0);
   s.set_write_timeout(5, 0);
-  s.set_keep_alive_max_count(16);
+  // One request per connection: two idle keep-alive scrapers would otherwise hold both workers.
+  s.set_keep_alive_max_count(1);
   s.Get("/metrics", [metrics = std::move(metrics)](const httplib::Request&, httplib::Response& res) {
     res.set_content(metrics(), "text/plain; version=0.0.4; charset=utf-8");
   });
@@ -32,18 +33,17 @@ MetricsEndpoint::MetricsEndpoint(const ListenAddress& address, std::function<std
     res.status = ok ? 200 : 503;
     res.set_content(ok ? "ok\n" : "not serving\n", "text/plain; charset=utf-8");
   });
-  // Other methods on the two paths: 405; anything else falls through to 404.
-  const auto not_allowed = [](const httplib::Request&, httplib::Response& res) {
-    res.status = 405;
-    res.set_header("Allow", "GET");
-    res.set_content("only GET\n", "text/plain; charset=utf-8");
-  };
-  for (const char* path : {"/metrics", "/healthz"}) {
-    s.Post(path, not_allowed);
-    s.Put(path, not_allowed);
-    s.Delete(path, not_allowed);
-    s.Patch(path, not_allowed);
-  }
+  // Any other method on the two paths: 405 (before routing, so OPTIONS or a large body get it
+  // too); any other path: 404.
+  s.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
+    if ((req.path == "/metrics" || req.path == "/healthz") && req.method != "GET" && req.method != "HEAD") {
+      res.status = 405;
+      res.set_header("Allow", "GET, HEAD");
+      res.set_content("only GET\n", "text/plain; charset=utf-8");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
   if (address.port == 0) {
     port_ = s.bind_to_any_port(address.host);
   } else {
@@ -54,14 +54,19 @@ MetricsEndpoint::MetricsEndpoint(const ListenAddress& address, std::function<std
                                          address.host, address.port));
   }
   thread_ = std::thread([this] { server_->listen_after_bind(); });
+  // Listening before the constructor returns: stop() in the destructor then always ends it.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!server_->is_running()) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      server_->stop();
+      thread_.join();
+      throw std::runtime_error(fmt::format("metrics: {}:{} bound but not listening", address.host, port_));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
 }
 
 MetricsEndpoint::~MetricsEndpoint() {
-  // stop() does nothing before the thread is listening: wait for that first (bounded).
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
-  while (!server_->is_running() && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
   server_->stop();
   if (thread_.joinable()) thread_.join();
 }

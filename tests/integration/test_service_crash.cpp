@@ -51,82 +51,88 @@ TEST_F(CrashTest, KillNineAtFiftyMomentsLosesNoCommitAndReplaysByteForByte) {
   std::uint64_t seed = 5;
   std::uint64_t committed_before = 0;  // samples of the roadmap before the interrupted operation
   auto daemon = start_daemon();
+  std::string operation;  // the one interrupted last
   for (std::size_t k = 0; k < kills; ++k) {
-    Client client(client_options(domain_));
-    (void)client.load("s0");  // loaded at start when stored; loaded now otherwise
-    const msg::SceneStatus before = client.stats("s0");
-    const bool has_roadmap = !before.method().to_string().empty();
-    // The operation to interrupt.
-    msg::ChangeRequest request = make_change(msg::BUILD, "s0");
-    std::string operation;
-    const int pick = has_roadmap ? static_cast<int>(rng() % 4) : 0;
-    if (pick == 0 || pick == 1) {  // a build, or a replacing build with the other seed
-      operation = has_roadmap ? "replace" : "build";
-      seed = has_roadmap ? (before.seed() == 5 ? 6 : 5) : 5;
-      request.args().build().method("ispars");
-      request.args().build().samples(20000);
-      request.args().build().seed(seed);
-      request.args().build().replace(has_roadmap);
-    } else if (pick == 2) {  // an extend: replay first (after every restart), then compactions
-      operation = "extend";
-      request = make_change(msg::EXTEND, "s0");
-      request.args().extend().samples(12000);
-    } else {
-      operation = "drop";
-      request = make_change(msg::DROP, "s0");
-    }
-    committed_before = before.samples_done();
-    // Sent once (no retry), from a client that gives up quickly: the kill may come before the reply.
-    auto fire_options = client_options(domain_);
-    fire_options.timeout = std::chrono::milliseconds(500);
-    fire_options.retry_interval = std::chrono::seconds(60);
-    Client fire(fire_options);
-    (void)fire.daemons();
-    std::thread sender([&] {
-      try {
-        (void)fire.call_raw(request, "d");
-      } catch (const std::exception&) {
-        // killed before it answered
+    try {
+      Client client(client_options(domain_));
+      (void)client.load("s0");  // loaded at start when stored; loaded now otherwise
+      const msg::SceneStatus before = client.stats("s0");
+      const bool has_roadmap = !before.method().to_string().empty();
+      // The operation to interrupt.
+      msg::ChangeRequest request = make_change(msg::BUILD, "s0");
+      const int pick = has_roadmap ? static_cast<int>(rng() % 4) : 0;
+      if (pick == 0 || pick == 1) {  // a build, or a replacing build with the other seed
+        operation = has_roadmap ? "replace" : "build";
+        seed = has_roadmap ? (before.seed() == 5 ? 6 : 5) : 5;
+        request.args().build().method("ispars");
+        request.args().build().samples(20000);
+        request.args().build().seed(seed);
+        request.args().build().replace(has_roadmap);
+      } else if (pick == 2) {  // an extend: replay first (after every restart), then compactions
+        operation = "extend";
+        request = make_change(msg::EXTEND, "s0");
+        request.args().extend().samples(12000);
+      } else {
+        operation = "drop";
+        request = make_change(msg::DROP, "s0");
       }
-    });
-    const auto delay = std::chrono::milliseconds(rng() % 2000);
-    std::this_thread::sleep_for(delay);
-    const auto seen = client.latest_status("s0");
-    ++killed_in[operation + "/" + (seen ? wire::to_string(seen->state()) : std::string("?"))];
-    daemon->kill9();
-    sender.join();
-    daemon = start_daemon();
+      committed_before = before.samples_done();
+      // Sent once (no retry), from a client that gives up quickly: the kill may come before the reply.
+      auto fire_options = client_options(domain_);
+      fire_options.timeout = std::chrono::milliseconds(500);
+      fire_options.retry_interval = std::chrono::seconds(60);
+      Client fire(fire_options);
+      (void)fire.daemons();
+      std::thread sender([&] {
+        try {
+          (void)fire.call_raw(request, "d");
+        } catch (const std::exception&) {
+          // killed before it answered
+        }
+      });
+      const auto delay = std::chrono::milliseconds(rng() % 2000);
+      std::this_thread::sleep_for(delay);
+      const auto seen = client.latest_status("s0");
+      ++killed_in[operation + "/" + (seen ? wire::to_string(seen->state()) : std::string("?"))];
+      daemon->kill9();
+      sender.join();
+      daemon = start_daemon();
 
-    Client after(client_options(domain_));
-    (void)after.load("s0");
-    const msg::SceneStatus recovered = after.stats("s0");
-    ASSERT_NE(recovered.state(), msg::SCENE_FAILED)
-        << "kill " << k << " in " << operation << ": " << recovered.last_error() << "\n" << daemon->log();
-    if (recovered.method().to_string().empty()) {
-      EXPECT_TRUE(operation == "drop" || !has_roadmap) << "kill " << k << ": the roadmap vanished in " << operation;
-      continue;
-    }
-    // A committed roadmap: never less than before an extend, the old one or the new one's first
-    // commits after a replacing build.
-    if (operation == "extend") {
-      EXPECT_GE(recovered.samples_done(), committed_before) << "kill " << k;
-    }
-    if (operation == "replace" && recovered.seed() != seed) {
-      EXPECT_EQ(recovered.samples_done(), committed_before) << "kill " << k << ": the old roadmap was cut";
-    }
-    EXPECT_GT(recovered.samples_done(), 0u);
-    const msg::Reply verified = after.verify("s0");
-    EXPECT_EQ(verified.body().verify().violations(), 0u) << "kill " << k << ": " << verified.message();
-    EXPECT_EQ(roadmap_digest(after.snapshot("s0").roadmap),
-              references.digest(recovered.seed(), recovered.samples_done()))
-        << "kill " << k << " in " << operation << " at " << recovered.samples_done() << " samples";
-    if (k % 5 == 4) {  // extending to a fixed count: the uninterrupted build's roadmap exactly
-      const std::uint64_t target = recovered.samples_done() + 1500;
-      after.extend("s0", 1500);
-      const msg::SceneStatus extended = after.wait_idle("s0", {}, kLong);
-      ASSERT_EQ(extended.samples_done(), target) << extended.last_error();
-      EXPECT_EQ(roadmap_digest(after.snapshot("s0").roadmap), references.digest(extended.seed(), target))
-          << "kill " << k;
+      Client after(client_options(domain_));
+      (void)after.load("s0");
+      const msg::SceneStatus recovered = after.stats("s0");
+      ASSERT_NE(recovered.state(), msg::SCENE_FAILED)
+          << "kill " << k << " in " << operation << ": " << recovered.last_error() << "\n" << daemon->log();
+      if (recovered.method().to_string().empty()) {
+        EXPECT_TRUE(operation == "drop" || !has_roadmap) << "kill " << k << ": the roadmap vanished in " << operation;
+        continue;
+      }
+      // A committed roadmap: never less than before an extend, the old one or the new one's first
+      // commits after a replacing build.
+      if (operation == "extend") {
+        EXPECT_GE(recovered.samples_done(), committed_before) << "kill " << k;
+      }
+      if (operation == "replace" && recovered.seed() != seed) {
+        EXPECT_EQ(recovered.samples_done(), committed_before) << "kill " << k << ": the old roadmap was cut";
+      }
+      EXPECT_GT(recovered.samples_done(), 0u);
+      const msg::Reply verified = after.verify("s0");
+      EXPECT_EQ(verified.body().verify().violations(), 0u) << "kill " << k << ": " << verified.message();
+      EXPECT_EQ(roadmap_digest(after.snapshot("s0").roadmap),
+                references.digest(recovered.seed(), recovered.samples_done()))
+          << "kill " << k << " in " << operation << " at " << recovered.samples_done() << " samples";
+      if (k % 5 == 4) {  // extending to a fixed count: the uninterrupted build's roadmap exactly
+        const std::uint64_t target = recovered.samples_done() + 1500;
+        after.extend("s0", 1500);
+        const msg::SceneStatus extended = after.wait_idle("s0", {}, kLong);
+        ASSERT_EQ(extended.samples_done(), target) << extended.last_error();
+        EXPECT_EQ(roadmap_digest(after.snapshot("s0").roadmap), references.digest(extended.seed(), target))
+            << "kill " << k;
+      }
+    } catch (const std::exception& e) {
+      const std::string log = daemon->log();  // every restart's: the end tells
+      FAIL() << "kill " << k << " in " << operation << ": " << e.what() << "\n...\n"
+             << log.substr(log.size() > 12000 ? log.size() - 12000 : 0);
     }
   }
   std::string where;

@@ -7,7 +7,6 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <cstdlib>
 #include <regex>
 #include <thread>
 
@@ -62,19 +61,10 @@ std::size_t count_of(const std::vector<std::string>& messages, const std::string
 
 TEST_F(ServiceTest, SystemdHearsReadyThenWatchdogPingsThenStopping) {
   NotifySocket manager(dir_.path() / "notify.sock");
-  // What systemd sets for a Type=notify unit with WatchdogSec=0.4; inherited by the daemon only.
-  ::setenv("NOTIFY_SOCKET", (dir_.path() / "notify.sock").c_str(), 1);
-  ::setenv("WATCHDOG_USEC", "400000", 1);
-  std::unique_ptr<DaemonProcess> daemon;
-  try {
-    daemon = start("d");
-  } catch (...) {
-    ::unsetenv("NOTIFY_SOCKET");
-    ::unsetenv("WATCHDOG_USEC");
-    throw;
-  }
-  ::unsetenv("NOTIFY_SOCKET");
-  ::unsetenv("WATCHDOG_USEC");
+  // What systemd sets for a Type=notify unit with WatchdogSec=0.4, in the daemon's process only.
+  auto daemon = std::make_unique<DaemonProcess>(
+      ISPARS_DAEMON, domain_, dir_.path() / "data-d", scene_dir_, "d", std::vector<std::string>{}, "",
+      std::vector<std::string>{"NOTIFY_SOCKET=" + (dir_.path() / "notify.sock").string(), "WATCHDOG_USEC=400000"});
   // Pings every 200 ms (half the timeout): at least 4 in 1.5 s after READY.
   auto messages = manager.receive(std::chrono::seconds(10), [](const auto& m) { return count_of(m, "WATCHDOG=1") >= 4; });
   ASSERT_FALSE(messages.empty());

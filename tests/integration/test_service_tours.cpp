@@ -133,6 +133,29 @@ TEST_F(ServiceTest, ToursAreBoundedAndCancelStopsThemWithTheirBestTour) {
   EXPECT_EQ(ran, 1);
   EXPECT_EQ(refused_queued, 1);
   EXPECT_TRUE(daemon->alive());
+  // Unload and load again while a tour runs: the tour keeps its roadmap and replies, and the
+  // load does not wait for it (the unload released the store).
+  {
+    const std::uint64_t vertices = client.stats("s0").vertices();
+    msg::Reply during;
+    std::string during_failure;
+    std::thread touring([&] {
+      try {
+        during = clients[1]->tour("s0", 3.0, 4, {});
+      } catch (const std::exception& e) {
+        during_failure = e.what();
+      }
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(800));
+    EXPECT_NO_THROW(client.unload("s0"));
+    const msg::Reply reloaded = client.load("s0");
+    EXPECT_TRUE(reloaded.ok()) << reloaded.error();
+    EXPECT_EQ(reloaded.status().vertices(), vertices);
+    touring.join();
+    EXPECT_EQ(during_failure, "");
+    EXPECT_TRUE(during.ok()) << during.error();
+    EXPECT_TRUE(during.body().tour().valid());
+  }
   // SIGTERM during a tour: the tour stops, replies with its best tour, and the daemon exits
   // without waiting for the tour's budget (30 s).
   msg::Reply last;

@@ -255,6 +255,25 @@ TEST_F(RoadmapStoreTest, AnUnloadMarkIsDurableAndRemovable) {
   EXPECT_FALSE(marked_unloaded(path));
 }
 
+// read() recovers what open() would, without the writer's lock and without changing a byte:
+// what a session serves when its store cannot be written.
+TEST_F(RoadmapStoreTest, ReadingAStoreRecoversItsLastCommitAndChangesNothing) {
+  const auto path = dir_.path() / "bridge";
+  std::vector<Committed> states;
+  auto writer = RoadmapStore::create(path, recipe_);
+  writer->set_compact_every(3);
+  states = build_and_commit(*writer, 7, 150);
+  const std::string journal = test::read_text(path / "journal.log");
+  const StoreRecovery read = RoadmapStore::read(path, scene_->pois().size());  // the writer still holds it
+  expect_state(read, states.back());
+  EXPECT_EQ(read.recipe.seed, 11u);
+  EXPECT_EQ(test::read_text(path / "journal.log"), journal);
+  writer.reset();
+  StoreRecovery opened;
+  (void)RoadmapStore::open(path, scene_->pois().size(), opened);
+  EXPECT_EQ(test::fingerprint(read.roadmaps.roadmap), test::fingerprint(opened.roadmaps.roadmap));
+}
+
 TEST_F(RoadmapStoreTest, ASecondWriterCannotOpenAStoreInUse) {
   const auto path = dir_.path() / "bridge";
   auto first = RoadmapStore::create(path, recipe_);

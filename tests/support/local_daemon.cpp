@@ -17,6 +17,8 @@
 #include <stdexcept>
 #include <thread>
 
+extern char** environ;  // NOLINT: the process environment (POSIX)
+
 namespace ispars::client {
 
 int random_domain() {
@@ -68,7 +70,7 @@ std::filesystem::path make_keystore(const std::string& script, const std::filesy
 
 LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::filesystem::path data_dir,
                          std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args,
-                         const std::string& probe_security)
+                         const std::string& probe_security, const std::vector<std::string>& environment)
     : domain_(domain), server_id_(std::move(server_id)) {
   log_path_ = data_dir.parent_path() / (server_id_ + "-" + data_dir.filename().string() + "-" + std::to_string(::getpid()) + ".log");
   std::vector<std::string> args = {daemon_binary, "--domain", std::to_string(domain), "--data-dir", data_dir.string(),
@@ -90,29 +92,47 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
       it != extra_args.end() && it + 1 != extra_args.end()) {
     own_log_path_ = *(it + 1);
   }
+  // Everything the child needs is made before fork: after it, only async-signal-safe calls.
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::vector<std::string> variables;
+  for (char** e = environ; *e != nullptr; ++e) variables.emplace_back(*e);
+  variables.insert(variables.end(), environment.begin(), environment.end());
+  std::vector<char*> envp;
+  for (std::string& v : variables) envp.push_back(v.data());
+  envp.push_back(nullptr);
+  const std::string log_path = log_path_.string();
+  // A restart on the same data directory appends to the same log: only what this run writes counts.
+  std::error_code size_error;
+  const auto earlier = std::filesystem::file_size(log_path_, size_error);
+  const std::size_t log_start = size_error ? 0 : static_cast<std::size_t>(earlier);
   pid_ = ::fork();
   if (pid_ < 0) throw std::runtime_error("fork failed");
   if (pid_ == 0) {
-    const int fd = ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     if (fd >= 0) {
       ::dup2(fd, STDOUT_FILENO);
       ::dup2(fd, STDERR_FILENO);
     }
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
+    ::execve(argv[0], argv.data(), envp.data());
     ::_exit(127);
   }
   // Ready when it says it serves (it announces itself earlier, while it listens for the other
   // daemons) and a client sees its announcement.
   ClientOptions probe_options = local_client_options(domain);
   probe_options.participant.security = probe_security;
+  // A daemon on another discovery (a Discovery Server profile, say) is probed the same way.
+  if (const auto it = std::find(extra_args.begin(), extra_args.end(), "--profile-file");
+      it != extra_args.end() && it + 1 != extra_args.end()) {
+    probe_options.participant.profile_file = *(it + 1);
+  }
+  probe_options.timeout = std::chrono::seconds(1);  // each look at the announcements
   Client probe(probe_options);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (std::chrono::steady_clock::now() < deadline) {
-    if (!alive()) throw std::runtime_error("isparsd exited at start:\n" + log());
-    if (log().find("isparsd " + server_id_ + " serving on DDS domain") != std::string::npos) {
+    if (!alive()) throw std::runtime_error("isparsd exited at start:\n" + log().substr(std::min(log_start, log().size())));
+    if (log().find("isparsd " + server_id_ + " serving on DDS domain", log_start) != std::string::npos) {
       for (const auto& d : probe.daemons()) {
         if (d.server_id() == server_id_) return;
       }

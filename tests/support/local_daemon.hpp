@@ -34,9 +34,10 @@ class LocalDaemon {
   /// Its output goes to a log file beside data_dir.
   /// `probe_security`: the DDS Security identity the readiness probe uses (a secured daemon's
   /// announcement reaches only authenticated clients).
+  /// `environment`: variables set in the daemon's process only ("NAME=VALUE" each).
   LocalDaemon(const std::string& daemon_binary, int domain, std::filesystem::path data_dir,
               std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args = {},
-              const std::string& probe_security = "");
+              const std::string& probe_security = "", const std::vector<std::string>& environment = {});
   /// Stops it with SIGTERM if it still runs.
   ~LocalDaemon();
   LocalDaemon(const LocalDaemon&) = delete;

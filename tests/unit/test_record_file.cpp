@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/resource.h>
+
 #include <fstream>
 
 #include "ispars/roadmap/record_file.hpp"
@@ -11,11 +14,6 @@ namespace ispars {
 namespace {
 
 const auto accept_all = [](const std::string&) { return std::string(); };
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 TEST(RecordFile, Crc32MatchesTheStandardCheckValue) {
   EXPECT_EQ(crc32("123456789", 9), 0xCBF43926u);
@@ -30,7 +28,7 @@ TEST(RecordFile, EveryPrefixOfTheFileReadsAsTheWholeRecordsItHolds) {
     RecordFileWriter writer(path, "MAGIC001", 0);
     for (const auto& p : payloads) writer.append(p);
   }
-  const std::string full = slurp(path);
+  const std::string full = test::read_text(path);
   std::vector<std::size_t> ends = {8};
   for (const auto& p : payloads) ends.push_back(ends.back() + 8 + p.size());
   ASSERT_EQ(ends.back(), full.size());
@@ -63,7 +61,7 @@ TEST(RecordFile, AFlippedByteOrARejectedRecordEndsTheValidPrefix) {
     writer.append("two");
     writer.append("three");
   }
-  std::string bytes = slurp(path);
+  std::string bytes = test::read_text(path);
   bytes[8 + 8 + 3 + 8 + 1] ^= 0x40;  // inside "two"
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
   RecordReplay replay = read_record_file(path, "MAGIC001", accept_all);
@@ -90,7 +88,7 @@ TEST(RecordFile, OnlyAnIncompleteLastRecordIsATornTailAnythingElseIsDamage) {
     RecordFileWriter writer(path, "MAGIC001", 0);
     for (const auto& p : payloads) writer.append(p);
   }
-  const std::string bytes = slurp(path);
+  const std::string bytes = test::read_text(path);
   std::vector<std::size_t> starts;  // where each record's header begins
   for (std::size_t at = 8, i = 0; i < payloads.size(); at += 8 + payloads[i].size(), ++i) starts.push_back(at);
   const auto read_with = [&](const std::string& content, const RecordCheck& check) {
@@ -130,9 +128,40 @@ TEST(RecordFile, AtomicWritesReplaceTheWholeFileAndLeaveNoTemporary) {
   const auto path = dir.path() / "f.json";
   write_file_atomically(path, "first");
   write_file_atomically(path, "second, longer");
-  EXPECT_EQ(slurp(path), "second, longer");
+  EXPECT_EQ(test::read_text(path), "second, longer");
   EXPECT_FALSE(std::filesystem::exists(dir.path() / "f.json.tmp"));
   EXPECT_THROW(write_file_atomically(dir.path() / "missing-dir" / "f", "x"), std::runtime_error);
+}
+
+// A write that fails partway (a full disk; here the file size limit, which fails a write the same
+// way with EFBIG) leaves no partial record behind: the next append, once there is room, follows
+// the last whole record, and the file reads back whole with no torn tail.
+TEST(RecordFile, AFailedAppendIsCutBackSoTheNextRecordFollowsAWholeOne) {
+  test::TempDir dir;
+  const auto path = dir.path() / "journal";
+  {
+    RecordFileWriter writer(path, "MAGIC001", 0);
+    writer.append("first record");
+    const auto whole = std::filesystem::file_size(path);
+    ASSERT_EQ(writer.size(), whole);
+    struct sigaction ignore{}, previous{};
+    ignore.sa_handler = SIG_IGN;
+    ::sigaction(SIGXFSZ, &ignore, &previous);
+    rlimit old{};
+    ::getrlimit(RLIMIT_FSIZE, &old);
+    rlimit small = old;
+    small.rlim_cur = whole + 10;  // room for part of the next record only
+    ::setrlimit(RLIMIT_FSIZE, &small);
+    EXPECT_THROW(writer.append(std::string(1000, 'x')), std::runtime_error);
+    ::setrlimit(RLIMIT_FSIZE, &old);
+    ::sigaction(SIGXFSZ, &previous, nullptr);
+    EXPECT_EQ(std::filesystem::file_size(path), whole) << "the partial record stayed";
+    writer.append("second record");
+  }
+  const RecordReplay replay = read_record_file(path, "MAGIC001", accept_all);
+  EXPECT_FALSE(replay.torn_tail);
+  EXPECT_FALSE(replay.damaged);
+  EXPECT_EQ(replay.payloads, (std::vector<std::string>{"first record", "second record"}));
 }
 
 TEST(RecordFile, ByteReaderRefusesToReadPastTheEnd) {

@@ -143,9 +143,20 @@ RecordFileWriter::~RecordFileWriter() {
 }
 
 void RecordFileWriter::append(const std::string& payload) {
+  if (broken_) {
+    throw std::runtime_error(path_.string() + " ends in a partial record that could not be cut off; no more records "
+                             "are appended to it");
+  }
   const std::string record = record_bytes(payload);
-  write_all(fd_, record.data(), record.size(), path_);
-  if (::fsync(fd_) != 0) throw std::runtime_error(system_error("cannot fsync", path_));
+  try {
+    write_all(fd_, record.data(), record.size(), path_);
+    if (::fsync(fd_) != 0) throw std::runtime_error(system_error("cannot fsync", path_));
+  } catch (...) {
+    // Back to the last whole record, so that a later append (after space is freed) never follows
+    // a partial one.
+    if (::ftruncate(fd_, static_cast<off_t>(size_)) != 0 || ::lseek(fd_, 0, SEEK_END) < 0) broken_ = true;
+    throw;
+  }
   size_ += record.size();
 }
 
@@ -163,10 +174,15 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
     if (::fsync(fd) != 0) throw std::runtime_error(system_error("cannot fsync", tmp));
   } catch (...) {
     ::close(fd);
+    ::unlink(tmp.c_str());
     throw;
   }
   ::close(fd);
-  if (::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error(system_error("cannot rename onto", path));
+  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string error = system_error("cannot rename onto", path);
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(error);
+  }
   fsync_directory_of(path);
 }
 

@@ -254,9 +254,15 @@ void RoadmapSession::drop() {
 }
 
 void RoadmapSession::close() {
+  const auto job = lock_idle_job<std::unique_lock<std::shared_mutex>>("unload");
   std::lock_guard lock(mutex_);
   check_can_start("scene");
   closed_ = true;
+  // The store's lock goes now, not when the last holder of this session lets go (a tour still
+  // running on the published roadmap, say): the scene can be loaded again at once.
+  store_.reset();
+  builder_.reset();
+  build_scene_.reset();
 }
 
 BuildCost RoadmapSession::estimate(const RoadmapRecipe& recipe, std::uint64_t total_samples) const {

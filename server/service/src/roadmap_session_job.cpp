@@ -104,6 +104,13 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       store_ = RoadmapStore::create(store_dir_, recipe);
       store_->set_compact_every(limits_.compact_every);
     } else {
+      if (!store_) {
+        // It could not be reopened for writing after an earlier failure (a read-only filesystem,
+        // say), and the last commit was served from a read: try again now, or fail saying why.
+        StoreRecovery reopened;
+        store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), reopened);
+        store_->set_compact_every(limits_.compact_every);
+      }
       ensure_builder(stopping);
       roadmap_version = builder_->roadmap().version();
       dense_version = builder_->dense() ? builder_->dense()->version() : 0;
@@ -192,6 +199,12 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       error += std::string("; reopening the store failed: ") + reopen.what();
       recovery.reset();
       store_.reset();
+      // Not writable (a read-only filesystem, say) but readable: serve its last commit.
+      try {
+        if (std::filesystem::exists(store_dir_)) recovery = RoadmapStore::read(store_dir_, scene_.pois().size());
+      } catch (const std::exception&) {
+        recovery.reset();
+      }
     }
     // What the store holds now is the truth: make everything the session shows agree with it.
     std::lock_guard lock(mutex_);

@@ -180,13 +180,13 @@ RoadmapRecipe RoadmapStore::read_recipe(const std::filesystem::path& dir) {
       std::string((std::istreambuf_iterator<char>(recipe_file)), std::istreambuf_iterator<char>()));
 }
 
-std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& dir, std::size_t poi_count,
-                                                 StoreRecovery& recovered) {
-  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(dir, read_recipe(dir)));  // locks first
-  recovered.recipe = store->recipe_;
+namespace {
+
+// Replays the snapshot and the journal of the store at `dir` into `recovered`; the journal's
+// valid length. Reads only.
+std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_count, StoreRecovery& recovered) {
   recovered.roadmaps = empty_roadmaps(recovered.recipe, poi_count);
   StoredRoadmaps& r = recovered.roadmaps;
-
   if (std::filesystem::exists(snapshot_path(dir))) {
     const RecordReplay snapshot =
         read_record_file(snapshot_path(dir), kSnapshotMagic, [](const std::string&) { return std::string(); });
@@ -226,10 +226,26 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
   }
   recovered.torn_tail = journal.torn_tail;
   recovered.tail_problem = journal.tail_problem;
+  return journal.valid_bytes;
+}
 
-  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournalMagic, journal.valid_bytes);
+}  // namespace
+
+std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& dir, std::size_t poi_count,
+                                                 StoreRecovery& recovered) {
+  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(dir, read_recipe(dir)));  // locks first
+  recovered.recipe = store->recipe_;
+  const std::uint64_t valid_bytes = recover_into(dir, poi_count, recovered);
+  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournalMagic, valid_bytes);
   store->journal_commits_ = recovered.journal_commits;
   return store;
+}
+
+StoreRecovery RoadmapStore::read(const std::filesystem::path& dir, std::size_t poi_count) {
+  StoreRecovery recovered;
+  recovered.recipe = read_recipe(dir);
+  (void)recover_into(dir, poi_count, recovered);
+  return recovered;
 }
 
 void RoadmapStore::commit(const BuildCommit& commit, const RoadmapsView& current) {

@@ -46,6 +46,7 @@ void WorkerPool::run() {
       jobs_.pop_front();
     }
     job();
+    completed_.fetch_add(1, std::memory_order_relaxed);
   }
 }
 

@@ -49,7 +49,10 @@ class RecordFileWriter {
   RecordFileWriter(const RecordFileWriter&) = delete;
   RecordFileWriter& operator=(const RecordFileWriter&) = delete;
 
-  /// Appends one record and fsyncs; when this returns, the record survives a crash.
+  /// Appends one record and fsyncs; when this returns, the record survives a crash. When the
+  /// write or the fsync fails (a full disk, say), the file is cut back to its last record and the
+  /// error thrown: a later append still follows a whole record. When even that cut fails, every
+  /// later append throws too (the file keeps its partial tail, which a reader sees as torn).
   void append(const std::string& payload);
   /// Size of the file in bytes.
   [[nodiscard]] std::uint64_t size() const { return size_; }
@@ -58,6 +61,7 @@ class RecordFileWriter {
   int fd_ = -1;
   std::uint64_t size_ = 0;
   std::filesystem::path path_;
+  bool broken_ = false;  // a failed append could not be undone
 };
 
 /// The bytes of a one-record file holding `payload` (what RecordFileWriter would write).
@@ -65,6 +69,7 @@ class RecordFileWriter {
 
 /// Replaces `path` with `bytes` atomically: writes a temporary file beside it, fsyncs it, renames
 /// it over `path` and fsyncs the directory. Readers see the old file or the new one, never a mix.
+/// On failure the temporary file is removed (a full disk keeps no half-written copy).
 void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
 
 /// fsyncs the directory holding `path`, making a rename or creation in it durable.

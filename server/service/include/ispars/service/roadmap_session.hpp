@@ -123,8 +123,9 @@ class RoadmapSession {
   bool cancel();
   /// Deletes the roadmap and its store (throws InputError while a job runs or without a roadmap).
   void drop();
-  /// Refuses every later build and extend (the scene is being unloaded). Throws InputError while
-  /// a job is queued or running.
+  /// Refuses every later build and extend (the scene is being unloaded) and releases the store,
+  /// so that the scene can be loaded again while this session still serves a running tour.
+  /// Throws InputError while a job is queued or running.
   void close();
 
   /// Runs the recorded job to its end on the calling thread. Returns early, after committing the

@@ -87,6 +87,10 @@ class RoadmapStore {
   /// `poi_count` is the scene's number of POIs.
   static std::unique_ptr<RoadmapStore> open(const std::filesystem::path& dir, std::size_t poi_count,
                                             StoreRecovery& recovered);
+  /// Reads the store at `dir` without opening it for writing (no lock, nothing cut or written):
+  /// what open() would recover. For serving the last commit when the store cannot be written
+  /// (a read-only filesystem). Throws as open() does on damage.
+  [[nodiscard]] static StoreRecovery read(const std::filesystem::path& dir, std::size_t poi_count);
   /// The recipe of the store at `dir` (to find its scene before opening it).
   [[nodiscard]] static RoadmapRecipe read_recipe(const std::filesystem::path& dir);
 

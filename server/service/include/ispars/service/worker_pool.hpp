@@ -1,6 +1,7 @@
 #pragma once
 // A fixed pool of threads running queued jobs: the daemon's requests, builds and tours.
 
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -26,6 +27,8 @@ class WorkerPool {
   /// Jobs waiting for a thread.
   [[nodiscard]] std::size_t queued() const;
   [[nodiscard]] std::size_t max_queued() const { return max_queued_; }
+  /// Jobs finished so far: a pool whose count stops moving while jobs wait is wedged.
+  [[nodiscard]] std::uint64_t completed() const { return completed_.load(std::memory_order_relaxed); }
   /// Stops taking jobs, drops the queued ones, and waits for the running ones.
   void stop();
 
@@ -36,6 +39,7 @@ class WorkerPool {
   std::condition_variable wake_;
   std::deque<std::function<void()>> jobs_;
   bool stopping_ = false;
+  std::atomic<std::uint64_t> completed_{0};
   std::vector<std::thread> threads_;
 };
 
