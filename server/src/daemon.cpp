@@ -105,6 +105,7 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
         spdlog::error("preload of scene '{}' failed: {}", name, e.what());
       }
     }
+    service_->resume_pending_jobs();  // a build or extend the last run accepted and did not finish
     announce();
     quick_lane_ = std::make_unique<WorkerPool>(kQuickThreads, config_.request_queue);
     slow_lane_ = std::make_unique<WorkerPool>(kSlowThreads, config_.request_queue);

@@ -122,6 +122,54 @@ TEST_F(ServiceTest, SighupReopensTheLogFileAndAppliesTheConfigsLogLevel) {
   EXPECT_EQ(daemon.terminate(), 0);
 }
 
+// A build interrupted by SIGTERM and one still queued behind it (one build worker) both finish
+// after a restart, each byte for byte the roadmap an uninterrupted build gives; once done, a
+// further restart resumes nothing.
+TEST_F(ServiceTest, AnInterruptedBuildAndAQueuedOneResumeAfterARestart) {
+  const std::vector<std::string> one_worker = {"--workers", "1"};
+  {
+    auto daemon = start("d", one_worker);
+    Client c(client_options(domain_));
+    c.load("s0");
+    c.load("s1");
+    c.build("s0", ispars_build(30'000));
+    c.build("s1", ispars_build(2000, 2));
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (std::chrono::steady_clock::now() < deadline && c.stats("s0").samples_done() == 0) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ASSERT_GT(c.stats("s0").samples_done(), 0u);
+    ASSERT_LT(c.stats("s0").samples_done(), 30'000u) << "the build ended before SIGTERM: make it longer";
+    EXPECT_EQ(c.stats("s1").state(), msg::SCENE_QUEUED);
+    EXPECT_EQ(daemon->terminate(), 0);
+  }
+  {
+    auto daemon = start("d", one_worker);
+    Client c(client_options(domain_));
+    const msg::SceneStatus s0 = c.wait_idle("s0", {}, kLong);
+    const msg::SceneStatus s1 = c.wait_idle("s1", {}, kLong);
+    EXPECT_EQ(s0.samples_done(), 30'000u) << s0.last_error();
+    EXPECT_EQ(s1.samples_done(), 2000u) << s1.last_error();
+    EXPECT_EQ(s1.seed(), 2u);
+    EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 30'000, 1));
+    EXPECT_EQ(roadmap_digest(c.snapshot("s1").roadmap), reference_digest(scene_dir_ / "s1.yaml", 2000, 2));
+    const std::string log = daemon->log();
+    EXPECT_NE(log.find("scene 's0': resuming an interrupted job at "), std::string::npos) << log;
+    EXPECT_NE(log.find("scene 's1': resuming a build that had not committed: 2000 samples, seed 2"),
+              std::string::npos)
+        << log;
+    EXPECT_EQ(daemon->terminate(), 0);
+  }
+  auto daemon = start("d", one_worker);
+  Client c(client_options(domain_));
+  EXPECT_EQ(c.stats("s0").state(), msg::SCENE_IDLE);
+  // The log holds all three runs: the two resumptions of the second, none of the third.
+  const std::string log = daemon->log();
+  std::size_t resumed = 0;
+  for (auto at = log.find("resuming"); at != std::string::npos; at = log.find("resuming", at + 1)) ++resumed;
+  EXPECT_EQ(resumed, 2u) << "a finished job was resumed again:\n" << log;
+}
+
 TEST_F(ServiceTest, ALogFileOrMetricsAddressThatCannotBeUsedStopsTheStartWithItsName) {
   const auto run = [&](const std::vector<std::string>& extra) {
     std::string cmd = std::string(ISPARS_DAEMON) + " --domain " + std::to_string(domain_) + " --data-dir " +

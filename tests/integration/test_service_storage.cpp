@@ -1,7 +1,9 @@
 // Storage that fails loudly, with real daemons: damage beyond a torn tail is reported with the
 // file and the offset, left untouched, and does not stop the daemon serving other scenes.
 
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "integration/service_fixture.hpp"
@@ -77,6 +79,45 @@ TEST_F(ServiceTest, AnEditedSceneFailsItsStoredRoadmapUntilRebuilt) {
   const auto rebuilt = c.wait_idle("s0", {}, kLong);
   EXPECT_EQ(rebuilt.state(), msg::SCENE_IDLE) << rebuilt.last_error();
   EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 1500, 1));
+}
+
+// The first extend after a restart replays the recipe and compares the result with the stored
+// roadmaps byte for byte. A stored recipe that does not give the stored roadmap (here its seed
+// edited on disk) is reported by name, the scene keeps serving what is stored, and no file is
+// rewritten.
+TEST_F(ServiceTest, AReplayThatDoesNotReproduceTheStoredRoadmapFailsByNameAndRewritesNothing) {
+  std::uint64_t digest = 0;
+  {
+    auto daemon = start("d");
+    Client c(client_options(domain_));
+    c.load("s0");
+    c.build("s0", ispars_build(1500, 7));
+    c.wait_idle("s0", {}, kLong);
+    digest = roadmap_digest(c.snapshot("s0").roadmap);
+    ASSERT_EQ(daemon->terminate(), 0);
+  }
+  const auto store = dir_.path() / "data-d" / "s0";
+  std::string recipe = read_text(store / "recipe.json");
+  const auto at = recipe.find("\"seed\": 7");
+  ASSERT_NE(at, std::string::npos) << recipe;
+  recipe.replace(at, std::string("\"seed\": 7").size(), "\"seed\": 8");
+  std::ofstream(store / "recipe.json", std::ios::trunc) << recipe;
+  std::map<std::string, std::string> files;
+  for (const auto& f : std::filesystem::directory_iterator(store)) files[f.path().filename()] = read_text(f.path());
+
+  auto daemon = start("d");
+  Client c(client_options(domain_));
+  EXPECT_EQ(c.stats("s0").state(), msg::SCENE_IDLE) << "served as stored until something replays it";
+  c.extend("s0", 500);
+  const msg::SceneStatus failed = c.wait_idle("s0", {}, kLong);
+  EXPECT_EQ(failed.state(), msg::SCENE_FAILED);
+  EXPECT_NE(failed.last_error().find("replaying the recipe to 1500 samples did not reproduce the stored roadmap"),
+            std::string::npos)
+      << failed.last_error();
+  EXPECT_EQ(failed.samples_done(), 1500u);
+  EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), digest) << "what is stored is still served";
+  for (const auto& [name, bytes] : files) EXPECT_EQ(read_text(store / name), bytes) << name << " was rewritten";
+  EXPECT_TRUE(daemon->alive());
 }
 
 }  // namespace

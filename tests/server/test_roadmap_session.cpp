@@ -102,11 +102,27 @@ TEST_F(RoadmapSessionTest, StoppingKeepsTheCommittedChunksAndAReopenedSessionExt
     EXPECT_LT(stopped_at, 1'000'000u);
     EXPECT_NE(session->status().last_error.find("daemon stopped"), std::string::npos);
   }
-  auto session = open();
+  std::atomic<bool> stop_replay{false};
+  SessionCallbacks on_replay;
+  on_replay.on_status = [&](const SessionStatus& s) {
+    if (s.state == SessionState::replaying) stop_replay = true;  // as SIGTERM would, mid-replay
+  };
+  auto session = open(on_replay);
   EXPECT_NE(session->recovery_note().find("recovered ispars roadmap"), std::string::npos);
   EXPECT_EQ(session->status().samples_done, stopped_at);
   EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), stopped_at, 9));
   EXPECT_EQ(session->verify().invariant_violations, 0u);
+  // A stop during the replay leaves the scene idle as it was (not failed), and the next extend
+  // replays again.
+  session->request_extend(500);
+  session->run_job(stop_replay);
+  ASSERT_TRUE(stop_replay);
+  EXPECT_EQ(session->status().state, SessionState::idle);
+  EXPECT_NE(session->status().last_error.find("daemon stopped during the replay, at 0 of " +
+                                              std::to_string(stopped_at) + " samples"),
+            std::string::npos)
+      << session->status().last_error;
+  EXPECT_EQ(session->status().samples_done, stopped_at);
   session->request_extend(500);
   session->run_job(never_);  // replays the recipe, checks it against the store, then extends
   EXPECT_EQ(session->status().state, SessionState::idle) << session->status().last_error;

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "ispars/input_error.hpp"
+#include "ispars/service/pending_jobs.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/service/scene_catalog.hpp"
 
@@ -32,6 +33,7 @@ RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events)
   }
   std::filesystem::create_directories(settings_.data_dir);
   remove_dropped_stores(settings_.data_dir);
+  next_job_id_ = static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
 }
 
 RoadmapService::~RoadmapService() { stop(); }
@@ -228,18 +230,6 @@ std::vector<std::string> RoadmapService::stored_scenes() const {
   return out;
 }
 
-void RoadmapService::build(const std::string& scene, const BuildRequest& request) {
-  const auto s = session(scene);
-  s->request_build(request);
-  schedule(s);
-}
-
-void RoadmapService::extend(const std::string& scene, std::uint64_t samples) {
-  const auto s = session(scene);
-  s->request_extend(samples);
-  schedule(s);
-}
-
 CancelOutcome RoadmapService::cancel(const std::string& scene) {
   const auto s = session(scene);
   CancelOutcome out;
@@ -250,6 +240,7 @@ CancelOutcome RoadmapService::cancel(const std::string& scene) {
 
 void RoadmapService::drop(const std::string& scene) {
   session(scene)->drop();
+  forget_pending_job(settings_.data_dir, scene);
   set_reserved(scene, 0.0);
 }
 
@@ -279,20 +270,6 @@ void RoadmapService::set_reserved(const std::string& scene, double bytes) {
   } else {
     reserved_bytes_.erase(scene);
   }
-}
-
-void RoadmapService::schedule(const std::shared_ptr<RoadmapSession>& session) {
-  builds_.submit([this, session] {
-    spdlog::info("scene '{}': job started", session->name());
-    session->run_job(stopping_);
-    const SessionStatus st = session->status();
-    if (st.state == SessionState::failed) {
-      spdlog::error("scene '{}': job failed: {}", session->name(), st.last_error);
-    } else {
-      spdlog::info("scene '{}': job ended at {} samples, {} vertices, {} edges{}", session->name(), st.samples_done,
-                   st.vertices, st.edges, st.last_error.empty() ? "" : " (" + st.last_error + ")");
-    }
-  });
 }
 
 std::size_t RoadmapService::stop_tours(const std::string& scene) {

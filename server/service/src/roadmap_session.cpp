@@ -123,7 +123,7 @@ void RoadmapSession::check_can_start(const char* field) const {
   }
 }
 
-void RoadmapSession::request_build(const BuildRequest& request) {
+std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
   if (request.samples == 0) throw InputError(kRequest, "samples", "must be at least 1");
   if (request.samples > limits_.max_samples) {
     throw InputError(kRequest, "samples",
@@ -166,9 +166,11 @@ void RoadmapSession::request_build(const BuildRequest& request) {
     state_ = SessionState::queued;
   }
   notify_status();
+  return recipe.generation;
 }
 
-void RoadmapSession::request_extend(std::uint64_t samples) {
+std::uint64_t RoadmapSession::request_extend(std::uint64_t samples) {
+  std::uint64_t target = 0;
   if (samples == 0) throw InputError(kRequest, "samples", "must be at least 1");
   if (samples > limits_.max_samples) {
     throw InputError(kRequest, "samples",
@@ -184,8 +186,10 @@ void RoadmapSession::request_extend(std::uint64_t samples) {
     pending_samples_ = samples;
     last_error_.clear();
     state_ = SessionState::queued;
+    target = samples_done_ + samples;
   }
   notify_status();
+  return target;
 }
 
 bool RoadmapSession::cancel() {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
 
 #include "ispars/service/roadmap_session.hpp"
 #include "roadmap_session_detail.hpp"
@@ -27,6 +28,12 @@ std::unique_ptr<RoadmapBuilder> builder_for(const Scene& scene, const RoadmapRec
 
 std::string roadmap_bytes(const Roadmap& roadmap) { return encode_batch(batch_since(roadmap, 0)); }
 
+// A replay stopped by a cancel or by the daemon stopping: nothing stored is touched, and the
+// scene stays as it was (idle), not failed.
+struct ReplayInterrupted : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace
 
 RoadmapsView RoadmapSession::live_view() const {
@@ -46,7 +53,10 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
   auto builder = builder_for(*build_scene_, recipe, limits_.build_threads);
   const std::uint64_t target = recovered_ ? recovered_->samples : 0;
   while (builder->samples() < target) {
-    if (stopping || cancel_) throw std::runtime_error("replay interrupted");
+    if (stopping || cancel_) {
+      throw ReplayInterrupted(fmt::format("{} during the replay, at {} of {} samples",
+                                          cancel_ ? "cancelled" : "daemon stopped", builder->samples(), target));
+    }
     builder->extend(std::min<std::uint64_t>(5000, target - builder->samples()));
   }
   if (recovered_) {
@@ -181,6 +191,15 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       state_ = SessionState::idle;
       cancel_ = false;
     }
+  } catch (const ReplayInterrupted& e) {
+    // The builder was being rebuilt from the recipe; the store and what is served are untouched.
+    builder_.reset();
+    build_scene_.reset();
+    std::lock_guard lock(mutex_);
+    last_error_ = e.what();
+    samples_target_ = samples_done_;
+    state_ = SessionState::idle;
+    cancel_ = false;
   } catch (const std::exception& e) {
     // Whatever the builder holds past the last commit is not trusted: reopen the store.
     builder_.reset();

@@ -161,8 +161,15 @@ class RoadmapService {
   void yield(const std::string& scene, const std::atomic<bool>& give_up);
   /// Scenes with a stored roadmap in the data directory (loaded or not).
   [[nodiscard]] std::vector<std::string> stored_scenes() const;
+  /// Queues a build or an extend, first recorded in the data directory (pending_jobs.hpp): a
+  /// restart resumes it. Throws InputError naming the field when the session refuses it.
   void build(const std::string& scene, const BuildRequest& request);
   void extend(const std::string& scene, std::uint64_t samples);
+  /// Resumes the jobs recorded and not finished when the daemon last stopped (called once, after
+  /// load_stored_roadmaps): an extend, or a build that committed, goes on to its target; a build
+  /// that never committed starts again. A job whose scene is not this daemon's, or that is
+  /// refused now, is logged and forgotten.
+  void resume_pending_jobs();
   CancelOutcome cancel(const std::string& scene);
   void drop(const std::string& scene);
 
@@ -174,7 +181,7 @@ class RoadmapService {
   std::shared_ptr<RoadmapSession> session_or_null(const std::string& scene) const;
   std::shared_ptr<RoadmapSession> open_session(const std::string& scene);
   void forget(const std::string& scene, bool given_up);  // erases a closed session; events
-  void schedule(const std::shared_ptr<RoadmapSession>& session);
+  void schedule(const std::shared_ptr<RoadmapSession>& session, std::uint64_t job_id);
   void run_tour(const std::shared_ptr<RoadmapSession>& session, const TourRequest& request,
                 const TourCallbacks& callbacks, const std::shared_ptr<std::atomic<bool>>& stop);
   void release_tour(const std::shared_ptr<std::atomic<bool>>& stop);  // its admission and stop flag
@@ -186,6 +193,7 @@ class RoadmapService {
   const ServiceSettings settings_;
   const ServiceEvents events_;
   std::atomic<bool> stopping_{false};
+  std::atomic<std::uint64_t> next_job_id_;  // from the clock at start: unlike a previous run's ids
 
   mutable std::mutex sessions_mutex_;
   std::map<std::string, std::shared_ptr<RoadmapSession>> sessions_;

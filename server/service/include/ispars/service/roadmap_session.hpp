@@ -114,11 +114,13 @@ class RoadmapSession {
   RoadmapSession(const RoadmapSession&) = delete;
   RoadmapSession& operator=(const RoadmapSession&) = delete;
 
-  /// Records a new build. Throws InputError (file "request") naming the field when the request
-  /// is bad, a job is running, or a roadmap exists and replace is not set.
-  void request_build(const BuildRequest& request);
-  /// Records an extend by `samples` more samples (same errors; needs a roadmap).
-  void request_extend(std::uint64_t samples);
+  /// Records a new build; returns the generation of the roadmap it will make. Throws InputError
+  /// (file "request") naming the field when the request is bad, a job is running, or a roadmap
+  /// exists and replace is not set.
+  std::uint64_t request_build(const BuildRequest& request);
+  /// Records an extend by `samples` more samples (same errors; needs a roadmap); returns the
+  /// sample count the roadmap will have.
+  std::uint64_t request_extend(std::uint64_t samples);
   /// Asks the running job to stop after its current chunk; false when there is none.
   bool cancel();
   /// Deletes the roadmap and its store (throws InputError while a job runs or without a roadmap).

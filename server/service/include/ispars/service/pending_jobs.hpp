@@ -1,0 +1,34 @@
+#pragma once
+// Builds and extends a daemon accepted and has not finished, kept on disk (DATA_DIR/.jobs/SCENE.json)
+// so that a restart resumes them: one running when the daemon stopped or was killed, and one that
+// was still queued. A job that ends (its target reached, cancelled, failed) is forgotten.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ispars/service/roadmap_session.hpp"
+
+namespace ispars {
+
+/// One accepted job of one scene.
+struct PendingJob {
+  std::string scene;
+  std::uint64_t id = 0;               ///< Tells this job from a later one of the same scene.
+  std::optional<BuildRequest> build;  ///< A build (its request as accepted); empty: an extend.
+  std::uint64_t generation = 0;       ///< A build: the generation of the roadmap it makes.
+  std::uint64_t target = 0;           ///< Samples the roadmap reaches when the job is done.
+};
+
+/// Writes `job` atomically, replacing the scene's earlier record. Throws on a write failure.
+void save_pending_job(const std::filesystem::path& data_dir, const PendingJob& job);
+
+/// Removes the scene's record if it is job `id`'s (0: whichever it is).
+void forget_pending_job(const std::filesystem::path& data_dir, const std::string& scene, std::uint64_t id = 0);
+
+/// Every record in `data_dir`. A record that cannot be read is logged and left as it is.
+[[nodiscard]] std::vector<PendingJob> pending_jobs(const std::filesystem::path& data_dir);
+
+}  // namespace ispars

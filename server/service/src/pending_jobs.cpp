@@ -1,0 +1,104 @@
+#include "ispars/service/pending_jobs.hpp"
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <stdexcept>
+
+#include "ispars/roadmap/build_recipe.hpp"
+#include "ispars/roadmap/record_file.hpp"
+#include "ispars/service/scene_catalog.hpp"
+
+namespace ispars {
+namespace {
+
+std::filesystem::path jobs_dir(const std::filesystem::path& data_dir) { return data_dir / ".jobs"; }
+std::filesystem::path record_path(const std::filesystem::path& data_dir, const std::string& scene) {
+  return jobs_dir(data_dir) / (scene + ".json");
+}
+
+nlohmann::json to_json(const PendingJob& job) {
+  nlohmann::json j{{"scene", job.scene}, {"id", job.id}, {"target", job.target}};
+  if (job.build) {
+    const BuildRequest& b = *job.build;
+    j["build"] = {{"method", std::string(to_string(b.method))},
+                  {"variant", std::string(to_string(b.variant))},
+                  {"samples", b.samples},
+                  {"seed", b.seed},
+                  {"overrides", b.overrides},
+                  {"replace", b.replace}};
+    j["generation"] = job.generation;
+  }
+  return j;
+}
+
+PendingJob from_json(const nlohmann::json& j) {
+  PendingJob job;
+  job.scene = j.at("scene").get<std::string>();
+  job.id = j.at("id").get<std::uint64_t>();
+  job.target = j.at("target").get<std::uint64_t>();
+  if (j.contains("build")) {
+    const nlohmann::json& b = j.at("build");
+    BuildRequest r;
+    const auto method = parse_build_method(b.at("method").get<std::string>());
+    const auto variant = parse_spars_variant(b.at("variant").get<std::string>());
+    if (!method || !variant) throw std::runtime_error("unknown method or variant");
+    r.method = *method;
+    r.variant = *variant;
+    r.samples = b.at("samples").get<std::uint64_t>();
+    r.seed = b.at("seed").get<std::uint64_t>();
+    r.overrides = b.at("overrides").get<std::map<std::string, double>>();
+    r.replace = b.at("replace").get<bool>();
+    job.build = r;
+    job.generation = j.at("generation").get<std::uint64_t>();
+  }
+  return job;
+}
+
+}  // namespace
+
+void save_pending_job(const std::filesystem::path& data_dir, const PendingJob& job) {
+  std::filesystem::create_directories(jobs_dir(data_dir));
+  write_file_atomically(record_path(data_dir, job.scene), to_json(job).dump(2) + "\n");
+}
+
+void forget_pending_job(const std::filesystem::path& data_dir, const std::string& scene, std::uint64_t id) {
+  const auto path = record_path(data_dir, scene);
+  if (id != 0) {
+    std::ifstream in(path);
+    if (!in) return;
+    try {
+      if (from_json(nlohmann::json::parse(in)).id != id) return;  // a later job's record
+    } catch (const std::exception&) {
+      return;  // unreadable: left for inspection
+    }
+  }
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+  if (!ec) fsync_directory_of(path);
+}
+
+std::vector<PendingJob> pending_jobs(const std::filesystem::path& data_dir) {
+  std::vector<PendingJob> out;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(jobs_dir(data_dir), ec)) {
+    if (entry.path().extension() != ".json") continue;
+    try {
+      std::ifstream in(entry.path());
+      PendingJob job = from_json(nlohmann::json::parse(in));
+      if (job.scene + ".json" != entry.path().filename().string() || !valid_scene_name(job.scene)) {
+        throw std::runtime_error("its scene does not match its name");
+      }
+      out.push_back(std::move(job));
+    } catch (const std::exception& e) {
+      spdlog::error("pending job record {} is unreadable ({}); left as it is, not resumed", entry.path().string(),
+                    e.what());
+    }
+  }
+  return out;
+}
+
+}  // namespace ispars

@@ -1,0 +1,64 @@
+// The records of accepted jobs: written whole, read back, forgotten only by their own job, and
+// left alone (not resumed) when unreadable.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "ispars/service/pending_jobs.hpp"
+#include "support/test_support.hpp"
+
+namespace ispars {
+namespace {
+
+TEST(PendingJobs, ARecordRoundTripsAndIsForgottenOnlyByItsOwnJob) {
+  test::TempDir dir;
+  BuildRequest build;
+  build.method = BuildMethod::spars;
+  build.variant = SparsVariant::alg1;
+  build.samples = 12345;
+  build.seed = 77;
+  build.overrides = {{"dense_delta", 1.5}, {"stretch", 2.0}};
+  build.replace = true;
+  save_pending_job(dir.path(), PendingJob{"tower", 41, build, 9001, 12345});
+  save_pending_job(dir.path(), PendingJob{"bridge", 42, std::nullopt, 0, 800});
+
+  auto jobs = pending_jobs(dir.path());
+  ASSERT_EQ(jobs.size(), 2u);
+  std::sort(jobs.begin(), jobs.end(), [](const auto& a, const auto& b) { return a.scene < b.scene; });
+  EXPECT_EQ(jobs[0].scene, "bridge");
+  EXPECT_FALSE(jobs[0].build.has_value());
+  EXPECT_EQ(jobs[0].target, 800u);
+  ASSERT_TRUE(jobs[1].build.has_value());
+  EXPECT_EQ(jobs[1].id, 41u);
+  EXPECT_EQ(jobs[1].generation, 9001u);
+  EXPECT_EQ(jobs[1].build->method, BuildMethod::spars);
+  EXPECT_EQ(jobs[1].build->variant, SparsVariant::alg1);
+  EXPECT_EQ(jobs[1].build->seed, 77u);
+  EXPECT_EQ(jobs[1].build->overrides, build.overrides);
+  EXPECT_TRUE(jobs[1].build->replace);
+
+  forget_pending_job(dir.path(), "tower", 40);  // an earlier job of the scene: not this record
+  EXPECT_EQ(pending_jobs(dir.path()).size(), 2u);
+  forget_pending_job(dir.path(), "tower", 41);
+  EXPECT_EQ(pending_jobs(dir.path()).size(), 1u);
+  forget_pending_job(dir.path(), "bridge");  // whichever job it is
+  EXPECT_TRUE(pending_jobs(dir.path()).empty());
+}
+
+TEST(PendingJobs, AnUnreadableRecordIsLeftAsItIsAndNotResumed) {
+  test::TempDir dir;
+  save_pending_job(dir.path(), PendingJob{"tower", 1, std::nullopt, 0, 10});
+  std::filesystem::create_directories(dir.path() / ".jobs");
+  std::ofstream(dir.path() / ".jobs" / "bridge.json") << "{\"scene\": \"bridge\", \"id\": ";  // torn
+  std::ofstream(dir.path() / ".jobs" / "other.json") << R"({"scene": "tower", "id": 2, "target": 5})";  // misnamed
+  const auto jobs = pending_jobs(dir.path());
+  ASSERT_EQ(jobs.size(), 1u);
+  EXPECT_EQ(jobs[0].scene, "tower");
+  forget_pending_job(dir.path(), "bridge", 7);  // cannot tell whose it is: kept
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / ".jobs" / "bridge.json"));
+  EXPECT_EQ(test::read_text(dir.path() / ".jobs" / "bridge.json"), "{\"scene\": \"bridge\", \"id\": ");
+}
+
+}  // namespace
+}  // namespace ispars
