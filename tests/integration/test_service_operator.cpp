@@ -132,8 +132,11 @@ TEST_F(ServiceTest, AnInterruptedBuildAndAQueuedOneResumeAfterARestart) {
     Client c(client_options(domain_));
     c.load("s0");
     c.load("s1");
+    c.load("s2");
     c.build("s0", ispars_build(30'000));
     c.build("s1", ispars_build(2000, 2));
+    c.build("s2", ispars_build(1000, 3));
+    c.cancel("s2");  // queued and cancelled: never resumed
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
     while (std::chrono::steady_clock::now() < deadline && c.stats("s0").samples_done() == 0) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -153,6 +156,7 @@ TEST_F(ServiceTest, AnInterruptedBuildAndAQueuedOneResumeAfterARestart) {
     EXPECT_EQ(s1.seed(), 2u);
     EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 30'000, 1));
     EXPECT_EQ(roadmap_digest(c.snapshot("s1").roadmap), reference_digest(scene_dir_ / "s1.yaml", 2000, 2));
+    EXPECT_EQ(c.load("s2").status().method(), "") << "a cancelled build was resumed";
     const std::string log = daemon->log();
     EXPECT_NE(log.find("scene 's0': resuming an interrupted job at "), std::string::npos) << log;
     EXPECT_NE(log.find("scene 's1': resuming a build that had not committed: 2000 samples, seed 2"),

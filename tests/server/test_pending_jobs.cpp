@@ -20,7 +20,7 @@ TEST(PendingJobs, ARecordRoundTripsAndIsForgottenOnlyByItsOwnJob) {
   build.seed = 77;
   build.overrides = {{"dense_delta", 1.5}, {"stretch", 2.0}};
   build.replace = true;
-  save_pending_job(dir.path(), PendingJob{"tower", 41, build, 9001, 12345});
+  save_pending_job(dir.path(), PendingJob{"tower", 41, build, 9001, 12345, 2});
   save_pending_job(dir.path(), PendingJob{"bridge", 42, std::nullopt, 0, 800});
 
   auto jobs = pending_jobs(dir.path());
@@ -32,6 +32,7 @@ TEST(PendingJobs, ARecordRoundTripsAndIsForgottenOnlyByItsOwnJob) {
   ASSERT_TRUE(jobs[1].build.has_value());
   EXPECT_EQ(jobs[1].id, 41u);
   EXPECT_EQ(jobs[1].generation, 9001u);
+  EXPECT_EQ(jobs[1].attempts, 2u);
   EXPECT_EQ(jobs[1].build->method, BuildMethod::spars);
   EXPECT_EQ(jobs[1].build->variant, SparsVariant::alg1);
   EXPECT_EQ(jobs[1].build->seed, 77u);
@@ -52,9 +53,11 @@ TEST(PendingJobs, AnUnreadableRecordIsLeftAsItIsAndNotResumed) {
   std::filesystem::create_directories(dir.path() / ".jobs");
   std::ofstream(dir.path() / ".jobs" / "bridge.json") << "{\"scene\": \"bridge\", \"id\": ";  // torn
   std::ofstream(dir.path() / ".jobs" / "other.json") << R"({"scene": "tower", "id": 2, "target": 5})";  // misnamed
+  std::ofstream(dir.path() / ".jobs" / "tower.json.tmp") << "{";  // a write a crash interrupted
   const auto jobs = pending_jobs(dir.path());
   ASSERT_EQ(jobs.size(), 1u);
   EXPECT_EQ(jobs[0].scene, "tower");
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / ".jobs" / "tower.json.tmp"));
   forget_pending_job(dir.path(), "bridge", 7);  // cannot tell whose it is: kept
   EXPECT_TRUE(std::filesystem::exists(dir.path() / ".jobs" / "bridge.json"));
   EXPECT_EQ(test::read_text(dir.path() / ".jobs" / "bridge.json"), "{\"scene\": \"bridge\", \"id\": ");

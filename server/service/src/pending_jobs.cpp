@@ -21,7 +21,7 @@ std::filesystem::path record_path(const std::filesystem::path& data_dir, const s
 }
 
 nlohmann::json to_json(const PendingJob& job) {
-  nlohmann::json j{{"scene", job.scene}, {"id", job.id}, {"target", job.target}};
+  nlohmann::json j{{"scene", job.scene}, {"id", job.id}, {"target", job.target}, {"attempts", job.attempts}};
   if (job.build) {
     const BuildRequest& b = *job.build;
     j["build"] = {{"method", std::string(to_string(b.method))},
@@ -40,6 +40,7 @@ PendingJob from_json(const nlohmann::json& j) {
   job.scene = j.at("scene").get<std::string>();
   job.id = j.at("id").get<std::uint64_t>();
   job.target = j.at("target").get<std::uint64_t>();
+  job.attempts = j.value("attempts", 0u);
   if (j.contains("build")) {
     const nlohmann::json& b = j.at("build");
     BuildRequest r;
@@ -61,7 +62,7 @@ PendingJob from_json(const nlohmann::json& j) {
 }  // namespace
 
 void save_pending_job(const std::filesystem::path& data_dir, const PendingJob& job) {
-  std::filesystem::create_directories(jobs_dir(data_dir));
+  if (std::filesystem::create_directories(jobs_dir(data_dir))) fsync_directory_of(jobs_dir(data_dir));
   write_file_atomically(record_path(data_dir, job.scene), to_json(job).dump(2) + "\n");
 }
 
@@ -85,6 +86,10 @@ std::vector<PendingJob> pending_jobs(const std::filesystem::path& data_dir) {
   std::vector<PendingJob> out;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(jobs_dir(data_dir), ec)) {
+    if (entry.path().extension() == ".tmp") {
+      std::filesystem::remove(entry.path(), ec);  // a write a crash interrupted; its record is whole or absent
+      continue;
+    }
     if (entry.path().extension() != ".json") continue;
     try {
       std::ifstream in(entry.path());

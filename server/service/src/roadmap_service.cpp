@@ -178,9 +178,15 @@ void RoadmapService::unload(const std::string& scene) {
   if (s->busy()) {
     throw InputError(kRequest, "scene", fmt::format("a build is running on scene '{}'; cancel it first", scene));
   }
-  s->close();  // atomically with the busy check inside: no job can start on it any more
-  // Remembered across restarts: the stored roadmap stays, but is not reloaded until asked.
+  // Remembered across restarts: the stored roadmap stays, but is not reloaded until asked. Marked
+  // first: a mark that cannot be written (a read-only disk) leaves the scene loaded as it was.
   mark_unloaded(settings_.data_dir / scene, true);
+  try {
+    s->close();  // atomically with the busy check inside: no job can start on it any more
+  } catch (...) {
+    mark_unloaded(settings_.data_dir / scene, false);
+    throw;
+  }
   forget(scene, /*given_up=*/false);
 }
 
@@ -200,6 +206,7 @@ void RoadmapService::yield(const std::string& scene, const std::atomic<bool>& gi
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }
+  forget_job(scene, 0);  // the owner builds it now
   forget(scene, /*given_up=*/true);
   spdlog::warn("scene '{}' given up to its owner (its stored roadmap stays)", scene);
 }
@@ -235,12 +242,13 @@ CancelOutcome RoadmapService::cancel(const std::string& scene) {
   CancelOutcome out;
   out.build_cancelled = s->cancel();
   out.tours_stopped = stop_tours(scene);
+  forget_job(scene, 0);  // cancelled: never resumed, whether it ends before the daemon stops or not
   return out;
 }
 
 void RoadmapService::drop(const std::string& scene) {
   session(scene)->drop();
-  forget_pending_job(settings_.data_dir, scene);
+  forget_job(scene, 0);
   set_reserved(scene, 0.0);
 }
 

@@ -1,6 +1,6 @@
-// The service's build jobs: each accepted build or extend is recorded before it is queued, runs
-// on a build worker, and is forgotten when it ends, unless the daemon is stopping: then the record
-// stays, and the next start resumes it.
+// The service's build jobs: each accepted build or extend is recorded as it is accepted, runs on
+// a build worker, and is forgotten when it ends, unless the daemon is stopping: then the record
+// stays, and the next start resumes it (at most kMaxResumes times).
 
 #include <spdlog/spdlog.h>
 
@@ -12,33 +12,45 @@ namespace ispars {
 namespace {
 
 constexpr const char* kRequest = "request";
+constexpr std::uint32_t kMaxResumes = 3;  // a job that takes the daemon down with it is given up then
 
 }  // namespace
 
 void RoadmapService::build(const std::string& scene, const BuildRequest& request) {
+  accept(scene, request, request.samples, 0);
+}
+
+void RoadmapService::extend(const std::string& scene, std::uint64_t samples) {
+  accept(scene, std::nullopt, samples, 0);
+}
+
+void RoadmapService::accept(const std::string& scene, const std::optional<BuildRequest>& build,
+                            std::uint64_t samples, std::uint32_t attempts) {
   const auto s = session(scene);
-  PendingJob job{scene, next_job_id_++, request, 0, request.samples};
-  job.generation = s->request_build(request);
-  try {
-    save_pending_job(settings_.data_dir, job);
-  } catch (const std::exception& e) {
-    (void)s->cancel();  // queued: cancelled at once, nothing touched
-    throw InputError(kRequest, "scene", fmt::format("the build of scene '{}' could not be recorded: {}", scene, e.what()));
+  PendingJob job{scene, next_job_id_++, build, 0, 0, attempts};
+  {
+    // One step: a cancel's or an ended job's removal of the record comes before or after it.
+    std::lock_guard lock(jobs_mutex_);
+    if (build) {
+      job.generation = s->request_build(*build);
+      job.target = build->samples;
+    } else {
+      job.target = s->request_extend(samples);
+    }
+    try {
+      save_pending_job(settings_.data_dir, job);
+    } catch (const std::exception& e) {
+      (void)s->cancel();  // queued, so cancelled at once: nothing touched
+      throw InputError(kRequest, "scene",
+                       fmt::format("the job on scene '{}' could not be recorded: {}", scene, e.what()));
+    }
   }
   schedule(s, job.id);
 }
 
-void RoadmapService::extend(const std::string& scene, std::uint64_t samples) {
-  const auto s = session(scene);
-  PendingJob job{scene, next_job_id_++, std::nullopt, 0, 0};
-  job.target = s->request_extend(samples);
-  try {
-    save_pending_job(settings_.data_dir, job);
-  } catch (const std::exception& e) {
-    (void)s->cancel();
-    throw InputError(kRequest, "scene", fmt::format("the extend of scene '{}' could not be recorded: {}", scene, e.what()));
-  }
-  schedule(s, job.id);
+void RoadmapService::forget_job(const std::string& scene, std::uint64_t job_id) {
+  std::lock_guard lock(jobs_mutex_);
+  forget_pending_job(settings_.data_dir, scene, job_id);
 }
 
 void RoadmapService::schedule(const std::shared_ptr<RoadmapSession>& session, std::uint64_t job_id) {
@@ -52,21 +64,23 @@ void RoadmapService::schedule(const std::shared_ptr<RoadmapSession>& session, st
       spdlog::info("scene '{}': job ended at {} samples, {} vertices, {} edges{}", session->name(), st.samples_done,
                    st.vertices, st.edges, st.last_error.empty() ? "" : " (" + st.last_error + ")");
     }
-    // Done, cancelled or failed: forgotten. Stopped by the daemon stopping: resumed at its start.
-    if (!stopping_) forget_pending_job(settings_.data_dir, session->name(), job_id);
+    // Done, cancelled or failed: forgotten (unless a later job of the scene has recorded itself
+    // meanwhile). Stopped by the daemon stopping: resumed at its start.
+    if (!stopping_) forget_job(session->name(), job_id);
   });
 }
 
 void RoadmapService::resume_pending_jobs() {
   for (const PendingJob& job : pending_jobs(settings_.data_dir)) {
     try {
+      if (job.attempts >= kMaxResumes) {
+        throw std::runtime_error(fmt::format("resumed {} times already, and the daemon stopped each time", job.attempts));
+      }
       auto s = session_or_null(job.scene);
       if (!s && job.build && !std::filesystem::exists(settings_.data_dir / job.scene / "recipe.json")) {
         s = load(job.scene).first;  // a first build that never committed: its scene is loaded for it
       }
-      if (!s) {
-        throw std::runtime_error("its scene is not loaded here (unloaded, or held by another daemon)");
-      }
+      if (!s) throw std::runtime_error("its scene is not loaded here (unloaded, or held by another daemon)");
       const SessionStatus st = s->status();
       const bool committed = !job.build || (st.recipe && st.recipe->generation == job.generation);
       if (!committed) {
@@ -74,17 +88,17 @@ void RoadmapService::resume_pending_jobs() {
         again.replace = again.replace || st.recipe.has_value();
         spdlog::info("scene '{}': resuming a build that had not committed: {} samples, seed {}", job.scene,
                      again.samples, again.seed);
-        build(job.scene, again);
+        accept(job.scene, again, again.samples, job.attempts + 1);
       } else if (st.samples_done < job.target) {
         spdlog::info("scene '{}': resuming an interrupted job at {} of {} samples", job.scene, st.samples_done,
                      job.target);
-        extend(job.scene, job.target - st.samples_done);
+        accept(job.scene, std::nullopt, job.target - st.samples_done, job.attempts + 1);
       } else {
-        forget_pending_job(settings_.data_dir, job.scene, job.id);
+        forget_job(job.scene, job.id);
       }
     } catch (const std::exception& e) {
       spdlog::error("scene '{}': the job recorded before the last stop is not resumed: {}", job.scene, e.what());
-      forget_pending_job(settings_.data_dir, job.scene, job.id);
+      forget_job(job.scene, job.id);
     }
   }
 }

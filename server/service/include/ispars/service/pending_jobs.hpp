@@ -20,15 +20,18 @@ struct PendingJob {
   std::optional<BuildRequest> build;  ///< A build (its request as accepted); empty: an extend.
   std::uint64_t generation = 0;       ///< A build: the generation of the roadmap it makes.
   std::uint64_t target = 0;           ///< Samples the roadmap reaches when the job is done.
+  std::uint32_t attempts = 0;         ///< Times it was resumed (a job that kills the daemon stops being resumed).
 };
 
-/// Writes `job` atomically, replacing the scene's earlier record. Throws on a write failure.
+/// Writes `job` atomically and durably, replacing the scene's earlier record. Throws on a write
+/// failure. Not safe for one scene from two threads at once (the caller serialises).
 void save_pending_job(const std::filesystem::path& data_dir, const PendingJob& job);
 
 /// Removes the scene's record if it is job `id`'s (0: whichever it is).
 void forget_pending_job(const std::filesystem::path& data_dir, const std::string& scene, std::uint64_t id = 0);
 
-/// Every record in `data_dir`. A record that cannot be read is logged and left as it is.
+/// Every record in `data_dir`. A record that cannot be read is logged and left as it is; the
+/// temporary file of a write a crash interrupted is removed.
 [[nodiscard]] std::vector<PendingJob> pending_jobs(const std::filesystem::path& data_dir);
 
 }  // namespace ispars

@@ -181,7 +181,11 @@ class RoadmapService {
   std::shared_ptr<RoadmapSession> session_or_null(const std::string& scene) const;
   std::shared_ptr<RoadmapSession> open_session(const std::string& scene);
   void forget(const std::string& scene, bool given_up);  // erases a closed session; events
+  // Jobs (roadmap_service_jobs.cpp): accepted and recorded as one step, under jobs_mutex_.
+  void accept(const std::string& scene, const std::optional<BuildRequest>& build, std::uint64_t samples,
+              std::uint32_t attempts);
   void schedule(const std::shared_ptr<RoadmapSession>& session, std::uint64_t job_id);
+  void forget_job(const std::string& scene, std::uint64_t job_id);  // 0: whichever
   void run_tour(const std::shared_ptr<RoadmapSession>& session, const TourRequest& request,
                 const TourCallbacks& callbacks, const std::shared_ptr<std::atomic<bool>>& stop);
   void release_tour(const std::shared_ptr<std::atomic<bool>>& stop);  // its admission and stop flag
@@ -194,6 +198,7 @@ class RoadmapService {
   const ServiceEvents events_;
   std::atomic<bool> stopping_{false};
   std::atomic<std::uint64_t> next_job_id_;  // from the clock at start: unlike a previous run's ids
+  std::mutex jobs_mutex_;  // a job's acceptance and its record; every read-compare-remove of one
 
   mutable std::mutex sessions_mutex_;
   std::map<std::string, std::shared_ptr<RoadmapSession>> sessions_;
