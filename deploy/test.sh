@@ -26,7 +26,7 @@ if [ "${ISPARS_SKIP_SANITIZE:-0}" != "1" ]; then
   fastdds shm clean >/dev/null 2>&1 || true  # segments left by the kill -9 test
   unset ASAN_OPTIONS LSAN_OPTIONS UBSAN_OPTIONS
 
-  deploy/build.sh thread -DISPARS_WERROR=ON
+  deploy/build.sh thread -DISPARS_WERROR=ON -DISPARS_SERVICE_TESTS=OFF  # not run here: see below
   # Embree builds its BVH on TBB threads, synchronised inside those uninstrumented libraries;
   # tests/tsan.supp hides only races reported inside them.
   export TSAN_OPTIONS="halt_on_error=1 suppressions=$PWD/tests/tsan.supp"
