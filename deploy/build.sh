@@ -4,6 +4,7 @@
 #   debug              build-debug/
 #   sanitize           build-sanitize/  AddressSanitizer + UndefinedBehaviorSanitizer
 #   thread             build-thread/    ThreadSanitizer
+# ISPARS_BUILD_TARGET=T builds only target T and what it needs (e.g. ispars_tests: every test).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -24,5 +25,7 @@ esac
 generator=()
 command -v ninja >/dev/null 2>&1 && generator=(-G Ninja)
 cmake -S . -B "$dir" "${generator[@]}" "${args[@]}" "$@"
-cmake --build "$dir" --parallel "$(nproc)"
+target=()
+[ -n "${ISPARS_BUILD_TARGET:-}" ] && target=(--target "$ISPARS_BUILD_TARGET")
+cmake --build "$dir" --parallel "$(nproc)" "${target[@]}"
 echo "build.sh: $kind build in $dir/, executables in $dir/bin/"
