@@ -114,6 +114,50 @@ TEST_F(ProtocolTest, TheSenderIsWhoTheTransportSaysNotWhatTheRequestClaims) {
 namespace ispars::test {
 namespace {
 
+// DDS-RPC 1.0 sec. 7.6.2: a reply written before the client's reply reader matched is lost (the
+// reply topic is volatile). The daemon holds it until that reader matches, up to 2 s, and answers
+// other clients meanwhile. The requests are posted once, never retried, so a reply written early
+// is a reply lost.
+TEST_F(ProtocolTest, AReplyIsHeldUntilTheClientsReaderMatchedAndNoLonger) {
+  client::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
+  Client client(client::local_client_options(domain_));
+  client.load("s0");
+  msg::QueryRequest stats = client::make_query(msg::STATS, "s0");
+  stats.server_id("d");
+  stats.protocol(msg::PROTOCOL_VERSION);
+  stats.request_seq(1);
+
+  RawPeer slow(domain_, "", /*read_replies=*/false);
+  stats.client_id(slow.identity());
+  ASSERT_TRUE(slow.post(stats));
+  RawPeer late(domain_, "", /*read_replies=*/false);
+  stats.client_id(late.identity());
+  ASSERT_TRUE(late.post(stats));
+  // While both replies wait, another client is answered at once.
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(client.stats("s0").scene(), "s0");
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(1500));
+
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  slow.open_reply_reader();  // within the bound: the held reply reaches it
+  for (int i = 0; i < 300 && slow.replies_to(1) == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_EQ(slow.replies_to(1), 1u) << "the reply was written before the client's reader matched, and lost";
+  ASSERT_TRUE(slow.reply_to(1)->ok()) << slow.reply_to(1)->error();
+  EXPECT_EQ(slow.reply_to(1)->status().scene(), "s0");
+
+  std::this_thread::sleep_for(std::chrono::milliseconds(2300));  // past the 2 s bound
+  late.open_reply_reader();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+  EXPECT_EQ(late.replies_to(1), 0u) << "a reply was held past its bound";
+  EXPECT_NE(daemon.log().find(fmt::format("client {} has no matched reply reader", late.identity())), std::string::npos)
+      << daemon.log();
+  // A client that gave up on the wait is answered when it asks again.
+  stats.request_seq(2);
+  const auto again = late.send(stats, std::chrono::seconds(30));
+  ASSERT_TRUE(again.has_value());
+  EXPECT_TRUE(again->ok()) << again->error();
+}
+
 TEST_F(ProtocolTest, ARetryIsAnsweredFromTheCacheNotServedAgain) {
   client::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
   Client client(client::local_client_options(domain_));

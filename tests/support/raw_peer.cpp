@@ -26,22 +26,30 @@ namespace fdds = eprosima::fastdds::dds;
 
 class RawPeer::Impl final : public fdds::DataReaderListener {
  public:
-  Impl(int domain, const std::string& security) : participant_({domain, "", "ispars", "raw peer", security}) {
+  Impl(int domain, const std::string& security, bool read_replies)
+      : participant_({domain, "", "ispars", "raw peer", security}) {
     fdds::DomainParticipant* p = participant_.get();
     auto* query = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
-    auto* reply = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);
+    reply_topic_ = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);
     id_ = wire::identity_of(participant_->guid().guidPrefix);
     auto* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-    auto* sub = p->create_subscriber(wire::reply_subscriber_qos(id_));
-    if (!pub || !sub) throw std::runtime_error("raw peer: no publisher or subscriber");
-    replies_ = sub->create_datareader(reply, wire::request_reply_reader_qos(), this, fdds::StatusMask::data_available());
+    reply_subscriber_ = p->create_subscriber(wire::reply_subscriber_qos(id_));
+    if (!pub || !reply_subscriber_) throw std::runtime_error("raw peer: no publisher or subscriber");
     queries_ = pub->create_datawriter(query, wire::request_reply_writer_qos());
     publisher_ = pub;
-    if (!replies_ || !queries_) throw std::runtime_error("raw peer: endpoints not created");
+    if (!queries_) throw std::runtime_error("raw peer: query writer not created");
+    if (read_replies) open_reply_reader();
   }
   ~Impl() override {
-    replies_->set_listener(nullptr);
+    if (replies_ != nullptr) replies_->set_listener(nullptr);
     participant_->delete_contained_entities();
+  }
+
+  void open_reply_reader() {
+    if (replies_ != nullptr) return;
+    replies_ = reply_subscriber_->create_datareader(reply_topic_, wire::request_reply_reader_qos(), this,
+                                                    fdds::StatusMask::data_available());
+    if (replies_ == nullptr) throw std::runtime_error("raw peer: reply reader not created");
   }
 
   void on_data_available(fdds::DataReader* reader) override {
@@ -65,6 +73,8 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
   fdds::TypeSupport reply_type_{new wire::SafeType<msg::ReplyPubSubType>()};
   fdds::TypeSupport daemon_type_{new wire::SafeType<msg::DaemonInfoPubSubType>()};
   fdds::TypeSupport update_type_{new wire::SafeType<msg::UpdateBatchPubSubType>()};
+  fdds::Topic* reply_topic_ = nullptr;
+  fdds::Subscriber* reply_subscriber_ = nullptr;
   fdds::DataReader* replies_ = nullptr;
   fdds::DataWriter* queries_ = nullptr;
   fdds::Publisher* publisher_ = nullptr;
@@ -77,7 +87,10 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
   std::size_t foreign_ = 0;
 };
 
-RawPeer::RawPeer(int domain, const std::string& security) : impl_(std::make_unique<Impl>(domain, security)) {}
+RawPeer::RawPeer(int domain, const std::string& security, bool read_replies)
+    : impl_(std::make_unique<Impl>(domain, security, read_replies)) {}
+
+void RawPeer::open_reply_reader() { impl_->open_reply_reader(); }
 
 std::size_t RawPeer::foreign_replies() const {
   std::lock_guard lock(impl_->mutex_);

@@ -16,8 +16,9 @@ namespace ispars::test {
 class RawPeer {
  public:
   /// Joins `domain` with the localhost-only settings (as the DDS Security identity `security`
-  /// unless empty).
-  explicit RawPeer(int domain, const std::string& security = "");
+  /// unless empty). With `read_replies` false its reply reader is made only by
+  /// open_reply_reader(), as a client slow to match would.
+  explicit RawPeer(int domain, const std::string& security = "", bool read_replies = true);
   ~RawPeer();
   RawPeer(const RawPeer&) = delete;
   RawPeer& operator=(const RawPeer&) = delete;
@@ -29,6 +30,8 @@ class RawPeer {
   /// tests), without waiting for a reply (waits, up to `timeout`, for the daemon to match).
   /// False when nothing matched.
   bool post(msg::QueryRequest request, std::chrono::milliseconds timeout = std::chrono::seconds(30));
+  /// Makes the reply reader (once; a no-op when it exists).
+  void open_reply_reader();
   /// Replies that arrived addressed to another client (the daemon keeps them off this peer's
   /// partition, so this stays 0).
   [[nodiscard]] std::size_t foreign_replies() const;
