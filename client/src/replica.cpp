@@ -11,6 +11,8 @@
 #include <deque>
 #include <mutex>
 #include <set>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "ispars/roadmap/roadmap_log.hpp"
@@ -28,8 +30,12 @@ namespace fdds = eprosima::fastdds::dds;
 // replica's own thread applies batches and resyncs.
 class RoadmapReplica::Impl final : public fdds::DataReaderListener {
  public:
-  Impl(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change)
-      : client_(client), scene_(std::move(scene)), on_change_(std::move(on_change)), type_(new wire::SafeType<msg::UpdateBatchPubSubType>()) {
+  Impl(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change, ReplicaQueueLimits limits)
+      : client_(client),
+        scene_(std::move(scene)),
+        on_change_(std::move(on_change)),
+        limits_(checked(limits)),
+        type_(new wire::SafeType<msg::UpdateBatchPubSubType>()) {
     fdds::DomainParticipant* p = client_.participant().get();
     topic_ = wire::find_or_create_topic(p, type_, wire::kUpdatesTopic);
     subscriber_ = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
@@ -61,9 +67,36 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
       if (!client_.written_by_daemon(batch.server_id().to_string(), wire::sender_identity(info))) continue;
       {
         std::lock_guard lock(mutex_);
-        inbox_.push_back(std::move(batch));
+        queue(std::move(batch));
       }
       wake_.notify_all();
+    }
+  }
+
+  static ReplicaQueueLimits checked(const ReplicaQueueLimits& limits) {
+    if (limits.batches < 1 || limits.batches > 1'000'000) {
+      throw std::invalid_argument("replica queue limit: batches must be in 1..1000000, not " + std::to_string(limits.batches));
+    }
+    if (limits.bytes < (std::size_t{64} << 10) || limits.bytes > (std::size_t{64} << 30)) {
+      throw std::invalid_argument("replica queue limit: bytes must be in 65536..68719476736, not " +
+                                  std::to_string(limits.bytes));
+    }
+    return limits;
+  }
+
+  static std::size_t payload_bytes(const msg::UpdateBatch& b) {
+    return b.order().size() + b.vertices().size() * sizeof(msg::Vertex) + b.edges().size() * sizeof(msg::Edge);
+  }
+
+  // With mutex_ held. Queues `batch`, then drops the oldest queued batches past the limits (never
+  // the newest): the next batch applied then shows a gap, and the replica resyncs.
+  void queue(msg::UpdateBatch batch) {
+    inbox_bytes_ += payload_bytes(batch);
+    inbox_.push_back(std::move(batch));
+    while (inbox_.size() > 1 && (inbox_.size() > limits_.batches || inbox_bytes_ > limits_.bytes)) {
+      inbox_bytes_ -= payload_bytes(inbox_.front());
+      inbox_.pop_front();
+      ++dropped_;
     }
   }
 
@@ -90,6 +123,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
         std::unique_lock lock(mutex_);
         wake_.wait_for(lock, kStatusPeriod, [&] { return stopping_ || !inbox_.empty(); });
         batches.swap(inbox_);
+        inbox_bytes_ = 0;
       }
       if (owner_dropped_or_unloaded()) {
         forget_roadmap();
@@ -202,6 +236,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
   Client& client_;
   const std::string scene_;
   const std::function<void(const ReplicaEvent&)> on_change_;
+  const ReplicaQueueLimits limits_;
   fdds::TypeSupport type_;
   fdds::Topic* topic_ = nullptr;
   fdds::Subscriber* subscriber_ = nullptr;
@@ -210,6 +245,8 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
   std::mutex mutex_;  // inbox and stopping
   std::condition_variable wake_;
   std::deque<msg::UpdateBatch> inbox_;
+  std::size_t inbox_bytes_ = 0;
+  std::size_t dropped_ = 0;  // batches dropped from a full inbox
   static constexpr std::chrono::milliseconds kStatusPeriod{100};  // how often the status is looked at
   bool stopping_ = false;
   std::thread thread_;
@@ -229,8 +266,9 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
   std::string last_error_;
 };
 
-RoadmapReplica::RoadmapReplica(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change)
-    : impl_(std::make_unique<Impl>(client, std::move(scene), std::move(on_change))) {}
+RoadmapReplica::RoadmapReplica(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change,
+                               ReplicaQueueLimits limits)
+    : impl_(std::make_unique<Impl>(client, std::move(scene), std::move(on_change), limits)) {}
 RoadmapReplica::~RoadmapReplica() = default;
 
 Roadmap RoadmapReplica::roadmap() const {
@@ -256,6 +294,10 @@ std::size_t RoadmapReplica::snapshots_taken() const {
 std::size_t RoadmapReplica::batches_applied() const {
   std::lock_guard lock(impl_->state_mutex_);
   return impl_->batches_;
+}
+std::size_t RoadmapReplica::batches_dropped() const {
+  std::lock_guard lock(impl_->mutex_);
+  return impl_->dropped_;
 }
 Vec3 RoadmapReplica::root() const {
   std::lock_guard lock(impl_->state_mutex_);

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <stdexcept>
 #include <fstream>
 #include <iterator>
 #include <thread>
@@ -61,6 +64,57 @@ TEST_F(ReplicaTest, ADropEmptiesEveryReplicaAndReleasesTheKeptBatches) {
   // A new build on the same scene is followed again by the same replica.
   const msg::SceneStatus rebuilt = build_followed(client, replica, "s0");
   EXPECT_EQ(replica.generation(), rebuilt.generation());
+}
+
+// A replica whose owner's callback stalls while an extend streams batches: its queue (bounded at
+// two batches here) drops the oldest, the gap is detected when the callback returns, and the
+// replica resyncs from a snapshot to exactly the daemon's roadmap.
+TEST_F(ReplicaTest, AReplicaThatFallsBehindDropsItsOldestBatchesAndResyncsToTheSameRoadmap) {
+  auto daemon = start("d");
+  Client client(client_options(domain_));
+  client.load("s0");
+  std::mutex mutex;
+  std::condition_variable released_cv;
+  bool stall = false;
+  bool released = false;
+  bool stalled = false;
+  client::RoadmapReplica replica(
+      client, "s0",
+      [&](const client::ReplicaEvent& event) {
+        std::unique_lock lock(mutex);
+        if (!stall || event.resynced || released) return;
+        stalled = true;
+        released_cv.notify_all();
+        released_cv.wait(lock, [&] { return released; });
+      },
+      client::ReplicaQueueLimits{2, 64u << 10});
+  build_followed(client, replica, "s0");
+  const std::size_t snapshots = replica.snapshots_taken();
+  {
+    std::lock_guard lock(mutex);
+    stall = true;
+  }
+  client.extend("s0", 12000);
+  {
+    std::unique_lock lock(mutex);
+    ASSERT_TRUE(released_cv.wait_for(lock, std::chrono::seconds(30), [&] { return stalled; }))
+        << "the replica applied no batch of the extend";
+  }
+  const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(extended.state(), msg::SCENE_IDLE) << extended.last_error();
+  EXPECT_GT(replica.batches_dropped(), 0u) << "the extend sent too few batches to fill the queue";
+  {
+    std::lock_guard lock(mutex);
+    released = true;
+  }
+  released_cv.notify_all();
+  ASSERT_TRUE(replica.wait_for(extended.generation(), extended.version(), std::chrono::seconds(30))) << replica.last_error();
+  EXPECT_GT(replica.snapshots_taken(), snapshots) << "the dropped batches did not lead to a resync";
+  const client::Snapshot snapshot = client.snapshot("s0");
+  EXPECT_EQ(snapshot.version, extended.version());
+  EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(snapshot.roadmap));
+  EXPECT_THROW(client::RoadmapReplica(client, "s0", {}, client::ReplicaQueueLimits{0, 64u << 10}), std::invalid_argument);
+  EXPECT_THROW(client::RoadmapReplica(client, "s0", {}, client::ReplicaQueueLimits{2, 1000}), std::invalid_argument);
 }
 
 TEST_F(ReplicaTest, AnUnloadEmptiesTheReplicaAndALoadBringsItBack) {

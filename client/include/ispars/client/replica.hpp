@@ -23,11 +23,22 @@ struct ReplicaEvent {
   bool resynced = false;  ///< This change was a (re)sync from a snapshot.
 };
 
+/// How much a replica queues while its thread is busy (a slow `on_change`, a snapshot in
+/// flight). Past either bound the oldest queued batches are dropped, as the daemon's kept history
+/// drops its oldest: the gap they leave is detected as any gap is, and the replica resyncs from a
+/// fresh snapshot. The newest batch is always kept.
+struct ReplicaQueueLimits {
+  std::size_t batches = 1024;       ///< 1 .. 1,000,000
+  std::size_t bytes = 256u << 20;   ///< 64 KiB .. 64 GiB, counted as the batches' array payloads
+};
+
 class RoadmapReplica {
  public:
   /// Subscribes to `scene`'s updates through `client` (which must outlive the replica), then
-  /// takes the first snapshot. `on_change` runs on the replica's own thread.
-  RoadmapReplica(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change = {});
+  /// takes the first snapshot. `on_change` runs on the replica's own thread. Throws
+  /// std::invalid_argument naming a limit out of its range.
+  RoadmapReplica(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change = {},
+                 ReplicaQueueLimits limits = {});
   ~RoadmapReplica();
   RoadmapReplica(const RoadmapReplica&) = delete;
   RoadmapReplica& operator=(const RoadmapReplica&) = delete;
@@ -40,6 +51,8 @@ class RoadmapReplica {
   [[nodiscard]] std::size_t snapshots_taken() const;
   /// Batches applied on top of snapshots.
   [[nodiscard]] std::size_t batches_applied() const;
+  /// Batches dropped from a full queue (each drop leads to a resync).
+  [[nodiscard]] std::size_t batches_dropped() const;
   /// The scene's root and POIs (from the first snapshot).
   [[nodiscard]] Vec3 root() const;
   [[nodiscard]] std::vector<Vec3> pois() const;
