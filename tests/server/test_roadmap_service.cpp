@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "ispars/input_error.hpp"
+#include "ispars/service/pending_jobs.hpp"
 #include "ispars/service/roadmap_service.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "support/test_support.hpp"
@@ -305,6 +306,45 @@ TEST_F(RoadmapServiceTest, AYieldedSceneStopsItsBuildsAndLeavesWithoutAnUnloaded
   EXPECT_FALSE(marked_unloaded(dir_.path() / "data" / "s0"));
   service.yield("s0", give_up);
   EXPECT_EQ(service.stored_scenes(), (std::vector<std::string>{"s0", "s1"}));
+}
+
+}  // namespace
+}  // namespace ispars
+
+namespace ispars {
+namespace {
+
+// A recorded job is resumed at the next start, with its attempt counted; one resumed three times
+// already (each time the daemon stopped or died under it) is given up and forgotten, and the
+// roadmap stays at its last commit.
+TEST_F(RoadmapServiceTest, AJobIsResumedWithItsAttemptCountedAndGivenUpAfterThree) {
+  {
+    RoadmapService service(settings(), {});
+    service.load("s0");
+    service.build("s0", ispars(1500));
+    ASSERT_EQ(wait_idle(service, "s0").samples_done, 1500u);
+  }
+  const auto data = dir_.path() / "data";
+  save_pending_job(data, PendingJob{"s0", 7, std::nullopt, 0, 2500, 3});
+  {
+    RoadmapService service(settings(), {});
+    service.load_stored_roadmaps();
+    service.resume_pending_jobs();
+    EXPECT_EQ(wait_idle(service, "s0").samples_done, 1500u) << "a job resumed three times was resumed again";
+    EXPECT_TRUE(pending_jobs(data).empty()) << "a job given up stays recorded";
+  }
+  save_pending_job(data, PendingJob{"s0", 8, std::nullopt, 0, 2500, 2});
+  {
+    RoadmapService service(settings(), {});
+    service.load_stored_roadmaps();
+    service.resume_pending_jobs();
+    const auto jobs = pending_jobs(data);  // recorded anew before it runs, with the attempt counted
+    if (!jobs.empty()) {
+      EXPECT_EQ(jobs[0].attempts, 3u);
+    }
+    EXPECT_EQ(wait_idle(service, "s0").samples_done, 2500u);
+    EXPECT_TRUE(pending_jobs(data).empty()) << "a finished job stays recorded";
+  }
 }
 
 }  // namespace
