@@ -15,6 +15,7 @@
 #include "daemon.hpp"
 #include "dds_endpoints.hpp"
 #include "ispars/input_error.hpp"
+#include "status_message.hpp"
 
 namespace ispars::server {
 namespace {
@@ -22,42 +23,11 @@ namespace {
 constexpr std::chrono::milliseconds kFleetPeriod{100};  // how often the rule is re-applied
 constexpr std::chrono::seconds kReannouncePeriod{5};    // after another participant announced this id
 
-// The build that gives the roadmap `status` describes: its recipe, to its sample count (to its
-// target when it was still building). Empty when the status names no roadmap.
-std::optional<BuildRequest> rebuild_request(const msg::SceneStatus& status) {
-  const auto method = parse_build_method(status.method().to_string());
-  if (!method) return std::nullopt;
-  BuildRequest request;
-  request.method = *method;
-  if (const std::string v = status.variant().to_string(); !v.empty()) {
-    const auto variant = parse_spars_variant(v);
-    if (!variant) return std::nullopt;
-    request.variant = *variant;
-  }
-  request.seed = status.seed();
+// The samples of the roadmap `status` describes: its target while it was still building.
+std::uint64_t samples_to_rebuild(const msg::SceneStatus& status) {
   const bool running = status.state() == msg::SCENE_BUILDING || status.state() == msg::SCENE_QUEUED ||
                        status.state() == msg::SCENE_REPLAYING;
-  request.samples = running ? std::max(status.samples_target(), status.samples_done()) : status.samples_done();
-  if (request.samples == 0) return std::nullopt;
-  const std::pair<const char*, double> values[] = {{"dense_delta", status.dense_delta()},
-                                                   {"sparse_delta", status.sparse_delta()},
-                                                   {"stretch", status.stretch()},
-                                                   {"p_accept", status.p_accept()}};
-  for (const auto& [name, value] : values) {
-    if (value > 0.0) request.overrides.emplace(name, value);
-  }
-  return request;
-}
-
-bool same_recipe(const RoadmapRecipe& mine, const BuildRequest& wanted) {
-  const auto value = [&](const char* name) {
-    const auto it = wanted.overrides.find(name);
-    return it == wanted.overrides.end() ? 0.0 : it->second;
-  };
-  const bool has_variant = wanted.method == BuildMethod::spars || wanted.method == BuildMethod::ispars;
-  return mine.method == wanted.method && mine.seed == wanted.seed && (!has_variant || mine.variant == wanted.variant) &&
-         mine.dense_delta == value("dense_delta") && mine.sparse_delta == value("sparse_delta") &&
-         mine.stretch == value("stretch") && mine.p_accept == value("p_accept");
+  return running ? std::max(status.samples_target(), status.samples_done()) : status.samples_done();
 }
 
 }  // namespace
@@ -120,18 +90,19 @@ void Daemon::take_over(const OrphanScene& orphan) {
                orphan.scene);
   try {
     const auto [session, loaded_now] = service_->load(orphan.scene);
-    const auto request = orphan.last_status ? rebuild_request(*orphan.last_status) : std::nullopt;
-    if (!request) return;  // it held no roadmap, or a damaged one: loaded as it is here
+    const auto recipe = orphan.last_status ? recipe_of(*orphan.last_status) : std::nullopt;
+    const std::uint64_t samples = orphan.last_status ? samples_to_rebuild(*orphan.last_status) : 0;
+    if (!recipe || samples == 0) return;  // it held no roadmap, or a damaged one: loaded as it is here
+    BuildRequest request = rebuild_request(*recipe, samples);
     const SessionStatus mine = session->status();
-    if (mine.recipe && same_recipe(*mine.recipe, *request) && mine.samples_done <= request->samples) {
-      if (mine.samples_done < request->samples) service_->extend(orphan.scene, request->samples - mine.samples_done);
+    if (mine.recipe && same_roadmap(*mine.recipe, *recipe) && mine.samples_done <= request.samples) {
+      if (mine.samples_done < request.samples) service_->extend(orphan.scene, request.samples - mine.samples_done);
     } else {
-      BuildRequest build = *request;
-      build.replace = mine.recipe.has_value();
-      service_->build(orphan.scene, build);
+      request.replace = mine.recipe.has_value();
+      service_->build(orphan.scene, request);
     }
     spdlog::info("scene '{}' taken over from {}: rebuilding its {} roadmap (seed {}) to {} samples", orphan.scene,
-                 orphan.former_owner, orphan.last_status->method().to_string(), request->seed, request->samples);
+                 orphan.former_owner, orphan.last_status->method().to_string(), request.seed, request.samples);
   } catch (const std::exception& e) {
     spdlog::error("taking over scene '{}' from {} failed: {}", orphan.scene, orphan.former_owner, e.what());
   }

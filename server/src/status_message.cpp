@@ -46,4 +46,24 @@ msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id
   return m;
 }
 
+std::optional<RoadmapRecipe> recipe_of(const msg::SceneStatus& m) {
+  const auto method = parse_build_method(m.method().to_string());
+  if (!method) return std::nullopt;
+  RoadmapRecipe recipe;
+  recipe.scene = m.scene().to_string();
+  recipe.method = *method;
+  if (const std::string v = m.variant().to_string(); !v.empty()) {
+    const auto variant = parse_spars_variant(v);
+    if (!variant) return std::nullopt;
+    recipe.variant = *variant;
+  }
+  recipe.seed = m.seed();
+  recipe.dense_delta = m.dense_delta();
+  recipe.sparse_delta = m.sparse_delta();
+  recipe.stretch = m.stretch();
+  recipe.p_accept = m.p_accept();
+  recipe.generation = m.generation();
+  return recipe;
+}
+
 }  // namespace ispars::server

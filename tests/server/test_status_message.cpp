@@ -28,5 +28,47 @@ TEST(StatusMessage, StatusCarriesTheRecipeAndCounts) {
   EXPECT_EQ(wire::to_string(msg::SCENE_UNLOADED), "unloaded");
 }
 
+// A daemon taking a scene over reads the recipe back from the last status: the same roadmap,
+// and the build request that makes it.
+TEST(StatusMessage, TheRecipeReadsBackAsTheSameRoadmapAndItsRebuildRequest) {
+  SessionStatus s;
+  s.scene = "tower";
+  s.state = SessionState::idle;
+  s.recipe = RoadmapRecipe{"tower", BuildMethod::ispars, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 77, "fp", 1};
+  const msg::SceneStatus m = to_message(s, "d1", 77);
+  const auto back = recipe_of(m);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_TRUE(same_roadmap(*back, *s.recipe));
+  EXPECT_EQ(back->generation, 77u);
+  RoadmapRecipe other = *s.recipe;
+  other.p_accept = 0.4;
+  EXPECT_FALSE(same_roadmap(*back, other));
+  other = *s.recipe;
+  other.variant = SparsVariant::stretch;
+  EXPECT_FALSE(same_roadmap(*back, other));
+  other.method = BuildMethod::dense;  // a method without variants: the variant does not count
+  RoadmapRecipe dense = *back;
+  dense.method = BuildMethod::dense;
+  EXPECT_TRUE(same_roadmap(dense, other));
+
+  const BuildRequest request = rebuild_request(*back, 4000);
+  EXPECT_EQ(request.method, BuildMethod::ispars);
+  EXPECT_EQ(request.variant, SparsVariant::alg1);
+  EXPECT_EQ(request.seed, 9u);
+  EXPECT_EQ(request.samples, 4000u);
+  EXPECT_FALSE(request.replace);
+  const std::map<std::string, double> overrides{
+      {"dense_delta", 1.25}, {"sparse_delta", 2.5}, {"stretch", 1.5}, {"p_accept", 0.3}};
+  EXPECT_EQ(request.overrides, overrides);
+
+  msg::SceneStatus unknown = m;
+  unknown.method("rrt");
+  EXPECT_FALSE(recipe_of(unknown).has_value());
+  unknown = m;
+  unknown.variant("nonsense");
+  EXPECT_FALSE(recipe_of(unknown).has_value());
+  EXPECT_FALSE(recipe_of(msg::SceneStatus{}).has_value()) << "a status without a roadmap names no method";
+}
+
 }  // namespace
 }  // namespace ispars::server

@@ -78,6 +78,13 @@ std::string spars_variant_names() {
 
 std::span<const RecipeParameter> recipe_overrides() { return kOverrides; }
 
+bool same_roadmap(const RoadmapRecipe& a, const RoadmapRecipe& b) {
+  const bool has_variant = a.method == BuildMethod::spars || a.method == BuildMethod::ispars;
+  return a.method == b.method && a.seed == b.seed && (!has_variant || a.variant == b.variant) &&
+         a.dense_delta == b.dense_delta && a.sparse_delta == b.sparse_delta && a.stretch == b.stretch &&
+         a.p_accept == b.p_accept;
+}
+
 std::string recipe_override_names() {
   return join_names(kOverrides, [](const RecipeParameter& p) { return p.name; });
 }

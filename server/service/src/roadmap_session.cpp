@@ -123,6 +123,18 @@ void RoadmapSession::check_can_start(const char* field) const {
   }
 }
 
+BuildRequest rebuild_request(const RoadmapRecipe& recipe, std::uint64_t samples) {
+  BuildRequest request;
+  request.method = recipe.method;
+  request.variant = recipe.variant;
+  request.seed = recipe.seed;
+  request.samples = samples;
+  for (const RecipeParameter& p : recipe_overrides()) {
+    if (recipe.*p.field > 0.0) request.overrides.emplace(std::string(p.name), recipe.*p.field);
+  }
+  return request;
+}
+
 std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
   if (request.samples == 0) throw InputError(kRequest, "samples", "must be at least 1");
   if (request.samples > limits_.max_samples) {

@@ -52,6 +52,10 @@ struct RoadmapRecipe {
   std::uint32_t builder_version = 0;
 };
 
+/// Whether two recipes build the same roadmap: method, seed, the variant where the method has
+/// one, the deltas, the stretch and p_accept (scene, generation and versions aside).
+[[nodiscard]] bool same_roadmap(const RoadmapRecipe& a, const RoadmapRecipe& b);
+
 /// Bumped whenever a builder's output for the same recipe changes: a stored roadmap of another
 /// builder version is not replayed or extended (it would not match), only rebuilt or dropped.
 inline constexpr std::uint32_t kBuilderVersion = 1;

@@ -70,6 +70,11 @@ struct BuildRequest {
   bool replace = false;
 };
 
+/// The build request that makes `recipe`'s roadmap to `samples` samples: its method, variant and
+/// seed, with its deltas, stretch and p_accept as overrides (request_build's inverse; a value of 0,
+/// unknown to the sender, is left to the scene).
+[[nodiscard]] BuildRequest rebuild_request(const RoadmapRecipe& recipe, std::uint64_t samples);
+
 /// A published roadmap: immutable, shared by every reader that holds it, with its coverage
 /// figures computed once when it is published (not on every status query).
 struct PublishedRoadmap {
