@@ -58,7 +58,7 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
       if (key == "discovery_wait_ms") config.discovery_wait_ms = value.as<std::uint32_t>();
       if (key == "log_file") config.log_file = resolve(value.as<std::string>());
       if (key == "log_file_mb") config.log_file_mb = value.as<std::uint64_t>();
-      if (key == "metrics") config.metrics = value.as<std::string>();
+      if (key == "metrics") config.metrics = parse_listen_address(value.as<std::string>(), source, "metrics");
     } catch (const YAML::Exception&) {
       throw InputError(source, key, fmt::format("has the wrong type (line {})", value.Mark().line + 1));
     }
@@ -110,7 +110,6 @@ void check_daemon_config(const DaemonConfig& c, const std::string& source) {
       throw InputError(source, "log_file", fmt::format("its directory {} does not exist", dir.string()));
     }
   }
-  if (!c.metrics.empty()) (void)parse_listen_address(c.metrics, source, "metrics");
 }
 
 ListenAddress parse_listen_address(const std::string& text, const std::string& source, const std::string& field) {

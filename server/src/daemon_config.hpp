@@ -3,10 +3,18 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace ispars::server {
+
+/// An address to listen on: an IPv4 address and a port (0: any free port).
+struct ListenAddress {
+  std::string host;
+  int port = 0;
+  bool operator==(const ListenAddress&) const = default;
+};
 
 /// Everything isparsd is configured with, file and flags merged.
 struct DaemonConfig {
@@ -26,9 +34,9 @@ struct DaemonConfig {
   /// rotated at log_file_mb (4 older files kept) and reopened on SIGHUP.
   std::filesystem::path log_file;
   std::uint64_t log_file_mb = 64;
-  /// "ADDRESS:PORT" of the HTTP endpoint serving /metrics (Prometheus text) and /healthz; empty:
-  /// none. Port 0 takes any free port (the log names it).
-  std::string metrics;
+  /// Where the HTTP endpoint serving /metrics (Prometheus text) and /healthz listens ("ADDRESS:PORT"
+  /// in the file and the flag); none: no endpoint. Port 0 takes any free port (the log names it).
+  std::optional<ListenAddress> metrics;
   std::string server_id;      ///< Unique on the domain; empty: HOST-PID.
   std::uint64_t max_samples = 50'000'000;  ///< Per build or extend request.
   std::size_t snapshot_compact_every = 64;  ///< Journal commits between compactions.
@@ -48,12 +56,6 @@ struct DaemonConfig {
 
 /// Reads a config file. Throws InputError naming the file and field on a bad or unknown key.
 [[nodiscard]] DaemonConfig load_daemon_config(const std::filesystem::path& path);
-
-/// An address to listen on: an IPv4 address and a port (0: any free port).
-struct ListenAddress {
-  std::string host;
-  int port = 0;
-};
 
 /// Parses "ADDRESS:PORT"; throws InputError naming `source` and `field` when it is not one.
 [[nodiscard]] ListenAddress parse_listen_address(const std::string& text, const std::string& source,

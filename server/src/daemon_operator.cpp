@@ -42,10 +42,10 @@ std::vector<std::string> changed_needing_restart(const DaemonConfig& a, const Da
 }  // namespace
 
 void Daemon::open_metrics_endpoint() {
-  if (config_.metrics.empty()) return;
+  if (!config_.metrics) return;
   // Before anything runs: a port in use stops the start. Until serving_, a scrape sees only the
   // counters (the service and endpoints are being made), and /healthz says 503.
-  const ListenAddress at = parse_listen_address(config_.metrics, "isparsd", "metrics");
+  const ListenAddress& at = *config_.metrics;
   metrics_endpoint_ = std::make_unique<MetricsEndpoint>(at, [this] { return metrics_text(); },
                                                         [this] { return healthy(); });
   spdlog::info("metrics on http://{}:{}/metrics, health on /healthz", at.host, metrics_endpoint_->port());

@@ -84,9 +84,9 @@ int main(int argc, char** argv) {
     if (discovery_wait_ms) config.discovery_wait_ms = *discovery_wait_ms;
     if (!log_file.empty()) config.log_file = log_file;
     if (log_file_mb) config.log_file_mb = *log_file_mb;
-    if (!metrics.empty()) config.metrics = metrics;
+    if (!metrics.empty()) config.metrics = ispars::server::parse_listen_address(metrics, "command line", "--metrics");
     config.preload.insert(config.preload.end(), preload.begin(), preload.end());
-    ispars::server::check_daemon_config(config, config_file.empty() ? "isparsd" : config_file);
+    ispars::server::check_daemon_config(config, config_file.empty() ? "command line" : config_file);
     return config;
   };
 

@@ -189,7 +189,7 @@ TEST_F(ServiceTest, ALogFileOrMetricsAddressThatCannotBeUsedStopsTheStartWithIts
   for (const std::string bad : {"localhost:9464", "127.0.0.1", "127.0.0.1:70000", "127.0.0.1:-1", "::1:80"}) {
     const auto [status, out] = run({"--metrics", bad});
     EXPECT_EQ(status, 2) << bad;
-    EXPECT_NE(out.find("isparsd: metrics: '" + bad + "'"), std::string::npos) << out;
+    EXPECT_NE(out.find("isparsd: command line: --metrics: '" + bad + "'"), std::string::npos) << out;
   }
   const auto [size_status, size_out] = run({"--log-file-mb", "0"});
   EXPECT_EQ(size_status, 2);

@@ -48,7 +48,7 @@ metrics: 127.0.0.1:9464
   EXPECT_EQ(c.memory_budget_mb, 2048u);
   EXPECT_EQ(c.log_file, dir.path() / "logs" / "isparsd.log");
   EXPECT_EQ(c.log_file_mb, 8u);
-  EXPECT_EQ(c.metrics, "127.0.0.1:9464");
+  EXPECT_EQ(c.metrics, (ListenAddress{"127.0.0.1", 9464}));
   EXPECT_DOUBLE_EQ(memory_budget_bytes(c), 2048.0 * 1024 * 1024);
   EXPECT_GT(memory_budget_bytes(DaemonConfig{}), 0.0) << "the default is half of this machine's memory";
 }
