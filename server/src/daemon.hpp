@@ -93,6 +93,7 @@ class Daemon {
   void publish_unloaded(const std::string& scene, bool given_up);
   void announce();
   msg::DaemonInfo self_info() const;
+  bool refresh_listing();  // rescans the scene and data directories; true when either changed
   ServiceEvents service_events();
   // The fleet (daemon_fleet.cpp): waiting for the other daemons at start, then a thread that
   // gives up contested scenes and takes over those whose holder left.
@@ -115,6 +116,11 @@ class Daemon {
   std::mutex publish_mutex_;  // writes statuses in stamp order
   std::unique_ptr<SceneClaims> claims_;  // made before dds_: DDS callbacks read it
   std::mutex announce_mutex_;  // announcements written in the order they were made
+  // The scene files and stored roadmaps as last announced: the fleet's rule runs on what the
+  // others were told, and is not rescanned on every tick (refresh_listing).
+  mutable std::mutex listing_mutex_;
+  std::vector<std::string> available_;
+  std::vector<std::string> stored_;
   std::unique_ptr<DdsEndpoints> dds_;
   std::unique_ptr<RoadmapService> service_;
   std::unique_ptr<WorkerPool> quick_lane_;  // list, stats, cancel, unload, build, extend, tour

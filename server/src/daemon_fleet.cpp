@@ -22,6 +22,7 @@ namespace {
 
 constexpr std::chrono::milliseconds kFleetPeriod{100};  // how often the rule is re-applied
 constexpr std::chrono::seconds kReannouncePeriod{5};    // after another participant announced this id
+constexpr std::chrono::seconds kListingPeriod{2};  // how often scene files and stored roadmaps are rescanned
 
 // The samples of the roadmap `status` describes: its target while it was still building.
 std::uint64_t samples_to_rebuild(const msg::SceneStatus& status) {
@@ -54,6 +55,7 @@ void Daemon::status_seen(const msg::SceneStatus& status) {
 
 void Daemon::watch_fleet() {
   auto last_reannounce = std::chrono::steady_clock::now() - kReannouncePeriod;
+  auto last_listing = std::chrono::steady_clock::now();
   std::unique_lock lock(fleet_mutex_);
   while (!fleet_stop_) {
     fleet_wake_.wait_for(lock, kFleetPeriod);
@@ -74,6 +76,11 @@ void Daemon::watch_fleet() {
       spdlog::error("another participant on DDS domain {} announces this daemon's server id '{}'; announcing again",
                     config_.domain, config_.server_id);
       announce();
+    }
+    // A scene file added or removed, or a roadmap stored, reaches the fleet within kListingPeriod.
+    if (std::chrono::steady_clock::now() - last_listing >= kListingPeriod) {
+      last_listing = std::chrono::steady_clock::now();
+      if (refresh_listing()) announce();
     }
     for (const std::string& scene : claims_->contested()) {
       spdlog::warn("scene '{}' is also claimed by a daemon that outranks {} under the fleet's rule; giving it up",

@@ -72,17 +72,29 @@ msg::DaemonInfo Daemon::self_info() const {
   info.host(host_name());
   info.pid(static_cast<std::int32_t>(::getpid()));
   info.joined_ms(joined_ms_);
-  for (const std::string& name : list_scene_names(config_.scene_dir)) info.available().push_back(name);
+  {
+    std::lock_guard lock(listing_mutex_);
+    for (const std::string& name : available_) info.available().push_back(name);
+    for (const std::string& name : stored_) info.stored().push_back(name);
+  }
   // Claimed scenes (being loaded or loaded) are announced as held: no other daemon claims them.
   for (const std::string& name : claims_->claimed()) info.loaded().push_back(name);
-  if (service_) {
-    for (const std::string& name : service_->stored_scenes()) info.stored().push_back(name);
-  }
   return info;
+}
+
+bool Daemon::refresh_listing() {
+  std::vector<std::string> available = list_scene_names(config_.scene_dir);
+  std::vector<std::string> stored = service_ ? service_->stored_scenes() : std::vector<std::string>{};
+  std::lock_guard lock(listing_mutex_);
+  if (available == available_ && stored == stored_) return false;
+  available_ = std::move(available);
+  stored_ = std::move(stored);
+  return true;
 }
 
 void Daemon::announce() {
   std::lock_guard lock(announce_mutex_);  // the latest state is the last written
+  refresh_listing();
   dds_->announce(self_info());
 }
 

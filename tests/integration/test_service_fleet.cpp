@@ -127,6 +127,46 @@ TEST_F(FleetTest, DaemonsStartedTogetherWithTheSameSceneToLoadLeaveOneOwner) {
   }
 }
 
+// What a daemon offers reaches the fleet without a restart: a scene file added to its scene
+// directory, and a roadmap it stored, are announced within the 2 s rescan; a removed file leaves.
+TEST_F(FleetTest, AnAddedSceneFileAndAStoredRoadmapAreAnnouncedWhileTheDaemonRuns) {
+  auto daemon = start("d");
+  Client client(client_options(domain_));
+  const auto announced = [&](auto field, const std::string& scene) {
+    for (const auto& d : client.daemons()) {
+      if (d.server_id() != "d") continue;
+      for (const auto& name : (d.*field)()) {
+        if (name == scene) return true;
+      }
+    }
+    return false;
+  };
+  using Names = const std::vector<msg::Name>& (msg::DaemonInfo::*)() const;
+  const Names available = &msg::DaemonInfo::available;
+  const Names stored = &msg::DaemonInfo::stored;
+  ASSERT_TRUE(announced(available, "s0"));
+  ASSERT_FALSE(announced(available, "s9"));
+  client::write_tank_tower_scenes(scene_dir_, {"s9"});
+  const auto deadline = Clock::now() + std::chrono::seconds(10);
+  while (Clock::now() < deadline && !announced(available, "s9")) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_TRUE(announced(available, "s9")) << "a scene file added while the daemon runs was never announced";
+  std::filesystem::remove(scene_dir_ / "s9.yaml");
+  while (Clock::now() < deadline + std::chrono::seconds(5) && announced(available, "s9")) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_FALSE(announced(available, "s9")) << "a removed scene file is still announced";
+
+  client.load("s0");
+  EXPECT_FALSE(announced(stored, "s0"));
+  client.build("s0", ispars_build(800));
+  ASSERT_EQ(client.wait_idle("s0", {}, kLong).state(), msg::SCENE_IDLE);
+  const auto built = Clock::now();
+  while (Clock::now() < built + std::chrono::seconds(10) && !announced(stored, "s0")) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_TRUE(announced(stored, "s0")) << "a roadmap stored while the daemon runs was never announced";
+}
+
 TEST_F(FleetTest, ADaemonWhoseIdIsAlreadyAnnouncedRefusesToStartOrStopsOnceItSeesIt) {
   auto first = start("same");
   // Its own data directory, its own process. It refuses at start when the first's announcement
