@@ -10,23 +10,18 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 
 #include <chrono>
-#include <random>
 #include <thread>
 
 #include "isparsPubSubTypes.h"
 #include "ispars/wire/participant.hpp"
 #include "ispars/wire/topics.hpp"
 #include "reply_routes.hpp"
+#include "support/local_daemon.hpp"
 
 namespace ispars::server {
 namespace {
 
 namespace fdds = eprosima::fastdds::dds;
-
-int random_domain() {
-  std::random_device rd;
-  return 100 + static_cast<int>(rd() % 133);
-}
 
 struct Routes {
   explicit Routes(std::size_t max) : participant({domain, "", "ispars", "routes", ""}) {
@@ -34,7 +29,7 @@ struct Routes {
     progress_topic = wire::find_or_create_topic(participant.get(), progress_type, wire::kTourProgressTopic);
     routes = std::make_unique<ReplyRoutes>(participant.get(), reply_topic, progress_topic, nullptr, max);
   }
-  int domain = random_domain();
+  int domain = client::random_domain();  // locked for this process: no other test shares it
   wire::Participant participant;
   fdds::TypeSupport reply_type{new msg::ReplyPubSubType()};
   fdds::TypeSupport progress_type{new msg::TourProgressPubSubType()};

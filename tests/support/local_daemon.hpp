@@ -14,7 +14,8 @@
 
 namespace ispars::client {
 
-/// A DDS domain id no other test run is likely to use (random in 100..232).
+/// A DDS domain id in 100..232 that no other test process on this machine holds: each process
+/// locks the domains it draws (/tmp/ispars-test-domains/N.lock) until it exits.
 int random_domain();
 
 /// Writes procedural scenes NAME.yaml (tank towers with seeds 1, 2, ...) into `dir`.
