@@ -41,7 +41,8 @@ int run_bench_build(const BenchBuildOptions& options) {
     const double us_per_sample = interval > 0 ? 1e6 * (elapsed - previous_t) / interval : 0.0;
     const double segments_per_sample = interval > 0 ? static_cast<double>(checks.segment - previous_checks.segment) / interval : 0.0;
     const Roadmap& g = builder->roadmap();
-    const std::size_t dense_edges = builder->dense() ? builder->dense()->edge_count() : g.edge_count();
+    const std::size_t dense_edges =  // 0: no dense graph (irisc, ispars2)
+        builder->dense() ? builder->dense()->edge_count() : method == BuildMethod::dense ? g.edge_count() : 0;
     const double rss = peak_rss_mib();
     rows.push_back({{"samples", target}, {"seconds", elapsed}, {"us_per_sample", us_per_sample},
                     {"segment_checks_per_sample", segments_per_sample}, {"vertices", g.vertex_count()},

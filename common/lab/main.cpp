@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
                    ? std::string()
                    : "unknown method '" + text + "' (" + ispars::build_method_names() + ")";
       },
-      "dense|spars|ispars|irisc");
+      "dense|spars|ispars|irisc|ispars2");
 
   CLI::App app{"ispars-lab: scene reports, geometry benchmarks and roadmap experiments"};
   app.require_subcommand(1);
@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
   BenchBuildOptions bench_build;
   auto* bench_build_cmd = bench->add_subcommand("build", "Construction time, checks per sample and peak memory against N");
   bench_build_cmd->add_option("scene", bench_build.scene, "Scene YAML file")->required();
-  bench_build_cmd->add_option("--method", bench_build.method, "dense | spars | ispars | irisc")
+  bench_build_cmd->add_option("--method", bench_build.method, "dense | spars | ispars | irisc | ispars2")
       ->check(build_method);
   bench_build_cmd->add_option("--variant", bench_build.variant, "spars, ispars: stretch (default) or alg1")
       ->check(spars_variant);
@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
   auto* bench_tour_cmd = bench->add_subcommand(
       "tour", "The tour solver on a large roadmap: first tour, budget, memory, stop latency");
   bench_tour_cmd->add_option("scene", bench_tour.scene, "Scene YAML file")->required();
-  bench_tour_cmd->add_option("--method", bench_tour.method, "dense | spars | ispars | irisc")
+  bench_tour_cmd->add_option("--method", bench_tour.method, "dense | spars | ispars | irisc | ispars2")
       ->check(build_method);
   bench_tour_cmd->add_option("--samples", bench_tour.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{10'000'000}));
   bench_tour_cmd->add_option("--seed", bench_tour.seed, "Seed of the roadmap and the search");
@@ -86,9 +86,9 @@ int main(int argc, char** argv) {
   bench_tour_cmd->add_flag("--json", bench_tour.json, "Print one JSON object as the last line of stdout");
 
   BuildCommandOptions build;
-  auto* build_cmd = app.add_subcommand("build", "Build a roadmap: dense, spars, ispars or irisc");
+  auto* build_cmd = app.add_subcommand("build", "Build a roadmap: dense, spars, ispars, irisc or ispars2");
   build_cmd->add_option("scene", build.scene, "Scene YAML file")->required();
-  build_cmd->add_option("--method", build.method, "dense | spars | ispars | irisc")
+  build_cmd->add_option("--method", build.method, "dense | spars | ispars | irisc | ispars2")
       ->required()
       ->check(build_method);
   build_cmd->add_option("--samples", build.samples, "Samples to draw (N)")

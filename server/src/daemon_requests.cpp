@@ -28,6 +28,11 @@ BuildRequest build_request_from(const msg::BuildArgs& args) {
   if (!variant) {
     throw InputError("request", "variant", fmt::format("'{}' is not one of {}", variant_name, spars_variant_names()));
   }
+  if (!variant_name.empty() && !has_variants(*method)) {
+    throw InputError("request", "variant",
+                     fmt::format("'{}' given, but {} has no rule-set variants (spars and ispars have)", variant_name,
+                                 method_name));
+  }
   if (args.overrides().size() > msg::MAX_OVERRIDES) {
     throw InputError("request", "overrides",
                      fmt::format("{} given; at most {} allowed", args.overrides().size(), msg::MAX_OVERRIDES));
@@ -137,10 +142,16 @@ bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
       const VerifyOutcome v = service_->verify(scene);
       const VerificationReport& r = v.report;
       const std::size_t dense_vertices = service_->stats(scene).dense_vertices;
+      const std::string checked_on =
+          r.invariant_samples > 0
+              ? fmt::format("{} of {} fresh samples, drawn for this check: an estimate, not counted; every sample "
+                            "the build drew keeps it",
+                            r.invariant_vertices, r.invariant_samples)
+              : fmt::format("{} of {} dense vertices", r.invariant_vertices, dense_vertices);
       reply.message(fmt::format("invalid vertices {}, invalid edges {}, wrong costs {}, sparse not dense {}, "
-                                "Invariant 1 violations {} ({} of {} dense vertices have one){}",
+                                "Invariant 1 violations {} ({} have one){}",
                                 r.invalid_vertices, r.invalid_edges, r.wrong_costs, r.sparse_not_dense,
-                                r.invariant_violations, r.invariant_vertices, dense_vertices,
+                                r.invariant_violations, checked_on,
                                 v.invariant_promised ? "" : "; Invariant 1 is not promised by this method"));
       reply.body().verify(to_message(v));
       reply.status(status_message(*service_->session(scene)));

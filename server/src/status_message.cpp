@@ -22,7 +22,7 @@ msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id
   m.generation(generation);
   if (s.recipe) {
     m.method(std::string(to_string(s.recipe->method)));
-    if (s.recipe->method == BuildMethod::spars || s.recipe->method == BuildMethod::ispars) {
+    if (has_variants(s.recipe->method)) {
       m.variant(std::string(to_string(s.recipe->variant)));
     }
     m.seed(s.recipe->seed);

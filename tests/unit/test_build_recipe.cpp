@@ -23,14 +23,19 @@ std::string override_error(const std::string& name, double value) {
 }
 
 TEST(BuildRecipe, NamesRoundTripAndListsComeFromOnePlace) {
-  for (const BuildMethod m : {BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars, BuildMethod::irisc}) {
+  for (const BuildMethod m :
+       {BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars, BuildMethod::irisc, BuildMethod::ispars2}) {
     EXPECT_EQ(parse_build_method(to_string(m)), m);
     EXPECT_NE(build_method_names().find(to_string(m)), std::string::npos);
   }
   for (const SparsVariant v : {SparsVariant::stretch, SparsVariant::alg1}) EXPECT_EQ(parse_spars_variant(to_string(v)), v);
   EXPECT_FALSE(parse_build_method("Dense"));
   EXPECT_FALSE(parse_spars_variant(""));
-  EXPECT_EQ(build_method_names(), "dense, spars, ispars, irisc");
+  EXPECT_EQ(build_method_names(), "dense, spars, ispars, irisc, ispars2");
+  EXPECT_TRUE(has_dense_pair(BuildMethod::ispars));
+  EXPECT_FALSE(has_dense_pair(BuildMethod::ispars2)) << "ispars2 keeps no dense graph";
+  EXPECT_FALSE(has_variants(BuildMethod::ispars2));
+  EXPECT_TRUE(has_variants(BuildMethod::spars));
   EXPECT_EQ(spars_variant_names(), "stretch, alg1");
   EXPECT_EQ(recipe_override_names(), "dense_delta, sparse_delta, stretch, p_accept");
   for (const RecipeParameter& p : recipe_overrides()) {

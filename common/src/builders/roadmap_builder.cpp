@@ -4,6 +4,9 @@
 #include "ispars/builders/irisc_builder.hpp"
 #include "ispars/builders/spars_builder.hpp"
 
+#include <stdexcept>
+#include <string>
+
 namespace ispars {
 
 std::unique_ptr<RoadmapBuilder> make_roadmap_builder(BuildMethod method, const Scene& scene,
@@ -15,8 +18,20 @@ std::unique_ptr<RoadmapBuilder> make_roadmap_builder(BuildMethod method, const S
     case BuildMethod::ispars:
       return std::make_unique<SparsBuilder>(scene, options, SparsRules::for_variant(options.variant, true));
     case BuildMethod::irisc: return std::make_unique<IriscBuilder>(scene, options);
+    case BuildMethod::ispars2: return std::make_unique<SparsBuilder>(scene, options, SparsRules::dense_free());
   }
   return nullptr;
+}
+
+bool resumes_from_roadmap(BuildMethod method) { return method == BuildMethod::ispars2; }
+
+std::unique_ptr<RoadmapBuilder> resume_roadmap_builder(BuildMethod method, const Scene& scene,
+                                                       const BuildOptions& options, Roadmap roadmap,
+                                                       std::size_t samples) {
+  if (!resumes_from_roadmap(method)) {
+    throw std::invalid_argument(std::string(to_string(method)) + " keeps more than its roadmap: it is replayed, not resumed");
+  }
+  return std::make_unique<SparsBuilder>(scene, options, SparsRules::dense_free(), std::move(roadmap), samples);
 }
 
 }  // namespace ispars

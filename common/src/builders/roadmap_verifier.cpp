@@ -5,8 +5,45 @@
 #include <vector>
 
 #include "ispars/geometry/point_grid.hpp"
+#include "ispars/geometry/random.hpp"
 
 namespace ispars {
+namespace {
+
+// Invariant 1 at one point q seeing `seen`: how many of those POIs no sparse vertex within Delta
+// with a valid segment to q sees.
+class InvariantCheck {
+ public:
+  InvariantCheck(const Scene& scene, const Roadmap& sparse)
+      : scene_(scene), sparse_(sparse), delta_(scene.config().sparse_delta), grid_(delta_),
+        cover_(sparse.visibility_table().words()) {
+    for (VertexId s = 0; s < sparse.vertex_count(); ++s) grid_.insert(s, sparse.position(s));
+  }
+
+  std::uint64_t missing(const Vec3& q, PoiBits seen) {
+    if (count(seen) == 0) return 0;
+    std::fill(cover_.begin(), cover_.end(), 0);
+    grid_.within(q, delta_, sparse_.positions(), near_);
+    for (const auto& [distance, s] : near_) {
+      if (!has_outside(seen, cover_)) break;  // already witnessed in full
+      if (!has_outside(sparse_.visible(s), cover_)) continue;  // adds nothing: skip the segment
+      if (distance == 0.0 || scene_.segment_valid(sparse_.position(s), q)) unite(cover_, sparse_.visible(s));
+    }
+    std::uint64_t out = 0;
+    for (std::size_t w = 0; w < seen.size(); ++w) out += static_cast<std::uint64_t>(std::popcount(seen[w] & ~cover_[w]));
+    return out;
+  }
+
+ private:
+  const Scene& scene_;
+  const Roadmap& sparse_;
+  double delta_;
+  PointGrid grid_;
+  std::vector<std::uint64_t> cover_;
+  std::vector<std::pair<double, std::uint32_t>> near_;
+};
+
+}  // namespace
 
 VerificationReport verify_roadmap(const Scene& scene, const Roadmap& roadmap) {
   VerificationReport report;
@@ -39,30 +76,32 @@ VerificationReport verify_sparse_pair(const Scene& scene, const Roadmap& sparse,
 
   // Invariant 1, exactly: for each dense q, the POIs of chi(q) that no sparse vertex within
   // Delta with a valid segment to q sees.
-  const double delta = scene.config().sparse_delta;
-  PointGrid grid(delta);
-  for (VertexId s = 0; s < sparse.vertex_count(); ++s) grid.insert(s, sparse.position(s));
-  std::vector<std::pair<double, std::uint32_t>> near;
-  std::vector<std::uint64_t> cover(dense.visibility_table().words());
+  InvariantCheck check(scene, sparse);
   for (VertexId q = 0; q < dense.vertex_count(); ++q) {
-    const PoiBits seen = dense.visible(q);
-    if (count(seen) == 0) continue;
-    std::fill(cover.begin(), cover.end(), 0);
-    grid.within(dense.position(q), delta, sparse.positions(), near);
-    for (const auto& [distance, s] : near) {
-      if (!has_outside(seen, cover)) break;  // already witnessed in full
-      if (!has_outside(sparse.visible(s), cover)) continue;  // adds nothing: skip the segment
-      if (distance == 0.0 || scene.segment_valid(sparse.position(s), dense.position(q))) {
-        unite(cover, sparse.visible(s));
-      }
-    }
-    std::uint64_t missing = 0;
-    for (std::size_t w = 0; w < seen.size(); ++w) {
-      missing += static_cast<std::uint64_t>(std::popcount(seen[w] & ~cover[w]));
-    }
+    const std::uint64_t missing = check.missing(dense.position(q), dense.visible(q));
     report.invariant_violations += missing;
     report.invariant_vertices += missing > 0;
   }
+  return report;
+}
+
+VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& sparse, std::size_t samples,
+                                        std::uint64_t seed) {
+  VerificationReport report;
+  InvariantCheck check(scene, sparse);
+  Rng rng(seed);
+  std::vector<PoiId> visible;
+  std::vector<std::uint64_t> seen(poi_words(scene.pois().size()));
+  for (std::size_t i = 0; i < samples; ++i) {
+    const Vec3 q = scene.sample_valid_configuration(rng);
+    scene.visible_pois(q, visible);
+    std::fill(seen.begin(), seen.end(), 0);
+    for (const PoiId p : visible) seen[p / 64] |= std::uint64_t{1} << (p % 64);
+    const std::uint64_t missing = check.missing(q, seen);
+    report.invariant_violations += missing;
+    report.invariant_vertices += missing > 0;
+  }
+  report.invariant_samples = samples;
   return report;
 }
 

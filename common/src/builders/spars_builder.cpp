@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace ispars {
 namespace {
@@ -32,6 +33,12 @@ SparsRules SparsRules::for_variant(SparsVariant variant, bool inspection_test) {
   return rules;
 }
 
+SparsRules SparsRules::dense_free() {
+  SparsRules rules = for_variant(SparsVariant::stretch, true);
+  rules.dense_graph = false;
+  return rules;
+}
+
 SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules)
     : scene_(&scene),
       options_(options),
@@ -42,11 +49,19 @@ SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, cons
       dense_(scene, scene.config().dense_delta),
       sparse_(scene.pois().size()),
       sparse_grid_(scene.config().sparse_delta) {
+  if (rules.dense_shortcut && !rules.dense_graph) {
+    throw std::invalid_argument("the dense shortcut reads the dense graph: it cannot run without one");
+  }
   // Alg. 1, line 1: G_d and G_s start with the root.
   PreparedSample root;
   root.q = scene.config().root;
   root.valid = true;
   scene.visible_pois(root.q, root.visible);
+  if (!rules_.dense_graph) {
+    const VertexId s = sparse_.add_vertex(root.q, root.visible);
+    sparse_grid_.insert(s, root.q);
+    return;
+  }
   const VertexId r = dense_.insert(root.q, root.visible);
   sparse_of_dense_.push_back(kNoVertex);
   rep_.push_back(kNoVertex);
@@ -54,6 +69,27 @@ SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, cons
   support_rep_.push_back(kNoVertex);
   partners_.emplace_back();
   add_guard(r);
+}
+
+SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules, Roadmap sparse,
+                           std::size_t samples)
+    : scene_(&scene),
+      options_(options),
+      rules_(rules),
+      sparse_delta_(scene.config().sparse_delta),
+      stretch_(scene.config().stretch),
+      rng_(options.seed),
+      dense_(scene, scene.config().dense_delta),
+      sparse_(std::move(sparse)),
+      sparse_grid_(scene.config().sparse_delta) {
+  if (rules.dense_graph) throw std::invalid_argument("a builder with a dense graph is replayed, not resumed");
+  if (sparse_.vertex_count() == 0 || sparse_.position(0) != scene.config().root) {
+    throw std::invalid_argument("the roadmap to resume does not start with the scene's root");
+  }
+  // The vertices entered the grid in id order as they were admitted: the same order again.
+  for (VertexId s = 0; s < sparse_.vertex_count(); ++s) sparse_grid_.insert(s, sparse_.position(s));
+  rng_.discard(3 * static_cast<std::uint64_t>(samples));  // prepare_samples: three draws a sample
+  samples_ = samples;
 }
 
 void SparsBuilder::extend(std::size_t samples) {
@@ -74,47 +110,68 @@ void SparsBuilder::step(const Vec3& sample) {
 
 void SparsBuilder::step(const PreparedSample& sample) {
   if (!sample.valid) return;
-  // Lines 4-9: q joins G_d with its delta-edges.
-  const VertexId q = dense_.insert(sample.q, sample.visible);
-  sparse_of_dense_.push_back(kNoVertex);
-  rep_.push_back(kNoVertex);
-  rep_distance_.push_back(INFINITY);
-  support_rep_.push_back(kNoVertex);
-  partners_.emplace_back();
+  current_.sample = &sample;
+  current_.dense = kNoVertex;
+  current_.sparse = kNoVertex;
+  current_.seen.assign(poi_words(scene_->pois().size()), 0);
+  for (const PoiId p : sample.visible) current_.seen[p / 64] |= std::uint64_t{1} << (p % 64);
+  if (rules_.dense_graph) {
+    // Lines 4-9: q joins G_d with its delta-edges.
+    current_.dense = dense_.insert(sample.q, sample.visible);
+    sparse_of_dense_.push_back(kNoVertex);
+    rep_.push_back(kNoVertex);
+    rep_distance_.push_back(INFINITY);
+    support_rep_.push_back(kNoVertex);
+    partners_.emplace_back();
+  }
 
   // Line 10: W = ReachableGuards(q, Delta, G_s); its nearest member is rep(q).
   reachable_guards(sample.q);
-  if (!reachable_.empty()) {
-    rep_[q] = reachable_.front();
-    rep_distance_[q] = (sparse_.position(reachable_.front()) - sample.q).norm();
-  }
-  // q's supports from its neighbours; each neighbour gains at most one partner, rep(q).
-  update_supports(q);
-  if (rep_[q] != kNoVertex) {
-    for (const Neighbor& n : dense_.graph().neighbors(q)) add_partner(n.vertex, rep_[q]);
+  if (rules_.dense_graph) {
+    const VertexId q = current_.dense;
+    if (!reachable_.empty()) {
+      rep_[q] = reachable_.front();
+      rep_distance_[q] = (sparse_.position(reachable_.front()) - sample.q).norm();
+    }
+    // q's supports from its neighbours; each neighbour gains at most one partner, rep(q).
+    update_supports(q);
+    if (rep_[q] != kNoVertex) {
+      for (const Neighbor& n : dense_.graph().neighbors(q)) add_partner(n.vertex, rep_[q]);
+    }
   }
 
   // Lines 11-17: guard, bridge, interface.
   if (reachable_.empty()) {
-    add_guard(q);
+    admit();
     ++admissions_.guard;
-  } else if (!bridge_test(q)) {
-    interface_test(q);
+  } else if (!bridge_test()) {
+    interface_test();
   }
   // Lines 18-23 (Inspection-SPARS): admit q if it sees a POI no member of W sees.
-  if (rules_.inspection_test && sparse_of_dense_[q] == kNoVertex && inspection_test(q)) {
-    add_guard(q);
+  if (rules_.inspection_test && current_.sparse == kNoVertex && inspection_test()) {
+    admit();
     ++admissions_.inspection;
   }
   // The sparse-vertex stretch rules: an admitted q joins the members of W it has no short route
   // to; a q left out witnesses the routes between the members of W.
-  if (sparse_of_dense_[q] != kNoVertex) {
-    if (rules_.vertex_join) vertex_join(sparse_of_dense_[q], reachable_);
+  if (current_.sparse != kNoVertex) {
+    if (rules_.vertex_join) vertex_join(current_.sparse, reachable_);
   } else if (rules_.witnessed_pairs) {
-    witnessed_pairs(q);
+    witnessed_pairs();
   }
   // Lines 24-26: shortcut.
-  if (rules_.dense_shortcut && sparse_of_dense_[q] == kNoVertex) shortcut_test(q);
+  if (rules_.dense_shortcut && current_.sparse == kNoVertex) shortcut_test(current_.dense);
+}
+
+VertexId SparsBuilder::admit() {
+  if (current_.sparse != kNoVertex) return current_.sparse;
+  if (rules_.dense_graph) {
+    current_.sparse = add_guard(current_.dense);
+  } else {
+    current_.sparse = sparse_.add_vertex(current_.sample->q, current_.sample->visible);
+    sparse_grid_.insert(current_.sparse, current_.sample->q);
+  }
+  return current_.sparse;
 }
 
 void SparsBuilder::reachable_guards(const Vec3& q) {
@@ -125,7 +182,7 @@ void SparsBuilder::reachable_guards(const Vec3& q) {
   }
 }
 
-bool SparsBuilder::bridge_test(VertexId q) {
+bool SparsBuilder::bridge_test() {
   // The nearest reachable member of each component of G_s that W touches.
   std::vector<VertexId> links;
   std::vector<VertexId> components;
@@ -152,13 +209,13 @@ bool SparsBuilder::bridge_test(VertexId q) {
     if (through_q.size() < 2) return true;
     links = std::move(through_q);
   }
-  const VertexId s = add_guard(q);
+  const VertexId s = admit();
   for (const VertexId w : links) connect(s, w, admissions_.bridge_edges);
   ++admissions_.bridge;
   return true;
 }
 
-bool SparsBuilder::interface_test(VertexId q) {
+bool SparsBuilder::interface_test() {
   // The two nearest sparse vertices within Delta must both be reachable and not adjacent.
   if (nearby_.size() < 2 || reachable_.size() < 2) return false;
   const VertexId v0 = reachable_[0];
@@ -169,7 +226,7 @@ bool SparsBuilder::interface_test(VertexId q) {
     connect(v0, v1, admissions_.interface_edges);
     ++admissions_.interface_edge;
   } else {
-    const VertexId s = add_guard(q);
+    const VertexId s = admit();
     connect(s, v0, admissions_.interface_edges);
     connect(s, v1, admissions_.interface_edges);
     ++admissions_.interface_vertex;
@@ -177,9 +234,9 @@ bool SparsBuilder::interface_test(VertexId q) {
   return true;
 }
 
-bool SparsBuilder::inspection_test(VertexId q) const {
+bool SparsBuilder::inspection_test() const {
   // I_Delta(q, G_s) = union of chi(w) over w in W; admit when chi(q) reaches outside it.
-  const PoiBits seen = dense_.graph().visible(q);
+  const PoiBits seen = current_.seen;
   std::vector<std::uint64_t> cover(seen.size(), 0);
   for (const VertexId w : reachable_) unite(cover, sparse_.visible(w));
   return has_outside(seen, cover);

@@ -84,8 +84,8 @@ void SparsBuilder::vertex_join(VertexId s, const std::vector<VertexId>& reachabl
   }
 }
 
-bool SparsBuilder::witnessed_pairs(VertexId q) {
-  const Vec3 pq = dense_.graph().position(q);
+bool SparsBuilder::witnessed_pairs() {
+  const Vec3 pq = current_.sample->q;
   const std::vector<VertexId> w = reachable_;  // W(q), nearest first
   if (w.size() < 2) return false;
   std::vector<double> to_q(w.size());
@@ -119,7 +119,7 @@ bool SparsBuilder::witnessed_pairs(VertexId q) {
         ++admissions_.witness_edge;
       } else {
         if (admitted == kNoVertex) {
-          admitted = add_guard(q);
+          admitted = admit();
           ++admissions_.witness_vertex;
         }
         connect(admitted, w[i], admissions_.witness_edges);

@@ -32,6 +32,10 @@ std::uint64_t Rng::next_u64() {
   return result;
 }
 
+void Rng::discard(std::uint64_t n) {
+  for (std::uint64_t i = 0; i < n; ++i) (void)next_u64();
+}
+
 double Rng::uniform01() { return static_cast<double>(next_u64() >> 11) * 0x1.0p-53; }
 
 double Rng::uniform(double lo, double hi) { return lo + (hi - lo) * uniform01(); }

@@ -12,8 +12,8 @@
 namespace ispars {
 namespace {
 
-constexpr std::array<BuildMethod, 4> kMethods{BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars,
-                                              BuildMethod::irisc};
+constexpr std::array<BuildMethod, 5> kMethods{BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars,
+                                              BuildMethod::irisc, BuildMethod::ispars2};
 constexpr std::array<SparsVariant, 2> kVariants{SparsVariant::stretch, SparsVariant::alg1};
 
 constexpr std::array<RecipeParameter, 4> kOverrides{{
@@ -42,9 +42,14 @@ std::string_view to_string(BuildMethod method) {
     case BuildMethod::spars: return "spars";
     case BuildMethod::ispars: return "ispars";
     case BuildMethod::irisc: return "irisc";
+    case BuildMethod::ispars2: return "ispars2";
   }
   return "?";
 }
+
+bool has_dense_pair(BuildMethod method) { return method == BuildMethod::spars || method == BuildMethod::ispars; }
+
+bool has_variants(BuildMethod method) { return method == BuildMethod::spars || method == BuildMethod::ispars; }
 
 std::optional<BuildMethod> parse_build_method(std::string_view text) {
   for (const BuildMethod m : kMethods) {
@@ -79,8 +84,7 @@ std::string spars_variant_names() {
 std::span<const RecipeParameter> recipe_overrides() { return kOverrides; }
 
 bool same_roadmap(const RoadmapRecipe& a, const RoadmapRecipe& b) {
-  const bool has_variant = a.method == BuildMethod::spars || a.method == BuildMethod::ispars;
-  return a.method == b.method && a.seed == b.seed && (!has_variant || a.variant == b.variant) &&
+  return a.method == b.method && a.seed == b.seed && (!has_variants(a.method) || a.variant == b.variant) &&
          a.dense_delta == b.dense_delta && a.sparse_delta == b.sparse_delta && a.stretch == b.stretch &&
          a.p_accept == b.p_accept;
 }

@@ -16,6 +16,8 @@ namespace ispars {
 namespace {
 
 constexpr const char* kRequest = "request";
+// Fresh samples Invariant 1 is checked on for a roadmap without a dense graph (ispars2).
+constexpr std::size_t kFreshVerifySamples = 20000;
 
 std::uint64_t new_generation() {
   return static_cast<std::uint64_t>(
@@ -370,13 +372,21 @@ VerificationReport RoadmapSession::verify() const {
   }
   if (!recipe) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
   const Scene scene = session_detail::scene_for(scene_, *recipe);
-  if (builder_) {
-    return builder_->dense() ? verify_sparse_pair(scene, builder_->roadmap(), *builder_->dense(), builder_->dense_ids())
-                             : verify_roadmap(scene, builder_->roadmap());
-  }
+  const auto check = [&](const Roadmap& roadmap, const Roadmap* dense, std::span<const VertexId> dense_ids) {
+    if (dense) return verify_sparse_pair(scene, roadmap, *dense, dense_ids);
+    VerificationReport report = verify_roadmap(scene, roadmap);
+    if (recipe->method == BuildMethod::ispars2) {
+      // No dense graph keeps the samples drawn: Invariant 1 is checked on fresh ones.
+      const VerificationReport fresh = verify_fresh_samples(scene, roadmap, kFreshVerifySamples, recipe->seed + 1);
+      report.invariant_violations = fresh.invariant_violations;
+      report.invariant_vertices = fresh.invariant_vertices;
+      report.invariant_samples = fresh.invariant_samples;
+    }
+    return report;
+  };
+  if (builder_) return check(builder_->roadmap(), builder_->dense(), builder_->dense_ids());
   if (!recovered_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
-  return recovered_->dense ? verify_sparse_pair(scene, recovered_->roadmap, *recovered_->dense, recovered_->dense_ids)
-                           : verify_roadmap(scene, recovered_->roadmap);
+  return check(recovered_->roadmap, recovered_->dense ? &*recovered_->dense : nullptr, recovered_->dense_ids);
 }
 
 }  // namespace ispars

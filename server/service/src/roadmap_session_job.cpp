@@ -2,6 +2,7 @@
 // roadmap chunk by chunk, each chunk committed to the store, published, and reported.
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
@@ -17,13 +18,17 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::unique_ptr<RoadmapBuilder> builder_for(const Scene& scene, const RoadmapRecipe& recipe, unsigned threads) {
+BuildOptions build_options(const RoadmapRecipe& recipe, unsigned threads) {
   BuildOptions options;
   options.seed = recipe.seed;
   options.threads = threads;
   options.p_accept = recipe.p_accept;
   options.variant = recipe.variant;
-  return make_roadmap_builder(recipe.method, scene, options);
+  return options;
+}
+
+std::unique_ptr<RoadmapBuilder> builder_for(const Scene& scene, const RoadmapRecipe& recipe, unsigned threads) {
+  return make_roadmap_builder(recipe.method, scene, build_options(recipe, threads));
 }
 
 std::string roadmap_bytes(const Roadmap& roadmap) { return encode_batch(batch_since(roadmap, 0)); }
@@ -46,10 +51,24 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
   {
     std::lock_guard lock(mutex_);
     recipe = *recipe_;
+  }
+  build_scene_ = std::make_unique<Scene>(session_detail::scene_for(scene_, recipe));
+  if (recovered_ && resumes_from_roadmap(recipe.method)) {
+    // Its roadmap is its whole state: it goes on from the stored one, with nothing replayed.
+    const auto t0 = std::chrono::steady_clock::now();
+    builder_ = resume_roadmap_builder(recipe.method, *build_scene_, build_options(recipe, limits_.build_threads),
+                                      std::move(recovered_->roadmap), recovered_->samples);
+    recovered_.reset();
+    spdlog::info("scene '{}': the {} builder resumed from its stored roadmap at {} samples in {:.3f} s, nothing replayed",
+                 name_, to_string(recipe.method), builder_->samples(),
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
     state_ = SessionState::replaying;
   }
   notify_status();
-  build_scene_ = std::make_unique<Scene>(session_detail::scene_for(scene_, recipe));
   auto builder = builder_for(*build_scene_, recipe, limits_.build_threads);
   const std::uint64_t target = recovered_ ? recovered_->samples : 0;
   while (builder->samples() < target) {

@@ -36,11 +36,10 @@ std::filesystem::path journal_path(const std::filesystem::path& dir) { return di
 std::filesystem::path snapshot_path(const std::filesystem::path& dir) { return dir / "snapshot.bin"; }
 std::filesystem::path recipe_path(const std::filesystem::path& dir) { return dir / "recipe.json"; }
 
-bool has_dense(BuildMethod method) { return method == BuildMethod::spars || method == BuildMethod::ispars; }
 
 StoredRoadmaps empty_roadmaps(const RoadmapRecipe& recipe, std::size_t poi_count) {
   StoredRoadmaps r{0, Roadmap(poi_count), std::nullopt, {}};
-  if (has_dense(recipe.method)) r.dense.emplace(poi_count);
+  if (has_dense_pair(recipe.method)) r.dense.emplace(poi_count);
   return r;
 }
 

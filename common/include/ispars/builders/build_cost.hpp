@@ -31,6 +31,7 @@ inline constexpr double kBytesPerEdge = 80.0;
 /// given its free fraction. Vertices: every valid sample (dense, spars, ispars), or for IRIS-C
 /// one per POI plus p_accept of the rest. Edges: every pair of vertices within the connection
 /// radius (dense_delta; Delta for IRIS-C), as if obstacles cut none and the ball never left the box.
+/// ispars2 keeps no dense graph: a measured bound on its sparse roadmap (build_cost.cpp).
 [[nodiscard]] BuildCost estimate_build_cost(const Scene& scene, const RoadmapRecipe& recipe, std::uint64_t samples,
                                             double free_fraction);
 

@@ -54,4 +54,17 @@ class RoadmapBuilder {
 [[nodiscard]] std::unique_ptr<RoadmapBuilder> make_roadmap_builder(BuildMethod method, const Scene& scene,
                                                                    const BuildOptions& options);
 
+/// Whether a builder of `method` can go on from its roadmap alone (resume_roadmap_builder):
+/// ispars2. The others keep more than their roadmap (a dense graph, IRIS-C's draws) and are
+/// rebuilt by replaying their samples.
+[[nodiscard]] bool resumes_from_roadmap(BuildMethod method);
+
+/// A builder for `method` that goes on from `roadmap`, which make_roadmap_builder(method, scene,
+/// options) grew in `samples` samples, without drawing them again: extending it gives byte for
+/// byte what extending the uninterrupted builder gives. Throws std::invalid_argument when
+/// resumes_from_roadmap(method) is false or the roadmap has no root.
+[[nodiscard]] std::unique_ptr<RoadmapBuilder> resume_roadmap_builder(BuildMethod method, const Scene& scene,
+                                                                     const BuildOptions& options, Roadmap roadmap,
+                                                                     std::size_t samples);
+
 }  // namespace ispars

@@ -19,6 +19,9 @@ struct VerificationReport {
   /// and a valid segment q-q'.
   std::uint64_t invariant_violations = 0;
   std::uint64_t invariant_vertices = 0;  ///< Dense vertices with at least one such POI.
+  /// Fresh samples Invariant 1 was checked on instead of dense vertices (a roadmap without a
+  /// dense graph: verify_fresh_samples); 0 when it was checked on the dense graph.
+  std::uint64_t invariant_samples = 0;
 
   [[nodiscard]] bool geometry_ok() const {
     return invalid_vertices == 0 && invalid_edges == 0 && wrong_costs == 0 && sparse_not_dense == 0;
@@ -32,5 +35,13 @@ struct VerificationReport {
 /// local inspection-coverage invariant over every dense vertex.
 [[nodiscard]] VerificationReport verify_sparse_pair(const Scene& scene, const Roadmap& sparse,
                                                     const Roadmap& dense, std::span<const VertexId> dense_ids);
+
+/// Invariant 1 on `samples` fresh valid samples q drawn from `seed` (independent of the build's
+/// stream): the pairs (q, POI p in chi(q)) with no sparse vertex within Delta in view of q that
+/// sees p, in invariant_violations, and the samples with one in invariant_vertices. The build
+/// admits every sample it draws that would violate it; a fresh sample may, with a probability
+/// these counts estimate.
+[[nodiscard]] VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& sparse, std::size_t samples,
+                                                      std::uint64_t seed);
 
 }  // namespace ispars

@@ -36,12 +36,18 @@ struct SparsRules {
   /// Bridge: join the components' members directly where their segment is valid (as the
   /// interface test does), admitting q only for the components it alone can join.
   bool bridge_by_edge = false;
+  /// Keep the dense delta-PRM G_d (and the representatives and interface supports over it)
+  /// beside G_s. Only the dense shortcut reads them: without it no rule does, and a builder
+  /// without G_d (ispars2) grows exactly the same G_s in memory proportional to G_s alone.
+  bool dense_graph = true;
 
   /// The named rule sets: `alg1` is the paper's Alg. 1 read literally (and SPARS without the
   /// inspection test); `stretch`, the default, adds the vertex join, the witnessed pairs over
   /// all of W(q) and bridges by edge, and drops the dense shortcut they make redundant
   /// (docs/sparse-stretch.md has the ablation behind this choice).
   [[nodiscard]] static SparsRules for_variant(SparsVariant variant, bool inspection_test);
+  /// ispars2: the `stretch` rules with the inspection test, and no dense graph.
+  [[nodiscard]] static SparsRules dense_free();
 };
 
 /// How often each admission criterion changed G_s, and the edges each added.
@@ -81,15 +87,25 @@ struct ShortcutRecord {
 };
 
 /// SPARS, with the inspection test of Inspection-SPARS when rules.inspection_test is set.
-/// Every sparse vertex is a dense vertex (the same sample); dense_ids() maps one to the other.
+/// With rules.dense_graph every sparse vertex is a dense vertex (the same sample), and
+/// dense_ids() maps one to the other; without it there is no dense graph (dense() is null).
 class SparsBuilder final : public RoadmapBuilder {
  public:
+  /// Throws std::invalid_argument for rules that need G_d without it (the dense shortcut).
   SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules);
+  /// Goes on from `sparse`, grown by these rules (without G_d) from `samples` samples of
+  /// options.seed's stream, as if it had never stopped: G_s and the sample stream are its whole
+  /// state (the admission counts start again at 0). Throws std::invalid_argument with G_d in the
+  /// rules, or a roadmap without its root.
+  SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules, Roadmap sparse,
+               std::size_t samples);
 
   void extend(std::size_t samples) override;
   [[nodiscard]] const Roadmap& roadmap() const override { return sparse_; }
-  [[nodiscard]] const Roadmap* dense() const override { return &dense_.graph(); }
-  [[nodiscard]] std::span<const VertexId> dense_ids() const override { return dense_of_sparse_; }
+  [[nodiscard]] const Roadmap* dense() const override { return rules_.dense_graph ? &dense_.graph() : nullptr; }
+  [[nodiscard]] std::span<const VertexId> dense_ids() const override {
+    return rules_.dense_graph ? std::span<const VertexId>(dense_of_sparse_) : std::span<const VertexId>();
+  }
 
   /// One iteration of Alg. 1's loop for a prepared sample (invalid samples are dropped).
   void step(const PreparedSample& sample);
@@ -105,11 +121,13 @@ class SparsBuilder final : public RoadmapBuilder {
   [[nodiscard]] std::vector<VertexId> interface_supports(VertexId v, VertexId v2) const;
 
  private:
-  // Alg. 1, line by line (spars_builder.cpp).
+  // Alg. 1, line by line (spars_builder.cpp), for the current sample q (current_).
   void reachable_guards(const Vec3& q);  // fills nearby_ (graph neighbourhood) and reachable_ (W)
-  bool bridge_test(VertexId q);
-  bool interface_test(VertexId q);
-  bool inspection_test(VertexId q) const;
+  bool bridge_test();
+  bool interface_test();
+  bool inspection_test() const;
+  /// The current sample q as a sparse vertex: added (AddGuard) on the first call.
+  VertexId admit();
   // The dense shortcut (spars_shortcut.cpp).
   void shortcut_test(VertexId q);
   std::vector<VertexId> smooth(const std::vector<VertexId>& dense_path) const;
@@ -120,7 +138,7 @@ class SparsBuilder final : public RoadmapBuilder {
   void vertex_join(VertexId s, const std::vector<VertexId>& reachable);
   /// Repairs every pair of W(q) whose sparse route exceeds t times the route through q; returns
   /// whether q was admitted.
-  bool witnessed_pairs(VertexId q);
+  bool witnessed_pairs();
   /// The first k whose sparse route from `from` exceeds bounds[k] (targets.size() when none does).
   std::size_t first_long_route(VertexId from, std::span<const VertexId> targets, std::span<const double> bounds);
   /// The shortest route between sparse vertices a and b known so far (an edge, or a route a
@@ -132,7 +150,8 @@ class SparsBuilder final : public RoadmapBuilder {
   /// W(x) for sparse vertex s at dense vertex x: sparse vertices within Delta in view, s excluded.
   std::vector<VertexId> reachable_from(VertexId s) const;
 
-  /// AddGuard: q becomes a sparse vertex (no edges); representatives and supports follow.
+  /// AddGuard: dense vertex x becomes a sparse vertex (no edges); representatives and supports
+  /// follow.
   VertexId add_guard(VertexId dense_vertex);
   /// Adds the sparse edge u-v (when new), counted under `cause`.
   void connect(VertexId u, VertexId v, std::uint64_t& cause);
@@ -158,6 +177,15 @@ class SparsBuilder final : public RoadmapBuilder {
   std::vector<VertexId> support_rep_;   // the rep under which partners_ are registered
   std::vector<std::vector<VertexId>> partners_;  // per dense vertex: v' of the interfaces it supports
   std::vector<std::map<VertexId, std::vector<VertexId>>> supports_;  // per sparse v: v' -> dense ids
+
+  // The sample being processed: its position and chi, its dense vertex (with G_d), and its
+  // sparse vertex once admitted.
+  struct CurrentSample {
+    const PreparedSample* sample = nullptr;
+    std::vector<std::uint64_t> seen;  // chi(q) as bits
+    VertexId dense = kNoVertex;
+    VertexId sparse = kNoVertex;
+  } current_;
 
   SparsAdmissions admissions_;
   std::vector<ShortcutRecord> shortcuts_;

@@ -17,6 +17,9 @@ class Rng {
 
   /// The next 64 random bits.
   std::uint64_t next_u64();
+  /// Skips `n` draws of next_u64 (every other draw is made of them: uniform01 takes one,
+  /// uniform_in three).
+  void discard(std::uint64_t n);
   /// Uniform in [0, 1), with 53 random bits.
   double uniform01();
   /// Uniform in [lo, hi).

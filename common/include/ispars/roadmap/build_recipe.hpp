@@ -12,13 +12,19 @@
 
 namespace ispars {
 
-/// The roadmap a build grows.
-enum class BuildMethod { dense, spars, ispars, irisc };
+/// The roadmap a build grows. `ispars2` is Inspection-SPARS with the `stretch` rules and no
+/// dense graph: the same sparse roadmap as `ispars` (whose default rules never read the dense
+/// graph), in memory proportional to the sparse roadmap alone.
+enum class BuildMethod { dense, spars, ispars, irisc, ispars2 };
 
 [[nodiscard]] std::string_view to_string(BuildMethod method);
-/// "dense", "spars", "ispars" or "irisc"; nothing for anything else.
+/// "dense", "spars", "ispars", "irisc" or "ispars2"; nothing for anything else.
 [[nodiscard]] std::optional<BuildMethod> parse_build_method(std::string_view text);
-/// The method names, for help texts and errors: "dense, spars, ispars, irisc".
+/// Whether `method` keeps a dense roadmap beside its own (spars and ispars).
+[[nodiscard]] bool has_dense_pair(BuildMethod method);
+/// Whether `method` has rule-set variants (spars and ispars).
+[[nodiscard]] bool has_variants(BuildMethod method);
+/// The method names, for help texts and errors: "dense, spars, ispars, irisc, ispars2".
 [[nodiscard]] std::string build_method_names();
 
 /// The rule set of the spars and ispars sparse roadmaps (spars_builder.hpp, SparsRules).

@@ -1,0 +1,97 @@
+// ispars2 through the daemon: no dense graph is built, stored or reported; verify checks
+// Invariant 1 on fresh samples and says so; a variant is refused by name; and after a restart
+// (SIGTERM or kill -9) an extend goes on from the stored roadmap without replaying it, to the
+// roadmap an uninterrupted build gives, byte for byte.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "integration/service_fixture.hpp"
+
+namespace ispars::test {
+namespace {
+
+BuildArgs ispars2_build(std::uint64_t samples, std::uint64_t seed = 1) {
+  BuildArgs a;
+  a.method = "ispars2";
+  a.samples = samples;
+  a.seed = seed;
+  return a;
+}
+
+std::uint64_t ispars2_digest(const std::filesystem::path& scene_file, std::uint64_t samples, std::uint64_t seed) {
+  const Scene scene = Scene::load(scene_file);
+  BuildOptions options;
+  options.seed = seed;
+  const auto builder = make_roadmap_builder(BuildMethod::ispars2, scene, options);
+  builder->extend(samples);
+  return roadmap_digest(builder->roadmap());
+}
+
+TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay) {
+  auto daemon = start("d");
+  {
+    Client client(client_options(domain_));
+    client.load("s0");
+    BuildArgs with_variant = ispars2_build(100);
+    with_variant.variant = "alg1";
+    try {
+      client.build("s0", with_variant);
+      ADD_FAILURE() << "a variant for ispars2 was accepted";
+    } catch (const ClientError& e) {
+      EXPECT_NE(std::string(e.what()).find("'alg1' given, but ispars2 has no rule-set variants"), std::string::npos)
+          << e.what();
+    }
+    EXPECT_TRUE(client.stats("s0").method().to_string().empty()) << "the refused build changed the scene";
+    client.build("s0", ispars2_build(3000));
+    const msg::SceneStatus built = client.wait_idle("s0", {}, kLong);
+    ASSERT_EQ(built.state(), msg::SCENE_IDLE) << built.last_error();
+    EXPECT_EQ(built.method(), "ispars2");
+    EXPECT_EQ(built.dense_vertices(), 0u);
+    EXPECT_EQ(built.dense_edges(), 0u);
+    EXPECT_GT(built.vertices(), 10u);
+    // The same sparse roadmap as ispars's, which keeps the dense graph it never reads.
+    EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 3000, 1));
+    const msg::Reply verified = client.verify("s0");
+    EXPECT_EQ(verified.body().verify().violations(), 0u) << verified.message();
+    EXPECT_NE(verified.message().find("of 20000 fresh samples, drawn for this check"), std::string::npos)
+        << verified.message();
+  }
+  ASSERT_EQ(daemon->terminate(), 0);
+  daemon = start("d");
+  {
+    Client client(client_options(domain_));
+    client.load("s0");
+    client.extend("s0", 2000);
+    const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
+    ASSERT_EQ(extended.samples_done(), 5000u) << extended.last_error();
+    EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), ispars2_digest(scene_dir_ / "s0.yaml", 5000, 1));
+  }
+  const std::string log = daemon->log();
+  EXPECT_NE(log.find("the ispars2 builder resumed from its stored roadmap at 3000 samples"), std::string::npos) << log;
+  // kill -9 in the middle of an extend: the restart recovers the last commit, and goes on from it.
+  {
+    Client client(client_options(domain_));
+    client.extend("s0", 400000);
+    for (int i = 0; i < 200 && client.stats("s0").samples_done() < 6000; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+  daemon->kill9();
+  daemon = start("d");
+  Client client(client_options(domain_));
+  client.load("s0");
+  (void)client.cancel("s0");  // the resumed extend: what is checked is what the kill left
+  const msg::SceneStatus recovered = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(recovered.state(), msg::SCENE_IDLE) << recovered.last_error();
+  ASSERT_GE(recovered.samples_done(), 5000u);
+  const std::uint64_t target = recovered.samples_done() + 1000;
+  client.extend("s0", 1000);
+  const msg::SceneStatus done = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(done.samples_done(), target) << done.last_error();
+  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), ispars2_digest(scene_dir_ / "s0.yaml", target, 1));
+}
+
+}  // namespace
+}  // namespace ispars::test
