@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,18 +35,29 @@ inline double percentile(std::vector<double> v, double p) {
 struct Bench {
   /// `daemon_identity`, `probe_identity`: DDS Security identity directories of the daemon and of
   /// its readiness probe (empty: no security).
+  /// `scenes`: the scene directory (empty: two procedural tank towers, "tower" and "tower2").
   Bench(const std::string& daemon_binary, std::vector<std::string> extra = {}, const std::string& daemon_identity = "",
-        const std::string& probe_identity = "") {
+        const std::string& probe_identity = "", std::filesystem::path scenes = {}) {
     char pattern[] = "/tmp/ispars-bench-XXXXXX";
     dir = ::mkdtemp(pattern);
-    ispars::client::write_tank_tower_scenes(dir / "scenes", {"tower", "tower2"});
+    const bool procedural = scenes.empty();
+    scene_dir = procedural ? dir / "scenes" : std::move(scenes);
+    if (procedural) ispars::client::write_tank_tower_scenes(scene_dir, {"tower", "tower2"});
     domain = ispars::client::random_domain();
     if (!daemon_identity.empty()) {
       extra.push_back("--security");
       extra.push_back(daemon_identity);
     }
-    daemon = std::make_unique<LocalDaemon>(daemon_binary, domain, dir / "data", dir / "scenes", "bench", std::move(extra),
+    daemon_args = extra;
+    probe = probe_identity;
+    daemon = std::make_unique<LocalDaemon>(daemon_binary, domain, dir / "data", scene_dir, "bench", std::move(extra),
                                            probe_identity);
+  }
+  /// Stops the daemon (SIGTERM) and starts it again on the same directories; returns once it
+  /// announces itself.
+  void restart(const std::string& daemon_binary) {
+    daemon.reset();
+    daemon = std::make_unique<LocalDaemon>(daemon_binary, domain, dir / "data", scene_dir, "bench", daemon_args, probe);
   }
   ~Bench() {
     daemon.reset();
@@ -58,10 +70,27 @@ struct Bench {
     return o;
   }
   std::filesystem::path dir;
+  std::filesystem::path scene_dir;
+  std::vector<std::string> daemon_args;
+  std::string probe;
   std::string client_identity;  ///< what options() gives clients (empty: no security)
   int domain = 0;
   std::unique_ptr<LocalDaemon> daemon;
 };
+
+/// A process's /proc status field in KiB ("VmRSS:", "VmHWM:"); 0 when unknown.
+inline std::size_t proc_status_kib(pid_t pid, const std::string& field) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind(field, 0) == 0) return std::stoul(line.substr(field.size()));
+  }
+  return 0;
+}
+
+/// `ispars-bench grow`: see grow_bench.cpp.
+nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem::path& scene_dir, const std::string& scene,
+                        const std::string& method, std::uint64_t samples, std::uint64_t step);
 
 /// `ispars-bench rtt`: see rtt_bench.cpp. `keystore_script` empty: without DDS Security only.
 nlohmann::json run_rtt(const std::string& daemon_binary, int count, const std::string& keystore_script);

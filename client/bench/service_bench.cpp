@@ -5,6 +5,7 @@
 //   stream    update streaming throughput to 1 and to 8 subscribers
 //   snapshot  transfer of a roadmap of at least --vertices vertices
 //   memory    daemon resident memory per 100,000 dense vertices
+//   grow      a roadmap extended step by step to millions of samples, then a restart (grow_bench.cpp)
 //
 // Every run starts its own isparsd (next to this binary unless --daemon) on a random domain
 // with the localhost-only profile, in a temporary directory, and stops it at the end.
@@ -111,14 +112,7 @@ nlohmann::json run_snapshot(const std::string& daemon_binary, std::uint64_t vert
           {"megabytes_per_second", static_cast<double>(bytes) / 1e6 / percentile(times, 0.5)}};
 }
 
-std::size_t rss_kib(pid_t pid) {
-  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-  std::string line;
-  while (std::getline(status, line)) {
-    if (line.rfind("VmRSS:", 0) == 0) return std::stoul(line.substr(6));
-  }
-  return 0;
-}
+std::size_t rss_kib(pid_t pid) { return proc_status_kib(pid, "VmRSS:"); }
 
 nlohmann::json run_memory(const std::string& daemon_binary, std::uint64_t samples) {
   nlohmann::json rows = nlohmann::json::array();
@@ -173,6 +167,14 @@ int main(int argc, char** argv) {
   std::uint64_t memory_samples = 100000;
   auto* memory = app.add_subcommand("memory", "daemon memory per 100,000 dense vertices");
   memory->add_option("--samples", memory_samples, "samples per build");
+  std::string grow_scenes, grow_scene = "water_tower", grow_method = "ispars2";
+  std::uint64_t grow_samples = 1'000'000, grow_step = 100'000;
+  auto* grow = app.add_subcommand("grow", "a roadmap extended step by step: cost per sample, memory, restart");
+  grow->add_option("--scene-dir", grow_scenes, "scene directory (deploy/scenes)")->required()->check(CLI::ExistingDirectory);
+  grow->add_option("--scene", grow_scene, "scene name");
+  grow->add_option("--method", grow_method, "build method");
+  grow->add_option("--samples", grow_samples, "samples in all")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
+  grow->add_option("--step", grow_step, "samples per extend")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
   int echo_domain = 0;
   std::string echo_security, echo_client, echo_reply;
   auto* echo = app.add_subcommand("echo", "")->group("");  // hidden: rtt's raw echo server
@@ -188,6 +190,7 @@ int main(int argc, char** argv) {
     if (*stream) out = run_stream(daemon, samples, method);
     if (*snapshot) out = run_snapshot(daemon, vertices, repeats);
     if (*memory) out = run_memory(daemon, memory_samples);
+    if (*grow) out = run_grow(daemon, grow_scenes, grow_scene, grow_method, grow_samples, grow_step);
     std::cout << out.dump() << std::endl;
     return 0;
   } catch (const std::exception& e) {
