@@ -48,7 +48,8 @@ SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, cons
       rng_(options.seed),
       dense_(scene, scene.config().dense_delta),
       sparse_(scene.pois().size()),
-      sparse_grid_(scene.config().sparse_delta) {
+      sparse_grid_(scene.config().sparse_delta),
+      known_routes_(options.known_route_pairs) {
   if (rules.dense_shortcut && !rules.dense_graph) {
     throw std::invalid_argument("the dense shortcut reads the dense graph: it cannot run without one");
   }
@@ -81,13 +82,15 @@ SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, cons
       rng_(options.seed),
       dense_(scene, scene.config().dense_delta),
       sparse_(std::move(sparse)),
-      sparse_grid_(scene.config().sparse_delta) {
+      sparse_grid_(scene.config().sparse_delta),
+      known_routes_(options.known_route_pairs) {
   if (rules.dense_graph) throw std::invalid_argument("a builder with a dense graph is replayed, not resumed");
   if (sparse_.vertex_count() == 0 || sparse_.position(0) != scene.config().root) {
     throw std::invalid_argument("the roadmap to resume does not start with the scene's root");
   }
   // The vertices entered the grid in id order as they were admitted: the same order again.
   for (VertexId s = 0; s < sparse_.vertex_count(); ++s) sparse_grid_.insert(s, sparse_.position(s));
+  for (const RoadmapEdge& e : sparse_.edges()) known_routes_.remember(e.u, e.v, e.cost);
   rng_.discard(3 * static_cast<std::uint64_t>(samples));  // prepare_samples: three draws a sample
   samples_ = samples;
 }
@@ -273,7 +276,9 @@ VertexId SparsBuilder::add_guard(VertexId d) {
 }
 
 void SparsBuilder::connect(VertexId u, VertexId v, std::uint64_t& cause) {
-  if (sparse_.add_edge(u, v)) ++cause;
+  if (!sparse_.add_edge(u, v)) return;
+  ++cause;
+  known_routes_.remember(u, v, (sparse_.position(u) - sparse_.position(v)).norm());  // no route is shorter
 }
 
 void SparsBuilder::update_supports(VertexId x) {

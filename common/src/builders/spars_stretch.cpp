@@ -18,12 +18,15 @@ namespace ispars {
 std::size_t SparsBuilder::first_long_route(VertexId from, std::span<const VertexId> targets,
                                            std::span<const double> bounds) {
   // One goal-directed Dijkstra from `from` serves every target. A vertex v reached at distance
-  // d is kept only if d + |v - target| is within some unsettled target's bound: every prefix of
-  // a route within its bound passes, so the distances found are exact. The search stops once
-  // every target is settled, or nothing within the largest bound is left.
+  // d is kept only if d + |v - target| is within some open target's bound: every prefix of a
+  // route within its bound passes, so a target whose route is within its bound is settled at its
+  // exact distance. A target is decided short when settled within its bound, long when settled
+  // beyond it or once the search has passed its bound (what is settled later is farther). The
+  // search stops as soon as the first long target in order is known, or every target is short.
   const double limit = *std::max_element(bounds.begin(), bounds.end());
-  open_targets_.clear();  // (position, bound, index) of the targets not settled yet
+  open_targets_.clear();  // (position, bound, index) of the targets not decided yet
   for (std::size_t k = 0; k < targets.size(); ++k) open_targets_.push_back({sparse_.position(targets[k]), bounds[k], k});
+  target_state_.assign(targets.size(), TargetState::open);
   const auto useful = [&](VertexId v, double d) {
     const Vec3& p = sparse_.position(v);
     for (const OpenTarget& t : open_targets_) {
@@ -33,33 +36,26 @@ std::size_t SparsBuilder::first_long_route(VertexId from, std::span<const Vertex
     return false;
   };
   sparse_search_.start(sparse_.vertex_count(), from);
-  while (!open_targets_.empty()) {
+  std::size_t first = 0;  // every target before it is short
+  for (;;) {
+    while (first < targets.size() && target_state_[first] == TargetState::short_route) ++first;
+    if (first == targets.size() || target_state_[first] == TargetState::long_route) break;
     const auto [d, x] = sparse_search_.settle_next(sparse_, limit, useful);
-    if (x == kNoVertex) break;
-    std::erase_if(open_targets_, [&](const OpenTarget& t) { return targets[t.index] == x; });
+    std::erase_if(open_targets_, [&](const OpenTarget& t) {
+      if (x != kNoVertex && targets[t.index] == x) {
+        target_state_[t.index] = d <= t.bound ? TargetState::short_route : TargetState::long_route;
+        return true;
+      }
+      if (x == kNoVertex || t.bound < d) {  // nothing within its bound is left to settle
+        target_state_[t.index] = TargetState::long_route;
+        return true;
+      }
+      return false;
+    });
   }
-  std::size_t first = targets.size();
-  for (std::size_t k = 0; k < targets.size(); ++k) {
-    const double d = sparse_search_.distance(targets[k]);
-    if (std::isfinite(d)) remember_route(from, targets[k], d);
-    if (first == targets.size() && !(d <= bounds[k])) first = k;
-  }
+  // Every route this search found is a route: an upper bound on the pair's distance from now on.
+  for (const VertexId v : sparse_search_.reached()) known_routes_.remember(from, v, sparse_search_.distance(v));
   return first;
-}
-
-void SparsBuilder::remember_route(VertexId a, VertexId b, double length) {
-  const auto [it, inserted] = known_routes_.try_emplace(pair_key(a, b), length);
-  if (!inserted) it->second = std::min(it->second, length);
-}
-
-double SparsBuilder::known_route(VertexId a, VertexId b) const {
-  if (sparse_.has_edge(a, b)) return (sparse_.position(a) - sparse_.position(b)).norm();
-  const auto it = known_routes_.find(pair_key(a, b));
-  return it == known_routes_.end() ? INFINITY : it->second;
-}
-
-std::uint64_t SparsBuilder::pair_key(VertexId a, VertexId b) {
-  return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
 }
 
 void SparsBuilder::vertex_join(VertexId s, const std::vector<VertexId>& reachable) {

@@ -6,11 +6,11 @@
 #include <cstdint>
 #include <map>
 #include <span>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
 #include "ispars/builders/delta_prm.hpp"
+#include "ispars/builders/known_routes.hpp"
 #include "ispars/search/dense_search.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/geometry/sample_batch.hpp"
@@ -144,9 +144,7 @@ class SparsBuilder final : public RoadmapBuilder {
   /// The shortest route between sparse vertices a and b known so far (an edge, or a route a
   /// search found), an upper bound on d_s(a, b) forever since routes only get shorter;
   /// infinity when none is known. Lets the stretch rules skip searches they already answered.
-  [[nodiscard]] double known_route(VertexId a, VertexId b) const;
-  void remember_route(VertexId a, VertexId b, double length);
-  [[nodiscard]] static std::uint64_t pair_key(VertexId a, VertexId b);
+  [[nodiscard]] double known_route(VertexId a, VertexId b) const { return known_routes_.get(a, b); }
   /// W(x) for sparse vertex s at dense vertex x: sparse vertices within Delta in view, s excluded.
   std::vector<VertexId> reachable_from(VertexId s) const;
 
@@ -200,7 +198,9 @@ class SparsBuilder final : public RoadmapBuilder {
     std::size_t index;
   };
   std::vector<OpenTarget> open_targets_;  // first_long_route's scratch
-  std::unordered_map<std::uint64_t, double> known_routes_;
+  enum class TargetState : std::uint8_t { open, short_route, long_route };
+  std::vector<TargetState> target_state_;  // first_long_route's scratch, by target index
+  KnownRoutes known_routes_;  // edges and routes found: searches the stretch rules can skip
 };
 
 }  // namespace ispars

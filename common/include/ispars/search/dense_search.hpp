@@ -29,6 +29,9 @@ class DenseSearch {
   std::pair<double, VertexId> settle_next(const Roadmap& graph, double bound, Keep&& keep);
   /// The distance found to v: exact once v is settled, infinity when the search never reached it.
   [[nodiscard]] double distance(VertexId v) const { return v < distance_.size() ? distance_[v] : INFINITY; }
+  /// Every vertex this search reached (its distance finite: the length of a route to it), the
+  /// source included.
+  [[nodiscard]] const std::vector<VertexId>& reached() const { return touched_; }
   /// The settled path from the source to `target`, both included.
   [[nodiscard]] std::vector<VertexId> path_to(VertexId source, VertexId target) const;
 
