@@ -64,11 +64,12 @@ inline BuildArgs ispars_build(std::uint64_t samples, std::uint64_t seed = 1, boo
 }
 
 // The roadmap an uninterrupted in-process build of `samples` gives: the reference for the daemon.
-inline std::uint64_t reference_digest(const std::filesystem::path& scene_file, std::uint64_t samples, std::uint64_t seed) {
+inline std::uint64_t reference_digest(const std::filesystem::path& scene_file, std::uint64_t samples, std::uint64_t seed,
+                                      BuildMethod method = BuildMethod::ispars) {
   const Scene scene = Scene::load(scene_file);
   BuildOptions options;
   options.seed = seed;
-  const auto builder = make_roadmap_builder(BuildMethod::ispars, scene, options);
+  const auto builder = make_roadmap_builder(method, scene, options);
   builder->extend(samples);
   return roadmap_digest(builder->roadmap());
 }

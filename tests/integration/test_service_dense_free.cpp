@@ -20,15 +20,6 @@ BuildArgs ispars2_build(std::uint64_t samples, std::uint64_t seed = 1) {
   return a;
 }
 
-std::uint64_t ispars2_digest(const std::filesystem::path& scene_file, std::uint64_t samples, std::uint64_t seed) {
-  const Scene scene = Scene::load(scene_file);
-  BuildOptions options;
-  options.seed = seed;
-  const auto builder = make_roadmap_builder(BuildMethod::ispars2, scene, options);
-  builder->extend(samples);
-  return roadmap_digest(builder->roadmap());
-}
-
 TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay) {
   auto daemon = start("d");
   {
@@ -66,7 +57,7 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
     client.extend("s0", 2000);
     const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
     ASSERT_EQ(extended.samples_done(), 5000u) << extended.last_error();
-    EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), ispars2_digest(scene_dir_ / "s0.yaml", 5000, 1));
+    EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 5000, 1, BuildMethod::ispars2));
   }
   const std::string log = daemon->log();
   EXPECT_NE(log.find("the ispars2 builder resumed from its stored roadmap at 3000 samples"), std::string::npos) << log;
@@ -90,7 +81,7 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
   client.extend("s0", 1000);
   const msg::SceneStatus done = client.wait_idle("s0", {}, kLong);
   ASSERT_EQ(done.samples_done(), target) << done.last_error();
-  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), ispars2_digest(scene_dir_ / "s0.yaml", target, 1));
+  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", target, 1, BuildMethod::ispars2));
 }
 
 }  // namespace

@@ -74,21 +74,13 @@ SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, cons
 
 SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules, Roadmap sparse,
                            std::size_t samples)
-    : scene_(&scene),
-      options_(options),
-      rules_(rules),
-      sparse_delta_(scene.config().sparse_delta),
-      stretch_(scene.config().stretch),
-      rng_(options.seed),
-      dense_(scene, scene.config().dense_delta),
-      sparse_(std::move(sparse)),
-      sparse_grid_(scene.config().sparse_delta),
-      known_routes_(options.known_route_pairs) {
+    : SparsBuilder(scene, options, rules) {
   if (rules.dense_graph) throw std::invalid_argument("a builder with a dense graph is replayed, not resumed");
-  if (sparse_.vertex_count() == 0 || sparse_.position(0) != scene.config().root) {
+  if (sparse.vertex_count() == 0 || sparse.position(0) != scene.config().root) {
     throw std::invalid_argument("the roadmap to resume does not start with the scene's root");
   }
-  // The vertices entered the grid in id order as they were admitted: the same order again.
+  sparse_ = std::move(sparse);
+  sparse_grid_ = PointGrid(sparse_delta_);
   for (VertexId s = 0; s < sparse_.vertex_count(); ++s) sparse_grid_.insert(s, sparse_.position(s));
   for (const RoadmapEdge& e : sparse_.edges()) known_routes_.remember(e.u, e.v, e.cost);
   rng_.discard(3 * static_cast<std::uint64_t>(samples));  // prepare_samples: three draws a sample
