@@ -115,6 +115,13 @@ int run_build(const BuildCommandOptions& options) {
     out["invariant_violations"] =
         builder->dense() != nullptr ? nlohmann::json(report.invariant_violations) : nlohmann::json();
   }
+  if (options.fresh > 0) {
+    // Fresh samples, not the build's: what the roadmap misses between the samples it drew.
+    const VerificationReport fresh = verify_fresh_samples(scene, builder->roadmap(), options.fresh, options.seed + 1);
+    out["fresh_samples"] = {{"samples", fresh.invariant_samples},
+                            {"samples_with_a_violation", fresh.invariant_vertices},
+                            {"violations", fresh.invariant_violations}};
+  }
   if (!options.out.empty()) {
     write_file(options.out, "--out",
                roadmap_file_json(scene.config().name, scene.config().root, scene.pois(), builder->roadmap(),
@@ -141,6 +148,7 @@ int run_build(const BuildCommandOptions& options) {
   if (out.contains("admissions")) {
     std::cout << "admissions " << out["admissions"].dump() << "\nedges by cause " << out["edges_by_cause"].dump() << '\n';
   }
+  if (out.contains("fresh_samples")) std::cout << "Invariant 1 on fresh samples " << out["fresh_samples"].dump() << '\n';
   if (out.contains("verification")) {
     std::cout << "verification " << out["verification"].dump() << ", invariant violations "
               << (out["invariant_violations"].is_null() ? std::string("n/a (no dense pair)")

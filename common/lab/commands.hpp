@@ -34,6 +34,7 @@ struct BuildCommandOptions {
   unsigned threads = 1;
   double p_accept = 0.2;
   bool verify = false;
+  std::size_t fresh = 0;  ///< fresh samples to check Invariant 1 on (0: none)
   bool json = false;
   std::string out;   ///< --out FILE.json: the roadmap (and its dense pair) in full.
   std::string iris;  ///< --iris PREFIX: IRIS text files PREFIX_vertex, _edge, _conf.

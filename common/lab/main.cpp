@@ -103,6 +103,8 @@ int main(int argc, char** argv) {
   build_cmd->add_option("--p-accept", build.p_accept, "IRIS-C: admission probability without new coverage")
       ->check(CLI::Range(0.0, 1.0));
   build_cmd->add_flag("--verify", build.verify, "Check validity, costs and the inspection invariant exactly");
+  build_cmd->add_option("--fresh", build.fresh, "Also check Invariant 1 on this many fresh samples (a seed of its own)")
+      ->check(CLI::Range(std::size_t{0}, std::size_t{10'000'000}));
   build_cmd->add_option("--out", build.out, "Write the roadmap (and its dense pair) as JSON");
   build_cmd->add_option("--iris", build.iris, "Write IRIS text files PREFIX_vertex, PREFIX_edge, PREFIX_conf");
   build_cmd->add_flag("--json", build.json, "Print one JSON object as the last line of stdout");

@@ -16,7 +16,7 @@ namespace ispars {
 namespace {
 
 TEST(KnownRoutes, RemembersPairsInEitherOrderAndKeepsTheShorterRoute) {
-  KnownRoutes routes(1024);
+  KnownRoutes routes(2048);
   EXPECT_TRUE(std::isinf(routes.get(3, 7)));
   routes.remember(7, 3, 5.0);
   EXPECT_EQ(routes.get(3, 7), 5.0);
@@ -30,7 +30,7 @@ TEST(KnownRoutes, RemembersPairsInEitherOrderAndKeepsTheShorterRoute) {
   EXPECT_TRUE(std::isinf(routes.get(0, 3)));
 }
 
-TEST(KnownRoutes, KeepsEveryPairThroughGrowthAndForgetsAllOnlyWhenFull) {
+TEST(KnownRoutes, KeepsEveryPairThroughGrowthThenTheYoungerGenerationOnly) {
   KnownRoutes routes(1 << 16);
   // Keys that collide in the low bits, and vertex 0 (whose pairs have keys below 2^32).
   for (VertexId a = 0; a < 200; ++a) {
@@ -40,24 +40,39 @@ TEST(KnownRoutes, KeepsEveryPairThroughGrowthAndForgetsAllOnlyWhenFull) {
   for (VertexId a = 0; a < 200; ++a) {
     for (VertexId b = a + 1; b < a + 150; ++b) ASSERT_EQ(routes.get(b * 1024, a), a + b / 1000.0) << a << " " << b;
   }
-  EXPECT_EQ(routes.resets(), 0u);
-  for (VertexId a = 0; routes.resets() == 0; ++a) routes.remember(a, a + 1, 1.0);
+  EXPECT_EQ(routes.generations_dropped(), 0u);
+  // Past half of the bound the pairs above become the old generation, still answered...
+  VertexId next = 1'000'000;
+  const auto fill_generation = [&] {
+    for (const std::size_t dropped = routes.generations_dropped(); routes.generations_dropped() == dropped; ++next) {
+      routes.remember(next, next + 1, 1.0);
+    }
+  };
+  fill_generation();
+  EXPECT_EQ(routes.get(0, 1024), 0.001);
+  routes.remember(0, 1024, 0.0005);  // a shorter route, remembered young, wins
+  routes.remember(0, 1024, 0.7);     // a longer one does not
+  EXPECT_EQ(routes.get(1024, 0), 0.0005);
+  // ...and forgotten when the next one is full, while the bound holds.
+  fill_generation();
+  EXPECT_TRUE(std::isinf(routes.get(1, 2048)));
+  EXPECT_EQ(routes.get(0, 1024), 0.0005) << "a pair remembered again is young";
   EXPECT_LE(routes.size(), std::size_t{1} << 16);
-  EXPECT_THROW(KnownRoutes(1000), std::invalid_argument);
+  EXPECT_THROW(KnownRoutes(2047), std::invalid_argument);
   EXPECT_THROW(KnownRoutes((std::size_t{1} << 30) + 1), std::invalid_argument);
 }
 
 TEST(KnownRoutes, ATinyCacheGrowsTheSameRoadmapAsALargeOne) {
   const Scene& scene = test::shared_scene("water_tower");
   BuildOptions small;
-  small.known_route_pairs = 1024;
+  small.known_route_pairs = 2048;
   BuildOptions large;
   const auto a = make_roadmap_builder(BuildMethod::ispars2, scene, small);
   const auto b = make_roadmap_builder(BuildMethod::ispars2, scene, large);
   a->extend(test::scaled(8000));
   b->extend(test::scaled(8000));
   EXPECT_EQ(roadmap_digest(a->roadmap()), roadmap_digest(b->roadmap()));
-  EXPECT_GT(a->roadmap().edge_count(), 1024u) << "the small cache never filled: the test would prove nothing";
+  EXPECT_GT(a->roadmap().edge_count(), 2048u) << "the small cache never filled: the test would prove nothing";
 }
 
 }  // namespace

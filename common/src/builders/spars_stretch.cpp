@@ -87,19 +87,40 @@ bool SparsBuilder::witnessed_pairs() {
   std::vector<double> to_q(w.size());
   for (std::size_t i = 0; i < w.size(); ++i) to_q[i] = (sparse_.position(w[i]) - pq).norm();
 
+  // The routes known between the members of W (upper bounds: still true after any repair below,
+  // which updates the pairs it joins), looked up once: a pair joined within its bound directly
+  // or through a third member needs no search.
+  const std::size_t m = w.size();
+  among_w_.assign(m * m, INFINITY);
+  for (std::size_t i = 0; i < m; ++i) {
+    for (std::size_t j = i + 1; j < m; ++j) among_w_[i * m + j] = among_w_[j * m + i] = known_route(w[i], w[j]);
+  }
+  const auto through_a_third = [&](std::size_t i, std::size_t j, double bound) {
+    for (std::size_t x = 0; x < m; ++x) {
+      if (x != i && x != j && among_w_[i * m + x] + among_w_[x * m + j] <= bound) return true;
+    }
+    return false;
+  };
+
   VertexId admitted = kNoVertex;
   const std::size_t firsts = rules_.witness_nearest_only ? 1 : w.size() - 1;
   std::vector<VertexId> todo;
+  std::vector<std::size_t> todo_index;  // of each todo entry in w
   std::vector<double> bounds;
+  const auto joined = [&](std::size_t i, std::size_t j, double length) {
+    among_w_[i * m + j] = among_w_[j * m + i] = std::min(among_w_[i * m + j], length);
+  };
   for (std::size_t i = 0; i < firsts; ++i) {
     // A pair with a route already known within the bound (an edge, or a route an earlier
     // search found: routes only get shorter) needs no search.
     todo.clear();
+    todo_index.clear();
     bounds.clear();
     for (std::size_t j = i + 1; j < w.size(); ++j) {
       const double bound = stretch_ * (to_q[i] + to_q[j]);
-      if (known_route(w[i], w[j]) <= bound) continue;
+      if (among_w_[i * m + j] <= bound || through_a_third(i, j, bound)) continue;
       todo.push_back(w[j]);
+      todo_index.push_back(j);
       bounds.push_back(bound);
     }
     std::size_t done = 0;
@@ -110,9 +131,11 @@ bool SparsBuilder::witnessed_pairs() {
       if (k == rest.size()) break;
       // Repair: the direct edge when its segment is valid, otherwise the route through q.
       const VertexId far = rest[k];
+      const std::size_t j = todo_index[done + k];
       if (scene_->segment_valid(sparse_.position(w[i]), sparse_.position(far))) {
         connect(w[i], far, admissions_.witness_edges);
         ++admissions_.witness_edge;
+        joined(i, j, (sparse_.position(w[i]) - sparse_.position(far)).norm());
       } else {
         if (admitted == kNoVertex) {
           admitted = admit();
@@ -120,6 +143,7 @@ bool SparsBuilder::witnessed_pairs() {
         }
         connect(admitted, w[i], admissions_.witness_edges);
         connect(admitted, far, admissions_.witness_edges);
+        joined(i, j, to_q[i] + to_q[j]);
       }
       done += k + 1;
     }

@@ -24,7 +24,7 @@ struct BuildOptions {
   /// spars and ispars: which rule set grows the sparse roadmap.
   SparsVariant variant = SparsVariant::stretch;
   /// The stretch rules' cache of routes between sparse vertices (KnownRoutes): at most this many
-  /// pairs, 16-32 bytes each (1024 .. 2^30). Any size gives the same roadmap; a small one
+  /// pairs, 16-32 bytes each (2048 .. 2^30). Any size gives the same roadmap; a small one
   /// searches more often.
   std::size_t known_route_pairs = std::size_t{1} << 22;
 };

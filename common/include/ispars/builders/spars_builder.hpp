@@ -200,6 +200,7 @@ class SparsBuilder final : public RoadmapBuilder {
   std::vector<OpenTarget> open_targets_;  // first_long_route's scratch
   enum class TargetState : std::uint8_t { open, short_route, long_route };
   std::vector<TargetState> target_state_;  // first_long_route's scratch, by target index
+  std::vector<double> among_w_;  // witnessed_pairs' scratch: known routes between members of W
   KnownRoutes known_routes_;  // edges and routes found: searches the stretch rules can skip
 };
 
