@@ -27,7 +27,7 @@ TEST_F(ServiceTest, ACorruptJournalMiddleFailsItsSceneLoudlyAndTheOthersServe) {
     ASSERT_EQ(daemon->terminate(), 0);
   }
   const auto journal = dir_.path() / "data-d" / "s0" / "journal.log";
-  const RecordReplay intact = read_record_file(journal, "ISPJRN01", [](const std::string&) { return std::string(); });
+  const RecordReplay intact = read_record_file(journal, "ISPJRN02", [](const std::string&) { return std::string(); });
   ASSERT_GE(intact.payloads.size(), 3u) << "the build committed too few chunks for a middle";
   std::string damaged = read_text(journal);
   const std::size_t second = 8 + 8 + intact.payloads[0].size();  // the second commit's header

@@ -6,74 +6,10 @@
 
 #include <fstream>
 
-#include "ispars/service/roadmap_store.hpp"
-#include "support/test_support.hpp"
+#include "roadmap_store_fixture.hpp"
 
 namespace ispars {
 namespace {
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void spit(const std::filesystem::path& p, const std::string& bytes) {
-  std::ofstream(p, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
-
-RoadmapsView view(const RoadmapBuilder& b) { return {b.samples(), &b.roadmap(), b.dense(), b.dense_ids()}; }
-
-// A committed state of the build: what recovery must reproduce.
-struct Committed {
-  std::uint64_t samples;
-  std::uint64_t digest;
-  std::uint64_t dense_digest;
-  std::size_t ids;
-};
-
-class RoadmapStoreTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    scene_ = &test::shared_scene("truss_bridge");
-    recipe_.scene = "bridge";
-    recipe_.method = BuildMethod::ispars;
-    recipe_.seed = 11;
-    recipe_.dense_delta = scene_->config().dense_delta;
-    recipe_.sparse_delta = scene_->config().sparse_delta;
-    recipe_.stretch = scene_->config().stretch;
-    recipe_.generation = 42;
-  }
-  // Builds in `commits` steps of `step` samples, committing each; returns every committed state.
-  std::vector<Committed> build_and_commit(RoadmapStore& store, int commits, std::size_t step) {
-    BuildOptions options;
-    options.seed = recipe_.seed;
-    builder_ = make_roadmap_builder(BuildMethod::ispars, *scene_, options);
-    std::vector<Committed> states;
-    std::uint64_t v = 0, dv = 0;
-    for (int i = 0; i < commits; ++i) {
-      if (i > 0) builder_->extend(step);
-      const BuildCommit c = commit_since(view(*builder_), v, dv);
-      store.commit(c, view(*builder_));
-      v = builder_->roadmap().version();
-      dv = builder_->dense()->version();
-      states.push_back({builder_->samples(), roadmap_digest(builder_->roadmap()), roadmap_digest(*builder_->dense()),
-                        builder_->dense_ids().size()});
-    }
-    return states;
-  }
-  static void expect_state(const StoreRecovery& r, const Committed& c) {
-    EXPECT_EQ(r.roadmaps.samples, c.samples);
-    EXPECT_EQ(roadmap_digest(r.roadmaps.roadmap), c.digest);
-    ASSERT_TRUE(r.roadmaps.dense.has_value());
-    EXPECT_EQ(roadmap_digest(*r.roadmaps.dense), c.dense_digest);
-    EXPECT_EQ(r.roadmaps.dense_ids.size(), c.ids);
-  }
-
-  const Scene* scene_ = nullptr;
-  RoadmapRecipe recipe_;
-  std::unique_ptr<RoadmapBuilder> builder_;
-  test::TempDir dir_;
-};
 
 TEST_F(RoadmapStoreTest, ReopeningRecoversTheLastCommitThroughSnapshotsAndJournal) {
   const auto path = dir_.path() / "bridge";
@@ -133,7 +69,7 @@ TEST_F(RoadmapStoreTest, ACorruptCommitInTheMiddleIsReportedAndNothingIsCut) {
     (void)build_and_commit(*store, 6, 150);
   }
   std::string journal = slurp(path / "journal.log");
-  const RecordReplay intact = read_record_file(path / "journal.log", "ISPJRN01", [](const std::string&) {
+  const RecordReplay intact = read_record_file(path / "journal.log", "ISPJRN02", [](const std::string&) {
     return std::string();
   });
   ASSERT_EQ(intact.payloads.size(), 6u);
@@ -166,7 +102,7 @@ TEST_F(RoadmapStoreTest, ACrashBetweenSnapshotAndJournalResetLosesNothingAndDupl
     store->set_compact_every(1000);
     states = build_and_commit(*store, 4, 200);
     journal_before_compaction = slurp(path / "journal.log");
-    store->compact(view(*builder_));
+    store->compact();
   }
   // As if the process died after renaming the snapshot into place but before the new journal.
   spit(path / "journal.log", journal_before_compaction);
@@ -292,12 +228,12 @@ TEST_F(RoadmapStoreTest, CommitsThatLeaveTheSparseRoadmapUnchangedSurviveACompac
     auto store = RoadmapStore::create(path, recipe_);
     store->set_compact_every(1000);
     build_and_commit(*store, 3, 300);
-    store->compact(view(*builder_));
+    store->compact();
     std::uint64_t v = builder_->roadmap().version(), dv = builder_->dense()->version();
     for (int i = 0; i < 40; ++i) {
       builder_->extend(5);
       const BuildCommit c = commit_since(view(*builder_), v, dv);
-      store->commit(c, view(*builder_));
+      store->commit(c);
       v = builder_->roadmap().version();
       dv = builder_->dense()->version();
     }

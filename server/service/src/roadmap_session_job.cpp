@@ -166,7 +166,7 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       builder_->extend(n);
       const RoadmapsView view = live_view();
       BuildCommit commit = commit_since(view, roadmap_version, dense_version);
-      store_->commit(commit, view);
+      store_->commit(commit);
       roadmap_version = view.roadmap->version();
       dense_version = view.dense ? view.dense->version() : 0;
       // Readers get an immutable copy. A copy costs time in the roadmap's size, so it is taken

@@ -16,11 +16,12 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "roadmap_store_files.hpp"
+
 namespace ispars {
 namespace {
 
-constexpr std::string_view kJournalMagic{"ISPJRN01"};
-constexpr std::string_view kSnapshotMagic{"ISPSNP01"};
+using namespace store_files;
 
 void put_blob(std::string& out, const std::string& blob) {
   put_bytes(out, static_cast<std::uint64_t>(blob.size()));
@@ -31,10 +32,6 @@ std::string get_blob(ByteReader& in) {
   const auto size = in.get<std::uint64_t>();
   return std::string(in.bytes(size));
 }
-
-std::filesystem::path journal_path(const std::filesystem::path& dir) { return dir / "journal.log"; }
-std::filesystem::path snapshot_path(const std::filesystem::path& dir) { return dir / "snapshot.bin"; }
-std::filesystem::path recipe_path(const std::filesystem::path& dir) { return dir / "recipe.json"; }
 
 
 StoredRoadmaps empty_roadmaps(const RoadmapRecipe& recipe, std::size_t poi_count) {
@@ -128,6 +125,7 @@ RoadmapStore::RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe)
 }
 
 RoadmapStore::~RoadmapStore() {
+  stop_compaction();
   journal_.reset();
   if (lock_fd_ >= 0) ::close(lock_fd_);
 }
@@ -139,7 +137,7 @@ std::unique_ptr<RoadmapStore> RoadmapStore::create(const std::filesystem::path& 
   std::filesystem::remove_all(staging);
   std::filesystem::create_directories(staging);
   write_file_atomically(recipe_path(staging), recipe_to_json(recipe));
-  RecordFileWriter(journal_path(staging), kJournalMagic, 0);
+  RecordFileWriter(journal_path(staging), kJournal, 0);
   const bool replacing = std::filesystem::exists(dir);
   if (!replacing) {
     std::filesystem::rename(staging, dir);
@@ -147,7 +145,7 @@ std::unique_ptr<RoadmapStore> RoadmapStore::create(const std::filesystem::path& 
   }
   const std::filesystem::path& at = replacing ? staging : dir;
   auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(at, recipe));
-  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(at), kJournalMagic, kJournalMagic.size());
+  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(at), kJournal, kJournal.magic.size());
   if (replacing) store->replaces_ = dir;
   return store;
 }
@@ -181,14 +179,16 @@ RoadmapRecipe RoadmapStore::read_recipe(const std::filesystem::path& dir) {
 
 namespace {
 
-// Replays the snapshot and the journal of the store at `dir` into `recovered`; the journal's
-// valid length. Reads only.
+// Replays the snapshot, journal.old (while a compaction runs) and journal.log of the store at
+// `dir` into `recovered`; journal.log's valid length. Reads only. (A compaction of the same store
+// must not run meanwhile: it removes journal.old once the snapshot holds it.)
 std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_count, StoreRecovery& recovered) {
   recovered.roadmaps = empty_roadmaps(recovered.recipe, poi_count);
   StoredRoadmaps& r = recovered.roadmaps;
-  if (std::filesystem::exists(snapshot_path(dir))) {
+  const bool has_snapshot = std::filesystem::exists(snapshot_path(dir));
+  if (has_snapshot) {
     const RecordReplay snapshot =
-        read_record_file(snapshot_path(dir), kSnapshotMagic, [](const std::string&) { return std::string(); });
+        read_record_file(snapshot_path(dir), kSnapshot, [](const std::string&) { return std::string(); });
     if (snapshot.payloads.size() != 1 || snapshot.torn_tail) {
       throw StoreDamage(fmt::format("{} is damaged at byte {}: {}; left untouched for inspection",
                                     snapshot_path(dir).string(), snapshot.valid_bytes,
@@ -198,31 +198,41 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
     apply_commit(r, whole);
   }
   // Journal commits the snapshot already holds are left from a compaction that crashed between
-  // writing the snapshot and resetting the journal: skip them. Every commit draws at least one
-  // sample, so the sample count (not a roadmap version, which a chunk may leave unchanged) tells
-  // them apart.
+  // writing the snapshot and removing journal.old (or, in stores of older versions, resetting the
+  // journal): skip them. Every commit draws at least one sample, so the sample count (not a
+  // roadmap version, which a chunk may leave unchanged) tells them apart.
   const std::uint64_t snapshot_samples = r.samples;
-  const bool has_snapshot = std::filesystem::exists(snapshot_path(dir));
-  const RecordReplay journal = read_record_file(journal_path(dir), kJournalMagic, [&](const std::string& payload) {
-    try {
-      const BuildCommit commit = decode_commit(payload);
-      if (has_snapshot && commit.samples <= snapshot_samples) return std::string();
-      apply_commit(r, commit);
-      ++recovered.journal_commits;
-      return std::string();
-    } catch (const std::runtime_error& e) {
-      return std::string("unusable commit: ") + e.what();
-    }
-  });
-  if (journal.damaged) {
-    // Not a crash's torn tail: stop before the writer would cut it, and say where.
-    throw StoreDamage(fmt::format("{} is damaged at byte {} (commit {}): {}; the {} bytes from there on are left "
-                                  "untouched for inspection (drop the scene's roadmap, or build with replace, to "
-                                  "discard them)",
-                                  journal_path(dir).string(), journal.valid_bytes, journal.payloads.size() + 1,
-                                  journal.tail_problem,
-                                  std::filesystem::file_size(journal_path(dir)) - journal.valid_bytes));
+  std::size_t commits = 0;
+  const auto replay = [&](const std::filesystem::path& path) {
+    commits = 0;
+    return read_record_file(path, kJournal, [&](const std::string& payload) {
+      try {
+        const BuildCommit commit = decode_commit(payload);
+        if (has_snapshot && commit.samples <= snapshot_samples) return std::string();
+        apply_commit(r, commit);
+        ++commits;
+        return std::string();
+      } catch (const std::runtime_error& e) {
+        return std::string("unusable commit: ") + e.what();
+      }
+    });
+  };
+  const auto damage = [&](const std::filesystem::path& path, const RecordReplay& journal) {
+    return StoreDamage(fmt::format("{} is damaged at byte {} (commit {}): {}; the {} bytes from there on are left "
+                                   "untouched for inspection (drop the scene's roadmap, or build with replace, to "
+                                   "discard them)",
+                                   path.string(), journal.valid_bytes, journal.payloads.size() + 1,
+                                   journal.tail_problem, std::filesystem::file_size(path) - journal.valid_bytes));
+  };
+  if (std::filesystem::exists(old_journal_path(dir))) {
+    // A rotated journal was whole: anything but whole records in it is damage.
+    const RecordReplay old = replay(old_journal_path(dir));
+    if (old.torn_tail) throw damage(old_journal_path(dir), old);
   }
+  const RecordReplay journal = replay(journal_path(dir));
+  // Not a crash's torn tail: stop before the writer would cut it, and say where.
+  if (journal.damaged) throw damage(journal_path(dir), journal);
+  recovered.journal_commits = commits;
   recovered.torn_tail = journal.torn_tail;
   recovered.tail_problem = journal.tail_problem;
   return journal.valid_bytes;
@@ -235,8 +245,10 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
   auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(dir, read_recipe(dir)));  // locks first
   recovered.recipe = store->recipe_;
   const std::uint64_t valid_bytes = recover_into(dir, poi_count, recovered);
-  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournalMagic, valid_bytes);
+  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournal, valid_bytes);
   store->journal_commits_ = recovered.journal_commits;
+  // A compaction that did not finish (a crash, a stop, a failure): finish it now.
+  if (std::filesystem::exists(old_journal_path(dir))) store->fold_in_background();
   return store;
 }
 
@@ -247,22 +259,12 @@ StoreRecovery RoadmapStore::read(const std::filesystem::path& dir, std::size_t p
   return recovered;
 }
 
-void RoadmapStore::commit(const BuildCommit& commit, const RoadmapsView& current) {
+void RoadmapStore::commit(const BuildCommit& commit) {
   journal_->append(encode_commit(commit));
   ++journal_commits_;
   if (!replaces_.empty()) take_place();
-  if (journal_commits_ >= compact_every_) compact(current);
-}
-
-void RoadmapStore::compact(const RoadmapsView& current) {
-  // 1. The snapshot, atomically. 2. An empty journal, atomically. A crash between the two leaves
-  // a journal whose commits the snapshot already holds; open() skips them.
-  const BuildCommit whole = commit_since(current, 0, 0);
-  write_file_atomically(snapshot_path(dir_), single_record_file(kSnapshotMagic, encode_commit(whole)));
-  journal_.reset();
-  write_file_atomically(journal_path(dir_), std::string(kJournalMagic));
-  journal_ = std::make_unique<RecordFileWriter>(journal_path(dir_), kJournalMagic, kJournalMagic.size());
-  journal_commits_ = 0;
+  if (!compacting_) wait_for_compaction();  // joins a finished fold; throws its failure
+  if (journal_commits_ >= compact_every_) start_compaction();
 }
 
 void drop_store(const std::filesystem::path& dir) {
@@ -299,7 +301,7 @@ void remove_dropped_stores(const std::filesystem::path& data_dir) {
       const std::filesystem::path target = data_dir / name.substr(5);
       std::error_code size_error;
       const auto journal_size = std::filesystem::file_size(journal_path(entry.path()), size_error);
-      if (!std::filesystem::exists(target) && !size_error && journal_size > kJournalMagic.size()) {
+      if (!std::filesystem::exists(target) && !size_error && journal_size > kJournal.magic.size()) {
         std::filesystem::rename(entry.path(), target);
         fsync_directory_of(target);
       } else {

@@ -2,18 +2,37 @@
 // Crash-safe files: an append-only file of checksummed records, and whole-file atomic writes.
 //
 // A record file is a magic string, then records [u32 payload length][u32 CRC-32][payload],
-// little-endian. Appends are fsync'ed. A reader accepts every whole record that its check
-// accepts and stops at the first torn, corrupt or rejected one, so a crash at any moment loses at
-// most the record being written, and never leaves half of one applied.
+// little-endian; in a file of a format's current magic, a payload of 4 GiB or more is written as
+// [u32 0xFFFFFFFF][u32 CRC-32][u64 payload length][payload], so no record size is a wall. Appends
+// are fsync'ed. A reader accepts every whole record that its check accepts and stops at the first
+// torn, corrupt or rejected one, so a crash at any moment loses at most the record being written,
+// and never leaves half of one applied.
 
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace ispars {
+
+/// Which record files a reader or writer takes: the magic new files start with (records of any
+/// size), and an older magic still read and appended to (records under 4 GiB only), if any.
+struct RecordFormat {
+  RecordFormat(std::string_view current_magic, std::string_view older_magic = {})
+      : magic(current_magic), legacy_magic(older_magic) {}
+  RecordFormat(const char* current_magic) : magic(current_magic) {}  // NOLINT: a literal is a format
+  std::string_view magic;
+  std::string_view legacy_magic;
+};
+
+/// The largest payload a record of a legacy-magic file holds (a 32-bit length, less the escape).
+inline constexpr std::uint64_t kLegacyRecordLimit = 0xFFFFFFFEu;
+
+/// The header of a record of `size` bytes with checksum `crc`: 8 bytes, or 16 for 4 GiB and more.
+[[nodiscard]] std::string record_header(std::uint64_t size, std::uint32_t crc);
 
 /// CRC-32 (IEEE 802.3), zlib's.
 [[nodiscard]] std::uint32_t crc32(const void* data, std::size_t size);
@@ -32,19 +51,21 @@ struct RecordReplay {
   /// last record): a record with more bytes after it fails its checksum, or a whole record was
   /// refused by the check. Such a file must be left as it is and reported, never cut.
   bool damaged = false;
+  bool legacy = false;                ///< The file starts with the format's legacy magic.
 };
 
 /// Reads a record file (a missing or empty file has no records). Throws std::runtime_error when
-/// the file exists but starts with another magic.
-[[nodiscard]] RecordReplay read_record_file(const std::filesystem::path& path, std::string_view magic,
+/// the file exists but starts with neither of the format's magics.
+[[nodiscard]] RecordReplay read_record_file(const std::filesystem::path& path, const RecordFormat& format,
                                             const RecordCheck& check);
 
 /// Appends records to a file, durably.
 class RecordFileWriter {
  public:
   /// Opens `path` for appending after its first `valid_bytes` bytes (from read_record_file), cutting
-  /// off anything after them, so new records never follow garbage. Creates the file when missing.
-  RecordFileWriter(const std::filesystem::path& path, std::string_view magic, std::uint64_t valid_bytes);
+  /// off anything after them, so new records never follow garbage. Creates the file (with the
+  /// format's current magic) when missing or when `valid_bytes` is shorter than a magic.
+  RecordFileWriter(const std::filesystem::path& path, const RecordFormat& format, std::uint64_t valid_bytes);
   ~RecordFileWriter();
   RecordFileWriter(const RecordFileWriter&) = delete;
   RecordFileWriter& operator=(const RecordFileWriter&) = delete;
@@ -53,7 +74,8 @@ class RecordFileWriter {
   /// write or the fsync fails (a full disk, say), the file is cut back to its last record and the
   /// error thrown: a later append still follows a whole record. When even that cut fails, every
   /// later append throws too (the file keeps its partial tail, which a reader sees as torn).
-  void append(const std::string& payload);
+  /// A payload of 4 GiB or more in a legacy-magic file throws, naming the limit.
+  void append(std::string_view payload);
   /// Size of the file in bytes.
   [[nodiscard]] std::uint64_t size() const { return size_; }
 
@@ -61,11 +83,21 @@ class RecordFileWriter {
   int fd_ = -1;
   std::uint64_t size_ = 0;
   std::filesystem::path path_;
+  bool legacy_ = false;  // the file has the legacy magic: records under 4 GiB only
   bool broken_ = false;  // a failed append could not be undone
 };
 
-/// The bytes of a one-record file holding `payload` (what RecordFileWriter would write).
-[[nodiscard]] std::string single_record_file(std::string_view magic, const std::string& payload);
+/// Thrown by write_record_file_atomically when its `keep_going` said stop.
+struct RecordWriteStopped : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Replaces `path` atomically with a file of the format's current magic holding `payload` as its
+/// one record, written in pieces of at most 64 MiB (no copy of the payload is made). Between
+/// pieces `keep_going` (when given) is asked; a false removes the temporary file and throws
+/// RecordWriteStopped. Other failures remove it too, and throw std::runtime_error.
+void write_record_file_atomically(const std::filesystem::path& path, const RecordFormat& format,
+                                  std::string_view payload, const std::function<bool()>& keep_going = {});
 
 /// Replaces `path` with `bytes` atomically: writes a temporary file beside it, fsyncs it, renames
 /// it over `path` and fsyncs the directory. Readers see the old file or the new one, never a mix.

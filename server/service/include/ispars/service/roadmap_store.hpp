@@ -1,22 +1,32 @@
 #pragma once
 // Durable storage of one scene's roadmap: what it was built from, and every committed step.
 //
-// A store is a directory holding three files:
+// A store is a directory holding these files:
 // - recipe.json: scene, method, seed and parameters (written once, atomically);
 // - snapshot.bin: a compacted commit from version 0 (replaced atomically);
-// - journal.log: the commits after the snapshot (an append-only record file, fsync'ed).
+// - journal.old: while a compaction runs, the commits it folds into the snapshot;
+// - journal.log: the commits after those (an append-only record file, fsync'ed).
+// Compaction runs off the build thread: a commit that finds the journal long renames it to
+// journal.old and starts an empty journal.log (two renames, no copy), and a thread of the store's
+// own folds snapshot.bin and journal.old into a new snapshot.bin from their bytes on disk, then
+// removes journal.old. A crash anywhere in that leaves files that recover the last commit, and
+// the next open() finishes the fold. No record size is a wall (record_file.hpp).
 // A commit carries the samples drawn so far and what the roadmap and its dense pair gained.
 // Builds are deterministic, so recipe + samples is the whole builder state (including the RNG):
 // replaying the recipe to that many samples rebuilds the builder exactly, and the recovered
 // roadmaps check the replay byte for byte.
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "ispars/roadmap/record_file.hpp"
@@ -95,11 +105,20 @@ class RoadmapStore {
   [[nodiscard]] static RoadmapRecipe read_recipe(const std::filesystem::path& dir);
 
   /// Appends a commit durably (the first commit of a replacing store then puts it in place of
-  /// the old one). After `compact_every` journal commits, also writes a snapshot of `current` and
-  /// starts a new journal.
-  void commit(const BuildCommit& commit, const RoadmapsView& current);
-  /// Writes a snapshot of `current` and starts an empty journal.
-  void compact(const RoadmapsView& current);
+  /// the old one). After `compact_every` journal commits, also starts a compaction in the
+  /// background (unless one still runs: then at a later commit). Throws std::runtime_error when
+  /// the append fails, or when the last compaction failed (the commit is durable all the same;
+  /// the files are as the failed compaction left them, which recover every commit).
+  void commit(const BuildCommit& commit);
+  /// Compacts now and waits for it: snapshot.bin then holds every commit.
+  void compact();
+  /// Waits for a running compaction to end (rethrows its failure).
+  void wait_for_compaction();
+
+  /// Folds the snapshot and the commits of `journal` (a record file of commits) into one commit,
+  /// stopping early (throwing RecordWriteStopped) when `keep_going` says so. Reads only.
+  /// Throws StoreDamage when a record is damaged or does not continue the snapshot.
+  [[nodiscard]] static BuildCommit fold(const std::filesystem::path& dir, const std::function<bool()>& keep_going);
 
   [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }
   [[nodiscard]] const RoadmapRecipe& recipe() const { return recipe_; }
@@ -110,6 +129,9 @@ class RoadmapStore {
  private:
   RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe);
   void take_place();  // a replacing store: swaps itself with the store at replaces_
+  void start_compaction();  // rotates the journal (if no journal.old) and starts the fold thread
+  void fold_in_background();
+  void stop_compaction();  // asks a running fold to stop, and joins it
   std::filesystem::path dir_;
   std::filesystem::path replaces_;  // a replacing store before its first commit: the store it replaces
   RoadmapRecipe recipe_;
@@ -117,6 +139,11 @@ class RoadmapStore {
   std::size_t journal_commits_ = 0;
   std::size_t compact_every_ = 64;
   int lock_fd_ = -1;
+  std::thread compactor_;
+  std::atomic<bool> compacting_{false};       // the fold thread runs
+  std::atomic<bool> stop_compacting_{false};  // asked to stop (close, unload, SIGTERM)
+  std::mutex compaction_mutex_;
+  std::string compaction_error_;  // the last fold's failure, thrown by the next commit
 };
 
 /// The commit taking the build from the given versions of its roadmaps to `now`.
