@@ -5,7 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
-  libeigen3-dev libfcl-dev libassimp-dev libembree-dev libspdlog-dev libfmt-dev
+  libeigen3-dev libfcl-dev libassimp-dev libembree-dev libpng-dev libspdlog-dev libfmt-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools default-jre-headless
   libcli11-dev libnanoflann-dev nlohmann-json3-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev libompl-dev

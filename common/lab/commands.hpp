@@ -109,6 +109,22 @@ struct TourCommandOptions {
 };
 int run_tour(const TourCommandOptions& options);
 
+struct RenderCommandOptions {
+  std::string scene;           ///< The scene YAML.
+  std::string roadmap;         ///< A roadmap file (optional).
+  bool dense = false;          ///< Also draw the file's dense graph, faint.
+  std::string tour;            ///< A tour file (ispars-lab tour --out), optional.
+  std::string out;             ///< The PNG to write.
+  int width = 1600;
+  int height = 1200;
+  std::vector<double> eye;     ///< Camera position (3 numbers), or framed automatically.
+  std::vector<double> target;  ///< Camera target (3 numbers).
+  double fov = 45.0;
+  std::size_t max_edges = 2'000'000;
+  bool json = false;
+};
+int run_render(const RenderCommandOptions& options);
+
 int run_experiment_table(const ExperimentOptions& options);
 int run_experiment_scaling(const ExperimentOptions& options);
 int run_experiment_spanner(const ExperimentOptions& options);

@@ -195,6 +195,22 @@ int main(int argc, char** argv) {
   tour_cmd->add_flag("--json", tour.json, "Print one JSON object as the last line of stdout");
   tour_cmd->add_option("--out", tour.out, "Write the tour (walk, positions, trace) as JSON");
 
+  RenderCommandOptions render;
+  auto* render_cmd = app.add_subcommand("render", "A PNG of a scene, a roadmap file's graphs, its POIs and a tour");
+  render_cmd->add_option("scene", render.scene, "Scene YAML")->required()->check(CLI::ExistingFile);
+  render_cmd->add_option("--roadmap", render.roadmap, "Roadmap JSON (ispars-lab build --out, ispars snapshot --out)");
+  render_cmd->add_flag("--dense", render.dense, "Also draw the file's dense graph, faint");
+  render_cmd->add_option("--tour", render.tour, "Tour JSON (ispars-lab tour --out)");
+  render_cmd->add_option("--out", render.out, "The PNG file to write")->required();
+  render_cmd->add_option("--width", render.width, "Pixels")->check(CLI::Range(16, 8192));
+  render_cmd->add_option("--height", render.height, "Pixels")->check(CLI::Range(16, 8192));
+  render_cmd->add_option("--eye", render.eye, "Camera position X Y Z (default: framed from the front-right)")->expected(3);
+  render_cmd->add_option("--target", render.target, "Camera target X Y Z (with --eye)")->expected(3);
+  render_cmd->add_option("--fov", render.fov, "Vertical field of view, degrees")->check(CLI::Range(1.0, 170.0));
+  render_cmd->add_option("--max-edges", render.max_edges, "Edges of each graph drawn at most (an evenly spread subset)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
+  render_cmd->add_flag("--json", render.json, "Print one JSON object as the last line of stdout");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -211,6 +227,7 @@ int main(int argc, char** argv) {
     if (geometry_cmd->parsed()) return run_bench_geometry(geometry);
     if (build_cmd->parsed()) return run_build(build);
     if (tour_cmd->parsed()) return run_tour(tour);
+    if (render_cmd->parsed()) return run_render(render);
     if (bench_build_cmd->parsed()) return run_bench_build(bench_build);
     if (bench_tour_cmd->parsed()) return run_bench_tour(bench_tour);
     if (table_cmd->parsed()) return run_experiment_table(exp);

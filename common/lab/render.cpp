@@ -1,0 +1,129 @@
+// ispars-lab render: a PNG of a scene with a roadmap file's graphs, its POIs and a tour.
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <fstream>
+#include <iostream>
+
+#include "commands.hpp"
+#include "ispars/input_error.hpp"
+#include "ispars/render/scene_render.hpp"
+#include "ispars/roadmap/roadmap_json.hpp"
+#include "ispars/scene/scene.hpp"
+
+namespace ispars::lab {
+namespace {
+
+Vec3 vec3_option(const std::vector<double>& v, const char* name) {
+  if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
+    throw InputError("command line", name, "needs three finite numbers");
+  }
+  return {v[0], v[1], v[2]};
+}
+
+// The positions of a tour file's walk.
+std::vector<Vec3> read_tour_positions(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "--tour", "cannot open for reading");
+  nlohmann::json file;
+  try {
+    file = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, "json", e.what());
+  }
+  if (!file.contains("positions") || !file["positions"].is_array()) {
+    throw InputError(path, "positions", "missing (write the tour with ispars-lab tour --out from a roadmap file)");
+  }
+  std::vector<Vec3> walk;
+  for (const auto& p : file["positions"]) {
+    if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number()) {
+      throw InputError(path, "positions", "each position must be three numbers");
+    }
+    walk.emplace_back(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+  }
+  return walk;
+}
+
+}  // namespace
+
+int run_render(const RenderCommandOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Scene scene = Scene::load(options.scene);
+  RenderRequest request;
+  request.width = options.width;
+  request.height = options.height;
+  request.max_edges = options.max_edges;
+  if (!options.eye.empty() || !options.target.empty()) {
+    Camera camera;
+    camera.eye = vec3_option(options.eye, "--eye");
+    camera.target = vec3_option(options.target, "--target");
+    camera.fov_degrees = options.fov;
+    request.camera = camera;
+  }
+  request.pois = scene.pois();
+  std::optional<RoadmapFileGraph> roadmap, dense;
+  if (!options.roadmap.empty()) {
+    roadmap = read_roadmap_file_graph(options.roadmap, "roadmap");
+    request.roadmap = DrawnGraph{roadmap->positions, roadmap->graph.edges()};
+    request.poi_seen.assign(scene.pois().size(), false);
+    for (VertexId v = 0; v < roadmap->graph.vertex_count(); ++v) {
+      for (const PoiId p : roadmap->graph.visible(v)) {
+        if (p < request.poi_seen.size()) request.poi_seen[p] = true;
+      }
+    }
+    if (options.dense) {
+      dense = read_roadmap_file_graph(options.roadmap, "dense");
+      request.dense = DrawnGraph{dense->positions, dense->graph.edges()};
+    }
+  } else if (options.dense) {
+    throw InputError("command line", "--dense", "needs --roadmap (the file holds the dense graph)");
+  }
+  std::vector<Vec3> tour;
+  if (!options.tour.empty()) tour = read_tour_positions(options.tour);
+  request.tour = tour;
+  const auto t1 = std::chrono::steady_clock::now();
+  const RenderResult result = render_scene(scene.mesh(), request);
+  const auto t2 = std::chrono::steady_clock::now();
+  try {
+    write_png(options.out, result.image);
+  } catch (const std::runtime_error& e) {
+    throw InputError(options.out, "--out", e.what());
+  }
+  const double load_s = std::chrono::duration<double>(t1 - t0).count();
+  const double render_s = std::chrono::duration<double>(t2 - t1).count();
+  const std::size_t roadmap_edges = roadmap ? roadmap->graph.edge_count() : 0;
+  const std::size_t dense_edges = dense ? dense->graph.edge_count() : 0;
+  const auto& c = result.camera;
+  if (options.json) {
+    const nlohmann::json out = {{"out", options.out},
+                                {"width", options.width},
+                                {"height", options.height},
+                                {"eye", {c.eye.x(), c.eye.y(), c.eye.z()}},
+                                {"target", {c.target.x(), c.target.y(), c.target.z()}},
+                                {"roadmap_edges", roadmap_edges},
+                                {"roadmap_edges_drawn", result.roadmap_edges_drawn},
+                                {"dense_edges", dense_edges},
+                                {"dense_edges_drawn", result.dense_edges_drawn},
+                                {"tour_steps", tour.empty() ? 0 : tour.size() - 1},
+                                {"load_seconds", load_s},
+                                {"render_seconds", render_s}};
+    std::cout << out.dump() << std::endl;
+  } else {
+    std::cout << fmt::format("wrote {} ({}x{}) in {:.2f} s (loading {:.2f} s); camera at ({:.1f}, {:.1f}, {:.1f})\n",
+                             options.out, options.width, options.height, render_s, load_s, c.eye.x(), c.eye.y(),
+                             c.eye.z());
+    if (result.roadmap_edges_drawn < roadmap_edges || result.dense_edges_drawn < dense_edges) {
+      std::cout << fmt::format("drew an evenly spread subset: {} of {} roadmap edges, {} of {} dense edges "
+                               "(--max-edges {})\n",
+                               result.roadmap_edges_drawn, roadmap_edges, result.dense_edges_drawn, dense_edges,
+                               options.max_edges);
+    }
+  }
+  return 0;
+}
+
+}  // namespace ispars::lab
