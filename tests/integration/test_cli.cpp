@@ -11,6 +11,7 @@
 #include <sstream>
 #include <thread>
 
+#include "ispars/render/scene_render.hpp"
 #include "support/local_daemon.hpp"
 #include "support/test_support.hpp"
 
@@ -141,6 +142,49 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(nlohmann::json::parse(last_line(r.out))["variant"], "alg1");
   EXPECT_EQ(nlohmann::json::parse(last_line(r.out))["method"], "spars");
+  EXPECT_EQ(daemon_->terminate(), 0) << daemon_->log();
+}
+
+// `ispars render`: the daemon's roadmap (its snapshot) and a tour it searches, drawn over the mesh
+// of the user's copy of the scene file, which must be the daemon's scene.
+TEST_F(CliTest, RenderDrawsTheDaemonsRoadmapAndTourOverTheLocalSceneFile) {
+  start();
+  ASSERT_EQ(run(common_ + " scenes load tower", dir_).code, 0);
+  ASSERT_EQ(run(common_ + " build tower --method ispars --samples 3000 --seed 2 --wait", dir_).code, 0);
+  const auto stats = nlohmann::json::parse(last_line(run(common_ + " stats tower --json", dir_).out));
+  const auto png = dir_.path() / "tower.png";
+  const std::string scene_file = (dir_.path() / "scenes" / "tower.yaml").string();
+  CliRun r = run(common_ + " render tower --scene-file " + scene_file + " --tour 1 --width 320 --height 240 --out " +
+                     png.string(),
+                 dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string edges = std::to_string(stats["edges"].get<std::size_t>());
+  EXPECT_NE(r.out.find(edges + " of " + edges + " edges drawn, a tour of"), std::string::npos) << r.out;
+  const Image image = read_png(png.string());
+  EXPECT_EQ(image.width, 320);
+  int orange = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* p = image.pixel(x, y);
+      orange += p[0] > 200 && p[1] > 90 && p[1] < 170 && p[2] < 60 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(orange, 30) << "no tour in the picture";
+  // Another scene's file is refused by name, and nothing is written.
+  const auto other = dir_.path() / "other.yaml";
+  std::ofstream(other) << "procedural: {kind: tank_tower, seed: 9}\n";
+  const auto not_written = dir_.path() / "other.png";
+  r = run(common_ + " render tower --scene-file " + other.string() + " --out " + not_written.string(), dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--scene-file"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("is not the daemon's scene 'tower'"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(not_written));
+  r = run(common_ + " render nowhere --scene-file " + scene_file + " --out " + not_written.string(), dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("scene 'nowhere' is not loaded"), std::string::npos) << r.err;
+  r = run(common_ + " render tower --scene-file " + scene_file + " --out /nonexistent/dir/x.png", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("/nonexistent/dir/x.png"), std::string::npos) << r.err;
   EXPECT_EQ(daemon_->terminate(), 0) << daemon_->log();
 }
 

@@ -1,0 +1,90 @@
+#include "cli_output.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <iostream>
+
+namespace ispars::cli {
+
+nlohmann::json status_json(const msg::SceneStatus& s) {
+  return {{"scene", s.scene().to_string()},
+          {"server_id", s.server_id().to_string()},
+          {"state", ispars::wire::to_string(s.state())},
+          {"method", s.method().to_string()},
+          {"variant", s.variant().to_string()},
+          {"seed", s.seed()},
+          {"generation", s.generation()},
+          {"samples_done", s.samples_done()},
+          {"samples_target", s.samples_target()},
+          {"version", s.version()},
+          {"vertices", s.vertices()},
+          {"edges", s.edges()},
+          {"components", s.components()},
+          {"dense_vertices", s.dense_vertices()},
+          {"dense_edges", s.dense_edges()},
+          {"poi_count", s.poi_count()},
+          {"pois_covered", s.pois_covered()},
+          {"pois_covered_root", s.pois_covered_root()},
+          {"dense_delta", s.dense_delta()},
+          {"sparse_delta", s.sparse_delta()},
+          {"stretch", s.stretch()},
+          {"last_error", s.last_error()}};
+}
+
+void print_status(const msg::SceneStatus& s) {
+  std::cout << fmt::format("{} on {}: {}", s.scene().to_string(), s.server_id().to_string(), ispars::wire::to_string(s.state()));
+  if (s.method().size() != 0) {
+    std::cout << fmt::format(", {}{} seed {}, {}/{} samples\n", s.method().to_string(),
+                             s.variant().size() == 0 ? std::string() : fmt::format(" ({} rules)", s.variant().c_str()),
+                             s.seed(),
+                             s.samples_done(), s.samples_target());
+    std::cout << fmt::format("  roadmap: {} vertices, {} edges, {} components, version {}\n", s.vertices(), s.edges(),
+                             s.components(), s.version());
+    if (s.dense_vertices() > 0) {
+      std::cout << fmt::format("  dense:   {} vertices, {} edges\n", s.dense_vertices(), s.dense_edges());
+    }
+    std::cout << fmt::format("  POIs:    {} of {} seen, {} from the root's component\n", s.pois_covered(),
+                             s.poi_count(), s.pois_covered_root());
+  } else {
+    std::cout << ", no roadmap\n";
+  }
+  if (!s.last_error().empty()) std::cout << "  note: " << s.last_error() << "\n";
+}
+
+// One line of live progress: redrawn in place on a terminal, one line per second otherwise.
+Progress::Progress(bool enabled) : enabled_(enabled), tty_(::isatty(STDERR_FILENO) != 0) {}
+
+void Progress::operator()(const msg::SceneStatus& s) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    const bool busy = s.state() == msg::SCENE_BUILDING || s.state() == msg::SCENE_QUEUED || s.state() == msg::SCENE_REPLAYING;
+    if (!tty_ && busy && now - last_ < std::chrono::seconds(1)) return;
+    last_ = now;
+    const double fraction = s.samples_target() ? static_cast<double>(s.samples_done()) / s.samples_target()
+                                               : (busy ? 0.0 : 1.0);
+    const int width = 30;
+    const int filled = static_cast<int>(width * std::min(1.0, fraction));
+    const std::string line =
+        fmt::format("[{:<{}}] {:3.0f}% {} {}/{} samples, {} vertices, {} edges",
+                    std::string(static_cast<std::size_t>(filled), '#'), width, 100 * fraction,
+                    ispars::wire::to_string(s.state()), s.samples_done(), s.samples_target(), s.vertices(), s.edges());
+    std::cerr << (tty_ ? "\r" + line : line + "\n") << std::flush;
+    drawn_ = true;
+}
+
+void Progress::finish() {
+  if (enabled_ && tty_ && drawn_) std::cerr << "\n";
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream out(path);
+  if (!out) throw CLI::ValidationError("--out", "cannot open " + path + " for writing");
+  out << text;
+  if (!out) throw CLI::ValidationError("--out", "write to " + path + " failed");
+}
+
+
+}  // namespace ispars::cli

@@ -1,0 +1,89 @@
+#include "render_command.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "ispars/input_error.hpp"
+#include "ispars/render/scene_render.hpp"
+#include "ispars/scene/scene.hpp"
+
+namespace ispars::cli {
+
+CLI::App* add_render_command(CLI::App& app, RenderArgs& args) {
+  auto* cmd = app.add_subcommand("render", "a PNG of the scene's roadmap as the daemon serves it, and a tour");
+  cmd->add_option("scene", args.scene, "scene name")->required();
+  cmd->add_option("--scene-file", args.scene_file, "the scene's YAML here, for its mesh (checked against the daemon's POIs)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--out", args.out, "PNG file to write")->required();
+  cmd->add_option("--tour", args.tour_budget, "also draw a tour the daemon searches for this many seconds")
+      ->check(CLI::Range(0.001, 3600.0));
+  cmd->add_option("--width", args.width, "pixels")->check(CLI::Range(16, 8192));
+  cmd->add_option("--height", args.height, "pixels")->check(CLI::Range(16, 8192));
+  cmd->add_option("--eye", args.eye, "camera position X Y Z (default: framed from the front-right)")->expected(3);
+  cmd->add_option("--target", args.target, "camera target X Y Z (with --eye)")->expected(3);
+  cmd->add_option("--max-edges", args.max_edges, "edges drawn at most (an evenly spread subset)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
+  return cmd;
+}
+
+int render_from_daemon(client::Client& client, const RenderArgs& args) {
+  Scene scene = [&] {
+    try {
+      return Scene::load(args.scene_file);
+    } catch (const InputError& e) {
+      throw CLI::ValidationError("--scene-file", e.what());
+    }
+  }();
+  const client::Snapshot snapshot = client.snapshot(args.scene);
+  // The mesh is the user's copy: it must be the daemon's scene, which its POIs tell.
+  bool same = snapshot.pois.size() == scene.pois().size();
+  for (std::size_t i = 0; same && i < snapshot.pois.size(); ++i) same = (snapshot.pois[i] - scene.pois()[i]).norm() < 1e-6;
+  if (!same) {
+    throw CLI::ValidationError("--scene-file", fmt::format("{} is not the daemon's scene '{}': its {} POIs differ from the "
+                                                           "daemon's {}",
+                                                           args.scene_file, args.scene, scene.pois().size(),
+                                                           snapshot.pois.size()));
+  }
+  std::vector<Vec3> tour;
+  double tour_cost = 0.0;
+  if (args.tour_budget > 0) {
+    const msg::Reply reply = client.tour(args.scene, args.tour_budget, 1, {}, {});
+    for (const auto& p : reply.body().tour().waypoints()) tour.emplace_back(p.x(), p.y(), p.z());
+    tour_cost = reply.body().tour().cost();
+  }
+  RenderRequest request;
+  request.width = args.width;
+  request.height = args.height;
+  request.max_edges = args.max_edges;
+  if (!args.eye.empty() || !args.target.empty()) {
+    if (args.eye.size() != 3 || args.target.size() != 3) {
+      throw CLI::ValidationError("--eye", "give --eye X Y Z and --target X Y Z together");
+    }
+    request.camera = Camera{Vec3(args.eye[0], args.eye[1], args.eye[2]), Vec3(args.target[0], args.target[1], args.target[2]),
+                            Vec3::UnitZ(), 45.0};
+  }
+  const Roadmap& g = snapshot.roadmap;
+  request.roadmap = DrawnGraph{g.positions(), g.edges()};
+  request.pois = scene.pois();
+  request.poi_seen.assign(scene.pois().size(), false);
+  for (VertexId v = 0; v < g.vertex_count(); ++v) {
+    for (const PoiId p : g.visibility_table().ids(v)) request.poi_seen[p] = true;
+  }
+  request.tour = tour;
+  RenderResult result;
+  try {
+    result = render_scene(scene.mesh(), request);
+    write_png(args.out, result.image);
+  } catch (const std::runtime_error& e) {
+    throw CLI::ValidationError("--out", e.what());
+  }
+  std::cout << fmt::format("wrote {} ({}x{}): {} at version {}, {} vertices, {} of {} edges drawn{}\n", args.out, args.width,
+                           args.height, args.scene, snapshot.version, g.vertex_count(), result.roadmap_edges_drawn,
+                           g.edge_count(), tour.empty() ? "" : fmt::format(", a tour of {:.6g}", tour_cost));
+  return 0;
+}
+
+}  // namespace ispars::cli
