@@ -10,8 +10,9 @@ PACKAGES=(
   libcli11-dev libnanoflann-dev nlohmann-json3-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev libompl-dev
   coinor-libclp-dev zlib1g-dev
-  libsystemd-dev libcpp-httplib-dev
+  libsystemd-dev libcpp-httplib-dev libboost-dev
   gnuplot-nox
+  nodejs chromium
 )
 
 missing=()

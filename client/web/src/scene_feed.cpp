@@ -1,0 +1,156 @@
+#include "scene_feed.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+
+#include "ispars/input_error.hpp"
+#include "ispars/scene/scene.hpp"
+#include "ispars/wire/convert.hpp"
+
+namespace ispars::web {
+
+std::string status_message(const msg::SceneStatus& s) {
+  return nlohmann::json{{"type", "status"},
+                        {"scene", s.scene().to_string()},
+                        {"server_id", s.server_id().to_string()},
+                        {"state", wire::to_string(s.state())},
+                        {"samples_done", s.samples_done()},
+                        {"samples_target", s.samples_target()},
+                        {"vertices", s.vertices()},
+                        {"edges", s.edges()},
+                        {"generation", s.generation()},
+                        {"version", s.version()},
+                        {"pois_covered", s.pois_covered()},
+                        {"poi_count", s.poi_count()},
+                        {"last_error", s.last_error()}}
+      .dump();
+}
+
+SceneFeed::SceneFeed(client::Client& client, std::string scene, DrawLimits limits)
+    : client_(client), scene_(std::move(scene)), limits_(limits) {
+  (void)client_.stats(scene_);  // throws, naming the problem, when no daemon holds the scene
+  replica_ = std::make_unique<client::RoadmapReplica>(client_, scene_,
+                                                      [this](const client::ReplicaEvent&) { on_change(); });
+  replica_ready_ = replica_.get();
+  on_change();
+}
+
+SceneFeed::~SceneFeed() {
+  replica_ready_ = nullptr;
+  replica_.reset();  // joins the replica's thread
+}
+
+void SceneFeed::on_change() {
+  client::RoadmapReplica* replica = replica_ready_;
+  if (replica == nullptr) return;  // still constructing: the constructor takes the first copy
+  auto copy = std::make_shared<const Roadmap>(replica->roadmap());
+  const std::uint64_t generation = replica->generation();
+  std::lock_guard lock(mutex_);
+  roadmap_ = std::move(copy);
+  generation_ = generation;
+}
+
+std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
+  std::vector<std::string> out;
+  if (const auto status = client_.latest_status(scene_)) {
+    std::string message = status_message(*status);
+    if (message != cursor.last_status) {
+      cursor.last_status = message;
+      out.push_back(std::move(message));
+    }
+  }
+  std::shared_ptr<const Roadmap> roadmap;
+  std::uint64_t generation = 0;
+  {
+    std::lock_guard lock(mutex_);
+    roadmap = roadmap_;
+    generation = generation_;
+  }
+  if (!roadmap) return out;
+  if (generation != cursor.generation) {
+    cursor = ViewerCursor{generation, 0, 0, cursor.last_status};
+    out.push_back(nlohmann::json{{"type", "reset"}, {"generation", generation}}.dump());
+  }
+  const std::size_t vertex_end = std::min(roadmap->vertex_count(), limits_.vertices);
+  const std::size_t edge_end = std::min(roadmap->edge_count(), limits_.edges);
+  while (cursor.vertices < vertex_end || cursor.edges < edge_end) {
+    const std::size_t v1 = std::min(vertex_end, cursor.vertices + limits_.per_message);
+    const std::size_t e1 = std::min(edge_end, cursor.edges + limits_.per_message);
+    nlohmann::json positions = nlohmann::json::array();
+    for (std::size_t v = cursor.vertices; v < v1; ++v) {
+      const Vec3& p = roadmap->position(static_cast<VertexId>(v));
+      positions.push_back(p.x());
+      positions.push_back(p.y());
+      positions.push_back(p.z());
+    }
+    // Edges whose ends are not sent (past the vertex limit) are left out.
+    nlohmann::json edges = nlohmann::json::array();
+    for (std::size_t e = cursor.edges; e < e1; ++e) {
+      const RoadmapEdge& edge = roadmap->edges()[e];
+      if (edge.u < v1 && edge.v < v1) {
+        edges.push_back(edge.u);
+        edges.push_back(edge.v);
+      }
+    }
+    const bool cut = roadmap->vertex_count() > limits_.vertices || roadmap->edge_count() > limits_.edges;
+    out.push_back(nlohmann::json{{"type", "batch"},
+                                 {"generation", generation},
+                                 {"first_vertex", cursor.vertices},
+                                 {"positions", std::move(positions)},
+                                 {"edges", std::move(edges)},
+                                 {"vertices_total", roadmap->vertex_count()},
+                                 {"edges_total", roadmap->edge_count()},
+                                 {"vertices_sent", v1},
+                                 {"edges_sent", e1},
+                                 {"note", cut ? fmt::format("drawing the first {} of {} vertices and {} of {} edges "
+                                                            "(the viewer's limit)",
+                                                            vertex_end, roadmap->vertex_count(), edge_end,
+                                                            roadmap->edge_count())
+                                              : std::string()}}
+                      .dump());
+    cursor.vertices = v1;
+    cursor.edges = e1;
+  }
+  return out;
+}
+
+std::shared_ptr<const std::string> SceneFeed::mesh(const std::filesystem::path& scene_dir, std::string& why) {
+  std::lock_guard lock(mutex_);
+  if (!mesh_) {
+    try {
+      const std::filesystem::path file = scene_dir / (scene_ + ".yaml");
+      if (scene_dir.empty() || !std::filesystem::exists(file)) {
+        throw std::runtime_error(fmt::format("no mesh: {} is not in the gateway's scene directory", scene_ + ".yaml"));
+      }
+      const Scene scene = Scene::load(file);
+      client::RoadmapReplica* replica = replica_ready_;
+      const std::vector<Vec3> pois = replica != nullptr ? replica->pois() : std::vector<Vec3>{};
+      bool same = pois.size() == scene.pois().size();
+      for (std::size_t i = 0; same && i < pois.size(); ++i) same = (pois[i] - scene.pois()[i]).norm() < 1e-6;
+      if (!same) {
+        throw std::runtime_error(fmt::format("no mesh: {} in the gateway's scene directory is not the daemon's scene "
+                                             "(its POIs differ)",
+                                             file.filename().string()));
+      }
+      const TriangleMesh& m = scene.mesh();
+      auto bytes = std::make_shared<std::string>();
+      const auto put = [&](const void* data, std::size_t size) { bytes->append(static_cast<const char*>(data), size); };
+      const auto nv = static_cast<std::uint32_t>(m.vertices.size());
+      const auto nt = static_cast<std::uint32_t>(m.triangles.size());
+      put(&nv, 4);
+      put(&nt, 4);
+      for (const auto& v : m.vertices) put(v.data(), 12);
+      for (const auto& t : m.triangles) put(t.data(), 12);
+      mesh_ = std::move(bytes);
+    } catch (const std::exception& e) {
+      mesh_error_ = e.what();
+      mesh_ = std::shared_ptr<const std::string>();
+    }
+  }
+  why = mesh_error_;
+  return *mesh_;
+}
+
+}  // namespace ispars::web

@@ -1,0 +1,76 @@
+#pragma once
+// What the live viewer shows of one scene: a replica of its roadmap kept from the daemon's update
+// batches, the scene's mesh from the gateway's scene directory, and the messages that bring a
+// browser from what it has drawn to what the replica holds. Knows nothing of HTTP.
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ispars/client/client.hpp"
+#include "ispars/client/replica.hpp"
+
+namespace ispars::web {
+
+/// How much of a roadmap a browser is sent at most; past it, an evenly spread subset is not
+/// possible while it grows, so the first vertices and edges are drawn and the page says so.
+struct DrawLimits {
+  std::size_t vertices = 200'000;  ///< 1..10,000,000
+  std::size_t edges = 500'000;     ///< 1..50,000,000
+  std::size_t per_message = 20'000;  ///< Vertices or edges in one message (1..1,000,000).
+};
+
+/// Where a browser is: the generation it draws, and how much of it it has been sent.
+struct ViewerCursor {
+  std::uint64_t generation = ~std::uint64_t{0};  ///< Nothing drawn yet.
+  std::size_t vertices = 0;
+  std::size_t edges = 0;
+  std::string last_status;  ///< The last status message sent (not resent unchanged).
+};
+
+/// One scene followed for any number of browsers. Thread-safe.
+class SceneFeed {
+ public:
+  /// Follows `scene` through `client` (which must outlive the feed). Throws client::ClientError
+  /// when no daemon holds the scene.
+  SceneFeed(client::Client& client, std::string scene, DrawLimits limits);
+  ~SceneFeed();
+  SceneFeed(const SceneFeed&) = delete;
+  SceneFeed& operator=(const SceneFeed&) = delete;
+
+  /// The next JSON messages for a browser at `cursor` (advanced as they are made): a status when
+  /// it changed, then a reset when the roadmap was rebuilt or dropped, then batches of new
+  /// vertices and edges. Empty when the browser is up to date.
+  std::vector<std::string> updates_for(ViewerCursor& cursor);
+
+  /// The scene's mesh as a binary message (u32 vertex count, u32 triangle count, f32 xyz per
+  /// vertex, u32 triangle corners), loaded once from `scene_dir`/SCENE.yaml; nullopt with the
+  /// reason in `why` when that file is missing, unreadable or not the daemon's scene (its POIs
+  /// differ).
+  std::shared_ptr<const std::string> mesh(const std::filesystem::path& scene_dir, std::string& why);
+
+  [[nodiscard]] const std::string& scene() const { return scene_; }
+
+ private:
+  void on_change();
+  client::Client& client_;
+  std::string scene_;
+  DrawLimits limits_;
+  mutable std::mutex mutex_;
+  std::shared_ptr<const Roadmap> roadmap_;  // the replica as of its last change
+  std::uint64_t generation_ = 0;
+  std::optional<std::shared_ptr<const std::string>> mesh_;
+  std::string mesh_error_;
+  std::atomic<client::RoadmapReplica*> replica_ready_{nullptr};  // set once replica_ is constructed
+  std::unique_ptr<client::RoadmapReplica> replica_;  // last: its thread calls on_change
+};
+
+/// The JSON of a status message for the page.
+[[nodiscard]] std::string status_message(const msg::SceneStatus& status);
+
+}  // namespace ispars::web

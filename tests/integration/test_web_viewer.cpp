@@ -1,0 +1,181 @@
+// The live viewer against a real daemon and gateway, in headless Chromium: pages follow a build
+// of the quickstart's size and draw exactly what `stats` says, a screenshot holds the drawing, a
+// tour comes on request, an unknown scene and a closed browser are handled, and the gateway keeps
+// serving when the daemon goes away.
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "integration/service_fixture.hpp"
+#include "ispars/render/scene_render.hpp"
+
+extern char** environ;
+
+namespace ispars::test {
+namespace {
+
+// ispars-web as a user starts it, its output in a file; stopped with SIGTERM.
+class Gateway {
+ public:
+  Gateway(int domain, const std::filesystem::path& scene_dir, const std::filesystem::path& log) : log_(log) {
+    const std::vector<std::string> args = {ISPARS_WEB, "--domain", std::to_string(domain), "--listen", "127.0.0.1:0",
+                                           "--scene-dir", scene_dir.string(), "--timeout", "5"};
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    if (posix_spawn(&pid_, ISPARS_WEB, &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&actions);
+    const std::string said = "serving http://127.0.0.1:";
+    for (int i = 0; i < 200 && port_ == 0; ++i) {
+      const std::string text = read_text(log_);
+      if (const auto at = text.find(said); at != std::string::npos) port_ = std::stoi(text.substr(at + said.size()));
+      if (port_ == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
+  ~Gateway() {
+    if (pid_ > 0 && alive()) stop();
+  }
+  int stop() {
+    ::kill(pid_, SIGTERM);
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    pid_ = -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  bool alive() { return pid_ > 0 && ::waitpid(pid_, nullptr, WNOHANG) == 0; }
+  [[nodiscard]] int port() const { return port_; }
+  [[nodiscard]] std::string log() const { return read_text(log_); }
+
+ private:
+  std::filesystem::path log_;
+  pid_t pid_ = -1;
+  int port_ = 0;
+};
+
+// One plain HTTP GET on localhost: the status line and the body.
+std::pair<std::string, std::string> http_get(int port, const std::string& path) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<std::uint16_t>(port));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+    ::close(fd);
+    return {"no connection", ""};
+  }
+  const std::string request = "GET " + path + " HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n";
+  (void)::write(fd, request.data(), request.size());
+  std::string response;
+  char buffer[4096];
+  for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) response.append(buffer, static_cast<std::size_t>(n));
+  ::close(fd);
+  const auto line_end = response.find("\r\n");
+  const auto body = response.find("\r\n\r\n");
+  return {response.substr(0, line_end), body == std::string::npos ? "" : response.substr(body + 4)};
+}
+
+class WebViewerTest : public ServiceTest {};
+
+TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
+  ASSERT_TRUE(std::filesystem::exists("/usr/bin/chromium")) << "Debian's chromium (deploy/install-deps.sh installs it)";
+  auto daemon = start("d");
+  Client client(client_options(domain_));
+  client.load("s0");
+  Gateway gateway(domain_, scene_dir_, dir_.path() / "web.log");
+  ASSERT_GT(gateway.port(), 0) << gateway.log();
+  const std::string url = "http://127.0.0.1:" + std::to_string(gateway.port()) + "/";
+  // Plain HTTP first: the page, the scene list, a mesh, and what is refused.
+  EXPECT_EQ(http_get(gateway.port(), "/").first, "HTTP/1.1 200 OK");
+  EXPECT_NE(http_get(gateway.port(), "/api/scenes").second.find("\"s0\""), std::string::npos);
+  EXPECT_EQ(http_get(gateway.port(), "/api/mesh/s0").first, "HTTP/1.1 200 OK");
+  const auto unknown_mesh = http_get(gateway.port(), "/api/mesh/nowhere");
+  EXPECT_EQ(unknown_mesh.first, "HTTP/1.1 404 Not Found");
+  EXPECT_NE(unknown_mesh.second.find("nowhere"), std::string::npos) << unknown_mesh.second;
+  EXPECT_EQ(http_get(gateway.port(), "/../../etc/passwd").first, "HTTP/1.1 404 Not Found");
+  EXPECT_EQ(http_get(gateway.port(), "/api/mesh/..%2Fx").first, "HTTP/1.1 400 Bad Request");
+
+  // The quickstart's size (60,000 samples), four pages open while it builds, one more that
+  // closes mid-stream.
+  BuildArgs args;
+  args.method = "ispars";
+  args.samples = scaled(60'000);  // a twentieth in the sanitizer pass
+  args.seed = 1;
+  client.build("s0", args);
+  const auto shot = dir_.path() / "viewer.png";
+  const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' node '" +
+                              ISPARS_SOURCE_DIR + "/tests/web/viewer_check.mjs' '" + url + "' s0 4 '" + shot.string() +
+                              "' 240 --close-one-early > '" + (dir_.path() / "node.txt").string() + "' 2>&1";
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(std::system(command.c_str()), 0) << read_text(dir_.path() / "node.txt");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string out = read_text(dir_.path() / "node.txt");
+  const auto result = nlohmann::json::parse(out.substr(out.rfind("\n{") == std::string::npos ? 0 : out.rfind("\n{") + 1));
+  ASSERT_FALSE(result.contains("failure")) << out << "\n" << gateway.log();
+  const msg::SceneStatus stats = client.stats("s0");
+  EXPECT_EQ(stats.samples_done(), scaled(60'000));
+  ASSERT_EQ(result["pages"].size(), 4u);
+  int most_batches = 0;
+  for (const auto& page : result["pages"]) {
+    EXPECT_EQ(page["vertices"], stats.vertices()) << page;
+    EXPECT_EQ(page["edges"], stats.edges()) << page;
+    EXPECT_EQ(page["shown_vertices"], stats.vertices()) << page;
+    EXPECT_EQ(page["shown_edges"], stats.edges()) << page;
+    EXPECT_TRUE(page["mesh"].get<bool>()) << page;
+    EXPECT_TRUE(page["errors"].empty()) << page;
+    EXPECT_GE(page["batches"].get<int>(), 1) << page;
+    most_batches = std::max(most_batches, page["batches"].get<int>());
+  }
+  // At full size the build outlasts the pages' start: they drew the roadmap as it grew.
+  if (scaled(60'000) == 60'000) {
+    EXPECT_GT(most_batches, 1);
+  }
+  EXPECT_TRUE(result["console_errors"].empty()) << result["console_errors"];
+  // The drawing is there: in the page's canvas and in the screenshot.
+  EXPECT_GT(result["drawn_pixels"]["drawn"].get<double>(), 0.03 * result["drawn_pixels"]["total"].get<double>()) << result;
+  const Image image = read_png(shot.string());
+  std::size_t drawn = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* p = image.pixel(x, y);
+      drawn += std::abs(p[0] - 0xe8) + std::abs(p[1] - 0xee) + std::abs(p[2] - 0xf6) > 30 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(drawn, static_cast<std::size_t>(image.width) * image.height / 20) << "a blank screenshot";
+  EXPECT_TRUE(result["tour"]["valid"].get<bool>()) << result["tour"];
+  EXPECT_GT(result["tour"]["waypoints"].get<int>(), 2);
+  EXPECT_NE(result["unknown_scene_error"].get<std::string>().find("no_such_scene"), std::string::npos) << result;
+  std::cout << "viewer: " << seconds << " s for the build and 4 pages; waited ms per page:";
+  for (const auto& page : result["pages"]) std::cout << " " << page["waited_ms"] << " (" << page["batches"] << " batches)";
+  std::cout << "\n";
+
+  // The daemon goes away: the gateway says so and keeps serving.
+  daemon->kill9();
+  std::pair<std::string, std::string> scenes;
+  for (int i = 0; i < 15; ++i) {  // its announcement lasts until its lease (3 s) runs out
+    scenes = http_get(gateway.port(), "/api/scenes");
+    if (scenes.first == "HTTP/1.1 503 Service Unavailable") break;
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+  }
+  EXPECT_EQ(scenes.first, "HTTP/1.1 503 Service Unavailable") << scenes.second;
+  EXPECT_NE(scenes.second.find("\"error\""), std::string::npos) << scenes.second;
+  std::cout << "with the daemon gone, /api/scenes says: " << scenes.second << "\n";
+  EXPECT_EQ(http_get(gateway.port(), "/").first, "HTTP/1.1 200 OK");
+  EXPECT_TRUE(gateway.alive());
+  EXPECT_EQ(gateway.stop(), 0) << gateway.log();
+}
+
+}  // namespace
+}  // namespace ispars::test

@@ -1,0 +1,91 @@
+// Drives the live viewer in headless Chromium (Debian's /usr/bin/chromium, through playwright-core
+// from the page's npm packages): opens PAGES pages on one scene while it builds, waits until each
+// has drawn what the daemon holds, asks one page for a tour, takes a screenshot, and prints one
+// JSON object. Usage:
+//   node viewer_check.mjs URL SCENE PAGES SCREENSHOT.png TIMEOUT_S [--close-one-early]
+// ISPARS_WEB_NODE_MODULES names the node_modules holding playwright-core.
+import { createRequire } from 'node:module';
+
+const require = createRequire(process.env.ISPARS_WEB_NODE_MODULES + '/');
+const { chromium } = require('playwright-core');
+
+const [url, scene, pagesArg, screenshot, timeoutArg, ...flags] = process.argv.slice(2);
+const pageCount = Number(pagesArg);
+const deadline = Date.now() + Number(timeoutArg) * 1000;
+const closeOneEarly = flags.includes('--close-one-early');
+
+const browser = await chromium.launch({
+  executablePath: '/usr/bin/chromium',
+  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-quic',
+         '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+});
+const result = { pages: [], console_errors: [] };
+try {
+  const context = await browser.newContext({ viewport: { width: 1000, height: 700 } });
+  const open = async () => {
+    const page = await context.newPage();
+    page.on('pageerror', (e) => result.console_errors.push(String(e)));
+    await page.goto(`${url}?scene=${encodeURIComponent(scene)}`);
+    return page;
+  };
+  const pages = [];
+  for (let i = 0; i < pageCount; i++) pages.push(await open());
+  if (closeOneEarly) {
+    // A browser that goes away mid-stream: the gateway must go on serving the others.
+    const early = await open();
+    await early.waitForFunction(() => window.viewer && window.viewer.batches > 0, null, { timeout: 60000 });
+    await early.close();
+    result.closed_early = true;
+  }
+  // Each page is done when the daemon is idle and the page has drawn every vertex and edge of its
+  // status (which the test then compares with `ispars stats`).
+  for (const page of pages) {
+    const start = Date.now();
+    await page.waitForFunction(() => {
+      const v = window.viewer;
+      return v && v.status && v.status.state === 'idle' && v.vertices === v.status.vertices &&
+          v.edges === v.status.edges && v.vertices > 0;
+    }, null, { timeout: Math.max(1000, deadline - Date.now()), polling: 100 });
+    const state = await page.evaluate(() => ({
+      vertices: window.viewer.vertices, edges: window.viewer.edges, batches: window.viewer.batches,
+      frames: window.viewer.frames, mesh: window.viewer.mesh, errors: window.viewer.errors,
+      shown_vertices: Number(document.getElementById('vertices').textContent),
+      shown_edges: Number(document.getElementById('edges').textContent),
+    }));
+    state.waited_ms = Date.now() - start;
+    state.caught_up_at = new Date().toISOString();
+    result.pages.push(state);
+  }
+  // The drawing: pixels of the WebGL canvas that are not the background.
+  const page = pages[0];
+  await page.waitForTimeout(300);
+  result.drawn_pixels = await page.evaluate(() => {
+    const gl = document.querySelector('#view canvas');
+    const c = document.createElement('canvas');
+    c.width = gl.width; c.height = gl.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(gl, 0, 0);
+    const d = ctx.getImageData(0, 0, c.width, c.height).data;
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      if (Math.abs(d[i] - 0xe8) + Math.abs(d[i + 1] - 0xee) + Math.abs(d[i + 2] - 0xf6) > 30) n++;
+    }
+    return { drawn: n, total: c.width * c.height };
+  });
+  await page.screenshot({ path: screenshot });
+  // A tour on request.
+  await page.click('#tour_button');
+  await page.waitForFunction(() => window.viewer.tour !== null, null, { timeout: 60000 });
+  result.tour = await page.evaluate(() => ({ cost: window.viewer.tour.cost, waypoints: window.viewer.tour.positions.length,
+                                              valid: window.viewer.tour.valid, text: document.getElementById('tour').textContent }));
+  // An unknown scene: a clear message, and the gateway keeps serving.
+  const unknown = await context.newPage();
+  await unknown.goto(`${url}?scene=no_such_scene`);
+  await unknown.waitForFunction(() => window.viewer && window.viewer.errors.length > 0, null, { timeout: 60000 });
+  result.unknown_scene_error = await unknown.evaluate(() => window.viewer.errors[0]);
+} catch (e) {
+  result.failure = String(e);
+} finally {
+  await browser.close();
+}
+console.log(JSON.stringify(result));
