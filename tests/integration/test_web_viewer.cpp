@@ -1,7 +1,7 @@
 // The live viewer against a real daemon and gateway, in headless Chromium: pages follow a build
-// of the quickstart's size and draw exactly what `stats` says, a screenshot holds the drawing, a
-// tour comes on request, an unknown scene and a closed browser are handled, and the gateway keeps
-// serving when the daemon goes away.
+// and draw exactly what `stats` says, a screenshot holds the drawing, a
+// tour comes on request, an unknown scene, a closed browser and a roadmap past the drawing limits
+// are handled, and the gateway keeps serving when the daemon goes away.
 
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -26,9 +26,12 @@ namespace {
 // ispars-web as a user starts it, its output in a file; stopped with SIGTERM.
 class Gateway {
  public:
-  Gateway(int domain, const std::filesystem::path& scene_dir, const std::filesystem::path& log) : log_(log) {
-    const std::vector<std::string> args = {ISPARS_WEB, "--domain", std::to_string(domain), "--listen", "127.0.0.1:0",
-                                           "--scene-dir", scene_dir.string(), "--timeout", "5"};
+  Gateway(int domain, const std::filesystem::path& scene_dir, const std::filesystem::path& log,
+          const std::vector<std::string>& extra = {})
+      : log_(log) {
+    std::vector<std::string> args = {ISPARS_WEB, "--domain", std::to_string(domain), "--listen", "127.0.0.1:0",
+                                     "--scene-dir", scene_dir.string(), "--timeout", "5"};
+    args.insert(args.end(), extra.begin(), extra.end());
     std::vector<char*> argv;
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
@@ -107,25 +110,35 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   EXPECT_EQ(http_get(gateway.port(), "/../../etc/passwd").first, "HTTP/1.1 404 Not Found");
   EXPECT_EQ(http_get(gateway.port(), "/api/mesh/..%2Fx").first, "HTTP/1.1 400 Bad Request");
 
-  // The quickstart's size (60,000 samples), four pages open while it builds, one more that
-  // closes mid-stream.
-  BuildArgs args;
-  args.method = "ispars";
-  args.samples = scaled(60'000);  // a twentieth in the sanitizer pass
-  args.seed = 1;
-  client.build("s0", args);
+  // Four pages open, and one more that closes mid-stream; then a build starts (20,000 samples;
+  // the quickstart's 60,000 with four pages is measured in docs/results/viewer.md), which the
+  // pages follow from its first batch.
   const auto shot = dir_.path() / "viewer.png";
+  const auto ready = dir_.path() / "pages-open";
+  const auto node_out = dir_.path() / "node.txt";
   const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' node '" +
                               ISPARS_SOURCE_DIR + "/tests/web/viewer_check.mjs' '" + url + "' s0 4 '" + shot.string() +
-                              "' 240 --close-one-early > '" + (dir_.path() / "node.txt").string() + "' 2>&1";
+                              "' 240 --close-one-early --ready-file='" + ready.string() + "' > '" + node_out.string() +
+                              "' 2>&1; echo $? > '" + node_out.string() + ".exit'";
+  ASSERT_EQ(std::system(("(" + command + ") &").c_str()), 0);
+  for (int i = 0; i < 600 && !std::filesystem::exists(ready); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(std::filesystem::exists(ready)) << read_text(node_out);
   const auto t0 = std::chrono::steady_clock::now();
-  ASSERT_EQ(std::system(command.c_str()), 0) << read_text(dir_.path() / "node.txt");
+  BuildArgs args;
+  args.method = "ispars";
+  args.samples = scaled(20'000);  // a twentieth in the sanitizer pass
+  args.seed = 1;
+  client.build("s0", args);
+  for (int i = 0; i < 3000 && !std::filesystem::exists(node_out.string() + ".exit"); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(read_text(node_out.string() + ".exit"), "0\n") << read_text(node_out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const std::string out = read_text(dir_.path() / "node.txt");
+  const std::string out = read_text(node_out);
   const auto result = nlohmann::json::parse(out.substr(out.rfind("\n{") == std::string::npos ? 0 : out.rfind("\n{") + 1));
   ASSERT_FALSE(result.contains("failure")) << out << "\n" << gateway.log();
   const msg::SceneStatus stats = client.stats("s0");
-  EXPECT_EQ(stats.samples_done(), scaled(60'000));
+  EXPECT_EQ(stats.samples_done(), scaled(20'000));
   ASSERT_EQ(result["pages"].size(), 4u);
   int most_batches = 0;
   for (const auto& page : result["pages"]) {
@@ -138,10 +151,8 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
     EXPECT_GE(page["batches"].get<int>(), 1) << page;
     most_batches = std::max(most_batches, page["batches"].get<int>());
   }
-  // At full size the build outlasts the pages' start: they drew the roadmap as it grew.
-  if (scaled(60'000) == 60'000) {
-    EXPECT_GT(most_batches, 1);
-  }
+  // The pages were open before the build: they drew the roadmap as it grew.
+  EXPECT_GT(most_batches, 1);
   EXPECT_TRUE(result["console_errors"].empty()) << result["console_errors"];
   // The drawing is there: in the page's canvas and in the screenshot.
   EXPECT_GT(result["drawn_pixels"]["drawn"].get<double>(), 0.03 * result["drawn_pixels"]["total"].get<double>()) << result;
@@ -160,6 +171,24 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   std::cout << "viewer: " << seconds << " s for the build and 4 pages; waited ms per page:";
   for (const auto& page : result["pages"]) std::cout << " " << page["waited_ms"] << " (" << page["batches"] << " batches)";
   std::cout << "\n";
+
+  // A roadmap past the viewer's limits: drawn up to them, and the page says so.
+  {
+    Gateway small(domain_, scene_dir_, dir_.path() / "web-small.log", {"--max-vertices", "50", "--max-edges", "100"});
+    ASSERT_GT(small.port(), 0) << small.log();
+    const std::string note_command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' node '" +
+                                     ISPARS_SOURCE_DIR + "/tests/web/viewer_check.mjs' 'http://127.0.0.1:" +
+                                     std::to_string(small.port()) + "/' s0 1 x.png 60 --note-only > '" +
+                                     (dir_.path() / "note.txt").string() + "' 2>&1";
+    ASSERT_EQ(std::system(note_command.c_str()), 0) << read_text(dir_.path() / "note.txt");
+    const auto note = nlohmann::json::parse(read_text(dir_.path() / "note.txt"))["note"];
+    EXPECT_EQ(note["vertices"], 50) << note;
+    EXPECT_LE(note["edges"].get<int>(), 100) << note;
+    EXPECT_NE(note["text"].get<std::string>().find("drawing the first 50 of " + std::to_string(stats.vertices()) +
+                                                   " vertices"),
+              std::string::npos)
+        << note;
+  }
 
   // The daemon goes away: the gateway says so and keeps serving.
   daemon->kill9();

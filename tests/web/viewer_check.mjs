@@ -2,8 +2,10 @@
 // from the page's npm packages): opens PAGES pages on one scene while it builds, waits until each
 // has drawn what the daemon holds, asks one page for a tour, takes a screenshot, and prints one
 // JSON object. Usage:
-//   node viewer_check.mjs URL SCENE PAGES SCREENSHOT.png TIMEOUT_S [--close-one-early]
+//   node viewer_check.mjs URL SCENE PAGES SCREENSHOT.png TIMEOUT_S [--close-one-early] [--ready-file=PATH]
+// With --ready-file, PATH is written once every page is open (the test then starts the build).
 // ISPARS_WEB_NODE_MODULES names the node_modules holding playwright-core.
+import { writeFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 
 const require = createRequire(process.env.ISPARS_WEB_NODE_MODULES + '/');
@@ -13,6 +15,8 @@ const [url, scene, pagesArg, screenshot, timeoutArg, ...flags] = process.argv.sl
 const pageCount = Number(pagesArg);
 const deadline = Date.now() + Number(timeoutArg) * 1000;
 const closeOneEarly = flags.includes('--close-one-early');
+const noteOnly = flags.includes('--note-only');  // one page, until it says the roadmap is cut
+const readyFile = (flags.find((f) => f.startsWith('--ready-file=')) || '').slice('--ready-file='.length);
 
 const browser = await chromium.launch({
   executablePath: '/usr/bin/chromium',
@@ -28,11 +32,23 @@ try {
     await page.goto(`${url}?scene=${encodeURIComponent(scene)}`);
     return page;
   };
+  if (noteOnly) {
+    const page = await open();
+    await page.waitForFunction(() => document.getElementById('note').textContent !== '' && window.viewer.status &&
+                                   window.viewer.status.state === 'idle', null, { timeout: 60000, polling: 100 });
+    await page.waitForTimeout(1000);  // nothing more arrives past the limit
+    result.note = await page.evaluate(() => ({ text: document.getElementById('note').textContent,
+                                               vertices: window.viewer.vertices, edges: window.viewer.edges }));
+    await browser.close();
+    console.log(JSON.stringify(result));
+    process.exit(0);
+  }
   const pages = [];
   for (let i = 0; i < pageCount; i++) pages.push(await open());
-  if (closeOneEarly) {
+  const early = closeOneEarly ? await open() : null;
+  if (readyFile) writeFileSync(readyFile, 'open\n');
+  if (early) {
     // A browser that goes away mid-stream: the gateway must go on serving the others.
-    const early = await open();
     await early.waitForFunction(() => window.viewer && window.viewer.batches > 0, null, { timeout: 60000 });
     await early.close();
     result.closed_early = true;

@@ -4,6 +4,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 
 #include "ispars/input_error.hpp"
 #include "ispars/scene/scene.hpp"
@@ -117,6 +119,17 @@ std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
 }
 
 std::shared_ptr<const std::string> SceneFeed::mesh(const std::filesystem::path& scene_dir, std::string& why) {
+  // The daemon's POIs come with the replica's first snapshot: wait for it (bounded), so that a
+  // mesh asked for at once is not judged against no POIs.
+  client::RoadmapReplica* replica = replica_ready_;
+  const auto deadline = std::chrono::steady_clock::now() + client_.options().timeout;
+  while (replica != nullptr && replica->snapshots_taken() == 0 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (replica == nullptr || replica->snapshots_taken() == 0) {
+    why = "no mesh yet: the scene's roadmap has not reached the gateway";  // not kept: asked again next time
+    return nullptr;
+  }
   std::lock_guard lock(mutex_);
   if (!mesh_) {
     try {
@@ -125,8 +138,7 @@ std::shared_ptr<const std::string> SceneFeed::mesh(const std::filesystem::path& 
         throw std::runtime_error(fmt::format("no mesh: {} is not in the gateway's scene directory", scene_ + ".yaml"));
       }
       const Scene scene = Scene::load(file);
-      client::RoadmapReplica* replica = replica_ready_;
-      const std::vector<Vec3> pois = replica != nullptr ? replica->pois() : std::vector<Vec3>{};
+      const std::vector<Vec3> pois = replica->pois();
       bool same = pois.size() == scene.pois().size();
       for (std::size_t i = 0; same && i < pois.size(); ++i) same = (pois[i] - scene.pois()[i]).norm() < 1e-6;
       if (!same) {
