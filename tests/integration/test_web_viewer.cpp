@@ -90,7 +90,24 @@ std::pair<std::string, std::string> http_get(int port, const std::string& path) 
   return {response.substr(0, line_end), body == std::string::npos ? "" : response.substr(body + 4)};
 }
 
-class WebViewerTest : public ServiceTest {};
+// A JSON value as text: a string as it is, anything else as JSON.
+std::string text_of(const nlohmann::json& value) { return value.is_string() ? value.get<std::string>() : value.dump(); }
+
+class WebViewerTest : public ServiceTest {
+ protected:
+  // One page of scene s0 on the gateway at `port`, once its element ID contains TEXT ("ID:TEXT"):
+  // that element's text and the page's vertex and edge counts.
+  nlohmann::json page_text(int port, const std::string& wait) {
+    const auto out = dir_.path() / "page_text.txt";
+    const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' node '" +
+                                ISPARS_SOURCE_DIR + "/tests/web/viewer_check.mjs' 'http://127.0.0.1:" +
+                                std::to_string(port) + "/' s0 1 unused.png 60 '--wait-text=" + wait + "' > '" +
+                                out.string() + "' 2>&1";
+    EXPECT_EQ(std::system(command.c_str()), 0) << read_text(out);
+    const auto json = nlohmann::json::parse(read_text(out), nullptr, false);
+    return json.is_discarded() ? nlohmann::json{{"text", read_text(out)}, {"vertices", -1}, {"edges", -1}} : json;
+  }
+};
 
 TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   ASSERT_TRUE(std::filesystem::exists("/usr/bin/chromium")) << "Debian's chromium (deploy/install-deps.sh installs it)";
@@ -166,8 +183,8 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   }
   EXPECT_GT(drawn, static_cast<std::size_t>(image.width) * image.height / 20) << "a blank screenshot";
   EXPECT_TRUE(result["tour"]["valid"].get<bool>()) << result["tour"];
-  EXPECT_GT(result["tour"]["waypoints"].get<int>(), 2);
-  EXPECT_NE(result["unknown_scene_error"].get<std::string>().find("no_such_scene"), std::string::npos) << result;
+  EXPECT_GT(result["tour"]["waypoints"], 2) << result["tour"];
+  EXPECT_NE(text_of(result["unknown_scene_error"]).find("no_such_scene"), std::string::npos) << result;
   std::cout << "viewer: " << seconds << " s for the build and 4 pages; waited ms per page:";
   for (const auto& page : result["pages"]) std::cout << " " << page["waited_ms"] << " (" << page["batches"] << " batches)";
   std::cout << "\n";
@@ -176,15 +193,10 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   {
     Gateway small(domain_, scene_dir_, dir_.path() / "web-small.log", {"--max-vertices", "50", "--max-edges", "100"});
     ASSERT_GT(small.port(), 0) << small.log();
-    const std::string note_command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' node '" +
-                                     ISPARS_SOURCE_DIR + "/tests/web/viewer_check.mjs' 'http://127.0.0.1:" +
-                                     std::to_string(small.port()) + "/' s0 1 x.png 60 --note-only > '" +
-                                     (dir_.path() / "note.txt").string() + "' 2>&1";
-    ASSERT_EQ(std::system(note_command.c_str()), 0) << read_text(dir_.path() / "note.txt");
-    const auto note = nlohmann::json::parse(read_text(dir_.path() / "note.txt"))["note"];
+    const auto note = page_text(small.port(), "note:drawing the first");
     EXPECT_EQ(note["vertices"], 50) << note;
-    EXPECT_LE(note["edges"].get<int>(), 100) << note;
-    EXPECT_NE(note["text"].get<std::string>().find("drawing the first 50 of " + std::to_string(stats.vertices()) +
+    EXPECT_LE(note["edges"], 100) << note;
+    EXPECT_NE(text_of(note["text"]).find("drawing the first 50 of " + std::to_string(stats.vertices()) +
                                                    " vertices"),
               std::string::npos)
         << note;
@@ -192,6 +204,10 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
 
   // The daemon goes away: the gateway says so and keeps serving.
   daemon->kill9();
+  // A page says so too, once the daemon's lease runs out.
+  const auto gone = page_text(gateway.port(), "daemon_note:has left the DDS domain");
+  EXPECT_NE(text_of(gone["text"]).find("daemon d has left the DDS domain"), std::string::npos) << gone;
+  EXPECT_EQ(gone["vertices"], stats.vertices()) << "the last roadmap stays shown";
   std::pair<std::string, std::string> scenes;
   for (int i = 0; i < 15; ++i) {  // its announcement lasts until its lease (3 s) runs out
     scenes = http_get(gateway.port(), "/api/scenes");

@@ -15,7 +15,8 @@ const [url, scene, pagesArg, screenshot, timeoutArg, ...flags] = process.argv.sl
 const pageCount = Number(pagesArg);
 const deadline = Date.now() + Number(timeoutArg) * 1000;
 const closeOneEarly = flags.includes('--close-one-early');
-const noteOnly = flags.includes('--note-only');  // one page, until it says the roadmap is cut
+// --wait-text=ID:TEXT: one page, until its element ID contains TEXT; prints that element's text.
+const waitText = (flags.find((f) => f.startsWith('--wait-text=')) || '').slice('--wait-text='.length);
 const readyFile = (flags.find((f) => f.startsWith('--ready-file=')) || '').slice('--ready-file='.length);
 
 const browser = await chromium.launch({
@@ -32,13 +33,15 @@ try {
     await page.goto(`${url}?scene=${encodeURIComponent(scene)}`);
     return page;
   };
-  if (noteOnly) {
+  if (waitText) {
+    const [id, text] = [waitText.slice(0, waitText.indexOf(':')), waitText.slice(waitText.indexOf(':') + 1)];
     const page = await open();
-    await page.waitForFunction(() => document.getElementById('note').textContent !== '' && window.viewer.status &&
-                                   window.viewer.status.state === 'idle', null, { timeout: 60000, polling: 100 });
-    await page.waitForTimeout(1000);  // nothing more arrives past the limit
-    result.note = await page.evaluate(() => ({ text: document.getElementById('note').textContent,
-                                               vertices: window.viewer.vertices, edges: window.viewer.edges }));
+    await page.waitForFunction(([i, t]) => document.getElementById(i).textContent.includes(t), [id, text],
+                               { timeout: Number(timeoutArg) * 1000, polling: 100 });
+    await page.waitForTimeout(1000);  // anything more that would arrive
+    result.text = await page.evaluate((i) => document.getElementById(i).textContent, id);
+    result.vertices = await page.evaluate(() => window.viewer.vertices);
+    result.edges = await page.evaluate(() => window.viewer.edges);
     await browser.close();
     console.log(JSON.stringify(result));
     process.exit(0);

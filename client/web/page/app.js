@@ -167,6 +167,9 @@ function onBatch(m) {
 
 function onStatus(m) {
   $('owner').textContent = m.server_id;
+  $('daemon_note').textContent = m.daemon_gone
+      ? `daemon ${m.server_id} has left the DDS domain: showing its last roadmap until a daemon holds the scene`
+      : '';
   $('state').textContent = m.state + (m.last_error ? ` (${m.last_error})` : '');
   $('samples').textContent = `${m.samples_done} of ${m.samples_target}`;
   $('progress').value = m.samples_target > 0 ? m.samples_done / m.samples_target : 1;

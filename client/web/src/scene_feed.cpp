@@ -13,8 +13,9 @@
 
 namespace ispars::web {
 
-std::string status_message(const msg::SceneStatus& s) {
+std::string status_message(const msg::SceneStatus& s, bool daemon_gone) {
   return nlohmann::json{{"type", "status"},
+                        {"daemon_gone", daemon_gone},
                         {"scene", s.scene().to_string()},
                         {"server_id", s.server_id().to_string()},
                         {"state", wire::to_string(s.state())},
@@ -56,8 +57,22 @@ void SceneFeed::on_change() {
 
 std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
   std::vector<std::string> out;
-  if (const auto status = client_.latest_status(scene_)) {
-    std::string message = status_message(*status);
+  // A holder that left the domain (its participant's lease ran out) takes its statuses with it:
+  // the last one seen is shown, saying so, until a daemon holds the scene again.
+  std::optional<msg::SceneStatus> status = client_.latest_status(scene_);
+  bool gone = false;
+  {
+    std::lock_guard lock(mutex_);
+    if (status) {
+      last_status_ = status;
+    } else if (last_status_) {
+      status = last_status_;
+      gone = true;
+    }
+  }
+  if (status && !gone) gone = client_.daemon_identity(status->server_id().to_string()).empty();
+  if (status) {
+    std::string message = status_message(*status, gone);
     if (message != cursor.last_status) {
       cursor.last_status = message;
       out.push_back(std::move(message));

@@ -64,13 +64,14 @@ class SceneFeed {
   mutable std::mutex mutex_;
   std::shared_ptr<const Roadmap> roadmap_;  // the replica as of its last change
   std::uint64_t generation_ = 0;
+  std::optional<msg::SceneStatus> last_status_;  // the last status seen from a live daemon
   std::optional<std::shared_ptr<const std::string>> mesh_;
   std::string mesh_error_;
   std::atomic<client::RoadmapReplica*> replica_ready_{nullptr};  // set once replica_ is constructed
   std::unique_ptr<client::RoadmapReplica> replica_;  // last: its thread calls on_change
 };
 
-/// The JSON of a status message for the page.
-[[nodiscard]] std::string status_message(const msg::SceneStatus& status);
+/// The JSON of a status message for the page; `daemon_gone`: its daemon has left the domain.
+[[nodiscard]] std::string status_message(const msg::SceneStatus& status, bool daemon_gone);
 
 }  // namespace ispars::web
