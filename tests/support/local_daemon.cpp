@@ -4,9 +4,11 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -23,16 +25,29 @@ namespace ispars::client {
 
 int random_domain() {
   // Tests run in parallel, each in its own process: a domain is taken by locking its file (held
-  // until the process exits), so no two running tests share one, whatever the random start.
+  // until the process exits), so no two running tests share one. Of the free domains, the one
+  // taken longest ago is tried first (each file's time is set when it is taken): a domain a test
+  // has just left may still carry what its daemons announced (a daemon killed with kill -9 is seen
+  // until its lease runs out), and a test that drew it again would meet a namesake.
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "ispars-test-domains";
   std::filesystem::create_directories(dir);
+  std::vector<std::pair<std::filesystem::file_time_type, int>> order;
   std::random_device rd;
   const int start = static_cast<int>(rd() % 133);
   for (int i = 0; i < 133; ++i) {
     const int domain = 100 + (start + i) % 133;
+    std::error_code ec;
+    const auto taken = std::filesystem::last_write_time(dir / (std::to_string(domain) + ".lock"), ec);
+    order.emplace_back(ec ? std::filesystem::file_time_type::min() : taken, domain);
+  }
+  std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [taken, domain] : order) {
     const int fd = ::open((dir / (std::to_string(domain) + ".lock")).c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
     if (fd < 0) continue;
-    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) return domain;  // fd stays open: the lock lives with the process
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) {
+      ::futimens(fd, nullptr);  // taken now
+      return domain;            // fd stays open: the lock lives with the process
+    }
     ::close(fd);
   }
   throw std::runtime_error("every DDS domain in 100..232 is taken by a running test");

@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
 #include <iostream>
 
 #include "ispars/client/client.hpp"
@@ -42,6 +43,17 @@ int main(int argc, char** argv) {
   app.add_option("--tour-budget-max", options.tour_budget_max, "seconds a page may ask a tour to search")
       ->check(CLI::Range(0.1, 3600.0));
   CLI11_PARSE(app, argc, argv);
+  if (app.count("--web-root") == 0 && !std::filesystem::exists(options.web_root / "index.html")) {
+    // Installed (cmake --install): the page lies in share/ispars/web beside bin/.
+    std::error_code ec;
+    const auto installed = std::filesystem::canonical("/proc/self/exe", ec).parent_path().parent_path() / "share/ispars/web";
+    if (!ec && std::filesystem::exists(installed / "index.html")) options.web_root = installed;
+  }
+  if (!std::filesystem::exists(options.web_root / "index.html")) {
+    std::cerr << "ispars-web: --web-root: no index.html in " << options.web_root.string()
+              << " (build the ispars_web_page target, or name the page's directory)\n";
+    return 2;
+  }
 
   const auto colon = listen.rfind(':');
   char* end = nullptr;

@@ -1,32 +1,10 @@
-#include "web_server.hpp"
+// The viewer's HTTP side: the listener, one request per connection (the page, the scene list,
+// meshes), and the hand-over of WebSocket upgrades to websocket_session.cpp.
 
-#include <boost/asio.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/http.hpp>
-#include <boost/beast/websocket.hpp>
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
-
-#include <algorithm>
-#include <atomic>
-#include <cctype>
-#include <deque>
-#include <fstream>
-#include <map>
-#include <mutex>
-#include <sstream>
+#include "web_server_impl.hpp"
 
 namespace ispars::web {
-namespace {
 
-namespace beast = boost::beast;
-namespace http = beast::http;
-namespace websocket = beast::websocket;
-namespace net = boost::asio;
-using tcp = net::ip::tcp;
-
-// A scene name as the daemon accepts it: 1-64 of A-Za-z0-9_-. and not starting with a dot.
 bool valid_scene_name(const std::string& name) {
   if (name.empty() || name.size() > 64 || name[0] == '.') return false;
   return std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'; });
@@ -34,7 +12,6 @@ bool valid_scene_name(const std::string& name) {
 
 std::string error_message(const std::string& what) { return nlohmann::json{{"type", "error"}, {"message", what}}.dump(); }
 
-// The value of `key` in a target's query string ("/ws?scene=s0"), undecoded: names need no escapes.
 std::string query_value(std::string_view target, std::string_view key) {
   const auto q = target.find('?');
   if (q == std::string_view::npos) return {};
@@ -51,211 +28,9 @@ std::string query_value(std::string_view target, std::string_view key) {
   return {};
 }
 
-}  // namespace
-
-class WebServer::Impl {
- public:
-  Impl(client::Client& c, WebServerOptions o) : client(c), options(std::move(o)) {}
-
-  client::Client& client;
-  const WebServerOptions options;
-  std::atomic<std::size_t> connections{0}, browsers{0}, browsers_total{0}, messages{0}, refused{0};
-  std::mutex feeds_mutex;
-  std::map<std::string, std::shared_ptr<SceneFeed>> feeds;
-  net::thread_pool workers{8};
-  std::thread io_thread;
-  // Last, so destroyed first: the sessions its queued handlers hold go before what they use.
-  net::io_context io{1};
-  tcp::acceptor acceptor{io};
-
-  // A connection's place in max_connections, given back when the last holder goes.
-  struct Slot {
-    explicit Slot(Impl& s) : server(s) {}
-    ~Slot() { --server.connections; }
-    Impl& server;
-  };
-
-  // The feed of `scene`, made on first use (blocks: run on a worker).
-  std::shared_ptr<SceneFeed> feed_for(const std::string& scene) {
-    {
-      std::lock_guard lock(feeds_mutex);
-      if (auto it = feeds.find(scene); it != feeds.end()) return it->second;
-      if (feeds.size() >= options.max_scenes) {
-        throw std::runtime_error(fmt::format("the viewer follows {} scenes already (its limit)", feeds.size()));
-      }
-    }
-    auto feed = std::make_shared<SceneFeed>(client, scene, options.limits);  // outside the lock: it waits
-    std::lock_guard lock(feeds_mutex);
-    return feeds.emplace(scene, std::move(feed)).first->second;  // a feed made meanwhile wins
-  }
-
-  void accept();
-  void serve_file(const std::string& name, std::string& type, std::string& body, http::status& status) const {
-    static const std::map<std::string, std::string> kFiles = {{"index.html", "text/html; charset=utf-8"},
-                                                              {"app.js", "text/javascript"},
-                                                              {"three.module.js", "text/javascript"},
-                                                              {"three.core.js", "text/javascript"},
-                                                              {"OrbitControls.js", "text/javascript"}};
-    const auto it = kFiles.find(name);
-    std::ifstream in(options.web_root / name, std::ios::binary);
-    if (it == kFiles.end() || !in) {
-      status = http::status::not_found;
-      type = "text/plain";
-      body = it == kFiles.end() ? "not found\n" : name + " is missing from the web root " + options.web_root.string() + "\n";
-      return;
-    }
-    std::ostringstream text;
-    text << in.rdbuf();
-    status = http::status::ok;
-    type = it->second;
-    body = text.str();
-  }
-};
-
 namespace {
 
 using Server = WebServer::Impl;
-
-class WsSession : public std::enable_shared_from_this<WsSession> {
- public:
-  WsSession(tcp::socket socket, Server* server, std::shared_ptr<Server::Slot> slot)
-      : ws_(std::move(socket)), timer_(ws_.get_executor()), server_(server), slot_(std::move(slot)) {}
-
-  void run(http::request<http::string_body> request) {
-    const std::string target(request.target());
-    scene_ = query_value(target, "scene");
-    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-    ws_.read_message_max(64 * 1024);
-    ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
-      if (!ec) self->opened();
-    });
-  }
-
- private:
-  void opened() {
-    ++server_->browsers;
-    ++server_->browsers_total;
-    counted_ = true;
-    read();
-    if (!valid_scene_name(scene_)) {
-      send(error_message("scene: '" + scene_ + "' is not a scene name (1-64 of A-Za-z0-9_-.)"));
-      return;
-    }
-    net::post(server_->workers, [self = shared_from_this()] {
-      try {
-        auto feed = self->server_->feed_for(self->scene_);
-        net::post(self->ws_.get_executor(), [self, feed] {
-          self->feed_ = feed;
-          self->tick();
-        });
-      } catch (const std::exception& e) {
-        const std::string m = error_message(e.what());
-        net::post(self->ws_.get_executor(), [self, m] { self->send(m); });
-      }
-    });
-  }
-
-  void read() {
-    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) return self->close();
-      const std::string text = beast::buffers_to_string(self->buffer_.data());
-      self->buffer_.consume(self->buffer_.size());
-      self->on_message(text);
-      self->read();
-    });
-  }
-
-  void on_message(const std::string& text) {
-    nlohmann::json m = nlohmann::json::parse(text, nullptr, false);
-    if (m.is_discarded() || !m.is_object() || !m.contains("type") || !m["type"].is_string()) {
-      return send(error_message("request: not a JSON object with a type"));
-    }
-    if (m["type"] != "tour") return send(error_message("request: type: '" + m["type"].dump() + "' is not tour"));
-    if (m.contains("budget") && !m["budget"].is_number()) return send(error_message("tour: budget: not a number"));
-    const double budget = m.value("budget", 2.0);
-    if (!(budget >= 0.1 && budget <= server_->options.tour_budget_max)) {
-      return send(error_message(fmt::format("tour: budget: must be 0.1..{} seconds", server_->options.tour_budget_max)));
-    }
-    if (tour_running_) return send(error_message("tour: this page's last tour is still searching"));
-    if (!feed_) return send(error_message("tour: the scene is not followed yet"));
-    tour_running_ = true;
-    net::post(server_->workers, [self = shared_from_this(), budget] {
-      std::string reply;
-      try {
-        const msg::Reply r = self->server_->client.tour(self->scene_, budget, 1, {});
-        nlohmann::json positions = nlohmann::json::array();
-        for (const auto& p : r.body().tour().waypoints()) positions.push_back({p.x(), p.y(), p.z()});
-        reply = nlohmann::json{{"type", "tour"},
-                               {"cost", r.body().tour().cost()},
-                               {"covered", r.body().tour().covered()},
-                               {"targets", r.body().tour().target_count()},
-                               {"valid", r.body().tour().valid()},
-                               {"positions", positions}}
-                    .dump();
-      } catch (const std::exception& e) {
-        reply = error_message(std::string("tour: ") + e.what());
-      }
-      net::post(self->ws_.get_executor(), [self, reply] {
-        self->tour_running_ = false;
-        self->send(reply);
-      });
-    });
-  }
-
-  void tick() {
-    if (closed_) return;
-    // A slow browser: nothing more is queued until its socket drains; it then gets everything new
-    // at once (the cursor only moves when messages are queued).
-    if (queue_.size() < server_->options.max_queued_messages) {
-      try {
-        for (std::string& m : feed_->updates_for(cursor_)) send(std::move(m));
-      } catch (const std::exception& e) {
-        send(error_message(e.what()));
-      }
-    }
-    timer_.expires_after(std::chrono::milliseconds(200));
-    timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
-      if (!ec) self->tick();
-    });
-  }
-
-  void send(std::string message) {
-    if (closed_) return;
-    queue_.push_back(std::make_shared<std::string>(std::move(message)));
-    if (queue_.size() == 1) write();
-  }
-
-  void write() {
-    ws_.text(true);
-    ws_.async_write(net::buffer(*queue_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) return self->close();  // the browser went away mid-stream: this session ends, the others go on
-      ++self->server_->messages;
-      self->queue_.pop_front();
-      if (!self->queue_.empty()) self->write();
-    });
-  }
-
-  void close() {
-    if (closed_) return;
-    closed_ = true;
-    timer_.cancel();
-    queue_.clear();
-    if (counted_) --server_->browsers;
-  }
-
-  websocket::stream<beast::tcp_stream> ws_;
-  beast::flat_buffer buffer_;
-  net::steady_timer timer_;
-  Server* server_;
-  std::shared_ptr<Server::Slot> slot_;
-  std::string scene_;
-  std::shared_ptr<SceneFeed> feed_;
-  ViewerCursor cursor_;
-  std::deque<std::shared_ptr<std::string>> queue_;
-  bool closed_ = false;
-  bool counted_ = false;
-  bool tour_running_ = false;
-};
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
@@ -279,7 +54,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (websocket::is_upgrade(request)) {
       if (path != "/ws") return respond(http::status::not_found, "text/plain", "WebSockets are at /ws?scene=NAME\n");
       stream_.expires_never();
-      std::make_shared<WsSession>(stream_.release_socket(), server_, slot_)->run(std::move(request));
+      start_websocket(stream_.release_socket(), server_, slot_, std::move(request));
       return;
     }
     if (request.method() != http::verb::get) return respond(http::status::method_not_allowed, "text/plain", "GET only\n");
@@ -354,6 +129,41 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 };
 
 }  // namespace
+
+std::shared_ptr<SceneFeed> WebServer::Impl::feed_for(const std::string& scene) {
+  {
+    std::lock_guard lock(feeds_mutex);
+    if (auto it = feeds.find(scene); it != feeds.end()) return it->second;
+    if (feeds.size() >= options.max_scenes) {
+      throw std::runtime_error(fmt::format("the viewer follows {} scenes already (its limit)", feeds.size()));
+    }
+  }
+  auto feed = std::make_shared<SceneFeed>(client, scene, options.limits);  // outside the lock: it waits
+  std::lock_guard lock(feeds_mutex);
+  return feeds.emplace(scene, std::move(feed)).first->second;  // a feed made meanwhile wins
+}
+
+void WebServer::Impl::serve_file(const std::string& name, std::string& type, std::string& body,
+                               http::status& status) const {
+  static const std::map<std::string, std::string> kFiles = {{"index.html", "text/html; charset=utf-8"},
+                                                            {"app.js", "text/javascript"},
+                                                            {"three.module.js", "text/javascript"},
+                                                            {"three.core.js", "text/javascript"},
+                                                            {"OrbitControls.js", "text/javascript"}};
+  const auto it = kFiles.find(name);
+  std::ifstream in(options.web_root / name, std::ios::binary);
+  if (it == kFiles.end() || !in) {
+    status = http::status::not_found;
+    type = "text/plain";
+    body = it == kFiles.end() ? "not found\n" : name + " is missing from the web root " + options.web_root.string() + "\n";
+    return;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  status = http::status::ok;
+  type = it->second;
+  body = text.str();
+}
 
 void WebServer::Impl::accept() {
   acceptor.async_accept(net::make_strand(io), [self = this](beast::error_code ec, tcp::socket socket) {

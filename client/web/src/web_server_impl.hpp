@@ -1,0 +1,80 @@
+#pragma once
+// The inside of the viewer's server, shared by its HTTP side (web_server.cpp) and its WebSocket
+// side (websocket_session.cpp): the server's state, and the helpers both use.
+
+#include <utility>  // before Boost 1.74's asio, whose awaitable.hpp uses std::exchange unincluded
+
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <thread>
+
+#include "web_server.hpp"
+
+namespace ispars::web {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+
+/// A scene name as the daemon accepts it: 1-64 of A-Za-z0-9_-. and not starting with a dot.
+bool valid_scene_name(const std::string& name);
+/// The page's error message.
+std::string error_message(const std::string& what);
+/// The value of `key` in a target's query string ("/ws?scene=s0"), undecoded: names need no escapes.
+std::string query_value(std::string_view target, std::string_view key);
+
+/// The server's state: its options, the scenes it follows, its I/O thread and its workers.
+class WebServer::Impl {
+ public:
+  Impl(client::Client& c, WebServerOptions o) : client(c), options(std::move(o)) {}
+
+  client::Client& client;
+  const WebServerOptions options;
+  std::atomic<std::size_t> connections{0}, browsers{0}, browsers_total{0}, messages{0}, refused{0};
+  std::mutex feeds_mutex;
+  std::map<std::string, std::shared_ptr<SceneFeed>> feeds;
+  net::thread_pool workers{8};
+  std::thread io_thread;
+  // Last, so destroyed first: the sessions its queued handlers hold go before what they use.
+  net::io_context io{1};
+  tcp::acceptor acceptor{io};
+
+  /// A connection's place in max_connections, given back when the last holder goes.
+  struct Slot {
+    explicit Slot(Impl& s) : server(s) {}
+    ~Slot() { --server.connections; }
+    Impl& server;
+  };
+
+  /// The feed of `scene`, made on first use (blocks: run it on a worker). Throws when no daemon
+  /// holds the scene, or past max_scenes.
+  std::shared_ptr<SceneFeed> feed_for(const std::string& scene);
+  /// Listens for the next connection.
+  void accept();
+  /// One of the page's files (a fixed list) from the web root, or 404.
+  void serve_file(const std::string& name, std::string& type, std::string& body, http::status& status) const;
+};
+
+/// Takes over an upgraded connection as a WebSocket that streams `request`'s scene
+/// (/ws?scene=NAME) to its browser.
+void start_websocket(tcp::socket socket, WebServer::Impl* server, std::shared_ptr<WebServer::Impl::Slot> slot,
+                     http::request<http::string_body> request);
+
+}  // namespace ispars::web

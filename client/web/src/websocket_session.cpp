@@ -1,0 +1,159 @@
+// The viewer's WebSocket side: one session per browser, streaming a scene's roadmap as it grows,
+// its status, and tours on request.
+
+#include "web_server_impl.hpp"
+
+namespace ispars::web {
+namespace {
+
+using Server = WebServer::Impl;
+
+class WsSession : public std::enable_shared_from_this<WsSession> {
+ public:
+  WsSession(tcp::socket socket, Server* server, std::shared_ptr<Server::Slot> slot)
+      : ws_(std::move(socket)), timer_(ws_.get_executor()), server_(server), slot_(std::move(slot)) {}
+
+  void run(http::request<http::string_body> request) {
+    const std::string target(request.target());
+    scene_ = query_value(target, "scene");
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.read_message_max(64 * 1024);
+    ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
+      if (!ec) self->opened();
+    });
+  }
+
+ private:
+  void opened() {
+    ++server_->browsers;
+    ++server_->browsers_total;
+    counted_ = true;
+    read();
+    if (!valid_scene_name(scene_)) {
+      send(error_message("scene: '" + scene_ + "' is not a scene name (1-64 of A-Za-z0-9_-.)"));
+      return;
+    }
+    net::post(server_->workers, [self = shared_from_this()] {
+      try {
+        auto feed = self->server_->feed_for(self->scene_);
+        net::post(self->ws_.get_executor(), [self, feed] {
+          self->feed_ = feed;
+          self->tick();
+        });
+      } catch (const std::exception& e) {
+        const std::string m = error_message(e.what());
+        net::post(self->ws_.get_executor(), [self, m] { self->send(m); });
+      }
+    });
+  }
+
+  void read() {
+    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) return self->close();
+      const std::string text = beast::buffers_to_string(self->buffer_.data());
+      self->buffer_.consume(self->buffer_.size());
+      self->on_message(text);
+      self->read();
+    });
+  }
+
+  void on_message(const std::string& text) {
+    nlohmann::json m = nlohmann::json::parse(text, nullptr, false);
+    if (m.is_discarded() || !m.is_object() || !m.contains("type") || !m["type"].is_string()) {
+      return send(error_message("request: not a JSON object with a type"));
+    }
+    if (m["type"] != "tour") return send(error_message("request: type: '" + m["type"].dump() + "' is not tour"));
+    if (m.contains("budget") && !m["budget"].is_number()) return send(error_message("tour: budget: not a number"));
+    const double budget = m.value("budget", 2.0);
+    if (!(budget >= 0.1 && budget <= server_->options.tour_budget_max)) {
+      return send(error_message(fmt::format("tour: budget: must be 0.1..{} seconds", server_->options.tour_budget_max)));
+    }
+    if (tour_running_) return send(error_message("tour: this page's last tour is still searching"));
+    if (!feed_) return send(error_message("tour: the scene is not followed yet"));
+    tour_running_ = true;
+    net::post(server_->workers, [self = shared_from_this(), budget] {
+      std::string reply;
+      try {
+        const msg::Reply r = self->server_->client.tour(self->scene_, budget, 1, {});
+        nlohmann::json positions = nlohmann::json::array();
+        for (const auto& p : r.body().tour().waypoints()) positions.push_back({p.x(), p.y(), p.z()});
+        reply = nlohmann::json{{"type", "tour"},
+                               {"cost", r.body().tour().cost()},
+                               {"covered", r.body().tour().covered()},
+                               {"targets", r.body().tour().target_count()},
+                               {"valid", r.body().tour().valid()},
+                               {"positions", positions}}
+                    .dump();
+      } catch (const std::exception& e) {
+        reply = error_message(std::string("tour: ") + e.what());
+      }
+      net::post(self->ws_.get_executor(), [self, reply] {
+        self->tour_running_ = false;
+        self->send(reply);
+      });
+    });
+  }
+
+  void tick() {
+    if (closed_) return;
+    // A slow browser: nothing more is queued until its socket drains; it then gets everything new
+    // at once (the cursor only moves when messages are queued).
+    if (queue_.size() < server_->options.max_queued_messages) {
+      try {
+        for (std::string& m : feed_->updates_for(cursor_)) send(std::move(m));
+      } catch (const std::exception& e) {
+        send(error_message(e.what()));
+      }
+    }
+    timer_.expires_after(std::chrono::milliseconds(200));
+    timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
+      if (!ec) self->tick();
+    });
+  }
+
+  void send(std::string message) {
+    if (closed_) return;
+    queue_.push_back(std::make_shared<std::string>(std::move(message)));
+    if (queue_.size() == 1) write();
+  }
+
+  void write() {
+    ws_.text(true);
+    ws_.async_write(net::buffer(*queue_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) return self->close();  // the browser went away mid-stream: this session ends, the others go on
+      ++self->server_->messages;
+      self->queue_.pop_front();
+      if (!self->queue_.empty()) self->write();
+    });
+  }
+
+  void close() {
+    if (closed_) return;
+    closed_ = true;
+    timer_.cancel();
+    queue_.clear();
+    if (counted_) --server_->browsers;
+  }
+
+  websocket::stream<beast::tcp_stream> ws_;
+  beast::flat_buffer buffer_;
+  net::steady_timer timer_;
+  Server* server_;
+  std::shared_ptr<Server::Slot> slot_;
+  std::string scene_;
+  std::shared_ptr<SceneFeed> feed_;
+  ViewerCursor cursor_;
+  std::deque<std::shared_ptr<std::string>> queue_;
+  bool closed_ = false;
+  bool counted_ = false;
+  bool tour_running_ = false;
+};
+
+}  // namespace
+
+void start_websocket(tcp::socket socket, WebServer::Impl* server, std::shared_ptr<WebServer::Impl::Slot> slot,
+                     http::request<http::string_body> request) {
+  std::make_shared<WsSession>(std::move(socket), server, std::move(slot))->run(std::move(request));
+}
+
+}  // namespace ispars::web
