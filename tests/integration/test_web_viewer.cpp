@@ -222,5 +222,34 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   EXPECT_EQ(gateway.stop(), 0) << gateway.log();
 }
 
+// A bad command line stops the gateway before it joins DDS, with exit 2 and a line naming the
+// option; a port already in use stops it with exit 1, naming the address.
+TEST_F(WebViewerTest, BadCommandLinesAndABusyPortStopTheStartByName) {
+  const auto run = [&](const std::string& args) {
+    const auto out = dir_.path() / "bad.txt";
+    const int status = std::system((std::string(ISPARS_WEB) + " --domain " + std::to_string(domain_) + " " + args + " > '" +
+                                    out.string() + "' 2>&1")
+                                       .c_str());
+    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out));
+  };
+  for (const auto& [args, named] : std::vector<std::pair<std::string, std::string>>{
+           {"--listen 127.0.0.1:99999", "--listen"},
+           {"--listen localhost:80", "--listen: 'localhost' is not an IPv4 address"},
+           {"--listen 127.0.0.1", "--listen"},
+           {"--max-browsers 0", "--max-browsers"},
+           {"--web-root /", "--web-root: no index.html in /"},
+           {"--tour-budget-max -1", "--tour-budget-max"}}) {
+    const auto [code, text] = run(args);
+    EXPECT_EQ(code, 2) << args << ": " << text;
+    EXPECT_NE(text.find(named), std::string::npos) << args << ": " << text;
+  }
+  Gateway first(domain_, scene_dir_, dir_.path() / "first.log");
+  ASSERT_GT(first.port(), 0) << first.log();
+  const auto [code, text] = run("--listen 127.0.0.1:" + std::to_string(first.port()));
+  EXPECT_EQ(code, 1) << text;
+  EXPECT_NE(text.find("cannot listen on 127.0.0.1:" + std::to_string(first.port())), std::string::npos) << text;
+  EXPECT_TRUE(first.alive());
+}
+
 }  // namespace
 }  // namespace ispars::test

@@ -3,6 +3,7 @@
 // 127.0.0.1 unless told otherwise.
 
 #include <CLI/CLI.hpp>
+#include <arpa/inet.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
 
@@ -42,7 +43,14 @@ int main(int argc, char** argv) {
   app.add_option("--max-edges", options.limits.edges, "edges sent to a browser per scene")->check(CLI::Range(1, 50'000'000));
   app.add_option("--tour-budget-max", options.tour_budget_max, "seconds a page may ask a tour to search")
       ->check(CLI::Range(0.1, 3600.0));
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ispars-web: " << e.what() << " (see --help)\n";
+    return 2;
+  }
   if (app.count("--web-root") == 0 && !std::filesystem::exists(options.web_root / "index.html")) {
     // Installed (cmake --install): the page lies in share/ispars/web beside bin/.
     std::error_code ec;
@@ -64,6 +72,11 @@ int main(int argc, char** argv) {
   }
   options.address = listen.substr(0, colon);
   options.port = static_cast<std::uint16_t>(port);
+  in_addr parsed{};
+  if (::inet_pton(AF_INET, options.address.c_str(), &parsed) != 1) {
+    std::cerr << "ispars-web: --listen: '" << options.address << "' is not an IPv4 address\n";
+    return 2;
+  }
 
   sigset_t stop_signals;
   sigemptyset(&stop_signals);
