@@ -39,57 +39,65 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
     Message message;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&message, &info) == ReturnCode_t::RETCODE_OK) {
-      const auto handle = info.instance_handle;
-      std::optional<Message> changed;
       const bool alive = info.valid_data && info.instance_state == fdds::ALIVE_INSTANCE_STATE;
-      const std::string sender = alive ? sender_identity(info) : std::string();
-      const bool accepted = !alive || !accept_ || accept_(message, sender);  // outside the lock
-      {
-        std::lock_guard lock(mutex_);
-        if (alive && accepted) {
-          const std::string key = key_(message);
-          keys_[handle] = key;
-          latest_[key] = message;
-          senders_[key] = sender;
-          held_.erase(key);
-          changed = message;
-        } else if (alive) {
-          const std::string key = key_(message);
-          if (held_.size() < kMaxHeld || held_.count(key) > 0) held_[key] = {message, sender, handle};
-        } else if (const auto it = keys_.find(handle); it != keys_.end()) {
-          latest_.erase(it->second);
-          senders_.erase(it->second);
-          keys_.erase(it);
-        }
-        ++changes_;
-      }
-      changed_.notify_all();
-      if (changed && on_change_) on_change_(*changed);
+      receive(message, alive, alive ? sender_identity(info) : std::string(), info.instance_handle);
     }
+  }
+
+  /// One sample as the reader took it: alive (with its sender) or the end of its instance.
+  void receive(const Message& message, bool alive, const std::string& sender,
+               const eprosima::fastrtps::rtps::InstanceHandle_t& handle) {
+    std::optional<Message> changed;
+    const bool accepted = !alive || !accept_ || accept_(message, sender);  // outside the lock
+    {
+      std::lock_guard lock(mutex_);
+      if (alive && accepted) {
+        const std::string key = key_(message);
+        keys_[handle] = key;
+        latest_[key] = message;
+        senders_[key] = sender;
+        held_.erase(key);
+        changed = message;
+      } else if (alive) {
+        const std::string key = key_(message);
+        if (held_.size() < kMaxHeld || held_.count(key) > 0) held_[key] = {message, sender, handle};
+      } else if (const auto it = keys_.find(handle); it != keys_.end()) {
+        latest_.erase(it->second);
+        senders_.erase(it->second);
+        keys_.erase(it);
+      }
+      ++changes_;
+    }
+    changed_.notify_all();
+    if (changed && on_change_) on_change_(*changed);
   }
 
   /// A writer left (its participant stopped, or its lease expired after a crash): the instances
   /// it wrote last are gone with it. (Fast DDS 2.9 marks such instances NOT_ALIVE_NO_WRITERS
   /// without delivering a sample to say so.)
+  ///
+  /// A writer can also come back: when its participant's lease expired here while it was alive
+  /// (a stalled machine), Fast DDS matches it again but does not deliver the samples this reader
+  /// already took. Its instances are then restored as they were when it left, unless another
+  /// writer has written them since.
   void on_subscription_matched(eprosima::fastdds::dds::DataReader*,
                                const eprosima::fastdds::dds::SubscriptionMatchedStatus& status) override {
-    if (status.current_count_change >= 0) return;
-    const std::string gone = identity_of(status.last_publication_handle);
+    if (status.current_count_change == 0) return;
+    const std::string sender = identity_of(status.last_publication_handle);
+    std::vector<Message> restored;
     {
       std::lock_guard lock(mutex_);
-      for (auto it = senders_.begin(); it != senders_.end();) {
-        if (it->second != gone) {
-          ++it;
-          continue;
-        }
-        latest_.erase(it->first);
-        std::erase_if(keys_, [&](const auto& entry) { return entry.second == it->first; });
-        it = senders_.erase(it);
+      if (status.current_count_change > 0) {
+        restored = restore_departed(sender);
+      } else {
+        forget_departed(sender);
       }
-      std::erase_if(held_, [&](const auto& entry) { return entry.second.sender == gone; });
       ++changes_;
     }
     changed_.notify_all();
+    if (on_change_) {
+      for (const auto& m : restored) on_change_(m);
+    }
   }
 
   /// The latest sample for `key`, if its instance is alive.
@@ -149,7 +157,56 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
   }
 
  private:
+  // Under mutex_: moves every instance `gone` wrote last to departed_.
+  void forget_departed(const std::string& gone) {
+    std::vector<Departed> left;
+    for (auto it = senders_.begin(); it != senders_.end();) {
+      if (it->second != gone) {
+        ++it;
+        continue;
+      }
+      Departed d{it->first, latest_.at(it->first), {}};
+      for (auto k = keys_.begin(); k != keys_.end();) {
+        if (k->second == it->first) {
+          d.handle = k->first;
+          k = keys_.erase(k);
+        } else {
+          ++k;
+        }
+      }
+      left.push_back(std::move(d));
+      latest_.erase(it->first);
+      it = senders_.erase(it);
+    }
+    std::erase_if(held_, [&](const auto& entry) { return entry.second.sender == gone; });
+    if (left.empty()) return;
+    departed_[gone] = std::move(left);
+    departed_order_.push_back(gone);
+    while (departed_order_.size() > kMaxDeparted) {  // a participant that never comes back
+      departed_.erase(departed_order_.front());
+      departed_order_.erase(departed_order_.begin());
+    }
+  }
+
+  // Under mutex_: puts back what `sender` wrote before it left, where no one wrote since.
+  std::vector<Message> restore_departed(const std::string& sender) {
+    std::vector<Message> restored;
+    const auto it = departed_.find(sender);
+    if (it == departed_.end()) return restored;
+    for (Departed& d : it->second) {
+      if (latest_.count(d.key) > 0) continue;
+      latest_[d.key] = d.message;
+      senders_[d.key] = sender;
+      keys_[d.handle] = d.key;
+      restored.push_back(std::move(d.message));
+    }
+    departed_.erase(it);
+    std::erase(departed_order_, sender);
+    return restored;
+  }
+
   static constexpr std::size_t kMaxHeld = 1024;  // refused samples kept for recheck(), at most
+  static constexpr std::size_t kMaxDeparted = 64;  // writers that left, kept in case they return
   struct Held {
     Message message;
     std::string sender;
@@ -164,6 +221,13 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
   std::map<std::string, Message> latest_;
   std::map<std::string, std::string> senders_;
   std::map<std::string, Held> held_;  // refused by accept_, latest per key
+  struct Departed {
+    std::string key;
+    Message message;
+    eprosima::fastrtps::rtps::InstanceHandle_t handle;
+  };
+  std::map<std::string, std::vector<Departed>> departed_;  // by the sender that left
+  std::vector<std::string> departed_order_;                // oldest first
   std::uint64_t changes_ = 0;
 };
 
