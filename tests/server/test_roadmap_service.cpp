@@ -208,7 +208,7 @@ TEST_F(RoadmapServiceTest, ToursAreAdmittedUpToTheBoundAndCancelAndStopEndThem) 
   std::atomic<int> progress{0};
   const auto callbacks = [&] {
     TourCallbacks c;
-    c.progress = [&](double, double, double) { ++progress; };
+    c.progress = [&](double, double cost, double) { progress += cost > 0.0; };  // reports with a tour
     c.done = [&](TourOutcome outcome) {
       std::lock_guard lock(mutex);
       EXPECT_TRUE(outcome.result.validation.valid());
@@ -229,7 +229,14 @@ TEST_F(RoadmapServiceTest, ToursAreAdmittedUpToTheBoundAndCancelAndStopEndThem) 
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("busy: 1 tours are queued or running"), std::string::npos) << e.what();
   }
-  std::this_thread::sleep_for(300ms);
+  // Cancelled once it has a tour (its first progress report), so that it ends with its best: a
+  // tour cancelled before its first one fails instead, which a loaded machine can make happen
+  // after any fixed wait.
+  const auto until_progress = [&](int above) {
+    for (int i = 0; i < 3000 && progress.load() <= above; ++i) std::this_thread::sleep_for(10ms);
+    return progress.load() > above;
+  };
+  ASSERT_TRUE(until_progress(0)) << "the tour reported no progress within 30 s";
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(service.cancel("s0").tours_stopped, 1u);
   {
@@ -249,7 +256,8 @@ TEST_F(RoadmapServiceTest, ToursAreAdmittedUpToTheBoundAndCancelAndStopEndThem) 
     }
   }
   ASSERT_TRUE(admitted) << "the finished tour's slot was never released";
-  std::this_thread::sleep_for(300ms);
+  const int first_progress = progress.load();
+  ASSERT_TRUE(until_progress(first_progress)) << "the second tour reported no progress within 30 s";
   service.stop();
   std::lock_guard lock(mutex);
   EXPECT_EQ(done, 2);
