@@ -66,7 +66,7 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
                             Vec3::UnitZ(), 45.0};
   }
   const Roadmap& g = snapshot.roadmap;
-  request.roadmap = DrawnGraph{g.positions(), g.edges()};
+  request.roadmap = DrawnGraph{g.positions(), g.edge_ends()};
   request.pois = scene.pois();
   request.poi_seen.assign(scene.pois().size(), false);
   for (VertexId v = 0; v < g.vertex_count(); ++v) {

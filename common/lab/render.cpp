@@ -66,9 +66,14 @@ int run_render(const RenderCommandOptions& options) {
   }
   request.pois = scene.pois();
   std::optional<RoadmapFileGraph> roadmap, dense;
+  std::vector<EdgeEnds> roadmap_ends, dense_ends;  // what the picture draws of each file graph
+  const auto ends_of = [](const InspectionGraph& g, std::vector<EdgeEnds>& out) {
+    for (const RoadmapEdge& e : g.edges()) out.push_back({e.u, e.v});
+    return std::span<const EdgeEnds>(out);
+  };
   if (!options.roadmap.empty()) {
     roadmap = read_roadmap_file_graph(options.roadmap, "roadmap");
-    request.roadmap = DrawnGraph{roadmap->positions, roadmap->graph.edges()};
+    request.roadmap = DrawnGraph{roadmap->positions, ends_of(roadmap->graph, roadmap_ends)};
     request.poi_seen.assign(scene.pois().size(), false);
     for (VertexId v = 0; v < roadmap->graph.vertex_count(); ++v) {
       for (const PoiId p : roadmap->graph.visible(v)) {
@@ -77,7 +82,7 @@ int run_render(const RenderCommandOptions& options) {
     }
     if (options.dense) {
       dense = read_roadmap_file_graph(options.roadmap, "dense");
-      request.dense = DrawnGraph{dense->positions, dense->graph.edges()};
+      request.dense = DrawnGraph{dense->positions, ends_of(dense->graph, dense_ends)};
     }
   } else if (options.dense) {
     throw InputError("command line", "--dense", "needs --roadmap (the file holds the dense graph)");

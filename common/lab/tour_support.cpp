@@ -39,7 +39,8 @@ std::vector<PoiId> common_targets(std::span<const InspectionGraph* const> graphs
 InspectionGraph with_viewpoints(const Roadmap& dense, std::span<const VertexId> viewpoints) {
   std::vector<std::vector<PoiId>> visible(dense.vertex_count());
   for (const VertexId v : viewpoints) visible[v] = dense.visibility_table().ids(v);
-  return InspectionGraph::from_edges(dense.vertex_count(), dense.edges(), std::move(visible),
+  const std::vector<RoadmapEdge> edges(dense.edges().begin(), dense.edges().end());
+  return InspectionGraph::from_edges(dense.vertex_count(), edges, std::move(visible),
                                      dense.visibility_table().poi_count());
 }
 

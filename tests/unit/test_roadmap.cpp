@@ -2,10 +2,19 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+#include <vector>
+
 #include "ispars/roadmap/roadmap.hpp"
 
 namespace ispars {
 namespace {
+
+std::vector<RoadmapChange> changes_since(const Roadmap& g, std::uint64_t version) {
+  std::vector<RoadmapChange> out;
+  g.for_each_change(version, g.version(), [&](const RoadmapChange& c) { out.push_back(c); });
+  return out;
+}
 
 TEST(Roadmap, EdgesAreUndirectedUniqueAndCostTheirLength) {
   Roadmap g(10);
@@ -48,7 +57,7 @@ TEST(Roadmap, ChangeLogReplaysEverythingAfterAVersion) {
   g.add_vertex(Vec3(2, 0, 0), {});
   g.add_edge(1, 2);
   g.add_edge(2, 1);  // no change: no log entry
-  const auto changes = g.changes_since(v);
+  const auto changes = changes_since(g, v);
   ASSERT_EQ(changes.size(), 3u);
   EXPECT_EQ(changes[0].kind, RoadmapChange::Kind::edge);
   EXPECT_EQ(changes[0].index, 0u);
@@ -56,9 +65,69 @@ TEST(Roadmap, ChangeLogReplaysEverythingAfterAVersion) {
   EXPECT_EQ(changes[1].index, 2u);
   EXPECT_EQ(changes[2].kind, RoadmapChange::Kind::edge);
   EXPECT_EQ(changes[2].index, 1u);
-  EXPECT_TRUE(g.changes_since(g.version()).empty());
-  EXPECT_TRUE(g.changes_since(1000).empty());
-  EXPECT_EQ(g.changes_since(0).size(), g.version());
+  EXPECT_TRUE(changes_since(g, g.version()).empty());
+  EXPECT_TRUE(changes_since(g, 1000).empty());
+  EXPECT_EQ(changes_since(g, 0).size(), g.version());
+}
+
+// The log is not stored but placed from each vertex's edge count: every interleaving must come
+// back as it was made, from every version. The hard cases: edges before any second vertex, long
+// runs of edges, several vertices in a row, and a vertex as the very last change.
+TEST(Roadmap, TheChangeLogComesBackAsMadeFromEveryVersionForAnyInterleaving) {
+  for (std::uint32_t seed = 1; seed <= 20; ++seed) {
+    std::mt19937 rng(seed);
+    Roadmap g(0);
+    std::vector<RoadmapChange> made;
+    for (int step = 0; step < 300; ++step) {
+      const bool vertex = g.vertex_count() < 2 || rng() % (seed % 4 + 2) == 0;
+      if (vertex) {
+        const VertexId id = g.add_vertex(Vec3(rng() % 100, rng() % 100, rng() % 100), {});
+        made.push_back({RoadmapChange::Kind::vertex, id});
+      } else {
+        const auto n = static_cast<VertexId>(g.vertex_count());
+        const VertexId a = rng() % n;
+        const VertexId b = rng() % n;
+        if (g.add_edge(a, b)) made.push_back({RoadmapChange::Kind::edge, static_cast<std::uint32_t>(g.edge_count() - 1)});
+      }
+    }
+    ASSERT_EQ(g.version(), made.size());
+    for (std::uint64_t from = 0; from <= made.size(); ++from) {
+      const auto got = changes_since(g, from);
+      ASSERT_EQ(got.size(), made.size() - from) << "seed " << seed << " from " << from;
+      for (std::size_t k = 0; k < got.size(); ++k) {
+        ASSERT_EQ(got[k].kind, made[from + k].kind) << "seed " << seed << " at " << from + k;
+        ASSERT_EQ(got[k].index, made[from + k].index) << "seed " << seed << " at " << from + k;
+      }
+      if (from < made.size()) {
+        EXPECT_EQ(g.change(from).kind, made[from].kind);
+        EXPECT_EQ(g.change(from).index, made[from].index);
+      }
+    }
+  }
+}
+
+// Costs are computed, not stored: from either end, in the edge list and in the neighbour lists,
+// a cost must be the very double |u - v| computed when the edge was made.
+TEST(Roadmap, AnEdgesCostIsTheSameDoubleFromEitherEndAndInTheEdgeList) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coordinate(-1e3, 1e3);
+  Roadmap g(0);
+  for (int i = 0; i < 200; ++i) g.add_vertex(Vec3(coordinate(rng), coordinate(rng), coordinate(rng)), {});
+  for (int i = 0; i < 2000; ++i) g.add_edge(rng() % 200, rng() % 200);
+  for (std::size_t i = 0; i < g.edge_count(); ++i) {
+    const RoadmapEdge e = g.edges()[i];
+    const double made = (g.position(e.u) - g.position(e.v)).norm();
+    ASSERT_EQ(e.cost, made);
+    ASSERT_EQ(g.edge(i).cost, made);
+    const auto cost_from = [&](VertexId a, VertexId b) {
+      for (const Neighbor& n : g.neighbors(a)) {
+        if (n.vertex == b) return n.cost;
+      }
+      return -1.0;
+    };
+    ASSERT_EQ(cost_from(e.u, e.v), made);
+    ASSERT_EQ(cost_from(e.v, e.u), made);
+  }
 }
 
 TEST(Roadmap, RootComponentCoverage) {

@@ -68,6 +68,33 @@ TEST_F(RoadmapLogTest, BatchRangeIsAPrefixOfTheLogAndTheDigestFollowsIt) {
   EXPECT_EQ(batch_range(g, 0, g.version() + 100).to_version, g.version());  // clamped
 }
 
+// The digest is streamed from the roadmap; it must stay the FNV-1a of the encoded whole batch
+// (what the digests printed and compared so far were), and same_changes_as must agree with it.
+TEST_F(RoadmapLogTest, TheStreamedDigestIsTheDigestOfTheEncodedLogAndSameChangesAgrees) {
+  build("truss_bridge", 3);
+  const Roadmap& g = builder_->roadmap();
+  const std::string bytes = encode_batch(batch_since(g, 0));
+  std::uint64_t hash = 0xcbf29ce484222325ull;
+  for (const char c : bytes) {
+    hash ^= static_cast<unsigned char>(c);
+    hash *= 0x100000001b3ull;
+  }
+  EXPECT_EQ(roadmap_digest(g), hash);
+  Roadmap copy(scene_->pois().size());
+  apply_batch(copy, batch_since(g, 0));
+  EXPECT_TRUE(copy.same_changes_as(g));
+  Roadmap shorter(scene_->pois().size());
+  apply_batch(shorter, batch_range(g, 0, g.version() - 1));
+  EXPECT_FALSE(shorter.same_changes_as(g));
+  // The same vertices and edges in another order are another log.
+  Roadmap reordered(scene_->pois().size());
+  for (VertexId v = 0; v < g.vertex_count(); ++v) reordered.add_vertex(g.position(v), g.visibility_table().ids(v));
+  for (const RoadmapEdge& e : g.edges()) reordered.add_edge(e.u, e.v);
+  EXPECT_EQ(reordered.edge_count(), g.edge_count());
+  EXPECT_FALSE(reordered.same_changes_as(g));
+  EXPECT_NE(roadmap_digest(reordered), roadmap_digest(g));
+}
+
 TEST_F(RoadmapLogTest, AMalformedBatchIsRefusedWholeAndLeavesTheReplicaUntouched) {
   build("truss_bridge", 2);
   Roadmap replica(scene_->pois().size());

@@ -56,8 +56,8 @@ TEST(SceneRender, TheMeshIsShadedWhereItIsAndTheSkyElsewhere) {
 TEST(SceneRender, AnEdgeInFrontOfTheMeshIsDrawnAndOneBehindItIsNot) {
   const TriangleMesh mesh = square();
   const std::vector<Vec3> positions = {{-0.8, 0, 0.5}, {0.8, 0, 0.5}, {-0.8, 0, -0.5}, {0.8, 0, -0.5}};
-  const std::vector<RoadmapEdge> in_front = {{0, 1, 1.6}};
-  const std::vector<RoadmapEdge> behind = {{2, 3, 1.6}};
+  const std::vector<EdgeEnds> in_front = {{0, 1}};
+  const std::vector<EdgeEnds> behind = {{2, 3}};
   RenderRequest r = request_of(above());
   r.roadmap = DrawnGraph{positions, in_front};
   const RenderResult front = render_scene(mesh, r);
@@ -91,9 +91,9 @@ TEST(SceneRender, PoisShowSeenGreenAndUnseenRed) {
 
 TEST(SceneRender, AGraphOverTheEdgeLimitIsDrawnAsAnEvenSubset) {
   std::vector<Vec3> positions;
-  std::vector<RoadmapEdge> edges;
+  std::vector<EdgeEnds> edges;
   for (int i = 0; i < 101; ++i) positions.emplace_back(-1 + 0.02 * i, 0.3, 0.2);
-  for (VertexId i = 0; i < 100; ++i) edges.push_back({i, i + 1, 0.02});
+  for (VertexId i = 0; i < 100; ++i) edges.push_back({i, i + 1});
   RenderRequest r = request_of(above());
   r.dense = DrawnGraph{positions, edges};
   r.roadmap = DrawnGraph{positions, edges};

@@ -131,7 +131,7 @@ void SparsBuilder::step(const PreparedSample& sample) {
     // q's supports from its neighbours; each neighbour gains at most one partner, rep(q).
     update_supports(q);
     if (rep_[q] != kNoVertex) {
-      for (const Neighbor& n : dense_.graph().neighbors(q)) add_partner(n.vertex, rep_[q]);
+      for (const VertexId n : dense_.graph().neighbor_ids(q)) add_partner(n, rep_[q]);
     }
   }
 
@@ -259,7 +259,7 @@ VertexId SparsBuilder::add_guard(VertexId d) {
   // Interface supports depend on the representatives of a vertex and of its neighbours.
   std::vector<VertexId> affected = changed;
   for (const VertexId x : changed) {
-    for (const Neighbor& n : dense_.graph().neighbors(x)) affected.push_back(n.vertex);
+    for (const VertexId n : dense_.graph().neighbor_ids(x)) affected.push_back(n);
   }
   std::sort(affected.begin(), affected.end());
   affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
@@ -278,8 +278,8 @@ void SparsBuilder::update_supports(VertexId x) {
   partners_[x].clear();
   support_rep_[x] = rep_[x];
   if (rep_[x] == kNoVertex) return;
-  for (const Neighbor& n : dense_.graph().neighbors(x)) {
-    const VertexId other = rep_[n.vertex];
+  for (const VertexId n : dense_.graph().neighbor_ids(x)) {
+    const VertexId other = rep_[n];
     if (other != kNoVertex && other != rep_[x]) insert_sorted(partners_[x], other);
   }
   for (const VertexId vp : partners_[x]) insert_sorted(supports_[rep_[x]][vp], x);

@@ -23,7 +23,7 @@ void SparsBuilder::shortcut_test(VertexId q) {
   };
   std::vector<Candidate> candidates;
   std::vector<VertexId> around_v;
-  for (const Neighbor& n : sparse_.neighbors(v)) around_v.push_back(n.vertex);
+  around_v.assign(sparse_.neighbor_ids(v).begin(), sparse_.neighbor_ids(v).end());
   std::sort(around_v.begin(), around_v.end());
   const Vec3& pv = sparse_.position(v);
   for (const VertexId vp : partners_[q]) {

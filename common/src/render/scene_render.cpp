@@ -164,7 +164,7 @@ std::size_t draw_graph(const View& view, Canvas& canvas, const DrawnGraph& g, st
   const std::size_t stride = max_edges == 0 ? g.edges.size() + 1 : (g.edges.size() + max_edges - 1) / max_edges;
   std::size_t drawn = 0;
   for (std::size_t i = 0; i < g.edges.size(); i += std::max<std::size_t>(stride, 1)) {
-    const RoadmapEdge& e = g.edges[i];
+    const EdgeEnds& e = g.edges[i];
     if (e.u >= g.positions.size() || e.v >= g.positions.size()) continue;
     canvas.line(view, g.positions[e.u], g.positions[e.v], c, alpha, hidden_alpha, 0);
     ++drawn;

@@ -12,26 +12,24 @@ VertexId Roadmap::add_vertex(const Vec3& position, std::span<const PoiId> visibl
   positions_.push_back(position);
   visible_.append(visible);
   adjacency_.emplace_back();
+  edges_before_.push_back(static_cast<std::uint32_t>(edges_.size()));
   parent_.push_back(id);
   size_.push_back(1);
   ++components_;
-  log_.push_back({RoadmapChange::Kind::vertex, id});
   return id;
 }
 
 bool Roadmap::has_edge(VertexId u, VertexId v) const {
   const auto& shorter = adjacency_[u].size() <= adjacency_[v].size() ? adjacency_[u] : adjacency_[v];
   const VertexId other = adjacency_[u].size() <= adjacency_[v].size() ? v : u;
-  return std::any_of(shorter.begin(), shorter.end(), [&](const Neighbor& n) { return n.vertex == other; });
+  return std::find(shorter.begin(), shorter.end(), other) != shorter.end();
 }
 
 bool Roadmap::add_edge(VertexId u, VertexId v) {
   if (u == v || has_edge(u, v)) return false;
-  const double cost = (positions_[u] - positions_[v]).norm();
-  adjacency_[u].push_back({v, cost});
-  adjacency_[v].push_back({u, cost});
-  log_.push_back({RoadmapChange::Kind::edge, static_cast<std::uint32_t>(edges_.size())});
-  edges_.push_back({u, v, cost});
+  adjacency_[u].push_back(v);
+  adjacency_[v].push_back(u);
+  edges_.push_back({u, v});
 
   // Union by size, path halving.
   auto find = [&](VertexId x) {
@@ -57,9 +55,33 @@ VertexId Roadmap::component(VertexId v) const {
   return v;
 }
 
-std::span<const RoadmapChange> Roadmap::changes_since(std::uint64_t version) const {
-  if (version >= log_.size()) return {};
-  return std::span<const RoadmapChange>(log_).subspan(static_cast<std::size_t>(version));
+VertexId Roadmap::first_vertex_at_or_after(std::uint64_t i) const {
+  VertexId lo = 0;
+  auto hi = static_cast<VertexId>(positions_.size());
+  while (lo < hi) {  // positions v + edges_before_[v] rise strictly with v
+    const VertexId mid = lo + (hi - lo) / 2;
+    if (mid + std::uint64_t{edges_before_[mid]} < i) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
+bool Roadmap::same_changes_as(const Roadmap& other) const {
+  const auto same_edges = [&] {
+    return std::equal(edges_.begin(), edges_.end(), other.edges_.begin(), other.edges_.end(),
+                      [](const EdgeEnds& a, const EdgeEnds& b) { return a.u == b.u && a.v == b.v; });
+  };
+  return positions_ == other.positions_ && visible_ == other.visible_ && edges_before_ == other.edges_before_ &&
+         same_edges();
+}
+
+RoadmapChange Roadmap::change(std::uint64_t i) const {
+  RoadmapChange out;
+  for_each_change(i, i + 1, [&](const RoadmapChange& c) { out = c; });
+  return out;
 }
 
 std::size_t Roadmap::covered_pois() const {

@@ -21,27 +21,60 @@ RoadmapBatch batch_range(const Roadmap& roadmap, std::uint64_t from, std::uint64
   RoadmapBatch batch;
   batch.to_version = std::min(to, roadmap.version());
   batch.from_version = std::min(from, batch.to_version);
-  const auto changes = roadmap.changes_since(batch.from_version).first(batch.to_version - batch.from_version);
-  for (const RoadmapChange& change : changes) {
+  roadmap.for_each_change(batch.from_version, batch.to_version, [&](const RoadmapChange& change) {
     batch.changes.push_back(change);
     if (change.kind == RoadmapChange::Kind::vertex) {
       batch.positions.push_back(roadmap.position(change.index));
       batch.visible.push_back(roadmap.visibility_table().ids(change.index));
     } else {
-      batch.edges.push_back(roadmap.edges()[change.index]);
+      batch.edges.push_back(roadmap.edge(change.index));
     }
-  }
+  });
   return batch;
 }
 
-std::uint64_t roadmap_digest(const Roadmap& roadmap) {
-  const std::string bytes = encode_batch(batch_since(roadmap, 0));
+namespace {
+
+// FNV-1a over values laid out as put_bytes lays them out.
+struct Fnv1a {
   std::uint64_t hash = 0xcbf29ce484222325ull;
-  for (const char c : bytes) {
-    hash ^= static_cast<unsigned char>(c);
-    hash *= 0x100000001b3ull;
+  template <class T>
+  void add(const T& value) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(&value);
+    for (std::size_t i = 0; i < sizeof(T); ++i) {
+      hash ^= bytes[i];
+      hash *= 0x100000001b3ull;
+    }
   }
-  return hash;
+};
+
+}  // namespace
+
+std::uint64_t roadmap_digest(const Roadmap& roadmap) {
+  // The digest of encode_batch(batch_since(roadmap, 0)), streamed: a dense roadmap of tens of
+  // millions of edges is never copied into a batch or a string to be hashed.
+  Fnv1a h;
+  h.add(std::uint64_t{0});
+  h.add(roadmap.version());
+  h.add(static_cast<std::uint32_t>(roadmap.version()));
+  roadmap.for_each_change(0, roadmap.version(), [&](const RoadmapChange& c) {
+    h.add(static_cast<std::uint8_t>(c.kind));
+    h.add(c.index);
+  });
+  h.add(static_cast<std::uint32_t>(roadmap.vertex_count()));
+  for (VertexId v = 0; v < roadmap.vertex_count(); ++v) {
+    for (int k = 0; k < 3; ++k) h.add(roadmap.position(v)[k]);
+    const std::vector<PoiId> ids = roadmap.visibility_table().ids(v);
+    h.add(static_cast<std::uint32_t>(ids.size()));
+    for (const PoiId id : ids) h.add(id);
+  }
+  h.add(static_cast<std::uint32_t>(roadmap.edge_count()));
+  for (const RoadmapEdge& e : roadmap.edges()) {
+    h.add(e.u);
+    h.add(e.v);
+    h.add(e.cost);
+  }
+  return h.hash;
 }
 
 namespace {

@@ -31,8 +31,6 @@ std::unique_ptr<RoadmapBuilder> builder_for(const Scene& scene, const RoadmapRec
   return make_roadmap_builder(recipe.method, scene, build_options(recipe, threads));
 }
 
-std::string roadmap_bytes(const Roadmap& roadmap) { return encode_batch(batch_since(roadmap, 0)); }
-
 // A replay stopped by a cancel or by the daemon stopping: nothing stored is touched, and the
 // scene stays as it was (idle), not failed.
 struct ReplayInterrupted : std::runtime_error {
@@ -79,9 +77,9 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
     builder->extend(std::min<std::uint64_t>(5000, target - builder->samples()));
   }
   if (recovered_) {
-    const bool same = roadmap_bytes(builder->roadmap()) == roadmap_bytes(recovered_->roadmap) &&
+    const bool same = builder->roadmap().same_changes_as(recovered_->roadmap) &&
                       (builder->dense() == nullptr) == !recovered_->dense.has_value() &&
-                      (builder->dense() == nullptr || roadmap_bytes(*builder->dense()) == roadmap_bytes(*recovered_->dense)) &&
+                      (builder->dense() == nullptr || builder->dense()->same_changes_as(*recovered_->dense)) &&
                       std::equal(builder->dense_ids().begin(), builder->dense_ids().end(),
                                  recovered_->dense_ids.begin(), recovered_->dense_ids.end());
     if (!same) {

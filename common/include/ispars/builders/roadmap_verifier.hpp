@@ -13,7 +13,7 @@ namespace ispars {
 struct VerificationReport {
   std::uint64_t invalid_vertices = 0;  ///< Vertices failing the point check.
   std::uint64_t invalid_edges = 0;     ///< Edges whose swept segment is not valid.
-  std::uint64_t wrong_costs = 0;       ///< Edges whose cost is not |u - v|.
+  std::uint64_t wrong_costs = 0;       ///< Edges whose cost is not |u - v| (0: costs come from positions).
   std::uint64_t sparse_not_dense = 0;  ///< Sparse vertices that are not their dense vertex.
   /// Invariant 1: pairs (dense q, POI p in chi(q)) with no sparse q' seeing p, |q - q'| <= Delta
   /// and a valid segment q-q'.

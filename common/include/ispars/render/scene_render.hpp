@@ -37,7 +37,7 @@ struct Image {
 /// The edges of a graph to draw, by vertex position.
 struct DrawnGraph {
   std::span<const Vec3> positions;
-  std::span<const RoadmapEdge> edges;
+  std::span<const EdgeEnds> edges;
 };
 
 /// What a picture shows. Sizes are bounded: 16..8192 pixels a side.

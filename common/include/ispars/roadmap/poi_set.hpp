@@ -29,6 +29,8 @@ class PoiSetTable {
   [[nodiscard]] std::size_t words() const { return words_; }
   /// The ids in row i, ascending.
   [[nodiscard]] std::vector<PoiId> ids(std::size_t i) const;
+  /// The same POI count and the same rows.
+  friend bool operator==(const PoiSetTable&, const PoiSetTable&) = default;
 
  private:
   std::size_t poi_count_;
