@@ -173,19 +173,25 @@ TEST_F(RoadmapServiceTest, BuildsPastTheMemoryBudgetAreRefusedBeforeAnyMemoryGro
   wait_idle(service, "s0");
   const double held = service.session("s0")->expected_cost().bytes;
   EXPECT_GT(held, 0.0);
-  double fits = 0.0;
-  std::uint64_t n = 2000;
-  for (; n < 10'000'000; n = n * 5 / 4) {  // the largest s1 build that fits beside s0
+  // The fewest samples whose s1 build does not fit beside s0 (the cost never falls as samples
+  // grow): one sample fewer fits beside it, so this one fits alone.
+  const auto cost_of = [&](std::uint64_t samples) {
     const auto scene = service.session("s1");
     RoadmapRecipe recipe;
     recipe.dense_delta = scene->scene().config().dense_delta;
     recipe.sparse_delta = scene->scene().config().sparse_delta;
-    fits = estimate_build_cost(scene->scene(), recipe, n * 5 / 4, free_fraction(scene->scene())).bytes;
-    if (fits + held > s.memory_budget_bytes) break;
+    return estimate_build_cost(scene->scene(), recipe, samples, free_fraction(scene->scene())).bytes;
+  };
+  std::uint64_t fits_beside = 2000, too_many = 10'000'000;
+  ASSERT_LE(cost_of(fits_beside) + held, s.memory_budget_bytes);
+  ASSERT_GT(cost_of(too_many) + held, s.memory_budget_bytes);
+  while (too_many - fits_beside > 1) {
+    const std::uint64_t mid = fits_beside + (too_many - fits_beside) / 2;
+    (cost_of(mid) + held > s.memory_budget_bytes ? too_many : fits_beside) = mid;
   }
-  refused("s1", ispars(n * 5 / 4));
+  refused("s1", ispars(too_many));
   service.unload("s0");  // its share is free again
-  service.build("s1", ispars(n * 5 / 4));
+  service.build("s1", ispars(too_many));
   EXPECT_EQ(wait_idle(service, "s1").state, SessionState::idle);
   // An extend is costed at its total: the roadmap grows into what the budget no longer has.
   try {

@@ -18,10 +18,12 @@ struct BuildCost {
   double bytes = 0.0;     ///< Memory held by the builder and the copies published to readers.
 };
 
-/// Memory per vertex and per edge of a roadmap as built and held, rounded up from the measured
-/// 702 MiB for 98,101 dense vertices and 9,974,613 dense edges (docs/results/service.md).
+/// Memory per vertex and per edge of a roadmap as built and held, rounded up from what a daemon
+/// held for 98,101 dense vertices and 9,974,613 dense edges: 355 MiB with Inspection-SPARS,
+/// 621 MiB with Dense and its published copy (docs/results/service.md), about 32 and 28 bytes
+/// an edge beside 512 a vertex.
 inline constexpr double kBytesPerVertex = 512.0;
-inline constexpr double kBytesPerEdge = 80.0;
+inline constexpr double kBytesPerEdge = 40.0;
 
 /// The fraction of the sampling box whose points pass the point check, from `probes` probes of a
 /// fixed seed (the same answer every time for one scene).
