@@ -21,6 +21,13 @@ namespace {
 // Participant ports are 7400 + 250 * domain + 10 + 2 * id: at domain 232, ids up to 62 fit.
 constexpr std::uint32_t kLocalParticipants = 32;
 
+// Every process watching a shared-memory port marks it broken when a listener has been on one
+// message (or has not woken) for this long, and the port is then made anew: with the default,
+// 1 s, a daemon slow on one message on a loaded machine lost its port and went deaf ("Error
+// receiving data: No such file or directory"; the kill -9 campaign saw it about once a run). A
+// port left by a killed process is still found at once, by its lock.
+constexpr std::uint32_t kShmHealthyCheckMs = 10000;
+
 fdds::DomainParticipantQos localhost_qos(const std::string& name) {
   fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
   qos.name(name);
@@ -28,6 +35,7 @@ fdds::DomainParticipantQos localhost_qos(const std::string& name) {
   auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
   // Room for snapshot chunks and large batches in flight to several readers (default 512 KB).
   shm->segment_size(8 * 1024 * 1024);
+  shm->healthy_check_timeout_ms(kShmHealthyCheckMs);
   qos.transport().user_transports.push_back(shm);
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
   udp->interfaceWhiteList.emplace_back("127.0.0.1");
