@@ -46,7 +46,9 @@ TEST(WorkerPool, StopDropsQueuedJobsAndRefusesNewOnes) {
   // stop() must find the first job running (a loaded machine may not have started it yet).
   while (!started) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   std::thread stopper([&] { pool.stop(); });
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  // The first job holds the only thread, so the queue empties only when stop() drops the second
+  // (a fixed wait here let a loaded machine release the first before stop() began).
+  while (pool.queued() != 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   release = true;
   stopper.join();
   EXPECT_EQ(done.load(), 1);
