@@ -14,7 +14,7 @@
 
 namespace ispars::client {
 
-/// A DDS domain id in 100..232 that no other test process on this machine holds: each process
+/// A DDS domain id in 100..200 that no other test process on this machine holds: each process
 /// locks the domains it draws (/tmp/ispars-test-domains/N.lock) until it exits.
 int random_domain();
 
