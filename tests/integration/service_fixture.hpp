@@ -39,6 +39,10 @@ class ServiceTest : public ::testing::Test {
     scene_dir_ = dir_.path() / "scenes";
     client::write_tank_tower_scenes(scene_dir_, {"s0", "s1", "s2", "s3"});
   }
+  // A failed test shows the end of each daemon's log: what a rare failure in CI leaves to read.
+  void TearDown() override {
+    if (HasFailure()) print_daemon_log_tails(dir_.path(), 40);
+  }
   std::unique_ptr<DaemonProcess> start(const std::string& id, std::vector<std::string> extra = {}) {
     return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id, std::move(extra));
   }

@@ -77,6 +77,20 @@ std::string read_text(const std::filesystem::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+void print_daemon_log_tails(const std::filesystem::path& dir, std::size_t lines) {
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, error)) {
+    if (entry.path().extension() != ".log") continue;
+    const std::string text = read_text(entry.path());
+    std::size_t start = text.size();
+    for (std::size_t seen = 0; start > 0; --start) {
+      if (text[start - 1] == '\n' && ++seen > lines) break;  // the text after it is the tail
+    }
+    std::fprintf(stderr, "---- the last %zu lines of %s ----\n%s\n", lines, entry.path().string().c_str(),
+                 text.substr(start).c_str());
+  }
+}
+
 std::pair<int, std::string> run_command(const std::string& command) {
   std::string output;
   FILE* pipe = ::popen(command.c_str(), "r");

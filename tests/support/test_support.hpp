@@ -49,6 +49,10 @@ std::size_t scaled(std::size_t n);
 /// The whole content of file `path` (bytes as they are); empty when it cannot be read.
 std::string read_text(const std::filesystem::path& path);
 
+/// Prints the last `lines` lines of every *.log file directly in `dir` (the logs LocalDaemon
+/// writes beside the data directories) to standard error, each under its file name.
+void print_daemon_log_tails(const std::filesystem::path& dir, std::size_t lines);
+
 /// Runs `command` with /bin/sh; its exit status (-1 when it did not exit) and its standard output.
 std::pair<int, std::string> run_command(const std::string& command);
 
