@@ -169,12 +169,14 @@ int main(int argc, char** argv) {
   memory->add_option("--samples", memory_samples, "samples per build");
   std::string grow_scenes, grow_scene = "water_tower", grow_method = "ispars2";
   std::uint64_t grow_samples = 1'000'000, grow_step = 100'000;
+  double grow_slack = 0.0;
   auto* grow = app.add_subcommand("grow", "a roadmap extended step by step: cost per sample, memory, restart");
   grow->add_option("--scene-dir", grow_scenes, "scene directory (deploy/scenes)")->required()->check(CLI::ExistingDirectory);
   grow->add_option("--scene", grow_scene, "scene name");
   grow->add_option("--method", grow_method, "build method");
   grow->add_option("--samples", grow_samples, "samples in all")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
   grow->add_option("--step", grow_step, "samples per extend")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
+  grow->add_option("--stretch-slack", grow_slack, "the build's stretch_slack override (0: none)")->check(CLI::Range(0.0, 1.0));
   int echo_domain = 0;
   std::string echo_security, echo_client, echo_reply;
   auto* echo = app.add_subcommand("echo", "")->group("");  // hidden: rtt's raw echo server
@@ -190,7 +192,7 @@ int main(int argc, char** argv) {
     if (*stream) out = run_stream(daemon, samples, method);
     if (*snapshot) out = run_snapshot(daemon, vertices, repeats);
     if (*memory) out = run_memory(daemon, memory_samples);
-    if (*grow) out = run_grow(daemon, grow_scenes, grow_scene, grow_method, grow_samples, grow_step);
+    if (*grow) out = run_grow(daemon, grow_scenes, grow_scene, grow_method, grow_samples, grow_step, grow_slack);
     std::cout << out.dump() << std::endl;
     return 0;
   } catch (const std::exception& e) {

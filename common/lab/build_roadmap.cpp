@@ -70,6 +70,7 @@ int run_build(const BuildCommandOptions& options) {
   build_options.seed = options.seed;
   build_options.threads = options.threads;
   build_options.p_accept = options.p_accept;
+  build_options.stretch_slack = options.stretch_slack;
   build_options.variant = *parse_spars_variant(options.variant);
 
   const CheckCounts before = scene.counts();
@@ -100,6 +101,7 @@ int run_build(const BuildCommandOptions& options) {
   if (const auto* spars = dynamic_cast<const SparsBuilder*>(builder.get())) {
     const nlohmann::json causes = to_json(spars->admissions());
     out["variant"] = options.variant;
+    out["stretch_slack"] = options.stretch_slack;
     out["admissions"] = causes["admissions"];
     out["edges_by_cause"] = causes["edges_by_cause"];
   }

@@ -33,6 +33,7 @@ struct BuildCommandOptions {
   std::uint64_t seed = 1;
   unsigned threads = 1;
   double p_accept = 0.2;
+  double stretch_slack = 0.0;
   bool verify = false;
   std::size_t fresh = 0;  ///< fresh samples to check Invariant 1 on (0: none)
   bool json = false;
@@ -48,6 +49,7 @@ struct BenchBuildOptions {
   std::size_t samples = 20'000;
   std::size_t checkpoints = 10;
   std::uint64_t seed = 1;
+  double stretch_slack = 0.0;
   unsigned threads = 1;
   bool json = false;
 };

@@ -66,6 +66,9 @@ int main(int argc, char** argv) {
   bench_build_cmd->add_option("--variant", bench_build.variant, "spars, ispars: stretch (default) or alg1")
       ->check(spars_variant);
   bench_build_cmd->add_option("--samples", bench_build.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
+  bench_build_cmd->add_option("--stretch-slack", bench_build.stretch_slack,
+                              "Stretch rules: additive slack of the bounds, a fraction of Delta (default 0)")
+      ->check(CLI::Range(0.0, 1.0));
   bench_build_cmd->add_option("--checkpoints", bench_build.checkpoints, "Report rows")->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
   bench_build_cmd->add_option("--seed", bench_build.seed, "Seed");
   bench_build_cmd->add_option("--threads", bench_build.threads, "Threads")->check(CLI::Range(1u, 64u));
@@ -101,6 +104,9 @@ int main(int argc, char** argv) {
   build_cmd->add_option("--threads", build.threads, "Threads for per-sample checks (same roadmap for any count)")
       ->check(CLI::Range(1u, 64u));
   build_cmd->add_option("--p-accept", build.p_accept, "IRIS-C: admission probability without new coverage")
+      ->check(CLI::Range(0.0, 1.0));
+  build_cmd->add_option("--stretch-slack", build.stretch_slack,
+                        "Stretch rules: additive slack of the bounds, a fraction of Delta (default 0)")
       ->check(CLI::Range(0.0, 1.0));
   build_cmd->add_flag("--verify", build.verify, "Check validity, costs and the inspection invariant exactly");
   build_cmd->add_option("--fresh", build.fresh, "Also check Invariant 1 on this many fresh samples (a seed of its own)")

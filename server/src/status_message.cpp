@@ -29,6 +29,7 @@ msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id
     m.dense_delta(s.recipe->dense_delta);
     m.sparse_delta(s.recipe->sparse_delta);
     m.stretch(s.recipe->stretch);
+    m.stretch_slack(s.recipe->stretch_slack);
     m.p_accept(s.recipe->p_accept);
   }
   m.samples_done(s.samples_done);
@@ -61,6 +62,7 @@ std::optional<RoadmapRecipe> recipe_of(const msg::SceneStatus& m) {
   recipe.dense_delta = m.dense_delta();
   recipe.sparse_delta = m.sparse_delta();
   recipe.stretch = m.stretch();
+  recipe.stretch_slack = m.stretch_slack();
   recipe.p_accept = m.p_accept();
   recipe.generation = m.generation();
   return recipe;

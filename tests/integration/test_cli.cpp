@@ -111,7 +111,7 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   EXPECT_NE(r.err.find("request: replace: scene 'tower' already has a roadmap"), std::string::npos) << r.err;
   r = run(common_ + " build tower --method ispars --samples 100 --replace --set colour=1", dir_);
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("overrides.colour: unknown parameter (expected dense_delta, sparse_delta, stretch, p_accept)"),
+  EXPECT_NE(r.err.find("overrides.colour: unknown parameter (expected dense_delta, sparse_delta, stretch, stretch_slack, p_accept)"),
             std::string::npos)
       << r.err;
   r = run(common_ + " build tower --method ispars --samples 100 --replace --variant greedy", dir_);

@@ -298,6 +298,7 @@ TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
            {"dense_delta", -1.0, "dense_delta: must be positive"},
            {"sparse_delta", std::numeric_limits<double>::infinity(), "overrides.sparse_delta: must be finite"},
            {"p_accept", 1.5, "overrides.p_accept: must be a probability"},
+           {"stretch_slack", -0.5, "overrides.stretch_slack: must be in [0, 1], got -0.5"},
            {"colour", 1.0, "overrides.colour: unknown parameter"}}) {
     auto r = build("s0");
     msg::Parameter p;

@@ -86,3 +86,47 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
 
 }  // namespace
 }  // namespace ispars::test
+
+namespace ispars::test {
+namespace {
+
+// The roadmap an uninterrupted in-process ispars2 build with `slack` gives.
+std::uint64_t slack_reference(const std::filesystem::path& scene_file, std::uint64_t samples, double slack) {
+  const Scene scene = Scene::load(scene_file);
+  BuildOptions options;
+  options.stretch_slack = slack;
+  const auto builder = make_roadmap_builder(BuildMethod::ispars2, scene, options);
+  builder->extend(samples);
+  return roadmap_digest(builder->roadmap());
+}
+
+// stretch_slack travels with the recipe: the daemon builds with it, reports it, stores it, and
+// after a restart goes on with it (resumed, not replayed) to the uninterrupted build's roadmap.
+TEST_F(ServiceTest, AStretchSlackIsBuiltReportedStoredAndKeptAfterARestart) {
+  auto daemon = start("d");
+  {
+    Client client(client_options(domain_));
+    client.load("s0");
+    BuildArgs args = ispars2_build(3000);
+    args.overrides.emplace("stretch_slack", 0.5);
+    client.build("s0", args);
+    const msg::SceneStatus built = client.wait_idle("s0", {}, kLong);
+    ASSERT_EQ(built.state(), msg::SCENE_IDLE) << built.last_error();
+    EXPECT_EQ(built.stretch_slack(), 0.5);
+    EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), slack_reference(scene_dir_ / "s0.yaml", 3000, 0.5));
+    EXPECT_NE(roadmap_digest(client.snapshot("s0").roadmap), slack_reference(scene_dir_ / "s0.yaml", 3000, 0.0))
+        << "the slack changed nothing on this scene: the test would prove nothing";
+  }
+  ASSERT_EQ(daemon->terminate(), 0);
+  daemon = start("d");
+  Client client(client_options(domain_));
+  client.load("s0");
+  EXPECT_EQ(client.stats("s0").stretch_slack(), 0.5);
+  client.extend("s0", 2000);
+  const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(extended.samples_done(), 5000u) << extended.last_error();
+  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), slack_reference(scene_dir_ / "s0.yaml", 5000, 0.5));
+}
+
+}  // namespace
+}  // namespace ispars::test

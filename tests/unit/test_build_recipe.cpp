@@ -37,7 +37,7 @@ TEST(BuildRecipe, NamesRoundTripAndListsComeFromOnePlace) {
   EXPECT_FALSE(has_variants(BuildMethod::ispars2));
   EXPECT_TRUE(has_variants(BuildMethod::spars));
   EXPECT_EQ(spars_variant_names(), "stretch, alg1");
-  EXPECT_EQ(recipe_override_names(), "dense_delta, sparse_delta, stretch, p_accept");
+  EXPECT_EQ(recipe_override_names(), "dense_delta, sparse_delta, stretch, stretch_slack, p_accept");
   for (const RecipeParameter& p : recipe_overrides()) {
     EXPECT_LT(p.min, p.max) << p.name;
     EXPECT_FALSE(p.doc.empty()) << p.name;
@@ -51,6 +51,8 @@ TEST(BuildRecipe, OverridesAreSetWithinTheirRangeAndRefusedOutsideIt) {
   set_recipe_override(recipe, "sparse_delta", 0.75, "request");
   set_recipe_override(recipe, "stretch", 1.0, "request");  // the bounds are inclusive
   set_recipe_override(recipe, "p_accept", 1.0, "request");
+  set_recipe_override(recipe, "stretch_slack", 1.0, "request");
+  EXPECT_EQ(recipe.stretch_slack, 1.0);
   EXPECT_EQ(recipe.dense_delta, 0.5);
   EXPECT_EQ(recipe.sparse_delta, 0.75);
   EXPECT_EQ(recipe.stretch, 1.0);
@@ -76,8 +78,13 @@ TEST(BuildRecipe, OverridesAreSetWithinTheirRangeAndRefusedOutsideIt) {
 }
 
 TEST(BuildRecipe, RecipeJsonRoundTripsAndOldRecipesReadAsAlg1) {
-  RoadmapRecipe r{"tower", BuildMethod::irisc, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 42, "0123456789abcdef", 7};
+  RoadmapRecipe r{"tower", BuildMethod::irisc, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 42, "0123456789abcdef", 7, 0.375};
   const RoadmapRecipe back = recipe_from_json(recipe_to_json(r));
+  EXPECT_EQ(back.stretch_slack, 0.375);
+  EXPECT_TRUE(same_roadmap(back, r));
+  RoadmapRecipe no_slack = r;
+  no_slack.stretch_slack = 0.0;
+  EXPECT_FALSE(same_roadmap(back, no_slack)) << "the slack changes the roadmap";
   EXPECT_EQ(back.scene, "tower");
   EXPECT_EQ(back.method, BuildMethod::irisc);
   EXPECT_EQ(back.seed, 9u);
@@ -102,6 +109,16 @@ TEST(BuildRecipe, RecipeJsonRoundTripsAndOldRecipesReadAsAlg1) {
       R"({"scene": "t", "method": "ispars", "seed": 1, "p_accept": 0.2, "dense_delta": 1, "sparse_delta": 2,
           "stretch": 3, "generation": 4, "format": 1})");
   EXPECT_TRUE(old_store.scene_fingerprint.empty());
+  EXPECT_EQ(old_store.stretch_slack, 0.0) << "a recipe from before the slack was built without one";
+  // A slack outside [0, 1] (a damaged or hand-edited file) is refused by name.
+  std::string bad = recipe_to_json(r);
+  bad.replace(bad.find("\"stretch_slack\": 0.375"), std::string("\"stretch_slack\": 0.375").size(), "\"stretch_slack\": 4");
+  try {
+    (void)recipe_from_json(bad);
+    FAIL() << "a slack of 4 was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("stretch_slack must be in [0, 1]"), std::string::npos) << e.what();
+  }
   EXPECT_EQ(old_store.builder_version, 0u);
   EXPECT_THROW((void)recipe_from_json("{"), std::runtime_error);
   EXPECT_THROW((void)recipe_from_json(R"({"scene": "t"})"), std::runtime_error);

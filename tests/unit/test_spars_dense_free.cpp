@@ -19,9 +19,11 @@ class DenseFreeOnSharedScenes : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(DenseFreeOnSharedScenes, GrowsTheSameSparseRoadmapAsIsparsWithoutADenseGraph) {
   const Scene& scene = test::shared_scene(GetParam());
-  for (const std::uint64_t seed : {1u, 2u}) {
+  // Seed 2 with a stretch slack: the slack is read by the stretch rules alone, so it keeps them equal.
+  for (const auto& [seed, slack] : {std::pair{1u, 0.0}, std::pair{2u, 0.5}}) {
     BuildOptions options;
     options.seed = seed;
+    options.stretch_slack = slack;
     auto paired = make_roadmap_builder(BuildMethod::ispars, scene, options);
     auto free = make_roadmap_builder(BuildMethod::ispars2, scene, options);
     // Uneven steps: extend(a) then extend(b) is extend(a + b) for both.
@@ -49,8 +51,11 @@ INSTANTIATE_TEST_SUITE_P(Scenes, DenseFreeOnSharedScenes,
 // after a second resume.
 TEST_P(DenseFreeOnSharedScenes, AResumedBuilderGoesOnByteForByteAsTheUninterruptedOne) {
   const Scene& scene = test::shared_scene(GetParam());
+  for (const double slack : {0.0, 0.5}) {
+  SCOPED_TRACE(testing::Message() << "stretch slack " << slack);
   BuildOptions options;
   options.seed = 3;
+  options.stretch_slack = slack;
   auto whole = make_roadmap_builder(BuildMethod::ispars2, scene, options);
   std::unique_ptr<RoadmapBuilder> resumed;
   for (const std::size_t n : {0u, 1u, 700u, 2300u, 3001u}) {
@@ -69,6 +74,7 @@ TEST_P(DenseFreeOnSharedScenes, AResumedBuilderGoesOnByteForByteAsTheUninterrupt
   whole->extend(test::scaled(2000));
   EXPECT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap())) << GetParam();
   EXPECT_GT(resumed->roadmap().vertex_count(), 10u);
+  }
 }
 
 TEST(DenseFree, OnlyIspars2ResumesAndOnlyFromARoadmapWithTheRoot) {

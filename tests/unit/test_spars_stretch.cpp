@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <stdexcept>
+
 #include "ispars/search/graph_search.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/builders/spars_builder.hpp"
@@ -25,8 +28,9 @@ std::vector<VertexId> brute_reachable(const Scene& scene, const Roadmap& sparse,
   return out;
 }
 
-// Pairs w, w' of W(q) whose sparse route is longer than t (|w - q| + |q - w'|).
-std::size_t witness_violations(const Scene& scene, const Roadmap& sparse, const Vec3& q, VertexId self) {
+// Pairs w, w' of W(q) whose sparse route is longer than t (|w - q| + |q - w'|) + slack Delta.
+std::size_t witness_violations(const Scene& scene, const Roadmap& sparse, const Vec3& q, VertexId self,
+                               double slack = 0.0) {
   const std::vector<VertexId> w = brute_reachable(scene, sparse, q, self);
   const double t = scene.config().stretch;
   std::size_t bad = 0;
@@ -34,7 +38,7 @@ std::size_t witness_violations(const Scene& scene, const Roadmap& sparse, const 
     const std::vector<double> d = shortest_distances(sparse, w[i]);
     for (std::size_t j = i + 1; j < w.size(); ++j) {
       const double witness = (sparse.position(w[i]) - q).norm() + (q - sparse.position(w[j])).norm();
-      bad += d[w[j]] > t * witness * (1.0 + 1e-12);
+      bad += d[w[j]] > (t * witness + slack * scene.config().sparse_delta) * (1.0 + 1e-12);
     }
   }
   return bad;
@@ -43,13 +47,17 @@ std::size_t witness_violations(const Scene& scene, const Roadmap& sparse, const 
 struct StepRun {
   std::size_t checked_steps = 0;
   std::size_t violating_steps = 0;
+  std::size_t steps_past_zero_slack = 0;  // steps with a pair past t times its witness alone
   SparsAdmissions admissions;
 };
 
 // A build of `warmup` samples, then `steps` samples half near the surface, each followed by the
 // witness check of its own W(q).
-StepRun check_every_step(const Scene& scene, SparsVariant variant, std::size_t warmup, std::size_t steps) {
-  SparsBuilder b(scene, BuildOptions{}, rules(variant));
+StepRun check_every_step(const Scene& scene, SparsVariant variant, std::size_t warmup, std::size_t steps,
+                         double slack = 0.0) {
+  BuildOptions options;
+  options.stretch_slack = slack;
+  SparsBuilder b(scene, options, rules(variant));
   b.extend(warmup);
   Rng rng(7);
   StepRun run;
@@ -61,7 +69,8 @@ StepRun check_every_step(const Scene& scene, SparsVariant variant, std::size_t w
     const VertexId self = b.dense_ids().back() == dense_q ? static_cast<VertexId>(b.roadmap().vertex_count() - 1)
                                                           : kNoVertex;
     ++run.checked_steps;
-    run.violating_steps += witness_violations(scene, b.roadmap(), q, self) > 0;
+    run.violating_steps += witness_violations(scene, b.roadmap(), q, self, slack) > 0;
+    if (slack > 0.0) run.steps_past_zero_slack += witness_violations(scene, b.roadmap(), q, self) > 0;
   }
   run.admissions = b.admissions();
   return run;
@@ -83,6 +92,32 @@ TEST_P(StretchOnSharedScenes, EveryStepBoundsTheRoutesBetweenTheMembersOfW) {
   EXPECT_GT(alg1.violating_steps, 0u) << "the check found nothing to catch on Alg. 1: it would prove nothing";
   EXPECT_GT(stretch.admissions.witness_edge, 0u);
   EXPECT_GT(stretch.admissions.join_edges, 0u);
+}
+
+TEST_P(StretchOnSharedScenes, WithASlackEveryStepBoundsTheRoutesWithinTheSlackAndTheRoadmapIsSmaller) {
+  // stretch_slack = 0.5: the same bound plus half of Delta, kept at every step; the slack is
+  // used (some pair exceeds the bound without it), and buys a smaller roadmap.
+  const Scene& scene = test::shared_scene(GetParam());
+  const StepRun slack = check_every_step(scene, SparsVariant::stretch, 2500, 300, 0.5);
+  ASSERT_GT(slack.checked_steps, 100u);
+  EXPECT_EQ(slack.violating_steps, 0u);
+  EXPECT_GT(slack.steps_past_zero_slack, 0u) << "no pair used the slack: the check would prove nothing";
+  BuildOptions with, without;
+  with.stretch_slack = 0.5;
+  SparsBuilder a(scene, with, rules(SparsVariant::stretch));
+  SparsBuilder b(scene, without, rules(SparsVariant::stretch));
+  a.extend(3000);
+  b.extend(3000);
+  EXPECT_LT(a.roadmap().edge_count(), b.roadmap().edge_count()) << GetParam();
+}
+
+TEST(SparsRules, AStretchSlackOutsideZeroToOneIsRefused) {
+  const Scene& scene = test::shared_scene("water_tower");
+  for (const double bad : {-0.01, 1.01, std::nan("")}) {
+    BuildOptions options;
+    options.stretch_slack = bad;
+    EXPECT_THROW(SparsBuilder(scene, options, rules(SparsVariant::stretch)), std::invalid_argument) << bad;
+  }
 }
 
 TEST_P(StretchOnSharedScenes, SparseVerticesWithinDeltaHaveRoutesWithinTTimesTheirDistance) {

@@ -45,11 +45,15 @@ SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, cons
       rules_(rules),
       sparse_delta_(scene.config().sparse_delta),
       stretch_(scene.config().stretch),
+      stretch_slack_(options.stretch_slack * scene.config().sparse_delta),
       rng_(options.seed),
       dense_(scene, scene.config().dense_delta),
       sparse_(scene.pois().size()),
       sparse_grid_(scene.config().sparse_delta),
       known_routes_(options.known_route_pairs) {
+  if (!(options.stretch_slack >= 0.0 && options.stretch_slack <= 1.0)) {
+    throw std::invalid_argument("stretch_slack must be in [0, 1] (a fraction of Delta)");
+  }
   if (rules.dense_shortcut && !rules.dense_graph) {
     throw std::invalid_argument("the dense shortcut reads the dense graph: it cannot run without one");
   }

@@ -16,13 +16,17 @@ constexpr std::array<BuildMethod, 5> kMethods{BuildMethod::dense, BuildMethod::s
                                               BuildMethod::irisc, BuildMethod::ispars2};
 constexpr std::array<SparsVariant, 2> kVariants{SparsVariant::stretch, SparsVariant::alg1};
 
-constexpr std::array<RecipeParameter, 4> kOverrides{{
+constexpr std::array<RecipeParameter, 5> kOverrides{{
     {"dense_delta", 1e-6, 1e6, "positive (at least 1e-6, at most 1e6 metres)",
      "delta, the dense roadmap's connection radius in metres (default: the scene's)", &RoadmapRecipe::dense_delta},
     {"sparse_delta", 1e-6, 1e6, "positive (at least 1e-6, at most 1e6 metres)",
      "Delta, the sparse roadmap's visibility radius in metres (default: the scene's)", &RoadmapRecipe::sparse_delta},
     {"stretch", 1.0, 100.0, "at least 1 and at most 100", "t, the spanner's stretch factor (default: the scene's)",
      &RoadmapRecipe::stretch},
+    {"stretch_slack", 0.0, 1.0, "in [0, 1]",
+     "the stretch rules' additive slack, a fraction of Delta: bounds t d + slack Delta (default 0; "
+     "0.5 lets a long extend converge, docs/results/ispars2.md)",
+     &RoadmapRecipe::stretch_slack},
     {"p_accept", 0.0, 1.0, "a probability in [0, 1]",
      "IRIS-C: probability of admitting a state that adds no POI (default 0.2)", &RoadmapRecipe::p_accept},
 }};
@@ -86,7 +90,7 @@ std::span<const RecipeParameter> recipe_overrides() { return kOverrides; }
 bool same_roadmap(const RoadmapRecipe& a, const RoadmapRecipe& b) {
   return a.method == b.method && a.seed == b.seed && (!has_variants(a.method) || a.variant == b.variant) &&
          a.dense_delta == b.dense_delta && a.sparse_delta == b.sparse_delta && a.stretch == b.stretch &&
-         a.p_accept == b.p_accept;
+         a.stretch_slack == b.stretch_slack && a.p_accept == b.p_accept;
 }
 
 std::string recipe_override_names() {
@@ -116,6 +120,7 @@ std::string recipe_to_json(const RoadmapRecipe& r) {
                             {"dense_delta", r.dense_delta},
                             {"sparse_delta", r.sparse_delta},
                             {"stretch", r.stretch},
+                            {"stretch_slack", r.stretch_slack},
                             {"generation", r.generation},
                             {"scene_fingerprint", r.scene_fingerprint},
                             {"builder_version", r.builder_version},
@@ -151,6 +156,10 @@ RoadmapRecipe recipe_from_json(const std::string& text) {
     r.dense_delta = field("dense_delta").get<double>();
     r.sparse_delta = field("sparse_delta").get<double>();
     r.stretch = field("stretch").get<double>();
+    if (j.contains("stretch_slack")) r.stretch_slack = j.at("stretch_slack").get<double>();  // else 0: older
+    if (!(r.stretch_slack >= 0.0 && r.stretch_slack <= 1.0)) {
+      throw std::runtime_error("recipe.json: stretch_slack must be in [0, 1], got " + std::to_string(r.stretch_slack));
+    }
     r.generation = field("generation").get<std::uint64_t>();
     if (j.contains("format") && j.at("format").get<int>() > kRecipeFormat) {
       throw std::runtime_error("recipe.json is format " + std::to_string(j.at("format").get<int>()) +

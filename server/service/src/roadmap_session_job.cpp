@@ -23,6 +23,7 @@ BuildOptions build_options(const RoadmapRecipe& recipe, unsigned threads) {
   options.seed = recipe.seed;
   options.threads = threads;
   options.p_accept = recipe.p_accept;
+  options.stretch_slack = recipe.stretch_slack;
   options.variant = recipe.variant;
   return options;
 }

@@ -23,6 +23,10 @@ struct BuildOptions {
   double p_accept = 0.2;
   /// spars and ispars: which rule set grows the sparse roadmap.
   SparsVariant variant = SparsVariant::stretch;
+  /// spars, ispars and ispars2, stretch rules: the additive slack of the join and witnessed-pair
+  /// bounds as a fraction of Delta, in [0, 1]: a route is long past t d + stretch_slack Delta.
+  /// 0 keeps the bounds purely multiplicative; a positive slack lets the roadmap converge.
+  double stretch_slack = 0.0;
   /// The stretch rules' cache of routes between sparse vertices (KnownRoutes): at most this many
   /// pairs, 16-32 bytes each (2048 .. 2^30). Any size gives the same roadmap; a small one
   /// searches more often.

@@ -162,6 +162,7 @@ class SparsBuilder final : public RoadmapBuilder {
   SparsRules rules_;
   double sparse_delta_;
   double stretch_;
+  double stretch_slack_;  // metres: options_.stretch_slack times Delta
   Rng rng_;
 
   DeltaPrm dense_;

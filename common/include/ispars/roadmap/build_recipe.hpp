@@ -56,10 +56,13 @@ struct RoadmapRecipe {
   std::string scene_fingerprint;
   /// kBuilderVersion when it was built; 0 in stores that predate it (then unchecked).
   std::uint32_t builder_version = 0;
+  /// spars, ispars, ispars2 with the stretch rules: the additive slack of the stretch bounds,
+  /// as a fraction of Delta (0, the default: the bounds are t times the distance alone).
+  double stretch_slack = 0.0;
 };
 
 /// Whether two recipes build the same roadmap: method, seed, the variant where the method has
-/// one, the deltas, the stretch and p_accept (scene, generation and versions aside).
+/// one, the deltas, the stretch, its slack and p_accept (scene, generation and versions aside).
 [[nodiscard]] bool same_roadmap(const RoadmapRecipe& a, const RoadmapRecipe& b);
 
 /// Bumped whenever a builder's output for the same recipe changes: a stored roadmap of another
@@ -78,9 +81,10 @@ struct RecipeParameter {
   double RoadmapRecipe::*field = nullptr;
 };
 
-/// dense_delta, sparse_delta, stretch and p_accept, in that order.
+/// dense_delta, sparse_delta, stretch, stretch_slack and p_accept, in that order.
 [[nodiscard]] std::span<const RecipeParameter> recipe_overrides();
-/// The override names, for help texts and errors: "dense_delta, sparse_delta, stretch, p_accept".
+/// The override names, for help texts and errors: "dense_delta, sparse_delta, stretch,
+/// stretch_slack, p_accept".
 [[nodiscard]] std::string recipe_override_names();
 
 /// Sets the override `name` to `value`. Throws InputError (file `file`, field "overrides.NAME")
