@@ -36,7 +36,7 @@ class SecureServiceTest : public ServiceTest {
   static void SetUpTestSuite() {
     keystore_ = new TempDir();
     client::make_keystore(ISPARS_SOURCE_DIR "/deploy/security/make-keystore.sh", keystore_->path(),
-                          {"daemon:d", "operator:op", "viewer:view"});
+                          {"daemon:d", "operator:op", "viewer:view", "viewer:probe"});
     const fs::path rogue = keystore_->path() / "identities" / "rogue";
     fs::copy(identity("view"), rogue);
     std::ofstream(rogue / "permissions.xml")
@@ -64,8 +64,11 @@ class SecureServiceTest : public ServiceTest {
   static std::string identity(const std::string& name) { return (keystore_->path() / "identities" / name).string(); }
 
   std::unique_ptr<DaemonProcess> start_secure(const std::string& id) {
+    // The readiness probe has an identity of its own. Three CI runs in five had one test here
+    // whose first client, made as "op" just after a probe made as "op" left, saw no daemon for
+    // 30 s; no other pattern was common to them (the cause inside Fast DDS is not known).
     return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id,
-                                           std::vector<std::string>{"--security", identity("d")}, identity("op"));
+                                           std::vector<std::string>{"--security", identity("d")}, identity("probe"));
   }
   client::ClientOptions options_as(const std::string& name) const {
     auto o = client_options(domain_);
