@@ -2,8 +2,8 @@
 // then extends of `step` to `samples` in all; after each, the seconds it took and microseconds
 // per sample, the daemon's resident memory, the roadmap's vertices, edges and coverage. Then a
 // restart (SIGTERM, start on the same data directory): seconds until the daemon answers with the
-// roadmap, and until an extend of 1,000 samples is done (a replay for the dense-pair methods,
-// none for ispars2).
+// roadmap, and until an extend of 1,000 samples is done (a replay for the dense-pair methods
+// and IRIS-C, none for dense and ispars2).
 
 #include <fmt/format.h>
 

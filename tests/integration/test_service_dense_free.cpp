@@ -1,7 +1,7 @@
 // ispars2 through the daemon: no dense graph is built, stored or reported; verify checks
 // Invariant 1 on fresh samples and says so; a variant is refused by name; and after a restart
 // (SIGTERM or kill -9) an extend goes on from the stored roadmap without replaying it, to the
-// roadmap an uninterrupted build gives, byte for byte.
+// roadmap an uninterrupted build gives, byte for byte (as it does for the Dense method).
 
 #include <gtest/gtest.h>
 
@@ -126,6 +126,38 @@ TEST_F(ServiceTest, AStretchSlackIsBuiltReportedStoredAndKeptAfterARestart) {
   const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
   ASSERT_EQ(extended.samples_done(), 5000u) << extended.last_error();
   EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), slack_reference(scene_dir_ / "s0.yaml", 5000, 0.5));
+}
+
+}  // namespace
+}  // namespace ispars::test
+
+namespace ispars::test {
+namespace {
+
+// The Dense method's roadmap is its whole state too: after a restart an extend resumes from the
+// stored roadmap, nothing replayed, to the uninterrupted build's roadmap byte for byte.
+TEST_F(ServiceTest, ADenseRoadmapGoesOnAfterARestartWithoutReplay) {
+  auto daemon = start("d");
+  {
+    Client client(client_options(domain_));
+    client.load("s0");
+    BuildArgs args;
+    args.method = "dense";
+    args.samples = 2000;
+    client.build("s0", args);
+    ASSERT_EQ(client.wait_idle("s0", {}, kLong).state(), msg::SCENE_IDLE);
+  }
+  ASSERT_EQ(daemon->terminate(), 0);
+  daemon = start("d");
+  Client client(client_options(domain_));
+  client.load("s0");
+  client.extend("s0", 1000);
+  const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(extended.samples_done(), 3000u) << extended.last_error();
+  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap),
+            reference_digest(scene_dir_ / "s0.yaml", 3000, 1, BuildMethod::dense));
+  const std::string log = daemon->log();
+  EXPECT_NE(log.find("the dense builder resumed from its stored roadmap at 2000 samples"), std::string::npos) << log;
 }
 
 }  // namespace

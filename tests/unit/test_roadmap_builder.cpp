@@ -3,9 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
+#include <string>
+
 #include "ispars/scene/procedural.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/roadmap/roadmap_log.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
@@ -46,6 +50,31 @@ TEST(RoadmapBuilder, ExtendingEqualsOneLongerRun) {
     const std::string whole = build_fingerprint(scene, m, 5, 1, {2000});
     EXPECT_EQ(whole, build_fingerprint(scene, m, 5, 1, {700, 1300})) << to_string(m);
     EXPECT_EQ(whole, build_fingerprint(scene, m, 5, 1, {1, 255, 256, 257, 1231})) << to_string(m);
+  }
+}
+
+// The Dense method restarts without replay: a builder resumed from the roadmap alone (as the
+// store gives it back, from its batches) goes on as the uninterrupted one, from any point.
+TEST(RoadmapBuilder, AResumedDenseBuilderGoesOnByteForByteAsTheUninterruptedOne) {
+  for (const std::string name : {"water_tower", "caric_city"}) {
+    const Scene& scene = test::shared_scene(name);
+    BuildOptions options;
+    options.seed = 5;
+    auto whole = make_roadmap_builder(BuildMethod::dense, scene, options);
+    std::unique_ptr<RoadmapBuilder> resumed;
+    for (const std::size_t n : {0u, 1u, 300u, 1201u}) {
+      whole->extend(n);
+      if (resumed) resumed->extend(n);
+      const Roadmap& source = resumed ? resumed->roadmap() : whole->roadmap();
+      Roadmap stored(scene.pois().size());
+      apply_batch(stored, batch_since(source, 0));
+      resumed = resume_roadmap_builder(BuildMethod::dense, scene, options, std::move(stored), whole->samples());
+      ASSERT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap())) << name;
+    }
+    resumed->extend(1500);
+    whole->extend(1500);
+    EXPECT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap())) << name;
+    EXPECT_GT(resumed->roadmap().edge_count(), 1000u) << name;
   }
 }
 

@@ -78,10 +78,11 @@ TEST_P(DenseFreeOnSharedScenes, AResumedBuilderGoesOnByteForByteAsTheUninterrupt
   }
 }
 
-TEST(DenseFree, OnlyIspars2ResumesAndOnlyFromARoadmapWithTheRoot) {
+TEST(DenseFree, OnlyIspars2AndDenseResumeAndOnlyFromARoadmapWithTheRoot) {
   const Scene& scene = test::shared_scene("water_tower");
   EXPECT_TRUE(resumes_from_roadmap(BuildMethod::ispars2));
-  for (const BuildMethod m : {BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars, BuildMethod::irisc}) {
+  EXPECT_TRUE(resumes_from_roadmap(BuildMethod::dense));
+  for (const BuildMethod m : {BuildMethod::spars, BuildMethod::ispars, BuildMethod::irisc}) {
     EXPECT_FALSE(resumes_from_roadmap(m));
     EXPECT_THROW((void)resume_roadmap_builder(m, scene, BuildOptions{}, Roadmap(scene.pois().size()), 0),
                  std::invalid_argument);
@@ -90,7 +91,11 @@ TEST(DenseFree, OnlyIspars2ResumesAndOnlyFromARoadmapWithTheRoot) {
                std::invalid_argument);
   Roadmap elsewhere(scene.pois().size());
   (void)elsewhere.add_vertex(scene.config().root + Vec3(0.5, 0, 0), {});
-  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::ispars2, scene, BuildOptions{}, std::move(elsewhere), 10),
+  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::ispars2, scene, BuildOptions{}, Roadmap(elsewhere), 10),
+               std::invalid_argument);
+  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::dense, scene, BuildOptions{}, Roadmap(scene.pois().size()), 0),
+               std::invalid_argument);
+  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::dense, scene, BuildOptions{}, std::move(elsewhere), 10),
                std::invalid_argument);
 }
 

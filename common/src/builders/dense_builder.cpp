@@ -1,12 +1,23 @@
 #include "ispars/builders/dense_builder.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace ispars {
 
 DenseBuilder::DenseBuilder(const Scene& scene, const BuildOptions& options)
     : scene_(&scene), options_(options), rng_(options.seed), prm_(scene, scene.config().dense_delta) {
   prm_.insert(scene.config().root, scene.visibility().visible_pois(scene.config().root));
+}
+
+DenseBuilder::DenseBuilder(const Scene& scene, const BuildOptions& options, Roadmap roadmap, std::size_t samples)
+    : scene_(&scene), options_(options), rng_(options.seed), prm_(scene, scene.config().dense_delta) {
+  if (roadmap.vertex_count() == 0 || roadmap.position(0) != scene.config().root) {
+    throw std::invalid_argument("the roadmap to resume does not start with the scene's root");
+  }
+  prm_ = DeltaPrm(scene, scene.config().dense_delta, std::move(roadmap));
+  rng_.discard(3 * static_cast<std::uint64_t>(samples));  // prepare_samples: three draws a sample
+  samples_ = samples;
 }
 
 void DenseBuilder::extend(std::size_t samples) {

@@ -23,7 +23,9 @@ std::unique_ptr<RoadmapBuilder> make_roadmap_builder(BuildMethod method, const S
   return nullptr;
 }
 
-bool resumes_from_roadmap(BuildMethod method) { return method == BuildMethod::ispars2; }
+bool resumes_from_roadmap(BuildMethod method) {
+  return method == BuildMethod::ispars2 || method == BuildMethod::dense;
+}
 
 std::unique_ptr<RoadmapBuilder> resume_roadmap_builder(BuildMethod method, const Scene& scene,
                                                        const BuildOptions& options, Roadmap roadmap,
@@ -31,6 +33,7 @@ std::unique_ptr<RoadmapBuilder> resume_roadmap_builder(BuildMethod method, const
   if (!resumes_from_roadmap(method)) {
     throw std::invalid_argument(std::string(to_string(method)) + " keeps more than its roadmap: it is replayed, not resumed");
   }
+  if (method == BuildMethod::dense) return std::make_unique<DenseBuilder>(scene, options, std::move(roadmap), samples);
   return std::make_unique<SparsBuilder>(scene, options, SparsRules::dense_free(), std::move(roadmap), samples);
 }
 

@@ -14,6 +14,8 @@ namespace ispars {
 class DeltaPrm {
  public:
   DeltaPrm(const Scene& scene, double delta);
+  /// The delta-PRM `graph` is (grown by insert() with the same delta), indexed anew.
+  DeltaPrm(const Scene& scene, double delta, Roadmap graph);
 
   /// Inserts a valid configuration seeing `visible` and its edges; returns its vertex.
   VertexId insert(const Vec3& q, std::span<const PoiId> visible);

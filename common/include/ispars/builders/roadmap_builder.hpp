@@ -63,8 +63,8 @@ class RoadmapBuilder {
                                                                    const BuildOptions& options);
 
 /// Whether a builder of `method` can go on from its roadmap alone (resume_roadmap_builder):
-/// ispars2. The others keep more than their roadmap (a dense graph, IRIS-C's draws) and are
-/// rebuilt by replaying their samples.
+/// dense and ispars2. The others keep more than their roadmap (the dense pair's
+/// representatives and supports, IRIS-C's draws) and are rebuilt by replaying their samples.
 [[nodiscard]] bool resumes_from_roadmap(BuildMethod method);
 
 /// A builder for `method` that goes on from `roadmap`, which make_roadmap_builder(method, scene,
