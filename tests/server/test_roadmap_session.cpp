@@ -391,5 +391,25 @@ TEST_F(RoadmapSessionTest, PathsAreFreeJoinedWithinDeltaAndMeasured) {
   EXPECT_THROW((void)session->path(Vec3(0, 0, 1), Vec3(1e6, 0, 0)), InputError);
 }
 
+// A Dense session drops its builder when a job ends (the published copy is the last commit) and
+// resumes it from that copy for the next job: verify and extend work as if it had kept it.
+TEST_F(RoadmapSessionTest, ADenseSessionResumesFromItsPublishedRoadmapBetweenJobs) {
+  auto session = open();
+  BuildRequest dense = ispars(1500, 4);
+  dense.method = BuildMethod::dense;
+  session->request_build(dense);
+  session->run_job(never_);
+  EXPECT_TRUE(session->verify().geometry_ok());
+  session->request_extend(700);
+  session->run_job(never_);
+  EXPECT_EQ(session->status().samples_done, 2200u);
+  BuildOptions options;
+  options.seed = 4;
+  const auto reference = make_roadmap_builder(BuildMethod::dense, scene(), options);
+  reference->extend(2200);
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), roadmap_digest(reference->roadmap()));
+  EXPECT_TRUE(session->verify().geometry_ok());
+}
+
 }  // namespace
 }  // namespace ispars

@@ -79,8 +79,12 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
   }
   recipe_ = recovery.recipe;
   samples_done_ = samples_target_ = recovery.roadmaps.samples;
-  published_ = make_published(std::make_shared<const Roadmap>(recovery.roadmaps.roadmap), recipe_->generation,
-                              recovery.roadmaps.samples);
+  // A method that resumes from its roadmap needs no other copy: the published one is moved in,
+  // and a builder is resumed from a copy of it when a job needs one.
+  const bool resumable = resumes_from_roadmap(recipe_->method);
+  published_ = make_published(resumable ? std::make_shared<const Roadmap>(std::move(recovery.roadmaps.roadmap))
+                                        : std::make_shared<const Roadmap>(recovery.roadmaps.roadmap),
+                              recipe_->generation, recovery.roadmaps.samples);
   if (recovery.roadmaps.dense) {
     dense_vertices_ = recovery.roadmaps.dense->vertex_count();
     dense_edges_ = recovery.roadmaps.dense->edge_count();
@@ -89,7 +93,7 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
                                to_string(recipe_->method), published_.roadmap->version(), samples_done_,
                                published_.roadmap->vertex_count(), recovery.journal_commits);
   if (recovery.torn_tail) recovery_note_ += "; dropped a torn journal tail: " + recovery.tail_problem;
-  recovered_ = std::move(recovery.roadmaps);
+  if (!resumable) recovered_ = std::move(recovery.roadmaps);
   state_ = SessionState::idle;
 }
 
@@ -385,8 +389,20 @@ VerificationReport RoadmapSession::verify() const {
     return report;
   };
   if (builder_) return check(builder_->roadmap(), builder_->dense(), builder_->dense_ids());
-  if (!recovered_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
-  return check(recovered_->roadmap, recovered_->dense ? &*recovered_->dense : nullptr, recovered_->dense_ids);
+  if (recovered_) {
+    return check(recovered_->roadmap, recovered_->dense ? &*recovered_->dense : nullptr, recovered_->dense_ids);
+  }
+  // No builder and nothing recovered: a method that resumes from its roadmap, idle, whose
+  // published roadmap is the stored one (no job runs: this holds the job lock).
+  std::shared_ptr<const Roadmap> published;
+  {
+    std::lock_guard lock(mutex_);
+    if (resumes_from_roadmap(recipe->method) && published_.generation == recipe->generation) {
+      published = published_.roadmap;
+    }
+  }
+  if (!published) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
+  return check(*published, nullptr, {});
 }
 
 }  // namespace ispars

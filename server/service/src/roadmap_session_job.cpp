@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
@@ -52,11 +54,29 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
     recipe = *recipe_;
   }
   build_scene_ = std::make_unique<Scene>(session_detail::scene_for(scene_, recipe));
-  if (recovered_ && resumes_from_roadmap(recipe.method)) {
-    // Its roadmap is its whole state: it goes on from the stored one, with nothing replayed.
+  if (resumes_from_roadmap(recipe.method)) {
+    // Its roadmap is its whole state: it goes on from the stored one (as recovered after a
+    // failure, else the published copy of the last commit), with nothing replayed.
     const auto t0 = std::chrono::steady_clock::now();
+    std::optional<Roadmap> roadmap;
+    std::uint64_t samples = 0;
+    if (recovered_) {
+      roadmap.emplace(std::move(recovered_->roadmap));
+      samples = recovered_->samples;
+    } else {
+      PublishedRoadmap p;
+      {
+        std::lock_guard lock(mutex_);
+        p = published_;
+      }
+      if (p.generation != recipe.generation || !p.roadmap) {
+        throw std::runtime_error("the published roadmap is not the stored one: cannot resume");
+      }
+      roadmap.emplace(*p.roadmap);
+      samples = p.samples;
+    }
     builder_ = resume_roadmap_builder(recipe.method, *build_scene_, build_options(recipe, limits_.build_threads),
-                                      std::move(recovered_->roadmap), recovered_->samples);
+                                      std::move(*roadmap), samples);
     recovered_.reset();
     spdlog::info("scene '{}': the {} builder resumed from its stored roadmap at {} samples in {:.3f} s, nothing replayed",
                  name_, to_string(recipe.method), builder_->samples(),
@@ -198,6 +218,14 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       if (took < 0.1) chunk = std::min<std::uint64_t>(chunk * 2, 100'000);
       if (took > 0.5) chunk = std::max<std::uint64_t>(chunk / 2, 16);
       first = false;
+    }
+    if (recipe.method == BuildMethod::dense) {
+      // The last chunk was published, and a Dense builder resumes from that copy: an idle Dense
+      // scene holds its roadmap once, not twice. (ispars2 keeps its builder: its route cache
+      // makes the next extend's first samples cheaper than a resumed builder's.)
+      builder_.reset();
+      build_scene_.reset();
+      ::malloc_trim(0);  // hand the freed adjacency back to the system, not to a later build
     }
     {
       std::lock_guard lock(mutex_);
