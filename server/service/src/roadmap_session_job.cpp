@@ -46,6 +46,17 @@ RoadmapsView RoadmapSession::live_view() const {
   return {builder_->samples(), &builder_->roadmap(), builder_->dense(), builder_->dense_ids()};
 }
 
+bool RoadmapSession::published_is_builders(std::uint64_t generation) const {
+  std::lock_guard lock(mutex_);
+  return published_.roadmap && published_.generation == generation && published_.samples == builder_->samples() &&
+         published_.roadmap->version() == builder_->roadmap().version();
+}
+
+std::uint64_t RoadmapSession::samples_done() const {
+  std::lock_guard lock(mutex_);
+  return samples_done_;
+}
+
 void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
   if (builder_) return;
   RoadmapRecipe recipe;
@@ -69,8 +80,8 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
         std::lock_guard lock(mutex_);
         p = published_;
       }
-      if (p.generation != recipe.generation || !p.roadmap) {
-        throw std::runtime_error("the published roadmap is not the stored one: cannot resume");
+      if (p.generation != recipe.generation || !p.roadmap || p.samples != samples_done()) {
+        throw std::runtime_error("the published roadmap is not the last commit: cannot resume from it");
       }
       roadmap.emplace(*p.roadmap);
       samples = p.samples;
@@ -219,10 +230,11 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       if (took > 0.5) chunk = std::max<std::uint64_t>(chunk / 2, 16);
       first = false;
     }
-    if (recipe.method == BuildMethod::dense) {
-      // The last chunk was published, and a Dense builder resumes from that copy: an idle Dense
-      // scene holds its roadmap once, not twice. (ispars2 keeps its builder: its route cache
-      // makes the next extend's first samples cheaper than a resumed builder's.)
+    if (recipe.method == BuildMethod::dense && published_is_builders(recipe.generation)) {
+      // A Dense builder resumes from the published copy of its last commit: an idle Dense scene
+      // holds its roadmap once, not twice. (A cancel that came after the last chunk's copy was
+      // decided leaves the builder ahead of it, and kept. ispars2 keeps its builder: its route
+      // cache makes the next extend's first samples cheaper than a resumed builder's.)
       builder_.reset();
       build_scene_.reset();
       ::malloc_trim(0);  // hand the freed adjacency back to the system, not to a later build

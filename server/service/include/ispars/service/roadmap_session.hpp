@@ -163,6 +163,9 @@ class RoadmapSession {
   void notify_status();
   RoadmapsView live_view() const;
   void ensure_builder(const std::atomic<bool>& stopping);
+  // Whether the published roadmap is the builder's, of `generation` (the job's last copy).
+  [[nodiscard]] bool published_is_builders(std::uint64_t generation) const;
+  [[nodiscard]] std::uint64_t samples_done() const;  // takes mutex_
   void check_can_start(const char* field) const;  // with mutex_ held
   // Why the stored roadmap (of recipe `stored`) must not be served here: another version of the
   // scene, or of the builders. Empty when it may.
