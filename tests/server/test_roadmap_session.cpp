@@ -328,6 +328,12 @@ TEST_F(RoadmapSessionTest, BadAndConflictingRequestsAreRefusedByName) {
   expect_refusal([&] { session->request_build(r); }, "overrides.dense_delta: 1e-06 is too small for this scene");
   r.overrides = {{"sparse_delta", 1e5}};
   expect_refusal([&] { session->request_build(r); }, "overrides.sparse_delta: 100000 is larger than the scene's diagonal");
+  r.overrides = {{"stretch_slack", 0.5}};
+  r.method = BuildMethod::dense;
+  expect_refusal([&] { session->request_build(r); }, "overrides.stretch_slack: 0.5 given, but dense method has no");
+  r.method = BuildMethod::ispars;
+  r.variant = SparsVariant::alg1;
+  expect_refusal([&] { session->request_build(r); }, "but ispars variant alg1 has no stretch rules");
   EXPECT_EQ(session->status().state, SessionState::empty);  // nothing changed
 
   session->request_build(ispars(500));

@@ -37,6 +37,12 @@ TEST(BuildRecipe, NamesRoundTripAndListsComeFromOnePlace) {
   EXPECT_FALSE(has_variants(BuildMethod::ispars2));
   EXPECT_TRUE(has_variants(BuildMethod::spars));
   EXPECT_EQ(spars_variant_names(), "stretch, alg1");
+  EXPECT_TRUE(reads_stretch_slack(BuildMethod::ispars2, SparsVariant::stretch));
+  EXPECT_TRUE(reads_stretch_slack(BuildMethod::ispars, SparsVariant::stretch));
+  EXPECT_TRUE(reads_stretch_slack(BuildMethod::spars, SparsVariant::stretch));
+  EXPECT_FALSE(reads_stretch_slack(BuildMethod::ispars, SparsVariant::alg1));
+  EXPECT_FALSE(reads_stretch_slack(BuildMethod::dense, SparsVariant::stretch));
+  EXPECT_FALSE(reads_stretch_slack(BuildMethod::irisc, SparsVariant::stretch));
   EXPECT_EQ(recipe_override_names(), "dense_delta, sparse_delta, stretch, stretch_slack, p_accept");
   for (const RecipeParameter& p : recipe_overrides()) {
     EXPECT_LT(p.min, p.max) << p.name;

@@ -87,6 +87,10 @@ std::string spars_variant_names() {
 
 std::span<const RecipeParameter> recipe_overrides() { return kOverrides; }
 
+bool reads_stretch_slack(BuildMethod method, SparsVariant variant) {
+  return method == BuildMethod::ispars2 || (has_variants(method) && variant == SparsVariant::stretch);
+}
+
 bool same_roadmap(const RoadmapRecipe& a, const RoadmapRecipe& b) {
   return a.method == b.method && a.seed == b.seed && (!has_variants(a.method) || a.variant == b.variant) &&
          a.dense_delta == b.dense_delta && a.sparse_delta == b.sparse_delta && a.stretch == b.stretch &&

@@ -37,6 +37,9 @@ enum class SparsVariant { stretch, alg1 };
 [[nodiscard]] std::optional<SparsVariant> parse_spars_variant(std::string_view text);
 /// The variant names, for help texts and errors: "stretch, alg1".
 [[nodiscard]] std::string spars_variant_names();
+/// Whether a build of `method` (with `variant`, where it has one) reads stretch_slack: the
+/// `stretch` rules of spars and ispars, and ispars2.
+[[nodiscard]] bool reads_stretch_slack(BuildMethod method, SparsVariant variant);
 
 /// What a roadmap is built from: enough to rebuild it exactly.
 struct RoadmapRecipe {
