@@ -16,7 +16,7 @@ DenseBuilder::DenseBuilder(const Scene& scene, const BuildOptions& options, Road
     throw std::invalid_argument("the roadmap to resume does not start with the scene's root");
   }
   prm_ = DeltaPrm(scene, scene.config().dense_delta, std::move(roadmap));
-  rng_.discard(3 * static_cast<std::uint64_t>(samples));  // prepare_samples: three draws a sample
+  skip_samples(rng_, samples);
   samples_ = samples;
 }
 

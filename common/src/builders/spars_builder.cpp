@@ -87,7 +87,7 @@ SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, cons
   sparse_grid_ = PointGrid(sparse_delta_);
   for (VertexId s = 0; s < sparse_.vertex_count(); ++s) sparse_grid_.insert(s, sparse_.position(s));
   for (const RoadmapEdge& e : sparse_.edges()) known_routes_.remember(e.u, e.v, e.cost);
-  rng_.discard(3 * static_cast<std::uint64_t>(samples));  // prepare_samples: three draws a sample
+  skip_samples(rng_, samples);
   samples_ = samples;
 }
 

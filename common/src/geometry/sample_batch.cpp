@@ -31,4 +31,8 @@ void prepare_samples(const Scene& scene, Rng& rng, std::size_t count, unsigned t
   for (auto& th : pool) th.join();
 }
 
+void skip_samples(Rng& rng, std::size_t count) {
+  rng.discard(3 * static_cast<std::uint64_t>(count));  // uniform_in: one draw a coordinate
+}
+
 }  // namespace ispars

@@ -21,4 +21,8 @@ struct PreparedSample {
 void prepare_samples(const Scene& scene, Rng& rng, std::size_t count, unsigned threads,
                      std::vector<PreparedSample>& out);
 
+/// Advances rng past the draws prepare_samples makes for `count` samples, without making them:
+/// where a builder resumed after `count` samples goes on drawing.
+void skip_samples(Rng& rng, std::size_t count);
+
 }  // namespace ispars
