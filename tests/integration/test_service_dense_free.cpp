@@ -92,12 +92,7 @@ namespace {
 
 // The roadmap an uninterrupted in-process ispars2 build with `slack` gives.
 std::uint64_t slack_reference(const std::filesystem::path& scene_file, std::uint64_t samples, double slack) {
-  const Scene scene = Scene::load(scene_file);
-  BuildOptions options;
-  options.stretch_slack = slack;
-  const auto builder = make_roadmap_builder(BuildMethod::ispars2, scene, options);
-  builder->extend(samples);
-  return roadmap_digest(builder->roadmap());
+  return reference_digest(scene_file, samples, 1, BuildMethod::ispars2, slack);
 }
 
 // stretch_slack travels with the recipe: the daemon builds with it, reports it, stores it, and
