@@ -3,6 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -33,6 +35,9 @@ std::atomic<bool> g_interrupted{false};
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Warnings from the client library (a peer dropped under DDS Security, say) go to stderr, never
+  // into the command's output (--json included).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("ispars"));
   CLI::App app{"ispars: client of the isparsd roadmap service"};
   app.require_subcommand(1);
   ispars::client::ClientOptions options;

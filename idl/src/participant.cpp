@@ -1,6 +1,7 @@
 #include "ispars/wire/participant.hpp"
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/log/Log.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <sstream>
 #include <stdexcept>
 
 namespace ispars::wire {
@@ -28,7 +30,16 @@ constexpr std::uint32_t kLocalParticipants = 32;
 // port left by a killed process is still found at once, by its lock.
 constexpr std::uint32_t kShmHealthyCheckMs = 10000;
 
-fdds::DomainParticipantQos localhost_qos(const std::string& name) {
+// Under DDS Security a participant's lease is long. Fast DDS 2.9.1 cannot re-authenticate a peer
+// that one side dropped (its lease ran out here) while the other still holds the old session: the
+// new handshake is refused as unexpected, and the pair stays deaf to each other until one of them
+// leaves (measured: a secured daemon stopped for 5 s never again reached a replica that was
+// following it; without security the replica caught up). A short lease turns any stall of that
+// length (a loaded machine, a paused VM) into such a split; 20 s is Fast DDS's own default.
+constexpr int kLeaseSeconds = 3;
+constexpr int kSecureLeaseSeconds = 20;
+
+fdds::DomainParticipantQos localhost_qos(const std::string& name, bool secure) {
   fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
   qos.name(name);
   qos.transport().use_builtin_transports = false;
@@ -52,7 +63,7 @@ fdds::DomainParticipantQos localhost_qos(const std::string& name) {
   // noticed in seconds rather than the default 20.
   auto& discovery = qos.wire_protocol().builtin.discovery_config;
   discovery.leaseDuration_announcementperiod = eprosima::fastrtps::Duration_t(0, 250'000'000);
-  discovery.leaseDuration = eprosima::fastrtps::Duration_t(3, 0);
+  discovery.leaseDuration = eprosima::fastrtps::Duration_t(secure ? kSecureLeaseSeconds : kLeaseSeconds, 0);
   return qos;
 }
 
@@ -65,10 +76,63 @@ class SpdlogConsumer final : public fdds::LogConsumer {
     // Each client's replies travel in its own partition, so every other client's reply reader
     // is "incompatible" with that writer by design: not worth a warning.
     if (entry.message.find("Different Partitions") != std::string::npos) level = spdlog::level::debug;
-    // Under DDS Security, samples that arrive during a peer's handshake: transient.
-    if (entry.message.find("No key material yet") != std::string::npos) level = spdlog::level::debug;
+    // Under DDS Security, said once per remote endpoint for every secured submessage received
+    // before that endpoint's keys arrived (over a hundred lines for one client's first request):
+    // transient and normal, and it buried every other line of a daemon's debug log.
+    if (entry.message.find("No key material yet") != std::string::npos) return;
     spdlog::log(level, "fastdds [{}] {}", entry.context.category ? entry.context.category : "", entry.message);
   }
+};
+
+// What discovery and DDS Security say about the other participants, in this process's log: who
+// joined, left or was dropped, and who failed to authenticate. A dropped peer under security is a
+// warning (see kSecureLeaseSeconds).
+class ParticipantEvents final : public fdds::DomainParticipantListener {
+ public:
+  explicit ParticipantEvents(bool secure) : secure_(secure) {}
+
+  void on_participant_discovery(fdds::DomainParticipant*, rtps::ParticipantDiscoveryInfo&& info) override {
+    const std::string who = describe(info.info.m_guid, info.info.m_participantName.to_string());
+    switch (info.status) {
+      case rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT:
+        spdlog::debug("participant {} discovered", who);
+        break;
+      case rtps::ParticipantDiscoveryInfo::REMOVED_PARTICIPANT:
+        spdlog::debug("participant {} left", who);
+        break;
+      case rtps::ParticipantDiscoveryInfo::DROPPED_PARTICIPANT:
+        if (secure_) {
+          spdlog::warn("participant {} dropped: its lease ran out here; if it is still running, DDS Security "
+                       "(Fast DDS 2.9.1) cannot authenticate it again until one of the two restarts",
+                       who);
+        } else {
+          spdlog::debug("participant {} dropped: its lease ran out here", who);
+        }
+        break;
+      default:
+        break;
+    }
+  }
+
+#if HAVE_SECURITY
+  void onParticipantAuthentication(fdds::DomainParticipant*, rtps::ParticipantAuthenticationInfo&& info) override {
+    const std::string who = describe(info.guid, "");
+    if (info.status == rtps::ParticipantAuthenticationInfo::AUTHORIZED_PARTICIPANT) {
+      spdlog::debug("participant {} authenticated", who);
+    } else {
+      spdlog::warn("participant {} failed DDS Security authentication", who);
+    }
+  }
+#endif
+
+ private:
+  static std::string describe(const rtps::GUID_t& guid, const std::string& name) {
+    std::ostringstream text;
+    text << guid.guidPrefix;
+    if (!name.empty()) text << " (" << name << ")";
+    return text.str();
+  }
+  bool secure_;
 };
 
 }  // namespace
@@ -78,10 +142,16 @@ Participant::Participant(const ParticipantOptions& options, fdds::DomainParticip
   if (options.domain < 0 || options.domain > 232) {
     throw std::runtime_error("DDS domain " + std::to_string(options.domain) + " is out of range (0..232)");
   }
-  const auto mask = listener ? fdds::StatusMask::all() : fdds::StatusMask::none();
+  // Without a listener of the caller's, this one logs participant events; discovery and
+  // authentication callbacks come whatever the mask, and no entity status reaches it.
+  if (listener == nullptr) {
+    events_ = std::make_unique<ParticipantEvents>(!options.security.empty());
+    listener = events_.get();
+  }
+  const auto mask = events_ ? fdds::StatusMask::none() : fdds::StatusMask::all();
   fdds::DomainParticipantQos qos;
   if (options.profile_file.empty()) {
-    qos = localhost_qos(options.name);
+    qos = localhost_qos(options.name, !options.security.empty());
   } else {
     if (factory->load_XML_profiles_file(options.profile_file) != ReturnCode_t::RETCODE_OK) {
       throw std::runtime_error("cannot load the Fast DDS profiles file " + options.profile_file);

@@ -8,8 +8,10 @@
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 
+#include <signal.h>
 #include <sys/wait.h>
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -64,9 +66,8 @@ class SecureServiceTest : public ServiceTest {
   static std::string identity(const std::string& name) { return (keystore_->path() / "identities" / name).string(); }
 
   std::unique_ptr<DaemonProcess> start_secure(const std::string& id) {
-    // The readiness probe has an identity of its own. Three CI runs in five had one test here
-    // whose first client, made as "op" just after a probe made as "op" left, saw no daemon for
-    // 30 s; no other pattern was common to them (the cause inside Fast DDS is not known).
+    // The readiness probe has an identity of its own (it did not stop the failed first
+    // handshakes that joined_as works around: CI saw one with the probe as "probe" too).
     return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id,
                                            std::vector<std::string>{"--security", identity("d")}, identity("probe"));
   }
@@ -74,6 +75,25 @@ class SecureServiceTest : public ServiceTest {
     auto o = client_options(domain_);
     o.participant.security = identity(name);
     return o;
+  }
+  // A client as `name` that has heard daemon "d". Clients join one at a time, each once the last
+  // has heard the daemon: these tests are about who may do what, not about handshakes at the same
+  // moment. Under Debian's Fast DDS 2.9.1 a participant's first handshake with the daemon can still
+  // fail for good: in three CI runs of eight one client here heard nothing for 30 s while the
+  // others worked (2.9.2 fixed a race in its security manager with handshakes to several
+  // participants at once, eProsima/Fast-DDS#3373; the cause here is not pinned down). A client
+  // that hears nothing in 10 s is replaced by a fresh participant, at most twice, and says so.
+  std::unique_ptr<Client> joined_as(const std::string& name) const {
+    for (int attempt = 1;; ++attempt) {
+      auto client = std::make_unique<Client>(options_as(name));
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+      while (std::chrono::steady_clock::now() < deadline) {
+        if (!client->daemon_identity("d").empty()) return client;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+      if (attempt == 3) throw std::runtime_error("a client as " + name + " heard no daemon in three tries of 10 s");
+      std::fprintf(stderr, "a client as %s heard no daemon in 10 s (try %d); joining again\n", name.c_str(), attempt);
+    }
   }
   static bool loaded_on(Client& client, const std::string& scene) {
     for (const auto& d : client.daemons()) {
@@ -98,13 +118,13 @@ msg::SceneStatus build_followed(Client& op, client::RoadmapReplica& replica) {
 // A secured daemon "d"; an operator that loaded and built s0; a viewer whose replica followed.
 struct BuiltAndFollowed {
   explicit BuiltAndFollowed(SecureServiceTest& test)
-      : daemon(test.start_secure("d")), op(test.options_as("op")), viewer(test.options_as("view")),
-        replica((op.load("s0"), viewer), "s0"), done(build_followed(op, replica)) {}
+      : daemon(test.start_secure("d")), op(test.joined_as("op")), viewer(test.joined_as("view")),
+        replica((op->load("s0"), *viewer), "s0"), done(build_followed(*op, replica)) {}
   std::tuple<Client&, Client&, client::RoadmapReplica&, const msg::SceneStatus&> parts() {
-    return {op, viewer, replica, done};
+    return {*op, *viewer, replica, done};
   }
   std::unique_ptr<DaemonProcess> daemon;
-  Client op, viewer;
+  std::unique_ptr<Client> op, viewer;
   client::RoadmapReplica replica;
   msg::SceneStatus done;
 };
@@ -164,7 +184,8 @@ std::string serialized_load(const std::string& scene, const std::string& server)
 
 TEST_F(SecureServiceTest, TheKeystoreBindsEachClientsReplyPartitionToItsCertificate) {
   auto daemon = start_secure("d");
-  Client op(options_as("op"));
+  const auto joined = joined_as("op");
+  Client& op = *joined;
   std::ifstream in(fs::path(identity("op")) / "reply_partitions");
   std::string pattern;
   in >> pattern;  // ispars.client.<12 hex digits>*
@@ -177,7 +198,8 @@ TEST_F(SecureServiceTest, TheKeystoreBindsEachClientsReplyPartitionToItsCertific
 
 TEST_F(SecureServiceTest, AnUnauthenticatedParticipantSeesAndWritesNothing) {
   auto daemon = start_secure("d");
-  Client op(options_as("op"));
+  const auto joined = joined_as("op");
+  Client& op = *joined;
   op.load("s0");
   auto plain_options = client_options(domain_);
   plain_options.timeout = std::chrono::seconds(3);
@@ -228,9 +250,27 @@ TEST_F(SecureServiceTest, AViewerQueriesAndFollowsUpdatesButItsChangesNeverReach
   EXPECT_EQ(op.stats("s0").vertices(), done.vertices());
 }
 
+// A daemon that stalls for longer than a 3 s lease (stopped for 5 s here): with that lease Fast
+// DDS 2.9.1 left the replica deaf to the daemon for good (README, "A stall under security").
+TEST_F(SecureServiceTest, AReplicaFollowsOnAfterTheDaemonStalledForFiveSeconds) {
+  BuiltAndFollowed world(*this);
+  auto [op, viewer, replica, done] = world.parts();
+  ASSERT_EQ(::kill(world.daemon->pid(), SIGSTOP), 0);
+  std::this_thread::sleep_for(std::chrono::seconds(5));
+  ASSERT_EQ(::kill(world.daemon->pid(), SIGCONT), 0);
+  op.extend("s0", 1500);
+  const auto extended = op.wait_idle("s0", {}, kLong);
+  ASSERT_GT(extended.version(), done.version());
+  ASSERT_TRUE(replica.wait_for(extended.generation(), extended.version(), std::chrono::seconds(30)))
+      << "the replica stopped following the daemon after its stall";
+  EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(op.snapshot("s0").roadmap));
+  EXPECT_EQ(viewer.stats("s0").vertices(), extended.vertices());
+}
+
 TEST_F(SecureServiceTest, AnOperatorBuildsVerifiesAndDrops) {
   auto daemon = start_secure("d");
-  Client op(options_as("op"));
+  const auto joined = joined_as("op");
+  Client& op = *joined;
   op.load("s0");
   op.build("s0", ispars_build(1200));
   const auto done = op.wait_idle("s0", {}, kLong);
@@ -327,7 +367,8 @@ TEST_F(ServiceTest, RepliesReachOnlyTheirRequester) {
 
 TEST_F(SecureServiceTest, RepliesReachOnlyTheirRequesterAndNoSubjectMayReadAnothersPartition) {
   auto daemon = start_secure("d");
-  Client requester(options_as("op"));
+  const auto joined = joined_as("op");
+  Client& requester = *joined;
   RawPeer bystander(domain_, identity("view"));
   expect_replies_reach_only_their_requester(requester, bystander);
   // A viewer that asks for every client's partition, or the operator's own, is refused.

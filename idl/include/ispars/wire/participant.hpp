@@ -2,6 +2,7 @@
 // Creating DDS participants the same way in the daemon, the clients, the tests and benchmarks.
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/core/policy/QosPolicies.hpp>
 
 #include <memory>
@@ -29,7 +30,9 @@ struct ParticipantOptions {
 /// naming the first file that is missing or unreadable.
 [[nodiscard]] eprosima::fastdds::dds::PropertyPolicyQos security_properties(const std::string& dir);
 
-/// Owns a participant and deletes it (with its entities) on destruction.
+/// Owns a participant and deletes it (with its entities) on destruction. Without a listener of
+/// the caller's, it logs (spdlog) which participants join, leave, are dropped (their lease ran
+/// out) or fail to authenticate. The localhost profile's lease is 3 s, 20 s under DDS Security.
 class Participant {
  public:
   /// Throws std::runtime_error naming the domain and the profile when creation fails.
@@ -43,6 +46,7 @@ class Participant {
   eprosima::fastdds::dds::DomainParticipant* operator->() const { return participant_; }
 
  private:
+  std::unique_ptr<eprosima::fastdds::dds::DomainParticipantListener> events_;  // outlives participant_
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
 };
 
