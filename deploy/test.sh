@@ -24,7 +24,10 @@ esac
 deploy/install-deps.sh
 
 start=$(date +%s)
-phase() { echo "test.sh: $1 after $(( $(date +%s) - start )) s"; }
+phase() {
+  # With the shared memory DDS uses (its size, and the segments in it), for a failed run's reader.
+  echo "test.sh: $1 after $(( $(date +%s) - start )) s; /dev/shm: $(df -h --output=used,size /dev/shm 2>/dev/null | awk 'NR == 2 { print $1 " used of " $2 }'), $(ls /dev/shm 2>/dev/null | wc -l) files"
+}
 
 deploy/build.sh release -DISPARS_WERROR=ON
 phase "Release build done"
