@@ -26,6 +26,7 @@ BuildOptions build_options(const RoadmapRecipe& recipe, unsigned threads) {
   options.threads = threads;
   options.p_accept = recipe.p_accept;
   options.stretch_slack = recipe.stretch_slack;
+  options.stretch_slack_after = static_cast<std::uint64_t>(recipe.stretch_slack_after);
   options.variant = recipe.variant;
   return options;
 }
@@ -230,11 +231,18 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       if (took > 0.5) chunk = std::max<std::uint64_t>(chunk / 2, 16);
       first = false;
     }
-    if (recipe.method == BuildMethod::dense && published_is_builders(recipe.generation)) {
+    if (!published_is_builders(recipe.generation)) {
+      // A cancel or a stop that came after a chunk's copy was decided (no copy) ended the loop:
+      // readers would see an older roadmap than the status's samples. They get the last commit.
+      auto copy = make_published(std::make_shared<const Roadmap>(builder_->roadmap()), recipe.generation,
+                                 builder_->samples());
+      std::lock_guard lock(mutex_);
+      published_ = std::move(copy);
+    }
+    if (recipe.method == BuildMethod::dense) {
       // A Dense builder resumes from the published copy of its last commit: an idle Dense scene
-      // holds its roadmap once, not twice. (A cancel that came after the last chunk's copy was
-      // decided leaves the builder ahead of it, and kept. ispars2 keeps its builder: its route
-      // cache makes the next extend's first samples cheaper than a resumed builder's.)
+      // holds its roadmap once, not twice. (ispars2 keeps its builder: its route cache makes the
+      // next extend's first samples cheaper than a resumed builder's.)
       builder_.reset();
       build_scene_.reset();
       ::malloc_trim(0);  // hand the freed adjacency back to the system, not to a later build
