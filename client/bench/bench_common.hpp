@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -90,7 +91,8 @@ inline std::size_t proc_status_kib(pid_t pid, const std::string& field) {
 
 /// `ispars-bench grow`: see grow_bench.cpp.
 nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem::path& scene_dir, const std::string& scene,
-                        const std::string& method, std::uint64_t samples, std::uint64_t step, double stretch_slack);
+                        const std::string& method, std::uint64_t samples, std::uint64_t step,
+                        const std::map<std::string, double>& overrides);
 
 /// `ispars-bench rtt`: see rtt_bench.cpp. `keystore_script` empty: without DDS Security only.
 nlohmann::json run_rtt(const std::string& daemon_binary, int count, const std::string& keystore_script);

@@ -14,7 +14,8 @@
 namespace ispars::bench {
 
 nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem::path& scene_dir, const std::string& scene,
-                        const std::string& method, std::uint64_t samples, std::uint64_t step, double stretch_slack) {
+                        const std::string& method, std::uint64_t samples, std::uint64_t step,
+                        const std::map<std::string, double>& overrides) {
   Bench bench(daemon_binary, {}, "", "", std::filesystem::absolute(scene_dir));
   Client client(bench.options());
   client.load(scene);
@@ -25,8 +26,6 @@ nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem:
     const std::uint64_t n = std::min(step, samples - done);
     const auto t0 = Clock::now();
     if (done == 0) {
-      std::map<std::string, double> overrides;
-      if (stretch_slack > 0.0) overrides.emplace("stretch_slack", stretch_slack);
       client.build(scene, {method, n, 1, overrides, false, {}});
     } else {
       client.extend(scene, n);
@@ -65,7 +64,7 @@ nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem:
   return {{"bench", "grow"},
           {"scene", scene},
           {"method", method},
-          {"stretch_slack", stretch_slack},
+          {"overrides", overrides},
           {"samples", samples},
           {"step", step},
           {"seconds", total},

@@ -33,6 +33,7 @@
 #include <mutex>
 #include <thread>
 
+#include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/client/client.hpp"
 #include "bench_common.hpp"
 #include "support/local_daemon.hpp"
@@ -172,13 +173,17 @@ int main(int argc, char** argv) {
   std::string grow_scenes, grow_scene = "water_tower", grow_method = "ispars2";
   std::uint64_t grow_samples = 1'000'000, grow_step = 100'000;
   double grow_slack = 0.0;
+  std::uint64_t grow_slack_after = 0;
   auto* grow = app.add_subcommand("grow", "a roadmap extended step by step: cost per sample, memory, restart");
   grow->add_option("--scene-dir", grow_scenes, "scene directory (deploy/scenes)")->required()->check(CLI::ExistingDirectory);
   grow->add_option("--scene", grow_scene, "scene name");
   grow->add_option("--method", grow_method, "build method");
   grow->add_option("--samples", grow_samples, "samples in all")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
   grow->add_option("--step", grow_step, "samples per extend")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
-  grow->add_option("--stretch-slack", grow_slack, "the build's stretch_slack override (0: none)")->check(CLI::Range(0.0, 1.0));
+  grow->add_option("--stretch-slack", grow_slack, "the build's stretch_slack override (0: none)")
+      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack").max));
+  grow->add_option("--stretch-slack-after", grow_slack_after, "the build's stretch_slack_after override (0: none)")
+      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack_after").max));
   int echo_domain = 0;
   std::string echo_security, echo_client, echo_reply;
   auto* echo = app.add_subcommand("echo", "")->group("");  // hidden: rtt's raw echo server
@@ -194,7 +199,12 @@ int main(int argc, char** argv) {
     if (*stream) out = run_stream(daemon, samples, method);
     if (*snapshot) out = run_snapshot(daemon, vertices, repeats);
     if (*memory) out = run_memory(daemon, memory_samples);
-    if (*grow) out = run_grow(daemon, grow_scenes, grow_scene, grow_method, grow_samples, grow_step, grow_slack);
+    if (*grow) {
+      std::map<std::string, double> overrides;
+      if (grow_slack > 0.0) overrides.emplace("stretch_slack", grow_slack);
+      if (grow_slack_after > 0) overrides.emplace("stretch_slack_after", static_cast<double>(grow_slack_after));
+      out = run_grow(daemon, grow_scenes, grow_scene, grow_method, grow_samples, grow_step, overrides);
+    }
     std::cout << out.dump() << std::endl;
     return 0;
   } catch (const std::exception& e) {

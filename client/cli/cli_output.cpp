@@ -31,6 +31,8 @@ nlohmann::json status_json(const msg::SceneStatus& s) {
           {"dense_delta", s.dense_delta()},
           {"sparse_delta", s.sparse_delta()},
           {"stretch", s.stretch()},
+          {"stretch_slack", s.stretch_slack()},
+          {"stretch_slack_after", s.stretch_slack_after()},
           {"last_error", s.last_error()}};
 }
 
@@ -41,6 +43,10 @@ void print_status(const msg::SceneStatus& s) {
                              s.variant().size() == 0 ? std::string() : fmt::format(" ({} rules)", s.variant().c_str()),
                              s.seed(),
                              s.samples_done(), s.samples_target());
+    if (s.stretch_slack() > 0.0) {
+      std::cout << fmt::format("  stretch: t = {}, slack {} Delta from sample {}\n", s.stretch(), s.stretch_slack(),
+                               s.stretch_slack_after());
+    }
     std::cout << fmt::format("  roadmap: {} vertices, {} edges, {} components, version {}\n", s.vertices(), s.edges(),
                              s.components(), s.version());
     if (s.dense_vertices() > 0) {

@@ -22,12 +22,14 @@ int run_bench_build(const BenchBuildOptions& options) {
   build.threads = options.threads;
   build.variant = *parse_spars_variant(options.variant);
   build.stretch_slack = options.stretch_slack;
+  build.stretch_slack_after = options.stretch_slack_after;
   const auto builder = make_roadmap_builder(method, scene, build);
   const CheckCounts start = scene.counts();
   const double t0 = now_seconds();
   nlohmann::json rows = nlohmann::json::array();
-  std::cout << fmt::format("{} ({} rules, stretch slack {} Delta) on {}, seed {}, {} thread(s)\n", options.method,
-                           options.variant, options.stretch_slack, scene.config().name, options.seed, options.threads);
+  std::cout << fmt::format("{} ({} rules, stretch slack {} Delta from sample {}) on {}, seed {}, {} thread(s)\n",
+                           options.method, options.variant, options.stretch_slack, options.stretch_slack_after,
+                           scene.config().name, options.seed, options.threads);
   std::cout << fmt::format("{:>9} {:>9} {:>9} {:>9} {:>9} {:>12} {:>12} {:>10}\n", "N", "seconds", "us/sample",
                            "seg/sample", "|V|", "|E|", "dense |E|", "peak MiB");
   std::size_t previous = 0;
@@ -59,7 +61,8 @@ int run_bench_build(const BenchBuildOptions& options) {
   const double seconds = now_seconds() - t0;
   if (options.json) {
     std::cout << nlohmann::json{{"scene", scene.config().name}, {"method", options.method},
-                                {"variant", options.variant}, {"stretch_slack", options.stretch_slack}, {"samples", options.samples}, {"seed", options.seed}, {"threads", options.threads},
+                                {"variant", options.variant}, {"stretch_slack", options.stretch_slack},
+                                {"stretch_slack_after", options.stretch_slack_after}, {"samples", options.samples}, {"seed", options.seed}, {"threads", options.threads},
                                 {"seconds", seconds}, {"samples_per_second", static_cast<double>(options.samples) / seconds},
                                 {"peak_rss_mib", peak_rss_mib()}, {"checkpoints", rows}}
                      .dump()

@@ -71,6 +71,7 @@ int run_build(const BuildCommandOptions& options) {
   build_options.threads = options.threads;
   build_options.p_accept = options.p_accept;
   build_options.stretch_slack = options.stretch_slack;
+  build_options.stretch_slack_after = options.stretch_slack_after;
   build_options.variant = *parse_spars_variant(options.variant);
 
   const CheckCounts before = scene.counts();
@@ -102,6 +103,7 @@ int run_build(const BuildCommandOptions& options) {
     const nlohmann::json causes = to_json(spars->admissions());
     out["variant"] = options.variant;
     out["stretch_slack"] = options.stretch_slack;
+    out["stretch_slack_after"] = options.stretch_slack_after;
     out["admissions"] = causes["admissions"];
     out["edges_by_cause"] = causes["edges_by_cause"];
   }

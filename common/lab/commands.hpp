@@ -34,6 +34,7 @@ struct BuildCommandOptions {
   unsigned threads = 1;
   double p_accept = 0.2;
   double stretch_slack = 0.0;
+  std::uint64_t stretch_slack_after = 0;  ///< the slack applies from this sample on
   bool verify = false;
   std::size_t fresh = 0;  ///< fresh samples to check Invariant 1 on (0: none)
   bool json = false;
@@ -50,6 +51,7 @@ struct BenchBuildOptions {
   std::size_t checkpoints = 10;
   std::uint64_t seed = 1;
   double stretch_slack = 0.0;
+  std::uint64_t stretch_slack_after = 0;  ///< the slack applies from this sample on
   unsigned threads = 1;
   bool json = false;
 };

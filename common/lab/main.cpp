@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/roadmap/build_recipe.hpp"
 
 int main(int argc, char** argv) {
   using namespace ispars::lab;
@@ -68,7 +69,10 @@ int main(int argc, char** argv) {
   bench_build_cmd->add_option("--samples", bench_build.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
   bench_build_cmd->add_option("--stretch-slack", bench_build.stretch_slack,
                               "Stretch rules: additive slack of the bounds, a fraction of Delta (default 0)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack").max));
+  bench_build_cmd->add_option("--stretch-slack-after", bench_build.stretch_slack_after,
+                              "Stretch rules: the slack applies from this sample on (default 0: from the first)")
+      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack_after").max));
   bench_build_cmd->add_option("--checkpoints", bench_build.checkpoints, "Report rows")->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
   bench_build_cmd->add_option("--seed", bench_build.seed, "Seed");
   bench_build_cmd->add_option("--threads", bench_build.threads, "Threads")->check(CLI::Range(1u, 64u));
@@ -107,7 +111,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0));
   build_cmd->add_option("--stretch-slack", build.stretch_slack,
                         "Stretch rules: additive slack of the bounds, a fraction of Delta (default 0)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack").max));
+  build_cmd->add_option("--stretch-slack-after", build.stretch_slack_after,
+                        "Stretch rules: the slack applies from this sample on (default 0: from the first)")
+      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack_after").max));
   build_cmd->add_flag("--verify", build.verify, "Check validity, costs and the inspection invariant exactly");
   build_cmd->add_option("--fresh", build.fresh, "Also check Invariant 1 on this many fresh samples (a seed of its own)")
       ->check(CLI::Range(std::size_t{0}, std::size_t{10'000'000}));

@@ -69,11 +69,13 @@ inline BuildArgs ispars_build(std::uint64_t samples, std::uint64_t seed = 1, boo
 
 // The roadmap an uninterrupted in-process build of `samples` gives: the reference for the daemon.
 inline std::uint64_t reference_digest(const std::filesystem::path& scene_file, std::uint64_t samples, std::uint64_t seed,
-                                      BuildMethod method = BuildMethod::ispars, double stretch_slack = 0.0) {
+                                      BuildMethod method = BuildMethod::ispars, double stretch_slack = 0.0,
+                                      std::uint64_t stretch_slack_after = 0) {
   const Scene scene = Scene::load(scene_file);
   BuildOptions options;
   options.seed = seed;
   options.stretch_slack = stretch_slack;
+  options.stretch_slack_after = stretch_slack_after;
   const auto builder = make_roadmap_builder(method, scene, options);
   builder->extend(samples);
   return roadmap_digest(builder->roadmap());

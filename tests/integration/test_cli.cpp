@@ -104,6 +104,7 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   ASSERT_EQ(extend.code, 0) << extend.err;
   EXPECT_EQ(nlohmann::json::parse(last_line(extend.out))["samples_done"], 30500);
   EXPECT_EQ(nlohmann::json::parse(last_line(extend.out))["variant"], "stretch") << "the default rule set";
+  EXPECT_EQ(nlohmann::json::parse(last_line(extend.out))["stretch_slack"], 0.0) << "no slack unless asked for";
 
   // Errors: one line naming the problem, and the exit code of its kind.
   CliRun r = run(common_ + " build tower --method ispars --samples 100", dir_);
@@ -111,7 +112,7 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   EXPECT_NE(r.err.find("request: replace: scene 'tower' already has a roadmap"), std::string::npos) << r.err;
   r = run(common_ + " build tower --method ispars --samples 100 --replace --set colour=1", dir_);
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("overrides.colour: unknown parameter (expected dense_delta, sparse_delta, stretch, stretch_slack, p_accept)"),
+  EXPECT_NE(r.err.find("overrides.colour: unknown parameter (expected dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after, p_accept)"),
             std::string::npos)
       << r.err;
   r = run(common_ + " build tower --method ispars --samples 100 --replace --variant greedy", dir_);

@@ -299,6 +299,8 @@ TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
            {"sparse_delta", std::numeric_limits<double>::infinity(), "overrides.sparse_delta: must be finite"},
            {"p_accept", 1.5, "overrides.p_accept: must be a probability"},
            {"stretch_slack", -0.5, "overrides.stretch_slack: must be in [0, 1], got -0.5"},
+           {"stretch_slack_after", 2.5, "overrides.stretch_slack_after: must be a whole number of samples"},
+           {"stretch_slack_after", 100.0, "overrides.stretch_slack_after: 100 given, but there is no stretch_slack"},
            {"colour", 1.0, "overrides.colour: unknown parameter"}}) {
     auto r = build("s0");
     msg::Parameter p;

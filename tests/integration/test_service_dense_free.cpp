@@ -90,13 +90,14 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
 namespace ispars::test {
 namespace {
 
-// The roadmap an uninterrupted in-process ispars2 build with `slack` gives.
+// The roadmap an uninterrupted in-process ispars2 build with `slack` from sample 1000 on gives.
 std::uint64_t slack_reference(const std::filesystem::path& scene_file, std::uint64_t samples, double slack) {
-  return reference_digest(scene_file, samples, 1, BuildMethod::ispars2, slack);
+  return reference_digest(scene_file, samples, 1, BuildMethod::ispars2, slack, slack > 0.0 ? 1000 : 0);
 }
 
-// stretch_slack travels with the recipe: the daemon builds with it, reports it, stores it, and
-// after a restart goes on with it (resumed, not replayed) to the uninterrupted build's roadmap.
+// stretch_slack and the sample it starts from travel with the recipe: the daemon builds with them,
+// reports them, stores them, and after a restart goes on with them (resumed, not replayed) to the
+// uninterrupted build's roadmap.
 TEST_F(ServiceTest, AStretchSlackIsBuiltReportedStoredAndKeptAfterARestart) {
   auto daemon = start("d");
   {
@@ -104,10 +105,12 @@ TEST_F(ServiceTest, AStretchSlackIsBuiltReportedStoredAndKeptAfterARestart) {
     client.load("s0");
     BuildArgs args = ispars2_build(3000);
     args.overrides.emplace("stretch_slack", 0.5);
+    args.overrides.emplace("stretch_slack_after", 1000);
     client.build("s0", args);
     const msg::SceneStatus built = client.wait_idle("s0", {}, kLong);
     ASSERT_EQ(built.state(), msg::SCENE_IDLE) << built.last_error();
     EXPECT_EQ(built.stretch_slack(), 0.5);
+    EXPECT_EQ(built.stretch_slack_after(), 1000u);
     EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), slack_reference(scene_dir_ / "s0.yaml", 3000, 0.5));
     EXPECT_NE(roadmap_digest(client.snapshot("s0").roadmap), slack_reference(scene_dir_ / "s0.yaml", 3000, 0.0))
         << "the slack changed nothing on this scene: the test would prove nothing";
@@ -117,6 +120,7 @@ TEST_F(ServiceTest, AStretchSlackIsBuiltReportedStoredAndKeptAfterARestart) {
   Client client(client_options(domain_));
   client.load("s0");
   EXPECT_EQ(client.stats("s0").stretch_slack(), 0.5);
+  EXPECT_EQ(client.stats("s0").stretch_slack_after(), 1000u);
   client.extend("s0", 2000);
   const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
   ASSERT_EQ(extended.samples_done(), 5000u) << extended.last_error();

@@ -334,6 +334,10 @@ TEST_F(RoadmapSessionTest, BadAndConflictingRequestsAreRefusedByName) {
   r.method = BuildMethod::ispars;
   r.variant = SparsVariant::alg1;
   expect_refusal([&] { session->request_build(r); }, "but ispars variant alg1 has no stretch rules");
+  r.variant = SparsVariant::stretch;
+  r.overrides = {{"stretch_slack_after", 1000}};
+  expect_refusal([&] { session->request_build(r); },
+                 "overrides.stretch_slack_after: 1000 given, but there is no stretch_slack to start there");
   EXPECT_EQ(session->status().state, SessionState::empty);  // nothing changed
 
   session->request_build(ispars(500));

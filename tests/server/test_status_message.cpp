@@ -34,7 +34,7 @@ TEST(StatusMessage, TheRecipeReadsBackAsTheSameRoadmapAndItsRebuildRequest) {
   SessionStatus s;
   s.scene = "tower";
   s.state = SessionState::idle;
-  s.recipe = RoadmapRecipe{"tower", BuildMethod::ispars, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 77, "fp", 1, 0.5};
+  s.recipe = RoadmapRecipe{"tower", BuildMethod::ispars, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 77, "fp", 1, 0.5, 2000};
   const msg::SceneStatus m = to_message(s, "d1", 77);
   const auto back = recipe_of(m);
   ASSERT_TRUE(back.has_value());
@@ -46,6 +46,9 @@ TEST(StatusMessage, TheRecipeReadsBackAsTheSameRoadmapAndItsRebuildRequest) {
   other = *s.recipe;
   other.stretch_slack = 0.25;
   EXPECT_FALSE(same_roadmap(*back, other)) << "a takeover must rebuild with the same slack";
+  other = *s.recipe;
+  other.stretch_slack_after = 0;
+  EXPECT_FALSE(same_roadmap(*back, other)) << "and from the same sample on";
   other = *s.recipe;
   other.variant = SparsVariant::stretch;
   EXPECT_FALSE(same_roadmap(*back, other));
@@ -61,7 +64,8 @@ TEST(StatusMessage, TheRecipeReadsBackAsTheSameRoadmapAndItsRebuildRequest) {
   EXPECT_EQ(request.samples, 4000u);
   EXPECT_FALSE(request.replace);
   const std::map<std::string, double> overrides{
-      {"dense_delta", 1.25}, {"sparse_delta", 2.5}, {"stretch", 1.5}, {"stretch_slack", 0.5}, {"p_accept", 0.3}};
+      {"dense_delta", 1.25}, {"sparse_delta", 2.5}, {"stretch", 1.5}, {"stretch_slack", 0.5},
+      {"stretch_slack_after", 2000}, {"p_accept", 0.3}};
   EXPECT_EQ(request.overrides, overrides);
 
   msg::SceneStatus unknown = m;

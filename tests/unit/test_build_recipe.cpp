@@ -43,7 +43,10 @@ TEST(BuildRecipe, NamesRoundTripAndListsComeFromOnePlace) {
   EXPECT_FALSE(reads_stretch_slack(BuildMethod::ispars, SparsVariant::alg1));
   EXPECT_FALSE(reads_stretch_slack(BuildMethod::dense, SparsVariant::stretch));
   EXPECT_FALSE(reads_stretch_slack(BuildMethod::irisc, SparsVariant::stretch));
-  EXPECT_EQ(recipe_override_names(), "dense_delta, sparse_delta, stretch, stretch_slack, p_accept");
+  EXPECT_EQ(recipe_override_names(), "dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after, p_accept");
+  EXPECT_EQ(recipe_override("stretch_slack").max, 1.0);
+  EXPECT_TRUE(recipe_override("stretch_slack_after").whole);
+  EXPECT_THROW((void)recipe_override("colour"), std::out_of_range);
   for (const RecipeParameter& p : recipe_overrides()) {
     EXPECT_LT(p.min, p.max) << p.name;
     EXPECT_FALSE(p.doc.empty()) << p.name;
@@ -77,6 +80,10 @@ TEST(BuildRecipe, OverridesAreSetWithinTheirRangeAndRefusedOutsideIt) {
               std::string::npos);
   }
   EXPECT_NE(override_error("dense_delta", 1e9).find("at most 1e6 metres"), std::string::npos);
+  // A sample count is a whole number.
+  EXPECT_EQ(override_error("stretch_slack_after", 20000.0), "");
+  EXPECT_NE(override_error("stretch_slack_after", 20000.5).find("overrides.stretch_slack_after: must be a whole number"),
+            std::string::npos);
   EXPECT_NE(override_error("colour", 1.0).find("request: overrides.colour: unknown parameter (expected dense_delta"),
             std::string::npos);
   // A long unknown name is cut in the message, not echoed whole.
@@ -84,13 +91,18 @@ TEST(BuildRecipe, OverridesAreSetWithinTheirRangeAndRefusedOutsideIt) {
 }
 
 TEST(BuildRecipe, RecipeJsonRoundTripsAndOldRecipesReadAsAlg1) {
-  RoadmapRecipe r{"tower", BuildMethod::irisc, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 42, "0123456789abcdef", 7, 0.375};
+  RoadmapRecipe r{"tower", BuildMethod::irisc, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 42, "0123456789abcdef", 7, 0.375,
+                  20000};
   const RoadmapRecipe back = recipe_from_json(recipe_to_json(r));
   EXPECT_EQ(back.stretch_slack, 0.375);
+  EXPECT_EQ(back.stretch_slack_after, 20000);
   EXPECT_TRUE(same_roadmap(back, r));
   RoadmapRecipe no_slack = r;
   no_slack.stretch_slack = 0.0;
   EXPECT_FALSE(same_roadmap(back, no_slack)) << "the slack changes the roadmap";
+  RoadmapRecipe slack_from_start = r;
+  slack_from_start.stretch_slack_after = 0;
+  EXPECT_FALSE(same_roadmap(back, slack_from_start)) << "where the slack starts changes the roadmap";
   EXPECT_EQ(back.scene, "tower");
   EXPECT_EQ(back.method, BuildMethod::irisc);
   EXPECT_EQ(back.seed, 9u);
@@ -116,6 +128,7 @@ TEST(BuildRecipe, RecipeJsonRoundTripsAndOldRecipesReadAsAlg1) {
           "stretch": 3, "generation": 4, "format": 1})");
   EXPECT_TRUE(old_store.scene_fingerprint.empty());
   EXPECT_EQ(old_store.stretch_slack, 0.0) << "a recipe from before the slack was built without one";
+  EXPECT_EQ(old_store.stretch_slack_after, 0.0);
   // A slack outside [0, 1] (a damaged or hand-edited file) is refused by name.
   std::string bad = recipe_to_json(r);
   bad.replace(bad.find("\"stretch_slack\": 0.375"), std::string("\"stretch_slack\": 0.375").size(), "\"stretch_slack\": 4");
@@ -124,6 +137,16 @@ TEST(BuildRecipe, RecipeJsonRoundTripsAndOldRecipesReadAsAlg1) {
     FAIL() << "a slack of 4 was read";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("stretch_slack must be in [0, 1]"), std::string::npos) << e.what();
+  }
+  // So is a start that is not a whole sample.
+  std::string half = recipe_to_json(r);
+  half.replace(half.find("\"stretch_slack_after\": 20000.0"), std::string("\"stretch_slack_after\": 20000.0").size(),
+               "\"stretch_slack_after\": 2.5");
+  try {
+    (void)recipe_from_json(half);
+    FAIL() << "a start of 2.5 samples was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("stretch_slack_after must be a whole number"), std::string::npos) << e.what();
   }
   EXPECT_EQ(old_store.builder_version, 0u);
   EXPECT_THROW((void)recipe_from_json("{"), std::runtime_error);

@@ -20,11 +20,18 @@ class DenseFreeOnSharedScenes : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(DenseFreeOnSharedScenes, GrowsTheSameSparseRoadmapAsIsparsWithoutADenseGraph) {
   const Scene& scene = test::shared_scene(GetParam());
-  // Seed 2 with a stretch slack: the slack is read by the stretch rules alone, so it keeps them equal.
-  for (const auto& [seed, slack] : {std::pair{1u, 0.0}, std::pair{2u, 0.5}}) {
+  // Seeds 2 and 3 with a stretch slack (seed 3's from a sample inside the second step on): the
+  // slack is read by the stretch rules alone, so it keeps them equal.
+  struct Case {
+    std::uint64_t seed;
+    double slack;
+    std::uint64_t slack_after;
+  };
+  for (const auto& [seed, slack, slack_after] : {Case{1, 0.0, 0}, Case{2, 0.5, 0}, Case{3, 0.5, test::scaled(100)}}) {
     BuildOptions options;
     options.seed = seed;
     options.stretch_slack = slack;
+    options.stretch_slack_after = slack_after;
     auto paired = make_roadmap_builder(BuildMethod::ispars, scene, options);
     auto free = make_roadmap_builder(BuildMethod::ispars2, scene, options);
     // Uneven steps: extend(a) then extend(b) is extend(a + b) for both.
@@ -52,11 +59,14 @@ INSTANTIATE_TEST_SUITE_P(Scenes, DenseFreeOnSharedScenes,
 // after a second resume.
 TEST_P(DenseFreeOnSharedScenes, AResumedBuilderGoesOnByteForByteAsTheUninterruptedOne) {
   const Scene& scene = test::shared_scene(GetParam());
-  for (const double slack : {0.0, 0.5}) {
-  SCOPED_TRACE(testing::Message() << "stretch slack " << slack);
+  // No slack, a slack, and a slack from a sample between two resumes on.
+  for (const auto& [slack, slack_after] : {std::pair{0.0, std::size_t{0}}, std::pair{0.5, std::size_t{0}},
+                                           std::pair{0.5, test::scaled(1800)}}) {
+  SCOPED_TRACE(testing::Message() << "stretch slack " << slack << " from sample " << slack_after);
   BuildOptions options;
   options.seed = 3;
   options.stretch_slack = slack;
+  options.stretch_slack_after = slack_after;
   auto whole = make_roadmap_builder(BuildMethod::ispars2, scene, options);
   std::unique_ptr<RoadmapBuilder> resumed;
   for (const std::size_t n : {0u, 1u, 700u, 2300u, 3001u}) {
@@ -145,6 +155,30 @@ TEST(DenseFree, WithAStretchSlackTheRoadmapSettlesAndWithoutItKeepsGrowing) {
     EXPECT_GT(ratio[0], 0.8) << name << ": without a slack the roadmap settled too; the test would prove nothing";
     EXPECT_LT(ratio[1], 0.5) << name << ": with a slack of half a Delta the roadmap kept growing";
   }
+}
+
+// stretch_slack_after: a build's first samples grow exactly the roadmap no slack grows, and the
+// slack is read from that sample on (the roadmaps part there).
+TEST(DenseFree, AStretchSlackFromASampleOnLeavesTheRoadmapBeforeItAsWithoutASlack) {
+  const Scene& scene = test::shared_scene("water_tower");
+  const std::size_t after = test::scaled(4000);
+  BuildOptions strict;
+  BuildOptions late = strict;
+  late.stretch_slack = 0.5;
+  late.stretch_slack_after = after;
+  BuildOptions early = late;
+  early.stretch_slack_after = 0;
+  auto without = make_roadmap_builder(BuildMethod::ispars2, scene, strict);
+  auto with_late = make_roadmap_builder(BuildMethod::ispars2, scene, late);
+  auto with_early = make_roadmap_builder(BuildMethod::ispars2, scene, early);
+  for (auto* b : {without.get(), with_late.get(), with_early.get()}) b->extend(after);
+  EXPECT_EQ(roadmap_digest(with_late->roadmap()), roadmap_digest(without->roadmap()));
+  EXPECT_NE(roadmap_digest(with_early->roadmap()), roadmap_digest(without->roadmap()))
+      << "a slack from the first sample changed nothing in " << after << " samples: the test would prove nothing";
+  for (auto* b : {without.get(), with_late.get()}) b->extend(after);
+  EXPECT_NE(roadmap_digest(with_late->roadmap()), roadmap_digest(without->roadmap()))
+      << "the slack was not read after sample " << after;
+  EXPECT_LT(with_late->roadmap().edge_count(), without->roadmap().edge_count());
 }
 
 }  // namespace

@@ -95,7 +95,10 @@ void SparsBuilder::extend(std::size_t samples) {
   while (samples > 0) {
     const std::size_t n = std::min(samples, kBatch);
     prepare_samples(*scene_, rng_, n, options_.threads, batch_);
-    for (const PreparedSample& sample : batch_) step(sample);
+    for (std::size_t k = 0; k < batch_.size(); ++k) {
+      slack_now_ = samples_ + k >= options_.stretch_slack_after ? stretch_slack_ : 0.0;
+      step(batch_[k]);
+    }
     samples -= n;
     samples_ += n;
   }
@@ -104,6 +107,7 @@ void SparsBuilder::extend(std::size_t samples) {
 void SparsBuilder::step(const Vec3& sample) {
   PreparedSample prepared{sample, scene_->point_valid(sample), {}};
   if (prepared.valid) scene_->visible_pois(sample, prepared.visible);
+  slack_now_ = samples_ >= options_.stretch_slack_after ? stretch_slack_ : 0.0;  // a given sample: the slack of now
   step(prepared);
 }
 

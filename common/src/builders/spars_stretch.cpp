@@ -5,7 +5,8 @@
 //   route to within t |s - w| (the direct segment is valid, so d_C(s, w) = |s - w|);
 // - witnessed pairs: a sample q left out of G_s is a witness that w and w' of W(q) are at most
 //   |w - q| + |q - w'| apart; a pair whose sparse route exceeds t times that is repaired.
-// Both bounds take an additive slack (stretch_slack times Delta, 0 by default). With a positive
+// Both bounds take an additive slack (stretch_slack times Delta, 0 by default; from sample
+// stretch_slack_after of the stream on, when that is set). With a positive
 // slack each repair shortens its pair's route by more than the slack, so repairs thin out and
 // the roadmap converges (docs/results/ispars2.md measures it); the tour bound of Theorem 1 gains
 // the slack once per leg, the same order as the Delta it already adds per viewpoint.
@@ -69,7 +70,7 @@ void SparsBuilder::vertex_join(VertexId s, const std::vector<VertexId>& reachabl
   std::vector<double> bounds;
   for (const VertexId w : reachable) {
     if (w == s) continue;
-    const double bound = stretch_ * (sparse_.position(w) - ps).norm() + stretch_slack_;
+    const double bound = stretch_ * (sparse_.position(w) - ps).norm() + slack_now_;
     if (known_route(s, w) <= bound) continue;
     todo.push_back(w);
     bounds.push_back(bound);
@@ -121,7 +122,7 @@ bool SparsBuilder::witnessed_pairs() {
     todo_index.clear();
     bounds.clear();
     for (std::size_t j = i + 1; j < w.size(); ++j) {
-      const double bound = stretch_ * (to_q[i] + to_q[j]) + stretch_slack_;
+      const double bound = stretch_ * (to_q[i] + to_q[j]) + slack_now_;
       if (among_w_[i * m + j] <= bound || through_a_third(i, j, bound)) continue;
       todo.push_back(w[j]);
       todo_index.push_back(j);

@@ -16,7 +16,7 @@ constexpr std::array<BuildMethod, 5> kMethods{BuildMethod::dense, BuildMethod::s
                                               BuildMethod::irisc, BuildMethod::ispars2};
 constexpr std::array<SparsVariant, 2> kVariants{SparsVariant::stretch, SparsVariant::alg1};
 
-constexpr std::array<RecipeParameter, 5> kOverrides{{
+constexpr std::array<RecipeParameter, 6> kOverrides{{
     {"dense_delta", 1e-6, 1e6, "positive (at least 1e-6, at most 1e6 metres)",
      "delta, the dense roadmap's connection radius in metres (default: the scene's)", &RoadmapRecipe::dense_delta},
     {"sparse_delta", 1e-6, 1e6, "positive (at least 1e-6, at most 1e6 metres)",
@@ -27,6 +27,10 @@ constexpr std::array<RecipeParameter, 5> kOverrides{{
      "the stretch rules' additive slack, a fraction of Delta: bounds t d + slack Delta (default 0; "
      "0.5 lets a long extend converge, docs/results/ispars2.md)",
      &RoadmapRecipe::stretch_slack},
+    {"stretch_slack_after", 0.0, 1e12, "a whole number of samples in [0, 1e12]",
+     "the sample from which stretch_slack applies (default 0: from the first; the samples before it "
+     "grow the roadmap no slack grows)",
+     &RoadmapRecipe::stretch_slack_after, true},
     {"p_accept", 0.0, 1.0, "a probability in [0, 1]",
      "IRIS-C: probability of admitting a state that adds no POI (default 0.2)", &RoadmapRecipe::p_accept},
 }};
@@ -87,14 +91,37 @@ std::string spars_variant_names() {
 
 std::span<const RecipeParameter> recipe_overrides() { return kOverrides; }
 
+const RecipeParameter& recipe_override(std::string_view name) {
+  for (const RecipeParameter& p : kOverrides) {
+    if (p.name == name) return p;
+  }
+  throw std::out_of_range("no recipe parameter " + std::string(name));
+}
+
 bool reads_stretch_slack(BuildMethod method, SparsVariant variant) {
   return method == BuildMethod::ispars2 || (has_variants(method) && variant == SparsVariant::stretch);
+}
+
+void check_stretch_slack(const RoadmapRecipe& recipe, std::string_view file) {
+  if (recipe.stretch_slack > 0.0 && !reads_stretch_slack(recipe.method, recipe.variant)) {
+    throw InputError(std::string(file), "overrides.stretch_slack",
+                     fmt::format("{} given, but {} {} has no stretch rules to slacken (spars and ispars with "
+                                 "variant stretch, and ispars2, have)",
+                                 recipe.stretch_slack, to_string(recipe.method),
+                                 has_variants(recipe.method) ? "variant " + std::string(to_string(recipe.variant))
+                                                             : std::string("method")));
+  }
+  if (recipe.stretch_slack_after > 0.0 && recipe.stretch_slack == 0.0) {
+    throw InputError(std::string(file), "overrides.stretch_slack_after",
+                     fmt::format("{} given, but there is no stretch_slack to start there", recipe.stretch_slack_after));
+  }
 }
 
 bool same_roadmap(const RoadmapRecipe& a, const RoadmapRecipe& b) {
   return a.method == b.method && a.seed == b.seed && (!has_variants(a.method) || a.variant == b.variant) &&
          a.dense_delta == b.dense_delta && a.sparse_delta == b.sparse_delta && a.stretch == b.stretch &&
-         a.stretch_slack == b.stretch_slack && a.p_accept == b.p_accept;
+         a.stretch_slack == b.stretch_slack && a.stretch_slack_after == b.stretch_slack_after &&
+         a.p_accept == b.p_accept;
 }
 
 std::string recipe_override_names() {
@@ -106,7 +133,7 @@ void set_recipe_override(RoadmapRecipe& recipe, std::string_view name, double va
   for (const RecipeParameter& p : kOverrides) {
     if (p.name != name) continue;
     if (!std::isfinite(value)) throw InputError(std::string(file), field, fmt::format("must be finite, got {}", value));
-    if (value < p.min || value > p.max) {
+    if (value < p.min || value > p.max || (p.whole && value != std::floor(value))) {
       throw InputError(std::string(file), field, fmt::format("must be {}, got {}", p.range, value));
     }
     recipe.*(p.field) = value;
@@ -125,6 +152,7 @@ std::string recipe_to_json(const RoadmapRecipe& r) {
                             {"sparse_delta", r.sparse_delta},
                             {"stretch", r.stretch},
                             {"stretch_slack", r.stretch_slack},
+                            {"stretch_slack_after", r.stretch_slack_after},
                             {"generation", r.generation},
                             {"scene_fingerprint", r.scene_fingerprint},
                             {"builder_version", r.builder_version},
@@ -160,9 +188,15 @@ RoadmapRecipe recipe_from_json(const std::string& text) {
     r.dense_delta = field("dense_delta").get<double>();
     r.sparse_delta = field("sparse_delta").get<double>();
     r.stretch = field("stretch").get<double>();
-    if (j.contains("stretch_slack")) r.stretch_slack = j.at("stretch_slack").get<double>();  // else 0: older
-    if (!(r.stretch_slack >= 0.0 && r.stretch_slack <= 1.0)) {
-      throw std::runtime_error("recipe.json: stretch_slack must be in [0, 1], got " + std::to_string(r.stretch_slack));
+    // Older files have neither: 0, as they were built.
+    if (j.contains("stretch_slack")) r.stretch_slack = j.at("stretch_slack").get<double>();
+    if (j.contains("stretch_slack_after")) r.stretch_slack_after = j.at("stretch_slack_after").get<double>();
+    // Every override, as a request's is checked (the file may have been edited).
+    for (const RecipeParameter& p : kOverrides) {
+      const double value = r.*(p.field);
+      if (!std::isfinite(value) || value < p.min || value > p.max || (p.whole && value != std::floor(value))) {
+        throw std::runtime_error(fmt::format("recipe.json: {} must be {}, got {}", p.name, p.range, value));
+      }
     }
     r.generation = field("generation").get<std::uint64_t>();
     if (j.contains("format") && j.at("format").get<int>() > kRecipeFormat) {

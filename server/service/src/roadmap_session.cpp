@@ -157,14 +157,7 @@ std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
   recipe.sparse_delta = scene_.config().sparse_delta;
   recipe.stretch = scene_.config().stretch;
   for (const auto& [key, value] : request.overrides) set_recipe_override(recipe, key, value, kRequest);
-  if (recipe.stretch_slack > 0.0 && !reads_stretch_slack(recipe.method, recipe.variant)) {
-    throw InputError(kRequest, "overrides.stretch_slack",
-                     fmt::format("{} given, but {} {} has no stretch rules to slacken (spars and ispars with "
-                                 "variant stretch, and ispars2, have)",
-                                 recipe.stretch_slack, to_string(recipe.method),
-                                 has_variants(recipe.method) ? "variant " + std::string(to_string(recipe.variant))
-                                                             : std::string("method")));
-  }
+  check_stretch_slack(recipe, kRequest);
   (void)scene_.with_roadmap_parameters(recipe.dense_delta, recipe.sparse_delta, recipe.stretch,
                                        kRequest);  // throws InputError naming the bad one
   if (!request.overrides.empty()) check_override_scale(recipe);

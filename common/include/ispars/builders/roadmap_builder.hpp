@@ -27,6 +27,10 @@ struct BuildOptions {
   /// bounds as a fraction of Delta, in [0, 1]: a route is long past t d + stretch_slack Delta.
   /// 0 keeps the bounds purely multiplicative; a positive slack lets the roadmap converge.
   double stretch_slack = 0.0;
+  /// The slack applies from this sample of the build's stream on (0: from the first); the samples
+  /// before it see purely multiplicative bounds, so a build's first stretch_slack_after samples
+  /// grow exactly the roadmap that no slack grows, and a long extend then converges.
+  std::uint64_t stretch_slack_after = 0;
   /// The stretch rules' cache of routes between sparse vertices (KnownRoutes): at most this many
   /// pairs, 16-32 bytes each (2048 .. 2^30). Any size gives the same roadmap; a small one
   /// searches more often.

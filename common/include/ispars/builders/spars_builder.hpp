@@ -163,6 +163,7 @@ class SparsBuilder final : public RoadmapBuilder {
   double sparse_delta_;
   double stretch_;
   double stretch_slack_;  // metres: options_.stretch_slack times Delta
+  double slack_now_ = 0.0;  // stretch_slack_ from sample options_.stretch_slack_after on, else 0
   Rng rng_;
 
   DeltaPrm dense_;

@@ -62,11 +62,19 @@ struct RoadmapRecipe {
   /// spars, ispars, ispars2 with the stretch rules: the additive slack of the stretch bounds,
   /// as a fraction of Delta (0, the default: the bounds are t times the distance alone).
   double stretch_slack = 0.0;
+  /// The sample from which the slack applies (a whole number; 0: from the first). The first
+  /// stretch_slack_after samples grow the roadmap that no slack grows.
+  double stretch_slack_after = 0.0;
 };
 
 /// Whether two recipes build the same roadmap: method, seed, the variant where the method has
 /// one, the deltas, the stretch, its slack and p_accept (scene, generation and versions aside).
 [[nodiscard]] bool same_roadmap(const RoadmapRecipe& a, const RoadmapRecipe& b);
+
+/// Throws InputError (file `file`, field "overrides.stretch_slack" or ".stretch_slack_after")
+/// when a recipe gives a slack to a build that does not read one, or a start to no slack: values
+/// that would be stored and ignored.
+void check_stretch_slack(const RoadmapRecipe& recipe, std::string_view file);
 
 /// Bumped whenever a builder's output for the same recipe changes: a stored roadmap of another
 /// builder version is not replayed or extended (it would not match), only rebuilt or dropped.
@@ -82,12 +90,16 @@ struct RecipeParameter {
   std::string_view range;  ///< The range in words, for errors: "must be <range>, got <value>".
   std::string_view doc;    ///< One line: what it is, and its default.
   double RoadmapRecipe::*field = nullptr;
+  bool whole = false;  ///< Only whole numbers (a sample count).
 };
 
-/// dense_delta, sparse_delta, stretch, stretch_slack and p_accept, in that order.
+/// dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after and p_accept, in that
+/// order.
 [[nodiscard]] std::span<const RecipeParameter> recipe_overrides();
+/// The declared parameter `name` (throws std::out_of_range for a name not declared).
+[[nodiscard]] const RecipeParameter& recipe_override(std::string_view name);
 /// The override names, for help texts and errors: "dense_delta, sparse_delta, stretch,
-/// stretch_slack, p_accept".
+/// stretch_slack, stretch_slack_after, p_accept".
 [[nodiscard]] std::string recipe_override_names();
 
 /// Sets the override `name` to `value`. Throws InputError (file `file`, field "overrides.NAME")
