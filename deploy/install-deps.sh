@@ -13,6 +13,7 @@ PACKAGES=(
   libsystemd-dev libcpp-httplib-dev libboost-dev
   gnuplot-nox
   nodejs chromium
+  gdb
 )
 
 missing=()

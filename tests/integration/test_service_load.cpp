@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cstdio>
 #include <chrono>
 #include <random>
 #include <thread>
@@ -37,7 +38,9 @@ TEST_F(ServiceTest, EightClientsTimesTenThousandMixedQueriesLoseAndCrossNoReply)
     threads.emplace_back([&, c] {
       Client client(client_options(domain_));
       std::mt19937 rng(1000 + c);
-      for (std::size_t i = 0; i < per_client; ++i) {
+      // After 20 lost calls in all every client stops: the test fails in a minute, not 10,000
+      // timeouts later, while the daemon is still there to be looked at.
+      for (std::size_t i = 0; i < per_client && lost.load() < 20; ++i) {
         const std::string scene = scene_name(rng() % 4);
         try {
           const unsigned kind = rng() % 10;
@@ -67,6 +70,11 @@ TEST_F(ServiceTest, EightClientsTimesTenThousandMixedQueriesLoseAndCrossNoReply)
     });
   }
   for (auto& t : threads) t.join();
+  if (lost.load() > 0) {
+    // CI saw a daemon stop answering everyone (new clients too) for good, once: how it stands.
+    std::fprintf(stderr, "---- the daemon's threads after %zu lost calls ----\n%s\n", lost.load(),
+                 thread_stacks(daemon->pid()).c_str());
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   EXPECT_EQ(answered.load(), 8 * per_client);
   EXPECT_EQ(lost.load(), 0u);

@@ -91,6 +91,13 @@ void print_daemon_log_tails(const std::filesystem::path& dir, std::size_t lines)
   }
 }
 
+std::string thread_stacks(int pid) {
+  const auto [code, out] = run_command("command -v gdb >/dev/null 2>&1 && timeout 60 gdb -p " + std::to_string(pid) +
+                                       " -batch -ex 'thread apply all bt 24' 2>&1");
+  if (code != 0 && out.empty()) return "(no stacks of process " + std::to_string(pid) + ": gdb is missing or failed)\n";
+  return out;
+}
+
 std::pair<int, std::string> run_command(const std::string& command) {
   std::string output;
   FILE* pipe = ::popen(command.c_str(), "r");

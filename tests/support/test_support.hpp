@@ -53,6 +53,10 @@ std::string read_text(const std::filesystem::path& path);
 /// writes beside the data directories) to standard error, each under its file name.
 void print_daemon_log_tails(const std::filesystem::path& dir, std::size_t lines);
 
+/// Every thread's stack of running process `pid` (gdb, attached for a moment), for a test that
+/// finds a daemon alive but deaf; a line saying why when gdb is missing or cannot attach.
+std::string thread_stacks(int pid);
+
 /// Runs `command` with /bin/sh; its exit status (-1 when it did not exit) and its standard output.
 std::pair<int, std::string> run_command(const std::string& command);
 
