@@ -1,7 +1,6 @@
 #include "ispars/builders/dense_builder.hpp"
 
 #include <algorithm>
-#include <stdexcept>
 
 namespace ispars {
 
@@ -11,11 +10,8 @@ DenseBuilder::DenseBuilder(const Scene& scene, const BuildOptions& options)
 }
 
 DenseBuilder::DenseBuilder(const Scene& scene, const BuildOptions& options, Roadmap roadmap, std::size_t samples)
-    : scene_(&scene), options_(options), rng_(options.seed), prm_(scene, scene.config().dense_delta) {
-  if (roadmap.vertex_count() == 0 || roadmap.position(0) != scene.config().root) {
-    throw std::invalid_argument("the roadmap to resume does not start with the scene's root");
-  }
-  prm_ = DeltaPrm(scene, scene.config().dense_delta, std::move(roadmap));
+    : scene_(&scene), options_(options), rng_(options.seed),
+      prm_(scene, scene.config().dense_delta, std::move(roadmap)) {
   skip_samples(rng_, samples);
   samples_ = samples;
 }

@@ -33,6 +33,9 @@ std::unique_ptr<RoadmapBuilder> resume_roadmap_builder(BuildMethod method, const
   if (!resumes_from_roadmap(method)) {
     throw std::invalid_argument(std::string(to_string(method)) + " keeps more than its roadmap: it is replayed, not resumed");
   }
+  if (roadmap.vertex_count() == 0 || roadmap.position(0) != scene.config().root) {
+    throw std::invalid_argument("the roadmap to resume does not start with the scene's root");
+  }
   if (method == BuildMethod::dense) return std::make_unique<DenseBuilder>(scene, options, std::move(roadmap), samples);
   return std::make_unique<SparsBuilder>(scene, options, SparsRules::dense_free(), std::move(roadmap), samples);
 }

@@ -80,9 +80,6 @@ SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, cons
                            std::size_t samples)
     : SparsBuilder(scene, options, rules) {
   if (rules.dense_graph) throw std::invalid_argument("a builder with a dense graph is replayed, not resumed");
-  if (sparse.vertex_count() == 0 || sparse.position(0) != scene.config().root) {
-    throw std::invalid_argument("the roadmap to resume does not start with the scene's root");
-  }
   sparse_ = std::move(sparse);
   sparse_grid_ = PointGrid(sparse_delta_);
   for (VertexId s = 0; s < sparse_.vertex_count(); ++s) sparse_grid_.insert(s, sparse_.position(s));
@@ -96,7 +93,7 @@ void SparsBuilder::extend(std::size_t samples) {
     const std::size_t n = std::min(samples, kBatch);
     prepare_samples(*scene_, rng_, n, options_.threads, batch_);
     for (std::size_t k = 0; k < batch_.size(); ++k) {
-      slack_now_ = samples_ + k >= options_.stretch_slack_after ? stretch_slack_ : 0.0;
+      slack_now_ = slack_at(samples_ + k);
       step(batch_[k]);
     }
     samples -= n;
@@ -107,7 +104,7 @@ void SparsBuilder::extend(std::size_t samples) {
 void SparsBuilder::step(const Vec3& sample) {
   PreparedSample prepared{sample, scene_->point_valid(sample), {}};
   if (prepared.valid) scene_->visible_pois(sample, prepared.visible);
-  slack_now_ = samples_ >= options_.stretch_slack_after ? stretch_slack_ : 0.0;  // a given sample: the slack of now
+  slack_now_ = slack_at(samples_);  // a given sample: the slack of now
   step(prepared);
 }
 

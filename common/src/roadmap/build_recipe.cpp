@@ -35,6 +35,11 @@ constexpr std::array<RecipeParameter, 6> kOverrides{{
      "IRIS-C: probability of admitting a state that adds no POI (default 0.2)", &RoadmapRecipe::p_accept},
 }};
 
+// Whether `value` is one that parameter `p` accepts: finite, in its range, whole where it must be.
+bool accepts(const RecipeParameter& p, double value) {
+  return std::isfinite(value) && value >= p.min && value <= p.max && (!p.whole || value == std::floor(value));
+}
+
 template <typename Items, typename Name>
 std::string join_names(const Items& items, Name name) {
   std::string out;
@@ -133,7 +138,7 @@ void set_recipe_override(RoadmapRecipe& recipe, std::string_view name, double va
   for (const RecipeParameter& p : kOverrides) {
     if (p.name != name) continue;
     if (!std::isfinite(value)) throw InputError(std::string(file), field, fmt::format("must be finite, got {}", value));
-    if (value < p.min || value > p.max || (p.whole && value != std::floor(value))) {
+    if (!accepts(p, value)) {
       throw InputError(std::string(file), field, fmt::format("must be {}, got {}", p.range, value));
     }
     recipe.*(p.field) = value;
@@ -194,7 +199,7 @@ RoadmapRecipe recipe_from_json(const std::string& text) {
     // Every override, as a request's is checked (the file may have been edited).
     for (const RecipeParameter& p : kOverrides) {
       const double value = r.*(p.field);
-      if (!std::isfinite(value) || value < p.min || value > p.max || (p.whole && value != std::floor(value))) {
+      if (!accepts(p, value)) {
         throw std::runtime_error(fmt::format("recipe.json: {} must be {}, got {}", p.name, p.range, value));
       }
     }

@@ -12,8 +12,7 @@ class DenseBuilder final : public RoadmapBuilder {
  public:
   DenseBuilder(const Scene& scene, const BuildOptions& options);
   /// The builder that grew `roadmap` in `samples` samples, resumed: its roadmap and its place in
-  /// the sample stream are its whole state. Throws std::invalid_argument when the roadmap does
-  /// not start with the scene's root.
+  /// the sample stream are its whole state. resume_roadmap_builder checks the roadmap's root.
   DenseBuilder(const Scene& scene, const BuildOptions& options, Roadmap roadmap, std::size_t samples);
   void extend(std::size_t samples) override;
   void step(const Vec3& sample) override;

@@ -96,7 +96,7 @@ class SparsBuilder final : public RoadmapBuilder {
   /// Goes on from `sparse`, grown by these rules (without G_d) from `samples` samples of
   /// options.seed's stream, as if it had never stopped: G_s and the sample stream are its whole
   /// state (the admission counts start again at 0). Throws std::invalid_argument with G_d in the
-  /// rules, or a roadmap without its root.
+  /// rules; resume_roadmap_builder checks the roadmap's root.
   SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules, Roadmap sparse,
                std::size_t samples);
 
@@ -163,7 +163,12 @@ class SparsBuilder final : public RoadmapBuilder {
   double sparse_delta_;
   double stretch_;
   double stretch_slack_;  // metres: options_.stretch_slack times Delta
-  double slack_now_ = 0.0;  // stretch_slack_ from sample options_.stretch_slack_after on, else 0
+  double slack_now_ = 0.0;  // slack_at(the sample being stepped)
+  // The stretch bounds' slack for sample `index` of the stream: stretch_slack_ from
+  // options_.stretch_slack_after on, else 0.
+  [[nodiscard]] double slack_at(std::uint64_t index) const {
+    return index >= options_.stretch_slack_after ? stretch_slack_ : 0.0;
+  }
   Rng rng_;
 
   DeltaPrm dense_;
