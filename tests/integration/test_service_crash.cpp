@@ -1,4 +1,4 @@
-// kill -9 at many moments across a roadmap's life (build, extend with compactions, the replay an
+// kill -9 at many moments across a roadmap's life (build, extend with compactions, the resume an
 // extend starts with after a restart, a replacing build, a drop): every restart recovers a
 // committed roadmap that verifies and equals the uninterrupted build at its sample count, and
 // extending it gives the uninterrupted build's roadmap byte for byte.
@@ -70,7 +70,7 @@ TEST_F(CrashTest, KillNineAtFiftyMomentsLosesNoCommitAndReplaysByteForByte) {
         request.args().build().samples(20000);
         request.args().build().seed(seed);
         request.args().build().replace(has_roadmap);
-      } else if (pick == 2) {  // an extend: replay first (after every restart), then compactions
+      } else if (pick == 2) {  // an extend: resumed first (after every restart), then compactions
         operation = "extend";
         request = make_change(msg::EXTEND, "s0");
         request.args().extend().samples(12000);

@@ -60,7 +60,7 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
     EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 5000, 1, BuildMethod::ispars2));
   }
   const std::string log = daemon->log();
-  EXPECT_NE(log.find("the ispars2 builder resumed from its stored roadmap at 3000 samples"), std::string::npos) << log;
+  EXPECT_NE(log.find("the ispars2 builder resumed from its stored roadmaps at 3000 samples"), std::string::npos) << log;
   // kill -9 in the middle of an extend: the restart recovers the last commit, and goes on from it.
   {
     Client client(client_options(domain_));
@@ -133,30 +133,44 @@ TEST_F(ServiceTest, AStretchSlackIsBuiltReportedStoredAndKeptAfterARestart) {
 namespace ispars::test {
 namespace {
 
-// The Dense method's roadmap is its whole state too: after a restart an extend resumes from the
-// stored roadmap, nothing replayed, to the uninterrupted build's roadmap byte for byte.
-TEST_F(ServiceTest, ADenseRoadmapGoesOnAfterARestartWithoutReplay) {
-  auto daemon = start("d");
-  {
+// The Dense method's roadmap is its whole state too, and the dense pair's are its sparse and
+// dense roadmaps: after a restart (SIGTERM for one, kill -9 for the other) an extend resumes from
+// the stored roadmaps, nothing replayed, to the uninterrupted build's roadmap byte for byte.
+TEST_F(ServiceTest, ADenseOrDensePairRoadmapGoesOnAfterARestartWithoutReplay) {
+  for (const BuildMethod method : {BuildMethod::dense, BuildMethod::ispars}) {
+    const std::string name(to_string(method));
+    SCOPED_TRACE(name);
+    auto daemon = start("d");
+    {
+      Client client(client_options(domain_));
+      client.load("s0");
+      BuildArgs args;
+      args.method = name;
+      args.samples = 2000;
+      args.replace = method != BuildMethod::dense;
+      client.build("s0", args);
+      ASSERT_EQ(client.wait_idle("s0", {}, kLong).state(), msg::SCENE_IDLE);
+    }
+    if (method == BuildMethod::dense) {
+      ASSERT_EQ(daemon->terminate(), 0);
+    } else {
+      daemon->kill9();
+    }
+    daemon = start("d");
     Client client(client_options(domain_));
     client.load("s0");
-    BuildArgs args;
-    args.method = "dense";
-    args.samples = 2000;
-    client.build("s0", args);
-    ASSERT_EQ(client.wait_idle("s0", {}, kLong).state(), msg::SCENE_IDLE);
+    client.extend("s0", 1000);
+    const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
+    ASSERT_EQ(extended.samples_done(), 3000u) << extended.last_error();
+    EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 3000, 1, method));
+    const std::string log = daemon->log();
+    EXPECT_NE(log.find("the " + name + " builder resumed from its stored roadmaps at 2000 samples"), std::string::npos)
+        << log;
+    if (method == BuildMethod::ispars) {
+      EXPECT_EQ(client.verify("s0").body().verify().violations(), 0u) << "Invariant 1 on the resumed dense pair";
+    }
+    ASSERT_EQ(daemon->terminate(), 0);
   }
-  ASSERT_EQ(daemon->terminate(), 0);
-  daemon = start("d");
-  Client client(client_options(domain_));
-  client.load("s0");
-  client.extend("s0", 1000);
-  const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
-  ASSERT_EQ(extended.samples_done(), 3000u) << extended.last_error();
-  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap),
-            reference_digest(scene_dir_ / "s0.yaml", 3000, 1, BuildMethod::dense));
-  const std::string log = daemon->log();
-  EXPECT_NE(log.find("the dense builder resumed from its stored roadmap at 2000 samples"), std::string::npos) << log;
 }
 
 }  // namespace

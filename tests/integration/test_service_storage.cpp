@@ -81,17 +81,19 @@ TEST_F(ServiceTest, AnEditedSceneFailsItsStoredRoadmapUntilRebuilt) {
   EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 1500, 1));
 }
 
-// The first extend after a restart replays the recipe and compares the result with the stored
-// roadmaps byte for byte. A stored recipe that does not give the stored roadmap (here its seed
-// edited on disk) is reported by name, the scene keeps serving what is stored, and no file is
-// rewritten.
+// IRIS-C's first extend after a restart replays the recipe (the other methods resume from their
+// stored roadmaps) and compares the result with the stored roadmap byte for byte. A stored recipe
+// that does not give the stored roadmap (here its seed edited on disk) is reported by name, the
+// scene keeps serving what is stored, and no file is rewritten.
 TEST_F(ServiceTest, AReplayThatDoesNotReproduceTheStoredRoadmapFailsByNameAndRewritesNothing) {
   std::uint64_t digest = 0;
   {
     auto daemon = start("d");
     Client c(client_options(domain_));
     c.load("s0");
-    c.build("s0", ispars_build(1500, 7));
+    BuildArgs irisc = ispars_build(1500, 7);
+    irisc.method = "irisc";
+    c.build("s0", irisc);
     c.wait_idle("s0", {}, kLong);
     digest = roadmap_digest(c.snapshot("s0").roadmap);
     ASSERT_EQ(daemon->terminate(), 0);

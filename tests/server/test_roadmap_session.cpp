@@ -1,4 +1,4 @@
-// A scene's roadmap session: jobs, cancellation, stopping, recovery by replay, and refusals.
+// A scene's roadmap session: jobs, cancellation, stopping, recovery and refusals.
 
 #include <gtest/gtest.h>
 
@@ -84,49 +84,6 @@ TEST_F(RoadmapSessionTest, BuildThreadsAndTheVariantReachTheBuilder) {
   b->extend(3000);
   EXPECT_EQ(roadmap_digest(*session->published().roadmap), roadmap_digest(b->roadmap()));
   EXPECT_NE(roadmap_digest(b->roadmap()), uninterrupted(scene(), 3000, 5)) << "the variants differ here";
-}
-
-TEST_F(RoadmapSessionTest, StoppingKeepsTheCommittedChunksAndAReopenedSessionExtendsExactly) {
-  std::uint64_t stopped_at = 0;
-  {
-    std::atomic<bool> stopping{false};
-    SessionCallbacks callbacks;
-    callbacks.on_commit = [&](const RoadmapBatch&, std::uint64_t, std::uint64_t samples) {
-      if (samples >= 1000) stopping = true;  // as SIGTERM would, mid-build
-    };
-    auto session = open(callbacks);
-    session->request_build(ispars(1'000'000, 9));
-    session->run_job(stopping);
-    stopped_at = session->status().samples_done;
-    EXPECT_GE(stopped_at, 1000u);
-    EXPECT_LT(stopped_at, 1'000'000u);
-    EXPECT_NE(session->status().last_error.find("daemon stopped"), std::string::npos);
-  }
-  std::atomic<bool> stop_replay{false};
-  SessionCallbacks on_replay;
-  on_replay.on_status = [&](const SessionStatus& s) {
-    if (s.state == SessionState::replaying) stop_replay = true;  // as SIGTERM would, mid-replay
-  };
-  auto session = open(on_replay);
-  EXPECT_NE(session->recovery_note().find("recovered ispars roadmap"), std::string::npos);
-  EXPECT_EQ(session->status().samples_done, stopped_at);
-  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), stopped_at, 9));
-  EXPECT_EQ(session->verify().invariant_violations, 0u);
-  // A stop during the replay leaves the scene idle as it was (not failed), and the next extend
-  // replays again.
-  session->request_extend(500);
-  session->run_job(stop_replay);
-  ASSERT_TRUE(stop_replay);
-  EXPECT_EQ(session->status().state, SessionState::idle);
-  EXPECT_NE(session->status().last_error.find("daemon stopped during the replay, at 0 of " +
-                                              std::to_string(stopped_at) + " samples"),
-            std::string::npos)
-      << session->status().last_error;
-  EXPECT_EQ(session->status().samples_done, stopped_at);
-  session->request_extend(500);
-  session->run_job(never_);  // replays the recipe, checks it against the store, then extends
-  EXPECT_EQ(session->status().state, SessionState::idle) << session->status().last_error;
-  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), stopped_at + 500, 9));
 }
 
 TEST_F(RoadmapSessionTest, ReadersOnOtherThreadsSeeConsistentVersionsWhileAJobRuns) {

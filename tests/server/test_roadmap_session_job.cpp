@@ -1,9 +1,12 @@
-// A session's build job (roadmap_session_job.cpp): what readers are served when a job ends.
+// A session's build job (roadmap_session_job.cpp): how a builder comes back after a restart, and
+// what readers are served when a job ends.
 
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <memory>
+#include <string>
+#include <thread>
 
 #include "ispars/service/roadmap_session.hpp"
 #include "support/test_support.hpp"
@@ -49,6 +52,116 @@ TEST(RoadmapSessionJob, ACancelRightAfterACommitLeavesReadersThatCommitNotAnOlde
     EXPECT_EQ(roadmap_digest(*published.roadmap), roadmap_digest(reference->roadmap()))
         << "readers were served an older roadmap than the status's " << status.samples_done << " samples";
   }
+}
+
+// A stopped build keeps its committed chunks, and a reopened session goes on exactly. The dense
+// pair resumes from its stored roadmaps and never replays; IRIS-C replays its recipe, and a stop
+// during that replay leaves the scene idle as it was (not failed).
+TEST(RoadmapSessionJob, AStoppedBuildGoesOnExactlyResumedOrForIrisCReplayed) {
+  const Scene& scene = test::shared_scene("demo_tank_tower");
+  test::TempDir dir;
+  std::atomic<bool> never{false};
+  const auto open = [&](SessionCallbacks callbacks, const std::string& store) {
+    return std::make_unique<RoadmapSession>("tower", scene, dir.path() / store, SessionLimits{}, std::move(callbacks));
+  };
+  const auto uninterrupted = [&](std::uint64_t samples, BuildMethod method) {
+    BuildOptions options;
+    options.seed = 9;
+    auto b = make_roadmap_builder(method, scene, options);
+    b->extend(samples);
+    return roadmap_digest(b->roadmap());
+  };
+  for (const BuildMethod method : {BuildMethod::ispars, BuildMethod::irisc}) {
+    SCOPED_TRACE(to_string(method));
+    const std::string store(to_string(method));
+    std::uint64_t stopped_at = 0;
+    {
+      std::atomic<bool> stopping{false};
+      SessionCallbacks callbacks;
+      callbacks.on_commit = [&](const RoadmapBatch&, std::uint64_t, std::uint64_t samples) {
+        if (samples >= 1000) stopping = true;  // as SIGTERM would, mid-build
+      };
+      auto session = open(callbacks, store);
+      BuildRequest request;
+      request.method = method;
+      request.samples = 1'000'000;
+      request.seed = 9;
+      session->request_build(request);
+      session->run_job(stopping);
+      stopped_at = session->status().samples_done;
+      EXPECT_GE(stopped_at, 1000u);
+      EXPECT_LT(stopped_at, 1'000'000u);
+      EXPECT_NE(session->status().last_error.find("daemon stopped"), std::string::npos);
+    }
+    std::atomic<bool> stop_replay{false};
+    bool replayed = false;
+    SessionCallbacks on_replay;
+    on_replay.on_status = [&](const SessionStatus& s) {
+      if (s.state == SessionState::replaying) replayed = stop_replay = true;  // as SIGTERM would, mid-replay
+    };
+    auto session = open(on_replay, store);
+    EXPECT_NE(session->recovery_note().find("recovered " + store + " roadmap"), std::string::npos);
+    EXPECT_EQ(session->status().samples_done, stopped_at);
+    EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(stopped_at, method));
+    if (method == BuildMethod::ispars) {
+      EXPECT_EQ(session->verify().invariant_violations, 0u);
+    }
+    session->request_extend(500);
+    session->run_job(stop_replay);
+    if (method == BuildMethod::irisc) {
+      ASSERT_TRUE(replayed);
+      EXPECT_EQ(session->status().state, SessionState::idle);
+      EXPECT_NE(session->status().last_error.find("daemon stopped during the replay, at 0 of " +
+                                                  std::to_string(stopped_at) + " samples"),
+                std::string::npos)
+          << session->status().last_error;
+      EXPECT_EQ(session->status().samples_done, stopped_at);
+      session->request_extend(500);
+      session->run_job(never);  // replays the recipe, checks it against the store, then extends
+    } else {
+      EXPECT_FALSE(replayed) << "the dense pair resumes from its stored roadmaps";
+    }
+    EXPECT_EQ(session->status().state, SessionState::idle) << session->status().last_error;
+    EXPECT_EQ(session->status().samples_done, stopped_at + 500);
+    EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(stopped_at + 500, method));
+    if (method == BuildMethod::ispars) {
+      EXPECT_EQ(session->verify().invariant_violations, 0u);
+    }
+  }
+}
+
+// A job is running from the moment a build worker takes it from the queue, before its builder
+// is back: a cancel that lands while the builder resumes from the store stops the job, and no
+// sample is drawn after it. (The status said "queued" in that window, so the cancel emptied a
+// queue the job had already left, and the job then ran to its end: CI's kill -9 campaign found
+// "a build is running" right after its cancel.)
+TEST(RoadmapSessionJob, ACancelWhileTheBuilderResumesStopsTheJob) {
+  const Scene& scene = test::shared_scene("demo_tank_tower");
+  test::TempDir dir;
+  std::atomic<bool> never{false};
+  BuildRequest request;
+  request.method = BuildMethod::ispars;
+  request.samples = 30'000;
+  request.seed = 2;
+  {
+    RoadmapSession first("tower", scene, dir.path() / "tower", SessionLimits{}, {});
+    first.request_build(request);
+    first.run_job(never);
+    ASSERT_EQ(first.status().samples_done, 30'000u);
+  }
+  RoadmapSession session("tower", scene, dir.path() / "tower", SessionLimits{}, {});
+  session.request_extend(20'000);
+  std::thread job([&] { session.run_job(never); });
+  // The worker takes the job within microseconds; resuming 30,000 samples' roadmaps takes far
+  // longer than this wait, so the cancel lands while the builder comes back.
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const bool cancelled = session.cancel();
+  job.join();
+  EXPECT_TRUE(cancelled);
+  const SessionStatus status = session.status();
+  EXPECT_EQ(status.state, SessionState::idle) << status.last_error;
+  EXPECT_EQ(status.samples_done, 30'000u) << "samples were drawn after the cancel was accepted";
+  EXPECT_NE(status.last_error.find("cancelled"), std::string::npos) << status.last_error;
 }
 
 }  // namespace

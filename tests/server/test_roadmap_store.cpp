@@ -116,7 +116,7 @@ TEST_F(RoadmapStoreTest, ACommitThatDoesNotContinueIsRefusedAndChangesNothing) {
   const auto path = dir_.path() / "bridge";
   auto store = RoadmapStore::create(path, recipe_);
   build_and_commit(*store, 2, 200);
-  StoredRoadmaps recovered;
+  BuiltRoadmaps recovered;
   {
     StoreRecovery r;
     store.reset();
@@ -129,7 +129,7 @@ TEST_F(RoadmapStoreTest, ACommitThatDoesNotContinueIsRefusedAndChangesNothing) {
   EXPECT_EQ(roadmap_digest(recovered.roadmap), before);
   BuildCommit wrong_ids = commit_since(view(*builder_), 0, 0);
   wrong_ids.new_dense_ids.pop_back();
-  StoredRoadmaps fresh{0, Roadmap(scene_->pois().size()), Roadmap(scene_->pois().size()), {}};
+  BuiltRoadmaps fresh{0, Roadmap(scene_->pois().size()), Roadmap(scene_->pois().size()), {}};
   EXPECT_THROW(apply_commit(fresh, wrong_ids), std::runtime_error);
   EXPECT_EQ(fresh.roadmap.version(), 0u);
 }

@@ -68,7 +68,7 @@ TEST(RoadmapBuilder, AResumedDenseBuilderGoesOnByteForByteAsTheUninterruptedOne)
       const Roadmap& source = resumed ? resumed->roadmap() : whole->roadmap();
       Roadmap stored(scene.pois().size());
       apply_batch(stored, batch_since(source, 0));
-      resumed = resume_roadmap_builder(BuildMethod::dense, scene, options, std::move(stored), whole->samples());
+      resumed = resume_roadmap_builder(BuildMethod::dense, scene, options, {whole->samples(), std::move(stored), {}, {}});
       ASSERT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap())) << name;
     }
     resumed->extend(1500);

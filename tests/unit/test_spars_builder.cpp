@@ -6,6 +6,7 @@
 #include "ispars/search/graph_search.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/builders/spars_builder.hpp"
+#include "ispars/roadmap/roadmap_log.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
@@ -225,6 +226,100 @@ TEST(SparsBuilder, InterfaceSupportsAreConsistentWithRepresentatives) {
     }
     ASSERT_EQ(b.representative(x), best) << "dense vertex " << x;
   }
+}
+
+// The dense pair restarts without replay: a builder resumed from G_s, G_d and dense_ids (as the
+// store gives them back, from their batches) holds the uninterrupted build's representatives and
+// interface supports, and goes on byte for byte, from any point. Alg. 1 read literally is the
+// hard case: its dense shortcut reads the supports, so one wrong support changes G_s.
+TEST(SparsBuilder, AResumedDensePairHoldsTheSameRepresentativesAndGoesOnByteForByte) {
+  struct Case {
+    const char* scene;
+    BuildMethod method;
+    SparsVariant variant;
+  };
+  for (const Case& c : {Case{"water_tower", BuildMethod::ispars, SparsVariant::alg1},
+                        Case{"truss_bridge", BuildMethod::ispars, SparsVariant::alg1},
+                        Case{"caric_city", BuildMethod::ispars, SparsVariant::stretch},
+                        Case{"water_tower", BuildMethod::spars, SparsVariant::stretch}}) {
+    SCOPED_TRACE(testing::Message() << c.scene << " " << to_string(c.method) << " " << to_string(c.variant));
+    const Scene& scene = test::shared_scene(c.scene);
+    BuildOptions options;
+    options.seed = 4;
+    options.variant = c.variant;
+    auto whole = make_roadmap_builder(c.method, scene, options);
+    std::unique_ptr<RoadmapBuilder> resumed;
+    for (const std::size_t n : {0u, 1u, 400u, 1301u}) {
+      const std::size_t step = test::scaled(n);
+      whole->extend(step);
+      if (resumed) resumed->extend(step);
+      const RoadmapBuilder& source = resumed ? *resumed : *whole;
+      BuiltRoadmaps stored{source.samples(), Roadmap(scene.pois().size()), Roadmap(scene.pois().size()),
+                           {source.dense_ids().begin(), source.dense_ids().end()}};
+      apply_batch(stored.roadmap, batch_since(source.roadmap(), 0));
+      apply_batch(*stored.dense, batch_since(*source.dense(), 0));
+      resumed = resume_roadmap_builder(c.method, scene, options, std::move(stored));
+      ASSERT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap()));
+      ASSERT_EQ(roadmap_digest(*resumed->dense()), roadmap_digest(*whole->dense()));
+      const auto& a = dynamic_cast<const SparsBuilder&>(*resumed);
+      const auto& b = dynamic_cast<const SparsBuilder&>(*whole);
+      const std::size_t sparse_count = b.roadmap().vertex_count();
+      for (VertexId x = 0; x < b.dense()->vertex_count(); ++x) {
+        ASSERT_EQ(a.representative(x), b.representative(x)) << "dense vertex " << x << " at " << b.samples();
+      }
+      for (VertexId v = 0; v < sparse_count; ++v) {
+        for (VertexId v2 = 0; v2 < sparse_count; ++v2) {
+          ASSERT_EQ(a.interface_supports(v, v2), b.interface_supports(v, v2)) << v << "|" << v2;
+        }
+      }
+    }
+    resumed->extend(test::scaled(1500));
+    whole->extend(test::scaled(1500));
+    EXPECT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap()));
+    EXPECT_EQ(roadmap_digest(*resumed->dense()), roadmap_digest(*whole->dense()));
+    EXPECT_TRUE(std::equal(resumed->dense_ids().begin(), resumed->dense_ids().end(), whole->dense_ids().begin(),
+                           whole->dense_ids().end()));
+    EXPECT_GT(resumed->roadmap().vertex_count(), 20u);
+    if (c.variant == SparsVariant::alg1) {
+      EXPECT_GT(dynamic_cast<const SparsBuilder&>(*resumed).admissions().shortcut_edge +
+                    dynamic_cast<const SparsBuilder&>(*resumed).admissions().shortcut_path,
+                0u)
+          << "the resumed builder's shortcut test never ran: the supports went untested";
+    }
+  }
+}
+
+// A dense pair that does not fit together is refused by name, never resumed from.
+TEST(SparsBuilder, ADensePairThatDoesNotFitIsNotResumed) {
+  const Scene& scene = test::shared_scene("water_tower");
+  auto built = make_roadmap_builder(BuildMethod::ispars, scene, BuildOptions{});
+  built->extend(600);
+  const auto pair = [&] {
+    return BuiltRoadmaps{600, built->roadmap(), *built->dense(),
+                         {built->dense_ids().begin(), built->dense_ids().end()}};
+  };
+  EXPECT_NO_THROW((void)resume_roadmap_builder(BuildMethod::ispars, scene, BuildOptions{}, pair()));
+  const auto refused = [&](BuiltRoadmaps b, const std::string& why) {
+    try {
+      (void)resume_roadmap_builder(BuildMethod::ispars, scene, BuildOptions{}, std::move(b));
+      ADD_FAILURE() << "resumed from a pair that " << why;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  };
+  BuiltRoadmaps no_dense = pair();
+  no_dense.dense.reset();
+  refused(std::move(no_dense), "none was given");
+  BuiltRoadmaps short_ids = pair();
+  short_ids.dense_ids.pop_back();
+  refused(std::move(short_ids), "sparse vertices to dense ones");
+  BuiltRoadmaps wrong_id = pair();
+  ASSERT_GT(wrong_id.dense_ids.size(), 3u);
+  std::swap(wrong_id.dense_ids[1], wrong_id.dense_ids[2]);
+  refused(std::move(wrong_id), "is not the dense vertex it names");
+  BuiltRoadmaps beyond = pair();
+  beyond.dense_ids.back() = static_cast<VertexId>(beyond.dense->vertex_count());
+  refused(std::move(beyond), "is not the dense vertex it names");
 }
 
 }  // namespace

@@ -77,7 +77,7 @@ TEST_P(DenseFreeOnSharedScenes, AResumedBuilderGoesOnByteForByteAsTheUninterrupt
     const Roadmap& source = resumed ? resumed->roadmap() : whole->roadmap();
     Roadmap stored(scene.pois().size());
     apply_batch(stored, batch_since(source, 0));
-    resumed = resume_roadmap_builder(BuildMethod::ispars2, scene, options, std::move(stored), whole->samples());
+    resumed = resume_roadmap_builder(BuildMethod::ispars2, scene, options, {whole->samples(), std::move(stored), {}, {}});
     ASSERT_EQ(resumed->samples(), whole->samples());
     ASSERT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap()));
   }
@@ -88,24 +88,33 @@ TEST_P(DenseFreeOnSharedScenes, AResumedBuilderGoesOnByteForByteAsTheUninterrupt
   }
 }
 
-TEST(DenseFree, OnlyIspars2AndDenseResumeAndOnlyFromARoadmapWithTheRoot) {
+TEST(DenseFree, OnlyIrisCIsReplayedAndEveryResumeStartsWithTheRoot) {
   const Scene& scene = test::shared_scene("water_tower");
+  const auto alone = [&](Roadmap r, std::uint64_t samples) { return BuiltRoadmaps{samples, std::move(r), {}, {}}; };
   EXPECT_TRUE(resumes_from_roadmap(BuildMethod::ispars2));
   EXPECT_TRUE(resumes_from_roadmap(BuildMethod::dense));
   for (const BuildMethod m : {BuildMethod::spars, BuildMethod::ispars, BuildMethod::irisc}) {
     EXPECT_FALSE(resumes_from_roadmap(m));
-    EXPECT_THROW((void)resume_roadmap_builder(m, scene, BuildOptions{}, Roadmap(scene.pois().size()), 0),
+    EXPECT_EQ(resumes_without_replay(m), m != BuildMethod::irisc);
+    EXPECT_THROW((void)resume_roadmap_builder(m, scene, BuildOptions{}, alone(Roadmap(scene.pois().size()), 0)),
                  std::invalid_argument);
   }
-  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::ispars2, scene, BuildOptions{}, Roadmap(scene.pois().size()), 0),
+  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::ispars2, scene, BuildOptions{}, alone(Roadmap(scene.pois().size()), 0)),
                std::invalid_argument);
   Roadmap elsewhere(scene.pois().size());
   (void)elsewhere.add_vertex(scene.config().root + Vec3(0.5, 0, 0), {});
-  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::ispars2, scene, BuildOptions{}, Roadmap(elsewhere), 10),
+  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::ispars2, scene, BuildOptions{}, alone(elsewhere, 10)),
                std::invalid_argument);
-  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::dense, scene, BuildOptions{}, Roadmap(scene.pois().size()), 0),
+  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::dense, scene, BuildOptions{}, alone(Roadmap(scene.pois().size()), 0)),
                std::invalid_argument);
-  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::dense, scene, BuildOptions{}, std::move(elsewhere), 10),
+  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::dense, scene, BuildOptions{}, alone(elsewhere, 10)),
+               std::invalid_argument);
+  // ispars2 keeps no dense roadmap: one given is a mistake, not something to drop silently.
+  auto built = make_roadmap_builder(BuildMethod::ispars, scene, BuildOptions{});
+  built->extend(200);
+  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::ispars2, scene, BuildOptions{},
+                                            {200, built->roadmap(), *built->dense(),
+                                             {built->dense_ids().begin(), built->dense_ids().end()}}),
                std::invalid_argument);
 }
 

@@ -76,16 +76,48 @@ SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, cons
   add_guard(r);
 }
 
-SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules, Roadmap sparse,
-                           std::size_t samples)
+SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules,
+                           BuiltRoadmaps built)
     : SparsBuilder(scene, options, rules) {
-  if (rules.dense_graph) throw std::invalid_argument("a builder with a dense graph is replayed, not resumed");
-  sparse_ = std::move(sparse);
+  if (built.dense.has_value() != rules.dense_graph) {
+    throw std::invalid_argument(rules.dense_graph ? "a builder with a dense graph resumes from its dense roadmap too"
+                                                  : "a builder without a dense graph resumes from its roadmap alone");
+  }
+  sparse_ = std::move(built.roadmap);
   sparse_grid_ = PointGrid(sparse_delta_);
   for (VertexId s = 0; s < sparse_.vertex_count(); ++s) sparse_grid_.insert(s, sparse_.position(s));
   for (const RoadmapEdge& e : sparse_.edges()) known_routes_.remember(e.u, e.v, e.cost);
-  skip_samples(rng_, samples);
-  samples_ = samples;
+  if (rules_.dense_graph) {
+    dense_ = DeltaPrm(scene, scene.config().dense_delta, std::move(*built.dense));
+    dense_of_sparse_ = std::move(built.dense_ids);
+    sparse_of_dense_.assign(dense_.graph().vertex_count(), kNoVertex);
+    for (VertexId s = 0; s < dense_of_sparse_.size(); ++s) sparse_of_dense_[dense_of_sparse_[s]] = s;
+    restore_representatives();
+  }
+  skip_samples(rng_, built.samples);
+  samples_ = built.samples;
+}
+
+void SparsBuilder::restore_representatives() {
+  const std::size_t n = dense_.graph().vertex_count();
+  rep_.assign(n, kNoVertex);
+  rep_distance_.assign(n, INFINITY);
+  support_rep_.assign(n, kNoVertex);
+  partners_.assign(n, {});
+  supports_.assign(sparse_.vertex_count(), {});
+  for (VertexId x = 0; x < n; ++x) {
+    const Vec3& p = dense_.graph().position(x);
+    // Nearest first, the lower id on a tie: the first in view is the one the build kept.
+    sparse_grid_.within(p, sparse_delta_, sparse_.positions(), nearby_);
+    for (const auto& [distance, s] : nearby_) {
+      if (dense_of_sparse_[s] == x || scene_->segment_valid(sparse_.position(s), p)) {
+        rep_[x] = s;
+        rep_distance_[x] = distance;
+        break;
+      }
+    }
+  }
+  for (VertexId x = 0; x < n; ++x) update_supports(x);
 }
 
 void SparsBuilder::extend(std::size_t samples) {

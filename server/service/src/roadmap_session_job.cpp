@@ -1,5 +1,6 @@
-// A session's build job: replaying the recipe into a builder after a restart, then growing the
-// roadmap chunk by chunk, each chunk committed to the store, published, and reported.
+// A session's build job: resuming a builder from the stored roadmaps after a restart (IRIS-C:
+// replaying its recipe), then growing the roadmap chunk by chunk, each chunk committed to the
+// store, published, and reported.
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -66,15 +67,14 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
     recipe = *recipe_;
   }
   build_scene_ = std::make_unique<Scene>(session_detail::scene_for(scene_, recipe));
-  if (resumes_from_roadmap(recipe.method)) {
-    // Its roadmap is its whole state: it goes on from the stored one (as recovered after a
-    // failure, else the published copy of the last commit), with nothing replayed.
+  if (resumes_from_roadmap(recipe.method) || (resumes_without_replay(recipe.method) && recovered_)) {
+    // Its stored roadmaps are its whole state: it goes on from them (as recovered after a restart
+    // or a failure; for a method whose roadmap alone is its state, else the published copy of the
+    // last commit), with nothing replayed.
     const auto t0 = std::chrono::steady_clock::now();
-    std::optional<Roadmap> roadmap;
-    std::uint64_t samples = 0;
+    BuiltRoadmaps built;
     if (recovered_) {
-      roadmap.emplace(std::move(recovered_->roadmap));
-      samples = recovered_->samples;
+      built = std::move(*recovered_);
     } else {
       PublishedRoadmap p;
       {
@@ -84,13 +84,13 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
       if (p.generation != recipe.generation || !p.roadmap || p.samples != samples_done()) {
         throw std::runtime_error("the published roadmap is not the last commit: cannot resume from it");
       }
-      roadmap.emplace(*p.roadmap);
-      samples = p.samples;
+      built.roadmap = *p.roadmap;
+      built.samples = p.samples;
     }
-    builder_ = resume_roadmap_builder(recipe.method, *build_scene_, build_options(recipe, limits_.build_threads),
-                                      std::move(*roadmap), samples);
     recovered_.reset();
-    spdlog::info("scene '{}': the {} builder resumed from its stored roadmap at {} samples in {:.3f} s, nothing replayed",
+    builder_ = resume_roadmap_builder(recipe.method, *build_scene_, build_options(recipe, limits_.build_threads),
+                                      std::move(built));
+    spdlog::info("scene '{}': the {} builder resumed from its stored roadmaps at {} samples in {:.3f} s, nothing replayed",
                  name_, to_string(recipe.method), builder_->samples(),
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     return;
@@ -144,6 +144,9 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
       cancelled_early = true;
     } else {
       recipe = build ? *build : *recipe_;
+      // Taken from the queue: a cancel from now on reaches the job (cancel_), not the queue. While
+      // the builder comes back (ensure_builder) the job is already running.
+      state_ = SessionState::building;
     }
   }
   if (cancelled_early) {

@@ -34,8 +34,8 @@ std::string get_blob(ByteReader& in) {
 }
 
 
-StoredRoadmaps empty_roadmaps(const RoadmapRecipe& recipe, std::size_t poi_count) {
-  StoredRoadmaps r{0, Roadmap(poi_count), std::nullopt, {}};
+BuiltRoadmaps empty_roadmaps(const RoadmapRecipe& recipe, std::size_t poi_count) {
+  BuiltRoadmaps r{0, Roadmap(poi_count), std::nullopt, {}};
   if (has_dense_pair(recipe.method)) r.dense.emplace(poi_count);
   return r;
 }
@@ -66,7 +66,7 @@ BuildCommit decode_commit(const std::string& payload) {
   return commit;
 }
 
-RoadmapsView view_of(const StoredRoadmaps& r) {
+RoadmapsView view_of(const BuiltRoadmaps& r) {
   return {r.samples, &r.roadmap, r.dense ? &*r.dense : nullptr, r.dense_ids};
 }
 
@@ -82,7 +82,7 @@ BuildCommit commit_since(const RoadmapsView& now, std::uint64_t roadmap_version,
   return commit;
 }
 
-void apply_commit(StoredRoadmaps& r, const BuildCommit& commit) {
+void apply_commit(BuiltRoadmaps& r, const BuildCommit& commit) {
   if (commit.samples < r.samples) throw std::runtime_error("commit goes back in samples");
   const bool dense_present = r.dense.has_value();
   if (!dense_present && (!commit.dense.changes.empty() || !commit.new_dense_ids.empty())) {
@@ -184,7 +184,7 @@ namespace {
 // must not run meanwhile: it removes journal.old once the snapshot holds it.)
 std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_count, StoreRecovery& recovered) {
   recovered.roadmaps = empty_roadmaps(recovered.recipe, poi_count);
-  StoredRoadmaps& r = recovered.roadmaps;
+  BuiltRoadmaps& r = recovered.roadmaps;
   const bool has_snapshot = std::filesystem::exists(snapshot_path(dir));
   if (has_snapshot) {
     const RecordReplay snapshot =

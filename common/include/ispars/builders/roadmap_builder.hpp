@@ -6,6 +6,7 @@
 #include <optional>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/roadmap/roadmap.hpp"
@@ -66,17 +67,30 @@ class RoadmapBuilder {
 [[nodiscard]] std::unique_ptr<RoadmapBuilder> make_roadmap_builder(BuildMethod method, const Scene& scene,
                                                                    const BuildOptions& options);
 
-/// Whether a builder of `method` can go on from its roadmap alone (resume_roadmap_builder):
-/// dense and ispars2. The others keep more than their roadmap (the dense pair's
-/// representatives and supports, IRIS-C's draws) and are rebuilt by replaying their samples.
+/// A builder's roadmaps after `samples` samples of its stream, as a store gives them back: what
+/// resume_roadmap_builder goes on from.
+struct BuiltRoadmaps {
+  std::uint64_t samples = 0;
+  Roadmap roadmap;                  ///< The method's roadmap (the sparse one for spars and ispars).
+  std::optional<Roadmap> dense;     ///< The dense pair's G_d (spars and ispars), else none.
+  std::vector<VertexId> dense_ids;  ///< For each vertex of `roadmap`, its vertex in `dense`.
+};
+
+/// Whether a builder of `method` can go on from its roadmap alone: dense and ispars2.
 [[nodiscard]] bool resumes_from_roadmap(BuildMethod method);
 
-/// A builder for `method` that goes on from `roadmap`, which make_roadmap_builder(method, scene,
-/// options) grew in `samples` samples, without drawing them again: extending it gives byte for
-/// byte what extending the uninterrupted builder gives. Throws std::invalid_argument when
-/// resumes_from_roadmap(method) is false or the roadmap has no root.
+/// Whether a builder of `method` can go on from its roadmaps (BuiltRoadmaps) without drawing its
+/// samples again: all but IRIS-C, whose admissions drew from the stream in a way its roadmap
+/// does not record, and which is rebuilt by replaying its samples.
+[[nodiscard]] bool resumes_without_replay(BuildMethod method);
+
+/// A builder for `method` that goes on from `built`, which make_roadmap_builder(method, scene,
+/// options) grew in built.samples samples, without drawing them again: extending it gives byte
+/// for byte what extending the uninterrupted builder gives. The dense pair (spars, ispars) needs
+/// `dense` and `dense_ids`; dense and ispars2 need neither. Throws std::invalid_argument when
+/// resumes_without_replay(method) is false, when the roadmaps do not start with the scene's root,
+/// or when the dense pair's roadmaps do not fit each other.
 [[nodiscard]] std::unique_ptr<RoadmapBuilder> resume_roadmap_builder(BuildMethod method, const Scene& scene,
-                                                                     const BuildOptions& options, Roadmap roadmap,
-                                                                     std::size_t samples);
+                                                                     const BuildOptions& options, BuiltRoadmaps built);
 
 }  // namespace ispars

@@ -93,12 +93,14 @@ class SparsBuilder final : public RoadmapBuilder {
  public:
   /// Throws std::invalid_argument for rules that need G_d without it (the dense shortcut).
   SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules);
-  /// Goes on from `sparse`, grown by these rules (without G_d) from `samples` samples of
-  /// options.seed's stream, as if it had never stopped: G_s and the sample stream are its whole
-  /// state (the admission counts start again at 0). Throws std::invalid_argument with G_d in the
-  /// rules; resume_roadmap_builder checks the roadmap's root.
-  SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules, Roadmap sparse,
-               std::size_t samples);
+  /// Goes on from `built`, grown by these rules from built.samples samples of options.seed's
+  /// stream, as if it had never stopped (the admission counts and shortcut records start again
+  /// empty). Without G_d, G_s and the place in the stream are the whole state. With it, G_d and
+  /// dense_ids are given too, and the representatives and interface supports are restored from
+  /// them (restore_representatives): they are functions of G_s and G_d. Throws
+  /// std::invalid_argument when `built` has a dense roadmap and the rules none, or the reverse;
+  /// resume_roadmap_builder checks the roots and the pair.
+  SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules, BuiltRoadmaps built);
 
   void extend(std::size_t samples) override;
   [[nodiscard]] const Roadmap& roadmap() const override { return sparse_; }
@@ -147,6 +149,11 @@ class SparsBuilder final : public RoadmapBuilder {
   [[nodiscard]] double known_route(VertexId a, VertexId b) const { return known_routes_.get(a, b); }
   /// W(x) for sparse vertex s at dense vertex x: sparse vertices within Delta in view, s excluded.
   std::vector<VertexId> reachable_from(VertexId s) const;
+
+  /// After a resume: rep(x) of every dense vertex x, and the interface supports over them, as the
+  /// uninterrupted build holds them. rep(x) is the nearest sparse vertex within Delta in view,
+  /// the lower id on a tie (as add_guard keeps it); a vertex's partners are its neighbours' reps.
+  void restore_representatives();
 
   /// AddGuard: dense vertex x becomes a sparse vertex (no edges); representatives and supports
   /// follow.

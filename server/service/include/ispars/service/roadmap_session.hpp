@@ -194,7 +194,7 @@ class RoadmapSession {
   std::unique_ptr<Scene> build_scene_;
   std::unique_ptr<RoadmapBuilder> builder_;
   std::unique_ptr<RoadmapStore> store_;
-  std::optional<StoredRoadmaps> recovered_;  // the stored roadmaps before the builder is replayed
+  std::optional<BuiltRoadmaps> recovered_;  // the stored roadmaps until a builder resumes from them
 
   mutable std::mutex mutex_;  // guards everything below
   SessionState state_ = SessionState::empty;

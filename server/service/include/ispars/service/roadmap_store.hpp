@@ -12,9 +12,10 @@
 // removes journal.old. A crash anywhere in that leaves files that recover the last commit, and
 // the next open() finishes the fold. No record size is a wall (record_file.hpp).
 // A commit carries the samples drawn so far and what the roadmap and its dense pair gained.
-// Builds are deterministic, so recipe + samples is the whole builder state (including the RNG):
-// replaying the recipe to that many samples rebuilds the builder exactly, and the recovered
-// roadmaps check the replay byte for byte.
+// The recovered roadmaps (BuiltRoadmaps) and the recipe are the whole builder state of every
+// method but IRIS-C (resume_roadmap_builder). Builds are deterministic, so IRIS-C's is recipe +
+// samples: replaying the recipe to that many samples rebuilds it exactly, and the recovered
+// roadmap checks the replay byte for byte.
 
 #include <atomic>
 #include <cstdint>
@@ -48,14 +49,6 @@ struct BuildCommit {
 /// Throws std::runtime_error on a payload that does not parse exactly.
 [[nodiscard]] BuildCommit decode_commit(const std::string& payload);
 
-/// A roadmap and its dense pair as of some commit.
-struct StoredRoadmaps {
-  std::uint64_t samples = 0;
-  Roadmap roadmap;
-  std::optional<Roadmap> dense;       ///< For spars and ispars.
-  std::vector<VertexId> dense_ids;    ///< For spars and ispars.
-};
-
 /// The live roadmaps of a build (the builder's own), seen without copying.
 struct RoadmapsView {
   std::uint64_t samples = 0;
@@ -74,7 +67,7 @@ struct StoreDamage : std::runtime_error {
 /// What opening a store recovered.
 struct StoreRecovery {
   RoadmapRecipe recipe;
-  StoredRoadmaps roadmaps;
+  BuiltRoadmaps roadmaps;
   std::size_t journal_commits = 0;  ///< Commits replayed from the journal after the snapshot.
   bool torn_tail = false;           ///< A torn journal tail (an incomplete last record) was dropped.
   std::string tail_problem;
@@ -150,10 +143,10 @@ class RoadmapStore {
 [[nodiscard]] BuildCommit commit_since(const RoadmapsView& now, std::uint64_t roadmap_version,
                                        std::uint64_t dense_version);
 /// A view of stored roadmaps.
-[[nodiscard]] RoadmapsView view_of(const StoredRoadmaps& roadmaps);
+[[nodiscard]] RoadmapsView view_of(const BuiltRoadmaps& roadmaps);
 
 /// Applies a commit to recovered roadmaps (throws std::runtime_error when it does not continue them).
-void apply_commit(StoredRoadmaps& roadmaps, const BuildCommit& commit);
+void apply_commit(BuiltRoadmaps& roadmaps, const BuildCommit& commit);
 
 /// Removes a store: renames it aside (atomic), then deletes it. Leftovers of an interrupted
 /// creation or removal (".new-NAME", ".dropped-NAME") are removed by remove_dropped_stores().
