@@ -55,10 +55,11 @@ struct Bench {
                                            probe_identity);
   }
   /// Stops the daemon (SIGTERM) and starts it again on the same directories; returns once it
-  /// announces itself.
+  /// announces itself (after loading what it stored: up to 10 minutes for a large store).
   void restart(const std::string& daemon_binary) {
     daemon.reset();
-    daemon = std::make_unique<LocalDaemon>(daemon_binary, domain, dir / "data", scene_dir, "bench", daemon_args, probe);
+    daemon = std::make_unique<LocalDaemon>(daemon_binary, domain, dir / "data", scene_dir, "bench", daemon_args, probe,
+                                           std::vector<std::string>{}, std::chrono::seconds(600));
   }
   ~Bench() {
     daemon.reset();

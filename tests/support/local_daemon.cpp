@@ -90,7 +90,8 @@ std::filesystem::path make_keystore(const std::string& script, const std::filesy
 
 LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::filesystem::path data_dir,
                          std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args,
-                         const std::string& probe_security, const std::vector<std::string>& environment)
+                         const std::string& probe_security, const std::vector<std::string>& environment,
+                         std::chrono::seconds ready_within)
     : domain_(domain), server_id_(std::move(server_id)) {
   log_path_ = data_dir.parent_path() / (server_id_ + "-" + data_dir.filename().string() + "-" + std::to_string(::getpid()) + ".log");
   std::vector<std::string> args = {daemon_binary, "--domain", std::to_string(domain), "--data-dir", data_dir.string(),
@@ -149,7 +150,7 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
   }
   probe_options.timeout = std::chrono::seconds(1);  // each look at the announcements
   Client probe(probe_options);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  const auto deadline = std::chrono::steady_clock::now() + ready_within;
   while (std::chrono::steady_clock::now() < deadline) {
     if (!alive()) throw std::runtime_error("isparsd exited at start:\n" + log().substr(std::min(log_start, log().size())));
     if (log().find("isparsd " + server_id_ + " serving on DDS domain", log_start) != std::string::npos) {
@@ -161,7 +162,8 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
   }
   const std::string so_far = log();
   kill9();  // no destructor runs for a constructor that throws: the process must not outlive the test
-  throw std::runtime_error("isparsd " + server_id_ + " did not announce itself within 20 s:\n" + so_far);
+  throw std::runtime_error("isparsd " + server_id_ + " did not announce itself within " +
+                           std::to_string(ready_within.count()) + " s:\n" + so_far);
 }
 
 LocalDaemon::~LocalDaemon() {

@@ -31,14 +31,16 @@ std::filesystem::path make_keystore(const std::string& script, const std::filesy
 
 class LocalDaemon {
  public:
-  /// Starts `daemon_binary` and waits until a client sees its announcement (throws after 20 s).
+  /// Starts `daemon_binary` and waits until a client sees its announcement (throws after
+  /// `ready_within`: a daemon announces itself once its stored roadmaps are loaded).
   /// Its output goes to a log file beside data_dir.
   /// `probe_security`: the DDS Security identity the readiness probe uses (a secured daemon's
   /// announcement reaches only authenticated clients).
   /// `environment`: variables set in the daemon's process only ("NAME=VALUE" each).
   LocalDaemon(const std::string& daemon_binary, int domain, std::filesystem::path data_dir,
               std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args = {},
-              const std::string& probe_security = "", const std::vector<std::string>& environment = {});
+              const std::string& probe_security = "", const std::vector<std::string>& environment = {},
+              std::chrono::seconds ready_within = std::chrono::seconds(20));
   /// Stops it with SIGTERM if it still runs.
   ~LocalDaemon();
   LocalDaemon(const LocalDaemon&) = delete;

@@ -27,6 +27,11 @@ bool Roadmap::has_edge(VertexId u, VertexId v) const {
 
 bool Roadmap::add_edge(VertexId u, VertexId v) {
   if (u == v || has_edge(u, v)) return false;
+  add_new_edge(u, v);
+  return true;
+}
+
+void Roadmap::add_new_edge(VertexId u, VertexId v) {
   adjacency_[u].push_back(v);
   adjacency_[v].push_back(u);
   edges_.push_back({u, v});
@@ -47,7 +52,6 @@ bool Roadmap::add_edge(VertexId u, VertexId v) {
     size_[a] += size_[b];
     --components_;
   }
-  return true;
 }
 
 VertexId Roadmap::component(VertexId v) const {

@@ -77,11 +77,9 @@ std::uint64_t roadmap_digest(const Roadmap& roadmap) {
   return h.hash;
 }
 
-namespace {
-
 // Everything apply_batch needs to hold, checked before the replica is touched: a batch from the
 // network or a damaged file is refused whole, never half-applied.
-void check_batch_fits(const Roadmap& replica, const RoadmapBatch& batch) {
+void check_batch(const Roadmap& replica, const RoadmapBatch& batch) {
   if (replica.version() != batch.from_version) {
     throw std::runtime_error("batch starts at version " + std::to_string(batch.from_version) +
                              " but the replica is at " + std::to_string(replica.version()));
@@ -130,19 +128,34 @@ void check_batch_fits(const Roadmap& replica, const RoadmapBatch& batch) {
   if (std::adjacent_find(added.begin(), added.end()) != added.end()) throw std::runtime_error("batch edge is a duplicate");
 }
 
-}  // namespace
-
 void apply_batch(Roadmap& replica, const RoadmapBatch& batch) {
-  check_batch_fits(replica, batch);
+  check_batch(replica, batch);
+  apply_checked_batch(replica, batch);
+}
+
+void apply_checked_batch(Roadmap& replica, const RoadmapBatch& batch) {
+  // Each neighbour list grows once, to its size after the batch: a large batch (a snapshot of
+  // millions of edges) then moves no list while it is added.
+  const std::size_t before = replica.vertex_count();
+  std::vector<std::uint32_t> gained(before + batch.positions.size(), 0);
+  for (const RoadmapEdge& e : batch.edges) {
+    ++gained[e.u];
+    ++gained[e.v];
+  }
+  for (VertexId v = 0; v < before; ++v) {
+    if (gained[v] != 0) replica.reserve_neighbors(v, gained[v]);
+  }
+  replica.reserve_edges(batch.edges.size());
   std::size_t vertex = 0;
   std::size_t edge = 0;
   for (const RoadmapChange& change : batch.changes) {
     if (change.kind == RoadmapChange::Kind::vertex) {
-      replica.add_vertex(batch.positions[vertex], batch.visible[vertex]);
+      const VertexId v = replica.add_vertex(batch.positions[vertex], batch.visible[vertex]);
+      if (gained[v] != 0) replica.reserve_neighbors(v, gained[v]);
       ++vertex;
     } else {
       const RoadmapEdge& e = batch.edges[edge++];
-      replica.add_edge(e.u, e.v);
+      replica.add_new_edge(e.u, e.v);
     }
   }
 }

@@ -97,18 +97,21 @@ void apply_commit(BuiltRoadmaps& r, const BuildCommit& commit) {
       (dense_present && r.dense->version() != commit.dense.from_version)) {
     throw std::runtime_error("commit does not continue the stored roadmaps");
   }
-  Roadmap roadmap = r.roadmap;
-  apply_batch(roadmap, commit.roadmap);
+  check_batch(r.roadmap, commit.roadmap);
   if (dense_present) {
-    Roadmap dense = *r.dense;
-    apply_batch(dense, commit.dense);
+    check_batch(*r.dense, commit.dense);
+    const std::size_t dense_after = r.dense->vertex_count() + commit.dense.positions.size();
     for (const VertexId id : commit.new_dense_ids) {
-      if (id >= dense.vertex_count()) throw std::runtime_error("commit dense id out of range");
+      if (id >= dense_after) throw std::runtime_error("commit dense id out of range");
     }
-    r.dense = std::move(dense);
+  }
+  // Every part fits: applied in place (a copy of the dense roadmap per commit made a restart's
+  // recovery cost its size times its journal's length).
+  apply_checked_batch(r.roadmap, commit.roadmap);
+  if (dense_present) {
+    apply_checked_batch(*r.dense, commit.dense);
     r.dense_ids.insert(r.dense_ids.end(), commit.new_dense_ids.begin(), commit.new_dense_ids.end());
   }
-  r.roadmap = std::move(roadmap);
   r.samples = commit.samples;
 }
 

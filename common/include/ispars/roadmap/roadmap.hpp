@@ -8,6 +8,7 @@
 // bit-identical to the length computed when the edge was added. The change log is not stored
 // either: the edge count when each vertex was added places every vertex and edge in it.
 
+#include <algorithm>
 #include <cstdint>
 #include <iterator>
 #include <limits>
@@ -147,6 +148,13 @@ class Roadmap {
   VertexId add_vertex(const Vec3& position, std::span<const PoiId> visible);
   /// Adds the edge u-v with cost |u - v|, unless it exists or u == v; returns whether it was added.
   bool add_edge(VertexId u, VertexId v);
+  /// Adds the edge u-v that the caller knows is new (u != v, both exist, no u-v yet): add_edge
+  /// without its look through a neighbour list. For a batch checked whole (apply_checked_batch).
+  void add_new_edge(VertexId u, VertexId v);
+  /// Makes room for `extra` more neighbours of v and `edges` more edges, growing each array at
+  /// least geometrically, so that adding a batch's edges moves each array at most once.
+  void reserve_neighbors(VertexId v, std::size_t extra) { reserve_more(adjacency_[v], extra); }
+  void reserve_edges(std::size_t extra) { reserve_more(edges_, extra); }
 
   [[nodiscard]] std::size_t vertex_count() const { return positions_.size(); }
   [[nodiscard]] std::size_t edge_count() const { return edges_.size(); }
@@ -194,6 +202,11 @@ class Roadmap {
  private:
   /// The first vertex whose change is at position `i` or later of the log.
   [[nodiscard]] VertexId first_vertex_at_or_after(std::uint64_t i) const;
+
+  template <class T>
+  static void reserve_more(std::vector<T>& v, std::size_t extra) {
+    if (v.size() + extra > v.capacity()) v.reserve(std::max(v.size() + extra, 2 * v.capacity()));
+  }
 
   std::vector<Vec3> positions_;
   PoiSetTable visible_;

@@ -43,6 +43,11 @@ struct RoadmapBatch {
 /// leaving the replica untouched, when the batch does not continue it (a gap, a duplicate, an id
 /// out of order) or is malformed (a POI id out of range, a non-finite position, a wrong cost).
 void apply_batch(Roadmap& replica, const RoadmapBatch& batch);
+/// apply_batch's check alone: throws std::runtime_error naming what does not fit; changes nothing.
+void check_batch(const Roadmap& replica, const RoadmapBatch& batch);
+/// apply_batch without its check, for a batch check_batch accepted against this very replica (a
+/// store checks every part of a commit before it applies any).
+void apply_checked_batch(Roadmap& replica, const RoadmapBatch& batch);
 
 /// What reading a log found.
 struct LogReplay {
