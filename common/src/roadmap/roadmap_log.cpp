@@ -134,16 +134,20 @@ void apply_batch(Roadmap& replica, const RoadmapBatch& batch) {
 }
 
 void apply_checked_batch(Roadmap& replica, const RoadmapBatch& batch) {
-  // Each neighbour list grows once, to its size after the batch: a large batch (a snapshot of
-  // millions of edges) then moves no list while it is added.
+  // A batch large beside the replica (a snapshot, a long journal commit) grows each neighbour
+  // list once, to its size after the batch. Counting costs a pass over the replica's vertices,
+  // which a small streamed batch would not repay: its lists grow as they go.
   const std::size_t before = replica.vertex_count();
-  std::vector<std::uint32_t> gained(before + batch.positions.size(), 0);
-  for (const RoadmapEdge& e : batch.edges) {
-    ++gained[e.u];
-    ++gained[e.v];
-  }
-  for (VertexId v = 0; v < before; ++v) {
-    if (gained[v] != 0) replica.reserve_neighbors(v, gained[v]);
+  std::vector<std::uint32_t> gained;
+  if (batch.edges.size() >= before) {
+    gained.assign(before + batch.positions.size(), 0);
+    for (const RoadmapEdge& e : batch.edges) {
+      ++gained[e.u];
+      ++gained[e.v];
+    }
+    for (VertexId v = 0; v < before; ++v) {
+      if (gained[v] != 0) replica.reserve_neighbors(v, gained[v]);
+    }
   }
   replica.reserve_edges(batch.edges.size());
   std::size_t vertex = 0;
@@ -151,7 +155,7 @@ void apply_checked_batch(Roadmap& replica, const RoadmapBatch& batch) {
   for (const RoadmapChange& change : batch.changes) {
     if (change.kind == RoadmapChange::Kind::vertex) {
       const VertexId v = replica.add_vertex(batch.positions[vertex], batch.visible[vertex]);
-      if (gained[v] != 0) replica.reserve_neighbors(v, gained[v]);
+      if (!gained.empty() && gained[v] != 0) replica.reserve_neighbors(v, gained[v]);
       ++vertex;
     } else {
       const RoadmapEdge& e = batch.edges[edge++];
