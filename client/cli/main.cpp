@@ -172,13 +172,14 @@ int main(int argc, char** argv) {
         nlohmann::json list = nlohmann::json::array();
         for (const auto& e : entries) {
           list.push_back({{"name", e.name().to_string()}, {"server_id", e.server_id().to_string()}, {"loaded", e.loaded()},
-                          {"has_roadmap", e.has_roadmap()}});
+                          {"has_roadmap", e.has_roadmap()}, {"note", e.note()}});
         }
         std::cout << nlohmann::json{{"scenes", list}}.dump() << std::endl;
       } else {
         for (const auto& e : entries) {
-          std::cout << fmt::format("{:<24} {:<28} {}{}\n", e.name().to_string(), e.server_id().to_string(), e.loaded() ? "loaded" : "-",
-                                   e.has_roadmap() ? ", stored roadmap" : "");
+          std::cout << fmt::format("{:<24} {:<28} {}{}{}\n", e.name().to_string(), e.server_id().to_string(),
+                                   e.loaded() ? "loaded" : "-", e.has_roadmap() ? ", stored roadmap" : "",
+                                   e.note().empty() ? "" : "\n    " + e.note());
         }
       }
     } else if (*scenes_load) {

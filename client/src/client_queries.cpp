@@ -101,7 +101,15 @@ msg::SceneStatus Client::wait_idle(const std::string& scene, const std::function
                                                      s->server_id() == last.server_id()) {
       // older than what we know: ignore
     } else if (s) {
-      if (s->server_id() != last.server_id() || s->state() == msg::SCENE_UNLOADED) {
+      if (s->server_id() != last.server_id()) {
+        // The fleet moved the scene (docs/fleet.md): the new owner's status says what it continues.
+        throw ClientError(ClientError::Kind::protocol,
+                          fmt::format("scene '{}' moved from daemon {} to daemon {} while waiting (now {}, {} of {} "
+                                      "samples); wait on it again to follow the new owner",
+                                      scene, last.server_id().to_string(), s->server_id().to_string(),
+                                      wire::to_string(s->state()), s->samples_done(), s->samples_target()));
+      }
+      if (s->state() == msg::SCENE_UNLOADED) {
         throw ClientError(ClientError::Kind::protocol, fmt::format("scene '{}' was unloaded while waiting", scene));
       }
       last = *s;

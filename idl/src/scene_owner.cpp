@@ -21,16 +21,23 @@ bool contains(const Sequence& names, std::string_view name) {
   return std::any_of(names.begin(), names.end(), [&](const auto& n) { return n.to_string() == name; });
 }
 
-// The best of `live` for `scene` among those `eligible` accepts; empty when none.
+}  // namespace
+
+bool outweighs(std::string_view scene, const msg::DaemonInfo& a, const msg::DaemonInfo& b,
+               std::span<const msg::DaemonInfo> live);
+
+namespace {
+
+// The daemon of `live` with the highest key for `scene` among those `eligible` accepts; empty
+// when none.
 template <class Eligible>
 std::string best(std::string_view scene, std::span<const msg::DaemonInfo> live, Eligible eligible) {
-  std::string winner;
+  const msg::DaemonInfo* winner = nullptr;
   for (const msg::DaemonInfo& d : live) {
     if (!eligible(d)) continue;
-    const std::string id = d.server_id().to_string();
-    if (winner.empty() || outranks(scene, id, winner)) winner = id;
+    if (winner == nullptr || outweighs(scene, d, *winner, live)) winner = &d;
   }
-  return winner;
+  return winner == nullptr ? std::string() : winner->server_id().to_string();
 }
 
 }  // namespace
@@ -60,15 +67,43 @@ bool holds(const msg::DaemonInfo& daemon, std::string_view scene) { return conta
 bool offers(const msg::DaemonInfo& daemon, std::string_view scene) { return contains(daemon.available(), scene); }
 bool stores(const msg::DaemonInfo& daemon, std::string_view scene) { return contains(daemon.stored(), scene); }
 
+const msg::StoredRoadmap* roadmap_of(const msg::DaemonInfo& daemon, std::string_view scene) {
+  for (const msg::StoredRoadmap& r : daemon.roadmaps()) {
+    if (r.scene().to_string() == scene) return &r;
+  }
+  return nullptr;
+}
+
+Freshness claim_freshness(const msg::DaemonInfo& daemon, std::string_view scene,
+                          std::span<const msg::DaemonInfo> live) {
+  const msg::StoredRoadmap* r = roadmap_of(daemon, scene);
+  if (r == nullptr) return {};
+  const std::string to = r->yielded_to().to_string();
+  if (!to.empty() && to != daemon.server_id().to_string() &&
+      std::any_of(live.begin(), live.end(), [&](const msg::DaemonInfo& d) { return d.server_id().to_string() == to; })) {
+    return {};  // handed over to a daemon that still lives: that one carries it now
+  }
+  const bool held = holds(daemon, scene);
+  return {r->generation(), held ? std::max(r->samples(), r->target()) : r->samples()};
+}
+
+bool outweighs(std::string_view scene, const msg::DaemonInfo& a, const msg::DaemonInfo& b,
+               std::span<const msg::DaemonInfo> live) {
+  const Freshness fa = claim_freshness(a, scene, live);
+  const Freshness fb = claim_freshness(b, scene, live);
+  if (fa != fb) return fa > fb;
+  const bool ha = holds(a, scene);
+  const bool hb = holds(b, scene);
+  if (ha != hb) return ha;
+  return outranks(scene, a.server_id().to_string(), b.server_id().to_string());
+}
+
 std::string holder_of(std::string_view scene, std::span<const msg::DaemonInfo> live) {
   return best(scene, live, [&](const msg::DaemonInfo& d) { return holds(d, scene); });
 }
 
 std::string assigned_daemon(std::string_view scene, std::span<const msg::DaemonInfo> live) {
-  std::string with_roadmap =
-      best(scene, live, [&](const msg::DaemonInfo& d) { return offers(d, scene) && stores(d, scene); });
-  if (!with_roadmap.empty()) return with_roadmap;
-  return best(scene, live, [&](const msg::DaemonInfo& d) { return offers(d, scene); });
+  return best(scene, live, [&](const msg::DaemonInfo& d) { return holds(d, scene) || offers(d, scene); });
 }
 
 std::string owner_of(std::string_view scene, std::span<const msg::DaemonInfo> live) {

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -99,7 +100,11 @@ class Daemon {
   // gives up contested scenes and takes over those whose holder left.
   void join_fleet();  // after dds_ exists: listens, refuses a duplicate id
   void watch_fleet();
+  void give_up(const ContestedScene& contest);  // hands a held scene to the daemon that outweighs this one
   void take_over(const OrphanScene& orphan);
+  void announce_if_fresher();  // held roadmaps changed: at once for a new generation or target
+  void set_fleet_note(const std::string& scene, const std::string& note);
+  [[nodiscard]] std::string fleet_note(const std::string& scene) const;  // for the scenes list
   // For operators (daemon_operator.cpp): readiness, watchdog, metrics and health.
   void open_metrics_endpoint();  // first of all: a port in use stops the start
   void start_serving();          // READY
@@ -121,6 +126,18 @@ class Daemon {
   mutable std::mutex listing_mutex_;
   std::vector<std::string> available_;
   std::vector<std::string> stored_;
+  std::vector<ServedRoadmap> stored_roadmaps_;  // stored, not loaded (roadmap_service.hpp)
+  std::vector<UnservableStore> unservable_;
+  // Scenes this daemon handed to another (the winner, and the samples it had accepted to reach),
+  // announced with its copy until it holds the scene again.
+  struct Handover {
+    std::string to;
+    std::uint64_t accepted = 0;
+  };
+  std::map<std::string, Handover> handed_over_;
+  std::map<std::string, std::string> fleet_notes_;  // scene -> what the fleet last decided about it here
+  std::vector<ServedRoadmap> last_held_;  // held roadmaps as last announced (announce_if_fresher)
+  std::chrono::steady_clock::time_point last_held_announce_{};
   std::unique_ptr<DdsEndpoints> dds_;
   std::unique_ptr<RoadmapService> service_;
   std::unique_ptr<WorkerPool> quick_lane_;  // list, stats, cancel, unload, build, extend, tour

@@ -1,7 +1,9 @@
 // isparsd in a fleet of daemons: joining (listening for the others before claiming anything,
-// refusing an id another daemon announces), then a thread that applies the ownership rule as the
-// fleet changes: a scene claimed here and by a daemon that outranks this one is given up, and a
-// scene whose holder left is taken over and rebuilt from its recipe (builds are deterministic).
+// refusing an id another daemon announces), then a thread that applies the ownership rule
+// (docs/fleet.md) as the fleet changes: a scene held here that another daemon outweighs is handed
+// over to it with the work accepted here, and a scene whose holder left or handed it here is
+// taken over: this daemon's own copy continued when it is the same roadmap, the former owner's
+// rebuilt from its recipe otherwise (builds are deterministic), an older copy set aside.
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -16,6 +18,7 @@
 #include "dds_endpoints.hpp"
 #include "ispars/input_error.hpp"
 #include "status_message.hpp"
+#include "takeover_plan.hpp"
 
 namespace ispars::server {
 namespace {
@@ -23,6 +26,7 @@ namespace {
 constexpr std::chrono::milliseconds kFleetPeriod{100};  // how often the rule is re-applied
 constexpr std::chrono::seconds kReannouncePeriod{5};    // after another participant announced this id
 constexpr std::chrono::seconds kListingPeriod{2};  // how often scene files and stored roadmaps are rescanned
+constexpr std::chrono::seconds kSamplesAnnouncePeriod{1};  // held roadmaps' committed samples, at most this often
 
 // The samples of the roadmap `status` describes: its target while it was still building.
 std::uint64_t samples_to_rebuild(const msg::SceneStatus& status) {
@@ -82,37 +86,84 @@ void Daemon::watch_fleet() {
       last_listing = std::chrono::steady_clock::now();
       if (refresh_listing()) announce();
     }
-    for (const std::string& scene : claims_->contested()) {
-      spdlog::warn("scene '{}' is also claimed by a daemon that outranks {} under the fleet's rule; giving it up",
-                   scene, config_.server_id);
-      service_->yield(scene, leaving_);
-    }
+    for (const ContestedScene& contest : claims_->contested()) give_up(contest);
     for (const OrphanScene& orphan : claims_->orphans()) take_over(orphan);
+    announce_if_fresher();
     lock.lock();
   }
 }
 
+void Daemon::give_up(const ContestedScene& contest) {
+  std::uint64_t accepted = 0;
+  try {
+    const SessionStatus st = service_->stats(contest.scene);
+    accepted = std::max(st.samples_done, st.samples_target);
+  } catch (const std::exception&) {
+    return;  // unloaded meanwhile
+  }
+  {
+    // Announced with this daemon's copy from the moment the scene is released: the winner takes
+    // it over, continuing to `accepted`, and no daemon weighs this copy while the winner lives.
+    std::lock_guard lock(listing_mutex_);
+    handed_over_[contest.scene] = {contest.winner, accepted};
+    fleet_notes_[contest.scene] = fmt::format("handed over to daemon {} ({}); this daemon's copy is kept",
+                                              contest.winner, contest.why);
+  }
+  spdlog::warn("scene '{}' is handed over to daemon {}: {}; the {} samples accepted here go with it", contest.scene,
+               contest.winner, contest.why, accepted);
+  service_->yield(contest.scene, leaving_);
+}
+
 void Daemon::take_over(const OrphanScene& orphan) {
-  spdlog::warn("daemon {} left while holding scene '{}'; this daemon takes it over", orphan.former_owner,
-               orphan.scene);
+  spdlog::warn("daemon {} {} scene '{}'; this daemon takes it over", orphan.former_owner,
+               orphan.handed_over ? "handed over" : "left while holding", orphan.scene);
   try {
     const auto [session, loaded_now] = service_->load(orphan.scene);
-    const auto recipe = orphan.last_status ? recipe_of(*orphan.last_status) : std::nullopt;
-    const std::uint64_t samples = orphan.last_status ? samples_to_rebuild(*orphan.last_status) : 0;
-    if (!recipe || samples == 0) return;  // it held no roadmap, or a damaged one: loaded as it is here
-    BuildRequest request = rebuild_request(*recipe, samples);
-    const SessionStatus mine = session->status();
-    if (mine.recipe && same_roadmap(*mine.recipe, *recipe) && mine.samples_done <= request.samples) {
-      if (mine.samples_done < request.samples) service_->extend(orphan.scene, request.samples - mine.samples_done);
-    } else {
-      request.replace = mine.recipe.has_value();
-      service_->build(orphan.scene, request);
+    FormerRoadmap former;
+    former.owner = orphan.former_owner;
+    former.samples = orphan.accepted;
+    if (orphan.last_status) {
+      former.recipe = recipe_of(*orphan.last_status);
+      former.fingerprint = orphan.last_status->scene_fingerprint().to_string();
+      former.builder_version = orphan.last_status->builder_version();
+      former.samples = std::max(former.samples, samples_to_rebuild(*orphan.last_status));
     }
-    spdlog::info("scene '{}' taken over from {}: rebuilding its {} roadmap (seed {}) to {} samples", orphan.scene,
-                 orphan.former_owner, orphan.last_status->method().to_string(), request.seed, request.samples);
+    const TakeoverPlan plan = plan_takeover(orphan.scene, session->status(), session->fingerprint(), former);
+    if (plan.set_aside) {
+      const auto where = service_->set_aside(orphan.scene, plan.outcome);
+      spdlog::warn("scene '{}': this daemon's copy is kept aside in {}", orphan.scene, where.string());
+    }
+    if (plan.action == TakeoverPlan::Action::extend) service_->extend(orphan.scene, plan.extend_by);
+    if (plan.action == TakeoverPlan::Action::rebuild) service_->build(orphan.scene, plan.request);
+    set_fleet_note(orphan.scene, plan.outcome);
+    if (plan.refused) {
+      spdlog::warn("{}", plan.outcome);
+    } else {
+      spdlog::info("{}", plan.outcome);
+    }
   } catch (const std::exception& e) {
-    spdlog::error("taking over scene '{}' from {} failed: {}", orphan.scene, orphan.former_owner, e.what());
+    spdlog::error("taking over scene '{}' from {} failed: {}{}", orphan.scene, orphan.former_owner, e.what(),
+                  orphan.handed_over ? " (tried again in a few seconds while it is not held)" : "");
   }
+}
+
+void Daemon::announce_if_fresher() {
+  std::vector<ServedRoadmap> held = service_->held_roadmaps();
+  const auto now = std::chrono::steady_clock::now();
+  bool at_once = held.size() != last_held_.size();
+  bool samples = false;
+  for (std::size_t i = 0; !at_once && i < held.size(); ++i) {
+    const ServedRoadmap& a = held[i];
+    const ServedRoadmap& b = last_held_[i];
+    at_once = a.scene != b.scene || a.generation != b.generation || a.target != b.target;
+    samples = samples || a.samples != b.samples;
+  }
+  // A new roadmap or a new job is announced at once (the fleet weighs it); committed samples at
+  // most once a second (each commit would otherwise be an announcement).
+  if (!at_once && !(samples && now - last_held_announce_ >= kSamplesAnnouncePeriod)) return;
+  last_held_ = std::move(held);
+  last_held_announce_ = now;
+  announce();
 }
 
 }  // namespace ispars::server

@@ -28,19 +28,32 @@ void SceneClaims::claim(const std::string& scene) {
     if (claimed_.count(scene)) return;
   }
   std::vector<msg::DaemonInfo> others = fleet_.others();
+  {
+    // Remembered now, not only on the fleet thread's next look: a holder that leaves right after
+    // refusing this claim (a daemon starting beside it) is then taken over.
+    std::lock_guard lock(mutex_);
+    remember_holders(others);
+  }
   if (const std::string holder = wire::holder_of(scene, others); !holder.empty()) {
     throw InputError(kRequest, "scene", fmt::format("scene '{}' is owned by daemon {}", scene, holder));
   }
   std::vector<msg::DaemonInfo> everyone = others;
   everyone.push_back(fleet_.self());
   if (const std::string assigned = wire::assigned_daemon(scene, everyone); assigned != self_) {
-    const bool stored = std::any_of(everyone.begin(), everyone.end(), [&](const msg::DaemonInfo& d) {
-      return d.server_id() == assigned && wire::stores(d, scene);
-    });
+    const auto it = std::find_if(everyone.begin(), everyone.end(),
+                                 [&](const msg::DaemonInfo& d) { return d.server_id() == assigned; });
+    const wire::Freshness f = wire::claim_freshness(*it, scene, everyone);
+    const wire::Freshness mine = wire::claim_freshness(everyone.back(), scene, everyone);
+    const std::string why =
+        f.generation == 0 ? std::string("no daemon has a copy, and its rendezvous weight is the highest")
+        : f == mine       ? fmt::format("equally fresh copies are here and there (generation {}, {} samples): settled "
+                                        "by rendezvous weight",
+                                        f.generation, f.samples)
+                          : fmt::format("it has the freshest copy: generation {}, {} samples", f.generation, f.samples);
     throw InputError(kRequest, "scene",
-                     fmt::format("scene '{}' belongs to daemon {} by the fleet's rule (the live daemon offering it "
-                                 "with the highest rendezvous weight{}); load it there (ispars does by itself)",
-                                 scene, assigned, stored ? ", among those with a stored roadmap of it" : ""));
+                     fmt::format("scene '{}' belongs to daemon {} by the fleet's rule ({}); load it there (ispars "
+                                 "does by itself)",
+                                 scene, assigned, why));
   }
   {
     std::lock_guard lock(mutex_);
@@ -48,9 +61,12 @@ void SceneClaims::claim(const std::string& scene) {
   }
   fleet_.announce();
   std::this_thread::sleep_for(kClaimWindow);
-  for (const msg::DaemonInfo& d : fleet_.others()) {
+  const msg::DaemonInfo me = fleet_.self();
+  std::vector<msg::DaemonInfo> now = fleet_.others();
+  now.push_back(me);
+  for (const msg::DaemonInfo& d : now) {
     const std::string id = d.server_id().to_string();
-    if (wire::holds(d, scene) && wire::outranks(scene, id, self_)) {
+    if (id != self_ && wire::holds(d, scene) && wire::outweighs(scene, d, me, now)) {
       release(scene);
       fleet_.announce();
       throw InputError(kRequest, "scene",
@@ -71,18 +87,69 @@ std::vector<std::string> SceneClaims::claimed() const {
   return {claimed_.begin(), claimed_.end()};
 }
 
-std::vector<std::string> SceneClaims::contested() const {
-  const std::vector<msg::DaemonInfo> others = fleet_.others();
-  std::vector<std::string> out;
+std::vector<ContestedScene> SceneClaims::contested() const {
+  std::vector<msg::DaemonInfo> everyone = fleet_.others();
+  everyone.push_back(fleet_.self());
+  std::vector<ContestedScene> out;
   for (const std::string& scene : claimed()) {
-    for (const msg::DaemonInfo& d : others) {
-      if (wire::holds(d, scene) && wire::outranks(scene, d.server_id().to_string(), self_)) {
-        out.push_back(scene);
-        break;
-      }
-    }
+    const std::string winner = wire::assigned_daemon(scene, everyone);
+    if (winner.empty() || winner == self_) continue;
+    const auto it = std::find_if(everyone.begin(), everyone.end(),
+                                 [&](const msg::DaemonInfo& d) { return d.server_id() == winner; });
+    const wire::Freshness theirs = wire::claim_freshness(*it, scene, everyone);
+    const wire::Freshness mine = wire::claim_freshness(everyone.back(), scene, everyone);
+    const bool holds = wire::holds(*it, scene);
+    std::string why =
+        theirs == mine
+            ? fmt::format("{} equally fresh copies (generation {}, {} samples): settled by rendezvous weight",
+                          holds ? "both hold" : "it has", mine.generation, mine.samples)
+            : fmt::format("its copy is fresher (generation {}, {} samples; here generation {}, {} samples)",
+                          theirs.generation, theirs.samples, mine.generation, mine.samples);
+    out.push_back({scene, winner, holds, std::move(why)});
   }
   return out;
+}
+
+void SceneClaims::remember_holders(const std::vector<msg::DaemonInfo>& others) {
+  for (const msg::DaemonInfo& d : others) {
+    for (const auto& name : d.loaded()) {
+      const std::string scene = name.to_string();
+      if (held_by_.size() >= kMaxRemembered && !held_by_.count(scene)) continue;
+      held_by_[scene] = d.server_id().to_string();
+      const msg::StoredRoadmap* r = wire::roadmap_of(d, scene);
+      accepted_[scene] = r ? std::max(r->samples(), r->target()) : 0;
+    }
+  }
+}
+
+void SceneClaims::add_handovers(const std::vector<msg::DaemonInfo>& others, const msg::DaemonInfo& me,
+                                std::vector<OrphanScene>& out) {
+  const auto now = std::chrono::steady_clock::now();
+  for (const msg::DaemonInfo& d : others) {
+    for (const msg::StoredRoadmap& r : d.roadmaps()) {
+      const std::string scene = r.scene().to_string();
+      if (r.yielded_to().to_string() != self_ || wire::holds(d, scene)) continue;
+      const std::uint64_t accepted = std::max(r.samples(), r.target());
+      if (claimed_.count(scene)) {
+        // Held here already: only work it accepted beyond what this daemon holds or will reach.
+        const msg::StoredRoadmap* mine = wire::roadmap_of(me, scene);
+        if (!mine || mine->generation() != r.generation() || std::max(mine->samples(), mine->target()) >= accepted) {
+          continue;
+        }
+      } else if (!wire::holder_of(scene, others).empty()) {
+        continue;  // another daemon took it
+      }
+      const auto last = handover_reported_.find(scene);
+      if (last != handover_reported_.end() && now - last->second < kRetryPeriod) continue;
+      if (handover_reported_.size() >= kMaxRemembered && last == handover_reported_.end()) continue;
+      handover_reported_[scene] = now;
+      OrphanScene orphan{scene, d.server_id().to_string(), true, std::nullopt, accepted};
+      if (const auto s = last_status_.find(scene); s != last_status_.end() && s->second.server_id() == d.server_id()) {
+        orphan.last_status = s->second;
+      }
+      out.push_back(std::move(orphan));
+    }
+  }
 }
 
 std::vector<OrphanScene> SceneClaims::orphans() {
@@ -91,22 +158,16 @@ std::vector<OrphanScene> SceneClaims::orphans() {
   everyone.push_back(fleet_.self());
   std::vector<OrphanScene> out;
   std::lock_guard lock(mutex_);
-  for (const msg::DaemonInfo& d : others) {
-    for (const auto& scene : d.loaded()) {
-      if (held_by_.size() < kMaxRemembered || held_by_.count(scene.to_string())) {
-        held_by_[scene.to_string()] = d.server_id().to_string();
-      }
-    }
-  }
+  remember_holders(others);
   for (auto it = held_by_.begin(); it != held_by_.end();) {
     const auto& [scene, holder] = *it;
     const std::string now_held = wire::holder_of(scene, others);
     if (now_held == holder) {
       ++it;  // still held by the daemon last seen holding it
     } else if (!now_held.empty() || claimed_.count(scene) || alive(others, holder)) {
-      it = held_by_.erase(it);  // moved to another daemon, or here, or released on purpose
+      it = held_by_.erase(it);  // moved to another daemon, or here, or released (handed over: below)
     } else if (wire::assigned_daemon(scene, everyone) == self_) {
-      OrphanScene orphan{scene, holder, std::nullopt};
+      OrphanScene orphan{scene, holder, false, std::nullopt, accepted_[scene]};
       if (const auto s = last_status_.find(scene); s != last_status_.end() && s->second.server_id() == holder) {
         orphan.last_status = s->second;
       }
@@ -116,6 +177,7 @@ std::vector<OrphanScene> SceneClaims::orphans() {
       ++it;  // another live daemon is to take it over; remembered in case it leaves too
     }
   }
+  add_handovers(others, everyone.back(), out);
   return out;
 }
 

@@ -1,11 +1,12 @@
 #pragma once
-// This daemon's claims on scenes under the fleet's ownership rule (ispars/wire/scene_owner.hpp).
-// A scene is loaded only once it is claimed: no live daemon holds it, the rule assigns it to this
-// daemon, the claim has been announced, and after a claim window no daemon that outranks this
-// one claimed it too. Claims made at the same instant on stale views are settled afterwards by
-// contested(): the outranked daemon gives the scene up. When a holder leaves the domain, the
-// daemon the rule now names takes each of its scenes over (orphans()), with the last status its
-// holder published, which carries the recipe.
+// This daemon's claims on scenes under the fleet's ownership rule (ispars/wire/scene_owner.hpp,
+// docs/fleet.md). A scene is loaded only once it is claimed: no live daemon holds it, the rule
+// assigns it to this daemon, the claim has been announced, and after a claim window no daemon
+// that outweighs this one claimed it too. A held scene that another live daemon outweighs (a
+// fresher copy, or a claim made at the same instant on a stale view) is given up to it
+// (contested()). A scene comes here (orphans()) when its holder left the domain and the rule now
+// names this daemon, or when its holder handed it to this daemon; with the last status its
+// holder published, which carries the recipe, and the samples it had accepted to reach.
 //
 // Knows nothing of DDS: the announcements and statuses it reasons about come in through Fleet.
 
@@ -33,12 +34,23 @@ struct Fleet {
   std::function<void()> announce;
 };
 
-/// A scene whose holder left the domain, now this daemon's to take over.
+/// A scene whose holder left the domain or handed it here, now this daemon's to take over.
 struct OrphanScene {
   std::string scene;
   std::string former_owner;
+  bool handed_over = false;  ///< The former owner lives and gave the scene to this daemon.
   /// The last status the former owner published while holding it (its recipe and size), if any.
   std::optional<msg::SceneStatus> last_status;
+  /// The samples the former owner had accepted to reach (its announced target), 0 if unknown.
+  std::uint64_t accepted = 0;
+};
+
+/// A scene held here that another live daemon outweighs: to be given up to `winner`.
+struct ContestedScene {
+  std::string scene;
+  std::string winner;
+  bool winner_holds = false;  ///< Both hold it (claims on stale views, a partition healed).
+  std::string why;            ///< Why the winner outweighs this daemon, in words for the log.
 };
 
 class SceneClaims {
@@ -48,6 +60,8 @@ class SceneClaims {
   static constexpr std::chrono::milliseconds kClaimWindow{300};
   /// Former holders and last statuses remembered, at most (scene names are bounded anyway).
   static constexpr std::size_t kMaxRemembered = 4096;
+  /// How long a handed-over scene that is still not held here waits before it is reported again.
+  static constexpr std::chrono::seconds kRetryPeriod{5};
 
   SceneClaims(std::string self_id, Fleet fleet);
 
@@ -59,9 +73,11 @@ class SceneClaims {
   /// Scenes claimed here, sorted.
   [[nodiscard]] std::vector<std::string> claimed() const;
 
-  /// Scenes claimed here that a live daemon outranking this one holds too: to give up.
-  [[nodiscard]] std::vector<std::string> contested() const;
-  /// Scenes whose holder left and that the rule now assigns to this daemon; each is reported once.
+  /// Scenes claimed here that another live daemon outweighs: to give up to it.
+  [[nodiscard]] std::vector<ContestedScene> contested() const;
+  /// Scenes whose holder left and that the rule now assigns to this daemon, each reported once;
+  /// and scenes a live holder handed to this daemon and that nobody holds, reported again every
+  /// kRetryPeriod while so (a takeover that failed is tried again).
   [[nodiscard]] std::vector<OrphanScene> orphans();
   /// Remembers a status another daemon published (the recipe a takeover rebuilds from).
   void observe(const msg::SceneStatus& status);
@@ -71,7 +87,12 @@ class SceneClaims {
   const Fleet fleet_;
   mutable std::mutex mutex_;
   std::set<std::string> claimed_;
+  void remember_holders(const std::vector<msg::DaemonInfo>& others);  // with mutex_ held
+  void add_handovers(const std::vector<msg::DaemonInfo>& others, const msg::DaemonInfo& me,
+                     std::vector<OrphanScene>& out);  // mutex_ held
   std::map<std::string, std::string> held_by_;                // scene -> the other daemon last seen holding it
+  std::map<std::string, std::uint64_t> accepted_;             // scene -> what its holder last announced accepting
+  std::map<std::string, std::chrono::steady_clock::time_point> handover_reported_;
   std::map<std::string, msg::SceneStatus> last_status_;  // scene -> its holder's last status but UNLOADED
 };
 

@@ -32,6 +32,8 @@ msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id
     m.stretch_slack(s.recipe->stretch_slack);
     m.stretch_slack_after(static_cast<std::uint64_t>(s.recipe->stretch_slack_after));
     m.p_accept(s.recipe->p_accept);
+    m.scene_fingerprint(s.recipe->scene_fingerprint.substr(0, 64));
+    m.builder_version(s.recipe->builder_version);
   }
   m.samples_done(s.samples_done);
   m.samples_target(s.samples_target);

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -50,6 +51,17 @@ class ServiceTest : public ::testing::Test {
   int domain_ = 0;
   std::filesystem::path scene_dir_;
 };
+
+// The daemons holding `scene`, as their announcements say.
+inline std::vector<std::string> holders(Client& client, const std::string& scene) {
+  std::vector<std::string> out;
+  for (const auto& d : client.daemons()) {
+    if (std::find(d.loaded().begin(), d.loaded().end(), scene) != d.loaded().end()) {
+      out.push_back(d.server_id().to_string());
+    }
+  }
+  return out;
+}
 
 // "s0".."s3" (built by appending: GCC 12 warns falsely on "s" + std::to_string(n)).
 inline std::string scene_name(unsigned n) {

@@ -18,15 +18,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The daemons holding `scene`, as their announcements say.
-std::vector<std::string> holders(Client& client, const std::string& scene) {
-  std::vector<std::string> out;
-  for (const auto& d : client.daemons()) {
-    if (wire::holds(d, scene)) out.push_back(d.server_id().to_string());
-  }
-  return out;
-}
-
 class FleetTest : public ServiceTest {
  protected:
   // Starts daemons `ids` at the same instant (each with `extra`), returns once all announce.
@@ -289,11 +280,14 @@ TEST_F(FleetTest, WhenTheOwnerIsKilledAnotherTakesOverAndRebuildsTheSameRoadmap)
   EXPECT_EQ(rebuilt.seed(), 3u);
   EXPECT_EQ(roadmap_digest(client.snapshot("s1").roadmap), digest);
   EXPECT_EQ(holders(client, "s1"), std::vector<std::string>{after.server_id().to_string()});
-  // The replica resynced from the new owner and holds the rebuilt roadmap.
+  // The takeover continues the roadmap's lineage (docs/fleet.md): the same generation, so a
+  // replica that already holds that version of it needs no resync (it may take one, as the
+  // publisher changed); either way it holds the rebuilt roadmap.
+  EXPECT_EQ(rebuilt.generation(), built.generation());
   EXPECT_TRUE(replica.wait_for(rebuilt.generation(), rebuilt.version(), std::chrono::seconds(30)))
       << "replica at generation " << replica.generation() << " version " << replica.version() << "; "
       << replica.last_error();
-  EXPECT_GT(replica.snapshots_taken(), snapshots_before);
+  EXPECT_GE(replica.snapshots_taken(), snapshots_before);
   EXPECT_EQ(roadmap_digest(replica.roadmap()), digest);
 }
 

@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <mutex>
+#include <optional>
+#include <tuple>
 
 #include "ispars/input_error.hpp"
 #include "ispars/wire/scene_owner.hpp"
 #include "scene_claims.hpp"
+#include "wire/stored_roadmap_fixture.hpp"
 
 namespace ispars::server {
 namespace {
@@ -29,6 +32,7 @@ struct ScriptedFleet {
   int announcements = 0;
   SceneClaims* claims = nullptr;
   std::string self;
+  std::optional<std::tuple<std::uint64_t, std::uint64_t, std::uint64_t>> self_copy;  // generation, samples, target
 
   Fleet fleet() {
     return Fleet{[this] {
@@ -38,6 +42,14 @@ struct ScriptedFleet {
                  [this] {
                    msg::DaemonInfo d = info(self);
                    for (const auto& s : claims->claimed()) d.loaded().push_back(s);
+                   if (self_copy) {
+                     msg::StoredRoadmap r;
+                     r.scene("s");
+                     r.generation(std::get<0>(*self_copy));
+                     r.samples(std::get<1>(*self_copy));
+                     r.target(std::get<2>(*self_copy));
+                     d.roadmaps().push_back(r);
+                   }
                    return d;
                  },
                  [this] {
@@ -128,11 +140,65 @@ TEST(SceneClaims, AClaimSeenOnlyAfterTheWindowIsContestedAndGivenUpByTheOutranke
   Claims low(r.low);
   EXPECT_EQ(claim_error(*low.claims, "s"), "");  // alone on its view
   low.fleet.others = {info(r.high, {"s"})};        // a late announcement: both hold it
-  EXPECT_EQ(low.claims->contested(), std::vector<std::string>{"s"});
+  const auto contested = low.claims->contested();
+  ASSERT_EQ(contested.size(), 1u);
+  EXPECT_EQ(contested[0].scene, "s");
+  EXPECT_EQ(contested[0].winner, r.high);
+  EXPECT_TRUE(contested[0].winner_holds);
+  EXPECT_NE(contested[0].why.find("settled by rendezvous weight"), std::string::npos) << contested[0].why;
   Claims high(r.high);
   EXPECT_EQ(claim_error(*high.claims, "s"), "");
   high.fleet.others = {info(r.low, {"s"})};
   EXPECT_TRUE(high.claims->contested().empty());
+}
+
+msg::SceneStatus status(const std::string& server, msg::SceneState state, const std::string& method);
+
+// `d` with a copy of "s" announced (handed to `yielded_to`, with `target` accepted).
+msg::DaemonInfo with_copy(msg::DaemonInfo d, std::uint64_t generation, std::uint64_t samples,
+                          const std::string& yielded_to = "", std::uint64_t target = 0) {
+  return test::add_copy(d, generation, samples, target, yielded_to);
+}
+
+// The holder of a stale copy gives the scene up to a daemon that stores a fresher one, whatever
+// the weights say, and names why.
+TEST(SceneClaims, AHolderGivesUpToAFresherStoredCopy) {
+  const Ranked r;
+  Claims c(r.high);
+  ASSERT_EQ(claim_error(*c.claims, "s"), "");
+  c.fleet.others = {with_copy(info(r.low), 7, 20000)};  // this daemon's own copy: none
+  auto contested = c.claims->contested();
+  ASSERT_EQ(contested.size(), 1u);
+  EXPECT_EQ(contested[0].winner, r.low);
+  EXPECT_FALSE(contested[0].winner_holds);
+  EXPECT_NE(contested[0].why.find("its copy is fresher (generation 7, 20000 samples"), std::string::npos)
+      << contested[0].why;
+  // A copy of an older generation, however large, does not make it give the scene up.
+  c.fleet.others = {with_copy(info(r.low), 6, 90000)};
+  c.fleet.self_copy = std::make_tuple(7, 1000, 1000);
+  EXPECT_TRUE(c.claims->contested().empty());
+}
+
+// The winner of a handover takes the scene once the loser released it, with the samples the
+// loser had accepted; a daemon the handover does not name does nothing.
+TEST(SceneClaims, AHandedOverSceneIsTakenByTheDaemonItWasHandedTo) {
+  Claims winner("w");
+  Claims bystander("b");
+  const msg::DaemonInfo loser = with_copy(info("l"), 7, 12000, "w", 30000);
+  winner.fleet.others = {info("l", {"s"})};
+  bystander.fleet.others = {info("l", {"s"})};
+  EXPECT_TRUE(winner.claims->orphans().empty());  // still held
+  winner.claims->observe(status("l", msg::SCENE_BUILDING, "ispars"));
+  winner.fleet.others = {loser, info("b")};
+  bystander.fleet.others = {loser, info("w")};
+  const auto orphans = winner.claims->orphans();
+  ASSERT_EQ(orphans.size(), 1u);
+  EXPECT_TRUE(orphans[0].handed_over);
+  EXPECT_EQ(orphans[0].former_owner, "l");
+  EXPECT_EQ(orphans[0].accepted, 30000u);
+  ASSERT_TRUE(orphans[0].last_status.has_value());
+  EXPECT_TRUE(winner.claims->orphans().empty());  // not again before the retry period
+  EXPECT_TRUE(bystander.claims->orphans().empty());
 }
 
 msg::SceneStatus status(const std::string& server, msg::SceneState state, const std::string& method) {
@@ -165,6 +231,20 @@ TEST(SceneClaims, AHolderThatLeavesIsTakenOverOnceWithItsLastRecipe) {
   EXPECT_EQ(orphans[0].last_status->method(), "ispars");
   EXPECT_EQ(orphans[0].last_status->samples_done(), 1234u);
   EXPECT_TRUE(c.claims->orphans().empty());  // reported once
+}
+
+// A daemon starting beside a holder is refused the scene; the holder stops before the fleet
+// thread ever looked: the refused claim alone is enough to take the scene over.
+TEST(SceneClaims, AHolderThatRefusedAClaimAndLeftIsTakenOver) {
+  Claims c("me");
+  c.fleet.others = {info("holder", {"s"})};
+  EXPECT_NE(claim_error(*c.claims, "s").find("owned by daemon holder"), std::string::npos);
+  c.claims->observe(status("holder", msg::SCENE_IDLE, "ispars"));
+  c.fleet.others = {};
+  const auto orphans = c.claims->orphans();
+  ASSERT_EQ(orphans.size(), 1u);
+  EXPECT_EQ(orphans[0].former_owner, "holder");
+  EXPECT_FALSE(orphans[0].handed_over);
 }
 
 TEST(SceneClaims, ASceneReleasedOnPurposeIsNoOrphan) {

@@ -29,7 +29,8 @@ nlohmann::json to_json(const PendingJob& job) {
                   {"samples", b.samples},
                   {"seed", b.seed},
                   {"overrides", b.overrides},
-                  {"replace", b.replace}};
+                  {"replace", b.replace},
+                  {"lineage", b.generation}};
     j["generation"] = job.generation;
   }
   return j;
@@ -53,6 +54,7 @@ PendingJob from_json(const nlohmann::json& j) {
     r.seed = b.at("seed").get<std::uint64_t>();
     r.overrides = b.at("overrides").get<std::map<std::string, double>>();
     r.replace = b.at("replace").get<bool>();
+    r.generation = b.value("lineage", std::uint64_t{0});  // absent in records before takeovers kept lineages
     job.build = r;
     job.generation = j.at("generation").get<std::uint64_t>();
   }

@@ -237,6 +237,58 @@ std::vector<std::string> RoadmapService::stored_scenes() const {
   return out;
 }
 
+std::vector<ServedRoadmap> RoadmapService::held_roadmaps() const {
+  std::vector<std::shared_ptr<RoadmapSession>> sessions;
+  {
+    std::lock_guard lock(sessions_mutex_);
+    for (const auto& [name, s] : sessions_) sessions.push_back(s);
+  }
+  std::vector<ServedRoadmap> out;
+  for (const auto& s : sessions) {
+    const SessionStatus st = s->status();
+    ServedRoadmap r{s->name(), s->published().generation, 0, 0, "", true};
+    if (!st.recipe && r.generation == 0) continue;  // nothing built (or a store it refused): no copy
+    if (st.recipe) {
+      r.generation = st.recipe->generation;
+      r.samples = st.samples_done;
+      r.target = std::max(st.samples_done, st.samples_target);
+      r.fingerprint = st.recipe->scene_fingerprint;
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+std::filesystem::path RoadmapService::set_aside(const std::string& scene, const std::string& why) {
+  return session(scene)->set_aside(why);
+}
+
+void list_stored_roadmaps(const std::filesystem::path& data_dir, const std::vector<std::string>& loaded,
+                          std::vector<ServedRoadmap>& served, std::vector<UnservableStore>& unservable) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(data_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!entry.is_directory() || !valid_scene_name(name) || !std::filesystem::exists(entry.path() / "recipe.json")) {
+      continue;
+    }
+    try {
+      const RoadmapRecipe recipe = RoadmapStore::read_recipe(entry.path());
+      if (recipe.builder_version != 0 && recipe.builder_version != kBuilderVersion) {
+        unservable.push_back({name, fmt::format("its stored roadmap was made by builder version {}, and this daemon "
+                                                "has version {}: not offered to the fleet (rebuild or drop it)",
+                                                recipe.builder_version, kBuilderVersion)});
+        continue;
+      }
+      if (std::find(loaded.begin(), loaded.end(), name) != loaded.end()) continue;  // weighed live
+      const auto head = read_store_head(entry.path());
+      const std::uint64_t samples = head && head->generation == recipe.generation ? head->samples : 0;
+      served.push_back({name, recipe.generation, samples, samples, recipe.scene_fingerprint, false});
+    } catch (const std::exception& e) {
+      unservable.push_back({name, fmt::format("its stored roadmap cannot be read: {}", e.what())});
+    }
+  }
+}
+
 CancelOutcome RoadmapService::cancel(const std::string& scene) {
   const auto s = session(scene);
   CancelOutcome out;

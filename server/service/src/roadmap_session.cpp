@@ -135,6 +135,7 @@ BuildRequest rebuild_request(const RoadmapRecipe& recipe, std::uint64_t samples)
   request.variant = recipe.variant;
   request.seed = recipe.seed;
   request.samples = samples;
+  request.generation = recipe.generation;
   for (const RecipeParameter& p : recipe_overrides()) {
     if (recipe.*p.field > 0.0) request.overrides.emplace(std::string(p.name), recipe.*p.field);
   }
@@ -176,7 +177,8 @@ std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
     }
     if (callbacks_.admit_cost) callbacks_.admit_cost(cost);  // the last check: nothing refuses after it
     // Increasing, even if the clock steps back, so replicas always see a new roadmap as new.
-    recipe.generation = std::max(new_generation(), (recipe_ ? recipe_->generation : 0) + 1);
+    recipe.generation = request.generation != 0 ? request.generation
+                                                : std::max(new_generation(), (recipe_ ? recipe_->generation : 0) + 1);
     recipe.scene_fingerprint = fingerprint_;
     recipe.builder_version = kBuilderVersion;
     pending_recipe_ = recipe;  // the job makes it the roadmap's recipe when it starts
@@ -253,8 +255,13 @@ Lock RoadmapSession::lock_idle_job(std::string_view what) const {
   }
 }
 
-void RoadmapSession::drop() {
-  const auto job = lock_idle_job<std::unique_lock<std::shared_mutex>>("drop");
+void RoadmapSession::drop() { (void)discard_store(""); }
+
+std::filesystem::path RoadmapSession::set_aside(const std::string& why) { return discard_store(why); }
+
+std::filesystem::path RoadmapSession::discard_store(const std::string& aside_why) {
+  const auto job = lock_idle_job<std::unique_lock<std::shared_mutex>>(aside_why.empty() ? "drop" : "set aside");
+  std::filesystem::path aside;
   {
     // Under both locks throughout, so no request can be accepted while the store goes away.
     std::lock_guard lock(mutex_);
@@ -266,14 +273,22 @@ void RoadmapSession::drop() {
     builder_.reset();
     build_scene_.reset();
     recovered_.reset();
-    drop_store(store_dir_);
+    if (aside_why.empty()) {
+      drop_store(store_dir_);
+    } else {
+      aside = set_aside_store(store_dir_, aside_why);
+    }
     recipe_.reset();
     samples_done_ = samples_target_ = 0;
     dense_vertices_ = dense_edges_ = 0;
-    published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0);
+    // A new generation: the empty roadmap is newer than the one discarded (replicas resync, and
+    // the fleet weighs this daemon's empty scene above older copies elsewhere while it holds it).
+    published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()),
+                                std::max(new_generation(), published_.generation + 1), 0);
     state_ = SessionState::empty;
   }
   notify_status();
+  return aside;
 }
 
 void RoadmapSession::close() {

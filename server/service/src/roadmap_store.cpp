@@ -250,6 +250,7 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
   const std::uint64_t valid_bytes = recover_into(dir, poi_count, recovered);
   store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournal, valid_bytes);
   store->journal_commits_ = recovered.journal_commits;
+  write_store_head(dir, {recovered.recipe.generation, recovered.roadmaps.samples});  // mends a stale hint
   // A compaction that did not finish (a crash, a stop, a failure): finish it now.
   if (std::filesystem::exists(old_journal_path(dir))) store->fold_in_background();
   return store;
@@ -266,8 +267,45 @@ void RoadmapStore::commit(const BuildCommit& commit) {
   journal_->append(encode_commit(commit));
   ++journal_commits_;
   if (!replaces_.empty()) take_place();
+  write_store_head(dir_, {recipe_.generation, commit.samples});  // after the commit is durable
   if (!compacting_) wait_for_compaction();  // joins a finished fold; throws its failure
   if (journal_commits_ >= compact_every_) start_compaction();
+}
+
+void write_store_head(const std::filesystem::path& dir, const StoreHead& head) {
+  // Renamed into place, not fsync'ed: a hint that may lag the journal after a power cut, never
+  // lead it (it is written after the commit it names is durable).
+  const std::filesystem::path tmp = dir / "head.tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << head.generation << ' ' << head.samples << '\n';
+    if (!out.flush()) return;  // a hint: the commit stands without it
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, dir / "head", ec);
+}
+
+std::optional<StoreHead> read_store_head(const std::filesystem::path& dir) {
+  std::ifstream in(dir / "head");
+  StoreHead head;
+  if (!(in >> head.generation >> head.samples)) return std::nullopt;
+  return head;
+}
+
+std::filesystem::path set_aside_store(const std::filesystem::path& dir, const std::string& why) {
+  const StoreHead head = read_store_head(dir).value_or(StoreHead{});
+  const std::filesystem::path aside_dir = dir.parent_path() / ".aside";
+  std::filesystem::create_directories(aside_dir);
+  std::filesystem::path target =
+      aside_dir / fmt::format("{}-g{}-{}", dir.filename().string(), head.generation, head.samples);
+  for (int n = 2; std::filesystem::exists(target); ++n) {
+    target = aside_dir / fmt::format("{}-g{}-{}.{}", dir.filename().string(), head.generation, head.samples, n);
+  }
+  write_file_atomically(dir / "aside.txt", why + "\n");
+  std::filesystem::rename(dir, target);
+  fsync_directory_of(dir);
+  fsync_directory_of(target);
+  return target;
 }
 
 void drop_store(const std::filesystem::path& dir) {

@@ -47,6 +47,28 @@ struct SceneListing {
   bool has_roadmap = false;  ///< Loaded with a roadmap, or not loaded with a store on disk.
 };
 
+/// A roadmap the service can serve, as the fleet weighs it (docs/fleet.md).
+struct ServedRoadmap {
+  std::string scene;
+  std::uint64_t generation = 0;  ///< Of the roadmap (of the empty one after a drop; 0: never built).
+  std::uint64_t samples = 0;     ///< Committed.
+  std::uint64_t target = 0;      ///< Accepted: a queued or running job's target, else `samples`.
+  std::string fingerprint;       ///< Of the scene file it was built on (empty when unknown).
+  bool held = false;             ///< Loaded here; else stored only.
+};
+
+/// A stored roadmap this service cannot serve, and why (another builder version, an unreadable
+/// recipe): never weighed by the fleet, named in the scenes list.
+struct UnservableStore {
+  std::string scene;
+  std::string why;
+};
+
+/// The stored roadmaps of a data directory that are not loaded (`loaded` names those that are).
+/// Reads each store's recipe.json and head (roadmap_store.hpp), nothing else.
+void list_stored_roadmaps(const std::filesystem::path& data_dir, const std::vector<std::string>& loaded,
+                          std::vector<ServedRoadmap>& served, std::vector<UnservableStore>& unservable);
+
 /// What the service tells its owner (the transport). Called on the thread that caused the event.
 struct ServiceEvents {
   /// A committed batch of a scene's roadmap (on the job's thread, in order).
@@ -161,6 +183,11 @@ class RoadmapService {
   void yield(const std::string& scene, const std::atomic<bool>& give_up);
   /// Scenes with a stored roadmap in the data directory (loaded or not).
   [[nodiscard]] std::vector<std::string> stored_scenes() const;
+  /// The roadmaps of the loaded scenes, as the fleet weighs them (live: committed samples and
+  /// accepted targets).
+  [[nodiscard]] std::vector<ServedRoadmap> held_roadmaps() const;
+  /// Sets the roadmap of a loaded scene aside (RoadmapSession::set_aside); returns where it went.
+  std::filesystem::path set_aside(const std::string& scene, const std::string& why);
   /// Queues a build or an extend, first recorded in the data directory (pending_jobs.hpp): a
   /// restart resumes it. Throws InputError naming the field when the session refuses it.
   void build(const std::string& scene, const BuildRequest& request);

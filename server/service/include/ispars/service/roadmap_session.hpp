@@ -68,11 +68,14 @@ struct BuildRequest {
   std::uint64_t seed = 1;
   std::map<std::string, double> overrides;
   bool replace = false;
+  /// 0: a new roadmap, with a new generation. Otherwise the generation of the roadmap this build
+  /// makes again (a fleet takeover continuing another daemon's roadmap: the same lineage).
+  std::uint64_t generation = 0;
 };
 
 /// The build request that makes `recipe`'s roadmap to `samples` samples: its method, variant and
 /// seed, with its deltas, stretch and p_accept as overrides (request_build's inverse; a value of 0,
-/// unknown to the sender, is left to the scene).
+/// unknown to the sender, is left to the scene), and its generation.
 [[nodiscard]] BuildRequest rebuild_request(const RoadmapRecipe& recipe, std::uint64_t samples);
 
 /// A published roadmap: immutable, shared by every reader that holds it, with its coverage
@@ -130,6 +133,9 @@ class RoadmapSession {
   bool cancel();
   /// Deletes the roadmap and its store (throws InputError while a job runs or without a roadmap).
   void drop();
+  /// Keeps the roadmap's store aside (set_aside_store, with `why`) and leaves the scene without a
+  /// roadmap, as drop() does; returns where the store went. Same errors as drop().
+  std::filesystem::path set_aside(const std::string& why);
   /// Refuses every later build and extend (the scene is being unloaded) and releases the store,
   /// so that the scene can be loaded again while this session still serves a running tour.
   /// Throws InputError while a job is queued or running.
@@ -153,6 +159,8 @@ class RoadmapSession {
 
   [[nodiscard]] const std::string& name() const { return name_; }
   [[nodiscard]] const Scene& scene() const { return scene_; }
+  /// scene_fingerprint() of the scene as loaded: what a roadmap built here records.
+  [[nodiscard]] const std::string& fingerprint() const { return fingerprint_; }
   /// Whether a job is queued or running.
   [[nodiscard]] bool busy() const;
   /// What recovery found at construction (empty when nothing was stored).
@@ -173,6 +181,7 @@ class RoadmapSession {
   // Marks the stored roadmap unusable (`why`): FAILED, nothing served, files untouched.
   void refuse_store(std::string why);
   void check_override_scale(const RoadmapRecipe& recipe) const;
+  std::filesystem::path discard_store(const std::string& aside_why);  // drop (empty why) or set aside
   BuildCost estimate(const RoadmapRecipe& recipe, std::uint64_t total_samples) const;
   // Takes job_mutex_ (shared or alone) once no job is queued or running; a job that has just
   // turned idle still holds it while it publishes its last status, so this waits for it briefly.

@@ -148,6 +148,22 @@ class RoadmapStore {
 /// Applies a commit to recovered roadmaps (throws std::runtime_error when it does not continue them).
 void apply_commit(BuiltRoadmaps& roadmaps, const BuildCommit& commit);
 
+/// What a store's last commit holds, as its `head` file says: a hint written after each commit
+/// (and when the store is opened), so a daemon can announce its stored roadmaps without reading
+/// them. It may lag the journal after a power cut (not fsync'ed), never lead it.
+struct StoreHead {
+  std::uint64_t generation = 0;
+  std::uint64_t samples = 0;
+};
+void write_store_head(const std::filesystem::path& dir, const StoreHead& head);
+/// The store's head; nothing when it has none (a store older than the file) or it is unreadable.
+[[nodiscard]] std::optional<StoreHead> read_store_head(const std::filesystem::path& dir);
+
+/// Keeps a store the fleet superseded: renames it, whole, to DATA_DIR/.aside/NAME-gGEN-SAMPLES
+/// (a further ".N" when taken) with `why` in its aside.txt, durably. Returns where it went.
+/// Nothing at start or later removes it: an operator reads it and deletes it.
+std::filesystem::path set_aside_store(const std::filesystem::path& dir, const std::string& why);
+
 /// Removes a store: renames it aside (atomic), then deletes it. Leftovers of an interrupted
 /// creation or removal (".new-NAME", ".dropped-NAME") are removed by remove_dropped_stores().
 void drop_store(const std::filesystem::path& dir);

@@ -1,0 +1,239 @@
+// The fleet's freshness rule with real daemons (docs/fleet.md): restarts in any order never
+// replace a fresher roadmap, a holder of a stale copy hands the scene to the daemon with the
+// fresher one, and the faults a fleet meets (another scene file, another builder version, equal
+// copies) each end in a named outcome, in the log and in `ispars scenes list`, with nothing lost.
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include "integration/service_fixture.hpp"
+#include "ispars/wire/scene_owner.hpp"
+
+namespace ispars::test {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Waits until exactly `id` holds `scene` and serves it idle; returns how long it took (-1: it
+// did not within `limit`), and in `announced` how long until the announcements said so.
+double wait_held_idle_by(Client& client, const std::string& scene, const std::string& id,
+                         std::chrono::seconds limit, double* announced = nullptr) {
+  const auto start = Clock::now();
+  while (Clock::now() - start < limit) {
+    if (holders(client, scene) == std::vector<std::string>{id}) {
+      if (announced != nullptr && *announced < 0.0) {
+        *announced = std::chrono::duration<double>(Clock::now() - start).count();
+      }
+      try {
+        const msg::SceneStatus s = client.stats(scene);
+        if (s.server_id() == id && s.state() == msg::SCENE_IDLE) {
+          return std::chrono::duration<double>(Clock::now() - start).count();
+        }
+      } catch (const ClientError&) {
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return -1.0;
+}
+
+std::string note_of(Client& client, const std::string& scene, const std::string& server) {
+  for (const auto& e : client.list_scenes()) {
+    if (e.name() == scene && e.server_id() == server) return e.note();
+  }
+  return "";
+}
+
+// Daemons here restart beside running peers. Over shared memory, a daemon restarted that way on a
+// loaded machine went deaf to its peers (they dropped it 17 s later, its threads idle; Fast DDS
+// logged "Port ... Zombie. Reset the port") in 3 tries of 3, and in none of 3 over UDP alone: so
+// these tests run on localhost UDP, the profile deploy/fastdds_localhost.xml less its shared
+// memory transport. (Noticed while writing these tests; the shared memory case is left open.)
+class FleetFreshnessTest : public ServiceTest {
+ protected:
+  void SetUp() override {
+    ServiceTest::SetUp();
+    std::ifstream in(std::string(ISPARS_SOURCE_DIR) + "/deploy/fastdds_localhost.xml");
+    std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string shm = "<transport_id>ispars_shm</transport_id>\n          <transport_id>ispars_udp_localhost";
+    const auto at = xml.find(shm);
+    ASSERT_NE(at, std::string::npos) << "deploy/fastdds_localhost.xml changed: update this test";
+    xml.replace(at, shm.size(), "<transport_id>ispars_udp_localhost");
+    profile_ = dir_.path() / "udp_localhost.xml";
+    std::ofstream(profile_) << xml;
+  }
+  std::unique_ptr<DaemonProcess> start(const std::string& id, const std::filesystem::path& scenes = {}) {
+    return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id),
+                                           scenes.empty() ? scene_dir_ : scenes, id,
+                                           std::vector<std::string>{"--profile-file", profile_.string()});
+  }
+  // Daemon `id` alone builds `scene` to `samples` samples, then stops (SIGTERM).
+  void build_alone_and_stop(const std::string& id, const std::string& scene, std::uint64_t samples,
+                            std::uint64_t seed) {
+    auto d = start(id);
+    Client client(options());
+    client.load(scene);
+    client.build(scene, ispars_build(samples, seed));
+    ASSERT_EQ(client.wait_idle(scene, {}, kLong).samples_done(), samples);
+    EXPECT_EQ(d->terminate(), 0);
+  }
+  client::ClientOptions options() const {
+    auto o = client_options(domain_);
+    o.participant.profile_file = profile_.string();
+    return o;
+  }
+  std::filesystem::path profile_;
+};
+
+// The a/b sequence. O builds 2,000 samples and is killed; P takes over, rebuilds to 2,000
+// and is extended to 4,000 (acknowledged). P stops; O restarts alone with its 2,000, then P
+// returns: O hands the scene to P, whose 4,000 samples survive O's kill -9, byte for byte an
+// uninterrupted build of 4,000.
+TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
+  auto one = start("one");
+  auto two = start("two");
+  Client client(options());
+  client.load("s0");
+  client.build("s0", ispars_build(2000, 5));
+  const std::string o = client.wait_idle("s0", {}, kLong).server_id().to_string();
+  const std::string p = o == "one" ? "two" : "one";
+  auto& owner = o == "one" ? one : two;
+  auto& other = o == "one" ? two : one;
+  owner->kill9();
+  ASSERT_GE(wait_held_idle_by(client, "s0", p, std::chrono::seconds(60)), 0.0) << other->log();
+  ASSERT_EQ(client.stats("s0").samples_done(), 2000u);
+  client.extend("s0", 2000);
+  const msg::SceneStatus acked = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(acked.server_id(), p);
+  ASSERT_EQ(acked.samples_done(), 4000u);  // the client's acknowledgement
+
+  EXPECT_EQ(other->terminate(), 0);
+  owner = start(o);  // alone: it loads its own 2,000
+  ASSERT_GE(wait_held_idle_by(client, "s0", o, std::chrono::seconds(30)), 0.0) << owner->log();
+  EXPECT_EQ(client.stats("s0").samples_done(), 2000u);
+  other = start(p);  // with its 4,000: O must hand the scene over
+  double held = -1.0;
+  const double handover = wait_held_idle_by(client, "s0", p, std::chrono::seconds(30), &held);
+  ASSERT_GE(handover, 0.0) << owner->log() << other->log();
+  std::printf("handover: %s announced s0 held %.2f s, and answered it idle %.2f s, after it announced itself\n",
+              p.c_str(), held, handover);
+  EXPECT_EQ(client.stats("s0").samples_done(), 4000u);
+  EXPECT_NE(owner->log().find("scene 's0' is handed over to daemon " + p + ": its copy is fresher"),
+            std::string::npos)
+      << owner->log();
+  EXPECT_NE(note_of(client, "s0", o).find("handed over to daemon " + p), std::string::npos);
+
+  owner->kill9();
+  std::this_thread::sleep_for(std::chrono::seconds(5));  // past the lease: P must not rebuild anything
+  const msg::SceneStatus final_status = client.wait_idle("s0", {}, kLong);
+  EXPECT_EQ(final_status.server_id(), p);
+  EXPECT_EQ(final_status.samples_done(), 4000u);
+  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap),
+            reference_digest(scene_dir_ / "s0.yaml", 4000, 5));
+  const std::string log = other->log();  // this run's part: after its last start
+  EXPECT_EQ(log.find("rebuilding", log.rfind("isparsd " + p + " serving")), std::string::npos) << log;
+}
+
+// Two daemons with the same copy: the one the rule names serves it, the other's claim is refused
+// naming the equal copies; stopping the server hands it to the other, which rebuilds nothing.
+TEST_F(FleetFreshnessTest, TwoEqualCopiesSettleByWeightAndTheOtherContinuesWithoutRebuilding) {
+  build_alone_and_stop("first", "s1", 1500, 2);
+  std::filesystem::copy(dir_.path() / "data-first", dir_.path() / "data-second",
+                        std::filesystem::copy_options::recursive);
+  std::filesystem::remove(dir_.path() / "data-second" / ".isparsd.lock");
+  auto first = start("first");
+  auto second = start("second");
+  Client client(options());
+  const auto deadline = Clock::now() + std::chrono::seconds(20);
+  while (Clock::now() < deadline && holders(client, "s1").size() != 1) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const auto held = holders(client, "s1");
+  ASSERT_EQ(held.size(), 1u);
+  auto& server = held[0] == "first" ? first : second;
+  auto& spare = held[0] == "first" ? second : first;
+  const std::string spare_id = spare->server_id();
+  // The first to start held it alone; the second's claim at its start was refused by name.
+  const std::string refused = spare->log() + server->log();
+  EXPECT_TRUE(refused.find("is owned by daemon") != std::string::npos ||
+              refused.find("equally fresh copies") != std::string::npos)
+      << refused;
+  EXPECT_EQ(server->terminate(), 0);  // SIGTERM: the spare takes it over at once, from its own copy
+  const double took = wait_held_idle_by(client, "s1", spare_id, std::chrono::seconds(30));
+  ASSERT_GE(took, 0.0) << spare->log();
+  std::printf("SIGTERM takeover: %s served s1 from its own copy %.2f s after the owner stopped\n", spare_id.c_str(),
+              took);
+  EXPECT_EQ(client.stats("s1").samples_done(), 1500u);
+  EXPECT_NE(spare->log().find("this daemon's copy (generation"), std::string::npos) << spare->log();
+  EXPECT_EQ(spare->log().find("rebuilding"), std::string::npos) << spare->log();
+  EXPECT_EQ(roadmap_digest(client.snapshot("s1").roadmap), reference_digest(scene_dir_ / "s1.yaml", 1500, 2));
+}
+
+// A daemon whose scene file differs from the owner's does not continue the owner's roadmap: it
+// says so by name (log, scenes list) and serves its own scene; the owner's store is untouched.
+TEST_F(FleetFreshnessTest, ADaemonWithAnotherSceneFileRefusesToContinueTheOwnersRoadmap) {
+  const auto other_scenes = dir_.path() / "other-scenes";
+  client::write_tank_tower_scenes(other_scenes, {"x0", "s0"});  // its s0 is another tower
+  auto owner = start("owner");
+  Client client(options());
+  client.load("s0");
+  client.build("s0", ispars_build(1000, 1));
+  ASSERT_EQ(client.wait_idle("s0", {}, kLong).server_id(), "owner");
+  auto different = start("different", other_scenes);
+  // Only a daemon that saw the owner hold the scene knows to take it over: wait until `different`
+  // refuses the scene naming its owner.
+  const auto seen_by = Clock::now() + std::chrono::seconds(20);
+  std::string refusal;
+  while (Clock::now() < seen_by && refusal.find("owned by daemon owner") == std::string::npos) {
+    refusal = client.call_raw(make_change(msg::LOAD_SCENE, "s0"), "different").error();
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_NE(refusal.find("owned by daemon owner"), std::string::npos) << refusal;
+  owner->kill9();
+  const auto deadline = Clock::now() + std::chrono::seconds(30);
+  const std::string outcome = "this daemon's scene file differs from daemon owner's";
+  while (Clock::now() < deadline && different->log().find(outcome) == std::string::npos) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_NE(different->log().find(outcome), std::string::npos) << different->log();
+  EXPECT_NE(note_of(client, "s0", "different").find(outcome), std::string::npos);
+  const msg::SceneStatus s = client.stats("s0");
+  EXPECT_EQ(s.server_id(), "different");
+  EXPECT_EQ(s.samples_done(), 0u);  // nothing rebuilt from a recipe meant for another scene
+  EXPECT_TRUE(std::filesystem::exists(dir_.path() / "data-owner" / "s0" / "recipe.json"));
+}
+
+// A stored roadmap of another builder version is not offered to the fleet: named in the log and
+// the scenes list, and its files are left as they are.
+TEST_F(FleetFreshnessTest, AStoreOfAnotherBuilderVersionIsNotOfferedAndLeftUntouched) {
+  build_alone_and_stop("d", "s2", 800, 1);
+  const auto recipe_path = dir_.path() / "data-d" / "s2" / "recipe.json";
+  std::string text;
+  {
+    std::ifstream in(recipe_path);
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const auto at = text.find("\"builder_version\": 1");
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at, std::string("\"builder_version\": 1").size(), "\"builder_version\": 99");
+  std::ofstream(recipe_path) << text;
+  auto d = start("d");
+  Client client(options());
+  const std::string outcome = "made by builder version 99, and this daemon has version 1: not offered to the fleet";
+  const auto deadline = Clock::now() + std::chrono::seconds(10);
+  while (Clock::now() < deadline && d->log().find(outcome) == std::string::npos) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_NE(d->log().find(outcome), std::string::npos) << d->log();
+  EXPECT_NE(note_of(client, "s2", "d").find(outcome), std::string::npos);
+  for (const auto& info : client.daemons()) EXPECT_EQ(wire::roadmap_of(info, "s2"), nullptr);
+  std::ifstream in(recipe_path);
+  const std::string after((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(after, text);
+}
+
+}  // namespace
+}  // namespace ispars::test

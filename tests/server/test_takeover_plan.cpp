@@ -1,0 +1,111 @@
+// plan_takeover: what a daemon does with a scene it takes over. Its own copy of the same roadmap
+// is continued, never replaced; a newer copy is kept; an older one is set aside, never deleted;
+// a roadmap of another scene file or builder version is not continued, by name.
+
+#include <gtest/gtest.h>
+
+#include "takeover_plan.hpp"
+
+namespace ispars::server {
+namespace {
+
+RoadmapRecipe recipe(std::uint64_t generation, std::uint64_t seed = 1) {
+  RoadmapRecipe r;
+  r.scene += 's';  // appended: GCC 12 warns falsely on assigning a short literal here
+  r.method = BuildMethod::ispars;
+  r.seed = seed;
+  r.generation = generation;
+  r.scene_fingerprint += 'f';
+  r.builder_version = kBuilderVersion;
+  return r;
+}
+
+SessionStatus mine(std::optional<RoadmapRecipe> r, std::uint64_t samples) {
+  SessionStatus s;
+  s.scene += 's';
+  s.state = r ? SessionState::idle : SessionState::empty;
+  s.recipe = std::move(r);
+  s.samples_done = s.samples_target = samples;
+  return s;
+}
+
+FormerRoadmap former(std::optional<RoadmapRecipe> r, std::uint64_t samples) {
+  FormerRoadmap f;
+  f.owner += 'o';
+  f.recipe = std::move(r);
+  f.fingerprint += 'f';
+  f.builder_version = kBuilderVersion;
+  f.samples = samples;
+  return f;
+}
+
+// The a/b sequence at its last step: this daemon holds 20,000 samples of the roadmap
+// whose former owner had 10,000. Nothing is built, and above all nothing is replaced.
+TEST(TakeoverPlan, AnOwnCopyHoldingAtLeastWhatWasAskedIsKept) {
+  const TakeoverPlan plan = plan_takeover("s", mine(recipe(7), 20000), "f", former(recipe(7), 10000));
+  EXPECT_EQ(plan.action, TakeoverPlan::Action::keep);
+  EXPECT_FALSE(plan.set_aside);
+  EXPECT_FALSE(plan.refused);
+  EXPECT_NE(plan.outcome.find("holds the 10000 samples"), std::string::npos) << plan.outcome;
+  // The same roadmap under another generation (built apart, same recipe) is the same roadmap.
+  EXPECT_EQ(plan_takeover("s", mine(recipe(3), 20000), "f", former(recipe(7), 10000)).action,
+            TakeoverPlan::Action::keep);
+}
+
+TEST(TakeoverPlan, AnOwnCopyOfTheSameRoadmapIsExtendedToWhatTheFormerOwnerAccepted) {
+  const TakeoverPlan plan = plan_takeover("s", mine(recipe(7), 12000), "f", former(recipe(7), 30000));
+  EXPECT_EQ(plan.action, TakeoverPlan::Action::extend);
+  EXPECT_EQ(plan.extend_by, 18000u);
+  EXPECT_FALSE(plan.set_aside);
+}
+
+TEST(TakeoverPlan, WithoutACopyTheFormerRoadmapIsRebuiltUnderItsOwnGeneration) {
+  const TakeoverPlan plan = plan_takeover("s", mine(std::nullopt, 0), "f", former(recipe(7, 3), 5000));
+  EXPECT_EQ(plan.action, TakeoverPlan::Action::rebuild);
+  EXPECT_EQ(plan.request.generation, 7u);
+  EXPECT_EQ(plan.request.seed, 3u);
+  EXPECT_EQ(plan.request.samples, 5000u);
+  EXPECT_FALSE(plan.request.replace);
+  EXPECT_FALSE(plan.set_aside);
+}
+
+TEST(TakeoverPlan, AnOlderCopyOfAnotherRoadmapIsSetAsideNotDeleted) {
+  const TakeoverPlan plan = plan_takeover("s", mine(recipe(5, 2), 40000), "f", former(recipe(7, 3), 5000));
+  EXPECT_EQ(plan.action, TakeoverPlan::Action::rebuild);
+  EXPECT_TRUE(plan.set_aside);
+  EXPECT_TRUE(plan.request.replace);
+  EXPECT_NE(plan.outcome.find("older copy (generation 5, 40000 samples) is set aside"), std::string::npos)
+      << plan.outcome;
+}
+
+TEST(TakeoverPlan, ANewerCopyOfAnotherRoadmapIsKept) {
+  const TakeoverPlan plan = plan_takeover("s", mine(recipe(9, 2), 100), "f", former(recipe(7, 3), 5000));
+  EXPECT_EQ(plan.action, TakeoverPlan::Action::keep);
+  EXPECT_FALSE(plan.set_aside);
+  EXPECT_NE(plan.outcome.find("later build"), std::string::npos) << plan.outcome;
+}
+
+TEST(TakeoverPlan, AnotherSceneFileOrBuilderVersionIsRefusedByName) {
+  FormerRoadmap other_file = former(recipe(7), 5000);
+  other_file.fingerprint.assign(1, 'g');
+  TakeoverPlan plan = plan_takeover("s", mine(recipe(5, 2), 40000), "f", other_file);
+  EXPECT_TRUE(plan.refused);
+  EXPECT_EQ(plan.action, TakeoverPlan::Action::keep);
+  EXPECT_FALSE(plan.set_aside);
+  EXPECT_NE(plan.outcome.find("scene file differs from daemon o's (fingerprint g there, f here)"), std::string::npos)
+      << plan.outcome;
+  FormerRoadmap other_builder = former(recipe(7), 5000);
+  other_builder.builder_version = kBuilderVersion + 1;
+  plan = plan_takeover("s", mine(std::nullopt, 0), "f", other_builder);
+  EXPECT_TRUE(plan.refused);
+  EXPECT_NE(plan.outcome.find("made by builder version"), std::string::npos) << plan.outcome;
+}
+
+TEST(TakeoverPlan, AFormerOwnerWithoutARoadmapLeavesTheSceneAsItIsHere) {
+  const TakeoverPlan plan = plan_takeover("s", mine(recipe(5), 400), "f", former(std::nullopt, 0));
+  EXPECT_EQ(plan.action, TakeoverPlan::Action::keep);
+  EXPECT_FALSE(plan.set_aside);
+}
+
+}  // namespace
+}  // namespace ispars::server
