@@ -14,6 +14,7 @@ PACKAGES=(
   gnuplot-nox
   nodejs chromium
   gdb
+  iproute2
 )
 
 missing=()

@@ -91,7 +91,8 @@ std::filesystem::path make_keystore(const std::string& script, const std::filesy
 LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::filesystem::path data_dir,
                          std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args,
                          const std::string& probe_security, const std::vector<std::string>& environment,
-                         std::chrono::seconds ready_within)
+                         std::chrono::seconds ready_within, const std::vector<std::string>& command_prefix,
+                         const std::string& probe_profile_file)
     : domain_(domain), server_id_(std::move(server_id)) {
   log_path_ = data_dir.parent_path() / (server_id_ + "-" + data_dir.filename().string() + "-" + std::to_string(::getpid()) + ".log");
   std::vector<std::string> args = {daemon_binary, "--domain", std::to_string(domain), "--data-dir", data_dir.string(),
@@ -108,6 +109,7 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
     args.insert(args.end(), {"--discovery-wait-ms", "300"});
   }
   args.insert(args.end(), extra_args.begin(), extra_args.end());
+  args.insert(args.begin(), command_prefix.begin(), command_prefix.end());
   // A daemon told to log to a file says "serving" there, not on its output.
   if (const auto it = std::find(extra_args.begin(), extra_args.end(), "--log-file");
       it != extra_args.end() && it + 1 != extra_args.end()) {
@@ -148,14 +150,25 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
       it != extra_args.end() && it + 1 != extra_args.end()) {
     probe_options.participant.profile_file = *(it + 1);
   }
+  if (!probe_profile_file.empty()) probe_options.participant.profile_file = probe_profile_file;
   probe_options.timeout = std::chrono::seconds(1);  // each look at the announcements
-  Client probe(probe_options);
+  auto probe = std::make_unique<Client>(probe_options);
   const auto deadline = std::chrono::steady_clock::now() + ready_within;
+  std::optional<std::chrono::steady_clock::time_point> serving_since;
   while (std::chrono::steady_clock::now() < deadline) {
     if (!alive()) throw std::runtime_error("isparsd exited at start:\n" + log().substr(std::min(log_start, log().size())));
     if (log().find("isparsd " + server_id_ + " serving on DDS domain", log_start) != std::string::npos) {
-      for (const auto& d : probe.daemons()) {
+      if (!serving_since) serving_since = std::chrono::steady_clock::now();
+      for (const auto& d : probe->daemons()) {
         if (d.server_id() == server_id_) return;
+      }
+      // Under DDS Security, Debian's Fast DDS 2.9.1 can fail a first handshake for good: a probe
+      // that has not heard a serving daemon in 10 s joins again as a new participant.
+      if (!probe_options.participant.security.empty() &&
+          std::chrono::steady_clock::now() - *serving_since > std::chrono::seconds(10)) {
+        probe.reset();
+        probe = std::make_unique<Client>(probe_options);
+        serving_since = std::chrono::steady_clock::now();
       }
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));

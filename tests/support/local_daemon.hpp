@@ -37,10 +37,15 @@ class LocalDaemon {
   /// `probe_security`: the DDS Security identity the readiness probe uses (a secured daemon's
   /// announcement reaches only authenticated clients).
   /// `environment`: variables set in the daemon's process only ("NAME=VALUE" each).
+  /// `command_prefix`: a command the daemon runs under (e.g. `ip netns exec NS`; its first word a
+  /// full path), which must exec the daemon in its own process.
+  /// `probe_profile_file`: the Fast DDS profile of the readiness probe (default: the daemon's
+  /// --profile-file, else the built-in localhost profile).
   LocalDaemon(const std::string& daemon_binary, int domain, std::filesystem::path data_dir,
               std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args = {},
               const std::string& probe_security = "", const std::vector<std::string>& environment = {},
-              std::chrono::seconds ready_within = std::chrono::seconds(20));
+              std::chrono::seconds ready_within = std::chrono::seconds(20),
+              const std::vector<std::string>& command_prefix = {}, const std::string& probe_profile_file = "");
   /// Stops it with SIGTERM if it still runs.
   ~LocalDaemon();
   LocalDaemon(const LocalDaemon&) = delete;

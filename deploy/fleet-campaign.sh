@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# The fleet's fault campaigns at full length (docs/results/fleet.md): partitions between real
+# processes in network namespaces (plain and under DDS Security), and a secured owner stalled past
+# its lease, 10 rounds each; the same tests CI runs with fewer rounds. Needs root (namespaces) and
+# a Release build (deploy/build.sh). Usage: deploy/fleet-campaign.sh [ROUNDS]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+rounds="${1:-10}"
+tests=build/bin/ispars_service_tests
+[ -x "$tests" ] || { echo "fleet-campaign: build first (deploy/build.sh)" >&2; exit 2; }
+export ISPARS_PARTITION_ROUNDS="$rounds" ISPARS_STALL_ROUNDS="$rounds"
+"$tests" --gtest_filter='PartitionTest.*:StallTest.*:FleetFreshnessTest.*' 2>&1 |
+  grep -E '^\[ *(RUN|OK|FAILED|PASSED) *\]|partition round|stall round|handover:|takeover:|Failure'
