@@ -12,6 +12,7 @@
 #include <fstream>
 #include <mutex>
 #include <sstream>
+#include <utility>
 #include <stdexcept>
 
 namespace ispars::wire {
@@ -89,18 +90,20 @@ class SpdlogConsumer final : public fdds::LogConsumer {
 // warning (see kSecureLeaseSeconds).
 class ParticipantEvents final : public fdds::DomainParticipantListener {
  public:
-  explicit ParticipantEvents(bool secure) : secure_(secure) {}
+  ParticipantEvents(bool secure, std::shared_ptr<PeerWatch> peers) : secure_(secure), peers_(std::move(peers)) {}
 
   void on_participant_discovery(fdds::DomainParticipant*, rtps::ParticipantDiscoveryInfo&& info) override {
     const std::string who = describe(info.info.m_guid, info.info.m_participantName.to_string());
     switch (info.status) {
       case rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT:
         spdlog::debug("participant {} discovered", who);
+        peers_->discovered(prefix_of(info.info.m_guid), info.info.m_participantName.to_string());
         break;
       case rtps::ParticipantDiscoveryInfo::REMOVED_PARTICIPANT:
         spdlog::debug("participant {} left", who);
         break;
       case rtps::ParticipantDiscoveryInfo::DROPPED_PARTICIPANT:
+        peers_->dropped(prefix_of(info.info.m_guid));
         if (secure_) {
           spdlog::warn("participant {} dropped: its lease ran out here; if it is still running, DDS Security "
                        "(Fast DDS 2.9.1) cannot authenticate it again until one of the two restarts",
@@ -126,6 +129,11 @@ class ParticipantEvents final : public fdds::DomainParticipantListener {
 #endif
 
  private:
+  static std::string prefix_of(const rtps::GUID_t& guid) {
+    std::ostringstream text;
+    text << guid.guidPrefix;
+    return text.str();
+  }
   static std::string describe(const rtps::GUID_t& guid, const std::string& name) {
     std::ostringstream text;
     text << guid.guidPrefix;
@@ -133,9 +141,26 @@ class ParticipantEvents final : public fdds::DomainParticipantListener {
     return text.str();
   }
   bool secure_;
+  std::shared_ptr<PeerWatch> peers_;
 };
 
 }  // namespace
+
+void PeerWatch::dropped(const std::string& prefix) {
+  std::lock_guard lock(mutex_);
+  if (dropped_.size() >= kMaxDropped) dropped_.clear();
+  dropped_.insert(prefix);
+}
+
+void PeerWatch::discovered(const std::string& prefix, const std::string& name) {
+  std::lock_guard lock(mutex_);
+  if (dropped_.erase(prefix) > 0) returned_ = Peer{prefix, name};
+}
+
+std::optional<PeerWatch::Peer> PeerWatch::take_returned() {
+  std::lock_guard lock(mutex_);
+  return std::exchange(returned_, std::nullopt);
+}
 
 Participant::Participant(const ParticipantOptions& options, fdds::DomainParticipantListener* listener) {
   auto* factory = fdds::DomainParticipantFactory::get_instance();
@@ -145,7 +170,7 @@ Participant::Participant(const ParticipantOptions& options, fdds::DomainParticip
   // Without a listener of the caller's, this one logs participant events; discovery and
   // authentication callbacks come whatever the mask, and no entity status reaches it.
   if (listener == nullptr) {
-    events_ = std::make_unique<ParticipantEvents>(!options.security.empty());
+    events_ = std::make_unique<ParticipantEvents>(!options.security.empty(), peers_);
     listener = events_.get();
   }
   const auto mask = events_ ? fdds::StatusMask::none() : fdds::StatusMask::all();

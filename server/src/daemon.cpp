@@ -79,7 +79,7 @@ Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
   settings.tour_workers = config_.workers;
   settings.memory_budget_bytes = memory_budget_bytes(config_);
   claims_ = std::make_unique<SceneClaims>(
-      config_.server_id, Fleet{[this] { return dds_->other_daemons(); }, [this] { return self_info(); },
+      config_.server_id, Fleet{[this] { return other_daemons(); }, [this] { return self_info(); },
                                [this] { announce(); }});
   try {
     open_metrics_endpoint();
@@ -129,7 +129,7 @@ void Daemon::shutdown() {
   leaving_ = true;
   serving_ = false;
   notifier_.stopping("stopping: running builds commit their current chunk");
-  if (dds_) dds_->stop_requests();
+  with_dds([](DdsEndpoints& d) { d.stop_requests(); });
   {
     std::lock_guard lock(fleet_mutex_);
     fleet_stop_ = true;
@@ -143,7 +143,10 @@ void Daemon::shutdown() {
   if (service_) service_->stop();                  // tours reply with their best; builds commit and stop
   metrics_endpoint_.reset();  // it reads the service and the endpoints
   service_.reset();
-  dds_.reset();
+  {
+    std::unique_lock lock(dds_mutex_);
+    dds_.reset();
+  }
   if (lock_fd_ >= 0) ::close(lock_fd_);
   lock_fd_ = -1;
   spdlog::info("isparsd {} stopped", config_.server_id);
@@ -168,7 +171,7 @@ void Daemon::dispatch(Request request) {
       return;  // its reply is on the way
     case ReplyCache::Admission::answered:
       spdlog::debug("answering retry {} #{} from the cache", client, request.request_seq());
-      dds_->send_reply(cached);
+      with_dds([&](DdsEndpoints& d) { d.send_reply(cached); });
       return;
     case ReplyCache::Admission::new_request:
       break;
@@ -186,14 +189,13 @@ template <class Request>
 void Daemon::refuse_busy(const Request& request, const WorkerPool& lane, const char* lane_name) {
   spdlog::warn("{} #{} {} refused: the {} lane holds {} requests", request.client_id().to_string(),
                request.request_seq(), wire::to_string(request.args()._d()), lane_name, lane.max_queued());
-  if (!dds_) return;
   msg::Reply reply = reply_to(request, config_.server_id);
   reply.ok(false);
   reply.error(fmt::format("request: kind: busy: {} requests are queued on this daemon's {} lane (its limit); "
                           "retry later",
                           lane.max_queued(), lane_name));
   metrics_.count_request(wire::to_string(request.args()._d()), RequestOutcome::busy, 0.0);
-  dds_->send_reply(reply);  // not cached: a retry is a new chance
+  with_dds([&](DdsEndpoints& d) { d.send_reply(reply); });  // not cached: a retry is a new chance
 }
 
 template <class Request>
@@ -228,7 +230,7 @@ void Daemon::handle(const Request& request) {
 
 void Daemon::finish(const msg::Reply& reply) {
   cache_.complete(reply.client_id().to_string(), reply.request_seq(), reply);
-  if (dds_) dds_->send_reply(reply);
+  with_dds([&](DdsEndpoints& d) { d.send_reply(reply); });
 }
 
 std::string host_name() {

@@ -10,9 +10,11 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <shared_mutex>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "daemon_config.hpp"
 #include "daemon_metrics.hpp"
@@ -103,6 +105,20 @@ class Daemon {
   void give_up(const ContestedScene& contest);  // hands a held scene to the daemon that outweighs this one
   void take_over(const OrphanScene& orphan);
   void announce_if_fresher();  // held roadmaps changed: at once for a new generation or target
+  // Rejoining (daemon_rejoin.cpp): a daemon peer this one dropped came back under the same GUID,
+  // so the sessions between them may never recover (PeerWatch); this daemon then replaces its
+  // participant, announces and publishes its statuses again, and listens a discovery wait.
+  void rejoin_if_a_peer_returned();
+  void rejoin(const std::string& why);
+  // The DDS side, replaced whole by rejoin(). Every use goes through with_dds(), which holds
+  // dds_mutex_ shared; rejoin() holds it alone only to swap the pointer, never while a
+  // participant is made or deleted (whose callbacks may be waiting for it).
+  template <class F>
+  void with_dds(F&& f) const {
+    std::shared_lock lock(dds_mutex_);
+    if (dds_) f(*dds_);
+  }
+  [[nodiscard]] std::vector<msg::DaemonInfo> other_daemons() const;
   void set_fleet_note(const std::string& scene, const std::string& note);
   [[nodiscard]] std::string fleet_note(const std::string& scene) const;  // for the scenes list
   // For operators (daemon_operator.cpp): readiness, watchdog, metrics and health.
@@ -138,7 +154,9 @@ class Daemon {
   std::map<std::string, std::string> fleet_notes_;  // scene -> what the fleet last decided about it here
   std::vector<ServedRoadmap> last_held_;  // held roadmaps as last announced (announce_if_fresher)
   std::chrono::steady_clock::time_point last_held_announce_{};
+  mutable std::shared_mutex dds_mutex_;
   std::unique_ptr<DdsEndpoints> dds_;
+  std::chrono::steady_clock::time_point last_rejoin_{};
   std::unique_ptr<RoadmapService> service_;
   std::unique_ptr<WorkerPool> quick_lane_;  // list, stats, cancel, unload, build, extend, tour
   std::unique_ptr<WorkerPool> slow_lane_;   // load, path, snapshot, verify, drop

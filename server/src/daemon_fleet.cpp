@@ -67,7 +67,13 @@ void Daemon::watch_fleet() {
     lock.unlock();
     // At most every few seconds: two running daemons with one id would otherwise answer each
     // other's announcements without end.
-    if (const std::string older = dds_->older_namesake(); !older.empty() && !displaced_.exchange(true)) {
+    std::string older;
+    bool contested = false;
+    with_dds([&](DdsEndpoints& d) {
+      older = d.older_namesake();
+      contested = d.take_id_contested();
+    });
+    if (!older.empty() && !displaced_.exchange(true)) {
       // Discovery slower than the wait at start: two daemons with one id ran. The one that
       // joined first keeps serving; this one stops as if told to.
       spdlog::error("server id '{}' is also announced by a daemon that joined DDS domain {} before this one ({}); "
@@ -75,7 +81,7 @@ void Daemon::watch_fleet() {
                     config_.server_id, config_.domain, older);
       ::kill(::getpid(), SIGTERM);
     }
-    if (dds_->take_id_contested() && std::chrono::steady_clock::now() - last_reannounce >= kReannouncePeriod) {
+    if (contested && std::chrono::steady_clock::now() - last_reannounce >= kReannouncePeriod) {
       last_reannounce = std::chrono::steady_clock::now();
       spdlog::error("another participant on DDS domain {} announces this daemon's server id '{}'; announcing again",
                     config_.domain, config_.server_id);
@@ -85,6 +91,14 @@ void Daemon::watch_fleet() {
     if (std::chrono::steady_clock::now() - last_listing >= kListingPeriod) {
       last_listing = std::chrono::steady_clock::now();
       if (refresh_listing()) announce();
+    }
+    rejoin_if_a_peer_returned();
+    bool endpoints = false;
+    with_dds([&](DdsEndpoints&) { endpoints = true; });
+    if (!endpoints) {  // a rejoin that failed: the rule must not run on an empty view of the fleet
+      if (std::chrono::steady_clock::now() - last_rejoin_ >= std::chrono::seconds(30)) rejoin("the last rejoin failed");
+      lock.lock();
+      continue;
     }
     for (const ContestedScene& contest : claims_->contested()) give_up(contest);
     for (const OrphanScene& orphan : claims_->orphans()) take_over(orphan);

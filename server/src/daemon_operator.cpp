@@ -109,10 +109,12 @@ std::string Daemon::metrics_text() const {
       }
     }
   }
-  if (serving_ && dds_) {
-    g.update_subscribers = dds_->update_subscribers();
-    g.reply_clients = dds_->reply_clients();
-    g.other_daemons = dds_->other_daemons().size();
+  if (serving_) {
+    with_dds([&](DdsEndpoints& d) {
+      g.update_subscribers = d.update_subscribers();
+      g.reply_clients = d.reply_clients();
+      g.other_daemons = d.other_daemons().size();
+    });
   }
   g.resident_bytes = resident_memory_bytes();
   g.memory_budget_bytes = memory_budget_bytes(config_);

@@ -205,7 +205,7 @@ bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
     }
     case msg::DROP:
       service_->drop(scene);
-      dds_->retire_updates(scene);  // replicas drop their copy; the kept batches are released
+      with_dds([&](DdsEndpoints& d) { d.retire_updates(scene); });  // replicas drop their copy; the kept batches are released
       reply.message(fmt::format("dropped the roadmap of '{}'", scene));
       break;
     default:
@@ -238,7 +238,7 @@ void Daemon::start_tour(const msg::QueryRequest& request, const msg::Reply& head
     progress.seconds(seconds);
     progress.cost(cost);
     progress.lower_bound(bound);
-    dds_->publish_tour_progress(progress);
+    with_dds([&](DdsEndpoints& d) { d.publish_tour_progress(progress); });
   };
   callbacks.done = [this, header, scene, taken](TourOutcome outcome) {
     msg::Reply reply = header;

@@ -19,7 +19,8 @@ ServiceEvents Daemon::service_events() {
   ServiceEvents events;
   events.on_commit = [this](const std::string& scene, const RoadmapBatch& batch, std::uint64_t generation,
                             std::uint64_t samples) {
-    dds_->publish_update(wire::to_message(batch, scene, config_.server_id, generation, samples));
+    const msg::UpdateBatch update = wire::to_message(batch, scene, config_.server_id, generation, samples);
+    with_dds([&](DdsEndpoints& d) { d.publish_update(update); });
   };
   events.on_status = [this](const RoadmapSession& session) { publish_status(session); };
   events.on_unloaded = [this](const std::string& scene, bool given_up) { publish_unloaded(scene, given_up); };
@@ -50,14 +51,14 @@ void Daemon::publish_status(const RoadmapSession& session) {
   std::lock_guard lock(publish_mutex_);
   const msg::SceneStatus status = status_message(session);
   metrics_.observe_samples(status.scene().to_string(), status.samples_done());
-  dds_->publish_status(status);
+  with_dds([&](DdsEndpoints& d) { d.publish_status(status); });
 }
 
 void Daemon::publish_unloaded(const std::string& scene, bool given_up) {
   // A stopping daemon leaves its updates as they are: its writer goes with its participant. (Its
   // last batches may still be in flight on the asynchronous writer, and removing them from the
   // history just before the writer is deleted crashed the daemon now and then at SIGTERM.)
-  if (!leaving_) dds_->retire_updates(scene);
+  if (!leaving_) with_dds([&](DdsEndpoints& d) { d.retire_updates(scene); });
   if (given_up) return;  // the owner's statuses are the scene's: no stale UNLOADED after them
   msg::SceneStatus status;
   status.scene(scene);
@@ -68,7 +69,7 @@ void Daemon::publish_unloaded(const std::string& scene, bool given_up) {
     std::lock_guard stamp(status_mutex_);
     status.status_seq(++status_seq_);
   }
-  dds_->publish_status(status);
+  with_dds([&](DdsEndpoints& d) { d.publish_status(status); });
 }
 
 msg::DaemonInfo Daemon::self_info() const {
@@ -147,7 +148,8 @@ std::string Daemon::fleet_note(const std::string& scene) const {
 void Daemon::announce() {
   std::lock_guard lock(announce_mutex_);  // the latest state is the last written
   refresh_listing();
-  dds_->announce(self_info());
+  const msg::DaemonInfo info = self_info();
+  with_dds([&](DdsEndpoints& d) { d.announce(info); });
 }
 
 }  // namespace ispars::server

@@ -63,6 +63,8 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   [[nodiscard]] std::uint64_t reply_clients() const;
   /// Stops delivering requests.
   void stop_requests();
+  /// A peer this participant dropped and then discovered again under the same GUID, once.
+  [[nodiscard]] std::optional<wire::PeerWatch::Peer> take_returned_peer() { return participant_.peers().take_returned(); }
 
   // DataReaderListener (queries and changes)
   void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;

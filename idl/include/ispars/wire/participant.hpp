@@ -6,6 +6,9 @@
 #include <fastdds/dds/core/policy/QosPolicies.hpp>
 
 #include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
 #include <string>
 
 namespace ispars::wire {
@@ -30,6 +33,30 @@ struct ParticipantOptions {
 /// naming the first file that is missing or unreadable.
 [[nodiscard]] eprosima::fastdds::dds::PropertyPolicyQos security_properties(const std::string& dir);
 
+/// Peers that a participant dropped (their lease ran out there) and then discovered again under
+/// the same GUID: the peer kept running (it stalled, or the link between them was cut) while this
+/// side forgot it. Their sessions may not recover: Debian's Fast DDS 2.9.1 cannot authenticate a
+/// peer again while the other side keeps the old DDS Security session, and a process stalled past
+/// the shared memory transport's health timeout loses its ports there (README, "A stall under
+/// security"). Safe from any thread.
+class PeerWatch {
+ public:
+  struct Peer {
+    std::string prefix;  ///< Its GUID prefix, as Fast DDS prints it.
+    std::string name;    ///< Its participant name ("isparsd ID" for a daemon).
+  };
+  void dropped(const std::string& prefix);
+  void discovered(const std::string& prefix, const std::string& name);
+  /// The last peer that came back since the previous call, if any.
+  [[nodiscard]] std::optional<Peer> take_returned();
+
+ private:
+  static constexpr std::size_t kMaxDropped = 1024;  // forgotten all at once past this
+  std::mutex mutex_;
+  std::set<std::string> dropped_;
+  std::optional<Peer> returned_;
+};
+
 /// Owns a participant and deletes it (with its entities) on destruction. Without a listener of
 /// the caller's, it logs (spdlog) which participants join, leave, are dropped (their lease ran
 /// out) or fail to authenticate. The localhost profile's lease is 3 s, 20 s under DDS Security.
@@ -43,9 +70,13 @@ class Participant {
   Participant& operator=(const Participant&) = delete;
 
   [[nodiscard]] eprosima::fastdds::dds::DomainParticipant* get() const { return participant_; }
+  /// Peers dropped and discovered again (only when this object logs the events itself, that is
+  /// when no listener was given).
+  [[nodiscard]] PeerWatch& peers() { return *peers_; }
   eprosima::fastdds::dds::DomainParticipant* operator->() const { return participant_; }
 
  private:
+  std::shared_ptr<PeerWatch> peers_ = std::make_shared<PeerWatch>();
   std::unique_ptr<eprosima::fastdds::dds::DomainParticipantListener> events_;  // outlives participant_
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
 };

@@ -1,0 +1,86 @@
+// isparsd rejoining its DDS domain with a new participant. A daemon peer that this one dropped
+// (its lease ran out here) and then discovered again under the same GUID kept running: it stalled
+// or the link was cut. The sessions between the two may never recover: Debian's Fast DDS 2.9.1
+// cannot authenticate a peer again while the other side keeps its DDS Security session, and a
+// process stopped past the shared memory transport's health timeout (10 s) loses its ports on
+// this host. A new participant (a new GUID) meets every peer afresh. The daemon keeps its scenes,
+// claims and jobs; it announces itself and publishes each scene's status again, and its fleet
+// thread listens a discovery wait before applying the fleet's rule (so it does not take the
+// scenes of daemons it has not heard yet). Replicas see a new update writer and resync.
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+
+#include "daemon.hpp"
+#include "dds_endpoints.hpp"
+
+namespace ispars::server {
+namespace {
+
+// At most one rejoin in this long: a peer that keeps stalling must not keep this daemon away.
+constexpr std::chrono::seconds kRejoinPeriod{30};
+// How long after rejoining the fleet's rule waits (at least): under DDS Security a handshake
+// takes a few hundred milliseconds per peer.
+constexpr std::chrono::milliseconds kRejoinListen{3000};
+
+}  // namespace
+
+std::vector<msg::DaemonInfo> Daemon::other_daemons() const {
+  std::vector<msg::DaemonInfo> out;
+  with_dds([&](DdsEndpoints& d) { out = d.other_daemons(); });
+  return out;
+}
+
+void Daemon::rejoin_if_a_peer_returned() {
+  std::optional<wire::PeerWatch::Peer> peer;
+  with_dds([&](DdsEndpoints& d) { peer = d.take_returned_peer(); });
+  if (!peer || peer->name.rfind("isparsd ", 0) != 0) return;  // clients come and go by themselves
+  const auto now = std::chrono::steady_clock::now();
+  if (last_rejoin_ != std::chrono::steady_clock::time_point{} && now - last_rejoin_ < kRejoinPeriod) {
+    spdlog::warn("{} ({}) came back after this daemon dropped it; rejoined {:.0f} s ago, so not again yet",
+                 peer->name, peer->prefix, std::chrono::duration<double>(now - last_rejoin_).count());
+    return;
+  }
+  rejoin(fmt::format("{} ({}) came back after its lease ran out here", peer->name, peer->prefix));
+}
+
+void Daemon::rejoin(const std::string& why) {
+  const auto start = std::chrono::steady_clock::now();
+  last_rejoin_ = start;
+  spdlog::warn("rejoining DDS domain {} with a new participant: {}", config_.domain, why);
+  std::unique_ptr<DdsEndpoints> old;
+  {
+    std::unique_lock lock(dds_mutex_);
+    old = std::move(dds_);
+  }
+  old.reset();  // peers see it leave; its callbacks find no endpoints and drop what they carry
+  try {
+    auto fresh = std::make_unique<DdsEndpoints>(*this, config_, joined_ms_);
+    std::unique_lock lock(dds_mutex_);
+    dds_ = std::move(fresh);
+  } catch (const std::exception& e) {
+    spdlog::error("rejoining DDS domain {} failed: {}; trying again in {} s", config_.domain, e.what(),
+                  kRejoinPeriod.count());
+    return;
+  }
+  announce();
+  for (const std::string& scene : service_->loaded_scenes()) {
+    try {
+      publish_status(*service_->session(scene));
+    } catch (const std::exception&) {
+      // unloaded meanwhile
+    }
+  }
+  {
+    // Interrupted by a stop (SIGTERM is honoured within half a second).
+    std::unique_lock lock(fleet_mutex_);
+    fleet_wake_.wait_for(lock, std::max(kRejoinListen, std::chrono::milliseconds(config_.discovery_wait_ms)),
+                         [this] { return fleet_stop_; });
+  }
+  spdlog::info("rejoined DDS domain {} in {:.2f} s; {} other daemons heard", config_.domain,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+               other_daemons().size());
+}
+
+}  // namespace ispars::server
