@@ -152,6 +152,24 @@ void SceneClaims::add_handovers(const std::vector<msg::DaemonInfo>& others, cons
   }
 }
 
+void SceneClaims::retry_takeovers(const std::vector<msg::DaemonInfo>& others,
+                                  const std::vector<msg::DaemonInfo>& everyone, std::vector<OrphanScene>& out) {
+  const auto now = std::chrono::steady_clock::now();
+  for (auto it = takeovers_.begin(); it != takeovers_.end();) {
+    auto& [scene, pending] = *it;
+    if (claimed_.count(scene) || !wire::holder_of(scene, others).empty() ||
+        wire::assigned_daemon(scene, everyone) != self_) {
+      it = takeovers_.erase(it);  // taken over (here or elsewhere), or no longer this daemon's
+      continue;
+    }
+    if (now - pending.reported >= kRetryPeriod) {  // the takeover failed: once more
+      pending.reported = now;
+      out.push_back(pending.orphan);
+    }
+    ++it;
+  }
+}
+
 std::vector<OrphanScene> SceneClaims::orphans() {
   const std::vector<msg::DaemonInfo> others = fleet_.others();
   std::vector<msg::DaemonInfo> everyone = others;
@@ -171,12 +189,14 @@ std::vector<OrphanScene> SceneClaims::orphans() {
       if (const auto s = last_status_.find(scene); s != last_status_.end() && s->second.server_id() == holder) {
         orphan.last_status = s->second;
       }
+      if (takeovers_.size() < kMaxRemembered) takeovers_[scene] = {orphan, std::chrono::steady_clock::now()};
       out.push_back(std::move(orphan));
       it = held_by_.erase(it);
     } else {
       ++it;  // another live daemon is to take it over; remembered in case it leaves too
     }
   }
+  retry_takeovers(others, everyone, out);
   add_handovers(others, everyone.back(), out);
   return out;
 }

@@ -60,7 +60,7 @@ class SceneClaims {
   static constexpr std::chrono::milliseconds kClaimWindow{300};
   /// Former holders and last statuses remembered, at most (scene names are bounded anyway).
   static constexpr std::size_t kMaxRemembered = 4096;
-  /// How long a handed-over scene that is still not held here waits before it is reported again.
+  /// How long a scene to take over that is still not held waits before it is reported again.
   static constexpr std::chrono::seconds kRetryPeriod{5};
 
   SceneClaims(std::string self_id, Fleet fleet);
@@ -75,9 +75,9 @@ class SceneClaims {
 
   /// Scenes claimed here that another live daemon outweighs: to give up to it.
   [[nodiscard]] std::vector<ContestedScene> contested() const;
-  /// Scenes whose holder left and that the rule now assigns to this daemon, each reported once;
-  /// and scenes a live holder handed to this daemon and that nobody holds, reported again every
-  /// kRetryPeriod while so (a takeover that failed is tried again).
+  /// Scenes whose holder left and that the rule now assigns to this daemon, and scenes a live
+  /// holder handed to this daemon; each reported again every kRetryPeriod while nobody holds it
+  /// and the rule still names this daemon (a takeover that failed is tried again).
   [[nodiscard]] std::vector<OrphanScene> orphans();
   /// Remembers a status another daemon published (the recipe a takeover rebuilds from).
   void observe(const msg::SceneStatus& status);
@@ -93,6 +93,13 @@ class SceneClaims {
   std::map<std::string, std::string> held_by_;                // scene -> the other daemon last seen holding it
   std::map<std::string, std::uint64_t> accepted_;             // scene -> what its holder last announced accepting
   std::map<std::string, std::chrono::steady_clock::time_point> handover_reported_;
+  struct PendingTakeover {
+    OrphanScene orphan;
+    std::chrono::steady_clock::time_point reported;
+  };
+  std::map<std::string, PendingTakeover> takeovers_;  // orphans reported and not yet held here
+  void retry_takeovers(const std::vector<msg::DaemonInfo>& others, const std::vector<msg::DaemonInfo>& everyone,
+                       std::vector<OrphanScene>& out);  // mutex_ held
   std::map<std::string, msg::SceneStatus> last_status_;  // scene -> its holder's last status but UNLOADED
 };
 

@@ -5,6 +5,7 @@
 
 #include <mutex>
 #include <optional>
+#include <thread>
 #include <tuple>
 
 #include "ispars/input_error.hpp"
@@ -245,6 +246,24 @@ TEST(SceneClaims, AHolderThatRefusedAClaimAndLeftIsTakenOver) {
   ASSERT_EQ(orphans.size(), 1u);
   EXPECT_EQ(orphans[0].former_owner, "holder");
   EXPECT_FALSE(orphans[0].handed_over);
+}
+
+// A takeover that failed (the load or build threw) is reported again after the retry period,
+// until the scene is held here.
+TEST(SceneClaims, AFailedTakeoverIsReportedAgainUntilTheSceneIsHeld) {
+  Claims c("me");
+  c.fleet.others = {info("gone", {"s"})};
+  (void)c.claims->orphans();
+  c.fleet.others = {};
+  ASSERT_EQ(c.claims->orphans().size(), 1u);
+  EXPECT_TRUE(c.claims->orphans().empty());
+  std::this_thread::sleep_for(SceneClaims::kRetryPeriod + std::chrono::milliseconds(100));
+  const auto again = c.claims->orphans();
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_EQ(again[0].former_owner, "gone");
+  EXPECT_EQ(claim_error(*c.claims, "s"), "");  // taken over now
+  std::this_thread::sleep_for(SceneClaims::kRetryPeriod + std::chrono::milliseconds(100));
+  EXPECT_TRUE(c.claims->orphans().empty());
 }
 
 TEST(SceneClaims, ASceneReleasedOnPurposeIsNoOrphan) {
