@@ -105,11 +105,12 @@ class Daemon {
   void give_up(const ContestedScene& contest);  // hands a held scene to the daemon that outweighs this one
   void take_over(const OrphanScene& orphan);
   void announce_if_fresher();  // held roadmaps changed: at once for a new generation or target
-  // Rejoining (daemon_rejoin.cpp): a daemon peer this one dropped came back under the same GUID,
+  // Rejoining (daemon_rejoin.cpp): a peer this one dropped came back under the same GUID,
   // so the sessions between them may never recover (PeerWatch); this daemon then replaces its
   // participant, announces and publishes its statuses again, and listens a discovery wait.
   void rejoin_if_a_peer_returned();
   void rejoin(const std::string& why);
+  void mark_version(const std::string& scene, const RoadmapSession& session);  // an empty batch at its version
   // The DDS side, replaced whole by rejoin(). Every use goes through with_dds(), which holds
   // dds_mutex_ shared; rejoin() holds it alone only to swap the pointer, never while a
   // participant is made or deleted (whose callbacks may be waiting for it).

@@ -1,4 +1,4 @@
-// isparsd rejoining its DDS domain with a new participant. A daemon peer that this one dropped
+// isparsd rejoining its DDS domain with a new participant. A peer (daemon or client) this one dropped
 // (its lease ran out here) and then discovered again under the same GUID kept running: it stalled
 // or the link was cut. The sessions between the two may never recover: Debian's Fast DDS 2.9.1
 // cannot authenticate a peer again while the other side keeps its DDS Security session, and a
@@ -35,7 +35,9 @@ std::vector<msg::DaemonInfo> Daemon::other_daemons() const {
 void Daemon::rejoin_if_a_peer_returned() {
   std::optional<wire::PeerWatch::Peer> peer;
   with_dds([&](DdsEndpoints& d) { peer = d.take_returned_peer(); });
-  if (!peer || peer->name.rfind("isparsd ", 0) != 0) return;  // clients come and go by themselves
+  // A client counts too: a replica this daemon dropped can no more be authenticated again than a
+  // daemon, and a new participant here gives it a fresh session.
+  if (!peer) return;
   const auto now = std::chrono::steady_clock::now();
   if (last_rejoin_ != std::chrono::steady_clock::time_point{} && now - last_rejoin_ < kRejoinPeriod) {
     spdlog::warn("{} ({}) came back after this daemon dropped it; rejoined {:.0f} s ago, so not again yet",
@@ -43,6 +45,23 @@ void Daemon::rejoin_if_a_peer_returned() {
     return;
   }
   rejoin(fmt::format("{} ({}) came back after its lease ran out here", peer->name, peer->prefix));
+}
+
+void Daemon::mark_version(const std::string& scene, const RoadmapSession& session) {
+  // The new update writer keeps none of the batches the old one wrote: a replica that missed the
+  // last of them would hear nothing that tells it. An empty batch at the roadmap's version does:
+  // one behind sees a gap and resyncs; one up to date takes it for a duplicate.
+  const SessionStatus status = session.status();
+  if (!status.recipe) return;
+  msg::UpdateBatch mark;
+  mark.scene(scene);
+  mark.server_id(config_.server_id);
+  mark.generation(session.published().generation);
+  mark.from_version(status.version);
+  mark.to_version(status.version);
+  mark.samples_done(status.samples_done);
+  mark.first_edge(static_cast<std::uint32_t>(status.edges));
+  with_dds([&](DdsEndpoints& d) { d.publish_update(mark); });
 }
 
 void Daemon::rejoin(const std::string& why) {
@@ -67,7 +86,9 @@ void Daemon::rejoin(const std::string& why) {
   announce();
   for (const std::string& scene : service_->loaded_scenes()) {
     try {
-      publish_status(*service_->session(scene));
+      const auto session = service_->session(scene);
+      publish_status(*session);
+      mark_version(scene, *session);
     } catch (const std::exception&) {
       // unloaded meanwhile
     }
