@@ -158,6 +158,7 @@ class Daemon {
   mutable std::shared_mutex dds_mutex_;
   std::unique_ptr<DdsEndpoints> dds_;
   std::chrono::steady_clock::time_point last_rejoin_{};
+  std::string pending_rejoin_;  // why this daemon must rejoin once kRejoinPeriod allows (fleet thread only)
   std::unique_ptr<RoadmapService> service_;
   std::unique_ptr<WorkerPool> quick_lane_;  // list, stats, cancel, unload, build, extend, tour
   std::unique_ptr<WorkerPool> slow_lane_;   // load, path, snapshot, verify, drop

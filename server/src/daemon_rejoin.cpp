@@ -11,6 +11,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <utility>
+
 
 #include "daemon.hpp"
 #include "dds_endpoints.hpp"
@@ -37,14 +39,18 @@ void Daemon::rejoin_if_a_peer_returned() {
   with_dds([&](DdsEndpoints& d) { peer = d.take_returned_peer(); });
   // A client counts too: a replica this daemon dropped can no more be authenticated again than a
   // daemon, and a new participant here gives it a fresh session.
-  if (!peer) return;
+  if (peer) pending_rejoin_ = fmt::format("{} ({}) came back after its lease ran out here", peer->name, peer->prefix);
+  if (pending_rejoin_.empty()) return;
   const auto now = std::chrono::steady_clock::now();
   if (last_rejoin_ != std::chrono::steady_clock::time_point{} && now - last_rejoin_ < kRejoinPeriod) {
-    spdlog::warn("{} ({}) came back after this daemon dropped it; rejoined {:.0f} s ago, so not again yet",
-                 peer->name, peer->prefix, std::chrono::duration<double>(now - last_rejoin_).count());
-    return;
+    if (peer) {
+      spdlog::warn("{}; rejoined {:.0f} s ago, so again {:.0f} s after that", pending_rejoin_,
+                   std::chrono::duration<double>(now - last_rejoin_).count(),
+                   std::chrono::duration<double>(kRejoinPeriod).count());
+    }
+    return;  // deferred, not dropped
   }
-  rejoin(fmt::format("{} ({}) came back after its lease ran out here", peer->name, peer->prefix));
+  rejoin(std::exchange(pending_rejoin_, std::string()));
 }
 
 void Daemon::mark_version(const std::string& scene, const RoadmapSession& session) {
