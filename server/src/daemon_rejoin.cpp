@@ -1,6 +1,6 @@
-// isparsd rejoining its DDS domain with a new participant. A peer (daemon or client) this one dropped
-// (its lease ran out here) and then discovered again under the same GUID kept running: it stalled
-// or the link was cut. The sessions between the two may never recover: Debian's Fast DDS 2.9.1
+// isparsd rejoining its DDS domain with a new participant, under DDS Security. A peer (daemon or
+// client) this one dropped (its lease ran out here) and then discovered again under the same GUID
+// kept running: it stalled or the link was cut. The sessions between the two may never recover: Debian's Fast DDS 2.9.1
 // cannot authenticate a peer again while the other side keeps its DDS Security session, and a
 // process stopped past the shared memory transport's health timeout (10 s) loses its ports on
 // this host. A new participant (a new GUID) meets every peer afresh. The daemon keeps its scenes,
@@ -37,6 +37,10 @@ std::vector<msg::DaemonInfo> Daemon::other_daemons() const {
 void Daemon::rejoin_if_a_peer_returned() {
   std::optional<wire::PeerWatch::Peer> peer;
   with_dds([&](DdsEndpoints& d) { peer = d.take_returned_peer(); });
+  // Only under DDS Security, whose sessions are what cannot be made again: without it Fast DDS
+  // meets a returning peer by itself (PartitionTest, plain), and a rejoin would only make churn
+  // (a plain 10-round partition run with rejoins left its replica behind in round 6).
+  if (config_.security.empty()) return;
   // A client counts too: a replica this daemon dropped can no more be authenticated again than a
   // daemon, and a new participant here gives it a fresh session.
   if (peer) pending_rejoin_ = fmt::format("{} ({}) came back after its lease ran out here", peer->name, peer->prefix);
