@@ -4,9 +4,10 @@
 // the fleet must settle on exactly one owner within a bound, holding every acknowledged sample of
 // either side (docs/fleet.md), with a replica equal to the owner's snapshot. Without security the
 // replica follows the scene through every round. Under DDS Security a client does not rejoin by
-// itself (README, "A stall under security"): one that followed the scene through the heals was
-// left deaf after round 1 in a ctest run beside other tests (a 10-round run alone passed), so
-// there a replica made after each heal is checked instead.
+// itself (README, "A stall under security"): a replica that followed the scene through the heals
+// was left deaf after round 1 in a ctest run beside other tests (a 10-round run alone passed), and
+// in another the test's own client never saw the three daemons again; so under security every
+// round looks at the fleet through new clients and checks a replica made after the heal.
 //
 // ISPARS_PARTITION_ROUNDS sets the rounds (default 3; `deploy/fleet-campaign.sh` runs 10).
 
@@ -63,17 +64,22 @@ class PartitionTest : public ServiceTest {
   // A client on hc that sees every daemon. Under DDS Security a first handshake can fail for good
   // in Debian's Fast DDS 2.9.1 (README, "A stall under security"): a client that has not seen
   // them all in 10 s joins again.
-  std::unique_ptr<Client> joined() const {
+  std::unique_ptr<Client> joined(std::size_t daemons = kDaemons.size()) const {
     for (int attempt = 1;; ++attempt) {
-      auto client = std::make_unique<Client>(options_on_hc());
-      const auto deadline = Clock::now() + std::chrono::seconds(10);
-      while (Clock::now() < deadline) {
-        if (client->daemons().size() == kDaemons.size()) return client;
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      }
+      if (auto client = fresh(daemons)) return client;
       if (attempt == 3) throw std::runtime_error("a client heard not every daemon in three tries of 10 s");
       std::fprintf(stderr, "a client heard not every daemon in 10 s (try %d); joining again\n", attempt);
     }
+  }
+  // A new client that hears `daemons` daemons within 10 s, or nullptr.
+  std::unique_ptr<Client> fresh(std::size_t daemons) const {
+    auto client = std::make_unique<Client>(options_on_hc());
+    const auto deadline = Clock::now() + std::chrono::seconds(10);
+    while (Clock::now() < deadline) {
+      if (client->daemons().size() >= daemons) return client;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return nullptr;
   }
   // `ispars ARGS --json` on `host`: its last JSON line, or an error naming its output.
   nlohmann::json cli_on(const std::string& host, const std::string& args) const {
@@ -121,14 +127,18 @@ void PartitionTest::run_campaign(bool secured) {
     const std::string cut = status.server_id().to_string();
     SCOPED_TRACE("round " + std::to_string(round) + ", " + cut + " cut off");
     lab_->cut(cut);
+    // Under DDS Security a client does not rejoin by itself: each round's look at the fleet is
+    // taken by new clients (without security, the long-lived one follows every round).
+    std::unique_ptr<Client> side_b = secured ? joined(kDaemons.size() - 1) : nullptr;
+    Client& c = secured ? *side_b : client;
     // The side without the owner takes the scene over once the owner's lease runs out there.
     const auto cut_at = Clock::now();
     msg::SceneStatus taken;
     while (Clock::now() - cut_at < lease + std::chrono::seconds(60)) {
-      const auto held = holders(client, "s0");
+      const auto held = holders(c, "s0");
       if (held.size() == 1 && held[0] != cut) {
         try {
-          taken = client.wait_idle("s0", {}, kLong);
+          taken = c.wait_idle("s0", {}, kLong);
           if (taken.server_id() == held[0]) break;
         } catch (const ClientError&) {
         }
@@ -143,8 +153,8 @@ void PartitionTest::run_campaign(bool secured) {
     const nlohmann::json a = cli_on(cut, "extend s0 --samples " + std::to_string(on_owner_side) + " --wait");
     ASSERT_EQ(a.at("server_id"), cut);
     acks.push_back({cut, a.at("generation"), a.at("samples_done")});
-    client.extend("s0", on_other_side);
-    const msg::SceneStatus b = client.wait_idle("s0", {}, kLong);
+    c.extend("s0", on_other_side);
+    const msg::SceneStatus b = c.wait_idle("s0", {}, kLong);
     acks.push_back({b.server_id().to_string(), b.generation(), b.samples_done()});
     lab_->heal(cut);
     const auto healed_at = Clock::now();
@@ -154,12 +164,14 @@ void PartitionTest::run_campaign(bool secured) {
     std::uint64_t expected = std::max(acks[acks.size() - 1].samples, acks[acks.size() - 2].samples);
     while (Clock::now() - healed_at < lease + std::chrono::seconds(60)) {
       // Every daemon seen again (the cut one too: until then the two sides have not met).
-      const auto seen = client.daemons();
-      const auto held = holders(client, "s0");
-      bool ok = held.size() == 1 && seen.size() == kDaemons.size();
+      std::unique_ptr<Client> look = secured ? fresh(kDaemons.size()) : nullptr;
+      Client& v = secured ? (look ? *look : c) : client;
+      const auto seen = v.daemons();
+      const auto held = holders(v, "s0");
+      bool ok = (!secured || look) && held.size() == 1 && seen.size() == kDaemons.size();
       if (ok) {
         try {
-          status = client.stats("s0");
+          status = v.stats("s0");
           ok = status.server_id() == held[0] && status.state() == msg::SCENE_IDLE && status.samples_done() == expected;
         } catch (const ClientError&) {
           ok = false;
@@ -191,13 +203,14 @@ void PartitionTest::run_campaign(bool secured) {
       auto late_watcher = joined();
       client::RoadmapReplica late(*late_watcher, "s0");
       ASSERT_TRUE(late.wait_for(status.generation(), status.version(), std::chrono::seconds(60))) << late.last_error();
-      EXPECT_EQ(roadmap_digest(late.roadmap()), roadmap_digest(client.snapshot("s0").roadmap));
+      EXPECT_EQ(roadmap_digest(late.roadmap()), roadmap_digest(late_watcher->snapshot("s0").roadmap));
     } else {
       ASSERT_TRUE(replica.wait_for(status.generation(), status.version(), std::chrono::seconds(60)))
           << replica.last_error();
     }
   }
-  const std::uint64_t digest = roadmap_digest(client.snapshot("s0").roadmap);
+  std::unique_ptr<Client> last = secured ? joined() : nullptr;
+  const std::uint64_t digest = roadmap_digest((secured ? *last : client).snapshot("s0").roadmap);
   EXPECT_EQ(digest, reference_digest(scene_dir_ / "s0.yaml", status.samples_done(), 4));
   if (!secured) {
     EXPECT_EQ(roadmap_digest(replica.roadmap()), digest);
