@@ -65,7 +65,6 @@ bool outranks(std::string_view scene, std::string_view a, std::string_view b) {
 
 bool holds(const msg::DaemonInfo& daemon, std::string_view scene) { return contains(daemon.loaded(), scene); }
 bool offers(const msg::DaemonInfo& daemon, std::string_view scene) { return contains(daemon.available(), scene); }
-bool stores(const msg::DaemonInfo& daemon, std::string_view scene) { return contains(daemon.stored(), scene); }
 
 const msg::StoredRoadmap* roadmap_of(const msg::DaemonInfo& daemon, std::string_view scene) {
   for (const msg::StoredRoadmap& r : daemon.roadmaps()) {

@@ -112,17 +112,17 @@ msg::DaemonInfo Daemon::self_info() const {
 
 bool Daemon::refresh_listing() {
   std::vector<std::string> available = list_scene_names(config_.scene_dir);
-  std::vector<std::string> stored = service_ ? service_->stored_scenes() : std::vector<std::string>{};
-  std::vector<ServedRoadmap> roadmaps;
-  std::vector<UnservableStore> unservable;
-  if (service_) list_stored_roadmaps(config_.data_dir, service_->loaded_scenes(), roadmaps, unservable);
+  StoredListing listing;
+  if (service_) listing = list_stored_roadmaps(config_.data_dir, service_->loaded_scenes());
+  std::vector<std::string>& stored = listing.scenes;
+  std::vector<ServedRoadmap>& roadmaps = listing.served;
   const auto same = [](const std::vector<ServedRoadmap>& a, const std::vector<ServedRoadmap>& b) {
     return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const ServedRoadmap& x, const ServedRoadmap& y) {
       return x.scene == y.scene && x.generation == y.generation && x.samples == y.samples;
     });
   };
   std::lock_guard lock(listing_mutex_);
-  for (const UnservableStore& u : unservable) {
+  for (const UnservableStore& u : listing.unservable) {
     auto& note = fleet_notes_[u.scene];
     if (note != u.why) spdlog::warn("scene '{}': {}", u.scene, u.why);
     note = u.why;

@@ -224,19 +224,6 @@ void RoadmapService::forget(const std::string& scene, bool given_up) {
   if (events_.on_scenes_changed) events_.on_scenes_changed();
 }
 
-std::vector<std::string> RoadmapService::stored_scenes() const {
-  std::vector<std::string> out;
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(settings_.data_dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (entry.is_directory() && valid_scene_name(name) && std::filesystem::exists(entry.path() / "recipe.json")) {
-      out.push_back(name);
-    }
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 std::vector<ServedRoadmap> RoadmapService::held_roadmaps() const {
   std::vector<std::shared_ptr<RoadmapSession>> sessions;
   {
@@ -263,18 +250,19 @@ std::filesystem::path RoadmapService::set_aside(const std::string& scene, const 
   return session(scene)->set_aside(why);
 }
 
-void list_stored_roadmaps(const std::filesystem::path& data_dir, const std::vector<std::string>& loaded,
-                          std::vector<ServedRoadmap>& served, std::vector<UnservableStore>& unservable) {
+StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const std::vector<std::string>& loaded) {
+  StoredListing out;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(data_dir, ec)) {
     const std::string name = entry.path().filename().string();
     if (!entry.is_directory() || !valid_scene_name(name) || !std::filesystem::exists(entry.path() / "recipe.json")) {
       continue;
     }
+    out.scenes.push_back(name);
     try {
       const RoadmapRecipe recipe = RoadmapStore::read_recipe(entry.path());
       if (recipe.builder_version != 0 && recipe.builder_version != kBuilderVersion) {
-        unservable.push_back({name, fmt::format("its stored roadmap was made by builder version {}, and this daemon "
+        out.unservable.push_back({name, fmt::format("its stored roadmap was made by builder version {}, and this daemon "
                                                 "has version {}: not offered to the fleet (rebuild or drop it)",
                                                 recipe.builder_version, kBuilderVersion)});
         continue;
@@ -282,11 +270,13 @@ void list_stored_roadmaps(const std::filesystem::path& data_dir, const std::vect
       if (std::find(loaded.begin(), loaded.end(), name) != loaded.end()) continue;  // weighed live
       const auto head = read_store_head(entry.path());
       const std::uint64_t samples = head && head->generation == recipe.generation ? head->samples : 0;
-      served.push_back({name, recipe.generation, samples, samples, recipe.scene_fingerprint, false});
+      out.served.push_back({name, recipe.generation, samples, samples, recipe.scene_fingerprint, false});
     } catch (const std::exception& e) {
-      unservable.push_back({name, fmt::format("its stored roadmap cannot be read: {}", e.what())});
+      out.unservable.push_back({name, fmt::format("its stored roadmap cannot be read: {}", e.what())});
     }
   }
+  std::sort(out.scenes.begin(), out.scenes.end());
+  return out;
 }
 
 CancelOutcome RoadmapService::cancel(const std::string& scene) {

@@ -44,10 +44,9 @@ struct Freshness {
 /// id on a tie).
 [[nodiscard]] bool outranks(std::string_view scene, std::string_view a, std::string_view b);
 
-/// Whether the announcement lists `scene` in `loaded` / `available` / `stored`.
+/// Whether the announcement lists `scene` in `loaded` / `available`.
 [[nodiscard]] bool holds(const msg::DaemonInfo& daemon, std::string_view scene);
 [[nodiscard]] bool offers(const msg::DaemonInfo& daemon, std::string_view scene);
-[[nodiscard]] bool stores(const msg::DaemonInfo& daemon, std::string_view scene);
 
 /// The roadmap of `scene` that `daemon` announces; nullptr when it announces none.
 [[nodiscard]] const msg::StoredRoadmap* roadmap_of(const msg::DaemonInfo& daemon, std::string_view scene);

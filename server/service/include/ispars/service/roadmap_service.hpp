@@ -64,10 +64,16 @@ struct UnservableStore {
   std::string why;
 };
 
-/// The stored roadmaps of a data directory that are not loaded (`loaded` names those that are).
-/// Reads each store's recipe.json and head (roadmap_store.hpp), nothing else.
-void list_stored_roadmaps(const std::filesystem::path& data_dir, const std::vector<std::string>& loaded,
-                          std::vector<ServedRoadmap>& served, std::vector<UnservableStore>& unservable);
+/// The stores of a data directory, in one pass: every scene with a stored roadmap, sorted (loaded
+/// or not); those not loaded (`loaded` names those that are) as the fleet weighs them; and those
+/// that cannot be served. Reads each store's recipe.json and head (roadmap_store.hpp), nothing else.
+struct StoredListing {
+  std::vector<std::string> scenes;
+  std::vector<ServedRoadmap> served;
+  std::vector<UnservableStore> unservable;
+};
+[[nodiscard]] StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir,
+                                                 const std::vector<std::string>& loaded);
 
 /// What the service tells its owner (the transport). Called on the thread that caused the event.
 struct ServiceEvents {
@@ -181,8 +187,6 @@ class RoadmapService {
   /// restart. Returns at once when the scene is not loaded (or was unloaded meanwhile), and
   /// without unloading when `give_up` becomes true (the daemon is stopping).
   void yield(const std::string& scene, const std::atomic<bool>& give_up);
-  /// Scenes with a stored roadmap in the data directory (loaded or not).
-  [[nodiscard]] std::vector<std::string> stored_scenes() const;
   /// The roadmaps of the loaded scenes, as the fleet weighs them (live: committed samples and
   /// accepted targets).
   [[nodiscard]] std::vector<ServedRoadmap> held_roadmaps() const;
