@@ -21,7 +21,7 @@ Qos reliable(Qos qos, fdds::DurabilityQosPolicyKind durability, int depth) {
   qos.resource_limits().max_instances = 0;
   qos.resource_limits().max_samples_per_instance = 0;
   if constexpr (std::is_same_v<Qos, fdds::DataWriterQos>) {
-    // A sample lost on the way (a shared-memory buffer reused under load, say) is repaired at the
+    // A sample lost on the way (a full socket buffer under load, say) is repaired at the
     // writer's next heartbeat: every 200 ms rather than Fast DDS's 3 s.
     qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, 200'000'000);
   }

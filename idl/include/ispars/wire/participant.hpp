@@ -16,8 +16,8 @@ namespace ispars::wire {
 /// How to join a DDS domain.
 struct ParticipantOptions {
   int domain = 0;
-  /// A Fast DDS XML profiles file. Empty: the built-in localhost-only settings (shared memory
-  /// plus UDP bound to 127.0.0.1; nothing leaves the machine).
+  /// A Fast DDS XML profiles file. Empty: the built-in localhost-only settings (UDP bound to
+  /// 127.0.0.1; nothing leaves the machine).
   std::string profile_file;
   /// The participant profile in profile_file to use.
   std::string profile_name = "ispars";
@@ -36,8 +36,7 @@ struct ParticipantOptions {
 /// Peers that a participant dropped (their lease ran out there) and then discovered again under
 /// the same GUID: the peer kept running (it stalled, or the link between them was cut) while this
 /// side forgot it. Their sessions may not recover: Debian's Fast DDS 2.9.1 cannot authenticate a
-/// peer again while the other side keeps the old DDS Security session, and a process stalled past
-/// the shared memory transport's health timeout loses its ports there (README, "A stall under
+/// peer again while the other side keeps the old DDS Security session (README, "A stall under
 /// security"). Safe from any thread.
 class PeerWatch {
  public:
