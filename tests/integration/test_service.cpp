@@ -145,18 +145,17 @@ TEST_F(ServiceTest, KillNineDuringABuildThenRestartRecoversAVerifiedRoadmap) {
   // A torn record at the tail, as a crash inside write() leaves it.
   const auto journal = dir_.path() / "data-d" / "s1" / "journal.log";
   ASSERT_TRUE(std::filesystem::exists(journal));
-  {
-    std::ofstream torn(journal, std::ios::app | std::ios::binary);
-    const char partial[] = {static_cast<char>(200), 0, 0, 0, 1, 2, 3, 4, 5, 6};
-    torn.write(partial, sizeof(partial));
-  }
+  const char partial[] = {static_cast<char>(200), 0, 0, 0, 1, 2, 3, 4, 5, 6};
+  std::ofstream(journal, std::ios::app | std::ios::binary).write(partial, sizeof(partial));
   daemon = start("d");  // reloads every stored roadmap
   Client client(client_options(domain_));
   const auto recovered = client.stats("s1");
   EXPECT_EQ(recovered.state(), msg::SCENE_IDLE);
   EXPECT_GE(recovered.samples_done(), 20000u);
   EXPECT_GT(recovered.version(), 0u);
-  EXPECT_NE(daemon->log().find("torn journal tail"), std::string::npos) << daemon->log();
+  // Cut at warning level, and only after the cut bytes were kept aside.
+  EXPECT_NE(daemon->log().find("warning scene 's1': cut a torn journal tail"), std::string::npos) << daemon->log();
+  EXPECT_EQ(read_text(dir_.path() / "data-d" / "s1" / "journal.log.torn.1"), std::string(partial, sizeof(partial)));
   const auto verified = client.verify("s1");
   EXPECT_EQ(verified.body().verify().violations(), 0u) << verified.message();
   // The recovered roadmap is exactly the uninterrupted build's at that many samples, and it

@@ -27,11 +27,11 @@ TEST_F(ServiceTest, ACorruptJournalMiddleFailsItsSceneLoudlyAndTheOthersServe) {
     ASSERT_EQ(daemon->terminate(), 0);
   }
   const auto journal = dir_.path() / "data-d" / "s0" / "journal.log";
-  const RecordReplay intact = read_record_file(journal, "ISPJRN02", [](const std::string&) { return std::string(); });
+  const RecordReplay intact = read_record_file(journal, "ISPJRN03", [](const std::string&) { return std::string(); });
   ASSERT_GE(intact.payloads.size(), 3u) << "the build committed too few chunks for a middle";
   std::string damaged = read_text(journal);
-  const std::size_t second = 8 + 8 + intact.payloads[0].size();  // the second commit's header
-  damaged[second + 8 + intact.payloads[1].size() / 2] ^= 0x01;
+  const std::size_t second = 8 + 16 + intact.payloads[0].size();  // the second commit's header
+  damaged[second + 16 + intact.payloads[1].size() / 2] ^= 0x01;
   std::ofstream(journal, std::ios::binary | std::ios::trunc) << damaged;
 
   auto daemon = start("d", no_compaction);
@@ -49,6 +49,42 @@ TEST_F(ServiceTest, ACorruptJournalMiddleFailsItsSceneLoudlyAndTheOthersServe) {
     EXPECT_NE(std::string(e.what()).find("damaged"), std::string::npos) << e.what();
   }
   EXPECT_EQ(read_text(journal), damaged) << "the damaged journal was changed";
+  EXPECT_TRUE(daemon->alive());
+}
+
+// As a user reported it: bit 31 of a middle record's length flipped, which pointed the length past
+// the end of the file. Before format 03 that read as a torn tail, and the restart cut every commit
+// after it and served the rest as idle. Now the header's own checksum names it as damage.
+TEST_F(ServiceTest, AFlippedLengthInTheJournalsMiddleFailsTheSceneAndCutsNothing) {
+  {
+    auto daemon = start("d", {"--compact-every", "100000"});
+    Client c(client_options(domain_));
+    c.load("s0");
+    c.build("s0", ispars_build(3000));
+    ASSERT_EQ(c.wait_idle("s0", {}, kLong).state(), msg::SCENE_IDLE);
+    ASSERT_EQ(daemon->terminate(), 0);
+  }
+  const auto store = dir_.path() / "data-d" / "s0";
+  const RecordReplay intact =
+      read_record_file(store / "journal.log", "ISPJRN03", [](const std::string&) { return std::string(); });
+  ASSERT_GE(intact.payloads.size(), 3u) << "the build committed too few chunks for a middle";
+  const std::size_t middle = intact.payloads.size() / 2;
+  std::size_t offset = 8;
+  for (std::size_t i = 0; i < middle; ++i) offset += 16 + intact.payloads[i].size();
+  std::string damaged = read_text(store / "journal.log");
+  damaged[offset + 3] ^= static_cast<char>(0x80);  // bit 31 of the length
+  std::ofstream(store / "journal.log", std::ios::binary | std::ios::trunc) << damaged;
+
+  auto daemon = start("d");
+  Client c(client_options(domain_));
+  const auto s0 = c.stats("s0");
+  EXPECT_EQ(s0.state(), msg::SCENE_FAILED);
+  EXPECT_NE(s0.last_error().find("journal.log is damaged at byte " + std::to_string(offset) + " (commit " +
+                                 std::to_string(middle + 1) + "): record header checksum mismatch"),
+            std::string::npos)
+      << s0.last_error();
+  EXPECT_EQ(read_text(store / "journal.log"), damaged) << "the damaged journal was changed";
+  EXPECT_FALSE(std::filesystem::exists(store / "journal.log.torn.1")) << "damage was handled as a torn tail";
   EXPECT_TRUE(daemon->alive());
 }
 

@@ -69,13 +69,13 @@ TEST_F(RoadmapStoreTest, ACorruptCommitInTheMiddleIsReportedAndNothingIsCut) {
     (void)build_and_commit(*store, 6, 150);
   }
   std::string journal = slurp(path / "journal.log");
-  const RecordReplay intact = read_record_file(path / "journal.log", "ISPJRN02", [](const std::string&) {
+  const RecordReplay intact = read_record_file(path / "journal.log", "ISPJRN03", [](const std::string&) {
     return std::string();
   });
   ASSERT_EQ(intact.payloads.size(), 6u);
-  std::size_t offset = 8;  // the magic, then records of 8 header bytes and a payload each
-  for (int i = 0; i < 3; ++i) offset += 8 + intact.payloads[static_cast<std::size_t>(i)].size();
-  journal[offset + 8 + intact.payloads[3].size() / 2] ^= 0x10;
+  std::size_t offset = 8;  // the magic, then records of 16 header bytes and a payload each
+  for (int i = 0; i < 3; ++i) offset += 16 + intact.payloads[static_cast<std::size_t>(i)].size();
+  journal[offset + 16 + intact.payloads[3].size() / 2] ^= 0x10;
   spit(path / "journal.log", journal);
   StoreRecovery r;
   try {
@@ -88,6 +88,28 @@ TEST_F(RoadmapStoreTest, ACorruptCommitInTheMiddleIsReportedAndNothingIsCut) {
     EXPECT_NE(what.find("record checksum mismatch"), std::string::npos) << what;
   }
   EXPECT_EQ(slurp(path / "journal.log"), journal) << "the damaged journal was rewritten";
+  // Every bit of commit 4's length field flipped, one at a time: each is damage named the same
+  // way, never a torn tail to cut (before format 03, a length sent past the end of the file cut
+  // commits 4 to 6).
+  journal[offset + 16 + intact.payloads[3].size() / 2] ^= 0x10;
+  for (int bit = 0; bit < 64; ++bit) {
+    std::string flipped = journal;
+    flipped[offset + static_cast<std::size_t>(bit / 8)] ^= static_cast<char>(1u << (bit % 8));
+    spit(path / "journal.log", flipped);
+    try {
+      (void)RoadmapStore::open(path, scene_->pois().size(), r);
+      ADD_FAILURE() << "bit " << bit << " of commit 4's length flipped, and the store opened";
+    } catch (const StoreDamage& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("journal.log is damaged at byte " + std::to_string(offset) + " (commit 4)"), std::string::npos)
+          << what;
+      EXPECT_NE(what.find("record header checksum mismatch"), std::string::npos) << what;
+    }
+    ASSERT_EQ(slurp(path / "journal.log"), flipped) << "bit " << bit << ": the damaged journal was rewritten";
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(path)) {
+    EXPECT_EQ(entry.path().filename().string().find("torn"), std::string::npos) << entry.path();
+  }
   // A damaged snapshot is refused the same way.
   write_file_atomically(path / "snapshot.bin", "ISPSNP01 and then garbage");
   EXPECT_THROW((void)RoadmapStore::open(path, scene_->pois().size(), r), StoreDamage);

@@ -50,9 +50,13 @@ void write_pieces(int fd, std::string_view bytes, const std::filesystem::path& p
 
 }  // namespace
 
-std::string record_header(std::uint64_t size, std::uint32_t crc) {
+std::string record_header(std::uint64_t size, std::uint32_t crc, RecordLayout layout) {
   std::string header;
-  if (size > kLegacyRecordLimit) {
+  if (layout == RecordLayout::checked) {
+    put_bytes(header, size);
+    put_bytes(header, crc);
+    put_bytes(header, crc32(header.data(), header.size()));
+  } else if (size > kLegacyRecordLimit) {
     put_bytes(header, kLengthEscape);
     put_bytes(header, crc);
     put_bytes(header, size);
@@ -80,6 +84,81 @@ void ByteReader::read(void* out, std::size_t size) {
   at_ += size;
 }
 
+namespace {
+
+// One record's frame as read at some offset: its header's size and the payload it names, or
+// what is wrong with it.
+struct Frame {
+  std::size_t header = 0;
+  std::uint64_t length = 0;
+  std::string problem;  // empty: the header is whole and the payload is in the file and intact
+  bool payload_bad = false;  // the header is sound but the payload fails its checksum
+};
+
+Frame read_frame(std::string_view data, std::size_t at, RecordLayout layout) {
+  Frame f;
+  const std::size_t left = data.size() - at;
+  const std::size_t minimum = layout == RecordLayout::checked ? 16 : 8;
+  if (left < minimum) {
+    f.problem = "incomplete record header";
+    return f;
+  }
+  std::uint32_t checksum = 0;
+  if (layout == RecordLayout::checked) {
+    std::uint32_t header_checksum = 0;
+    std::memcpy(&f.length, data.data() + at, 8);
+    std::memcpy(&checksum, data.data() + at + 8, 4);
+    std::memcpy(&header_checksum, data.data() + at + 12, 4);
+    if (crc32(data.data() + at, 12) != header_checksum) {
+      f.problem = "record header checksum mismatch";
+      return f;
+    }
+    f.header = 16;
+  } else {
+    std::uint32_t short_length = 0;
+    std::memcpy(&short_length, data.data() + at, 4);
+    std::memcpy(&checksum, data.data() + at + 4, 4);
+    f.length = short_length;
+    f.header = 8;
+    if (short_length == kLengthEscape && layout == RecordLayout::escaped) {
+      if (left < 16) {
+        f.problem = "incomplete record header";
+        return f;
+      }
+      std::memcpy(&f.length, data.data() + at + 8, 8);
+      f.header = 16;
+    }
+  }
+  if (f.length > left - f.header) {
+    f.problem = "record runs past the end of the file";
+  } else if (crc32(data.data() + at + f.header, f.length) != checksum) {
+    f.problem = "record checksum mismatch";
+    f.payload_bad = true;
+  }
+  return f;
+}
+
+// Whether a whole, intact format 03 record starts anywhere in data[from, end). A header checksum
+// is 12 bytes of CRC per offset, so the scan is linear; a false match (2^-32 per offset before the
+// payload's own checksum) would only make a torn tail read as damage, never the reverse.
+bool valid_record_after(std::string_view data, std::size_t from) {
+  for (std::size_t at = from; at + 16 <= data.size(); ++at) {
+    if (read_frame(data, at, RecordLayout::checked).problem.empty()) return true;
+  }
+  return false;
+}
+
+// Whether the bad record at `at` (frame `f`) is damage rather than a crash's torn last record.
+bool is_damage(std::string_view data, std::size_t at, const Frame& f, RecordLayout layout) {
+  // A record whose payload fails its checksum with bytes after it was whole once: appends are
+  // sequential and fsync'ed, so the record after it was only begun once it was complete.
+  if (f.payload_bad && at + f.header + f.length < data.size()) return true;
+  // In format 03 a torn append is the last thing in the file: any valid record after it is not.
+  return layout == RecordLayout::checked && valid_record_after(data, at + 1);
+}
+
+}  // namespace
+
 RecordReplay read_record_file(const std::filesystem::path& path, const RecordFormat& format,
                               const RecordCheck& check) {
   RecordReplay replay;
@@ -87,90 +166,127 @@ RecordReplay read_record_file(const std::filesystem::path& path, const RecordFor
   if (!file) return replay;  // no file yet
   const std::string data((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   if (data.empty()) return replay;
-  const auto starts_with = [&](std::string_view magic) {
-    return !magic.empty() && data.size() >= magic.size() && data.compare(0, magic.size(), magic) == 0;
-  };
-  replay.legacy = starts_with(format.legacy_magic);
-  if (!replay.legacy && !starts_with(format.magic)) {
-    if (data.size() < format.magic.size() && format.magic.compare(0, data.size(), data) == 0) {
+  const RecordMagic* found = nullptr;
+  for (const RecordMagic& m : format.versions) {
+    if (!m.magic.empty() && data.size() >= m.magic.size() && data.compare(0, m.magic.size(), m.magic) == 0) {
+      found = &m;
+      break;
+    }
+  }
+  if (found == nullptr) {
+    const std::string_view magic = format.magic();
+    if (data.size() < magic.size() && magic.compare(0, data.size(), data) == 0) {
       replay.torn_tail = true;  // a crash while writing the magic itself
       replay.tail_problem = "incomplete file header";
       return replay;
     }
-    throw std::runtime_error(path.string() + " is not a " + std::string(format.magic) + " file (bad magic)");
+    throw std::runtime_error(path.string() + " is not a " + std::string(magic) + " file (bad magic)");
   }
-  std::size_t at = replay.legacy ? format.legacy_magic.size() : format.magic.size();
+  replay.layout = found->layout;
+  std::size_t at = found->magic.size();
   replay.valid_bytes = at;
   while (at < data.size()) {
-    const std::size_t left = data.size() - at;
-    if (left < 8) {
-      replay.tail_problem = "incomplete record header";
+    const Frame f = read_frame(data, at, replay.layout);
+    if (!f.problem.empty()) {
+      replay.damaged = is_damage(data, at, f, replay.layout);
+      replay.tail_problem = f.problem;
       break;
     }
-    std::uint32_t short_length = 0;
-    std::uint32_t checksum = 0;
-    std::memcpy(&short_length, data.data() + at, 4);
-    std::memcpy(&checksum, data.data() + at + 4, 4);
-    std::uint64_t length = short_length;
-    std::size_t header = 8;
-    if (short_length == kLengthEscape && !replay.legacy) {
-      if (left < 16) {
-        replay.tail_problem = "incomplete record header";
-        break;
-      }
-      std::memcpy(&length, data.data() + at + 8, 8);
-      header = 16;
-    }
-    if (length > left - header) {
-      replay.tail_problem = "record runs past the end of the file";
-      break;
-    }
-    std::string payload = data.substr(at + header, length);
-    if (crc32(payload.data(), payload.size()) != checksum) {
-      // The last record may be torn (its pages not all written before a crash); one with more
-      // bytes after it was complete once, and has been damaged since.
-      replay.damaged = at + header + length < data.size();
-      replay.tail_problem = "record checksum mismatch";
-      break;
-    }
+    std::string payload = data.substr(at + f.header, f.length);
     if (std::string problem = check(payload); !problem.empty()) {
       replay.damaged = true;  // a whole, intact record that cannot be used
       replay.tail_problem = std::move(problem);
       break;
     }
     replay.payloads.push_back(std::move(payload));
-    at += header + length;
+    at += f.header + f.length;
     replay.valid_bytes = at;
   }
   replay.torn_tail = replay.valid_bytes < data.size();
   return replay;
 }
 
+namespace {
+
+// Copies data[keep, end) of the open file `fd` to a new file `path.torn.N` (the first N free),
+// durably; returns its path.
+std::filesystem::path copy_tail_aside(int fd, const std::filesystem::path& path, std::uint64_t keep,
+                                      std::uint64_t end) {
+  std::filesystem::path aside;
+  int out = -1;
+  for (int n = 1; out < 0; ++n) {
+    aside = path;
+    aside += ".torn." + std::to_string(n);
+    out = ::open(aside.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (out < 0 && errno != EEXIST) throw std::runtime_error(system_error("cannot create", aside));
+  }
+  try {
+    std::string buffer(std::size_t{1} << 20, '\0');
+    for (std::uint64_t at = keep; at < end;) {
+      const auto want = static_cast<std::size_t>(std::min<std::uint64_t>(buffer.size(), end - at));
+      const ssize_t n = ::pread(fd, buffer.data(), want, static_cast<off_t>(at));
+      if (n <= 0) throw std::runtime_error(system_error("cannot read", path));
+      write_all(out, buffer.data(), static_cast<std::size_t>(n), aside);
+      at += static_cast<std::uint64_t>(n);
+    }
+    if (::fsync(out) != 0) throw std::runtime_error(system_error("cannot fsync", aside));
+  } catch (...) {
+    ::close(out);
+    ::unlink(aside.c_str());
+    throw;
+  }
+  ::close(out);
+  fsync_directory_of(aside);
+  return aside;
+}
+
+}  // namespace
+
 RecordFileWriter::RecordFileWriter(const std::filesystem::path& path, const RecordFormat& format,
                                    std::uint64_t valid_bytes)
     : path_(path) {
-  const std::string_view magic = format.magic;
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) throw std::runtime_error(system_error("cannot open", path));
-  if (valid_bytes >= magic.size() && !format.legacy_magic.empty()) {
-    std::string head(format.legacy_magic.size(), '\0');
-    legacy_ = ::pread(fd_, head.data(), head.size(), 0) == static_cast<ssize_t>(head.size()) &&
-              head == format.legacy_magic;
+  try {
+    open_after(format, valid_bytes);
+  } catch (...) {
+    ::close(fd_);
+    fd_ = -1;
+    throw;
   }
-  if (valid_bytes < magic.size()) {
+}
+
+void RecordFileWriter::open_after(const RecordFormat& format, std::uint64_t valid_bytes) {
+  const std::string_view magic = format.magic();
+  layout_ = format.versions.front().layout;
+  for (const RecordMagic& m : format.versions) {
+    if (valid_bytes < m.magic.size()) continue;
+    std::string head(m.magic.size(), '\0');
+    if (::pread(fd_, head.data(), head.size(), 0) == static_cast<ssize_t>(head.size()) && head == m.magic) {
+      layout_ = m.layout;
+      break;
+    }
+  }
+  const off_t end = ::lseek(fd_, 0, SEEK_END);
+  if (end < 0) throw std::runtime_error(system_error("cannot seek", path_));
+  const std::uint64_t keep = valid_bytes < magic.size() ? 0 : valid_bytes;
+  if (static_cast<std::uint64_t>(end) > keep) {
+    set_aside_ = copy_tail_aside(fd_, path_, keep, static_cast<std::uint64_t>(end));
+    if (::ftruncate(fd_, static_cast<off_t>(keep)) != 0) {
+      throw std::runtime_error(system_error("cannot cut the torn tail of", path_));
+    }
+  }
+  if (::lseek(fd_, 0, SEEK_END) < 0) throw std::runtime_error(system_error("cannot seek", path_));
+  if (keep == 0) {
     // New (or torn inside its header): start over with just the magic.
-    if (::ftruncate(fd_, 0) != 0) throw std::runtime_error(system_error("cannot truncate", path));
-    write_all(fd_, magic.data(), magic.size(), path);
+    layout_ = format.versions.front().layout;
+    write_all(fd_, magic.data(), magic.size(), path_);
     size_ = magic.size();
   } else {
-    if (::ftruncate(fd_, static_cast<off_t>(valid_bytes)) != 0) {
-      throw std::runtime_error(system_error("cannot cut the torn tail of", path));
-    }
-    size_ = valid_bytes;
+    size_ = keep;
   }
-  if (::lseek(fd_, 0, SEEK_END) < 0) throw std::runtime_error(system_error("cannot seek", path));
-  if (::fsync(fd_) != 0) throw std::runtime_error(system_error("cannot fsync", path));
-  fsync_directory_of(path);
+  if (::fsync(fd_) != 0) throw std::runtime_error(system_error("cannot fsync", path_));
+  fsync_directory_of(path_);
 }
 
 RecordFileWriter::~RecordFileWriter() {
@@ -182,11 +298,11 @@ void RecordFileWriter::append(std::string_view payload) {
     throw std::runtime_error(path_.string() + " ends in a partial record that could not be cut off; no more records "
                              "are appended to it");
   }
-  if (legacy_ && payload.size() > kLegacyRecordLimit) {
+  if (layout_ == RecordLayout::plain && payload.size() > kLegacyRecordLimit) {
     throw std::runtime_error("record of " + std::to_string(payload.size()) + " bytes exceeds the 4 GiB record limit of " +
                              path_.string() + " (an older format; a compaction starts a file without the limit)");
   }
-  const std::string header = record_header(payload.size(), crc32(payload.data(), payload.size()));
+  const std::string header = record_header(payload.size(), crc32(payload.data(), payload.size()), layout_);
   try {
     write_all(fd_, header.data(), header.size(), path_);
     write_pieces(fd_, payload, path_, {});
@@ -235,7 +351,9 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 void write_record_file_atomically(const std::filesystem::path& path, const RecordFormat& format,
                                   std::string_view payload, const std::function<bool()>& keep_going) {
   replace_atomically(path, [&](int fd, const std::filesystem::path& tmp) {
-    const std::string head = std::string(format.magic) + record_header(payload.size(), crc32(payload.data(), payload.size()));
+    const std::string head = std::string(format.magic()) +
+                             record_header(payload.size(), crc32(payload.data(), payload.size()),
+                                           format.versions.front().layout);
     write_all(fd, head.data(), head.size(), tmp);
     write_pieces(fd, payload, tmp, keep_going);
   });
@@ -244,10 +362,11 @@ void write_record_file_atomically(const std::filesystem::path& path, const Recor
 void fsync_directory_of(const std::filesystem::path& path) {
   const auto dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
   const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd >= 0) {
-    ::fsync(fd);
-    ::close(fd);
-  }
+  if (fd < 0) throw std::runtime_error(system_error("cannot open the directory", dir));
+  const bool synced = ::fsync(fd) == 0;
+  const std::string error = synced ? std::string() : system_error("cannot fsync the directory", dir);
+  ::close(fd);
+  if (!synced) throw std::runtime_error(error);
 }
 
 }  // namespace ispars

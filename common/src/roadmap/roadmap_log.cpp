@@ -9,7 +9,8 @@
 namespace ispars {
 namespace {
 
-constexpr std::string_view kMagic{"ISPLOG01"};
+// Format 03 record headers; files of the 02 layout are still read.
+const RecordFormat kMagic{{"ISPLOG02", RecordLayout::checked}, {"ISPLOG01", RecordLayout::escaped}};
 
 }  // namespace
 

@@ -161,6 +161,7 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
   }
   unclaim.held = true;
   if (!session->recovery_note().empty()) spdlog::info("scene '{}': {}", name, session->recovery_note());
+  if (!session->torn_tail_note().empty()) spdlog::warn("scene '{}': {}", name, session->torn_tail_note());
   spdlog::info("loaded scene '{}' ({} triangles, {} POIs)", name, session->scene().mesh().triangle_count(),
                session->scene().pois().size());
   if (events_.on_status) events_.on_status(*session);

@@ -92,7 +92,13 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
   recovery_note_ = fmt::format("recovered {} roadmap at version {} ({} samples, {} vertices; {} journal commits)",
                                to_string(recipe_->method), published_.roadmap->version(), samples_done_,
                                published_.roadmap->vertex_count(), recovery.journal_commits);
-  if (recovery.torn_tail) recovery_note_ += "; dropped a torn journal tail: " + recovery.tail_problem;
+  if (recovery.torn_tail) {
+    torn_tail_note_ = fmt::format("cut a torn journal tail ({}) after commit {}; the cut bytes are kept in {}",
+                                  recovery.tail_problem, recovery.journal_commits,
+                                  recovery.tail_set_aside.empty() ? std::string("(nothing)")
+                                                                  : recovery.tail_set_aside.string());
+    recovery_note_ += "; " + torn_tail_note_;
+  }
   if (!resumable) recovered_ = std::move(recovery.roadmaps);
   state_ = SessionState::idle;
 }

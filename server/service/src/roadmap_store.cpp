@@ -148,7 +148,7 @@ std::unique_ptr<RoadmapStore> RoadmapStore::create(const std::filesystem::path& 
   }
   const std::filesystem::path& at = replacing ? staging : dir;
   auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(at, recipe));
-  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(at), kJournal, kJournal.magic.size());
+  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(at), kJournal, kJournal.magic().size());
   if (replacing) store->replaces_ = dir;
   return store;
 }
@@ -249,6 +249,7 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
   recovered.recipe = store->recipe_;
   const std::uint64_t valid_bytes = recover_into(dir, poi_count, recovered);
   store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournal, valid_bytes);
+  recovered.tail_set_aside = store->journal_->set_aside();
   store->journal_commits_ = recovered.journal_commits;
   write_store_head(dir, {recovered.recipe.generation, recovered.roadmaps.samples});  // mends a stale hint
   // A compaction that did not finish (a crash, a stop, a failure): finish it now.
@@ -342,7 +343,7 @@ void remove_dropped_stores(const std::filesystem::path& data_dir) {
       const std::filesystem::path target = data_dir / name.substr(5);
       std::error_code size_error;
       const auto journal_size = std::filesystem::file_size(journal_path(entry.path()), size_error);
-      if (!std::filesystem::exists(target) && !size_error && journal_size > kJournal.magic.size()) {
+      if (!std::filesystem::exists(target) && !size_error && journal_size > kJournal.magic().size()) {
         std::filesystem::rename(entry.path(), target);
         fsync_directory_of(target);
       } else {

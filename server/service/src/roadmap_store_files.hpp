@@ -8,9 +8,12 @@
 
 namespace ispars::store_files {
 
-/// Format 02 allows records of any size; 01 files (32-bit lengths) are still read and appended to.
-inline const RecordFormat kJournal{"ISPJRN02", "ISPJRN01"};
-inline const RecordFormat kSnapshot{"ISPSNP02", "ISPSNP01"};
+/// Format 03 checks each record header on its own, so a damaged length is told from a torn tail;
+/// 02 (records of any size) and 01 (32-bit lengths) files are still read and appended to.
+inline const RecordFormat kJournal{
+    {"ISPJRN03", RecordLayout::checked}, {"ISPJRN02", RecordLayout::escaped}, {"ISPJRN01", RecordLayout::plain}};
+inline const RecordFormat kSnapshot{
+    {"ISPSNP03", RecordLayout::checked}, {"ISPSNP02", RecordLayout::escaped}, {"ISPSNP01", RecordLayout::plain}};
 
 inline std::filesystem::path journal_path(const std::filesystem::path& dir) { return dir / "journal.log"; }
 /// The journal a running (or interrupted) compaction folds into the snapshot.

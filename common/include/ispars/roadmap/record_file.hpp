@@ -1,16 +1,23 @@
 #pragma once
 // Crash-safe files: an append-only file of checksummed records, and whole-file atomic writes.
 //
-// A record file is a magic string, then records [u32 payload length][u32 CRC-32][payload],
-// little-endian; in a file of a format's current magic, a payload of 4 GiB or more is written as
-// [u32 0xFFFFFFFF][u32 CRC-32][u64 payload length][payload], so no record size is a wall. Appends
-// are fsync'ed. A reader accepts every whole record that its check accepts and stops at the first
-// torn, corrupt or rejected one, so a crash at any moment loses at most the record being written,
-// and never leaves half of one applied.
+// A record file is a magic string, then records, little-endian. The current layout (format 03)
+// gives each record a header checked on its own: [u64 payload length][u32 CRC-32 of the payload]
+// [u32 CRC-32 of those 12 bytes][payload]. Older layouts are still read and appended to: format 02
+// [u32 length][u32 CRC-32][payload] (a length of 4 GiB or more escaped as [u32 0xFFFFFFFF][u32
+// CRC-32][u64 length]), and format 01, the same without the escape. Appends are fsync'ed.
+//
+// A reader accepts every whole record its check accepts and stops at the first one that is not.
+// Only an incomplete last record is what a crash while appending leaves (a torn tail); anything
+// else is damage, to be left as it is and reported. In format 03 a bad record is a torn tail only
+// if no valid record starts anywhere after it (a scan, cheap thanks to the header checksums); in
+// formats 01 and 02 a length that runs past the end cannot be told from a torn append, so it is
+// read as one. A writer never cuts bytes off a file without first copying them aside.
 
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -18,21 +25,35 @@
 
 namespace ispars {
 
-/// Which record files a reader or writer takes: the magic new files start with (records of any
-/// size), and an older magic still read and appended to (records under 4 GiB only), if any.
-struct RecordFormat {
-  RecordFormat(std::string_view current_magic, std::string_view older_magic = {})
-      : magic(current_magic), legacy_magic(older_magic) {}
-  RecordFormat(const char* current_magic) : magic(current_magic) {}  // NOLINT: a literal is a format
-  std::string_view magic;
-  std::string_view legacy_magic;
+/// How the records of a file are framed (see the file comment).
+enum class RecordLayout : std::uint8_t {
+  plain,    ///< format 01: [u32 length][u32 CRC]
+  escaped,  ///< format 02: as plain, lengths of 4 GiB and more escaped to a u64
+  checked,  ///< format 03: [u64 length][u32 CRC][u32 header CRC]
 };
 
-/// The largest payload a record of a legacy-magic file holds (a 32-bit length, less the escape).
+/// One magic a file of a format may start with, and the layout of the records after it.
+struct RecordMagic {
+  std::string_view magic;
+  RecordLayout layout = RecordLayout::checked;
+};
+
+/// Which record files a reader or writer takes: the magic new files start with (first), then the
+/// older magics still read and appended to, each with its own layout.
+struct RecordFormat {
+  RecordFormat(std::initializer_list<RecordMagic> magics) : versions(magics) {}
+  RecordFormat(const char* magic) : versions{{magic, RecordLayout::checked}} {}  // NOLINT: a literal is a format
+  /// The magic new files get.
+  [[nodiscard]] std::string_view magic() const { return versions.front().magic; }
+  std::vector<RecordMagic> versions;
+};
+
+/// The largest payload a record of a format 01 file holds (a 32-bit length, less the escape).
 inline constexpr std::uint64_t kLegacyRecordLimit = 0xFFFFFFFEu;
 
-/// The header of a record of `size` bytes with checksum `crc`: 8 bytes, or 16 for 4 GiB and more.
-[[nodiscard]] std::string record_header(std::uint64_t size, std::uint32_t crc);
+/// The header of a record of `size` bytes with checksum `crc` in `layout` (16 bytes in format 03).
+[[nodiscard]] std::string record_header(std::uint64_t size, std::uint32_t crc,
+                                        RecordLayout layout = RecordLayout::checked);
 
 /// CRC-32 (IEEE 802.3), zlib's.
 [[nodiscard]] std::uint32_t crc32(const void* data, std::size_t size);
@@ -48,23 +69,26 @@ struct RecordReplay {
   bool torn_tail = false;             ///< Bytes follow the valid prefix.
   std::string tail_problem;           ///< What was wrong with them.
   /// The bytes after the valid prefix are not what a crash while appending leaves (an incomplete
-  /// last record): a record with more bytes after it fails its checksum, or a whole record was
-  /// refused by the check. Such a file must be left as it is and reported, never cut.
+  /// last record): a valid record follows the bad one (format 03), a record with more bytes after
+  /// it fails its payload checksum, or a whole record was refused by the check. Such a file must
+  /// be left as it is and reported, never cut.
   bool damaged = false;
-  bool legacy = false;                ///< The file starts with the format's legacy magic.
+  RecordLayout layout = RecordLayout::checked;  ///< The layout of the file's records.
 };
 
 /// Reads a record file (a missing or empty file has no records). Throws std::runtime_error when
-/// the file exists but starts with neither of the format's magics.
+/// the file exists but starts with none of the format's magics.
 [[nodiscard]] RecordReplay read_record_file(const std::filesystem::path& path, const RecordFormat& format,
                                             const RecordCheck& check);
 
 /// Appends records to a file, durably.
 class RecordFileWriter {
  public:
-  /// Opens `path` for appending after its first `valid_bytes` bytes (from read_record_file), cutting
-  /// off anything after them, so new records never follow garbage. Creates the file (with the
-  /// format's current magic) when missing or when `valid_bytes` is shorter than a magic.
+  /// Opens `path` for appending after its first `valid_bytes` bytes (from read_record_file), so new
+  /// records never follow garbage. Bytes after them are first copied, durably, to a new file
+  /// `PATH.torn.N` beside it (see set_aside()), then cut off; when the copy fails, this throws and
+  /// the file is left whole. Creates the file (with the format's current magic) when missing or
+  /// when `valid_bytes` is shorter than a magic.
   RecordFileWriter(const std::filesystem::path& path, const RecordFormat& format, std::uint64_t valid_bytes);
   ~RecordFileWriter();
   RecordFileWriter(const RecordFileWriter&) = delete;
@@ -74,16 +98,20 @@ class RecordFileWriter {
   /// write or the fsync fails (a full disk, say), the file is cut back to its last record and the
   /// error thrown: a later append still follows a whole record. When even that cut fails, every
   /// later append throws too (the file keeps its partial tail, which a reader sees as torn).
-  /// A payload of 4 GiB or more in a legacy-magic file throws, naming the limit.
+  /// A payload of 4 GiB or more in a format 01 file throws, naming the limit.
   void append(std::string_view payload);
   /// Size of the file in bytes.
   [[nodiscard]] std::uint64_t size() const { return size_; }
+  /// Where the bytes cut off on opening were copied; empty when nothing was cut.
+  [[nodiscard]] const std::filesystem::path& set_aside() const { return set_aside_; }
 
  private:
+  void open_after(const RecordFormat& format, std::uint64_t valid_bytes);
   int fd_ = -1;
   std::uint64_t size_ = 0;
   std::filesystem::path path_;
-  bool legacy_ = false;  // the file has the legacy magic: records under 4 GiB only
+  std::filesystem::path set_aside_;
+  RecordLayout layout_ = RecordLayout::checked;
   bool broken_ = false;  // a failed append could not be undone
 };
 
@@ -104,7 +132,8 @@ void write_record_file_atomically(const std::filesystem::path& path, const Recor
 /// On failure the temporary file is removed (a full disk keeps no half-written copy).
 void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
 
-/// fsyncs the directory holding `path`, making a rename or creation in it durable.
+/// fsyncs the directory holding `path`, making a rename or creation in it durable. Throws
+/// std::runtime_error naming the directory when it cannot be opened or fsync'ed.
 void fsync_directory_of(const std::filesystem::path& path);
 
 /// Appends the bytes of a trivially copyable value to a byte string (little-endian machines).

@@ -165,6 +165,8 @@ class RoadmapSession {
   [[nodiscard]] bool busy() const;
   /// What recovery found at construction (empty when nothing was stored).
   [[nodiscard]] const std::string& recovery_note() const { return recovery_note_; }
+  /// What opening cut off the journal's torn tail and where the bytes were kept; empty if nothing.
+  [[nodiscard]] const std::string& torn_tail_note() const { return torn_tail_note_; }
 
  private:
   SessionStatus status_locked() const;
@@ -221,6 +223,7 @@ class RoadmapSession {
   PublishedRoadmap published_;
   std::atomic<bool> cancel_{false};
   std::string recovery_note_;
+  std::string torn_tail_note_;
 };
 
 }  // namespace ispars

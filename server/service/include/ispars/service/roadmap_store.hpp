@@ -69,8 +69,9 @@ struct StoreRecovery {
   RoadmapRecipe recipe;
   BuiltRoadmaps roadmaps;
   std::size_t journal_commits = 0;  ///< Commits replayed from the journal after the snapshot.
-  bool torn_tail = false;           ///< A torn journal tail (an incomplete last record) was dropped.
+  bool torn_tail = false;           ///< A torn journal tail (an incomplete last record) was cut off.
   std::string tail_problem;
+  std::filesystem::path tail_set_aside;  ///< Where the cut bytes were copied (open() only).
 };
 
 /// Appends commits to one scene's store and compacts it. One writer: the store directory is
