@@ -1,17 +1,10 @@
 #include "ispars/roadmap/record_file.hpp"
 
-#include <fcntl.h>
 #include <zlib.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <array>
 #include <bit>
-#include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <iterator>
-#include <limits>
 #include <stdexcept>
 
 namespace ispars {
@@ -19,32 +12,15 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "record files are little-endian");
 
-std::string system_error(const std::string& what, const std::filesystem::path& path) {
-  return what + " " + path.string() + ": " + std::strerror(errno);
-}
-
-void write_all(int fd, const char* data, std::size_t size, const std::filesystem::path& path) {
-  while (size > 0) {
-    const ssize_t n = ::write(fd, data, size);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      throw std::runtime_error(system_error("cannot write", path));
-    }
-    data += n;
-    size -= static_cast<std::size_t>(n);
-  }
-}
-
 constexpr std::uint32_t kLengthEscape = 0xFFFFFFFFu;  // a u64 length follows the checksum
 
-// Writes `size` bytes at the end of `fd` in pieces of at most 64 MiB, asking `keep_going` between.
-void write_pieces(int fd, std::string_view bytes, const std::filesystem::path& path,
+// Appends `bytes` to `file` in pieces of at most 64 MiB, asking `keep_going` between.
+void write_pieces(FileSystem::File& file, std::string_view bytes, const std::filesystem::path& path,
                   const std::function<bool()>& keep_going) {
   constexpr std::size_t kPiece = std::size_t{64} << 20;
   for (std::size_t at = 0; at < bytes.size(); at += kPiece) {
     if (keep_going && !keep_going()) throw RecordWriteStopped("writing " + path.string() + " was stopped");
-    const std::size_t n = std::min(kPiece, bytes.size() - at);
-    write_all(fd, bytes.data() + at, n, path);
+    file.append(bytes.substr(at, std::min(kPiece, bytes.size() - at)));
   }
 }
 
@@ -160,12 +136,11 @@ bool is_damage(std::string_view data, std::size_t at, const Frame& f, RecordLayo
 }  // namespace
 
 RecordReplay read_record_file(const std::filesystem::path& path, const RecordFormat& format,
-                              const RecordCheck& check) {
+                              const RecordCheck& check, const FileSystem& fs) {
   RecordReplay replay;
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return replay;  // no file yet
-  const std::string data((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  if (data.empty()) return replay;
+  const std::optional<std::string> file = fs.read(path);
+  if (!file || file->empty()) return replay;  // no file yet
+  const std::string& data = *file;
   const RecordMagic* found = nullptr;
   for (const RecordMagic& m : format.versions) {
     if (!m.magic.empty() && data.size() >= m.magic.size() && data.compare(0, m.magic.size(), m.magic) == 0) {
@@ -208,90 +183,64 @@ RecordReplay read_record_file(const std::filesystem::path& path, const RecordFor
 
 namespace {
 
-// Copies data[keep, end) of the open file `fd` to a new file `path.torn.N` (the first N free),
-// durably; returns its path.
-std::filesystem::path copy_tail_aside(int fd, const std::filesystem::path& path, std::uint64_t keep,
-                                      std::uint64_t end) {
+// Copies bytes [keep, end) of `file` (at `path`) to a new file `path.torn.N` (the first N free),
+// durably; returns its path. A copy that fails is removed.
+std::filesystem::path copy_tail_aside(FileSystem& fs, const FileSystem::File& file, const std::filesystem::path& path,
+                                      std::uint64_t keep, std::uint64_t end) {
   std::filesystem::path aside;
-  int out = -1;
-  for (int n = 1; out < 0; ++n) {
+  std::unique_ptr<FileSystem::File> out;
+  for (int n = 1; !out; ++n) {
     aside = path;
     aside += ".torn." + std::to_string(n);
-    out = ::open(aside.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (out < 0 && errno != EEXIST) throw std::runtime_error(system_error("cannot create", aside));
+    out = fs.open(aside, FileSystem::Open::new_only);
   }
   try {
-    std::string buffer(std::size_t{1} << 20, '\0');
+    constexpr std::size_t kPiece = std::size_t{1} << 20;
     for (std::uint64_t at = keep; at < end;) {
-      const auto want = static_cast<std::size_t>(std::min<std::uint64_t>(buffer.size(), end - at));
-      const ssize_t n = ::pread(fd, buffer.data(), want, static_cast<off_t>(at));
-      if (n <= 0) throw std::runtime_error(system_error("cannot read", path));
-      write_all(out, buffer.data(), static_cast<std::size_t>(n), aside);
-      at += static_cast<std::uint64_t>(n);
+      const std::string piece = file.read(at, static_cast<std::size_t>(std::min<std::uint64_t>(kPiece, end - at)));
+      if (piece.empty()) throw std::runtime_error("cannot read " + path.string() + ": it ended early");
+      out->append(piece);
+      at += piece.size();
     }
-    if (::fsync(out) != 0) throw std::runtime_error(system_error("cannot fsync", aside));
+    out->sync();
   } catch (...) {
-    ::close(out);
-    ::unlink(aside.c_str());
+    out.reset();
+    fs.remove(aside);
     throw;
   }
-  ::close(out);
-  fsync_directory_of(aside);
+  fsync_directory_of(aside, fs);
   return aside;
 }
 
 }  // namespace
 
 RecordFileWriter::RecordFileWriter(const std::filesystem::path& path, const RecordFormat& format,
-                                   std::uint64_t valid_bytes)
-    : path_(path) {
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw std::runtime_error(system_error("cannot open", path));
-  try {
-    open_after(format, valid_bytes);
-  } catch (...) {
-    ::close(fd_);
-    fd_ = -1;
-    throw;
-  }
-}
-
-void RecordFileWriter::open_after(const RecordFormat& format, std::uint64_t valid_bytes) {
+                                   std::uint64_t valid_bytes, FileSystem& fs)
+    : path_(path), file_(fs.open(path, FileSystem::Open::existing_or_new)) {
   const std::string_view magic = format.magic();
   layout_ = format.versions.front().layout;
   for (const RecordMagic& m : format.versions) {
-    if (valid_bytes < m.magic.size()) continue;
-    std::string head(m.magic.size(), '\0');
-    if (::pread(fd_, head.data(), head.size(), 0) == static_cast<ssize_t>(head.size()) && head == m.magic) {
+    if (valid_bytes >= m.magic.size() && file_->read(0, m.magic.size()) == m.magic) {
       layout_ = m.layout;
       break;
     }
   }
-  const off_t end = ::lseek(fd_, 0, SEEK_END);
-  if (end < 0) throw std::runtime_error(system_error("cannot seek", path_));
+  const std::uint64_t end = file_->size();
   const std::uint64_t keep = valid_bytes < magic.size() ? 0 : valid_bytes;
-  if (static_cast<std::uint64_t>(end) > keep) {
-    set_aside_ = copy_tail_aside(fd_, path_, keep, static_cast<std::uint64_t>(end));
-    if (::ftruncate(fd_, static_cast<off_t>(keep)) != 0) {
-      throw std::runtime_error(system_error("cannot cut the torn tail of", path_));
-    }
+  if (end > keep) {
+    set_aside_ = copy_tail_aside(fs, *file_, path_, keep, end);
+    file_->truncate(keep);
   }
-  if (::lseek(fd_, 0, SEEK_END) < 0) throw std::runtime_error(system_error("cannot seek", path_));
   if (keep == 0) {
     // New (or torn inside its header): start over with just the magic.
     layout_ = format.versions.front().layout;
-    write_all(fd_, magic.data(), magic.size(), path_);
-    size_ = magic.size();
-  } else {
-    size_ = keep;
+    file_->append(magic);
   }
-  if (::fsync(fd_) != 0) throw std::runtime_error(system_error("cannot fsync", path_));
-  fsync_directory_of(path_);
+  file_->sync();
+  fsync_directory_of(path_, fs);
 }
 
-RecordFileWriter::~RecordFileWriter() {
-  if (fd_ >= 0) ::close(fd_);
-}
+RecordFileWriter::~RecordFileWriter() = default;
 
 void RecordFileWriter::append(std::string_view payload) {
   if (broken_) {
@@ -303,70 +252,65 @@ void RecordFileWriter::append(std::string_view payload) {
                              path_.string() + " (an older format; a compaction starts a file without the limit)");
   }
   const std::string header = record_header(payload.size(), crc32(payload.data(), payload.size()), layout_);
+  const std::uint64_t whole = file_->size();
   try {
-    write_all(fd_, header.data(), header.size(), path_);
-    write_pieces(fd_, payload, path_, {});
-    if (::fsync(fd_) != 0) throw std::runtime_error(system_error("cannot fsync", path_));
+    file_->append(header);
+    write_pieces(*file_, payload, path_, {});
+    file_->sync();
   } catch (...) {
     // Back to the last whole record, so that a later append (after space is freed) never follows
     // a partial one.
-    if (::ftruncate(fd_, static_cast<off_t>(size_)) != 0 || ::lseek(fd_, 0, SEEK_END) < 0) broken_ = true;
+    try {
+      file_->truncate(whole);
+    } catch (const std::exception&) {
+      broken_ = true;
+    }
     throw;
   }
-  size_ += header.size() + payload.size();
 }
 
 namespace {
 
-// Writes a temporary file beside `path` with `write`, fsyncs it and renames it over `path`.
+// Writes a temporary file beside `path` with `write`, fsyncs it, renames it over `path` and
+// fsyncs the directory. A failure removes the temporary file.
 template <class Write>
-void replace_atomically(const std::filesystem::path& path, const Write& write) {
+void replace_atomically(const std::filesystem::path& path, FileSystem& fs, const Write& write) {
   std::filesystem::path tmp = path;
   tmp += ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error(system_error("cannot create", tmp));
   try {
-    write(fd, tmp);
-    if (::fsync(fd) != 0) throw std::runtime_error(system_error("cannot fsync", tmp));
+    {
+      const std::unique_ptr<FileSystem::File> file = fs.open(tmp, FileSystem::Open::truncated);
+      write(*file, tmp);
+      file->sync();
+    }
+    fs.rename(tmp, path);
   } catch (...) {
-    ::close(fd);
-    ::unlink(tmp.c_str());
+    try {
+      fs.remove(tmp);
+    } catch (const std::exception&) {  // the first failure is the one to report
+    }
     throw;
   }
-  ::close(fd);
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string error = system_error("cannot rename onto", path);
-    ::unlink(tmp.c_str());
-    throw std::runtime_error(error);
-  }
-  fsync_directory_of(path);
+  fsync_directory_of(path, fs);
 }
 
 }  // namespace
 
-void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
-  replace_atomically(path, [&](int fd, const std::filesystem::path& tmp) { write_all(fd, bytes.data(), bytes.size(), tmp); });
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes, FileSystem& fs) {
+  replace_atomically(path, fs, [&](FileSystem::File& file, const std::filesystem::path&) { file.append(bytes); });
 }
 
 void write_record_file_atomically(const std::filesystem::path& path, const RecordFormat& format,
-                                  std::string_view payload, const std::function<bool()>& keep_going) {
-  replace_atomically(path, [&](int fd, const std::filesystem::path& tmp) {
-    const std::string head = std::string(format.magic()) +
-                             record_header(payload.size(), crc32(payload.data(), payload.size()),
-                                           format.versions.front().layout);
-    write_all(fd, head.data(), head.size(), tmp);
-    write_pieces(fd, payload, tmp, keep_going);
+                                  std::string_view payload, const std::function<bool()>& keep_going, FileSystem& fs) {
+  replace_atomically(path, fs, [&](FileSystem::File& file, const std::filesystem::path& tmp) {
+    file.append(std::string(format.magic()) + record_header(payload.size(), crc32(payload.data(), payload.size()),
+                                                            format.versions.front().layout));
+    write_pieces(file, payload, tmp, keep_going);
   });
 }
 
-void fsync_directory_of(const std::filesystem::path& path) {
-  const auto dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) throw std::runtime_error(system_error("cannot open the directory", dir));
-  const bool synced = ::fsync(fd) == 0;
-  const std::string error = synced ? std::string() : system_error("cannot fsync the directory", dir);
-  ::close(fd);
-  if (!synced) throw std::runtime_error(error);
+void fsync_directory_of(const std::filesystem::path& path, FileSystem& fs) {
+  fs.sync_directory(path.has_parent_path() ? path.parent_path() : std::filesystem::path("."));
 }
 
 }  // namespace ispars

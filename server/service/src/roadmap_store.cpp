@@ -2,16 +2,12 @@
 
 #include <fmt/format.h>
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <unistd.h>
-
 #include <nlohmann/json.hpp>
 
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <sstream>
 #include <iterator>
 #include <stdexcept>
 #include <system_error>
@@ -115,40 +111,36 @@ void apply_commit(BuiltRoadmaps& r, const BuildCommit& commit) {
   r.samples = commit.samples;
 }
 
-RoadmapStore::RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe)
-    : dir_(std::move(dir)), recipe_(std::move(recipe)) {
+RoadmapStore::RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe, FileSystem& fs)
+    : fs_(fs), dir_(std::move(dir)), recipe_(std::move(recipe)) {
   // One writer per store, across threads and processes: a second open fails instead of
   // truncating or renaming files under the first.
-  lock_fd_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (lock_fd_ < 0 || ::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
-    if (lock_fd_ >= 0) ::close(lock_fd_);
-    lock_fd_ = -1;
-    throw std::runtime_error("store " + dir_.string() + " is in use by another writer");
-  }
+  lock_ = fs_.lock(dir_);
+  if (!lock_) throw std::runtime_error("store " + dir_.string() + " is in use by another writer");
 }
 
 RoadmapStore::~RoadmapStore() {
   stop_compaction();
   journal_.reset();
-  if (lock_fd_ >= 0) ::close(lock_fd_);
 }
 
-std::unique_ptr<RoadmapStore> RoadmapStore::create(const std::filesystem::path& dir, const RoadmapRecipe& recipe) {
+std::unique_ptr<RoadmapStore> RoadmapStore::create(const std::filesystem::path& dir, const RoadmapRecipe& recipe,
+                                                   FileSystem& fs) {
   // Build it aside and rename it into place, so a crash leaves no half-made store. Scene names
   // never start with '.', so the staging name can never be another scene's store.
   const std::filesystem::path staging = dir.parent_path() / (".new-" + dir.filename().string());
-  std::filesystem::remove_all(staging);
-  std::filesystem::create_directories(staging);
-  write_file_atomically(recipe_path(staging), recipe_to_json(recipe));
-  RecordFileWriter(journal_path(staging), kJournal, 0);
-  const bool replacing = std::filesystem::exists(dir);
+  fs.remove_all(staging);
+  fs.create_directories(staging);
+  write_file_atomically(recipe_path(staging), recipe_to_json(recipe), fs);
+  RecordFileWriter(journal_path(staging), kJournal, 0, fs);
+  const bool replacing = fs.exists(dir);
   if (!replacing) {
-    std::filesystem::rename(staging, dir);
-    fsync_directory_of(dir);
+    fs.rename(staging, dir);
+    fsync_directory_of(dir, fs);
   }
   const std::filesystem::path& at = replacing ? staging : dir;
-  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(at, recipe));
-  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(at), kJournal, kJournal.magic().size());
+  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(at, recipe, fs));
+  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(at), kJournal, kJournal.magic().size(), fs);
   if (replacing) store->replaces_ = dir;
   return store;
 }
@@ -157,27 +149,23 @@ void RoadmapStore::take_place() {
   // One atomic exchange of the two directories: the path names the old store until the call
   // and the new one after it, never neither. The old one is then removed from the staging name.
   const std::filesystem::path staging = dir_;
-  if (::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, replaces_.c_str(), RENAME_EXCHANGE) != 0) {
-    if (errno != EINVAL && errno != ENOSYS) {
-      throw std::system_error(errno, std::generic_category(), "cannot put the new store in place of " + replaces_.string());
-    }
+  if (!fs_.exchange(staging, replaces_)) {
     // A filesystem without RENAME_EXCHANGE: the old store aside, then the new one in place. A
     // crash in between leaves only .new-NAME, with its first commit, which remove_dropped_stores()
     // puts in place at the next start.
-    drop_store(replaces_);
-    std::filesystem::rename(staging, replaces_);
+    drop_store(replaces_, fs_);
+    fs_.rename(staging, replaces_);
   }
-  fsync_directory_of(replaces_);
-  std::filesystem::remove_all(staging);  // the old store, if exchanged
+  fsync_directory_of(replaces_, fs_);
+  fs_.remove_all(staging);  // the old store, if exchanged
   dir_ = replaces_;
   replaces_.clear();
 }
 
-RoadmapRecipe RoadmapStore::read_recipe(const std::filesystem::path& dir) {
-  std::ifstream recipe_file(recipe_path(dir));
-  if (!recipe_file) throw std::runtime_error("store " + dir.string() + " has no recipe.json");
-  return recipe_from_json(
-      std::string((std::istreambuf_iterator<char>(recipe_file)), std::istreambuf_iterator<char>()));
+RoadmapRecipe RoadmapStore::read_recipe(const std::filesystem::path& dir, const FileSystem& fs) {
+  const std::optional<std::string> text = fs.read(recipe_path(dir));
+  if (!text) throw std::runtime_error("store " + dir.string() + " has no recipe.json");
+  return recipe_from_json(*text);
 }
 
 namespace {
@@ -185,13 +173,14 @@ namespace {
 // Replays the snapshot, journal.old (while a compaction runs) and journal.log of the store at
 // `dir` into `recovered`; journal.log's valid length. Reads only. (A compaction of the same store
 // must not run meanwhile: it removes journal.old once the snapshot holds it.)
-std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_count, StoreRecovery& recovered) {
+std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_count, StoreRecovery& recovered,
+                           const FileSystem& fs) {
   recovered.roadmaps = empty_roadmaps(recovered.recipe, poi_count);
   BuiltRoadmaps& r = recovered.roadmaps;
-  const bool has_snapshot = std::filesystem::exists(snapshot_path(dir));
+  const bool has_snapshot = fs.exists(snapshot_path(dir));
   if (has_snapshot) {
     const RecordReplay snapshot =
-        read_record_file(snapshot_path(dir), kSnapshot, [](const std::string&) { return std::string(); });
+        read_record_file(snapshot_path(dir), kSnapshot, [](const std::string&) { return std::string(); }, fs);
     if (snapshot.payloads.size() != 1 || snapshot.torn_tail) {
       throw StoreDamage(fmt::format("{} is damaged at byte {}: {}; left untouched for inspection",
                                     snapshot_path(dir).string(), snapshot.valid_bytes,
@@ -218,16 +207,16 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
       } catch (const std::runtime_error& e) {
         return std::string("unusable commit: ") + e.what();
       }
-    });
+    }, fs);
   };
   const auto damage = [&](const std::filesystem::path& path, const RecordReplay& journal) {
     return StoreDamage(fmt::format("{} is damaged at byte {} (commit {}): {}; the {} bytes from there on are left "
                                    "untouched for inspection (drop the scene's roadmap, or build with replace, to "
                                    "discard them)",
                                    path.string(), journal.valid_bytes, journal.payloads.size() + 1,
-                                   journal.tail_problem, std::filesystem::file_size(path) - journal.valid_bytes));
+                                   journal.tail_problem, fs.file_size(path).value_or(journal.valid_bytes) - journal.valid_bytes));
   };
-  if (std::filesystem::exists(old_journal_path(dir))) {
+  if (fs.exists(old_journal_path(dir))) {
     // A rotated journal was whole: anything but whole records in it is damage.
     const RecordReplay old = replay(old_journal_path(dir));
     if (old.torn_tail) throw damage(old_journal_path(dir), old);
@@ -244,23 +233,23 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
 }  // namespace
 
 std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& dir, std::size_t poi_count,
-                                                 StoreRecovery& recovered) {
-  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(dir, read_recipe(dir)));  // locks first
+                                                 StoreRecovery& recovered, FileSystem& fs) {
+  auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(dir, read_recipe(dir, fs), fs));  // locks first
   recovered.recipe = store->recipe_;
-  const std::uint64_t valid_bytes = recover_into(dir, poi_count, recovered);
-  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournal, valid_bytes);
+  const std::uint64_t valid_bytes = recover_into(dir, poi_count, recovered, fs);
+  store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournal, valid_bytes, fs);
   recovered.tail_set_aside = store->journal_->set_aside();
   store->journal_commits_ = recovered.journal_commits;
-  write_store_head(dir, {recovered.recipe.generation, recovered.roadmaps.samples});  // mends a stale hint
+  write_store_head(dir, {recovered.recipe.generation, recovered.roadmaps.samples}, fs);  // mends a stale hint
   // A compaction that did not finish (a crash, a stop, a failure): finish it now.
-  if (std::filesystem::exists(old_journal_path(dir))) store->fold_in_background();
+  if (fs.exists(old_journal_path(dir))) store->fold_in_background();
   return store;
 }
 
-StoreRecovery RoadmapStore::read(const std::filesystem::path& dir, std::size_t poi_count) {
+StoreRecovery RoadmapStore::read(const std::filesystem::path& dir, std::size_t poi_count, const FileSystem& fs) {
   StoreRecovery recovered;
-  recovered.recipe = read_recipe(dir);
-  (void)recover_into(dir, poi_count, recovered);
+  recovered.recipe = read_recipe(dir, fs);
+  (void)recover_into(dir, poi_count, recovered, fs);
   return recovered;
 }
 
@@ -268,86 +257,85 @@ void RoadmapStore::commit(const BuildCommit& commit) {
   journal_->append(encode_commit(commit));
   ++journal_commits_;
   if (!replaces_.empty()) take_place();
-  write_store_head(dir_, {recipe_.generation, commit.samples});  // after the commit is durable
+  write_store_head(dir_, {recipe_.generation, commit.samples}, fs_);  // after the commit is durable
   if (!compacting_) wait_for_compaction();  // joins a finished fold; throws its failure
   if (journal_commits_ >= compact_every_) start_compaction();
 }
 
-void write_store_head(const std::filesystem::path& dir, const StoreHead& head) {
+void write_store_head(const std::filesystem::path& dir, const StoreHead& head, FileSystem& fs) {
   // Renamed into place, not fsync'ed: a hint that may lag the journal after a power cut, never
   // lead it (it is written after the commit it names is durable).
   const std::filesystem::path tmp = dir / "head.tmp";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    out << head.generation << ' ' << head.samples << '\n';
-    if (!out.flush()) return;  // a hint: the commit stands without it
+  try {
+    fs.open(tmp, FileSystem::Open::truncated)->append(fmt::format("{} {}\n", head.generation, head.samples));
+    fs.rename(tmp, dir / "head");
+  } catch (const std::runtime_error&) {
+    // A hint: the commit stands without it.
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, dir / "head", ec);
 }
 
-std::optional<StoreHead> read_store_head(const std::filesystem::path& dir) {
-  std::ifstream in(dir / "head");
+std::optional<StoreHead> read_store_head(const std::filesystem::path& dir, const FileSystem& fs) {
+  const std::optional<std::string> text = fs.read(dir / "head");
+  if (!text) return std::nullopt;
+  std::istringstream in(*text);
   StoreHead head;
   if (!(in >> head.generation >> head.samples)) return std::nullopt;
   return head;
 }
 
-std::filesystem::path set_aside_store(const std::filesystem::path& dir, const std::string& why) {
-  const StoreHead head = read_store_head(dir).value_or(StoreHead{});
+std::filesystem::path set_aside_store(const std::filesystem::path& dir, const std::string& why, FileSystem& fs) {
+  const StoreHead head = read_store_head(dir, fs).value_or(StoreHead{});
   const std::filesystem::path aside_dir = dir.parent_path() / ".aside";
-  std::filesystem::create_directories(aside_dir);
+  if (fs.create_directories(aside_dir)) fsync_directory_of(aside_dir, fs);
   std::filesystem::path target =
       aside_dir / fmt::format("{}-g{}-{}", dir.filename().string(), head.generation, head.samples);
-  for (int n = 2; std::filesystem::exists(target); ++n) {
+  for (int n = 2; fs.exists(target); ++n) {
     target = aside_dir / fmt::format("{}-g{}-{}.{}", dir.filename().string(), head.generation, head.samples, n);
   }
-  write_file_atomically(dir / "aside.txt", why + "\n");
-  std::filesystem::rename(dir, target);
-  fsync_directory_of(dir);
-  fsync_directory_of(target);
+  write_file_atomically(dir / "aside.txt", why + "\n", fs);
+  fs.rename(dir, target);
+  // Its new name first: a cut between the two syncs then leaves it under both names, not neither.
+  fsync_directory_of(target, fs);
+  fsync_directory_of(dir, fs);
   return target;
 }
 
-void drop_store(const std::filesystem::path& dir) {
-  if (!std::filesystem::exists(dir)) return;
+void drop_store(const std::filesystem::path& dir, FileSystem& fs) {
+  if (!fs.exists(dir)) return;
   const std::filesystem::path aside = dir.parent_path() / (".dropped-" + dir.filename().string());
-  std::filesystem::remove_all(aside);
-  std::filesystem::rename(dir, aside);
-  fsync_directory_of(dir);
-  std::filesystem::remove_all(aside);
+  fs.remove_all(aside);
+  fs.rename(dir, aside);
+  fsync_directory_of(dir, fs);
+  fs.remove_all(aside);
 }
 
-void mark_unloaded(const std::filesystem::path& dir, bool unloaded) {
+void mark_unloaded(const std::filesystem::path& dir, bool unloaded, FileSystem& fs) {
   const std::filesystem::path marker = dir / "unloaded";
   if (unloaded) {
-    if (!std::filesystem::exists(recipe_path(dir))) return;  // no stored roadmap to keep out
-    write_file_atomically(marker, "unloaded by request; a load request loads it again\n");
-  } else if (std::filesystem::exists(marker)) {
-    std::filesystem::remove(marker);
-    fsync_directory_of(marker);
+    if (!fs.exists(recipe_path(dir))) return;  // no stored roadmap to keep out
+    write_file_atomically(marker, "unloaded by request; a load request loads it again\n", fs);
+  } else if (fs.remove(marker)) {
+    fsync_directory_of(marker, fs);
   }
 }
 
-bool marked_unloaded(const std::filesystem::path& dir) { return std::filesystem::exists(dir / "unloaded"); }
+bool marked_unloaded(const std::filesystem::path& dir, const FileSystem& fs) { return fs.exists(dir / "unloaded"); }
 
-void remove_dropped_stores(const std::filesystem::path& data_dir) {
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(data_dir, ec)) {
-    const std::string name = entry.path().filename().string();
+void remove_dropped_stores(const std::filesystem::path& data_dir, FileSystem& fs) {
+  for (const std::string& name : fs.list(data_dir)) {
+    const std::filesystem::path entry = data_dir / name;
     if (name.rfind(".dropped-", 0) == 0) {
-      std::filesystem::remove_all(entry.path());
+      fs.remove_all(entry);
     } else if (name.rfind(".new-", 0) == 0) {
       // A replacing store caught between the two renames of the fallback: it holds its first
       // commit (the journal longer than its header) and its old store is gone, so it is the truth.
       const std::filesystem::path target = data_dir / name.substr(5);
-      std::error_code size_error;
-      const auto journal_size = std::filesystem::file_size(journal_path(entry.path()), size_error);
-      if (!std::filesystem::exists(target) && !size_error && journal_size > kJournal.magic().size()) {
-        std::filesystem::rename(entry.path(), target);
-        fsync_directory_of(target);
+      const std::uint64_t journal_size = fs.file_size(journal_path(entry)).value_or(0);
+      if (!fs.exists(target) && journal_size > kJournal.magic().size()) {
+        fs.rename(entry, target);
+        fsync_directory_of(target, fs);
       } else {
-        std::filesystem::remove_all(entry.path());  // a staging store that never took its place
+        fs.remove_all(entry);  // a staging store that never took its place
       }
     }
   }

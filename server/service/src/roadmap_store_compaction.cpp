@@ -35,15 +35,16 @@ void append_batch(RoadmapBatch& whole, RoadmapBatch&& next) {
 
 }  // namespace
 
-BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::function<bool()>& keep_going) {
+BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::function<bool()>& keep_going,
+                               const FileSystem& fs) {
   const auto stop_if_asked = [&] {
     if (keep_going && !keep_going()) throw RecordWriteStopped("compacting " + dir.string() + " was stopped");
   };
   BuildCommit whole;
-  const bool has_snapshot = std::filesystem::exists(snapshot_path(dir));
+  const bool has_snapshot = fs.exists(snapshot_path(dir));
   if (has_snapshot) {
     const RecordReplay snapshot =
-        read_record_file(snapshot_path(dir), kSnapshot, [](const std::string&) { return std::string(); });
+        read_record_file(snapshot_path(dir), kSnapshot, [](const std::string&) { return std::string(); }, fs);
     if (snapshot.payloads.size() != 1 || snapshot.torn_tail) {
       throw StoreDamage(fmt::format("{} is damaged at byte {}: {}; left untouched for inspection",
                                     snapshot_path(dir).string(), snapshot.valid_bytes,
@@ -76,7 +77,7 @@ BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::func
     } catch (const std::runtime_error& e) {
       return std::string("unusable commit: ") + e.what();
     }
-  });
+  }, fs);
   if (journal.torn_tail) {
     // A journal is whole when it is rotated (a failed append is cut back first): any bad byte in
     // it is damage, not a crash's torn tail.
@@ -89,19 +90,19 @@ BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::func
 void RoadmapStore::start_compaction() {
   if (compacting_) return;  // still folding the last journal: a later commit starts the next
   if (compactor_.joinable()) compactor_.join();
-  if (!std::filesystem::exists(old_journal_path(dir_))) {
+  if (!fs_.exists(old_journal_path(dir_))) {
     // journal.log becomes journal.old and a new, empty journal.log follows. A crash between the
     // two leaves no journal.log, which reads as an empty one.
     const std::uint64_t size = journal_->size();
     journal_.reset();
     try {
-      std::filesystem::rename(journal_path(dir_), old_journal_path(dir_));
-      fsync_directory_of(journal_path(dir_));
+      fs_.rename(journal_path(dir_), old_journal_path(dir_));
+      fsync_directory_of(journal_path(dir_), fs_);
     } catch (...) {
-      journal_ = std::make_unique<RecordFileWriter>(journal_path(dir_), kJournal, size);
+      journal_ = std::make_unique<RecordFileWriter>(journal_path(dir_), kJournal, size, fs_);
       throw;
     }
-    journal_ = std::make_unique<RecordFileWriter>(journal_path(dir_), kJournal, 0);
+    journal_ = std::make_unique<RecordFileWriter>(journal_path(dir_), kJournal, 0, fs_);
     journal_commits_ = 0;
   }
   fold_in_background();
@@ -114,12 +115,12 @@ void RoadmapStore::fold_in_background() {
     std::string error;
     try {
       const auto keep_going = [this] { return !stop_compacting_.load(); };
-      const std::string payload = encode_commit(fold(dir, keep_going));
-      write_record_file_atomically(snapshot_path(dir), kSnapshot, payload, keep_going);
+      const std::string payload = encode_commit(fold(dir, keep_going, fs_));
+      write_record_file_atomically(snapshot_path(dir), kSnapshot, payload, keep_going, fs_);
       // The snapshot holds every commit of journal.old now; a crash before this removal leaves
       // commits that open() skips, and folds again.
-      std::filesystem::remove(old_journal_path(dir));
-      fsync_directory_of(old_journal_path(dir));
+      fs_.remove(old_journal_path(dir));
+      fsync_directory_of(old_journal_path(dir), fs_);
     } catch (const RecordWriteStopped&) {
       // Stopped (closing, unloading, SIGTERM): journal.old stays, and the next open() folds it.
     } catch (const std::exception& e) {

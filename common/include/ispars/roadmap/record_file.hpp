@@ -23,6 +23,8 @@
 #include <string_view>
 #include <vector>
 
+#include "ispars/roadmap/file_system.hpp"
+
 namespace ispars {
 
 /// How the records of a file are framed (see the file comment).
@@ -79,7 +81,7 @@ struct RecordReplay {
 /// Reads a record file (a missing or empty file has no records). Throws std::runtime_error when
 /// the file exists but starts with none of the format's magics.
 [[nodiscard]] RecordReplay read_record_file(const std::filesystem::path& path, const RecordFormat& format,
-                                            const RecordCheck& check);
+                                            const RecordCheck& check, const FileSystem& fs = disk());
 
 /// Appends records to a file, durably.
 class RecordFileWriter {
@@ -89,7 +91,8 @@ class RecordFileWriter {
   /// `PATH.torn.N` beside it (see set_aside()), then cut off; when the copy fails, this throws and
   /// the file is left whole. Creates the file (with the format's current magic) when missing or
   /// when `valid_bytes` is shorter than a magic.
-  RecordFileWriter(const std::filesystem::path& path, const RecordFormat& format, std::uint64_t valid_bytes);
+  RecordFileWriter(const std::filesystem::path& path, const RecordFormat& format, std::uint64_t valid_bytes,
+                   FileSystem& fs = disk());
   ~RecordFileWriter();
   RecordFileWriter(const RecordFileWriter&) = delete;
   RecordFileWriter& operator=(const RecordFileWriter&) = delete;
@@ -101,15 +104,13 @@ class RecordFileWriter {
   /// A payload of 4 GiB or more in a format 01 file throws, naming the limit.
   void append(std::string_view payload);
   /// Size of the file in bytes.
-  [[nodiscard]] std::uint64_t size() const { return size_; }
+  [[nodiscard]] std::uint64_t size() const { return file_->size(); }
   /// Where the bytes cut off on opening were copied; empty when nothing was cut.
   [[nodiscard]] const std::filesystem::path& set_aside() const { return set_aside_; }
 
  private:
-  void open_after(const RecordFormat& format, std::uint64_t valid_bytes);
-  int fd_ = -1;
-  std::uint64_t size_ = 0;
   std::filesystem::path path_;
+  std::unique_ptr<FileSystem::File> file_;
   std::filesystem::path set_aside_;
   RecordLayout layout_ = RecordLayout::checked;
   bool broken_ = false;  // a failed append could not be undone
@@ -125,16 +126,17 @@ struct RecordWriteStopped : std::runtime_error {
 /// pieces `keep_going` (when given) is asked; a false removes the temporary file and throws
 /// RecordWriteStopped. Other failures remove it too, and throw std::runtime_error.
 void write_record_file_atomically(const std::filesystem::path& path, const RecordFormat& format,
-                                  std::string_view payload, const std::function<bool()>& keep_going = {});
+                                  std::string_view payload, const std::function<bool()>& keep_going = {},
+                                  FileSystem& fs = disk());
 
 /// Replaces `path` with `bytes` atomically: writes a temporary file beside it, fsyncs it, renames
 /// it over `path` and fsyncs the directory. Readers see the old file or the new one, never a mix.
 /// On failure the temporary file is removed (a full disk keeps no half-written copy).
-void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes, FileSystem& fs = disk());
 
 /// fsyncs the directory holding `path`, making a rename or creation in it durable. Throws
 /// std::runtime_error naming the directory when it cannot be opened or fsync'ed.
-void fsync_directory_of(const std::filesystem::path& path);
+void fsync_directory_of(const std::filesystem::path& path, FileSystem& fs = disk());
 
 /// Appends the bytes of a trivially copyable value to a byte string (little-endian machines).
 template <class T>

@@ -75,7 +75,9 @@ struct StoreRecovery {
 };
 
 /// Appends commits to one scene's store and compacts it. One writer: the store directory is
-/// locked (flock) while the object lives, so a second RoadmapStore on it fails to open.
+/// locked (flock) while the object lives, so a second RoadmapStore on it fails to open. Every file
+/// operation goes through a FileSystem (the disk, or a test's stand-in that can cut the power),
+/// which must outlive the store.
 class RoadmapStore {
  public:
   ~RoadmapStore();
@@ -85,18 +87,20 @@ class RoadmapStore {
   /// Makes a new store for `recipe` at `dir`. When a store is there already (a replacing build),
   /// the new one is made aside and takes its place atomically at its first commit: until then
   /// the old store stays whole, and a crash leaves it as it was.
-  static std::unique_ptr<RoadmapStore> create(const std::filesystem::path& dir, const RoadmapRecipe& recipe);
+  static std::unique_ptr<RoadmapStore> create(const std::filesystem::path& dir, const RoadmapRecipe& recipe,
+                                              FileSystem& fs = disk());
   /// Opens the store at `dir`, recovering the last committed roadmaps. Throws std::runtime_error
   /// when the recipe or the snapshot is unreadable.
   /// `poi_count` is the scene's number of POIs.
   static std::unique_ptr<RoadmapStore> open(const std::filesystem::path& dir, std::size_t poi_count,
-                                            StoreRecovery& recovered);
+                                            StoreRecovery& recovered, FileSystem& fs = disk());
   /// Reads the store at `dir` without opening it for writing (no lock, nothing cut or written):
   /// what open() would recover. For serving the last commit when the store cannot be written
   /// (a read-only filesystem). Throws as open() does on damage.
-  [[nodiscard]] static StoreRecovery read(const std::filesystem::path& dir, std::size_t poi_count);
+  [[nodiscard]] static StoreRecovery read(const std::filesystem::path& dir, std::size_t poi_count,
+                                          const FileSystem& fs = disk());
   /// The recipe of the store at `dir` (to find its scene before opening it).
-  [[nodiscard]] static RoadmapRecipe read_recipe(const std::filesystem::path& dir);
+  [[nodiscard]] static RoadmapRecipe read_recipe(const std::filesystem::path& dir, const FileSystem& fs = disk());
 
   /// Appends a commit durably (the first commit of a replacing store then puts it in place of
   /// the old one). After `compact_every` journal commits, also starts a compaction in the
@@ -112,7 +116,8 @@ class RoadmapStore {
   /// Folds the snapshot and the commits of `journal` (a record file of commits) into one commit,
   /// stopping early (throwing RecordWriteStopped) when `keep_going` says so. Reads only.
   /// Throws StoreDamage when a record is damaged or does not continue the snapshot.
-  [[nodiscard]] static BuildCommit fold(const std::filesystem::path& dir, const std::function<bool()>& keep_going);
+  [[nodiscard]] static BuildCommit fold(const std::filesystem::path& dir, const std::function<bool()>& keep_going,
+                                        const FileSystem& fs = disk());
 
   [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }
   [[nodiscard]] const RoadmapRecipe& recipe() const { return recipe_; }
@@ -121,18 +126,19 @@ class RoadmapStore {
   void set_compact_every(std::size_t commits) { compact_every_ = commits; }
 
  private:
-  RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe);
+  RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe, FileSystem& fs);
   void take_place();  // a replacing store: swaps itself with the store at replaces_
   void start_compaction();  // rotates the journal (if no journal.old) and starts the fold thread
   void fold_in_background();
   void stop_compaction();  // asks a running fold to stop, and joins it
+  FileSystem& fs_;
   std::filesystem::path dir_;
   std::filesystem::path replaces_;  // a replacing store before its first commit: the store it replaces
   RoadmapRecipe recipe_;
   std::unique_ptr<RecordFileWriter> journal_;
   std::size_t journal_commits_ = 0;
   std::size_t compact_every_ = 64;
-  int lock_fd_ = -1;
+  std::unique_ptr<FileSystem::Lock> lock_;
   std::thread compactor_;
   std::atomic<bool> compacting_{false};       // the fold thread runs
   std::atomic<bool> stop_compacting_{false};  // asked to stop (close, unload, SIGTERM)
@@ -156,28 +162,29 @@ struct StoreHead {
   std::uint64_t generation = 0;
   std::uint64_t samples = 0;
 };
-void write_store_head(const std::filesystem::path& dir, const StoreHead& head);
+void write_store_head(const std::filesystem::path& dir, const StoreHead& head, FileSystem& fs = disk());
 /// The store's head; nothing when it has none (a store older than the file) or it is unreadable.
-[[nodiscard]] std::optional<StoreHead> read_store_head(const std::filesystem::path& dir);
+[[nodiscard]] std::optional<StoreHead> read_store_head(const std::filesystem::path& dir, const FileSystem& fs = disk());
 
 /// Keeps a store the fleet superseded: renames it, whole, to DATA_DIR/.aside/NAME-gGEN-SAMPLES
 /// (a further ".N" when taken) with `why` in its aside.txt, durably. Returns where it went.
 /// Nothing at start or later removes it: an operator reads it and deletes it.
-std::filesystem::path set_aside_store(const std::filesystem::path& dir, const std::string& why);
+std::filesystem::path set_aside_store(const std::filesystem::path& dir, const std::string& why,
+                                      FileSystem& fs = disk());
 
 /// Removes a store: renames it aside (atomic), then deletes it. Leftovers of an interrupted
 /// creation or removal (".new-NAME", ".dropped-NAME") are removed by remove_dropped_stores().
-void drop_store(const std::filesystem::path& dir);
+void drop_store(const std::filesystem::path& dir, FileSystem& fs = disk());
 
 /// Marks (or unmarks) the store in `dir` as unloaded: a daemon that restarts does not reload an
 /// unloaded scene's stored roadmap until the scene is loaded again. Durable (fsync'ed). Nothing
 /// to mark (or unmark) when `dir` holds no store.
-void mark_unloaded(const std::filesystem::path& dir, bool unloaded);
+void mark_unloaded(const std::filesystem::path& dir, bool unloaded, FileSystem& fs = disk());
 /// Whether the store in `dir` is marked unloaded.
-[[nodiscard]] bool marked_unloaded(const std::filesystem::path& dir);
+[[nodiscard]] bool marked_unloaded(const std::filesystem::path& dir, const FileSystem& fs = disk());
 /// At start: removes what an interrupted drop or creation left (".dropped-NAME", a staging
 /// ".new-NAME"), and puts in place a replacing store caught between the two renames of the
 /// fallback swap (".new-NAME" with a commit and no "NAME").
-void remove_dropped_stores(const std::filesystem::path& data_dir);
+void remove_dropped_stores(const std::filesystem::path& data_dir, FileSystem& fs = disk());
 
 }  // namespace ispars
