@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <type_traits>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -178,8 +179,17 @@ void Daemon::dispatch(Request request) {
   }
   const bool slow = slow_operation(request.args()._d());
   WorkerPool& lane = slow ? *slow_lane_ : *quick_lane_;
+  // A change (drop, load) goes ahead of the reads waiting in its lane, and a drop stops the
+  // scene's running verifies now: it never waits behind readers.
+  constexpr bool change = std::is_same_v<Request, msg::ChangeRequest>;
+  if constexpr (change) {
+    if (request.args()._d() == msg::DROP) {
+      service_->stop_readers(request.scene().to_string(),
+                             fmt::format("scene '{}' is being dropped", request.scene().to_string()));
+    }
+  }
   const auto shared = std::make_shared<const Request>(std::move(request));
-  if (!lane.submit([this, shared] { handle(*shared); })) {
+  if (!lane.submit([this, shared] { handle(*shared); }, change)) {
     cache_.forget(client, shared->request_seq());
     refuse_busy(*shared, lane, slow ? "slow" : "quick");
   }

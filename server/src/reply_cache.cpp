@@ -1,15 +1,15 @@
 #include "reply_cache.hpp"
 
+#include <algorithm>
+#include <iterator>
+
 namespace ispars::server {
 
 ReplyCache::Admission ReplyCache::admit(const std::string& client, std::uint64_t seq, msg::Reply& reply) {
   std::lock_guard lock(mutex_);
   auto it = clients_.find(client);
   if (it == clients_.end()) {
-    if (clients_.size() >= max_clients_) {
-      clients_.erase(lru_.back());
-      lru_.pop_back();
-    }
+    if (clients_.size() >= max_clients_) evict_a_client();
     lru_.push_front(client);
     it = clients_.emplace(client, Client{{}, lru_.begin()}).first;
   } else {
@@ -22,8 +22,26 @@ ReplyCache::Admission ReplyCache::admit(const std::string& client, std::uint64_t
     return Admission::answered;
   }
   replies.emplace(seq, std::nullopt);
-  while (replies.size() > per_client_) replies.erase(replies.begin());
+  // The oldest answered replies go first. A request in progress is never forgotten (its retry
+  // would run it twice): those are bounded by the daemon's lanes, not here.
+  for (auto r = replies.begin(); replies.size() > per_client_ && r != replies.end();) {
+    r = r->second ? replies.erase(r) : std::next(r);
+  }
   return Admission::new_request;
+}
+
+void ReplyCache::evict_a_client() {
+  // The least recent client with nothing in progress; none: the cache grows past its bound for
+  // now (by at most the requests the lanes hold).
+  for (auto l = lru_.rbegin(); l != lru_.rend(); ++l) {
+    const auto c = clients_.find(*l);
+    const bool in_progress = std::any_of(c->second.replies.begin(), c->second.replies.end(),
+                                         [](const auto& r) { return !r.second; });
+    if (in_progress) continue;
+    clients_.erase(c);
+    lru_.erase(std::next(l).base());
+    return;
+  }
 }
 
 void ReplyCache::complete(const std::string& client, std::uint64_t seq, const msg::Reply& reply) {

@@ -14,6 +14,8 @@
 namespace ispars::server {
 
 /// Recent replies per client, bounded in clients and per client, so a retry is never run twice.
+/// A request in progress is never evicted (the bounds may be passed by at most the requests the
+/// daemon's lanes hold).
 class ReplyCache {
  public:
   /// What to do with an incoming request.
@@ -34,6 +36,7 @@ class ReplyCache {
     std::map<std::uint64_t, std::optional<msg::Reply>> replies;  // nullopt: in progress
     std::list<std::string>::iterator lru;
   };
+  void evict_a_client();  // under mutex_
   std::mutex mutex_;
   std::map<std::string, Client> clients_;
   std::list<std::string> lru_;  // most recent first

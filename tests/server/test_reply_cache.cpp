@@ -48,9 +48,34 @@ TEST(ReplyCache, MemoryIsBoundedPerClientAndInClients) {
   }
   EXPECT_EQ(cache.admit("a", 5, out), ReplyCache::Admission::answered);
   EXPECT_EQ(cache.admit("a", 1, out), ReplyCache::Admission::new_request);  // evicted: oldest first
+  cache.complete("a", 1, reply(1, "r"));
   cache.admit("b", 1, out);
-  cache.admit("c", 1, out);  // evicts the least recent client
-  EXPECT_EQ(cache.admit("b", 1, out), ReplyCache::Admission::in_progress);
+  cache.complete("b", 1, reply(1, "r"));
+  cache.admit("c", 1, out);  // evicts the least recent client, a
+  EXPECT_EQ(cache.admit("b", 1, out), ReplyCache::Admission::answered);
+  EXPECT_EQ(cache.admit("a", 5, out), ReplyCache::Admission::new_request) << "a was not evicted";
+}
+
+// A request still waiting or running is never evicted, per client or with its client: its retry
+// would run it again (an extend twice, under client churn).
+TEST(ReplyCache, ARequestInProgressIsNeverEvicted) {
+  ReplyCache cache(/*clients=*/2, /*per_client=*/3);
+  msg::Reply out;
+  ASSERT_EQ(cache.admit("op", 1, out), ReplyCache::Admission::new_request);  // a long extend
+  for (std::uint64_t s = 2; s <= 10; ++s) {
+    cache.admit("op", s, out);
+    cache.complete("op", s, reply(s, "r"));
+  }
+  EXPECT_EQ(cache.admit("op", 1, out), ReplyCache::Admission::in_progress) << "evicted by the same client's later ones";
+  for (int c = 0; c < 50; ++c) {  // client churn
+    const std::string other = "viewer" + std::to_string(c);
+    cache.admit(other, 1, out);
+    cache.complete(other, 1, reply(1, "r"));
+  }
+  EXPECT_EQ(cache.admit("op", 1, out), ReplyCache::Admission::in_progress) << "evicted with its client";
+  cache.complete("op", 1, reply(1, "extended"));
+  ASSERT_EQ(cache.admit("op", 1, out), ReplyCache::Admission::answered);
+  EXPECT_EQ(out.message(), "extended");
 }
 
 TEST(ReplyCache, SnapshotChunksAreNotKept) {

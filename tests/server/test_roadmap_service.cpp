@@ -323,6 +323,48 @@ TEST_F(RoadmapServiceTest, AYieldedSceneStopsItsBuildsAndLeavesWithoutAnUnloaded
             (std::vector<std::string>{"s0", "s1"}));
 }
 
+// A takeover is a writer too: four readers looping VERIFY do not hold up giving the scene to
+// its owner (before, the fleet thread spun in yield() for as long as verifies overlapped).
+TEST_F(RoadmapServiceTest, AYieldIsNotHeldUpByLoopingVerifies) {
+  auto s = settings();
+  s.memory_budget_bytes = 1e18;
+  RoadmapService service(s, {});
+  (void)service.load("s0");
+  service.build("s0", ispars(30'000));
+  wait_idle(service, "s0");
+  std::atomic<bool> done{false};
+  std::atomic<int> verified{0}, stopped{0};
+  std::vector<std::jthread> readers;
+  struct StopReaders {
+    std::atomic<bool>& done;
+    ~StopReaders() { done = true; }
+  } stop_readers{done};
+  for (int i = 0; i < 4; ++i) {
+    readers.emplace_back([&] {
+      while (!done) {
+        try {
+          (void)service.verify("s0");
+          ++verified;
+        } catch (const std::exception& e) {
+          stopped += std::string(e.what()).find("was stopped: scene 's0' is being given up to its owner") !=
+                     std::string::npos;
+          std::this_thread::sleep_for(1ms);
+        }
+      }
+    });
+  }
+  for (int i = 0; i < 3000 && verified < 4; ++i) std::this_thread::sleep_for(10ms);
+  ASSERT_GE(verified, 4);
+  const std::atomic<bool> give_up{false};
+  const auto t0 = std::chrono::steady_clock::now();
+  service.yield("s0", give_up);
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, 1s) << "the takeover waited for the verifies";
+  EXPECT_TRUE(service.loaded_scenes().empty());
+  done = true;
+  readers.clear();
+  EXPECT_GT(stopped, 0) << "no verify was running when the scene was given up";
+}
+
 }  // namespace
 }  // namespace ispars
 

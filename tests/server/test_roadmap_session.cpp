@@ -4,7 +4,9 @@
 
 #include <atomic>
 #include <fstream>
+#include <mutex>
 #include <thread>
+#include <vector>
 
 #include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_session.hpp"
@@ -61,7 +63,7 @@ TEST_F(RoadmapSessionTest, AJobCommitsBatchesThatReplayToThePublishedRoadmap) {
   EXPECT_EQ(roadmap_digest(replica), roadmap_digest(*p.roadmap));
   EXPECT_EQ(roadmap_digest(*p.roadmap), uninterrupted(scene(), 4000, 3));
   EXPECT_GE(statuses, 3u);
-  const VerificationReport report = session->verify();
+  const VerificationReport report = session->verify(kVerifyBudget);
   EXPECT_TRUE(report.geometry_ok());
   EXPECT_EQ(report.invariant_violations, 0u);
 }
@@ -214,11 +216,11 @@ TEST_F(RoadmapSessionTest, VerifyAndDropRightAfterAJobTurnsIdleWaitForItsLastSta
   std::thread job([&] { session->run_job(never_); });
   while (!idle_seen) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   EXPECT_EQ(session->status().state, SessionState::idle);
-  EXPECT_EQ(session->verify().invariant_violations, 0u);
+  EXPECT_EQ(session->verify(kVerifyBudget).invariant_violations, 0u);
   job.join();
   // A queued job is still refused by name.
   session->request_extend(100);
-  EXPECT_THROW((void)session->verify(), InputError);
+  EXPECT_THROW((void)session->verify(kVerifyBudget), InputError);
   EXPECT_THROW(session->drop(), InputError);
   session->run_job(never_);
   idle_seen = false;
@@ -366,7 +368,7 @@ TEST_F(RoadmapSessionTest, ADenseSessionResumesFromItsPublishedRoadmapBetweenJob
   dense.method = BuildMethod::dense;
   session->request_build(dense);
   session->run_job(never_);
-  EXPECT_TRUE(session->verify().geometry_ok());
+  EXPECT_TRUE(session->verify(kVerifyBudget).geometry_ok());
   session->request_extend(700);
   session->run_job(never_);
   EXPECT_EQ(session->status().samples_done, 2200u);
@@ -375,7 +377,71 @@ TEST_F(RoadmapSessionTest, ADenseSessionResumesFromItsPublishedRoadmapBetweenJob
   const auto reference = make_roadmap_builder(BuildMethod::dense, scene(), options);
   reference->extend(2200);
   EXPECT_EQ(roadmap_digest(*session->published().roadmap), roadmap_digest(reference->roadmap()));
-  EXPECT_TRUE(session->verify().geometry_ok());
+  EXPECT_TRUE(session->verify(kVerifyBudget).geometry_ok());
+}
+
+// Four readers looping verify never hold a writer up: a drop, then (after a rebuild) an unload
+// each completes well within a second, the verifies running then are stopped naming why, and a
+// verify over its budget is stopped naming the budget. (Before, overlapping verifies kept the job
+// lock shared, and the drop failed as busy after 2 s.)
+TEST_F(RoadmapSessionTest, LoopingVerifiesNeverHoldOffADropOrAnUnload) {
+  auto session = open();
+  session->request_build(ispars(20000));
+  session->run_job(never_);
+  try {
+    (void)session->verify(std::chrono::milliseconds(1));
+    ADD_FAILURE() << "a 1 ms budget was not enforced";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("was stopped: its budget of 0.0 s ran out"), std::string::npos) << e.what();
+  }
+  std::atomic<bool> done{false};
+  std::atomic<int> verified{0};
+  std::mutex mutex;
+  std::vector<std::string> stops;  // why running verifies were stopped
+  std::vector<std::jthread> readers;
+  struct StopReaders {
+    std::atomic<bool>& done;
+    ~StopReaders() { done = true; }  // before the readers are joined, however the test ends
+  } stop_readers{done};
+  for (int i = 0; i < 4; ++i) {
+    readers.emplace_back([&] {
+      while (!done) {
+        try {
+          (void)session->verify(kVerifyBudget);
+          ++verified;
+        } catch (const InputError& e) {
+          std::lock_guard lock(mutex);
+          if (std::string(e.what()).find("was stopped") != std::string::npos) stops.emplace_back(e.what());
+        }
+      }
+    });
+  }
+  const auto wait_for_verifies = [&](int n) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (verified < n && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ASSERT_GE(verified, n);
+  };
+  wait_for_verifies(8);
+  auto t0 = std::chrono::steady_clock::now();
+  session->drop();
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1)) << "the drop waited for the verifies";
+  EXPECT_EQ(session->status().state, SessionState::empty);
+  session->request_build(ispars(20000));
+  session->run_job(never_);
+  const int before = verified;
+  wait_for_verifies(before + 8);
+  t0 = std::chrono::steady_clock::now();
+  session->close();
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1)) << "the unload waited for the verifies";
+  done = true;
+  readers.clear();
+  std::lock_guard lock(mutex);
+  bool by_drop = false, by_unload = false;
+  for (const auto& why : stops) {
+    by_drop |= why.find("scene 'tower' is being dropped") != std::string::npos;
+    by_unload |= why.find("scene 'tower' is being unloaded") != std::string::npos;
+  }
+  EXPECT_TRUE(by_drop || by_unload) << "no running verify was stopped (" << stops.size() << " stops)";
 }
 
 }  // namespace

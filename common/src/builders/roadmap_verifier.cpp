@@ -43,14 +43,22 @@ class InvariantCheck {
   std::vector<std::pair<double, std::uint32_t>> near_;
 };
 
+// Asks `keep_going` every 256 steps; throws VerificationStopped when it says stop.
+void check_in(std::size_t step, const VerifyKeepGoing& keep_going) {
+  if (keep_going && step % 256 == 0 && !keep_going()) throw VerificationStopped();
+}
+
 }  // namespace
 
-VerificationReport verify_roadmap(const Scene& scene, const Roadmap& roadmap) {
+VerificationReport verify_roadmap(const Scene& scene, const Roadmap& roadmap, const VerifyKeepGoing& keep_going) {
   VerificationReport report;
   for (VertexId v = 0; v < roadmap.vertex_count(); ++v) {
+    check_in(v, keep_going);
     report.invalid_vertices += !scene.point_valid(roadmap.position(v));
   }
+  std::size_t step = 0;
   for (const RoadmapEdge& e : roadmap.edges()) {
+    check_in(step++, keep_going);
     const Vec3& a = roadmap.position(e.u);
     const Vec3& b = roadmap.position(e.v);
     report.invalid_edges += !scene.segment_valid(a, b);
@@ -60,9 +68,9 @@ VerificationReport verify_roadmap(const Scene& scene, const Roadmap& roadmap) {
 }
 
 VerificationReport verify_sparse_pair(const Scene& scene, const Roadmap& sparse, const Roadmap& dense,
-                                      std::span<const VertexId> dense_ids) {
-  VerificationReport report = verify_roadmap(scene, sparse);
-  const VerificationReport dense_report = verify_roadmap(scene, dense);
+                                      std::span<const VertexId> dense_ids, const VerifyKeepGoing& keep_going) {
+  VerificationReport report = verify_roadmap(scene, sparse, keep_going);
+  const VerificationReport dense_report = verify_roadmap(scene, dense, keep_going);
   report.invalid_vertices += dense_report.invalid_vertices;
   report.invalid_edges += dense_report.invalid_edges;
   report.wrong_costs += dense_report.wrong_costs;
@@ -78,6 +86,7 @@ VerificationReport verify_sparse_pair(const Scene& scene, const Roadmap& sparse,
   // Delta with a valid segment to q sees.
   InvariantCheck check(scene, sparse);
   for (VertexId q = 0; q < dense.vertex_count(); ++q) {
+    check_in(q, keep_going);
     const std::uint64_t missing = check.missing(dense.position(q), dense.visible(q));
     report.invariant_violations += missing;
     report.invariant_vertices += missing > 0;
@@ -86,13 +95,14 @@ VerificationReport verify_sparse_pair(const Scene& scene, const Roadmap& sparse,
 }
 
 VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& sparse, std::size_t samples,
-                                        std::uint64_t seed) {
+                                        std::uint64_t seed, const VerifyKeepGoing& keep_going) {
   VerificationReport report;
   InvariantCheck check(scene, sparse);
   Rng rng(seed);
   std::vector<PoiId> visible;
   std::vector<std::uint64_t> seen(poi_words(scene.pois().size()));
   for (std::size_t i = 0; i < samples; ++i) {
+    check_in(i, keep_going);
     const Vec3 q = scene.sample_valid_configuration(rng);
     scene.visible_pois(q, visible);
     std::fill(seen.begin(), seen.end(), 0);

@@ -41,6 +41,10 @@ RoadmapService::~RoadmapService() { stop(); }
 void RoadmapService::stop() {
   if (stopping_.exchange(true)) return;
   stop_tours("");
+  {
+    std::lock_guard lock(sessions_mutex_);
+    for (const auto& [name, s] : sessions_) s->stop_readers("the daemon is stopping");
+  }
   builds_.stop();  // running builds commit their current chunk and return
   tours_.stop();   // running tours stop early and report their best
   std::vector<std::string> names;
@@ -191,19 +195,32 @@ void RoadmapService::unload(const std::string& scene) {
   forget(scene, /*given_up=*/false);
 }
 
+void RoadmapService::stop_readers(const std::string& scene, const std::string& why) {
+  if (const auto s = session_or_null(scene)) s->stop_readers(why);
+}
+
 void RoadmapService::yield(const std::string& scene, const std::atomic<bool>& give_up) {
   const auto s = session_or_null(scene);
   if (!s) return;
   stop_tours(scene);
-  // A running build stops after its current chunk (within half a second); a queued one at once.
+  // A running build stops after its current chunk (within half a second), a queued one and any
+  // verify at once. Bounded: a scene that will not close in kYieldWait stays, and the fleet's next
+  // pass asks again.
+  const auto deadline = std::chrono::steady_clock::now() + kYieldWait;
   for (;;) {
     if (stopping_ || give_up) return;          // stop() reports every scene unloaded
     if (session_or_null(scene) != s) return;  // unloaded (or unloaded and loaded again) meanwhile
+    s->stop_readers(fmt::format("scene '{}' is being given up to its owner", scene));
     (void)s->cancel();
     try {
       s->close();
       break;
-    } catch (const InputError&) {
+    } catch (const InputError& e) {
+      if (std::chrono::steady_clock::now() >= deadline) {
+        spdlog::warn("scene '{}' not given up to its owner within {} s: {}", scene,
+                     std::chrono::duration_cast<std::chrono::seconds>(kYieldWait).count(), e.what());
+        return;
+      }
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }

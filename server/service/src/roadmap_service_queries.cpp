@@ -29,8 +29,9 @@ std::uint64_t VerifyOutcome::violations() const {
 
 VerifyOutcome RoadmapService::verify(const std::string& scene) const {
   const auto s = session(scene);
+  if (stopping_) throw InputError("request", "scene", "the daemon is stopping");
   VerifyOutcome out;
-  out.report = s->verify();
+  out.report = s->verify(kVerifyBudget);
   // Invariant 1 is Inspection-SPARS's promise; SPARS and the others do not make it.
   const auto recipe = s->status().recipe;
   out.invariant_promised = recipe && (recipe->method == BuildMethod::ispars || recipe->method == BuildMethod::ispars2);

@@ -16,9 +16,6 @@ namespace ispars {
 namespace {
 
 constexpr const char* kRequest = "request";
-// Fresh samples Invariant 1 is checked on for a roadmap without a dense graph (ispars2).
-constexpr std::size_t kFreshVerifySamples = 20000;
-
 std::uint64_t new_generation() {
   return static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
@@ -130,6 +127,7 @@ std::string RoadmapSession::stale_store_reason(const RoadmapRecipe& stored) cons
 
 void RoadmapSession::check_can_start(const char* field) const {
   if (closed_) throw InputError(kRequest, "scene", fmt::format("scene '{}' was unloaded", name_));
+  if (discarding_) throw InputError(kRequest, "scene", fmt::format("scene '{}' is being dropped", name_));
   if (state_ == SessionState::queued || state_ == SessionState::building || state_ == SessionState::replaying) {
     throw InputError(kRequest, field, fmt::format("a build is already running on scene '{}'", name_));
   }
@@ -220,6 +218,7 @@ std::uint64_t RoadmapSession::request_extend(std::uint64_t samples) {
 }
 
 bool RoadmapSession::cancel() {
+  readers_->stop_all(fmt::format("cancelled by a cancel request on scene '{}'", name_));
   {
     std::lock_guard lock(mutex_);
     if (state_ != SessionState::building && state_ != SessionState::replaying) {
@@ -266,16 +265,23 @@ void RoadmapSession::drop() { (void)discard_store(""); }
 std::filesystem::path RoadmapSession::set_aside(const std::string& why) { return discard_store(why); }
 
 std::filesystem::path RoadmapSession::discard_store(const std::string& aside_why) {
-  const auto job = lock_idle_job<std::unique_lock<std::shared_mutex>>(aside_why.empty() ? "drop" : "set aside");
-  std::filesystem::path aside;
+  const char* what = aside_why.empty() ? "drop" : "set aside";
+  // Running verifies stop, and new ones wait outside, so the job lock comes free at once.
+  const auto readers_off = readers_->hold_off(fmt::format("scene '{}' is being dropped", name_));
+  const auto job = lock_idle_job<std::unique_lock<std::shared_mutex>>(what);
+  std::unique_ptr<RoadmapStore> store;
   {
-    // Under both locks throughout, so no request can be accepted while the store goes away.
     std::lock_guard lock(mutex_);
     check_can_start("scene");
     if (!recipe_ && damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
-    damage_.clear();  // an explicit drop discards a damaged store too
-    last_error_.clear();
-    store_.reset();
+    discarding_ = true;  // no request is accepted while the store goes away
+    store = std::move(store_);
+  }
+  // Joining a compaction and removing files take time: not under mutex_, which every status and
+  // STATS takes. The job lock (held alone) keeps jobs and readers of the builder out.
+  std::filesystem::path aside;
+  try {
+    store.reset();
     builder_.reset();
     build_scene_.reset();
     recovered_.reset();
@@ -284,6 +290,16 @@ std::filesystem::path RoadmapSession::discard_store(const std::string& aside_why
     } else {
       aside = set_aside_store(store_dir_, aside_why);
     }
+  } catch (...) {
+    std::lock_guard lock(mutex_);
+    discarding_ = false;
+    throw;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    discarding_ = false;
+    damage_.clear();  // an explicit drop discards a damaged store too
+    last_error_.clear();
     recipe_.reset();
     samples_done_ = samples_target_ = 0;
     dense_vertices_ = dense_edges_ = 0;
@@ -298,13 +314,19 @@ std::filesystem::path RoadmapSession::discard_store(const std::string& aside_why
 }
 
 void RoadmapSession::close() {
+  const auto readers_off = readers_->hold_off(fmt::format("scene '{}' is being unloaded", name_));
   const auto job = lock_idle_job<std::unique_lock<std::shared_mutex>>("unload");
-  std::lock_guard lock(mutex_);
-  check_can_start("scene");
-  closed_ = true;
+  std::unique_ptr<RoadmapStore> store;
+  {
+    std::lock_guard lock(mutex_);
+    check_can_start("scene");
+    closed_ = true;
+    store = std::move(store_);
+  }
   // The store's lock goes now, not when the last holder of this session lets go (a tour still
-  // running on the published roadmap, say): the scene can be loaded again at once.
-  store_.reset();
+  // running on the published roadmap, say): the scene can be loaded again at once. Its
+  // compaction is joined outside mutex_, so STATS and statuses never wait for it.
+  store.reset();
   builder_.reset();
   build_scene_.reset();
 }
@@ -389,42 +411,8 @@ RoadmapPath RoadmapSession::path(const Vec3& from, const Vec3& to) const {
   return plan_path(scene_, *p.roadmap, from, to, join_radius);
 }
 
-VerificationReport RoadmapSession::verify() const {
-  const auto job = lock_idle_job<std::shared_lock<std::shared_mutex>>("verify");
-  std::optional<RoadmapRecipe> recipe;
-  {
-    std::lock_guard lock(mutex_);
-    recipe = recipe_;
-  }
-  if (!recipe) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
-  const Scene scene = session_detail::scene_for(scene_, *recipe);
-  const auto check = [&](const Roadmap& roadmap, const Roadmap* dense, std::span<const VertexId> dense_ids) {
-    if (dense) return verify_sparse_pair(scene, roadmap, *dense, dense_ids);
-    VerificationReport report = verify_roadmap(scene, roadmap);
-    if (recipe->method == BuildMethod::ispars2) {
-      // No dense graph keeps the samples drawn: Invariant 1 is checked on fresh ones.
-      const VerificationReport fresh = verify_fresh_samples(scene, roadmap, kFreshVerifySamples, recipe->seed + 1);
-      report.invariant_violations = fresh.invariant_violations;
-      report.invariant_vertices = fresh.invariant_vertices;
-      report.invariant_samples = fresh.invariant_samples;
-    }
-    return report;
-  };
-  if (builder_) return check(builder_->roadmap(), builder_->dense(), builder_->dense_ids());
-  if (recovered_) {
-    return check(recovered_->roadmap, recovered_->dense ? &*recovered_->dense : nullptr, recovered_->dense_ids);
-  }
-  // No builder and nothing recovered: a method that resumes from its roadmap, idle, whose
-  // published roadmap is the stored one (no job runs: this holds the job lock).
-  std::shared_ptr<const Roadmap> published;
-  {
-    std::lock_guard lock(mutex_);
-    if (resumes_from_roadmap(recipe->method) && published_.generation == recipe->generation) {
-      published = published_.roadmap;
-    }
-  }
-  if (!published) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
-  return check(*published, nullptr, {});
-}
+// verify() (roadmap_session_verify.cpp) takes the job lock shared.
+template std::shared_lock<std::shared_mutex> RoadmapSession::lock_idle_job<std::shared_lock<std::shared_mutex>>(
+    std::string_view) const;
 
 }  // namespace ispars

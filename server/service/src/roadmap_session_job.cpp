@@ -125,6 +125,9 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
 }
 
 void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
+  // A running verify stops (a job is a writer of the roadmaps it reads); new ones are refused
+  // while the job is queued or runs (lock_idle_job).
+  readers_->stop_all(fmt::format("a build started on scene '{}'", name_));
   std::lock_guard job(job_mutex_);
   std::optional<RoadmapRecipe> build;
   std::uint64_t samples = 0;

@@ -2,7 +2,9 @@
 // Exact checks of a built roadmap: what SPARS and the paper promise, counted, never assumed.
 
 #include <cstdint>
+#include <functional>
 #include <span>
+#include <stdexcept>
 
 #include "ispars/roadmap/roadmap.hpp"
 #include "ispars/scene/scene.hpp"
@@ -28,13 +30,24 @@ struct VerificationReport {
   }
 };
 
+/// Asked between small steps of a verification (every 256 vertices, edges or samples, a few
+/// milliseconds at most); false stops it with VerificationStopped.
+using VerifyKeepGoing = std::function<bool()>;
+
+/// Thrown when a verification's keep_going said stop.
+struct VerificationStopped : std::runtime_error {
+  VerificationStopped() : std::runtime_error("verification stopped") {}
+};
+
 /// Every vertex valid, every edge valid with cost = length.
-[[nodiscard]] VerificationReport verify_roadmap(const Scene& scene, const Roadmap& roadmap);
+[[nodiscard]] VerificationReport verify_roadmap(const Scene& scene, const Roadmap& roadmap,
+                                                const VerifyKeepGoing& keep_going = {});
 
 /// verify_roadmap on both graphs, plus: sparse vertex i is dense vertex dense_ids[i], and the
 /// local inspection-coverage invariant over every dense vertex.
 [[nodiscard]] VerificationReport verify_sparse_pair(const Scene& scene, const Roadmap& sparse,
-                                                    const Roadmap& dense, std::span<const VertexId> dense_ids);
+                                                    const Roadmap& dense, std::span<const VertexId> dense_ids,
+                                                    const VerifyKeepGoing& keep_going = {});
 
 /// Invariant 1 on `samples` fresh valid samples q drawn from `seed` (independent of the build's
 /// stream): the pairs (q, POI p in chi(q)) with no sparse vertex within Delta in view of q that
@@ -42,6 +55,6 @@ struct VerificationReport {
 /// admits every sample it draws that would violate it; a fresh sample may, with a probability
 /// these counts estimate.
 [[nodiscard]] VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& sparse, std::size_t samples,
-                                                      std::uint64_t seed);
+                                                      std::uint64_t seed, const VerifyKeepGoing& keep_going = {});
 
 }  // namespace ispars

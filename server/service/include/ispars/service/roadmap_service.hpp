@@ -8,6 +8,7 @@
 // field named) for a bad one; no operation that throws has changed anything.
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -187,6 +188,10 @@ class RoadmapService {
   /// restart. Returns at once when the scene is not loaded (or was unloaded meanwhile), and
   /// without unloading when `give_up` becomes true (the daemon is stopping).
   void yield(const std::string& scene, const std::atomic<bool>& give_up);
+  /// Stops the running verifies of `scene` (if loaded) with `why`.
+  void stop_readers(const std::string& scene, const std::string& why);
+  /// How long yield() tries before it leaves the scene as it is (for the fleet's next pass).
+  static constexpr std::chrono::seconds kYieldWait{10};
   /// The roadmaps of the loaded scenes, as the fleet weighs them (live: committed samples and
   /// accepted targets).
   [[nodiscard]] std::vector<ServedRoadmap> held_roadmaps() const;

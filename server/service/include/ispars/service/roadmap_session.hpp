@@ -8,6 +8,7 @@
 // store (durable), then published to readers, then announced through the callbacks.
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -23,6 +24,7 @@
 #include "ispars/search/path_query.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/service/reader_gate.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/scene/scene.hpp"
@@ -99,6 +101,9 @@ struct SessionLimits {
   unsigned build_threads = 1;              ///< Threads per build (any count: the same roadmap).
 };
 
+/// A verify running longer than this is stopped and answered with an error naming the budget.
+inline constexpr std::chrono::milliseconds kVerifyBudget{300'000};
+
 /// What the session tells its owner.
 struct SessionCallbacks {
   /// A committed batch of the roadmap (called on the job's thread, in order).
@@ -151,8 +156,12 @@ class RoadmapSession {
   /// A path on the published roadmap (InputError on bad points, see plan_path).
   [[nodiscard]] RoadmapPath path(const Vec3& from, const Vec3& to) const;
   /// Checks the roadmap (validity, costs, Invariant 1 for spars/ispars). Waits for no job: throws
-  /// InputError while one runs.
-  [[nodiscard]] VerificationReport verify() const;
+  /// InputError while one runs, or while an unload or a drop holds readers off. Stops (InputError
+  /// saying why) within milliseconds when its budget runs out, a cancel request, an unload, a
+  /// drop, a job or stop_readers() needs it to.
+  [[nodiscard]] VerificationReport verify(std::chrono::milliseconds budget) const;
+  /// Stops every running verify with `why` (the daemon is stopping, say).
+  void stop_readers(const std::string& why);
 
   /// The estimate of the roadmap as recorded (its recipe at its sample target; zero without one).
   [[nodiscard]] BuildCost expected_cost() const;
@@ -190,6 +199,7 @@ class RoadmapSession {
   // Throws InputError, naming `what`, when a job is queued or running.
   template <typename Lock>
   Lock lock_idle_job(std::string_view what) const;
+  [[nodiscard]] VerificationReport verify_locked(const VerifyKeepGoing& keep_going) const;  // job lock held
 
   const std::string name_;
   const Scene scene_;
@@ -201,6 +211,8 @@ class RoadmapSession {
 
   // Whoever touches the builder holds this: run_job and drop alone, verify shared with other verifies.
   mutable std::shared_mutex job_mutex_;
+  // Verifies, which a writer (unload, drop, a job) stops before it takes job_mutex_ alone.
+  const std::unique_ptr<ReaderGate> readers_ = std::make_unique<ReaderGate>();
   // Owned by the job thread (under job_mutex_):
   std::unique_ptr<Scene> build_scene_;
   std::unique_ptr<RoadmapBuilder> builder_;
@@ -215,6 +227,7 @@ class RoadmapSession {
   std::uint64_t pending_samples_ = 0;
   std::optional<RoadmapRecipe> pending_recipe_;  // a queued build's recipe
   bool closed_ = false;
+  bool discarding_ = false;  // a drop or set aside is removing the store
   std::string last_error_;
   std::string fingerprint_;  // scene_fingerprint(scene_), recorded in every recipe built here
   std::string damage_;  // the stored roadmap could not be opened (StoreDamage): nothing was read or changed

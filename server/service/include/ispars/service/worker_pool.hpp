@@ -22,8 +22,9 @@ class WorkerPool {
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
 
-  /// Queues `job`; false (and the job dropped) when the pool is stopping or its queue is full.
-  bool submit(std::function<void()> job);
+  /// Queues `job` (ahead of every waiting job when `first`); false (and the job dropped) when
+  /// the pool is stopping or its queue is full.
+  bool submit(std::function<void()> job, bool first = false);
   /// Jobs waiting for a thread.
   [[nodiscard]] std::size_t queued() const;
   [[nodiscard]] std::size_t max_queued() const { return max_queued_; }

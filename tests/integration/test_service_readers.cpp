@@ -1,0 +1,118 @@
+// Readers never stall the daemon: eight viewers loop VERIFY and SNAPSHOT on a 100,000-sample
+// roadmap while an operator unloads, loads, drops and rebuilds it and finally stops the daemon.
+// Each writer completes within its bound, STATS of another scene stays fast, and SIGTERM ends the
+// daemon within 2 s.
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "integration/service_fixture.hpp"
+
+namespace ispars::test {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+TEST_F(ServiceTest, LoopingViewersNeverHoldUpAnUnloadADropOrTheStop) {
+  constexpr double kWriterBound = 2.0;  // seconds an operator's unload or drop may take here
+  auto daemon = start("d", {"--memory-budget-mb", kNoBudget});
+  Client op(client_options(domain_));
+  op.load("s0");
+  op.load("s1");
+  op.build("s0", ispars_build(scaled(100'000)));
+  op.build("s1", ispars_build(2000));
+  ASSERT_EQ(op.wait_idle("s0", {}, std::chrono::seconds(600)).state(), msg::SCENE_IDLE);
+  ASSERT_EQ(op.wait_idle("s1", {}, kLong).state(), msg::SCENE_IDLE);
+
+  std::atomic<bool> done{false};
+  std::atomic<int> verifies{0}, snapshots{0};
+  std::vector<std::jthread> viewers;
+  struct StopViewers {
+    std::atomic<bool>& done;
+    ~StopViewers() { done = true; }  // before the viewers are joined, however the test ends
+  } stop_viewers{done};
+  for (int i = 0; i < 8; ++i) {
+    viewers.emplace_back([&, i] {
+      Client viewer(client_options(domain_));
+      while (!done) {
+        try {
+          if (i % 2 == 0) {
+            if (viewer.call_raw(make_query(msg::VERIFY, "s0"), "d").ok()) {
+              ++verifies;
+            } else {
+              std::this_thread::sleep_for(std::chrono::milliseconds(50));
+            }
+          } else {
+            (void)viewer.snapshot("s0");
+            ++snapshots;
+          }
+        } catch (const std::exception&) {
+          // unloaded, dropped, stopped or busy meanwhile: a viewer asks again a moment later
+          std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+      }
+    });
+  }
+  // STATS of the other scene, every 20 ms, all along.
+  std::vector<double> stats_ms;
+  std::mutex stats_mutex;
+  std::atomic<bool> probing{true};
+  std::jthread prober([&] {
+    while (probing && !done) {
+      const auto t0 = Clock::now();
+      try {
+        (void)op.stats("s1");
+        std::lock_guard lock(stats_mutex);
+        stats_ms.push_back(seconds_since(t0) * 1000.0);
+      } catch (const std::exception&) {
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  });
+  // The viewers at work: they loop without pause, and a verify of this roadmap takes longer than
+  // this (the daemon's log then shows each writer stopping the verifies it met, by name).
+  const auto wait_for_viewers = [] { std::this_thread::sleep_for(std::chrono::seconds(3)); };
+  wait_for_viewers();
+
+  auto t0 = Clock::now();
+  op.unload("s0");
+  const double unload_s = seconds_since(t0);
+  EXPECT_LT(unload_s, kWriterBound) << "UNLOAD waited for the viewers";
+  op.load("s0");  // the stored roadmap comes back
+  wait_for_viewers();
+  t0 = Clock::now();
+  op.drop("s0");
+  const double drop_s = seconds_since(t0);
+  EXPECT_LT(drop_s, kWriterBound) << "DROP waited for the viewers";
+  const std::string log = daemon->log();
+  EXPECT_NE(log.find("was stopped: scene 's0' is being unloaded"), std::string::npos) << "no verify ran at the unload";
+  EXPECT_NE(log.find("was stopped: scene 's0' is being dropped"), std::string::npos) << "no verify ran at the drop";
+  op.build("s0", ispars_build(scaled(20'000)));
+  ASSERT_EQ(op.wait_idle("s0", {}, kLong).state(), msg::SCENE_IDLE);
+  wait_for_viewers();
+  probing = false;
+  prober = {};
+  t0 = Clock::now();
+  EXPECT_EQ(daemon->terminate(), 0);
+  const double stop_s = seconds_since(t0);
+  EXPECT_LT(stop_s, 2.0) << "SIGTERM waited for the viewers";
+  done = true;
+  std::lock_guard lock(stats_mutex);
+  ASSERT_GE(stats_ms.size(), 20u);
+  std::sort(stats_ms.begin(), stats_ms.end());
+  const double p99 = stats_ms[stats_ms.size() * 99 / 100];
+  EXPECT_LT(p99, 50.0) << "STATS of another scene waited behind the viewers";
+  std::printf("viewers: %d verifies, %d snapshots; unload %.3f s, drop %.3f s, stop %.3f s; STATS of s1 p99 %.1f ms "
+              "(median %.1f, %zu probes)\n",
+              verifies.load(), snapshots.load(), unload_s, drop_s, stop_s, p99, stats_ms[stats_ms.size() / 2],
+              stats_ms.size());
+}
+
+}  // namespace
+}  // namespace ispars::test
