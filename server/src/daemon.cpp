@@ -138,7 +138,9 @@ void Daemon::shutdown() {
   fleet_wake_.notify_all();
   if (fleet_thread_.joinable()) fleet_thread_.join();
   if (watchdog_thread_.joinable()) watchdog_thread_.join();
-  // Requests being answered finish; queued ones are dropped (their clients retry elsewhere or time out).
+  // Requests being answered finish (a running verify is stopped first, and answers so); queued
+  // ones are dropped (their clients retry elsewhere or time out).
+  if (service_) service_->stop_all_readers("the daemon is stopping");
   if (quick_lane_) quick_lane_->stop();
   if (slow_lane_) slow_lane_->stop();
   if (service_) service_->stop();                  // tours reply with their best; builds commit and stop

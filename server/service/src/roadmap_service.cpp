@@ -41,10 +41,7 @@ RoadmapService::~RoadmapService() { stop(); }
 void RoadmapService::stop() {
   if (stopping_.exchange(true)) return;
   stop_tours("");
-  {
-    std::lock_guard lock(sessions_mutex_);
-    for (const auto& [name, s] : sessions_) s->stop_readers("the daemon is stopping");
-  }
+  stop_all_readers("the daemon is stopping");
   builds_.stop();  // running builds commit their current chunk and return
   tours_.stop();   // running tours stop early and report their best
   std::vector<std::string> names;
@@ -197,6 +194,11 @@ void RoadmapService::unload(const std::string& scene) {
 
 void RoadmapService::stop_readers(const std::string& scene, const std::string& why) {
   if (const auto s = session_or_null(scene)) s->stop_readers(why);
+}
+
+void RoadmapService::stop_all_readers(const std::string& why) {
+  std::lock_guard lock(sessions_mutex_);
+  for (const auto& [name, s] : sessions_) s->stop_readers(why);
 }
 
 void RoadmapService::yield(const std::string& scene, const std::atomic<bool>& give_up) {

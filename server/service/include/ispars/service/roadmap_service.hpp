@@ -190,6 +190,8 @@ class RoadmapService {
   void yield(const std::string& scene, const std::atomic<bool>& give_up);
   /// Stops the running verifies of `scene` (if loaded) with `why`.
   void stop_readers(const std::string& scene, const std::string& why);
+  /// Stops the running verifies of every scene with `why` (the daemon is stopping).
+  void stop_all_readers(const std::string& why);
   /// How long yield() tries before it leaves the scene as it is (for the fleet's next pass).
   static constexpr std::chrono::seconds kYieldWait{10};
   /// The roadmaps of the loaded scenes, as the fleet weighs them (live: committed samples and

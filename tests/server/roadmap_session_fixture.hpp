@@ -1,0 +1,31 @@
+#pragma once
+// The roadmap session's test fixture: a session on the demo tank tower, in a temporary directory.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <memory>
+
+#include "ispars/service/roadmap_session.hpp"
+#include "support/test_support.hpp"
+
+namespace ispars {
+
+class RoadmapSessionTest : public ::testing::Test {
+ protected:
+  std::unique_ptr<RoadmapSession> open(SessionCallbacks callbacks = {}, SessionLimits limits = {}) {
+    return std::make_unique<RoadmapSession>("tower", scene(), dir_.path() / "tower", limits, std::move(callbacks));
+  }
+  static const Scene& scene() { return test::shared_scene("demo_tank_tower"); }
+  static BuildRequest ispars(std::uint64_t samples, std::uint64_t seed = 1) {
+    BuildRequest r;
+    r.method = BuildMethod::ispars;
+    r.samples = samples;
+    r.seed = seed;
+    return r;
+  }
+  test::TempDir dir_;
+  std::atomic<bool> never_{false};
+};
+
+}  // namespace ispars
