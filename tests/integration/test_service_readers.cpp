@@ -81,20 +81,34 @@ TEST_F(ServiceTest, LoopingViewersNeverHoldUpAnUnloadADropOrTheStop) {
   // this (the daemon's log then shows each writer stopping the verifies it met, by name).
   const auto wait_for_viewers = [] { std::this_thread::sleep_for(std::chrono::seconds(3)); };
   wait_for_viewers();
+  // The stopped verify's answer is logged as its request ends, a moment after the writer's.
+  const auto log_has = [&](const std::string& text) {
+    for (int i = 0; i < 40; ++i) {
+      if (daemon->log().find(text) != std::string::npos) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return false;
+  };
 
+  // Unloaded until an unload meets a running verify (on a loaded machine the viewers' verifies
+  // may all be waiting in the lane at that moment); every unload within the bound.
+  double unload_s = 0.0;
+  bool met_a_verify = false;
+  for (int attempt = 0; attempt < 5 && !met_a_verify; ++attempt) {
+    const auto t0 = Clock::now();
+    op.unload("s0");
+    unload_s = std::max(unload_s, seconds_since(t0));
+    EXPECT_LT(seconds_since(t0), kWriterBound) << "UNLOAD waited for the viewers";
+    met_a_verify = log_has("was stopped: scene 's0' is being unloaded");
+    op.load("s0");  // the stored roadmap comes back
+    wait_for_viewers();
+  }
+  EXPECT_TRUE(met_a_verify) << "no unload of 5 met a running verify";
   auto t0 = Clock::now();
-  op.unload("s0");
-  const double unload_s = seconds_since(t0);
-  EXPECT_LT(unload_s, kWriterBound) << "UNLOAD waited for the viewers";
-  op.load("s0");  // the stored roadmap comes back
-  wait_for_viewers();
-  t0 = Clock::now();
   op.drop("s2");
   const double drop_s = seconds_since(t0);
   EXPECT_LT(drop_s, kWriterBound) << "DROP waited for the viewers";
-  const std::string log = daemon->log();
-  EXPECT_NE(log.find("was stopped: scene 's0' is being unloaded"), std::string::npos) << "no verify ran at the unload";
-  EXPECT_NE(log.find("was stopped: scene 's2' is being dropped"), std::string::npos) << "no verify ran at the drop";
+  EXPECT_TRUE(log_has("was stopped: scene 's2' is being dropped")) << "no verify ran at the drop";
   wait_for_viewers();
   probing = false;
   prober = {};

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -77,6 +78,43 @@ TEST_F(RoadmapSessionTest, LoopingVerifiesNeverHoldOffADropOrAnUnload) {
     by_unload |= why.find("scene 'tower' is being unloaded") != std::string::npos;
   }
   EXPECT_TRUE(by_drop || by_unload) << "no running verify was stopped (" << stops.size() << " stops)";
+}
+
+// A cancel request and a build starting on the scene stop a running verify too, each naming why.
+TEST_F(RoadmapSessionTest, ACancelOrAStartingBuildStopsARunningVerify) {
+  auto session = open();
+  session->request_build(ispars(20000));
+  session->run_job(never_);
+  // Runs `writer` while a verify runs (tried until one was caught running); the verify's error.
+  const auto stopped_by = [&](const std::function<void()>& writer) {
+    for (int attempt = 0; attempt < 50; ++attempt) {
+      std::string error;
+      std::atomic<bool> started{false};
+      std::jthread reader([&] {
+        started = true;
+        try {
+          (void)session->verify(kVerifyBudget);
+        } catch (const InputError& e) {
+          error = e.what();
+        }
+      });
+      while (!started) std::this_thread::yield();
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      writer();
+      reader.join();
+      if (error.find("was stopped") != std::string::npos) return error;
+    }
+    return std::string("no verify was caught running");
+  };
+  EXPECT_NE(stopped_by([&] { (void)session->cancel(); }).find("was stopped: cancelled by a cancel request on scene 'tower'"),
+            std::string::npos);
+  std::jthread job;
+  const std::string by_build = stopped_by([&] {
+    session->request_extend(200);
+    job = std::jthread([&] { session->run_job(never_); });
+    job.join();
+  });
+  EXPECT_NE(by_build.find("was stopped: a build started on scene 'tower'"), std::string::npos) << by_build;
 }
 
 }  // namespace

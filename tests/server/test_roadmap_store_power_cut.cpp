@@ -249,7 +249,10 @@ TEST_F(PowerCutTest, AFailedWriteSyncOrRenameIsReportedByNameAndLosesNothingAckn
     const std::uint64_t operations = cut_and_check(s, 0, std::nullopt);
     for (std::uint64_t m = 1; m <= operations; ++m, ++moments) {
       const auto [error, injected] = fail_and_check(s, m);
-      ASSERT_FALSE(injected.empty()) << s << ", operation " << m << ": no failure was injected";
+      if (injected.empty()) {  // past the end of this run (overlapping compactions vary in length)
+        EXPECT_EQ(error, "") << s << ", operation " << m;
+        continue;
+      }
       if (error.empty()) {  // unreported: only a failure of the head hint may be
         EXPECT_NE(injected.find("/head"), std::string::npos) << s << ", operation " << m << ": silent: " << injected;
         continue;

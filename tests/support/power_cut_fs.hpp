@@ -43,7 +43,7 @@ class PowerCutFileSystem final : public FileSystem {
   [[nodiscard]] std::uint64_t operations() const;
   /// Whether the power is off.
   [[nodiscard]] bool is_cut() const;
-  /// The machine starts again with what was durable. With `torn_seed`, a file whose unsynced
+  /// The machine starts again with what was durable, with nothing armed. With `torn_seed`, a file whose unsynced
   /// bytes extend its durable ones keeps a seeded random prefix of them (a write torn by the
   /// cut); without, none.
   void power_on(std::optional<std::uint64_t> torn_seed = {});
