@@ -1,3 +1,10 @@
 # Read by ctest after the discovered service tests (tests/CMakeLists.txt): tests with a higher
 # COST start first when ctest runs in parallel and has no timings of its own yet.
 set_tests_properties(CrashTest.KillNineAtFiftyMomentsLosesNoCommitAndReplaysByteForByte PROPERTIES COST 1000)
+# Eight viewers looping on two 100,000-sample roadmaps load both cores: it runs alone. The plain
+# partition test's long-lived replica fell behind in 3 runs of 3 that ran beside or after it
+# (never caught up within 60 s in round 1), and passed in 3 runs of 3 alone and in two full runs:
+# not understood (see docs/results/fleet.md). The partition and stall campaigns, long, start early.
+set_tests_properties(ServiceTest.LoopingViewersNeverHoldUpAnUnloadADropOrTheStop PROPERTIES RUN_SERIAL TRUE)
+set_tests_properties(PartitionTest.CutAndHealTheOwnerPlain PartitionTest.CutAndHealTheOwnerSecured
+                     StallTest.AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner PROPERTIES COST 500)
