@@ -15,6 +15,31 @@ namespace {
 
 const auto accept_all = [](const std::string&) { return std::string(); };
 
+// While it lives, a write past `bytes` in any file fails with EFBIG (as on a full disk), SIGXFSZ
+// ignored.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    struct sigaction ignore{};
+    ignore.sa_handler = SIG_IGN;
+    ::sigaction(SIGXFSZ, &ignore, &previous_);
+    ::getrlimit(RLIMIT_FSIZE, &old_);
+    rlimit small = old_;
+    small.rlim_cur = bytes;
+    ::setrlimit(RLIMIT_FSIZE, &small);
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &old_);
+    ::sigaction(SIGXFSZ, &previous_, nullptr);
+  }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+
+ private:
+  struct sigaction previous_{};
+  rlimit old_{};
+};
+
 TEST(RecordFile, Crc32MatchesTheStandardCheckValue) {
   EXPECT_EQ(crc32("123456789", 9), 0xCBF43926u);
   EXPECT_EQ(crc32("", 0), 0u);
@@ -214,17 +239,8 @@ TEST(RecordFile, ATailThatCannotBeKeptAsideIsNotCut) {
   ASSERT_TRUE(replay.torn_tail);
   ASSERT_FALSE(replay.damaged);
   {
-    struct sigaction ignore{}, previous{};
-    ignore.sa_handler = SIG_IGN;
-    ::sigaction(SIGXFSZ, &ignore, &previous);
-    rlimit old{};
-    ::getrlimit(RLIMIT_FSIZE, &old);
-    rlimit small = old;
-    small.rlim_cur = 100;  // the copy of the 5,000-byte tail cannot be written
-    ::setrlimit(RLIMIT_FSIZE, &small);
+    const FileSizeLimit limit(100);  // the copy of the 5,000-byte tail cannot be written
     EXPECT_THROW(RecordFileWriter(path, "MAGIC003", replay.valid_bytes), std::runtime_error);
-    ::setrlimit(RLIMIT_FSIZE, &old);
-    ::sigaction(SIGXFSZ, &previous, nullptr);
   }
   EXPECT_EQ(test::read_text(path), torn) << "the tail was cut without a copy";
   EXPECT_FALSE(std::filesystem::exists(dir.path() / "r.log.torn.1")) << "a partial copy stayed";
@@ -267,17 +283,10 @@ TEST(RecordFile, AFailedAppendIsCutBackSoTheNextRecordFollowsAWholeOne) {
     writer.append("first record");
     const auto whole = std::filesystem::file_size(path);
     ASSERT_EQ(writer.size(), whole);
-    struct sigaction ignore{}, previous{};
-    ignore.sa_handler = SIG_IGN;
-    ::sigaction(SIGXFSZ, &ignore, &previous);
-    rlimit old{};
-    ::getrlimit(RLIMIT_FSIZE, &old);
-    rlimit small = old;
-    small.rlim_cur = whole + 10;  // room for part of the next record only
-    ::setrlimit(RLIMIT_FSIZE, &small);
-    EXPECT_THROW(writer.append(std::string(1000, 'x')), std::runtime_error);
-    ::setrlimit(RLIMIT_FSIZE, &old);
-    ::sigaction(SIGXFSZ, &previous, nullptr);
+    {
+      const FileSizeLimit limit(whole + 10);  // room for part of the next record only
+      EXPECT_THROW(writer.append(std::string(1000, 'x')), std::runtime_error);
+    }
     EXPECT_EQ(std::filesystem::file_size(path), whole) << "the partial record stayed";
     writer.append("second record");
   }
