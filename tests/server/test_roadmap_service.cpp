@@ -334,6 +334,8 @@ TEST_F(RoadmapServiceTest, AYieldIsNotHeldUpByLoopingVerifies) {
   wait_idle(service, "s0");
   std::atomic<bool> done{false};
   std::atomic<int> verified{0}, stopped{0};
+  std::atomic<std::chrono::steady_clock::time_point> yield_at{std::chrono::steady_clock::time_point::max()};
+  std::atomic<std::chrono::steady_clock::duration> worst_lag{std::chrono::steady_clock::duration::zero()};
   std::vector<std::jthread> readers;
   struct StopReaders {
     std::atomic<bool>& done;
@@ -346,8 +348,12 @@ TEST_F(RoadmapServiceTest, AYieldIsNotHeldUpByLoopingVerifies) {
           (void)service.verify("s0");
           ++verified;
         } catch (const std::exception& e) {
-          stopped += std::string(e.what()).find("was stopped: scene 's0' is being given up to its owner") !=
-                     std::string::npos;
+          if (std::string(e.what()).find("was stopped: scene 's0' is being given up to its owner") != std::string::npos) {
+            ++stopped;
+            const auto lag = std::chrono::steady_clock::now() - yield_at.load();
+            for (auto worst = worst_lag.load(); lag > worst && !worst_lag.compare_exchange_weak(worst, lag);) {
+            }
+          }
           std::this_thread::sleep_for(1ms);
         }
       }
@@ -356,13 +362,16 @@ TEST_F(RoadmapServiceTest, AYieldIsNotHeldUpByLoopingVerifies) {
   for (int i = 0; i < 3000 && verified < 4; ++i) std::this_thread::sleep_for(10ms);
   ASSERT_GE(verified, 4);
   const std::atomic<bool> give_up{false};
-  const auto t0 = std::chrono::steady_clock::now();
+  yield_at = std::chrono::steady_clock::now();
   service.yield("s0", give_up);
-  EXPECT_LT(std::chrono::steady_clock::now() - t0, 1s) << "the takeover waited for the verifies";
+  // The verifies stop within half a second; the yield's own work (closing the store) is bounded
+  // loosely, as a loaded machine takes its time over that.
+  EXPECT_LT(std::chrono::steady_clock::now() - yield_at.load(), 5s) << "the takeover waited for the verifies";
   EXPECT_TRUE(service.loaded_scenes().empty());
   done = true;
   readers.clear();
   EXPECT_GT(stopped, 0) << "no verify was running when the scene was given up";
+  EXPECT_LT(worst_lag.load(), 500ms) << "a verify ran on after the scene was being given up";
 }
 
 }  // namespace
