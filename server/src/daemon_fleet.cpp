@@ -141,6 +141,7 @@ void Daemon::take_over(const OrphanScene& orphan) {
       former.fingerprint = orphan.last_status->scene_fingerprint().to_string();
       former.builder_version = orphan.last_status->builder_version();
       former.samples = std::max(former.samples, samples_to_rebuild(*orphan.last_status));
+      former.generation = orphan.last_status->generation();
     }
     const TakeoverPlan plan = plan_takeover(orphan.scene, session->status(), session->fingerprint(), former);
     if (plan.set_aside) {

@@ -20,7 +20,23 @@ std::string copy_words(const SessionStatus& mine) {
 
 TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, const std::string& my_fingerprint,
                            const FormerRoadmap& former) {
-  if (!former.recipe || former.samples == 0) {
+  if (!former.recipe) {
+    if (former.generation > 0 && mine.recipe && mine.recipe->generation < former.generation) {
+      TakeoverPlan plan = keep(fmt::format("scene '{}' taken over from {}, which dropped its roadmap (generation {}) "
+                                           "after this daemon's copy ({}) was built: the copy is set aside",
+                                           scene, former.owner, former.generation, copy_words(mine)));
+      plan.set_aside = true;
+      return plan;
+    }
+    return keep(fmt::format("scene '{}' taken over from {}, which held no roadmap of it", scene, former.owner));
+  }
+  if (!mine.recipe && mine.generation > former.recipe->generation) {
+    return keep(fmt::format("scene '{}' taken over from {}: this daemon dropped the scene's roadmap (generation {}) "
+                            "after daemon {}'s was built (generation {}): nothing is rebuilt, and its copy stays in "
+                            "its store",
+                            scene, former.owner, mine.generation, former.owner, former.recipe->generation));
+  }
+  if (former.samples == 0) {
     return keep(fmt::format("scene '{}' taken over from {}, which held no roadmap of it", scene, former.owner));
   }
   const RoadmapRecipe& theirs = *former.recipe;

@@ -21,6 +21,9 @@ struct FormerRoadmap {
   std::string fingerprint;              ///< Of the scene file it was built on (empty: unknown).
   std::uint32_t builder_version = 0;    ///< 0: unknown.
   std::uint64_t samples = 0;            ///< To reach here: what it committed and accepted.
+  /// Its published roadmap's generation: with no recipe, that of the empty roadmap a DROP left
+  /// (0: it never built or dropped the scene).
+  std::uint64_t generation = 0;
 };
 
 /// One takeover's decision.
@@ -39,7 +42,9 @@ struct TakeoverPlan {
 };
 
 /// The plan for taking `former`'s roadmap of `scene` over, given this daemon's session status
-/// (`mine`) and the fingerprint of its scene file.
+/// (`mine`, with its generation) and the fingerprint of its scene file. A drop counts as a copy
+/// of its generation with no samples: a later drop on either side wins over an earlier build on
+/// the other (the earlier copy here is set aside, never served again, never deleted).
 [[nodiscard]] TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine,
                                          const std::string& my_fingerprint, const FormerRoadmap& former);
 

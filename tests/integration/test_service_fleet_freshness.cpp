@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <map>
 #include <thread>
 
 #include "integration/service_fixture.hpp"
@@ -151,6 +152,71 @@ TEST_F(FleetFreshnessTest, TwoEqualCopiesSettleByWeightAndTheOtherContinuesWitho
   EXPECT_NE(spare->log().find("this daemon's copy (generation"), std::string::npos) << spare->log();
   EXPECT_EQ(spare->log().find("rebuilding"), std::string::npos) << spare->log();
   EXPECT_EQ(roadmap_digest(client.snapshot("s1").roadmap), reference_digest(scene_dir_ / "s1.yaml", 1500, 2));
+}
+
+// A DROP is fleet-wide, also once the dropping daemon unloaded the scene and restarted: its drop
+// mark weighs like a copy of the drop's generation, so the other daemon's older copy never
+// serves the scene again; and when the dropping daemon stops holding it, the other sets its
+// older copy aside (kept, named) rather than serve it.
+TEST_F(FleetFreshnessTest, ADropOutlivesAnUnloadAndARestartAndSetsTheOlderCopyAside) {
+  build_alone_and_stop("first", "s1", 1500, 2);
+  std::filesystem::copy(dir_.path() / "data-first", dir_.path() / "data-second",
+                        std::filesystem::copy_options::recursive);
+  std::filesystem::remove(dir_.path() / "data-second" / ".isparsd.lock");
+  std::map<std::string, std::unique_ptr<DaemonProcess>> daemons;
+  daemons["first"] = start("first");
+  daemons["second"] = start("second");
+  Client client(options());
+  const auto deadline = Clock::now() + std::chrono::seconds(20);
+  while (Clock::now() < deadline && holders(client, "s1").size() != 1) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(holders(client, "s1").size(), 1u);
+  const std::string h = holders(client, "s1")[0];
+  const std::string x = h == "first" ? "second" : "first";
+  const std::uint64_t built = client.stats("s1").generation();
+  client.drop("s1");
+  const std::uint64_t dropped = client.stats("s1").generation();
+  ASSERT_GT(dropped, built);
+  client.unload("s1");
+  EXPECT_EQ(daemons[h]->terminate(), 0);
+  daemons[h] = start(h);
+  // Announced again with the drop's generation, though not loaded.
+  const auto announced_by = Clock::now() + std::chrono::seconds(20);
+  const auto drop_announced = [&] {
+    for (const auto& info : client.daemons()) {
+      const msg::StoredRoadmap* r = wire::roadmap_of(info, "s1");
+      if (info.server_id() == h && r != nullptr && r->generation() == dropped && r->samples() == 0) return true;
+    }
+    return false;
+  };
+  while (Clock::now() < announced_by && !drop_announced()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(drop_announced()) << daemons[h]->log();
+  client.load("s1");
+  msg::SceneStatus s = client.stats("s1");
+  EXPECT_EQ(s.server_id(), h);
+  EXPECT_EQ(s.state(), msg::SCENE_EMPTY);
+  EXPECT_EQ(s.generation(), dropped);
+  EXPECT_EQ(s.samples_done(), 0u) << "the dropped roadmap was served again";
+  // The dropping daemon stops while holding the empty scene: the other takes it over from it,
+  // and sets its own older copy aside instead of serving it.
+  EXPECT_EQ(daemons[h]->terminate(), 0);
+  const std::string outcome = "which dropped its roadmap (generation " + std::to_string(dropped) + ")";
+  const auto taken_by = Clock::now() + std::chrono::seconds(30);
+  while (Clock::now() < taken_by && daemons[x]->log().find(outcome) == std::string::npos) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_NE(daemons[x]->log().find(outcome), std::string::npos) << daemons[x]->log();
+  s = client.stats("s1");
+  EXPECT_EQ(s.server_id(), x);
+  EXPECT_EQ(s.state(), msg::SCENE_EMPTY);
+  EXPECT_GT(s.generation(), built);
+  EXPECT_EQ(client.snapshot("s1").roadmap.vertex_count(), 0u);
+  bool kept_aside = false;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_.path() / ("data-" + x) / ".aside")) {
+    kept_aside |= entry.path().filename().string().rfind("s1-g" + std::to_string(built) + "-1500", 0) == 0;
+  }
+  EXPECT_TRUE(kept_aside) << "the older copy was not kept aside";
 }
 
 // A daemon whose scene file differs from the owner's does not continue the owner's roadmap: it

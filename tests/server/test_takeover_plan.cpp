@@ -105,6 +105,31 @@ TEST(TakeoverPlan, AFormerOwnerWithoutARoadmapLeavesTheSceneAsItIsHere) {
   const TakeoverPlan plan = plan_takeover("s", mine(recipe(5), 400), "f", former(std::nullopt, 0));
   EXPECT_EQ(plan.action, TakeoverPlan::Action::keep);
   EXPECT_FALSE(plan.set_aside);
+  // It dropped its roadmap before this copy was built: the copy is newer, and stays.
+  FormerRoadmap dropped_earlier = former(std::nullopt, 0);
+  dropped_earlier.generation = 4;
+  EXPECT_FALSE(plan_takeover("s", mine(recipe(5), 400), "f", dropped_earlier).set_aside);
+}
+
+// A drop is a copy of its generation with no samples: a later drop on the former owner sets this
+// daemon's earlier copy aside (the dropped roadmap is not served again), and a later drop here
+// keeps the former owner's earlier roadmap from being rebuilt.
+TEST(TakeoverPlan, ALaterDropOnEitherSideWinsOverAnEarlierBuild) {
+  FormerRoadmap dropped = former(std::nullopt, 0);
+  dropped.generation = 9;
+  const TakeoverPlan aside = plan_takeover("s", mine(recipe(5), 400), "f", dropped);
+  EXPECT_EQ(aside.action, TakeoverPlan::Action::keep);
+  EXPECT_TRUE(aside.set_aside);
+  EXPECT_NE(aside.outcome.find("dropped its roadmap (generation 9)"), std::string::npos) << aside.outcome;
+  SessionStatus dropped_here = mine(std::nullopt, 0);
+  dropped_here.generation = 9;
+  const TakeoverPlan kept = plan_takeover("s", dropped_here, "f", former(recipe(5), 400));
+  EXPECT_EQ(kept.action, TakeoverPlan::Action::keep);
+  EXPECT_FALSE(kept.set_aside);
+  EXPECT_NE(kept.outcome.find("this daemon dropped the scene's roadmap (generation 9)"), std::string::npos)
+      << kept.outcome;
+  // A build after the drop here is continued as any other.
+  EXPECT_EQ(plan_takeover("s", dropped_here, "f", former(recipe(11), 400)).action, TakeoverPlan::Action::rebuild);
 }
 
 }  // namespace

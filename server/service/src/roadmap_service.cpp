@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "ispars/input_error.hpp"
+#include "ispars/service/drop_mark.hpp"
 #include "ispars/service/pending_jobs.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/service/scene_catalog.hpp"
@@ -295,7 +296,16 @@ StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const 
       out.unservable.push_back({name, fmt::format("its stored roadmap cannot be read: {}", e.what())});
     }
   }
+  // A scene dropped here and not built since: its empty roadmap, weighed by the drop's generation.
+  for (const DropMark& mark : list_drop_marks(data_dir)) {
+    if (!valid_scene_name(mark.scene) || std::filesystem::exists(data_dir / mark.scene / "recipe.json") ||
+        std::find(loaded.begin(), loaded.end(), mark.scene) != loaded.end()) {
+      continue;
+    }
+    out.served.push_back({mark.scene, mark.generation, 0, 0, "", false});
+  }
   std::sort(out.scenes.begin(), out.scenes.end());
+  std::sort(out.served.begin(), out.served.end(), [](const ServedRoadmap& a, const ServedRoadmap& b) { return a.scene < b.scene; });
   return out;
 }
 

@@ -10,19 +10,21 @@
 #include <thread>
 
 #include "ispars/input_error.hpp"
+#include "ispars/service/drop_mark.hpp"
 #include "roadmap_session_detail.hpp"
 
 namespace ispars {
 namespace {
 
 constexpr const char* kRequest = "request";
-std::uint64_t new_generation() {
+
+}  // namespace
+
+std::uint64_t session_detail::new_generation() {
   return static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
           .count());
 }
-
-}  // namespace
 
 Scene session_detail::scene_for(const Scene& scene, const RoadmapRecipe& recipe) {
   return scene.with_roadmap_parameters(recipe.dense_delta, recipe.sparse_delta, recipe.stretch, kRequest);
@@ -57,7 +59,11 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
       callbacks_(std::move(callbacks)) {
   published_.roadmap = std::make_shared<const Roadmap>(scene_.pois().size());
   fingerprint_ = scene_fingerprint(scene_);
-  if (!std::filesystem::exists(store_dir_)) return;
+  if (!std::filesystem::exists(store_dir_)) {
+    // Dropped here before: the empty roadmap keeps the drop's generation, which the fleet weighs.
+    if (const auto dropped = dropped_generation(store_dir_)) published_.generation = *dropped;
+    return;
+  }
   StoreRecovery recovery;
   try {
     store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), recovery);
@@ -180,9 +186,12 @@ std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
                                    name_, samples_done_));
     }
     if (callbacks_.admit_cost) callbacks_.admit_cost(cost);  // the last check: nothing refuses after it
-    // Increasing, even if the clock steps back, so replicas always see a new roadmap as new.
-    recipe.generation = request.generation != 0 ? request.generation
-                                                : std::max(new_generation(), (recipe_ ? recipe_->generation : 0) + 1);
+    // Increasing, even if the clock steps back, so replicas always see a new roadmap as new, and
+    // above a drop's (the published empty roadmap's) too.
+    recipe.generation = request.generation != 0
+                            ? request.generation
+                            : std::max({session_detail::new_generation(), (recipe_ ? recipe_->generation : 0) + 1,
+                                        published_.generation + 1});
     recipe.scene_fingerprint = fingerprint_;
     recipe.builder_version = kBuilderVersion;
     pending_recipe_ = recipe;  // the job makes it the roadmap's recipe when it starts
@@ -260,77 +269,6 @@ Lock RoadmapSession::lock_idle_job(std::string_view what) const {
   }
 }
 
-void RoadmapSession::drop() { (void)discard_store(""); }
-
-std::filesystem::path RoadmapSession::set_aside(const std::string& why) { return discard_store(why); }
-
-std::filesystem::path RoadmapSession::discard_store(const std::string& aside_why) {
-  const char* what = aside_why.empty() ? "drop" : "set aside";
-  // Running verifies stop, and new ones wait outside, so the job lock comes free at once.
-  const auto readers_off = readers_->hold_off(fmt::format("scene '{}' is being dropped", name_));
-  const auto job = lock_idle_job<std::unique_lock<std::shared_mutex>>(what);
-  std::unique_ptr<RoadmapStore> store;
-  {
-    std::lock_guard lock(mutex_);
-    check_can_start("scene");
-    if (!recipe_ && damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
-    discarding_ = true;  // no request is accepted while the store goes away
-    store = std::move(store_);
-  }
-  // Joining a compaction and removing files take time: not under mutex_, which every status and
-  // STATS takes. The job lock (held alone) keeps jobs and readers of the builder out.
-  std::filesystem::path aside;
-  try {
-    store.reset();
-    builder_.reset();
-    build_scene_.reset();
-    recovered_.reset();
-    if (aside_why.empty()) {
-      drop_store(store_dir_);
-    } else {
-      aside = set_aside_store(store_dir_, aside_why);
-    }
-  } catch (...) {
-    std::lock_guard lock(mutex_);
-    discarding_ = false;
-    throw;
-  }
-  {
-    std::lock_guard lock(mutex_);
-    discarding_ = false;
-    damage_.clear();  // an explicit drop discards a damaged store too
-    last_error_.clear();
-    recipe_.reset();
-    samples_done_ = samples_target_ = 0;
-    dense_vertices_ = dense_edges_ = 0;
-    // A new generation: the empty roadmap is newer than the one discarded (replicas resync, and
-    // the fleet weighs this daemon's empty scene above older copies elsewhere while it holds it).
-    published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()),
-                                std::max(new_generation(), published_.generation + 1), 0);
-    state_ = SessionState::empty;
-  }
-  notify_status();
-  return aside;
-}
-
-void RoadmapSession::close() {
-  const auto readers_off = readers_->hold_off(fmt::format("scene '{}' is being unloaded", name_));
-  const auto job = lock_idle_job<std::unique_lock<std::shared_mutex>>("unload");
-  std::unique_ptr<RoadmapStore> store;
-  {
-    std::lock_guard lock(mutex_);
-    check_can_start("scene");
-    closed_ = true;
-    store = std::move(store_);
-  }
-  // The store's lock goes now, not when the last holder of this session lets go (a tour still
-  // running on the published roadmap, say): the scene can be loaded again at once. Its
-  // compaction is joined outside mutex_, so STATS and statuses never wait for it.
-  store.reset();
-  builder_.reset();
-  build_scene_.reset();
-}
-
 BuildCost RoadmapSession::estimate(const RoadmapRecipe& recipe, std::uint64_t total_samples) const {
   std::call_once(free_fraction_once_, [&] { free_fraction_ = free_fraction(scene_); });
   return estimate_build_cost(scene_, recipe, total_samples, free_fraction_);
@@ -380,6 +318,7 @@ SessionStatus RoadmapSession::status_locked() const {
   s.poi_count = scene_.pois().size();
   s.pois_covered = published_.pois_covered;
   s.pois_covered_root = published_.pois_covered_root;
+  s.generation = published_.generation;
   return s;
 }
 
@@ -411,8 +350,11 @@ RoadmapPath RoadmapSession::path(const Vec3& from, const Vec3& to) const {
   return plan_path(scene_, *p.roadmap, from, to, join_radius);
 }
 
-// verify() (roadmap_session_verify.cpp) takes the job lock shared.
+// verify() (roadmap_session_verify.cpp) takes the job lock shared; the writers of
+// roadmap_session_discard.cpp take it alone.
 template std::shared_lock<std::shared_mutex> RoadmapSession::lock_idle_job<std::shared_lock<std::shared_mutex>>(
+    std::string_view) const;
+template std::unique_lock<std::shared_mutex> RoadmapSession::lock_idle_job<std::unique_lock<std::shared_mutex>>(
     std::string_view) const;
 
 }  // namespace ispars

@@ -1,6 +1,8 @@
 #pragma once
-// What the session's two source files share (roadmap_session.cpp: requests and queries;
-// roadmap_session_job.cpp: the build job).
+// What the session's source files share (roadmap_session.cpp: requests and queries;
+// roadmap_session_job.cpp: the build job; roadmap_session_discard.cpp: drop and unload).
+
+#include <cstdint>
 
 #include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/scene/scene.hpp"
@@ -9,5 +11,7 @@ namespace ispars::session_detail {
 
 /// `scene` with the recipe's roadmap parameters (InputError naming the bad one).
 [[nodiscard]] Scene scene_for(const Scene& scene, const RoadmapRecipe& recipe);
+/// A new roadmap generation: the wall clock in nanoseconds.
+[[nodiscard]] std::uint64_t new_generation();
 
 }  // namespace ispars::session_detail

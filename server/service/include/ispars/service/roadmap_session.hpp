@@ -59,6 +59,9 @@ struct SessionStatus {
   std::size_t pois_covered = 0;
   std::size_t pois_covered_root = 0;
   std::string last_error;
+  /// The published roadmap's generation: the recipe's, or the empty roadmap's after a drop
+  /// (0: never built or dropped here).
+  std::uint64_t generation = 0;
 };
 
 /// A build request, as checked by request_build(): the recipe's choices, the scene parameters

@@ -1,0 +1,52 @@
+#include "ispars/service/drop_mark.hpp"
+
+#include <fmt/format.h>
+
+#include <sstream>
+
+#include "ispars/roadmap/record_file.hpp"
+
+namespace ispars {
+namespace {
+
+std::filesystem::path marks_dir(const std::filesystem::path& data_dir) { return data_dir / ".drops"; }
+
+std::filesystem::path mark_path(const std::filesystem::path& store_dir) {
+  return marks_dir(store_dir.parent_path()) / store_dir.filename();
+}
+
+std::optional<std::uint64_t> parse(const std::optional<std::string>& text) {
+  if (!text) return std::nullopt;
+  std::istringstream in(*text);
+  std::string word;
+  std::uint64_t generation = 0;
+  if (!(in >> word >> generation) || word != "generation" || generation == 0) return std::nullopt;
+  return generation;
+}
+
+}  // namespace
+
+void mark_dropped(const std::filesystem::path& store_dir, std::uint64_t generation, FileSystem& fs) {
+  const std::filesystem::path dir = marks_dir(store_dir.parent_path());
+  if (fs.create_directories(dir)) fsync_directory_of(dir, fs);
+  write_file_atomically(mark_path(store_dir),
+                        fmt::format("generation {}\ndropped by request: the fleet weighs this empty roadmap like "
+                                    "any copy, so older copies elsewhere do not serve the scene again\n",
+                                    generation),
+                        fs);
+}
+
+std::optional<std::uint64_t> dropped_generation(const std::filesystem::path& store_dir, const FileSystem& fs) {
+  return parse(fs.read(mark_path(store_dir)));
+}
+
+std::vector<DropMark> list_drop_marks(const std::filesystem::path& data_dir, const FileSystem& fs) {
+  std::vector<DropMark> out;
+  for (const std::string& name : fs.list(marks_dir(data_dir))) {
+    if (name.ends_with(".tmp")) continue;  // an interrupted write's temporary file
+    if (const auto generation = parse(fs.read(marks_dir(data_dir) / name))) out.push_back({name, *generation});
+  }
+  return out;
+}
+
+}  // namespace ispars
