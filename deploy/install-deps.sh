@@ -14,7 +14,7 @@ PACKAGES=(
   gnuplot-nox
   nodejs chromium
   gdb
-  iproute2
+  iproute2 nftables
 )
 
 missing=()

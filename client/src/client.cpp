@@ -13,8 +13,10 @@ namespace ispars::client {
 Client::Client(ClientOptions options) : options_(std::move(options)), impl_(std::make_unique<Impl>(options_)) {}
 Client::~Client() = default;
 
-const std::string& Client::id() const { return impl_->id_; }
-wire::Participant& Client::participant() { return impl_->participant_; }
+std::string Client::id() const { return impl_->id(); }
+void Client::add_participant_user(ParticipantUser& user) { impl_->add_user(user); }
+void Client::remove_participant_user(ParticipantUser& user) { impl_->remove_user(user); }
+std::uint64_t Client::rejoins() const { return impl_->rejoins(); }
 std::vector<msg::DaemonInfo> Client::daemons() { return impl_->daemons(options_.timeout); }
 std::optional<msg::SceneStatus> Client::latest_status(const std::string& scene) const {
   return impl_->statuses_.get(scene);

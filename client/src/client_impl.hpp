@@ -1,6 +1,7 @@
 #pragma once
-// The client's DDS side (private to client/src): its participant, request writers (queries and
-// changes), reply, status, announcement and tour-progress readers, and the call with retries.
+// The client's DDS side (private to client/src): its link (participant, request writers, reply,
+// status, announcement and tour-progress readers: client_link.hpp), the listeners that outlive
+// it, the call with retries, and the rejoin under DDS Security (client_rejoin.cpp).
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -16,11 +17,15 @@
 #include <condition_variable>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <set>
+#include <shared_mutex>
 #include <sstream>
 #include <thread>
+#include <type_traits>
 
+#include "client_link.hpp"
 #include "ispars/client/client.hpp"
 #include "ispars/wire/convert.hpp"
 #include "ispars/wire/daemon_trust.hpp"
@@ -40,13 +45,14 @@ class TourProgressListener final : public fdds::DataReaderListener {
     msg::TourProgress p;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&p, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data || p.client_id() != client_id) continue;
+      if (!info.valid_data) continue;
       std::lock_guard lock(mutex);
+      if (p.client_id() != client_id) continue;
       if (callback) callback(p.seconds(), p.cost(), p.lower_bound());
     }
   }
-  std::string client_id;
   std::mutex mutex;
+  std::string client_id;  // under mutex: the current link's
   std::function<void(double, double, double)> callback;
 };
 
@@ -54,63 +60,37 @@ class Client::Impl final : public fdds::DataReaderListener {
  public:
   explicit Impl(const ClientOptions& options)
       : options_(options),
-        participant_(options.participant),
-        query_type_(new wire::SafeType<msg::QueryRequestPubSubType>()),
-        change_type_(new wire::SafeType<msg::ChangeRequestPubSubType>()),
-        reply_type_(new wire::SafeType<msg::ReplyPubSubType>()),
-        status_type_(new wire::SafeType<msg::SceneStatusPubSubType>()),
-        daemon_type_(new wire::SafeType<msg::DaemonInfoPubSubType>()),
         // A scene's status counts only when written by the participant that announces the daemon
         // it names (transport identity): a status from anyone else is held, never shown.
         statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); },
                   [this](const msg::SceneStatus&) { status_changed_.notify_all(); },
                   wire::statuses_from_their_daemon(daemons_)),
         daemons_([](const msg::DaemonInfo& d) { return d.server_id().to_string(); },
-                 [this](const msg::DaemonInfo&) { statuses_.recheck(); }) {
-    fdds::DomainParticipant* p = participant_.get();
-    fdds::Topic* query_topic = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
-    fdds::Topic* change_topic = wire::find_or_create_topic(p, change_type_, wire::kChangeTopic);
-    fdds::Topic* reply_topic = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);
-    fdds::Topic* status_topic = wire::find_or_create_topic(p, status_type_, wire::kStatusTopic);
-    fdds::Topic* daemon_topic = wire::find_or_create_topic(p, daemon_type_, wire::kDaemonsTopic);
-    id_ = wire::identity_of(participant_->guid().guidPrefix);
-    publisher_ = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-    subscriber_ = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-    // Replies and tour progress arrive in this client's own partition: no other client's reader
-    // matches the daemon's writer for it, and this one matches no one else's.
-    reply_subscriber_ = p->create_subscriber(wire::reply_subscriber_qos(id_));
-    if (!publisher_ || !subscriber_ || !reply_subscriber_) {
-      throw std::runtime_error("cannot create the DDS publisher and subscribers");
-    }
-    reply_reader_ = reply_subscriber_->create_datareader(reply_topic, wire::request_reply_reader_qos(), this,
-                                                         fdds::StatusMask::data_available());
-    queries_ = publisher_->create_datawriter(query_topic, wire::request_reply_writer_qos());
-    change_topic_ = change_topic;  // its writer is made on the first change request
-    status_reader_ = subscriber_->create_datareader(status_topic, wire::state_reader_qos(), &statuses_);
-    daemon_reader_ = subscriber_->create_datareader(daemon_topic, wire::state_reader_qos(), &daemons_);
-    if (!reply_reader_ || !queries_ || !status_reader_ || !daemon_reader_) {
-      throw std::runtime_error("cannot create the client's DDS readers and writers");
-    }
+                 [this](const msg::DaemonInfo&) { statuses_.recheck(); }),
+        link_(std::make_unique<ClientLink>(options.participant, listeners())) {
+    set_id(link_->id());
     std::random_device rd;
     next_seq_ = (static_cast<std::uint64_t>(rd()) << 20) + 1;  // distinct across restarts with one GUID
+    start_rejoin_watch();
   }
 
   ~Impl() override {
-    if (progress_reader_) progress_reader_->set_listener(nullptr);
-    reply_reader_->set_listener(nullptr);
-    status_reader_->set_listener(nullptr);
-    daemon_reader_->set_listener(nullptr);
-    // Delete the readers now, while the listeners they point to still exist.
-    participant_->delete_contained_entities();
+    stop_rejoin_watch();
+    std::unique_lock lock(link_mutex_);
+    for (ParticipantUser* user : users_) user->detach(link_->participant());
+    link_.reset();  // deletes the readers while the listeners they point to still exist
   }
+
+  ClientListeners listeners() { return {this, &statuses_, &daemons_, &progress_}; }
 
   void on_data_available(fdds::DataReader* reader) override {
     msg::Reply reply;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&reply, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data || reply.client_id() != id_) continue;  // another client's reply
+      if (!info.valid_data) continue;
       {
         std::lock_guard lock(mutex_);
+        if (reply.client_id() != id_) continue;  // another client's reply, or one to a link left behind
         if (waiting_.count(reply.request_seq()) == 0) continue;  // late duplicate of an answered request
         replies_[reply.request_seq()] = reply;
       }
@@ -129,16 +109,14 @@ class Client::Impl final : public fdds::DataReaderListener {
                        options_.participant.profile_file.empty() ? ", localhost" : ", with a matching profile");
   }
 
-  fdds::DataWriter* writer_for(const msg::QueryRequest&) const { return queries_; }
-  // The change writer, made on first use: under DDS Security a viewer's permissions refuse it,
-  // and such a client still queries and follows updates. Null when refused.
-  fdds::DataWriter* writer_for(const msg::ChangeRequest&) {
+  std::string id() const {
     std::lock_guard lock(mutex_);
-    if (changes_ == nullptr && !changes_refused_) {
-      changes_ = publisher_->create_datawriter(change_topic_, wire::request_reply_writer_qos());
-      changes_refused_ = changes_ == nullptr;
-    }
-    return changes_;
+    return id_;
+  }
+
+  std::uint64_t rejoins() const {
+    std::shared_lock link(link_mutex_);
+    return epoch_of_link_;
   }
 
   template <class Request>
@@ -157,96 +135,147 @@ class Client::Impl final : public fdds::DataReaderListener {
                                     "the daemon's release)",
                                     server, info->protocol(), msg::PROTOCOL_VERSION));
     }
-    fdds::DataWriter* writer = writer_for(request);
-    if (writer == nullptr) {
-      throw ClientError(ClientError::Kind::forbidden,
-                        fmt::format("this client's DDS Security permissions do not allow {} (topic {}): use an "
-                                    "operator identity",
-                                    wire::to_string(request.args()._d()), wire::kChangeTopic));
-    }
-    request.client_id(id_);
     request.server_id(server);
     request.protocol(msg::PROTOCOL_VERSION);
+    std::optional<std::uint64_t> sent_on;  // the link the request was first sent from
     std::unique_lock lock(mutex_);
     request.request_seq(next_seq_++);
     const std::uint64_t seq = request.request_seq();
     waiting_.insert(seq);
+    lock.unlock();
+    struct Forget {  // however the call ends
+      Impl& impl;
+      std::uint64_t seq;
+      ~Forget() {
+        std::lock_guard lock(impl.mutex_);
+        impl.waiting_.erase(seq);
+        impl.replies_.erase(seq);
+      }
+    } forget{*this, seq};
     while (std::chrono::steady_clock::now() < deadline) {
-      lock.unlock();
-      // Our request writer matched a request reader before sending (DDS-RPC 1.0 sec. 7.6.2). The
-      // daemon makes its writer for our partition on our first request and holds the reply until
-      // our reply reader has matched it.
-      wait_matched(writer, deadline);
-      Request copy = request;
-      writer->write(&copy);
+      send(request, sent_on, deadline);
       lock.lock();
       const auto retry_at = std::min(deadline, std::chrono::steady_clock::now() + options_.retry_interval);
       if (reply_arrived_.wait_until(lock, retry_at, [&] { return replies_.count(seq) > 0; })) {
         msg::Reply reply = std::move(replies_[seq]);
-        replies_.erase(seq);
-        waiting_.erase(seq);
+        lock.unlock();  // `forget` takes the mutex
         return reply;
       }
+      lock.unlock();
       if (!daemons_.get(server)) {
-        waiting_.erase(seq);
         throw ClientError(ClientError::Kind::no_daemon,
                           fmt::format("daemon {} left DDS domain {} before answering {}", server,
                                       options_.participant.domain, wire::to_string(request.args()._d())));
       }
     }
-    waiting_.erase(seq);
     throw ClientError(ClientError::Kind::timeout,
                       fmt::format("daemon {} did not answer {} on DDS domain {} within {:.1f} s", server,
                                   wire::to_string(request.args()._d()), options_.participant.domain,
                                   timeout.count() / 1000.0));
   }
 
-  void wait_matched(fdds::DataWriter* writer, std::chrono::steady_clock::time_point deadline) {
+  // Writes `request` as this client's current link: once its writer has matched a request
+  // reader (DDS-RPC 1.0 sec. 7.6.2), or at the deadline. The daemon makes its writer for our
+  // partition on our first request and holds the reply until our reply reader has matched it.
+  // A change first sent before a rejoin is not sent again from the new link: the daemon would
+  // take it for another client's and do it again.
+  template <class Request>
+  void send(Request& request, std::optional<std::uint64_t>& sent_on, std::chrono::steady_clock::time_point deadline) {
     for (;;) {
-      fdds::PublicationMatchedStatus pub;
-      writer->get_publication_matched_status(pub);
-      if (pub.current_count > 0 || std::chrono::steady_clock::now() >= deadline) return;
+      {
+        std::shared_lock link(link_mutex_);
+        if constexpr (std::is_same_v<Request, msg::ChangeRequest>) {
+          if (sent_on && *sent_on != epoch_of_link_) {
+            throw ClientError(ClientError::Kind::timeout,
+                              fmt::format("this client rejoined DDS domain {} while waiting for the answer to {}; "
+                                          "the daemon may have done it: check `ispars stats {}` before sending it "
+                                          "again",
+                                          options_.participant.domain, wire::to_string(request.args()._d()),
+                                          request.scene().to_string()));
+          }
+        }
+        fdds::DataWriter* writer = writer_for(request);
+        if (writer == nullptr) {
+          throw ClientError(ClientError::Kind::forbidden,
+                            fmt::format("this client's DDS Security permissions do not allow {} (topic {}): use an "
+                                        "operator identity",
+                                        wire::to_string(request.args()._d()), wire::kChangeTopic));
+        }
+        fdds::PublicationMatchedStatus matched;
+        writer->get_publication_matched_status(matched);
+        if (matched.current_count > 0 || std::chrono::steady_clock::now() >= deadline) {
+          request.client_id(link_->id());
+          Request copy = request;
+          writer->write(&copy);
+          sent_on = epoch_of_link_;
+          return;
+        }
+      }
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }
 
+  // Under link_mutex_.
+  fdds::DataWriter* writer_for(const msg::QueryRequest&) const { return link_->queries(); }
+  fdds::DataWriter* writer_for(const msg::ChangeRequest&) const { return link_->changes(); }
+
+  // Subscribes to tour progress on first use (and on every link after).
+  void ensure_progress_reader() {
+    std::shared_lock link(link_mutex_);
+    link_->ensure_progress_reader();
+  }
+
+  void add_user(ParticipantUser& user) {
+    std::unique_lock link(link_mutex_);
+    user.attach(link_->participant());
+    users_.push_back(&user);
+  }
+  void remove_user(ParticipantUser& user) {
+    std::unique_lock link(link_mutex_);
+    std::erase(users_, &user);
+    user.detach(link_->participant());
+  }
+
+  // client_rejoin.cpp
+  void start_rejoin_watch();
+  void stop_rejoin_watch();
+  void watch_for_returned_peers(std::stop_token stop);
+  void rejoin(const std::string& why);
+
+  void set_id(const std::string& id) {
+    {
+      std::lock_guard lock(mutex_);
+      id_ = id;
+    }
+    std::lock_guard lock(progress_.mutex);
+    progress_.client_id = id;
+  }
+
   ClientOptions options_;
-  wire::Participant participant_;
-  fdds::TypeSupport query_type_, change_type_, reply_type_, status_type_, daemon_type_;
-  fdds::Publisher* publisher_ = nullptr;
-  fdds::Subscriber* subscriber_ = nullptr;
-  fdds::Subscriber* reply_subscriber_ = nullptr;  // in this client's reply partition
-  fdds::DataReader* reply_reader_ = nullptr;
-  fdds::DataWriter* queries_ = nullptr;
-  fdds::Topic* change_topic_ = nullptr;
-  fdds::DataWriter* changes_ = nullptr;
-  bool changes_refused_ = false;
-  fdds::DataReader* status_reader_ = nullptr;
-  fdds::DataReader* daemon_reader_ = nullptr;
   std::condition_variable status_changed_;
   wire::LatestSamples<msg::SceneStatus> statuses_;
   wire::LatestSamples<msg::DaemonInfo> daemons_;
-  std::string id_;
-
-  fdds::TypeSupport progress_type_{new wire::SafeType<msg::TourProgressPubSubType>()};
-  fdds::DataReader* progress_reader_ = nullptr;
   TourProgressListener progress_;
 
-  // Subscribes to tour progress on first use.
-  void ensure_progress_reader() {
-    std::lock_guard lock(mutex_);
-    if (progress_reader_) return;
-    progress_.client_id = id_;
-    fdds::Topic* topic = wire::find_or_create_topic(participant_.get(), progress_type_, wire::kTourProgressTopic);
-    progress_reader_ = reply_subscriber_->create_datareader(topic, wire::request_reply_reader_qos(), &progress_,
-                                                      fdds::StatusMask::data_available());
-  }
+  // The link, replaced whole by a rejoin: its users (replicas) move with it.
+  mutable std::shared_mutex link_mutex_;
+  std::unique_ptr<ClientLink> link_;
+  std::uint64_t epoch_of_link_ = 0;  // under link_mutex_: rejoins so far
+  std::vector<ParticipantUser*> users_;
 
-  std::mutex mutex_;
+  mutable std::mutex mutex_;  // the calls' state
   std::condition_variable reply_arrived_;
+  std::string id_;  // the current link's identity
   std::uint64_t next_seq_ = 1;
   std::set<std::uint64_t> waiting_;
   std::map<std::uint64_t, msg::Reply> replies_;
+
+  // The rejoin watch (secured clients only).
+  std::mutex watch_mutex_;
+  std::condition_variable_any watch_wake_;
+  std::jthread watch_;
+  std::string pending_rejoin_;
+  std::chrono::steady_clock::time_point last_rejoin_{};
 };
 
 }  // namespace ispars::client

@@ -28,7 +28,10 @@ namespace fdds = eprosima::fastdds::dds;
 // DDS delivers updates on its receive thread, which must never block (a snapshot request made
 // there would wait for a reply that same thread has to deliver). The listener only queues; the
 // replica's own thread applies batches and resyncs.
-class RoadmapReplica::Impl final : public fdds::DataReaderListener {
+//
+// Its update reader lives on the client's participant (a ParticipantUser): when the client
+// rejoins the domain, the reader is made again on the new participant and the replica resyncs.
+class RoadmapReplica::Impl final : public fdds::DataReaderListener, public ParticipantUser {
  public:
   Impl(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change, ReplicaQueueLimits limits)
       : client_(client),
@@ -36,12 +39,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
         on_change_(std::move(on_change)),
         limits_(checked(limits)),
         type_(new wire::SafeType<msg::UpdateBatchPubSubType>()) {
-    fdds::DomainParticipant* p = client_.participant().get();
-    topic_ = wire::find_or_create_topic(p, type_, wire::kUpdatesTopic);
-    subscriber_ = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-    if (!topic_ || !subscriber_) throw std::runtime_error("cannot subscribe to roadmap updates");
-    reader_ = subscriber_->create_datareader(topic_, wire::updates_reader_qos(), this, fdds::StatusMask::data_available());
-    if (!reader_) throw std::runtime_error("cannot create the update reader");
+    client_.add_participant_user(*this);  // attach(): throws when the reader cannot be made
     thread_ = std::thread([this] { run(); });
   }
 
@@ -52,9 +50,49 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
     }
     wake_.notify_all();
     thread_.join();
-    reader_->set_listener(nullptr);
-    subscriber_->delete_datareader(reader_);
-    client_.participant()->delete_subscriber(subscriber_);
+    client_.remove_participant_user(*this);
+  }
+
+  void attach(wire::Participant& participant) override {
+    fdds::DomainParticipant* p = participant.get();
+    fdds::Topic* topic = wire::find_or_create_topic(p, type_, wire::kUpdatesTopic);
+    fdds::Subscriber* subscriber = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    if (!topic || !subscriber) throw std::runtime_error("cannot subscribe to roadmap updates");
+    fdds::DataReader* reader =
+        subscriber->create_datareader(topic, wire::updates_reader_qos(), this, fdds::StatusMask::data_available());
+    if (!reader) {
+      p->delete_subscriber(subscriber);
+      throw std::runtime_error("cannot create the update reader");
+    }
+    std::lock_guard lock(mutex_);
+    subscriber_ = subscriber;
+    reader_ = reader;
+    rejoined_ = attached_ > 0;  // a new participant: batches may have been missed
+    ++attached_;
+    wake_.notify_all();
+  }
+
+  void detach(wire::Participant& participant) override {
+    fdds::Subscriber* subscriber = nullptr;
+    fdds::DataReader* reader = nullptr;
+    {
+      std::lock_guard lock(mutex_);
+      subscriber = std::exchange(subscriber_, nullptr);
+      reader = std::exchange(reader_, nullptr);
+    }
+    if (!reader) return;
+    reader->set_listener(nullptr);
+    subscriber->delete_datareader(reader);
+    participant->delete_subscriber(subscriber);
+  }
+
+  // Whether the update reader has matched a writer (false while detached).
+  bool matched() {
+    std::lock_guard lock(mutex_);
+    if (!reader_) return false;
+    fdds::SubscriptionMatchedStatus status;
+    reader_->get_subscription_matched_status(status);
+    return status.current_count > 0;
   }
 
   void on_data_available(fdds::DataReader* reader) override {
@@ -102,14 +140,10 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
 
   void run() {
     // Wait until the update reader has matched a writer, so no batch after the snapshot is missed.
-    for (int i = 0; i < 400 && !stopping(); ++i) {
-      fdds::SubscriptionMatchedStatus matched;
-      reader_->get_subscription_matched_status(matched);
-      if (matched.current_count > 0) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
+    for (int i = 0; i < 400 && !stopping() && !matched(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     bool need_sync = true;
     while (!stopping()) {
+      if (take_rejoined()) need_sync = true;  // the client's new participant: batches may be missing
       if (need_sync) {
         need_sync = !resync();
         if (need_sync) {
@@ -130,6 +164,12 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
         need_sync = true;  // a later build or load brings it back
         continue;
       }
+      // At most once a second: while two daemons still both hold the scene their statuses alternate.
+      if (std::chrono::steady_clock::now() - moved_at_ > std::chrono::seconds(1) && owner_moved()) {
+        moved_at_ = std::chrono::steady_clock::now();
+        need_sync = true;  // no batch may come to say so (the new owner is idle)
+        continue;
+      }
       for (const msg::UpdateBatch& b : batches) {
         if (!apply(b)) {
           need_sync = true;
@@ -142,6 +182,11 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
   bool stopping() {
     std::lock_guard lock(mutex_);
     return stopping_;
+  }
+
+  bool take_rejoined() {
+    std::lock_guard lock(mutex_);
+    return std::exchange(rejoined_, false);
   }
 
   // Takes a snapshot, then applies every queued batch after it. False when it failed.
@@ -182,6 +227,24 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
     const auto status = client_.latest_status(scene_);
     return status && status->server_id() == owner &&
            (status->state() == msg::SCENE_EMPTY || status->state() == msg::SCENE_UNLOADED);
+  }
+
+  // Whether the scene's status (as believed: each only from the daemon it names) is another
+  // daemon's than the one this replica copied, or of another roadmap: the fleet moved the scene,
+  // say to the fresher of two holders after a partition healed, and this replica may have copied
+  // the loser's roadmap. An idle new owner writes no batch that would show it.
+  bool owner_moved() {
+    std::string owner;
+    std::uint64_t generation = 0;
+    {
+      std::lock_guard lock(state_mutex_);
+      if (snapshots_ == 0 || generation_ == 0) return false;
+      owner = owner_;
+      generation = generation_;
+    }
+    const auto status = client_.latest_status(scene_);
+    return status && status->state() != msg::SCENE_UNLOADED && status->state() != msg::SCENE_EMPTY &&
+           (status->server_id() != owner || status->generation() != generation);
   }
 
   // The roadmap was dropped or its scene unloaded: the copy is no longer what any daemon serves.
@@ -238,11 +301,13 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener {
   const std::function<void(const ReplicaEvent&)> on_change_;
   const ReplicaQueueLimits limits_;
   fdds::TypeSupport type_;
-  fdds::Topic* topic_ = nullptr;
+
+  std::mutex mutex_;  // the reader, the inbox and stopping
   fdds::Subscriber* subscriber_ = nullptr;
   fdds::DataReader* reader_ = nullptr;
-
-  std::mutex mutex_;  // inbox and stopping
+  std::size_t attached_ = 0;  // participants attached to so far
+  bool rejoined_ = false;     // attached to a new participant since the last look
+  std::chrono::steady_clock::time_point moved_at_{};  // the replica's thread's: the last resync for a move
   std::condition_variable wake_;
   std::deque<msg::UpdateBatch> inbox_;
   std::size_t inbox_bytes_ = 0;

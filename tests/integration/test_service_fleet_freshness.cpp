@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "integration/service_fixture.hpp"
+#include "ispars/client/replica.hpp"
 #include "ispars/wire/scene_owner.hpp"
 
 namespace ispars::test {
@@ -95,7 +96,12 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
   EXPECT_EQ(other->terminate(), 0);
   owner = start(o);  // alone: it loads its own 2,000
   ASSERT_GE(wait_held_idle_by(client, "s0", o, std::chrono::seconds(30)), 0.0) << owner->log();
-  EXPECT_EQ(client.stats("s0").samples_done(), 2000u);
+  const msg::SceneStatus stale = client.stats("s0");
+  EXPECT_EQ(stale.samples_done(), 2000u);
+  // A replica following the stale copy must follow the scene to the fresher one, although its
+  // new owner is idle and writes no batch.
+  client::RoadmapReplica replica(client, "s0");
+  ASSERT_TRUE(replica.wait_for(stale.generation(), stale.version(), std::chrono::seconds(30))) << replica.last_error();
   other = start(p);  // with its 4,000: O must hand the scene over
   double held = -1.0;
   const double handover = wait_held_idle_by(client, "s0", p, std::chrono::seconds(30), &held);
@@ -107,6 +113,10 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
             std::string::npos)
       << owner->log();
   EXPECT_NE(note_of(client, "s0", o).find("handed over to daemon " + p), std::string::npos);
+  const msg::SceneStatus fresher = client.stats("s0");
+  ASSERT_TRUE(replica.wait_for(fresher.generation(), fresher.version(), std::chrono::seconds(30)))
+      << "the replica stayed on the stale copy: " << replica.version() << " of " << fresher.version();
+  EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(client.snapshot("s0").roadmap));
 
   owner->kill9();
   std::this_thread::sleep_for(std::chrono::seconds(5));  // past the lease: P must not rebuild anything

@@ -15,6 +15,7 @@ namespace ispars::test {
 namespace {
 
 constexpr const char* kIp = "/usr/sbin/ip";
+constexpr const char* kNft = "/usr/sbin/nft";
 
 // Runs a shell command whose failure changes nothing (removing what may not exist).
 void quietly(const std::string& command) {
@@ -127,6 +128,23 @@ void NetnsLab::cut(const std::string& host) {
 
 void NetnsLab::heal(const std::string& host) {
   must(std::string(kIp) + " -n " + prefix_ + "hub link set vh" + std::to_string(index(host)) + " master br0");
+}
+
+void NetnsLab::deafen(const std::string& host, const std::string& from) {
+  const std::string nft = std::string(kIp) + " netns exec " + ns(host) + " " + kNft;
+  must(nft + " add table inet ispars_lab");
+  must(nft + " add set inet ispars_lab deaf '{ type ipv4_addr; }'");
+  must(nft + " add chain inet ispars_lab in '{ type filter hook input priority 0; }'");
+  // The rule once; the set says whom it drops.
+  if (must(nft + " list chain inet ispars_lab in").find("@deaf") == std::string::npos) {
+    must(nft + " add rule inet ispars_lab in ip saddr @deaf drop");
+  }
+  must(nft + " add element inet ispars_lab deaf '{ " + address(from) + " }'");
+}
+
+void NetnsLab::undeafen(const std::string& host, const std::string& from) {
+  must(std::string(kIp) + " netns exec " + ns(host) + " " + kNft + " delete element inet ispars_lab deaf '{ " +
+       address(from) + " }'");
 }
 
 void NetnsLab::enter(const std::string& host) {

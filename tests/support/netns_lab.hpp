@@ -4,7 +4,8 @@
 // 10.251.0.K/24 that exists only inside these namespaces, multicast routed to its veth, and a
 // Fast DDS profile of UDP on that address alone (no shared memory: namespaces share /dev/shm,
 // which would bypass a cut). Nothing is connected to the machine's own namespace, so no packet
-// can leave. cut() takes a host's veth off the bridge, heal() puts it back. Needs root; a
+// can leave. cut() takes a host's veth off the bridge, heal() puts it back; deafen() cuts one
+// direction only (nftables, Debian's `nftables`). Needs root; a
 // constructor that cannot make the namespaces throws (a test fails, never skips). The destructor
 // removes every namespace it made.
 
@@ -35,6 +36,10 @@ class NetnsLab {
   /// other), and puts it back.
   void cut(const std::string& host);
   void heal(const std::string& host);
+  /// One way: `host` drops every packet from `from` (nftables in its namespace), while `from`
+  /// still hears `host`; and undoes it.
+  void deafen(const std::string& host, const std::string& from);
+  void undeafen(const std::string& host, const std::string& from);
 
   /// Moves the calling thread, and every thread it makes afterwards, onto the host. Call it
   /// before any DDS participant exists; the destructor moves the thread back.

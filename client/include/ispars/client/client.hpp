@@ -70,7 +70,23 @@ struct Snapshot {
   msg::SceneStatus status;
 };
 
-/// A connection to every isparsd on a domain: calls addressed to each scene's owner.
+/// Something a caller makes on a client's DDS participant (a replica's update reader): made by
+/// attach(), deleted by detach(), and made again on the new participant when the client rejoins
+/// the domain. Both run with the client's participant held still (no call runs meanwhile).
+class ParticipantUser {
+ public:
+  virtual ~ParticipantUser() = default;
+  virtual void attach(wire::Participant& participant) = 0;
+  virtual void detach(wire::Participant& participant) = 0;
+};
+
+/// A connection to every isparsd on a domain: calls addressed to each scene's owner. Under DDS
+/// Security a client rejoins by itself: when a daemon (or any peer) that its participant dropped
+/// comes back under the same participant, which Debian's Fast DDS 2.9.1 cannot authenticate
+/// again while the peer keeps its old session, it replaces its participant (at most once in 30 s),
+/// keeping what it knows, its calls, and its participant's users (README, "A stall under
+/// security"). A change request sent before a rejoin is not sent again after it (the daemon could
+/// not tell it from a new one): its call fails naming the rejoin.
 class Client {
  public:
   /// Joins the domain (throws std::runtime_error when the participant cannot be created).
@@ -124,11 +140,15 @@ class Client {
   /// Daemons seen on the domain (waits up to the timeout for the first).
   std::vector<msg::DaemonInfo> daemons();
   /// This client's identity: its participant's GUID prefix (24 hex digits), as the daemon reads
-  /// it from the transport and writes it into every reply to this client.
-  [[nodiscard]] const std::string& id() const;
+  /// it from the transport and writes it into every reply to this client. A rejoin changes it.
+  [[nodiscard]] std::string id() const;
   [[nodiscard]] const ClientOptions& options() const { return options_; }
-  /// The participant, for readers of other topics (replicas).
-  [[nodiscard]] wire::Participant& participant();
+  /// Attaches `user` to this client's participant now, and to each new one after a rejoin,
+  /// until it is removed (before it is destroyed, and before the client is).
+  void add_participant_user(ParticipantUser& user);
+  void remove_participant_user(ParticipantUser& user);
+  /// Times this client replaced its participant.
+  [[nodiscard]] std::uint64_t rejoins() const;
   /// The latest status of `scene` seen on the status topic, written by the participant that
   /// announces the daemon the status names (a status from any other participant is not shown).
   [[nodiscard]] std::optional<msg::SceneStatus> latest_status(const std::string& scene) const;
