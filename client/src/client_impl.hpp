@@ -31,6 +31,7 @@
 #include "ispars/wire/daemon_trust.hpp"
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/latest_samples.hpp"
+#include "ispars/wire/rejoin_schedule.hpp"
 #include "ispars/wire/topics.hpp"
 #include "ispars/wire/safe_type.hpp"
 #include "isparsPubSubTypes.h"
@@ -240,7 +241,7 @@ class Client::Impl final : public fdds::DataReaderListener {
   void start_rejoin_watch();
   void stop_rejoin_watch();
   void watch_for_returned_peers(std::stop_token stop);
-  void rejoin(const std::string& why);
+  bool rejoin(const std::string& why);
 
   void set_id(const std::string& id) {
     {
@@ -274,8 +275,7 @@ class Client::Impl final : public fdds::DataReaderListener {
   std::mutex watch_mutex_;
   std::condition_variable_any watch_wake_;
   std::jthread watch_;
-  std::string pending_rejoin_;
-  std::chrono::steady_clock::time_point last_rejoin_{};
+  wire::RejoinSchedule rejoin_schedule_{std::chrono::seconds(30), std::chrono::seconds(5)};  // the watch's
 };
 
 }  // namespace ispars::client

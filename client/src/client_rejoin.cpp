@@ -1,6 +1,7 @@
 // A secured client rejoining its DDS domain with a new participant. A peer this client's
-// participant dropped (its lease ran out here) and then discovered again under the same GUID kept
-// running while this side forgot it: a one-way loss, or a stall. Debian's Fast DDS 2.9.1 cannot
+// participant dropped (its lease ran out here), then discovered again under the same GUID, and
+// which has not authenticated again within a grace kept running while this side forgot it: a
+// one-way loss, or a stall. Debian's Fast DDS 2.9.1 cannot
 // authenticate the two again while the peer keeps its DDS Security session, and a daemon that
 // never lost this client has no reason to rejoin itself, so this client would stay deaf to it.
 // A new participant (a new GUID) meets every peer afresh. What the client knows (daemons,
@@ -14,8 +15,6 @@
 namespace ispars::client {
 namespace {
 
-// At most one rejoin in this long: a peer that keeps stalling must not keep this client away.
-constexpr std::chrono::seconds kRejoinPeriod{30};
 // How often the participant's returned peers are looked at.
 constexpr std::chrono::milliseconds kWatchPeriod{250};
 
@@ -41,22 +40,22 @@ void Client::Impl::watch_for_returned_peers(std::stop_token stop) {
       watch_wake_.wait_for(lock, stop, kWatchPeriod, [] { return false; });
     }
     if (stop.stop_requested()) return;
-    std::optional<wire::PeerWatch::Peer> peer;
+    wire::RejoinSchedule::Decision decision;
     {
       std::shared_lock link(link_mutex_);
-      peer = link_->participant().peers().take_returned();
+      decision = rejoin_schedule_.poll(link_->participant().peers(), std::chrono::steady_clock::now());
     }
-    if (peer) pending_rejoin_ = fmt::format("{} ({}) came back after its lease ran out here", peer->name, peer->prefix);
-    if (pending_rejoin_.empty()) continue;
-    const auto now = std::chrono::steady_clock::now();
-    if (last_rejoin_ != std::chrono::steady_clock::time_point{} && now - last_rejoin_ < kRejoinPeriod) continue;
-    rejoin(std::exchange(pending_rejoin_, std::string()));
+    if (decision.now && !rejoin(fmt::format("{} ({}) came back after its lease ran out here and did not authenticate "
+                                            "again within {:.0f} s",
+                                            decision.now->name, decision.now->prefix,
+                                            std::chrono::duration<double>(rejoin_schedule_.grace()).count()))) {
+      rejoin_schedule_.failed(*decision.now);
+    }
   }
 }
 
-void Client::Impl::rejoin(const std::string& why) {
+bool Client::Impl::rejoin(const std::string& why) {
   const auto start = std::chrono::steady_clock::now();
-  last_rejoin_ = start;
   const std::string old_id = id();
   spdlog::warn("client {}: rejoining DDS domain {} with a new participant: {}", old_id, options_.participant.domain,
                why);
@@ -64,10 +63,10 @@ void Client::Impl::rejoin(const std::string& why) {
   try {
     fresh = std::make_unique<ClientLink>(options_.participant, listeners());
   } catch (const std::exception& e) {
-    spdlog::error("client {}: rejoining DDS domain {} failed: {}; trying again in {} s", old_id,
-                  options_.participant.domain, e.what(), kRejoinPeriod.count());
-    pending_rejoin_ = why;
-    return;
+    spdlog::error("client {}: rejoining DDS domain {} failed: {}; trying again in {:.0f} s", old_id,
+                  options_.participant.domain, e.what(),
+                  std::chrono::duration<double>(rejoin_schedule_.period()).count());
+    return false;
   }
   std::unique_ptr<ClientLink> old;
   {
@@ -82,6 +81,7 @@ void Client::Impl::rejoin(const std::string& why) {
   old.reset();  // its peers see it leave; replies still addressed to it are not taken
   spdlog::info("client {} rejoined DDS domain {} as {} in {:.2f} s", old_id, options_.participant.domain, id(),
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return true;
 }
 
 }  // namespace ispars::client

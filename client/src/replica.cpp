@@ -10,6 +10,7 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -165,9 +166,10 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
         continue;
       }
       // At most once a second: while two daemons still both hold the scene their statuses alternate.
-      if (std::chrono::steady_clock::now() - moved_at_ > std::chrono::seconds(1) && owner_moved()) {
+      if (std::chrono::steady_clock::now() - moved_at_ > std::chrono::seconds(1) && behind_owner(batches.empty())) {
         moved_at_ = std::chrono::steady_clock::now();
-        need_sync = true;  // no batch may come to say so (the new owner is idle)
+        lag_since_.reset();
+        need_sync = true;  // no batch may come to say so (the owner is idle)
         continue;
       }
       for (const msg::UpdateBatch& b : batches) {
@@ -229,22 +231,32 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
            (status->state() == msg::SCENE_EMPTY || status->state() == msg::SCENE_UNLOADED);
   }
 
-  // Whether the scene's status (as believed: each only from the daemon it names) is another
-  // daemon's than the one this replica copied, or of another roadmap: the fleet moved the scene,
-  // say to the fresher of two holders after a partition healed, and this replica may have copied
-  // the loser's roadmap. An idle new owner writes no batch that would show it.
-  bool owner_moved() {
+  // Whether this replica must resync although no batch says so, as the scene's status (believed
+  // only from the daemon it names) shows: it is another daemon's than the one this replica copied,
+  // or of another roadmap (the fleet moved the scene, say to the fresher of two holders after a
+  // partition healed, and this replica may hold the loser's copy), or its version has been ahead
+  // of the replica's for kLagLimit (a batch was lost, and an idle owner writes no other).
+  // `quiet`: no batch arrived since the last look (a replica busy applying batches is not behind).
+  bool behind_owner(bool quiet) {
     std::string owner;
-    std::uint64_t generation = 0;
+    std::uint64_t generation = 0, version = 0;
     {
       std::lock_guard lock(state_mutex_);
       if (snapshots_ == 0 || generation_ == 0) return false;
       owner = owner_;
       generation = generation_;
+      version = roadmap_.version();
     }
     const auto status = client_.latest_status(scene_);
-    return status && status->state() != msg::SCENE_UNLOADED && status->state() != msg::SCENE_EMPTY &&
-           (status->server_id() != owner || status->generation() != generation);
+    if (!status || status->state() == msg::SCENE_UNLOADED || status->state() == msg::SCENE_EMPTY) return false;
+    if (status->server_id() != owner || status->generation() != generation) return true;
+    const auto now = std::chrono::steady_clock::now();
+    if (!quiet || status->version() <= version) {
+      lag_since_.reset();
+      return false;
+    }
+    if (!lag_since_) lag_since_ = now;
+    return now - *lag_since_ >= kLagLimit;
   }
 
   // The roadmap was dropped or its scene unloaded: the copy is no longer what any daemon serves.
@@ -307,7 +319,11 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
   fdds::DataReader* reader_ = nullptr;
   std::size_t attached_ = 0;  // participants attached to so far
   bool rejoined_ = false;     // attached to a new participant since the last look
-  std::chrono::steady_clock::time_point moved_at_{};  // the replica's thread's: the last resync for a move
+  // The replica's thread's: the last resync behind_owner() asked for, and since when the owner's
+  // status has shown a later version than this replica's.
+  std::chrono::steady_clock::time_point moved_at_{};
+  std::optional<std::chrono::steady_clock::time_point> lag_since_;
+  static constexpr std::chrono::seconds kLagLimit{2};
   std::condition_variable wake_;
   std::deque<msg::UpdateBatch> inbox_;
   std::size_t inbox_bytes_ = 0;

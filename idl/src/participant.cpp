@@ -94,6 +94,7 @@ class ParticipantEvents final : public fdds::DomainParticipantListener {
         break;
       case rtps::ParticipantDiscoveryInfo::REMOVED_PARTICIPANT:
         spdlog::debug("participant {} left", who);
+        peers_->left(prefix_of(info.info.m_guid));
         break;
       case rtps::ParticipantDiscoveryInfo::DROPPED_PARTICIPANT:
         peers_->dropped(prefix_of(info.info.m_guid));
@@ -115,6 +116,7 @@ class ParticipantEvents final : public fdds::DomainParticipantListener {
     const std::string who = describe(info.guid, "");
     if (info.status == rtps::ParticipantAuthenticationInfo::AUTHORIZED_PARTICIPANT) {
       spdlog::debug("participant {} authenticated", who);
+      peers_->authenticated(prefix_of(info.guid));
     } else {
       spdlog::warn("participant {} failed DDS Security authentication", who);
     }
@@ -143,16 +145,42 @@ void PeerWatch::dropped(const std::string& prefix) {
   std::lock_guard lock(mutex_);
   if (dropped_.size() >= kMaxDropped) dropped_.clear();
   dropped_.insert(prefix);
+  returned_.erase(prefix);
 }
 
-void PeerWatch::discovered(const std::string& prefix, const std::string& name) {
+void PeerWatch::discovered(const std::string& prefix, const std::string& name, Clock::time_point now) {
   std::lock_guard lock(mutex_);
-  if (dropped_.erase(prefix) > 0) returned_ = Peer{prefix, name};
+  if (dropped_.erase(prefix) > 0) returned_[prefix] = {{prefix, name}, now};
 }
 
-std::optional<PeerWatch::Peer> PeerWatch::take_returned() {
+void PeerWatch::authenticated(const std::string& prefix) {
   std::lock_guard lock(mutex_);
-  return std::exchange(returned_, std::nullopt);
+  returned_.erase(prefix);  // healed by itself: both sides had dropped each other
+}
+
+void PeerWatch::left(const std::string& prefix) {
+  std::lock_guard lock(mutex_);
+  dropped_.erase(prefix);
+  returned_.erase(prefix);
+}
+
+std::optional<PeerWatch::Peer> PeerWatch::unhealed(Clock::time_point now, Clock::duration grace) const {
+  std::lock_guard lock(mutex_);
+  for (const auto& [prefix, r] : returned_) {
+    if (now - r.at >= grace) return r.peer;
+  }
+  return std::nullopt;
+}
+
+std::optional<PeerWatch::Peer> PeerWatch::take_unhealed(Clock::time_point now, Clock::duration grace) {
+  std::lock_guard lock(mutex_);
+  for (auto it = returned_.begin(); it != returned_.end(); ++it) {
+    if (now - it->second.at < grace) continue;
+    Peer peer = it->second.peer;
+    returned_.erase(it);
+    return peer;
+  }
+  return std::nullopt;
 }
 
 Participant::Participant(const ParticipantOptions& options, fdds::DomainParticipantListener* listener) {

@@ -1,9 +1,9 @@
 // isparsd rejoining its DDS domain with a new participant, under DDS Security. A peer (daemon or
-// client) this one dropped (its lease ran out here) and then discovered again under the same GUID
-// kept running: it stalled or the link was cut. The sessions between the two may never recover: Debian's Fast DDS 2.9.1
-// cannot authenticate a peer again while the other side keeps its DDS Security session, and a
-// process stopped past the shared memory transport's health timeout (10 s) loses its ports on
-// this host. A new participant (a new GUID) meets every peer afresh. The daemon keeps its scenes,
+// client) this one dropped (its lease ran out here), then discovered again under the same GUID,
+// and which has not authenticated again within a grace (wire::RejoinSchedule) kept running: it
+// stalled or the link was cut one way. The sessions between the two may never recover: Debian's
+// Fast DDS 2.9.1 cannot authenticate a peer again while the other side keeps its DDS Security
+// session. A new participant (a new GUID) meets every peer afresh. The daemon keeps its scenes,
 // claims and jobs; it announces itself and publishes each scene's status again, and its fleet
 // thread listens a discovery wait before applying the fleet's rule (so it does not take the
 // scenes of daemons it has not heard yet). Replicas see a new update writer and resync.
@@ -20,7 +20,8 @@
 namespace ispars::server {
 namespace {
 
-// At most one rejoin in this long: a peer that keeps stalling must not keep this daemon away.
+// After a rejoin that failed, the next try (and at most one rejoin for a returned peer in this
+// long: rejoin_schedule_).
 constexpr std::chrono::seconds kRejoinPeriod{30};
 // How long after rejoining the fleet's rule waits (at least): under DDS Security a handshake
 // takes a few hundred milliseconds per peer.
@@ -35,26 +36,26 @@ std::vector<msg::DaemonInfo> Daemon::other_daemons() const {
 }
 
 void Daemon::rejoin_if_a_peer_returned() {
-  std::optional<wire::PeerWatch::Peer> peer;
-  with_dds([&](DdsEndpoints& d) { peer = d.take_returned_peer(); });
   // Only under DDS Security, whose sessions are what cannot be made again: without it Fast DDS
   // meets a returning peer by itself (PartitionTest, plain), and a rejoin would only make churn
-  // (a plain 10-round partition run with rejoins left its replica behind in round 6).
+  // (a plain 10-round partition run with rejoins left its replica behind in round 6). A client
+  // counts too: a replica this daemon dropped can no more be authenticated again than a daemon,
+  // and a new participant here gives it a fresh session.
   if (config_.security.empty()) return;
-  // A client counts too: a replica this daemon dropped can no more be authenticated again than a
-  // daemon, and a new participant here gives it a fresh session.
-  if (peer) pending_rejoin_ = fmt::format("{} ({}) came back after its lease ran out here", peer->name, peer->prefix);
-  if (pending_rejoin_.empty()) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (last_rejoin_ != std::chrono::steady_clock::time_point{} && now - last_rejoin_ < kRejoinPeriod) {
-    if (peer) {
-      spdlog::warn("{}; rejoined {:.0f} s ago, so again {:.0f} s after that", pending_rejoin_,
-                   std::chrono::duration<double>(now - last_rejoin_).count(),
-                   std::chrono::duration<double>(kRejoinPeriod).count());
-    }
-    return;  // deferred, not dropped
+  wire::RejoinSchedule::Decision decision;
+  with_dds([&](DdsEndpoints& d) { decision = rejoin_schedule_.poll(d.peers(), std::chrono::steady_clock::now()); });
+  if (decision.deferred) {
+    spdlog::warn("{} ({}) came back after its lease ran out here and did not authenticate again; rejoined {:.0f} s "
+                 "ago, so again {:.0f} s after that unless it authenticates, leaves or rejoins itself meanwhile",
+                 decision.deferred->name, decision.deferred->prefix,
+                 std::chrono::duration<double>(decision.since_last).count(),
+                 std::chrono::duration<double>(rejoin_schedule_.period()).count());
   }
-  rejoin(std::exchange(pending_rejoin_, std::string()));
+  if (decision.now) {
+    rejoin(fmt::format("{} ({}) came back after its lease ran out here and did not authenticate again within {:.0f} s",
+                       decision.now->name, decision.now->prefix,
+                       std::chrono::duration<double>(rejoin_schedule_.grace()).count()));
+  }
 }
 
 void Daemon::mark_version(const std::string& scene, const RoadmapSession& session) {

@@ -64,7 +64,7 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   /// Stops delivering requests.
   void stop_requests();
   /// A peer this participant dropped and then discovered again under the same GUID, once.
-  [[nodiscard]] std::optional<wire::PeerWatch::Peer> take_returned_peer() { return participant_.peers().take_returned(); }
+  [[nodiscard]] wire::PeerWatch& peers() { return participant_.peers(); }
 
   // DataReaderListener (queries and changes)
   void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;

@@ -140,6 +140,7 @@ void PartitionTest::run_campaign(bool secured) {
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }
+    ASSERT_FALSE(taken.server_id().to_string().empty()) << "the client never saw the side without " << cut << " take the scene over";
     ASSERT_NE(taken.server_id(), cut) << "the side without " << cut << " never took the scene over";
     const double takeover_s = std::chrono::duration<double>(Clock::now() - cut_at).count();
     // Both sides acknowledge an extend; the larger one alternates between the sides.
@@ -194,7 +195,11 @@ void PartitionTest::run_campaign(bool secured) {
       EXPECT_LE(ack.samples, status.samples_done()) << "an acknowledged extend on " << ack.side;
     }
     ASSERT_TRUE(replica.wait_for(status.generation(), status.version(), std::chrono::seconds(60)))
-        << replica.last_error();
+        << "the replica is at generation " << replica.generation() << " version " << replica.version() << " ("
+        << replica.snapshots_taken() << " snapshots, last error '" << replica.last_error() << "'); its client ("
+        << watcher->id() << ", " << watcher->rejoins() << " rejoins) sees " << watcher->daemons().size()
+        << " daemons and the status of " << (watcher->latest_status("s0") ? watcher->latest_status("s0")->server_id().to_string() : "none")
+        << "; the test's client (" << client.id() << ", " << client.rejoins() << " rejoins) sees " << client.daemons().size();
   }
   const std::uint64_t digest = roadmap_digest(client.snapshot("s0").roadmap);
   EXPECT_EQ(digest, reference_digest(scene_dir_ / "s0.yaml", status.samples_done(), 4));

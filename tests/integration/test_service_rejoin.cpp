@@ -21,7 +21,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr std::chrono::seconds kSecureLease{20};
 // How soon after the link is back the client answers again: a peer's next announcement (lease/3
-// in the lab's profile), the rejoin, and a handshake.
+// in the lab's profile), the grace a returned peer has to authenticate again (5 s), the rejoin,
+// and a handshake.
 constexpr std::chrono::seconds kHealBound{20};
 
 class RejoinTest : public ServiceTest {};

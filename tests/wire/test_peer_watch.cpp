@@ -1,5 +1,6 @@
 // PeerWatch: a peer dropped (its lease ran out) and discovered again under the same GUID is
-// reported once; a new peer, or one seen again without being dropped, is not.
+// "unhealed" until it authenticates again, leaves or is dropped again; a new peer, or one seen
+// again without being dropped, never is.
 
 #include <gtest/gtest.h>
 
@@ -8,22 +9,44 @@
 namespace ispars::wire {
 namespace {
 
-TEST(PeerWatch, APeerDroppedAndDiscoveredAgainIsReportedOnce) {
+using namespace std::chrono_literals;
+const PeerWatch::Clock::time_point t0{};
+
+TEST(PeerWatch, APeerDroppedAndDiscoveredAgainIsUnhealedUntilItAuthenticates) {
   PeerWatch peers;
-  peers.discovered("01.02", "isparsd a");  // first seen: nothing to report
-  EXPECT_FALSE(peers.take_returned().has_value());
+  peers.discovered("01.02", "isparsd a", t0);  // first seen: nothing to report
+  EXPECT_FALSE(peers.unhealed(t0 + 10s, 1s));
   peers.dropped("01.02");
-  EXPECT_FALSE(peers.take_returned().has_value());  // dropped, not back yet
-  peers.discovered("09.09", "isparsd b");           // another peer, new
-  EXPECT_FALSE(peers.take_returned().has_value());
-  peers.discovered("01.02", "isparsd a");
-  const auto back = peers.take_returned();
+  EXPECT_FALSE(peers.unhealed(t0 + 10s, 1s));  // dropped, not back yet
+  peers.discovered("09.09", "isparsd b", t0);  // another peer, new
+  EXPECT_FALSE(peers.unhealed(t0 + 10s, 1s));
+  peers.discovered("01.02", "isparsd a", t0 + 20s);
+  EXPECT_FALSE(peers.unhealed(t0 + 20s, 1s));  // within the grace
+  const auto back = peers.unhealed(t0 + 21s, 1s);
   ASSERT_TRUE(back.has_value());
   EXPECT_EQ(back->prefix, "01.02");
   EXPECT_EQ(back->name, "isparsd a");
-  EXPECT_FALSE(peers.take_returned().has_value());  // once
-  peers.discovered("01.02", "isparsd a");           // seen again without a drop in between
-  EXPECT_FALSE(peers.take_returned().has_value());
+  EXPECT_TRUE(peers.take_unhealed(t0 + 21s, 1s).has_value());
+  EXPECT_FALSE(peers.take_unhealed(t0 + 22s, 1s).has_value());  // once
+  peers.discovered("01.02", "isparsd a", t0 + 30s);               // seen again without a drop
+  EXPECT_FALSE(peers.unhealed(t0 + 40s, 1s));
+  peers.dropped("01.02");
+  peers.discovered("01.02", "isparsd a", t0 + 50s);
+  peers.authenticated("01.02");  // healed by itself
+  EXPECT_FALSE(peers.unhealed(t0 + 60s, 1s));
+}
+
+TEST(PeerWatch, APeerThatLeftOrWasDroppedAgainIsNotUnhealed) {
+  PeerWatch peers;
+  peers.discovered("01.02", "isparsd a", t0);
+  peers.dropped("01.02");
+  peers.discovered("01.02", "isparsd a", t0);
+  peers.left("01.02");  // rejoined itself: its old participant is deleted
+  peers.discovered("03.04", "ispars client", t0);
+  peers.dropped("03.04");
+  peers.discovered("03.04", "ispars client", t0);
+  peers.dropped("03.04");  // dropped again before anyone looked
+  EXPECT_FALSE(peers.unhealed(t0 + 60s, 1s));
 }
 
 TEST(PeerWatch, DroppedPeersAreBounded) {
@@ -33,8 +56,8 @@ TEST(PeerWatch, DroppedPeersAreBounded) {
     prefix += std::to_string(i);
     peers.dropped(prefix);
   }
-  peers.discovered("p4999", "isparsd x");  // the newest is remembered
-  EXPECT_TRUE(peers.take_returned().has_value());
+  peers.discovered("p4999", "isparsd x", t0);  // the newest is remembered
+  EXPECT_TRUE(peers.unhealed(t0 + 10s, 1s).has_value());
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/core/policy/QosPolicies.hpp>
 
+#include <chrono>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -35,25 +37,38 @@ struct ParticipantOptions {
 
 /// Peers that a participant dropped (their lease ran out there) and then discovered again under
 /// the same GUID: the peer kept running (it stalled, or the link between them was cut) while this
-/// side forgot it. Their sessions may not recover: Debian's Fast DDS 2.9.1 cannot authenticate a
-/// peer again while the other side keeps the old DDS Security session (README, "A stall under
-/// security"). Safe from any thread.
+/// side forgot it. When both sides dropped each other (a cut both ways) they authenticate afresh;
+/// when only this side did, Debian's Fast DDS 2.9.1 cannot authenticate the peer again while it
+/// keeps the old DDS Security session (README, "A stall under security"), and the peer stays
+/// unauthenticated: "unhealed". Safe from any thread.
 class PeerWatch {
  public:
+  using Clock = std::chrono::steady_clock;
   struct Peer {
     std::string prefix;  ///< Its GUID prefix, as Fast DDS prints it.
     std::string name;    ///< Its participant name ("isparsd ID" for a daemon).
   };
   void dropped(const std::string& prefix);
-  void discovered(const std::string& prefix, const std::string& name);
-  /// The last peer that came back since the previous call, if any.
-  [[nodiscard]] std::optional<Peer> take_returned();
+  void discovered(const std::string& prefix, const std::string& name, Clock::time_point now = Clock::now());
+  /// DDS Security authenticated the peer (again).
+  void authenticated(const std::string& prefix);
+  /// The peer deleted its participant (it stopped, or rejoined with a new one itself).
+  void left(const std::string& prefix);
+  /// A peer that came back at least `grace` before `now` and has been neither authenticated nor
+  /// dropped nor gone since; nothing otherwise. Left in place (take_unhealed() takes it).
+  [[nodiscard]] std::optional<Peer> unhealed(Clock::time_point now, Clock::duration grace) const;
+  /// Like unhealed(), and forgets it.
+  [[nodiscard]] std::optional<Peer> take_unhealed(Clock::time_point now, Clock::duration grace);
 
  private:
+  struct Returned {
+    Peer peer;
+    Clock::time_point at;
+  };
   static constexpr std::size_t kMaxDropped = 1024;  // forgotten all at once past this
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::set<std::string> dropped_;
-  std::optional<Peer> returned_;
+  std::map<std::string, Returned> returned_;  // by prefix; bounded by dropped_
 };
 
 /// Owns a participant and deletes it (with its entities) on destruction. Without a listener of
@@ -69,8 +84,8 @@ class Participant {
   Participant& operator=(const Participant&) = delete;
 
   [[nodiscard]] eprosima::fastdds::dds::DomainParticipant* get() const { return participant_; }
-  /// Peers dropped and discovered again (only when this object logs the events itself, that is
-  /// when no listener was given).
+  /// Peers dropped and discovered again, and whether they authenticated since (only when this
+  /// object logs the events itself, that is when no listener was given).
   [[nodiscard]] PeerWatch& peers() { return *peers_; }
   eprosima::fastdds::dds::DomainParticipant* operator->() const { return participant_; }
 
