@@ -275,7 +275,7 @@ class Client::Impl final : public fdds::DataReaderListener {
   std::mutex watch_mutex_;
   std::condition_variable_any watch_wake_;
   std::jthread watch_;
-  wire::RejoinSchedule rejoin_schedule_{std::chrono::seconds(30), std::chrono::seconds(5)};  // the watch's
+  wire::RejoinSchedule rejoin_schedule_{std::chrono::seconds(30), std::chrono::seconds(10)};  // the watch's
 };
 
 }  // namespace ispars::client

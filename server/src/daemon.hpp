@@ -159,7 +159,7 @@ class Daemon {
   mutable std::shared_mutex dds_mutex_;
   std::unique_ptr<DdsEndpoints> dds_;
   std::chrono::steady_clock::time_point last_rejoin_{};
-  wire::RejoinSchedule rejoin_schedule_{std::chrono::seconds(30), std::chrono::seconds(5)};  // the fleet thread's
+  wire::RejoinSchedule rejoin_schedule_{std::chrono::seconds(30), std::chrono::seconds(10)};  // the fleet thread's
   std::unique_ptr<RoadmapService> service_;
   std::unique_ptr<WorkerPool> quick_lane_;  // list, stats, cancel, unload, build, extend, tour
   std::unique_ptr<WorkerPool> slow_lane_;   // load, path, snapshot, verify, drop

@@ -82,7 +82,7 @@ class ParticipantUser {
 
 /// A connection to every isparsd on a domain: calls addressed to each scene's owner. Under DDS
 /// Security a client rejoins by itself: when a daemon (or any peer) that its participant dropped
-/// comes back under the same participant and does not authenticate again within 5 s (Debian's
+/// comes back under the same participant and does not authenticate again within 10 s (Debian's
 /// Fast DDS 2.9.1 cannot while the peer keeps its old session), it replaces its participant (at
 /// most once in 30 s),
 /// keeping what it knows, its calls, and its participant's users (README, "A stall under
