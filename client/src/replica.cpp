@@ -242,13 +242,16 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
     std::uint64_t generation = 0, version = 0;
     {
       std::lock_guard lock(state_mutex_);
-      if (snapshots_ == 0 || generation_ == 0) return false;
+      if (snapshots_ == 0) return false;
       owner = owner_;
       generation = generation_;
       version = roadmap_.version();
     }
     const auto status = client_.latest_status(scene_);
     if (!status || status->state() == msg::SCENE_UNLOADED || status->state() == msg::SCENE_EMPTY) return false;
+    // Holding nothing (a snapshot of a scene just claimed, before its roadmap was published)
+    // while the status shows a built roadmap.
+    if (generation == 0) return status->generation() != 0;
     if (status->server_id() != owner || status->generation() != generation) return true;
     const auto now = std::chrono::steady_clock::now();
     if (!quiet || status->version() <= version) {
