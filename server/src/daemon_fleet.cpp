@@ -96,7 +96,7 @@ void Daemon::watch_fleet() {
     bool endpoints = false;
     with_dds([&](DdsEndpoints&) { endpoints = true; });
     if (!endpoints) {  // a rejoin that failed: the rule must not run on an empty view of the fleet
-      if (std::chrono::steady_clock::now() - last_rejoin_ >= std::chrono::seconds(30)) rejoin("the last rejoin failed");
+      if (std::chrono::steady_clock::now() - last_rejoin_ >= rejoin_schedule_.period()) rejoin("the last rejoin failed");
       lock.lock();
       continue;
     }

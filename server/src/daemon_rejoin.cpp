@@ -20,9 +20,6 @@
 namespace ispars::server {
 namespace {
 
-// After a rejoin that failed, the next try (and at most one rejoin for a returned peer in this
-// long: rejoin_schedule_).
-constexpr std::chrono::seconds kRejoinPeriod{30};
 // How long after rejoining the fleet's rule waits (at least): under DDS Security a handshake
 // takes a few hundred milliseconds per peer.
 constexpr std::chrono::milliseconds kRejoinListen{3000};
@@ -90,8 +87,8 @@ void Daemon::rejoin(const std::string& why) {
     std::unique_lock lock(dds_mutex_);
     dds_ = std::move(fresh);
   } catch (const std::exception& e) {
-    spdlog::error("rejoining DDS domain {} failed: {}; trying again in {} s", config_.domain, e.what(),
-                  kRejoinPeriod.count());
+    spdlog::error("rejoining DDS domain {} failed: {}; trying again in {:.0f} s", config_.domain, e.what(),
+                  std::chrono::duration<double>(rejoin_schedule_.period()).count());
     return;
   }
   announce();
