@@ -17,7 +17,7 @@ for test in FleetFreshnessTest.ARestartedStaleOwnerNeverReplacesTheFresherRoadma
             PartitionTest.CutAndHealTheOwnerPlain PartitionTest.CutAndHealTheOwnerSecured \
             StallTest.AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner; do
   "$tests" --gtest_filter="$test" >"/tmp/fleet-campaign-$$.log" 2>&1 || status=1
-  grep -E '^\[ *(OK|FAILED) *\]|partition round|stall round|handover:|takeover:|Failure' "/tmp/fleet-campaign-$$.log" || true
+  grep -E '^\[ *(OK|FAILED) *\]|partition round|stall round|handover:|takeover:|Failure|long-lived replica|rejoined [0-9]+ times' "/tmp/fleet-campaign-$$.log" || true
 done
 rm -f "/tmp/fleet-campaign-$$.log"
 exit "$status"
