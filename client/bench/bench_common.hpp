@@ -95,6 +95,9 @@ nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem:
                         const std::string& method, std::uint64_t samples, std::uint64_t step,
                         const std::map<std::string, double>& overrides);
 
+/// `ispars-bench peak`: see peak_bench.cpp.
+nlohmann::json run_peak(const std::string& daemon_binary, std::uint64_t samples, const std::vector<std::string>& methods);
+
 /// `ispars-bench rtt`: see rtt_bench.cpp. `keystore_script` empty: without DDS Security only.
 nlohmann::json run_rtt(const std::string& daemon_binary, int count, const std::string& keystore_script);
 /// The raw ping-pong's echo server (a hidden subcommand `rtt` starts): answers pings from

@@ -5,6 +5,8 @@
 //   stream    update streaming throughput to 1 and to 8 subscribers
 //   snapshot  transfer of a roadmap of at least --vertices vertices
 //   memory    daemon resident memory per 100,000 dense vertices
+//   peak      a build's peak resident memory (with its compaction fold, and a recovery)
+//             against the estimate the daemon admitted it for (peak_bench.cpp)
 //   grow      a roadmap extended step by step to millions of samples, then a restart (grow_bench.cpp)
 //
 // Every run starts its own isparsd (next to this binary unless --daemon) on a random domain
@@ -170,6 +172,11 @@ int main(int argc, char** argv) {
   std::uint64_t memory_samples = 100000;
   auto* memory = app.add_subcommand("memory", "daemon memory per 100,000 dense vertices");
   memory->add_option("--samples", memory_samples, "samples per build");
+  std::uint64_t peak_samples = 100000;
+  std::vector<std::string> peak_methods{"dense", "ispars", "irisc", "ispars2"};
+  auto* peak = app.add_subcommand("peak", "a build's peak memory (compaction fold, recovery) against its estimate");
+  peak->add_option("--samples", peak_samples, "samples per build")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{10'000'000}));
+  peak->add_option("--methods", peak_methods, "build methods")->check(CLI::IsMember({"dense", "spars", "ispars", "irisc", "ispars2"}));
   std::string grow_scenes, grow_scene = "water_tower", grow_method = "ispars2";
   std::uint64_t grow_samples = 1'000'000, grow_step = 100'000;
   double grow_slack = 0.0;
@@ -199,6 +206,7 @@ int main(int argc, char** argv) {
     if (*stream) out = run_stream(daemon, samples, method);
     if (*snapshot) out = run_snapshot(daemon, vertices, repeats);
     if (*memory) out = run_memory(daemon, memory_samples);
+    if (*peak) out = run_peak(daemon, peak_samples, peak_methods);
     if (*grow) {
       std::map<std::string, double> overrides;
       if (grow_slack > 0.0) overrides.emplace("stretch_slack", grow_slack);

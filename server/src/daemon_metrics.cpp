@@ -112,6 +112,10 @@ std::string DaemonMetrics::render(const DaemonGauges& g) const {
   line(fmt::format("ispars_other_daemons {}\n", g.other_daemons));
   family(out, "ispars_memory_budget_bytes", "gauge", "Memory all loaded roadmaps may be expected to hold.");
   line(fmt::format("ispars_memory_budget_bytes {}\n", g.memory_budget_bytes));
+  family(out, "ispars_memory_reserved_bytes", "gauge", "Of the budget: the loaded roadmaps' estimated peaks.");
+  line(fmt::format("ispars_memory_reserved_bytes {}\n", g.memory_reserved_bytes));
+  family(out, "ispars_memory_leased_bytes", "gauge", "Of the budget: snapshot encodings and tours, estimated.");
+  line(fmt::format("ispars_memory_leased_bytes {}\n", g.memory_leased_bytes));
   family(out, "process_resident_memory_bytes", "gauge", "Resident memory of the daemon.");
   line(fmt::format("process_resident_memory_bytes {}\n", g.resident_bytes));
   return out;

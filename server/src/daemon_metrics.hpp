@@ -35,6 +35,8 @@ struct DaemonGauges {
   std::uint64_t reply_clients = 0;       ///< clients whose reply readers are matched
   std::uint64_t resident_bytes = 0;
   double memory_budget_bytes = 0;
+  double memory_reserved_bytes = 0;  ///< the loaded scenes' roadmap peaks (memory_budget.hpp)
+  double memory_leased_bytes = 0;    ///< held by snapshot encodings and tours now
   std::uint64_t other_daemons = 0;
 };
 

@@ -108,6 +108,8 @@ std::string Daemon::metrics_text() const {
         // unloaded since it was listed
       }
     }
+    g.memory_reserved_bytes = service_->budget().reserved();
+    g.memory_leased_bytes = service_->budget().leased();
   }
   if (serving_) {
     with_dds([&](DdsEndpoints& d) {

@@ -50,6 +50,8 @@ TEST(DaemonMetrics, GaugesAreRenderedPerSceneWithEscapedLabels) {
   g.scenes.push_back({"odd\"na\\me", "building", 10, 2, 1, 200, 3});
   g.update_subscribers = 4;
   g.resident_bytes = 123456;
+  g.memory_reserved_bytes = 2048;
+  g.memory_leased_bytes = 512;
   const std::string text = m.render(g);
   EXPECT_TRUE(has_line(text, "ispars_scenes{state=\"idle\"} 1")) << text;
   EXPECT_TRUE(has_line(text, "ispars_scenes{state=\"building\"} 1")) << text;
@@ -57,6 +59,8 @@ TEST(DaemonMetrics, GaugesAreRenderedPerSceneWithEscapedLabels) {
   EXPECT_TRUE(has_line(text, "ispars_roadmap_edges{scene=\"odd\\\"na\\\\me\"} 1")) << text;
   EXPECT_TRUE(has_line(text, "ispars_update_subscribers 4")) << text;
   EXPECT_TRUE(has_line(text, "process_resident_memory_bytes 123456")) << text;
+  EXPECT_TRUE(has_line(text, "ispars_memory_reserved_bytes 2048")) << text;
+  EXPECT_TRUE(has_line(text, "ispars_memory_leased_bytes 512")) << text;
   EXPECT_GT(resident_memory_bytes(), 0u);
 }
 

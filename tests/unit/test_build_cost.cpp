@@ -41,6 +41,11 @@ TEST(BuildCost, TheEstimateBoundsTheBuiltGraphFromAboveAndWithinAFewTimes) {
     EXPECT_GE(cost.edges, static_cast<double>(graph.edge_count())) << label;
     EXPECT_LE(cost.edges, 3.0 * static_cast<double>(graph.edge_count()) + 1000.0) << label << ": far too cautious";
     EXPECT_GE(cost.bytes, static_cast<double>(graph.edge_count()) * kBytesPerEdge) << label;
+    // The peak adds a compaction fold of everything stored: the graph's vertices (as estimated,
+    // see above) and edges again.
+    EXPECT_GE(cost.peak_bytes - cost.bytes, 0.95 * static_cast<double>(graph.vertex_count()) * kFoldBytesPerVertex +
+                                                static_cast<double>(graph.edge_count()) * kFoldBytesPerEdge)
+        << label;
   }
 }
 
@@ -57,11 +62,13 @@ TEST(BuildCost, AHugeDeltaCountsEveryPairAndMoreSamplesNeverCostLess) {
   for (const std::uint64_t n : {1ull, 10ull, 1000ull, 1'000'000ull, 50'000'000ull}) {
     recipe.method = BuildMethod::ispars;
     recipe.dense_delta = scene.config().dense_delta;
-    const double bytes = estimate_build_cost(scene, recipe, n, f).bytes;
-    EXPECT_GE(bytes, last) << n;
-    last = bytes;
+    const BuildCost cost = estimate_build_cost(scene, recipe, n, f);
+    EXPECT_GE(cost.peak_bytes, last) << n;
+    EXPECT_GE(cost.peak_bytes, cost.bytes) << n;
+    last = cost.peak_bytes;
   }
   EXPECT_EQ(estimate_build_cost(scene, recipe, 0, f).bytes, 0.0);
+  EXPECT_EQ(estimate_build_cost(scene, recipe, 0, f).peak_bytes, 0.0);
 }
 
 }  // namespace

@@ -36,6 +36,7 @@ BuildCost estimate_build_cost(const Scene& scene, const RoadmapRecipe& recipe, s
     cost.vertices = std::min(valid_samples, 0.12 * valid_samples + 2000.0);
     cost.edges = 2.5 * valid_samples;
     cost.bytes = 2.0 * (cost.vertices * kBytesPerVertex + cost.edges * kBytesPerEdge);
+    cost.peak_bytes = cost.bytes + cost.vertices * kFoldBytesPerVertex + cost.edges * kFoldBytesPerEdge;
     return cost;
   }
   double radius = recipe.dense_delta;
@@ -55,6 +56,9 @@ BuildCost estimate_build_cost(const Scene& scene, const RoadmapRecipe& recipe, s
   // of spars and ispars are small beside their dense pair (a tenth is generous).
   const double copies = recipe.method == BuildMethod::dense || recipe.method == BuildMethod::irisc ? 2.0 : 1.1;
   cost.bytes = copies * (cost.vertices * kBytesPerVertex + cost.edges * kBytesPerEdge);
+  // The store holds the sparse roadmap of a dense pair beside the dense one (a tenth, as above).
+  const double stored = has_dense_pair(recipe.method) ? 1.1 : 1.0;
+  cost.peak_bytes = cost.bytes + stored * (cost.vertices * kFoldBytesPerVertex + cost.edges * kFoldBytesPerEdge);
   return cost;
 }
 

@@ -27,6 +27,7 @@ constexpr const char* kRequest = "request";
 RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events)
     : settings_(std::move(settings)),
       events_(std::move(events)),
+      budget_(MemoryBudget::make(settings_.memory_budget_bytes)),
       builds_(std::max(1u, settings_.build_workers)),
       tours_(std::max(1u, settings_.tour_workers)) {
   if (!std::filesystem::is_directory(settings_.scene_dir)) {
@@ -152,11 +153,11 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
     if (!events_.on_status) return;
     if (const auto s = session_or_null(name)) events_.on_status(*s);
   };
-  callbacks.admit_cost = [this, name](const BuildCost& cost) { admit_cost(name, cost); };
+  callbacks.admit_cost = [budget = budget_, name](const BuildCost& cost) { budget->admit(name, cost); };
   auto session = std::make_shared<RoadmapSession>(name, std::move(scene), settings_.data_dir / name,
                                                   settings_.limits, std::move(callbacks));
   mark_unloaded(settings_.data_dir / name, false);
-  set_reserved(name, session->expected_cost().bytes);  // a stored roadmap is held whatever the budget
+  budget_->set_reserved(name, session->expected_cost().peak_bytes);  // a stored roadmap is held whatever the budget
   {
     std::lock_guard lock(sessions_mutex_);
     sessions_.emplace(name, session);
@@ -240,7 +241,7 @@ void RoadmapService::forget(const std::string& scene, bool given_up) {
     std::lock_guard lock(sessions_mutex_);
     sessions_.erase(scene);
   }
-  set_reserved(scene, 0.0);
+  budget_->set_reserved(scene, 0.0);
   if (events_.on_unloaded) events_.on_unloaded(scene, given_up);
   if (events_.on_scenes_changed) events_.on_scenes_changed();
 }
@@ -321,35 +322,7 @@ CancelOutcome RoadmapService::cancel(const std::string& scene) {
 void RoadmapService::drop(const std::string& scene) {
   session(scene)->drop();
   forget_job(scene, 0);
-  set_reserved(scene, 0.0);
-}
-
-void RoadmapService::admit_cost(const std::string& scene, const BuildCost& cost) {
-  std::lock_guard lock(budget_mutex_);
-  double others = 0.0;
-  for (const auto& [name, bytes] : reserved_bytes_) {
-    if (name != scene) others += bytes;
-  }
-  if (others + cost.bytes > settings_.memory_budget_bytes) {
-    constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
-    throw InputError(kRequest, "samples",
-                     fmt::format("the roadmap would hold about {:.2f} GiB ({:.3g} vertices, {:.3g} edges expected), "
-                                 "more than this daemon's memory budget leaves: {:.2f} of {:.2f} GiB (other scenes "
-                                 "hold {:.2f}); ask for fewer samples or a smaller dense_delta",
-                                 cost.bytes / kGiB, cost.vertices, cost.edges,
-                                 std::max(0.0, settings_.memory_budget_bytes - others) / kGiB,
-                                 settings_.memory_budget_bytes / kGiB, others / kGiB));
-  }
-  reserved_bytes_[scene] = cost.bytes;
-}
-
-void RoadmapService::set_reserved(const std::string& scene, double bytes) {
-  std::lock_guard lock(budget_mutex_);
-  if (bytes > 0.0) {
-    reserved_bytes_[scene] = bytes;
-  } else {
-    reserved_bytes_.erase(scene);
-  }
+  budget_->set_reserved(scene, 0.0);
 }
 
 std::size_t RoadmapService::stop_tours(const std::string& scene) {

@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ispars/builders/build_cost.hpp"
 #include "ispars/roadmap/inspection_graph.hpp"
+#include "ispars/tour/tour_closure.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_service.hpp"
 
@@ -16,6 +18,22 @@ namespace {
 
 constexpr const char* kRequest = "request";
 constexpr std::size_t kSnapshotsKept = 4;
+
+// A snapshot's encoding at its worst: the batch copied out of the roadmap and its encoding, a
+// compaction fold's work over the same vertices and edges (build_cost.hpp).
+double snapshot_cost(const Roadmap& roadmap) {
+  return static_cast<double>(roadmap.vertex_count()) * kFoldBytesPerVertex +
+         static_cast<double>(roadmap.edge_count()) * kFoldBytesPerEdge;
+}
+
+// A tour at its worst: the search graph (the roadmap's size again) and a full distance matrix over
+// its candidate viewpoints (at most TourClosureOptions::max_candidates; tour_closure.hpp).
+double tour_cost(const Roadmap& roadmap) {
+  const double candidates =
+      static_cast<double>(std::min<std::size_t>(roadmap.vertex_count(), TourClosureOptions{}.max_candidates));
+  return static_cast<double>(roadmap.vertex_count()) * kBytesPerVertex +
+         static_cast<double>(roadmap.edge_count()) * kBytesPerEdge + candidates * candidates * sizeof(double);
+}
 
 }  // namespace
 
@@ -58,7 +76,11 @@ SnapshotSlice RoadmapService::snapshot(const std::string& scene, std::uint64_t v
                        fmt::format("version {} of roadmap generation {} is no longer available; start the snapshot again",
                                    version, generation));
     }
-    bytes = std::make_shared<const std::string>(encode_batch(batch_range(*published.roadmap, 0, version)));
+    // The encoding's worst case is leased before it is made, then only its size while it is kept.
+    const auto lease = budget_->lease(snapshot_cost(*published.roadmap), fmt::format("a snapshot of scene '{}'", scene));
+    auto encoded = std::make_unique<const std::string>(encode_batch(batch_range(*published.roadmap, 0, version)));
+    lease->shrink_to(static_cast<double>(encoded->size()));
+    bytes = std::shared_ptr<const std::string>(encoded.release(), [lease](const std::string* p) { delete p; });
     std::lock_guard lock(snapshots_mutex_);
     snapshots_.push_back({scene, generation, version, bytes});
     if (snapshots_.size() > kSnapshotsKept) snapshots_.erase(snapshots_.begin());
@@ -91,6 +113,8 @@ void RoadmapService::start_tour(const std::string& scene, TourRequest request, T
   if (!s->status().recipe || s->published().roadmap->vertex_count() == 0) {
     throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap yet", scene));
   }
+  // Its worst case is leased from admission to its end (queued or running).
+  const auto lease = budget_->lease(tour_cost(*s->published().roadmap), fmt::format("a tour of scene '{}'", scene));
   // At most tours_per_worker per worker wait or run; past that the request is refused, not queued.
   const std::size_t limit = settings_.tours_per_worker * std::max(1u, settings_.tour_workers);
   auto stop = std::make_shared<std::atomic<bool>>(false);
@@ -103,7 +127,7 @@ void RoadmapService::start_tour(const std::string& scene, TourRequest request, T
     ++tours_admitted_;
     running_tours_.emplace(scene, stop);  // a cancel on the scene stops it, queued or running
   }
-  const bool queued = tours_.submit([this, s, request = std::move(request), callbacks = std::move(callbacks), stop] {
+  const bool queued = tours_.submit([this, s, request = std::move(request), callbacks = std::move(callbacks), stop, lease] {
     run_tour(s, request, callbacks, stop);
   });
   if (!queued) {  // only when stopping

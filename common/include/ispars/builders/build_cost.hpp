@@ -16,6 +16,9 @@ struct BuildCost {
   double vertices = 0.0;  ///< Vertices of the largest graph the build keeps (the dense one for dense, spars, ispars).
   double edges = 0.0;     ///< Its edges.
   double bytes = 0.0;     ///< Memory held by the builder and the copies published to readers.
+  /// `bytes` plus the most a store's compaction fold (or a restart's recovery) of this roadmap
+  /// holds beside it: what the memory budget admits (ispars-bench peak measures it).
+  double peak_bytes = 0.0;
 };
 
 /// Memory per vertex and per edge of a roadmap as built and held, rounded up from what a daemon
@@ -24,6 +27,13 @@ struct BuildCost {
 /// an edge beside 512 a vertex.
 inline constexpr double kBytesPerVertex = 512.0;
 inline constexpr double kBytesPerEdge = 40.0;
+
+/// What a compaction fold of a stored roadmap holds at once, per stored vertex and edge, beside
+/// the roadmap itself: the snapshot file read in and its payload, the journal's, the decoded
+/// whole and its encoding (roadmap_store_compaction.cpp). Set from ispars-bench peak
+/// (docs/results/service.md), rounded up.
+inline constexpr double kFoldBytesPerVertex = 512.0;
+inline constexpr double kFoldBytesPerEdge = 96.0;
 
 /// The fraction of the sampling box whose points pass the point check, from `probes` probes of a
 /// fixed seed (the same answer every time for one scene).

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "ispars/tour/gip_solver.hpp"
+#include "ispars/service/memory_budget.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/worker_pool.hpp"
 
@@ -36,8 +37,8 @@ struct ServiceSettings {
   unsigned build_workers = 2;         ///< Builds running at once (each on its own thread).
   unsigned tour_workers = 2;          ///< Tours running at once.
   std::size_t tours_per_worker = 2;   ///< Tours admitted (queued or running) per tour worker.
-  /// Memory the roadmaps of all loaded scenes may be expected to hold together (estimated before
-  /// each build or extend, build_cost.hpp); a build or extend past it is refused.
+  /// Memory the roadmaps of all loaded scenes may be expected to hold together at their peaks, with
+  /// the snapshot encodings and tours running (memory_budget.hpp); what would not fit is refused.
   double memory_budget_bytes = std::numeric_limits<double>::infinity();
 };
 
@@ -214,6 +215,8 @@ class RoadmapService {
   /// The loaded session of `scene`; InputError naming the scene when it is not loaded.
   [[nodiscard]] std::shared_ptr<RoadmapSession> session(const std::string& scene) const;
   [[nodiscard]] const ServiceSettings& settings() const { return settings_; }
+  /// The memory budget's reservations and leases (for metrics).
+  [[nodiscard]] const MemoryBudget& budget() const { return *budget_; }
 
  private:
   std::shared_ptr<RoadmapSession> session_or_null(const std::string& scene) const;
@@ -228,9 +231,6 @@ class RoadmapService {
                 const TourCallbacks& callbacks, const std::shared_ptr<std::atomic<bool>>& stop);
   void release_tour(const std::shared_ptr<std::atomic<bool>>& stop);  // its admission and stop flag
   std::size_t stop_tours(const std::string& scene);  // every scene when empty
-  // The memory budget: what each scene's roadmap is expected to hold, by scene.
-  void admit_cost(const std::string& scene, const BuildCost& cost);
-  void set_reserved(const std::string& scene, double bytes);
 
   const ServiceSettings settings_;
   const ServiceEvents events_;
@@ -251,8 +251,7 @@ class RoadmapService {
   std::mutex snapshots_mutex_;
   std::vector<EncodedSnapshot> snapshots_;  // the few most recent, oldest first
 
-  std::mutex budget_mutex_;
-  std::map<std::string, double> reserved_bytes_;
+  const std::shared_ptr<MemoryBudget> budget_;
 
   std::mutex tours_mutex_;
   std::size_t tours_admitted_ = 0;

@@ -1,0 +1,96 @@
+#include "ispars/service/memory_budget.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+#include "ispars/input_error.hpp"
+
+namespace ispars {
+namespace {
+
+constexpr const char* kRequest = "request";
+constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+constexpr double kMiB = 1024.0 * 1024.0;
+
+}  // namespace
+
+MemoryLease::~MemoryLease() { budget_->give_back(bytes_); }
+
+void MemoryLease::shrink_to(double bytes) {
+  if (!(bytes < bytes_)) return;
+  budget_->give_back(bytes_ - std::max(0.0, bytes));
+  bytes_ = std::max(0.0, bytes);
+}
+
+double MemoryBudget::reserved_locked() const {
+  double sum = 0.0;
+  for (const auto& [name, bytes] : reserved_) sum += bytes;
+  return sum;
+}
+
+double MemoryBudget::reserved() const {
+  std::lock_guard lock(mutex_);
+  return reserved_locked();
+}
+
+double MemoryBudget::leased() const {
+  std::lock_guard lock(mutex_);
+  return leased_;
+}
+
+void MemoryBudget::admit(const std::string& scene, const BuildCost& cost) {
+  std::lock_guard lock(mutex_);
+  const auto own = reserved_.find(scene);
+  const double others = reserved_locked() - (own == reserved_.end() ? 0.0 : own->second);
+  // A scene reserves its peak (its roadmap and one compaction fold of it), not its steady state:
+  // every scene may fold at once.
+  if (others + cost.peak_bytes > total_) {
+    throw InputError(kRequest, "samples",
+                     fmt::format("the roadmap would hold about {:.2f} GiB ({:.3g} vertices, {:.3g} edges expected) and "
+                                 "{:.2f} GiB while its store compacts, more than this daemon's memory budget leaves: "
+                                 "{:.2f} of {:.2f} GiB (other scenes hold {:.2f}); ask for fewer samples or a smaller "
+                                 "dense_delta",
+                                 cost.bytes / kGiB, cost.vertices, cost.edges, cost.peak_bytes / kGiB,
+                                 std::max(0.0, total_ - others) / kGiB, total_ / kGiB, others / kGiB));
+  }
+  reserved_[scene] = cost.peak_bytes;
+  spdlog::info("scene '{}': admitted: about {:.1f} MiB held, {:.1f} MiB at its peak ({:.3g} vertices, {:.3g} edges "
+               "expected); other scenes reserve {:.1f} MiB of the budget's {:.1f}",
+               scene, cost.bytes / kMiB, cost.peak_bytes / kMiB, cost.vertices, cost.edges, others / kMiB, total_ / kMiB);
+}
+
+void MemoryBudget::set_reserved(const std::string& scene, double bytes) {
+  std::lock_guard lock(mutex_);
+  if (bytes > 0.0) {
+    reserved_[scene] = bytes;
+  } else {
+    reserved_.erase(scene);
+  }
+}
+
+std::shared_ptr<MemoryLease> MemoryBudget::lease(double bytes, const std::string& what) {
+  bytes = std::max(0.0, bytes);
+  {
+    std::lock_guard lock(mutex_);
+    const double reserved = reserved_locked();
+    if (reserved + leased_ + bytes > total_) {
+      throw InputError(kRequest, "kind",
+                       fmt::format("busy: {} would need about {:.1f} MiB of memory, and this daemon's memory budget "
+                                   "leaves {:.1f} of {:.1f} MiB now (the loaded roadmaps reserve {:.1f}, running work "
+                                   "holds {:.1f}); retry later",
+                                   what, bytes / kMiB, std::max(0.0, total_ - reserved - leased_) / kMiB,
+                                   total_ / kMiB, reserved / kMiB, leased_ / kMiB));
+    }
+    leased_ += bytes;
+  }
+  return std::shared_ptr<MemoryLease>(new MemoryLease(shared_from_this(), bytes));
+}
+
+void MemoryBudget::give_back(double bytes) {
+  std::lock_guard lock(mutex_);
+  leased_ = std::max(0.0, leased_ - bytes);
+}
+
+}  // namespace ispars
