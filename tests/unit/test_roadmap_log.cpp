@@ -146,6 +146,26 @@ TEST_F(RoadmapLogTest, BatchesRoundTripThroughEncodingAndTheFile) {
   EXPECT_EQ(replica.component_count(), builder_->roadmap().component_count());
 }
 
+TEST_F(RoadmapLogTest, AnEncodingIsItsPredictedSizeAppendsInPlaceAndDecodesFromAView) {
+  build("truss_bridge", 3);
+  std::string appended = "prefix";
+  for (const RoadmapBatch& b : batches_) {
+    const std::string alone = encode_batch(b);
+    EXPECT_EQ(alone.size(), encoded_batch_size(b));
+    const std::size_t before = appended.size();
+    append_encoded_batch(appended, b);
+    EXPECT_EQ(std::string_view(appended).substr(before), alone) << "the same bytes, appended";
+    // A view into a larger buffer decodes to the same batch, encoded again byte for byte.
+    EXPECT_EQ(encode_batch(decode_batch(std::string_view(appended).substr(before))), alone);
+  }
+  // A count that cannot fit in what is left is refused before anything is reserved for it.
+  std::string huge = encode_batch(batches_[1]);
+  const std::size_t changes_at = 2 * sizeof(std::uint64_t);
+  const std::uint32_t impossible = 0x7fffffff;
+  huge.replace(changes_at, sizeof impossible, reinterpret_cast<const char*>(&impossible), sizeof impossible);
+  EXPECT_THROW((void)decode_batch(huge), std::runtime_error);
+}
+
 TEST_F(RoadmapLogTest, ACrashAtAnyByteRecoversExactlyTheCommittedBatches) {
   build("water_tower", 3);
   const auto& batches = batches_;

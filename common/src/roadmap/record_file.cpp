@@ -136,7 +136,7 @@ bool is_damage(std::string_view data, std::size_t at, const Frame& f, RecordLayo
 }  // namespace
 
 RecordReplay read_record_file(const std::filesystem::path& path, const RecordFormat& format,
-                              const RecordCheck& check, const FileSystem& fs) {
+                              const RecordCheck& check, const FileSystem& fs, RecordKeep keep) {
   RecordReplay replay;
   const std::optional<std::string> file = fs.read(path);
   if (!file || file->empty()) return replay;  // no file yet
@@ -173,7 +173,8 @@ RecordReplay read_record_file(const std::filesystem::path& path, const RecordFor
       replay.tail_problem = std::move(problem);
       break;
     }
-    replay.payloads.push_back(std::move(payload));
+    if (keep == RecordKeep::payloads) replay.payloads.push_back(std::move(payload));
+    ++replay.records;
     at += f.header + f.length;
     replay.valid_bytes = at;
   }

@@ -165,8 +165,17 @@ void apply_checked_batch(Roadmap& replica, const RoadmapBatch& batch) {
   }
 }
 
-std::string encode_batch(const RoadmapBatch& batch) {
-  std::string out;
+std::size_t encoded_batch_size(const RoadmapBatch& batch) {
+  std::size_t size = 2 * sizeof(std::uint64_t) + 3 * sizeof(std::uint32_t);
+  size += batch.changes.size() * (sizeof(std::uint8_t) + sizeof(std::uint32_t));
+  size += batch.positions.size() * (3 * sizeof(double) + sizeof(std::uint32_t));
+  for (const auto& ids : batch.visible) size += ids.size() * sizeof(PoiId);
+  size += batch.edges.size() * (2 * sizeof(VertexId) + sizeof(double));
+  return size;
+}
+
+void append_encoded_batch(std::string& out, const RoadmapBatch& batch) {
+  out.reserve(out.size() + encoded_batch_size(batch));  // one allocation: no doubling, no copy
   put_bytes(out, batch.from_version);
   put_bytes(out, batch.to_version);
   put_bytes(out, static_cast<std::uint32_t>(batch.changes.size()));
@@ -186,35 +195,44 @@ std::string encode_batch(const RoadmapBatch& batch) {
     put_bytes(out, e.v);
     put_bytes(out, e.cost);
   }
+}
+
+std::string encode_batch(const RoadmapBatch& batch) {
+  std::string out;
+  append_encoded_batch(out, batch);
   return out;
 }
 
-RoadmapBatch decode_batch(const std::string& payload) {
+RoadmapBatch decode_batch(std::string_view payload) {
   ByteReader in(payload);
   RoadmapBatch batch;
   batch.from_version = in.get<std::uint64_t>();
   batch.to_version = in.get<std::uint64_t>();
   const auto changes = in.get<std::uint32_t>();
-  if (changes > payload.size()) throw std::runtime_error("batch change count is impossible");
+  if (changes > in.remaining() / 5) throw std::runtime_error("batch change count is impossible");
+  batch.changes.reserve(changes);
   for (std::uint32_t i = 0; i < changes; ++i) {
     const auto kind = in.get<std::uint8_t>();
     if (kind > 1) throw std::runtime_error("batch change has an unknown kind");
     batch.changes.push_back({static_cast<RoadmapChange::Kind>(kind), in.get<std::uint32_t>()});
   }
   const auto vertices = in.get<std::uint32_t>();
-  if (vertices > payload.size()) throw std::runtime_error("batch vertex count is impossible");
+  if (vertices > in.remaining() / 28) throw std::runtime_error("batch vertex count is impossible");
+  batch.positions.reserve(vertices);
+  batch.visible.reserve(vertices);
   for (std::uint32_t i = 0; i < vertices; ++i) {
     Vec3 p;
     for (int k = 0; k < 3; ++k) p[k] = in.get<double>();
     batch.positions.push_back(p);
     const auto count = in.get<std::uint32_t>();
-    if (count > payload.size()) throw std::runtime_error("batch POI count is impossible");
+    if (count > in.remaining() / sizeof(PoiId)) throw std::runtime_error("batch POI count is impossible");
     std::vector<PoiId> ids(count);
     for (auto& id : ids) id = in.get<PoiId>();
     batch.visible.push_back(std::move(ids));
   }
   const auto edges = in.get<std::uint32_t>();
-  if (edges > payload.size()) throw std::runtime_error("batch edge count is impossible");
+  if (edges > in.remaining() / 16) throw std::runtime_error("batch edge count is impossible");
+  batch.edges.reserve(edges);
   for (std::uint32_t i = 0; i < edges; ++i) {
     RoadmapEdge e;
     e.u = in.get<VertexId>();

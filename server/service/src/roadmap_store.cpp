@@ -19,14 +19,9 @@ namespace {
 
 using namespace store_files;
 
-void put_blob(std::string& out, const std::string& blob) {
-  put_bytes(out, static_cast<std::uint64_t>(blob.size()));
-  out += blob;
-}
-
-std::string get_blob(ByteReader& in) {
+std::string_view get_blob(ByteReader& in) {
   const auto size = in.get<std::uint64_t>();
-  return std::string(in.bytes(size));
+  return in.bytes(size);
 }
 
 
@@ -39,12 +34,19 @@ BuiltRoadmaps empty_roadmaps(const RoadmapRecipe& recipe, std::size_t poi_count)
 }  // namespace
 
 std::string encode_commit(const BuildCommit& commit) {
+  // One allocation of the exact size, each batch encoded in place: a fold of a large roadmap holds
+  // its encoding once, not a doubling string beside copies of its parts.
+  const std::size_t roadmap_size = encoded_batch_size(commit.roadmap);
+  const std::size_t dense_size = encoded_batch_size(commit.dense);
   std::string out;
+  out.reserve(4 * sizeof(std::uint64_t) + commit.new_dense_ids.size() * sizeof(VertexId) + roadmap_size + dense_size);
   put_bytes(out, commit.samples);
   put_bytes(out, static_cast<std::uint64_t>(commit.new_dense_ids.size()));
   for (const VertexId id : commit.new_dense_ids) put_bytes(out, id);
-  put_blob(out, encode_batch(commit.roadmap));
-  put_blob(out, encode_batch(commit.dense));
+  put_bytes(out, static_cast<std::uint64_t>(roadmap_size));
+  append_encoded_batch(out, commit.roadmap);
+  put_bytes(out, static_cast<std::uint64_t>(dense_size));
+  append_encoded_batch(out, commit.dense);
   return out;
 }
 
@@ -207,13 +209,13 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
       } catch (const std::runtime_error& e) {
         return std::string("unusable commit: ") + e.what();
       }
-    }, fs);
+    }, fs, RecordKeep::count);
   };
   const auto damage = [&](const std::filesystem::path& path, const RecordReplay& journal) {
     return StoreDamage(fmt::format("{} is damaged at byte {} (commit {}): {}; the {} bytes from there on are left "
                                    "untouched for inspection (drop the scene's roadmap, or build with replace, to "
                                    "discard them)",
-                                   path.string(), journal.valid_bytes, journal.payloads.size() + 1,
+                                   path.string(), journal.valid_bytes, journal.records + 1,
                                    journal.tail_problem, fs.file_size(path).value_or(journal.valid_bytes) - journal.valid_bytes));
   };
   if (fs.exists(old_journal_path(dir))) {

@@ -77,12 +77,12 @@ BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::func
     } catch (const std::runtime_error& e) {
       return std::string("unusable commit: ") + e.what();
     }
-  }, fs);
+  }, fs, RecordKeep::count);
   if (journal.torn_tail) {
     // A journal is whole when it is rotated (a failed append is cut back first): any bad byte in
     // it is damage, not a crash's torn tail.
     throw StoreDamage(fmt::format("{} is damaged at byte {} (commit {}): {}; left untouched for inspection", old.string(),
-                                  journal.valid_bytes, journal.payloads.size() + 1, journal.tail_problem));
+                                  journal.valid_bytes, journal.records + 1, journal.tail_problem));
   }
   return whole;
 }

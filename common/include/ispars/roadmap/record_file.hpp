@@ -66,7 +66,8 @@ using RecordCheck = std::function<std::string(const std::string& payload)>;
 
 /// What reading a record file found.
 struct RecordReplay {
-  std::vector<std::string> payloads;  ///< Every accepted record, in order.
+  std::vector<std::string> payloads;  ///< Every accepted record, in order (unless only counted).
+  std::size_t records = 0;            ///< How many records were accepted.
   std::uint64_t valid_bytes = 0;      ///< Length of the valid prefix of the file.
   bool torn_tail = false;             ///< Bytes follow the valid prefix.
   std::string tail_problem;           ///< What was wrong with them.
@@ -78,10 +79,15 @@ struct RecordReplay {
   RecordLayout layout = RecordLayout::checked;  ///< The layout of the file's records.
 };
 
+/// Whether read_record_file keeps each accepted payload or only counts it (its check has used it:
+/// a journal folded or replayed commit by commit need not hold them all at once).
+enum class RecordKeep { payloads, count };
+
 /// Reads a record file (a missing or empty file has no records). Throws std::runtime_error when
 /// the file exists but starts with none of the format's magics.
 [[nodiscard]] RecordReplay read_record_file(const std::filesystem::path& path, const RecordFormat& format,
-                                            const RecordCheck& check, const FileSystem& fs = disk());
+                                            const RecordCheck& check, const FileSystem& fs = disk(),
+                                            RecordKeep keep = RecordKeep::payloads);
 
 /// Appends records to a file, durably.
 class RecordFileWriter {

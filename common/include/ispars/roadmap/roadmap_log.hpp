@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ispars/roadmap/record_file.hpp"
@@ -89,6 +90,9 @@ class RoadmapLogWriter {
 /// Serialises a batch to the record payload format, and back (throws std::runtime_error on a
 /// payload that does not parse exactly).
 [[nodiscard]] std::string encode_batch(const RoadmapBatch& batch);
-[[nodiscard]] RoadmapBatch decode_batch(const std::string& payload);
+/// encode_batch's bytes appended to `out`, which grows once, by exactly encoded_batch_size().
+void append_encoded_batch(std::string& out, const RoadmapBatch& batch);
+[[nodiscard]] std::size_t encoded_batch_size(const RoadmapBatch& batch);
+[[nodiscard]] RoadmapBatch decode_batch(std::string_view payload);
 
 }  // namespace ispars
