@@ -1,5 +1,6 @@
 // isparsd for its operator: READY, STOPPING and WATCHDOG to systemd, the /metrics and /healthz
-// endpoint, and SIGHUP's reload.
+// endpoint (healthy: the quick lane finishes work and the daemon hears itself over DDS), and
+// SIGHUP's reload.
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -14,6 +15,11 @@ namespace ispars::server {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// The DDS probe (watch_health): the daemon writes its announcement again this often, and is
+// healthy only while it heard one of its own within the limit (or the watchdog's, if longer).
+constexpr std::chrono::seconds kSelfProbePeriod{5};
+constexpr std::chrono::seconds kSelfHearingLimit{15};
 
 // The keys of `a` and `b` that differ and apply only at start.
 std::vector<std::string> changed_needing_restart(const DaemonConfig& a, const DaemonConfig& b) {
@@ -65,10 +71,18 @@ void Daemon::watch_health() {
   // slow takeover or a long load on the fleet thread never delays a ping.
   std::uint64_t seen = quick_lane_->completed();
   auto last_ping = Clock::now() - std::chrono::hours(1);
+  auto last_probe = Clock::now();
   std::unique_lock lock(fleet_mutex_);
   while (!fleet_stop_) {
     fleet_wake_.wait_for(lock, std::chrono::milliseconds(100));
     if (fleet_stop_) break;
+    if (Clock::now() - last_probe >= kSelfProbePeriod) {
+      // The DDS probe: the announcement again, which this daemon must hear through the transport.
+      last_probe = Clock::now();
+      lock.unlock();
+      with_dds([](DdsEndpoints& d) { d.announce_again(); });
+      lock.lock();
+    }
     const std::uint64_t done = quick_lane_->completed();
     if (done != seen) {
       seen = done;
@@ -92,7 +106,12 @@ bool Daemon::healthy() const {
                                                  : std::chrono::duration_cast<std::chrono::microseconds>(
                                                        std::chrono::seconds(10));
   const Clock::time_point progressed{Clock::duration(last_progress_.load())};
-  return Clock::now() - progressed <= limit;
+  if (Clock::now() - progressed > limit) return false;
+  // And DDS: the daemon heard its own announcement through the transport lately (a daemon whose
+  // sockets or receive threads died answers no one, though its lanes run).
+  bool heard = false;
+  with_dds([&](const DdsEndpoints& d) { heard = Clock::now() - d.heard_itself() <= std::max<Clock::duration>(limit, kSelfHearingLimit); });
+  return heard;
 }
 
 std::string Daemon::metrics_text() const {

@@ -61,6 +61,9 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
                     // on several threads, this daemon's own samples among them).
                     [this](const msg::DaemonInfo& d, const std::string& sender) {
                       if (d.server_id() == server_id_ && sender != own_identity_) note_namesake(d, sender);
+                      if (d.server_id() == server_id_ && sender == own_identity_) {
+                        heard_itself_ = std::chrono::steady_clock::now().time_since_epoch().count();
+                      }
                       return true;
                     }),
       // A status counts only from the participant that announces the daemon it names: a forged
@@ -256,8 +259,14 @@ void DdsEndpoints::publish_status(const msg::SceneStatus& status) {
 }
 
 void DdsEndpoints::announce(const msg::DaemonInfo& info) {
-  msg::DaemonInfo copy = info;
-  if (!daemons_->write(&copy)) spdlog::error("announcement could not be written");
+  std::lock_guard lock(announced_mutex_);
+  announced_ = info;
+  if (!daemons_->write(&*announced_)) spdlog::error("announcement could not be written");
+}
+
+void DdsEndpoints::announce_again() {
+  std::lock_guard lock(announced_mutex_);
+  if (announced_ && !daemons_->write(&*announced_)) spdlog::error("announcement could not be written");
 }
 
 void DdsEndpoints::publish_tour_progress(const msg::TourProgress& progress) {

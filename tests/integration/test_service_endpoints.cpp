@@ -133,6 +133,9 @@ TEST_F(ServiceTest, MetricsCountRequestsByOutcomeAndShowEachRoadmapAsStatsDoes) 
   EXPECT_EQ(metric(text, "ispars_roadmap_vertices{scene=\"s0\"}"), static_cast<double>(built.vertices()));
   EXPECT_EQ(metric(text, "ispars_roadmap_edges{scene=\"s0\"}"), static_cast<double>(built.edges()));
   EXPECT_GT(metric(text, "process_resident_memory_bytes"), 1e6);
+  // The built roadmap reserves its estimated peak of the budget; nothing runs that leases any.
+  EXPECT_GT(metric(text, "ispars_memory_reserved_bytes"), 0);
+  EXPECT_EQ(metric(text, "ispars_memory_leased_bytes"), 0);
 
   const auto health = http.Get("/healthz");
   ASSERT_TRUE(health);
