@@ -1,6 +1,6 @@
 // isparsd for its operator: READY, STOPPING and WATCHDOG to systemd, the /metrics and /healthz
-// endpoint (healthy: the quick lane finishes work and the daemon hears itself over DDS), and
-// SIGHUP's reload.
+// endpoint (healthy: the quick lane finishes work and, without DDS Security, the daemon hears its
+// own probe through its sockets), and SIGHUP's reload.
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -16,10 +16,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The DDS probe (watch_health): the daemon writes its announcement again this often, and is
-// healthy only while it heard one of its own within the limit (or the watchdog's, if longer).
-constexpr std::chrono::seconds kSelfProbePeriod{5};
-constexpr std::chrono::seconds kSelfHearingLimit{15};
+// The DDS probe (watch_health, self_probe.hpp): the daemon writes a probe sample this often, and
+// is healthy only while one came back within the limit (or the watchdog's, if longer).
+constexpr std::chrono::seconds kSelfProbePeriod{2};
+constexpr std::chrono::seconds kSelfHearingLimit{10};
 
 // The keys of `a` and `b` that differ and apply only at start.
 std::vector<std::string> changed_needing_restart(const DaemonConfig& a, const DaemonConfig& b) {
@@ -77,10 +77,12 @@ void Daemon::watch_health() {
     fleet_wake_.wait_for(lock, std::chrono::milliseconds(100));
     if (fleet_stop_) break;
     if (Clock::now() - last_probe >= kSelfProbePeriod) {
-      // The DDS probe: the announcement again, which this daemon must hear through the transport.
+      // The DDS probe: a sample this daemon must hear back through its sockets.
       last_probe = Clock::now();
       lock.unlock();
-      with_dds([](DdsEndpoints& d) { d.announce_again(); });
+      with_dds([](DdsEndpoints& d) {
+        if (d.probe() != nullptr) d.probe()->ping();
+      });
       lock.lock();
     }
     const std::uint64_t done = quick_lane_->completed();
@@ -107,10 +109,13 @@ bool Daemon::healthy() const {
                                                        std::chrono::seconds(10));
   const Clock::time_point progressed{Clock::duration(last_progress_.load())};
   if (Clock::now() - progressed > limit) return false;
-  // And DDS: the daemon heard its own announcement through the transport lately (a daemon whose
-  // sockets or receive threads died answers no one, though its lanes run).
+  // And DDS: the daemon heard its own probe through its sockets lately (a daemon whose sockets or
+  // receive threads died answers no one, though its lanes run). No probe under DDS Security.
   bool heard = false;
-  with_dds([&](const DdsEndpoints& d) { heard = Clock::now() - d.heard_itself() <= std::max<Clock::duration>(limit, kSelfHearingLimit); });
+  with_dds([&](const DdsEndpoints& d) {
+    const Clock::duration within = std::max<Clock::duration>(limit, kSelfHearingLimit);
+    heard = d.probe() == nullptr || Clock::now() - d.probe()->heard() <= within;
+  });
   return heard;
 }
 

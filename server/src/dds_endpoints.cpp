@@ -61,9 +61,6 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
                     // on several threads, this daemon's own samples among them).
                     [this](const msg::DaemonInfo& d, const std::string& sender) {
                       if (d.server_id() == server_id_ && sender != own_identity_) note_namesake(d, sender);
-                      if (d.server_id() == server_id_ && sender == own_identity_) {
-                        heard_itself_ = std::chrono::steady_clock::now().time_since_epoch().count();
-                      }
                       return true;
                     }),
       // A status counts only from the participant that announces the daemon it names: a forged
@@ -96,6 +93,10 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
   changes_ = require(sub->create_datareader(change_topic, wire::request_reply_reader_qos(), this,
                                             fdds::StatusMask::data_available()),
                      "change reader");
+  // Without DDS Security the daemon delivers nothing inside its process (main.cpp): its probe
+  // samples come back through its sockets. Under security its own announcements never came back
+  // that way (measured), so there is no probe.
+  if (config.security.empty()) probe_ = std::make_unique<SelfProbe>(p, daemon_type_, own_identity_);
   sender_ = std::thread([this] { send_pending_replies(); });
 }
 
@@ -112,6 +113,7 @@ DdsEndpoints::~DdsEndpoints() {
   if (changes_) changes_->set_listener(nullptr);
   if (status_reader_) status_reader_->set_listener(nullptr);
   if (daemons_reader_) daemons_reader_->set_listener(nullptr);
+  if (probe_) probe_->detach();
   participant_->delete_contained_entities();
 }
 
@@ -259,14 +261,8 @@ void DdsEndpoints::publish_status(const msg::SceneStatus& status) {
 }
 
 void DdsEndpoints::announce(const msg::DaemonInfo& info) {
-  std::lock_guard lock(announced_mutex_);
-  announced_ = info;
-  if (!daemons_->write(&*announced_)) spdlog::error("announcement could not be written");
-}
-
-void DdsEndpoints::announce_again() {
-  std::lock_guard lock(announced_mutex_);
-  if (announced_ && !daemons_->write(&*announced_)) spdlog::error("announcement could not be written");
+  msg::DaemonInfo copy = info;
+  if (!daemons_->write(&copy)) spdlog::error("announcement could not be written");
 }
 
 void DdsEndpoints::publish_tour_progress(const msg::TourProgress& progress) {

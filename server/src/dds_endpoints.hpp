@@ -24,6 +24,7 @@
 #include "ispars/wire/latest_samples.hpp"
 #include "ispars/wire/participant.hpp"
 #include "reply_routes.hpp"
+#include "self_probe.hpp"
 
 namespace ispars::server {
 
@@ -45,15 +46,9 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   void retire_updates(const std::string& scene);
   void publish_status(const msg::SceneStatus& status);
   void announce(const msg::DaemonInfo& info);
-  /// Writes the last announcement again (nothing before the first): the health probe. Other
-  /// daemons and clients take it as an unchanged announcement.
-  void announce_again();
-  /// When this participant last received its own announcement (steady clock; its creation time
-  /// until then). isparsd delivers nothing inside the process (main.cpp), so the sample came
-  /// through the transport: the receive path works.
-  [[nodiscard]] std::chrono::steady_clock::time_point heard_itself() const {
-    return std::chrono::steady_clock::time_point(std::chrono::steady_clock::duration(heard_itself_.load()));
-  }
+  /// The DDS probe (self_probe.hpp); null under DDS Security.
+  [[nodiscard]] SelfProbe* probe() { return probe_.get(); }
+  [[nodiscard]] const SelfProbe* probe() const { return probe_.get(); }
   void publish_tour_progress(const msg::TourProgress& progress);
   /// The latest announcement of every other live daemon on the domain.
   [[nodiscard]] std::vector<msg::DaemonInfo> other_daemons() const;
@@ -101,9 +96,7 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   std::string own_identity_;  // this participant's GUID prefix (wire::identity_of)
   std::atomic<bool> id_elsewhere_{false};
   std::atomic<bool> id_contested_{false};
-  std::atomic<std::chrono::steady_clock::rep> heard_itself_{std::chrono::steady_clock::now().time_since_epoch().count()};
-  std::mutex announced_mutex_;
-  std::optional<msg::DaemonInfo> announced_;  // the last announcement written
+  std::unique_ptr<SelfProbe> probe_;
   std::uint64_t joined_ms_ = 0;  // this daemon's DaemonInfo.joined_ms (set before any reader exists)
   mutable std::mutex namesake_mutex_;
   std::string older_namesake_;

@@ -101,11 +101,11 @@ int main(int argc, char** argv) {
       ~StopRouting() { ispars::wire::stop_fastdds_log_routing(); }
     } stop_routing;
 
-    // The daemon hears its own announcements through the transport, not through a shortcut inside
-    // the process: its health (daemon_operator.cpp) then covers its sockets and receive threads.
-    // Not under DDS Security: there a daemon never heard its own announcements through the
-    // transport (measured with Fast DDS 2.9.1: /healthz went 503; the cause was not looked into),
-    // so a secured daemon's probe goes through the process's own delivery, as before.
+    // The daemon hears its own probe samples through the transport, not through a shortcut inside
+    // the process: its health (daemon_operator.cpp, self_probe.hpp) then covers its sockets and
+    // receive threads. Not under DDS Security: there a daemon never heard its own announcements
+    // through the transport (measured with Fast DDS 2.9.1: /healthz went 503; the cause was not looked
+    // into), so a secured daemon keeps in-process delivery and has no probe.
     if (config.security.empty()) {
       eprosima::fastrtps::LibrarySettingsAttributes library;
       library.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;

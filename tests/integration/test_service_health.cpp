@@ -1,8 +1,8 @@
 // /healthz follows DDS, not only the daemon's threads: a daemon that receives no DDS traffic at all
 // (every UDP packet into its host dropped by nftables, its own included; its HTTP endpoint still
 // reachable over TCP) answers no client, and must say 503 within a stated bound, then 200 again
-// once the packets pass. The daemon hears its own announcement, written again every 5 s, through
-// the transport (server/src/main.cpp, daemon_operator.cpp).
+// once the packets pass. The daemon hears its own probe sample, written every 2 s, through the
+// transport (server/src/self_probe.hpp, main.cpp, daemon_operator.cpp).
 
 #include <gtest/gtest.h>
 
@@ -19,11 +19,11 @@ namespace ispars::test {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-// Unhealthy within: the hearing limit (15 s) after the last announcement heard, which came at
-// most one probe period (5 s) before the cut, and a little for the poll.
-constexpr std::chrono::seconds kUnhealthyBound{22};
-// Healthy again within: the next probe (5 s) and a little.
-constexpr std::chrono::seconds kHealthyBound{8};
+// Unhealthy within: the hearing limit (10 s) after the last probe heard, which came at most one
+// probe period (2 s) before the cut, and a little for the poll.
+constexpr std::chrono::seconds kUnhealthyBound{15};
+// Healthy again within: the next probe (2 s) and a little.
+constexpr std::chrono::seconds kHealthyBound{5};
 
 class HealthTest : public ServiceTest {};
 
@@ -65,7 +65,7 @@ TEST_F(HealthTest, ADaemonThatHearsNoDdsIsUnhealthyAndHealthyAgainWhenItDoes) {
   http.set_read_timeout(2, 0);
   // Healthy for longer than the hearing limit: it hears itself.
   ASSERT_GE(seconds_until(http, 200, std::chrono::seconds(30)), 0.0) << daemon.log();
-  std::this_thread::sleep_for(std::chrono::seconds(17));
+  std::this_thread::sleep_for(std::chrono::seconds(12));
   ASSERT_GE(seconds_until(http, 200, std::chrono::seconds(1)), 0.0) << "unhealthy while it hears DDS";
 
   const auto nft = [&](const std::string& args) {
