@@ -6,5 +6,10 @@ set_tests_properties(CrashTest.KillNineAtFiftyMomentsLosesNoCommitAndReplaysByte
 # (never caught up within 60 s in round 1), and passed in 3 runs of 3 alone and in two full runs:
 # not understood (see docs/results/fleet.md). The partition and stall campaigns, long, start early.
 set_tests_properties(ServiceTest.LoopingViewersNeverHoldUpAnUnloadADropOrTheStop PROPERTIES RUN_SERIAL TRUE)
+# Four browsers on the gateway run alone too: in 2 of 4 full parallel runs (2026-11-26 and -27)
+# a new page's load timed out at 30 s (once explained: a daemon re-announcing every 5 s, since
+# removed; once not), while it passed 6 runs of 6 alone or beside the partition, stall and crash
+# tests. Not understood; see docs/results/service.md.
+set_tests_properties(WebViewerTest.FourBrowsersFollowABuildAndDrawWhatStatsSays PROPERTIES RUN_SERIAL TRUE)
 set_tests_properties(PartitionTest.CutAndHealTheOwnerPlain PartitionTest.CutAndHealTheOwnerSecured
                      StallTest.AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner PROPERTIES COST 500)
