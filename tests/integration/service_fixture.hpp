@@ -64,6 +64,20 @@ inline std::vector<std::string> holders(Client& client, const std::string& scene
 }
 
 // "s0".."s3" (built by appending: GCC 12 warns falsely on "s" + std::to_string(n)).
+/// The port the daemon's log names for its metrics endpoint on `address`; -1 when it names none.
+/// (No std::regex: GCC 12 warns inside <regex> in the sanitizer build, and warnings are errors.)
+inline int metrics_port(const std::string& log, const std::string& address = "127.0.0.1") {
+  const std::string before = "metrics on http://" + address + ":";
+  const auto at = log.find(before);
+  if (at == std::string::npos) return -1;
+  const auto digits = at + before.size();
+  const auto end = log.find("/metrics", digits);
+  if (end == std::string::npos || end == digits || end - digits > 5) return -1;
+  const std::string port = log.substr(digits, end - digits);
+  if (port.find_first_not_of("0123456789") != std::string::npos) return -1;
+  return std::stoi(port);
+}
+
 inline std::string scene_name(unsigned n) {
   std::string name = "s";
   name += std::to_string(n);

@@ -79,20 +79,6 @@ TEST_F(ServiceTest, SystemdHearsReadyThenWatchdogPingsThenStopping) {
   EXPECT_EQ(count_of(messages, "STOPPING=1"), 1u);
 }
 
-// The port the daemon's log names for its metrics endpoint.
-int metrics_port(const std::string& log) {
-  // (No std::regex: GCC 12 warns inside <regex> in the sanitizer build, and warnings are errors.)
-  const std::string before = "metrics on http://127.0.0.1:";
-  const auto at = log.find(before);
-  if (at == std::string::npos) return -1;
-  const auto digits = at + before.size();
-  const auto end = log.find("/metrics", digits);
-  if (end == std::string::npos || end == digits || end - digits > 5) return -1;
-  const std::string port = log.substr(digits, end - digits);
-  if (port.find_first_not_of("0123456789") != std::string::npos) return -1;
-  return std::stoi(port);
-}
-
 // The value of metric line `series` (name and labels, exactly) in an exposition; -1 when absent.
 double metric(const std::string& text, const std::string& series) {
   const auto at = text.find("\n" + series + " ");

@@ -27,17 +27,6 @@ constexpr std::chrono::seconds kHealthyBound{5};
 
 class HealthTest : public ServiceTest {};
 
-// The port the daemon's log names for its metrics endpoint on `address`.
-int metrics_port(const std::string& log, const std::string& address) {
-  const std::string before = "metrics on http://" + address + ":";
-  const auto at = log.find(before);
-  if (at == std::string::npos) return -1;
-  const auto digits = at + before.size();
-  const auto end = log.find("/metrics", digits);
-  if (end == std::string::npos || end == digits || end - digits > 5) return -1;
-  return std::stoi(log.substr(digits, end - digits));
-}
-
 // Polls /healthz until it answers `status`, for at most `limit`; the seconds it took, or -1.
 double seconds_until(httplib::Client& http, int status, std::chrono::seconds limit) {
   const auto t0 = Clock::now();

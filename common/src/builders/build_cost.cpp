@@ -22,6 +22,13 @@ double free_fraction(const Scene& scene, int probes) {
   return std::min(1.0, (free + 1.0) / probes);
 }
 
+namespace {
+
+// What one compaction fold of `vertices` and `edges` holds beside the roadmap (build_cost.hpp).
+double fold_bytes(double vertices, double edges) { return vertices * kFoldBytesPerVertex + edges * kFoldBytesPerEdge; }
+
+}  // namespace
+
 BuildCost estimate_build_cost(const Scene& scene, const RoadmapRecipe& recipe, std::uint64_t samples,
                               double free_fraction) {
   const Vec3 side = scene.config().bounds.max - scene.config().bounds.min;
@@ -36,7 +43,7 @@ BuildCost estimate_build_cost(const Scene& scene, const RoadmapRecipe& recipe, s
     cost.vertices = std::min(valid_samples, 0.12 * valid_samples + 2000.0);
     cost.edges = 2.5 * valid_samples;
     cost.bytes = 2.0 * (cost.vertices * kBytesPerVertex + cost.edges * kBytesPerEdge);
-    cost.peak_bytes = cost.bytes + cost.vertices * kFoldBytesPerVertex + cost.edges * kFoldBytesPerEdge;
+    cost.peak_bytes = cost.bytes + fold_bytes(cost.vertices, cost.edges);
     return cost;
   }
   double radius = recipe.dense_delta;
@@ -58,7 +65,7 @@ BuildCost estimate_build_cost(const Scene& scene, const RoadmapRecipe& recipe, s
   cost.bytes = copies * (cost.vertices * kBytesPerVertex + cost.edges * kBytesPerEdge);
   // The store holds the sparse roadmap of a dense pair beside the dense one (a tenth, as above).
   const double stored = has_dense_pair(recipe.method) ? 1.1 : 1.0;
-  cost.peak_bytes = cost.bytes + stored * (cost.vertices * kFoldBytesPerVertex + cost.edges * kFoldBytesPerEdge);
+  cost.peak_bytes = cost.bytes + stored * fold_bytes(cost.vertices, cost.edges);
   return cost;
 }
 

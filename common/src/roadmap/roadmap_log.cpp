@@ -165,13 +165,17 @@ void apply_checked_batch(Roadmap& replica, const RoadmapBatch& batch) {
   }
 }
 
+// Encoded bytes of a change (kind, index), of a vertex before its POI ids (position, id count)
+// and of an edge (ends, cost): the sizes encode_batch writes and decode_batch checks counts by.
+constexpr std::size_t kChangeBytes = sizeof(std::uint8_t) + sizeof(std::uint32_t);
+constexpr std::size_t kVertexBytes = 3 * sizeof(double) + sizeof(std::uint32_t);
+constexpr std::size_t kEdgeBytes = 2 * sizeof(VertexId) + sizeof(double);
+
 std::size_t encoded_batch_size(const RoadmapBatch& batch) {
   std::size_t size = 2 * sizeof(std::uint64_t) + 3 * sizeof(std::uint32_t);
-  size += batch.changes.size() * (sizeof(std::uint8_t) + sizeof(std::uint32_t));
-  size += batch.positions.size() * (3 * sizeof(double) + sizeof(std::uint32_t));
+  size += batch.changes.size() * kChangeBytes + batch.positions.size() * kVertexBytes;
   for (const auto& ids : batch.visible) size += ids.size() * sizeof(PoiId);
-  size += batch.edges.size() * (2 * sizeof(VertexId) + sizeof(double));
-  return size;
+  return size + batch.edges.size() * kEdgeBytes;
 }
 
 void append_encoded_batch(std::string& out, const RoadmapBatch& batch) {
@@ -209,7 +213,7 @@ RoadmapBatch decode_batch(std::string_view payload) {
   batch.from_version = in.get<std::uint64_t>();
   batch.to_version = in.get<std::uint64_t>();
   const auto changes = in.get<std::uint32_t>();
-  if (changes > in.remaining() / 5) throw std::runtime_error("batch change count is impossible");
+  if (changes > in.remaining() / kChangeBytes) throw std::runtime_error("batch change count is impossible");
   batch.changes.reserve(changes);
   for (std::uint32_t i = 0; i < changes; ++i) {
     const auto kind = in.get<std::uint8_t>();
@@ -217,7 +221,7 @@ RoadmapBatch decode_batch(std::string_view payload) {
     batch.changes.push_back({static_cast<RoadmapChange::Kind>(kind), in.get<std::uint32_t>()});
   }
   const auto vertices = in.get<std::uint32_t>();
-  if (vertices > in.remaining() / 28) throw std::runtime_error("batch vertex count is impossible");
+  if (vertices > in.remaining() / kVertexBytes) throw std::runtime_error("batch vertex count is impossible");
   batch.positions.reserve(vertices);
   batch.visible.reserve(vertices);
   for (std::uint32_t i = 0; i < vertices; ++i) {
@@ -231,7 +235,7 @@ RoadmapBatch decode_batch(std::string_view payload) {
     batch.visible.push_back(std::move(ids));
   }
   const auto edges = in.get<std::uint32_t>();
-  if (edges > in.remaining() / 16) throw std::runtime_error("batch edge count is impossible");
+  if (edges > in.remaining() / kEdgeBytes) throw std::runtime_error("batch edge count is impossible");
   batch.edges.reserve(edges);
   for (std::uint32_t i = 0; i < edges; ++i) {
     RoadmapEdge e;

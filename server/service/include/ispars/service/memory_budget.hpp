@@ -9,7 +9,6 @@
 // measures how they compare (docs/results/service.md). Safe from many threads.
 
 #include <cstddef>
-#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
