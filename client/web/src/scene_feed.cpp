@@ -37,7 +37,6 @@ SceneFeed::SceneFeed(client::Client& client, std::string scene, DrawLimits limit
   replica_ = std::make_unique<client::RoadmapReplica>(client_, scene_,
                                                       [this](const client::ReplicaEvent&) { on_change(); });
   replica_ready_ = replica_.get();
-  on_change();
 }
 
 SceneFeed::~SceneFeed() {
@@ -45,14 +44,19 @@ SceneFeed::~SceneFeed() {
   replica_.reset();  // joins the replica's thread
 }
 
-void SceneFeed::on_change() {
+void SceneFeed::on_change() { ++changes_; }
+
+std::shared_ptr<const Roadmap> SceneFeed::current(std::uint64_t& generation) {
+  std::lock_guard lock(copy_mutex_);
   client::RoadmapReplica* replica = replica_ready_;
-  if (replica == nullptr) return;  // still constructing: the constructor takes the first copy
-  auto copy = std::make_shared<const Roadmap>(replica->roadmap());
-  const std::uint64_t generation = replica->generation();
-  std::lock_guard lock(mutex_);
-  roadmap_ = std::move(copy);
-  generation_ = generation;
+  const std::uint64_t changes = changes_;
+  if (replica != nullptr && changes != copied_changes_) {
+    roadmap_ = std::make_shared<const Roadmap>(replica->roadmap());
+    generation_ = replica->generation();
+    copied_changes_ = changes;
+  }
+  generation = generation_;
+  return roadmap_;
 }
 
 std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
@@ -78,13 +82,8 @@ std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
       out.push_back(std::move(message));
     }
   }
-  std::shared_ptr<const Roadmap> roadmap;
   std::uint64_t generation = 0;
-  {
-    std::lock_guard lock(mutex_);
-    roadmap = roadmap_;
-    generation = generation_;
-  }
+  const std::shared_ptr<const Roadmap> roadmap = current(generation);
   if (!roadmap) return out;
   if (generation != cursor.generation) {
     cursor = ViewerCursor{generation, 0, 0, cursor.last_status};
@@ -145,39 +144,55 @@ std::shared_ptr<const std::string> SceneFeed::mesh(const std::filesystem::path& 
     why = "no mesh yet: the scene's roadmap has not reached the gateway";  // not kept: asked again next time
     return nullptr;
   }
-  std::lock_guard lock(mutex_);
+  // One request loads the mesh, with no lock held; others asking meanwhile wait for it (browsers
+  // of the scene keep being served: their updates take no lock of the mesh).
+  std::unique_lock lock(mesh_mutex_);
+  mesh_loaded_.wait(lock, [this] { return !mesh_loading_; });
   if (!mesh_) {
+    mesh_loading_ = true;
+    lock.unlock();
+    std::shared_ptr<const std::string> loaded;
+    std::string error;
     try {
-      const std::filesystem::path file = scene_dir / (scene_ + ".yaml");
-      if (scene_dir.empty() || !std::filesystem::exists(file)) {
-        throw std::runtime_error(fmt::format("no mesh: {} is not in the gateway's scene directory", scene_ + ".yaml"));
-      }
-      const Scene scene = Scene::load(file);
-      const std::vector<Vec3> pois = replica->pois();
-      bool same = pois.size() == scene.pois().size();
-      for (std::size_t i = 0; same && i < pois.size(); ++i) same = (pois[i] - scene.pois()[i]).norm() < 1e-6;
-      if (!same) {
-        throw std::runtime_error(fmt::format("no mesh: {} in the gateway's scene directory is not the daemon's scene "
-                                             "(its POIs differ)",
-                                             file.filename().string()));
-      }
-      const TriangleMesh& m = scene.mesh();
-      auto bytes = std::make_shared<std::string>();
-      const auto put = [&](const void* data, std::size_t size) { bytes->append(static_cast<const char*>(data), size); };
-      const auto nv = static_cast<std::uint32_t>(m.vertices.size());
-      const auto nt = static_cast<std::uint32_t>(m.triangles.size());
-      put(&nv, 4);
-      put(&nt, 4);
-      for (const auto& v : m.vertices) put(v.data(), 12);
-      for (const auto& t : m.triangles) put(t.data(), 12);
-      mesh_ = std::move(bytes);
+      loaded = load_mesh(scene_dir, *replica);
     } catch (const std::exception& e) {
-      mesh_error_ = e.what();
-      mesh_ = std::shared_ptr<const std::string>();
+      error = e.what();
     }
+    lock.lock();
+    mesh_ = std::move(loaded);
+    mesh_error_ = std::move(error);
+    mesh_loading_ = false;
+    mesh_loaded_.notify_all();
   }
   why = mesh_error_;
   return *mesh_;
+}
+
+std::shared_ptr<const std::string> SceneFeed::load_mesh(const std::filesystem::path& scene_dir,
+                                                        const client::RoadmapReplica& replica) const {
+  const std::filesystem::path file = scene_dir / (scene_ + ".yaml");
+  if (scene_dir.empty() || !std::filesystem::exists(file)) {
+    throw std::runtime_error(fmt::format("no mesh: {} is not in the gateway's scene directory", scene_ + ".yaml"));
+  }
+  const Scene scene = Scene::load(file);
+  const std::vector<Vec3> pois = replica.pois();
+  bool same = pois.size() == scene.pois().size();
+  for (std::size_t i = 0; same && i < pois.size(); ++i) same = (pois[i] - scene.pois()[i]).norm() < 1e-6;
+  if (!same) {
+    throw std::runtime_error(fmt::format("no mesh: {} in the gateway's scene directory is not the daemon's scene "
+                                         "(its POIs differ)",
+                                         file.filename().string()));
+  }
+  const TriangleMesh& m = scene.mesh();
+  auto bytes = std::make_shared<std::string>();
+  const auto put = [&](const void* data, std::size_t size) { bytes->append(static_cast<const char*>(data), size); };
+  const auto nv = static_cast<std::uint32_t>(m.vertices.size());
+  const auto nt = static_cast<std::uint32_t>(m.triangles.size());
+  put(&nv, 4);
+  put(&nt, 4);
+  for (const auto& v : m.vertices) put(v.data(), 12);
+  for (const auto& t : m.triangles) put(t.data(), 12);
+  return bytes;
 }
 
 }  // namespace ispars::web

@@ -4,6 +4,7 @@
 // browser from what it has drawn to what the replica holds. Knows nothing of HTTP.
 
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -58,13 +59,26 @@ class SceneFeed {
 
  private:
   void on_change();
+  // The replica as of its last change, copied when a browser first asks after that change (at
+  // most one copy per change and per browser tick, none while no browser watches), with its
+  // generation.
+  std::shared_ptr<const Roadmap> current(std::uint64_t& generation);
+  // Loads the mesh from `scene_dir` (no lock held): the message, or throws naming the problem.
+  std::shared_ptr<const std::string> load_mesh(const std::filesystem::path& scene_dir,
+                                               const client::RoadmapReplica& replica) const;
   client::Client& client_;
   std::string scene_;
   DrawLimits limits_;
   mutable std::mutex mutex_;
-  std::shared_ptr<const Roadmap> roadmap_;  // the replica as of its last change
-  std::uint64_t generation_ = 0;
   std::optional<msg::SceneStatus> last_status_;  // the last status seen from a live daemon
+  std::atomic<std::uint64_t> changes_{0};        // the replica's changes so far
+  std::mutex copy_mutex_;                        // one copy at a time; the others then share it
+  std::uint64_t copied_changes_ = ~std::uint64_t{0};  // changes_ when roadmap_ was copied
+  std::shared_ptr<const Roadmap> roadmap_;       // under copy_mutex_
+  std::uint64_t generation_ = 0;                 // under copy_mutex_
+  std::mutex mesh_mutex_;                        // the mesh's state, never held across its load
+  std::condition_variable mesh_loaded_;
+  bool mesh_loading_ = false;
   std::optional<std::shared_ptr<const std::string>> mesh_;
   std::string mesh_error_;
   std::atomic<client::RoadmapReplica*> replica_ready_{nullptr};  // set once replica_ is constructed

@@ -3,6 +3,8 @@
 
 #include "web_server_impl.hpp"
 
+#include <spdlog/spdlog.h>
+
 namespace ispars::web {
 
 bool valid_scene_name(const std::string& name) {
@@ -11,22 +13,6 @@ bool valid_scene_name(const std::string& name) {
 }
 
 std::string error_message(const std::string& what) { return nlohmann::json{{"type", "error"}, {"message", what}}.dump(); }
-
-std::string query_value(std::string_view target, std::string_view key) {
-  const auto q = target.find('?');
-  if (q == std::string_view::npos) return {};
-  std::string_view rest = target.substr(q + 1);
-  while (!rest.empty()) {
-    const auto amp = rest.find('&');
-    const std::string_view pair = rest.substr(0, amp);
-    if (pair.size() > key.size() && pair.substr(0, key.size()) == key && pair[key.size()] == '=') {
-      return std::string(pair.substr(key.size() + 1));
-    }
-    if (amp == std::string_view::npos) break;
-    rest = rest.substr(amp + 1);
-  }
-  return {};
-}
 
 namespace {
 
@@ -51,6 +37,12 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     const std::string target(request.target());
     const std::string path = target.substr(0, target.find('?'));
     version_ = request.version();
+    const AccessVerdict verdict = server_->access->check(facts(request));
+    if (verdict.status != 0) {
+      ++server_->refused_access;
+      return respond(static_cast<http::status>(verdict.status), "text/plain", verdict.reason + "\n");
+    }
+    if (verdict.token_from_query) set_cookie_ = server_->access->token_cookie();
     if (websocket::is_upgrade(request)) {
       if (path != "/ws") return respond(http::status::not_found, "text/plain", "WebSockets are at /ws?scene=NAME\n");
       stream_.expires_never();
@@ -58,57 +50,79 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       return;
     }
     if (request.method() != http::verb::get) return respond(http::status::method_not_allowed, "text/plain", "GET only\n");
-    if (path == "/api/scenes") {
-      return net::post(server_->workers, [self = shared_from_this()] {
-        http::status status = http::status::ok;
-        std::string body;
-        try {
-          nlohmann::json list = nlohmann::json::array();
-          for (const auto& e : self->server_->client.list_scenes()) {
-            list.push_back({{"name", e.name().to_string()}, {"server_id", e.server_id().to_string()},
-                            {"loaded", e.loaded()}, {"has_roadmap", e.has_roadmap()}});
-          }
-          body = nlohmann::json{{"scenes", list}}.dump();
-        } catch (const std::exception& e) {
-          status = http::status::service_unavailable;
-          body = nlohmann::json{{"error", e.what()}}.dump();
-        }
-        net::post(self->stream_.get_executor(), [self, status, body] { self->respond(status, "application/json", body); });
-      });
-    }
-    if (path.rfind("/api/mesh/", 0) == 0) {
-      const std::string scene = path.substr(10);
-      if (!valid_scene_name(scene)) return respond(http::status::bad_request, "text/plain", "not a scene name\n");
-      return net::post(server_->workers, [self = shared_from_this(), scene] {
-        http::status status = http::status::ok;
-        std::string type = "application/octet-stream", body;
-        try {
-          std::string why;
-          const auto mesh = self->server_->feed_for(scene)->mesh(self->server_->options.scene_dir, why);
-          if (mesh) {
-            body = *mesh;
-          } else {
-            status = http::status::not_found;
-            type = "text/plain";
-            body = why + "\n";
-          }
-        } catch (const std::exception& e) {
-          status = http::status::not_found;
-          type = "text/plain";
-          body = std::string(e.what()) + "\n";
-        }
-        net::post(self->stream_.get_executor(), [self, status, type, body] { self->respond(status, type, body); });
-      });
-    }
+    if (path == "/api/scenes") return list_scenes();
+    if (path.rfind("/api/mesh/", 0) == 0) return send_mesh(path.substr(10));
     std::string type, body;
     http::status status{};
     server_->serve_file(path == "/" ? "index.html" : path.substr(1), type, body, status);
     respond(status, type, std::move(body));
   }
 
+  // The scene list, asked of the daemons on a worker.
+  void list_scenes() {
+    net::post(server_->workers, [self = shared_from_this()] {
+      http::status status = http::status::ok;
+      std::string body;
+      try {
+        nlohmann::json list = nlohmann::json::array();
+        for (const auto& e : self->server_->client.list_scenes()) {
+          list.push_back({{"name", e.name().to_string()}, {"server_id", e.server_id().to_string()},
+                          {"loaded", e.loaded()}, {"has_roadmap", e.has_roadmap()}});
+        }
+        body = nlohmann::json{{"scenes", list}}.dump();
+      } catch (const std::exception& e) {
+        status = http::status::service_unavailable;
+        body = nlohmann::json{{"error", e.what()}}.dump();
+      }
+      net::post(self->stream_.get_executor(), [self, status, body] { self->respond(status, "application/json", body); });
+    });
+  }
+
+  // A scene's mesh, loaded on a worker.
+  void send_mesh(const std::string& scene) {
+    if (!valid_scene_name(scene)) return respond(http::status::bad_request, "text/plain", "not a scene name\n");
+    net::post(server_->workers, [self = shared_from_this(), scene] {
+      http::status status = http::status::ok;
+      std::string type = "application/octet-stream", body;
+      try {
+        std::string why;
+        const auto mesh = self->server_->feeds.get(scene)->mesh(self->server_->options.scene_dir, why);
+        if (mesh) {
+          body = *mesh;
+        } else {
+          status = http::status::not_found;
+          type = "text/plain";
+          body = why + "\n";
+        }
+      } catch (const std::exception& e) {
+        status = http::status::not_found;
+        type = "text/plain";
+        body = std::string(e.what()) + "\n";
+      }
+      net::post(self->stream_.get_executor(), [self, status, type, body] { self->respond(status, type, body); });
+    });
+  }
+
+  // What the access policy looks at: the request's headers and the connection's two ends.
+  RequestFacts facts(const http::request<http::string_body>& request) const {
+    const auto sv = [](beast::string_view v) { return std::string_view(v.data(), v.size()); };
+    RequestFacts f;
+    if (const auto it = request.find(http::field::host); it != request.end()) f.host = sv(it->value());
+    if (const auto it = request.find(http::field::origin); it != request.end()) f.origin = sv(it->value());
+    f.authorization = sv(request[http::field::authorization]);
+    f.cookie = sv(request[http::field::cookie]);
+    f.target = sv(request.target());
+    beast::error_code ec;
+    f.peer = stream_.socket().remote_endpoint(ec).address().to_string();
+    f.local = stream_.socket().local_endpoint(ec).address().to_string();
+    return f;
+  }
+
   void respond(http::status status, const std::string& type, std::string body) {
     auto response = std::make_shared<http::response<http::string_body>>(status, version_);
     response->set(http::field::server, "ispars-web");
+    if (!set_cookie_.empty()) response->set(http::field::set_cookie, set_cookie_);
+    if (status == http::status::unauthorized) response->set(http::field::www_authenticate, "Bearer");
     response->set(http::field::content_type, type);
     response->set(http::field::cache_control, "no-store");
     response->keep_alive(false);
@@ -126,21 +140,23 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   Server* server_;
   std::shared_ptr<Server::Slot> slot_;
   unsigned version_ = 11;
+  std::string set_cookie_;  // the token's cookie, for a request let in by ?token=
 };
 
 }  // namespace
 
-std::shared_ptr<SceneFeed> WebServer::Impl::feed_for(const std::string& scene) {
-  {
-    std::lock_guard lock(feeds_mutex);
-    if (auto it = feeds.find(scene); it != feeds.end()) return it->second;
-    if (feeds.size() >= options.max_scenes) {
-      throw std::runtime_error(fmt::format("the viewer follows {} scenes already (its limit)", feeds.size()));
-    }
-  }
-  auto feed = std::make_shared<SceneFeed>(client, scene, options.limits);  // outside the lock: it waits
-  std::lock_guard lock(feeds_mutex);
-  return feeds.emplace(scene, std::move(feed)).first->second;  // a feed made meanwhile wins
+void WebServer::Impl::sweep() {
+  sweep_timer.expires_after(std::chrono::seconds(1));
+  sweep_timer.async_wait([this](beast::error_code ec) {
+    if (ec) return;
+    net::post(workers, [this] {
+      for (const std::string& scene : feeds.sweep()) {
+        spdlog::info("ispars-web: stopped following scene {}: no browser watched it for {} s", scene,
+                     std::chrono::duration<double>(options.feed_linger).count());
+      }
+      net::post(io, [this] { sweep(); });
+    });
+  });
 }
 
 void WebServer::Impl::serve_file(const std::string& name, std::string& type, std::string& body,
@@ -191,7 +207,9 @@ WebServer::WebServer(client::Client& client, WebServerOptions options)
   if (!ec) s.acceptor.bind(endpoint, ec);
   if (!ec) s.acceptor.listen(net::socket_base::max_listen_connections, ec);
   if (ec) throw std::runtime_error(fmt::format("cannot listen on {}:{}: {}", s.options.address, s.options.port, ec.message()));
+  s.access = std::make_unique<AccessPolicy>(s.options.access, s.acceptor.local_endpoint().port());
   s.accept();
+  s.sweep();
   s.io_thread = std::thread([&s] { s.io.run(); });
 }
 
@@ -199,14 +217,15 @@ WebServer::~WebServer() {
   impl_->io.stop();
   if (impl_->io_thread.joinable()) impl_->io_thread.join();
   impl_->workers.join();  // a tour still searching ends within its budget
-  std::lock_guard lock(impl_->feeds_mutex);
   impl_->feeds.clear();
 }
 
 std::uint16_t WebServer::port() const { return impl_->acceptor.local_endpoint().port(); }
 
 WebServerStats WebServer::stats() const {
-  return {impl_->browsers, impl_->browsers_total, impl_->messages, impl_->refused};
+  return {impl_->browsers,       impl_->browsers_total, impl_->messages,
+          impl_->refused,        impl_->refused_access, impl_->tours_refused,
+          impl_->feeds.size()};
 }
 
 }  // namespace ispars::web

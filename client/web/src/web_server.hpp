@@ -4,12 +4,14 @@
 // streams a scene's roadmap as it grows, its status, and tours on request. Calls that wait on
 // the daemons run on worker threads, never on the I/O thread.
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
 
 #include "ispars/client/client.hpp"
+#include "access_policy.hpp"
 #include "scene_feed.hpp"
 
 namespace ispars::web {
@@ -24,6 +26,9 @@ struct WebServerOptions {
   std::size_t max_scenes = 32;             ///< Scenes followed at once (1..1000).
   std::size_t max_queued_messages = 64;    ///< Per browser: past it, updates wait for the socket.
   double tour_budget_max = 60.0;           ///< Seconds a browser may ask a tour to search (0.1..3600).
+  std::size_t max_tours = 2;               ///< Tours searching at once, over every page (1..64).
+  std::chrono::milliseconds feed_linger{30'000};  ///< A scene no browser watches is dropped after it (0..3600 s).
+  AccessOptions access;                    ///< Origins allowed beyond the gateway's own, and the token.
   DrawLimits limits;
 };
 
@@ -33,6 +38,9 @@ struct WebServerStats {
   std::size_t browsers_total = 0;  ///< WebSockets ever opened.
   std::size_t messages_sent = 0;
   std::size_t refused = 0;         ///< Connections refused over max_connections.
+  std::size_t refused_access = 0;  ///< Requests refused by Host, Origin or token.
+  std::size_t tours_refused = 0;   ///< Tours refused over max_tours.
+  std::size_t scenes = 0;          ///< Scenes followed now.
 };
 
 class WebServer {

@@ -23,6 +23,8 @@
 #include <string_view>
 #include <thread>
 
+#include "access_policy.hpp"
+#include "feed_set.hpp"
 #include "web_server.hpp"
 
 namespace ispars::web {
@@ -37,8 +39,6 @@ using tcp = net::ip::tcp;
 bool valid_scene_name(const std::string& name);
 /// The page's error message.
 std::string error_message(const std::string& what);
-/// The value of `key` in a target's query string ("/ws?scene=s0"), undecoded: names need no escapes.
-std::string query_value(std::string_view target, std::string_view key);
 
 /// The server's state: its options, the scenes it follows, its I/O thread and its workers.
 class WebServer::Impl {
@@ -48,13 +48,15 @@ class WebServer::Impl {
   client::Client& client;
   const WebServerOptions options;
   std::atomic<std::size_t> connections{0}, browsers{0}, browsers_total{0}, messages{0}, refused{0};
-  std::mutex feeds_mutex;
-  std::map<std::string, std::shared_ptr<SceneFeed>> feeds;
+  std::atomic<std::size_t> refused_access{0}, tours{0}, tours_refused{0};
+  FeedSet feeds{client, options.limits, options.max_scenes, options.feed_linger};
+  std::unique_ptr<AccessPolicy> access;  // made once the port is bound
   net::thread_pool workers{8};
   std::thread io_thread;
   // Last, so destroyed first: the sessions its queued handlers hold go before what they use.
   net::io_context io{1};
   tcp::acceptor acceptor{io};
+  net::steady_timer sweep_timer{io};
 
   /// A connection's place in max_connections, given back when the last holder goes.
   struct Slot {
@@ -63,9 +65,8 @@ class WebServer::Impl {
     Impl& server;
   };
 
-  /// The feed of `scene`, made on first use (blocks: run it on a worker). Throws when no daemon
-  /// holds the scene, or past max_scenes.
-  std::shared_ptr<SceneFeed> feed_for(const std::string& scene);
+  /// Drops, on a worker, the feeds no browser watches any more; then again a second later.
+  void sweep();
   /// Listens for the next connection.
   void accept();
   /// One of the page's files (a fixed list) from the web root, or 404.

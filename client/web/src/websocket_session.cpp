@@ -35,7 +35,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     }
     net::post(server_->workers, [self = shared_from_this()] {
       try {
-        auto feed = self->server_->feed_for(self->scene_);
+        auto feed = self->server_->feeds.get(self->scene_);
         net::post(self->ws_.get_executor(), [self, feed] {
           self->feed_ = feed;
           self->tick();
@@ -70,6 +70,14 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     }
     if (tour_running_) return send(error_message("tour: this page's last tour is still searching"));
     if (!feed_) return send(error_message("tour: the scene is not followed yet"));
+    // Every page's tours take the daemon's tour slots: the gateway runs at most max_tours at once.
+    if (server_->tours >= server_->options.max_tours) {
+      ++server_->tours_refused;
+      return send(error_message(fmt::format("tour: the gateway runs {} tours at once already (its limit, --max-tours); "
+                                            "ask again when one ends",
+                                            server_->options.max_tours)));
+    }
+    ++server_->tours;
     tour_running_ = true;
     net::post(server_->workers, [self = shared_from_this(), budget] {
       std::string reply;
@@ -88,23 +96,36 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
         reply = error_message(std::string("tour: ") + e.what());
       }
       net::post(self->ws_.get_executor(), [self, reply] {
+        --self->server_->tours;
         self->tour_running_ = false;
         self->send(reply);
       });
     });
   }
 
+  // The feed's next messages for this browser, made on a worker (copying the roadmap and
+  // encoding batches must not hold up the I/O thread that serves every browser).
   void tick() {
     if (closed_) return;
     // A slow browser: nothing more is queued until its socket drains; it then gets everything new
     // at once (the cursor only moves when messages are queued).
-    if (queue_.size() < server_->options.max_queued_messages) {
+    if (queue_.size() >= server_->options.max_queued_messages) return next_tick();
+    net::post(server_->workers, [self = shared_from_this()] {
+      std::vector<std::string> out;
       try {
-        for (std::string& m : feed_->updates_for(cursor_)) send(std::move(m));
+        out = self->feed_->updates_for(self->cursor_);
       } catch (const std::exception& e) {
-        send(error_message(e.what()));
+        out = {error_message(e.what())};
       }
-    }
+      net::post(self->ws_.get_executor(), [self, out = std::move(out)]() mutable {
+        for (std::string& m : out) self->send(std::move(m));
+        self->next_tick();
+      });
+    });
+  }
+
+  void next_tick() {
+    if (closed_) return;
     timer_.expires_after(std::chrono::milliseconds(200));
     timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
       if (!ec) self->tick();
