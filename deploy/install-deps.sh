@@ -7,6 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libfcl-dev libassimp-dev libembree-dev libpng-dev libspdlog-dev libfmt-dev
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools default-jre-headless
+  cyclonedds-dev cyclonedds-tools
   libcli11-dev libnanoflann-dev nlohmann-json3-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev libompl-dev
   coinor-libclp-dev zlib1g-dev
