@@ -13,3 +13,8 @@ set_tests_properties(ServiceTest.LoopingViewersNeverHoldUpAnUnloadADropOrTheStop
 set_tests_properties(WebViewerTest.FourBrowsersFollowABuildAndDrawWhatStatsSays PROPERTIES RUN_SERIAL TRUE)
 set_tests_properties(PartitionTest.CutAndHealTheOwnerPlain PartitionTest.CutAndHealTheOwnerSecured
                      StallTest.AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner PROPERTIES COST 500)
+# The client of another vendor (tests/vendor/, Cyclone DDS): `ctest -L vendor` runs it alone. Its
+# hundred fresh clients take about 80 s in a row and start early.
+set_tests_properties(VendorTest.ACycloneClientReadsStatusUpdatesStatsAndATourWithProgress
+                     VendorTest.AHundredFreshCycloneClientsLoseNoFirstReply PROPERTIES LABELS "service;vendor")
+set_tests_properties(VendorTest.AHundredFreshCycloneClientsLoseNoFirstReply PROPERTIES COST 300)
