@@ -171,13 +171,13 @@ int main(int argc, char** argv) {
       if (list_json) {
         nlohmann::json list = nlohmann::json::array();
         for (const auto& e : entries) {
-          list.push_back({{"name", e.name().to_string()}, {"server_id", e.server_id().to_string()}, {"loaded", e.loaded()},
+          list.push_back({{"name", e.scene().to_string()}, {"server_id", e.server_id().to_string()}, {"loaded", e.loaded()},
                           {"has_roadmap", e.has_roadmap()}, {"note", e.note()}});
         }
         std::cout << nlohmann::json{{"scenes", list}}.dump() << std::endl;
       } else {
         for (const auto& e : entries) {
-          std::cout << fmt::format("{:<24} {:<28} {}{}{}\n", e.name().to_string(), e.server_id().to_string(),
+          std::cout << fmt::format("{:<24} {:<28} {}{}{}\n", e.scene().to_string(), e.server_id().to_string(),
                                    e.loaded() ? "loaded" : "-", e.has_roadmap() ? ", stored roadmap" : "",
                                    e.note().empty() ? "" : "\n    " + e.note());
         }

@@ -97,7 +97,7 @@ bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
       msg::SceneList list;
       for (const SceneListing& l : service_->list_scenes()) {
         msg::SceneEntry e;
-        e.name(l.name);
+        e.scene(l.name);
         e.loaded(l.loaded);
         e.has_roadmap(l.has_roadmap);
         e.server_id(config_.server_id);

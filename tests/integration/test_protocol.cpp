@@ -54,7 +54,7 @@ TEST_F(ProtocolTest, ADaemonRefusesAnotherVersionByNameAndAnswersItsOwn) {
   EXPECT_TRUE(answered->ok()) << answered->error();
   ASSERT_EQ(answered->body()._d(), msg::LIST_SCENES);
   ASSERT_EQ(answered->body().list_scenes().scenes().size(), 1u);
-  EXPECT_EQ(answered->body().list_scenes().scenes()[0].name(), "s0");
+  EXPECT_EQ(answered->body().list_scenes().scenes()[0].scene(), "s0");
   EXPECT_TRUE(daemon.alive());
 }
 

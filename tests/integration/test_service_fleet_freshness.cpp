@@ -44,7 +44,7 @@ double wait_held_idle_by(Client& client, const std::string& scene, const std::st
 
 std::string note_of(Client& client, const std::string& scene, const std::string& server) {
   for (const auto& e : client.list_scenes()) {
-    if (e.name() == scene && e.server_id() == server) return e.note();
+    if (e.scene() == scene && e.server_id() == server) return e.note();
   }
   return "";
 }

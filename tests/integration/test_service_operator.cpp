@@ -47,10 +47,10 @@ TEST_F(ServiceTest, AnUnloadSurvivesARestartAndALoadBringsTheRoadmapBack) {
     Client c(client_options(domain_));
     const auto list = c.list_scenes();
     for (const auto& e : list) {
-      if (e.name() == "s0") {
+      if (e.scene() == "s0") {
         EXPECT_FALSE(e.loaded()) << "an unloaded scene was reloaded at start";
       }
-      if (e.name() == "s1") {
+      if (e.scene() == "s1") {
         EXPECT_TRUE(e.loaded()) << "a loaded scene was not reloaded at start";
       }
     }
