@@ -18,3 +18,6 @@ set_tests_properties(PartitionTest.CutAndHealTheOwnerPlain PartitionTest.CutAndH
 set_tests_properties(VendorTest.ACycloneClientReadsStatusUpdatesStatsAndATourWithProgress
                      VendorTest.AHundredFreshCycloneClientsLoseNoFirstReply PROPERTIES LABELS "service;vendor")
 set_tests_properties(VendorTest.AHundredFreshCycloneClientsLoseNoFirstReply PROPERTIES COST 300)
+# A page of another origin in headless Chromium (one page, a few seconds) runs alone too, like
+# the four browsers above: a page's load is what timed out beside the rest.
+set_tests_properties(WebGatewayTest.APageOfAnotherOriginCannotOpenTheWebSocket PROPERTIES RUN_SERIAL TRUE)

@@ -3,92 +3,17 @@
 // tour comes on request, an unknown scene, a closed browser and a roadmap past the drawing limits
 // are handled, and the gateway keeps serving when the daemon goes away.
 
-#include <arpa/inet.h>
-#include <fcntl.h>
-#include <netinet/in.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/socket.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <nlohmann/json.hpp>
+
+#include <fstream>
 #include <thread>
 
 #include "integration/service_fixture.hpp"
+#include "integration/test_web_support.hpp"
 #include "ispars/render/scene_render.hpp"
-
-extern char** environ;
 
 namespace ispars::test {
 namespace {
-
-// ispars-web as a user starts it, its output in a file; stopped with SIGTERM.
-class Gateway {
- public:
-  Gateway(int domain, const std::filesystem::path& scene_dir, const std::filesystem::path& log,
-          const std::vector<std::string>& extra = {})
-      : log_(log) {
-    std::vector<std::string> args = {ISPARS_WEB, "--domain", std::to_string(domain), "--listen", "127.0.0.1:0",
-                                     "--scene-dir", scene_dir.string(), "--timeout", "5"};
-    args.insert(args.end(), extra.begin(), extra.end());
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    if (posix_spawn(&pid_, ISPARS_WEB, &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&actions);
-    const std::string said = "serving http://127.0.0.1:";
-    for (int i = 0; i < 200 && port_ == 0; ++i) {
-      const std::string text = read_text(log_);
-      if (const auto at = text.find(said); at != std::string::npos) port_ = std::stoi(text.substr(at + said.size()));
-      if (port_ == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-  }
-  ~Gateway() {
-    if (pid_ > 0 && alive()) stop();
-  }
-  int stop() {
-    ::kill(pid_, SIGTERM);
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-    pid_ = -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-  bool alive() { return pid_ > 0 && ::waitpid(pid_, nullptr, WNOHANG) == 0; }
-  [[nodiscard]] int port() const { return port_; }
-  [[nodiscard]] std::string log() const { return read_text(log_); }
-
- private:
-  std::filesystem::path log_;
-  pid_t pid_ = -1;
-  int port_ = 0;
-};
-
-// One plain HTTP GET on localhost: the status line and the body.
-std::pair<std::string, std::string> http_get(int port, const std::string& path) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<std::uint16_t>(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-    ::close(fd);
-    return {"no connection", ""};
-  }
-  const std::string request = "GET " + path + " HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n";
-  (void)::write(fd, request.data(), request.size());
-  std::string response;
-  char buffer[4096];
-  for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) response.append(buffer, static_cast<std::size_t>(n));
-  ::close(fd);
-  const auto line_end = response.find("\r\n");
-  const auto body = response.find("\r\n\r\n");
-  return {response.substr(0, line_end), body == std::string::npos ? "" : response.substr(body + 4)};
-}
 
 // A JSON value as text: a string as it is, anything else as JSON.
 std::string text_of(const nlohmann::json& value) { return value.is_string() ? value.get<std::string>() : value.dump(); }
@@ -223,7 +148,7 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
 }
 
 // A bad command line stops the gateway before it joins DDS, with exit 2 and a line naming the
-// option; a port already in use stops it with exit 1, naming the address.
+// option (a bound of the access policy too); a port already in use stops it with exit 1, naming the address.
 TEST_F(WebViewerTest, BadCommandLinesAndABusyPortStopTheStartByName) {
   const auto run = [&](const std::string& args) {
     const auto out = dir_.path() / "bad.txt";
@@ -232,13 +157,22 @@ TEST_F(WebViewerTest, BadCommandLinesAndABusyPortStopTheStartByName) {
                                        .c_str());
     return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out));
   };
+  const auto short_token = dir_.path() / "short-token";
+  std::ofstream(short_token) << "short\n";
   for (const auto& [args, named] : std::vector<std::pair<std::string, std::string>>{
            {"--listen 127.0.0.1:99999", "--listen"},
            {"--listen localhost:80", "--listen: 'localhost' is not an IPv4 address"},
            {"--listen 127.0.0.1", "--listen"},
            {"--max-browsers 0", "--max-browsers"},
            {"--web-root /", "--web-root: no index.html in /"},
-           {"--tour-budget-max -1", "--tour-budget-max"}}) {
+           {"--tour-budget-max -1", "--tour-budget-max"},
+           {"--max-tours 0", "--max-tours"},
+           {"--max-tours 65", "--max-tours"},
+           {"--feed-linger -1", "--feed-linger"},
+           {"--allow-origin evil.example", "--allow-origin: 'evil.example' is not an origin"},
+           {"--allow-origin http://evil.example/page", "--allow-origin: 'http://evil.example/page' is not an origin"},
+           {"--token-file /nonexistent", "--token-file"},
+           {"--token-file " + short_token.string(), "--token-file: " + short_token.string() + ": the token has 5 characters"}}) {
     const auto [code, text] = run(args);
     EXPECT_EQ(code, 2) << args << ": " << text;
     EXPECT_NE(text.find(named), std::string::npos) << args << ": " << text;

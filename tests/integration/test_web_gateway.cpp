@@ -1,0 +1,200 @@
+// Who may use the live viewer's gateway (client/web/README.md): a page of another origin cannot
+// open its WebSocket (in headless Chromium and as a raw upgrade), a DNS-rebinding Host is refused,
+// a peer off loopback needs the token (in a network namespace), tours are bounded per gateway,
+// and a scene no browser watches stops being followed.
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <set>
+#include <thread>
+
+#include "integration/service_fixture.hpp"
+#include "integration/test_web_support.hpp"
+#include "support/netns_lab.hpp"
+
+namespace ispars::test {
+namespace {
+
+using WebGatewayTest = ServiceTest;
+
+std::string origin_header(const std::string& origin) { return "Origin: " + origin + "\r\n"; }
+
+// Raw requests, as a page of another origin, a rebinding name, curl and the page itself send them.
+TEST_F(WebGatewayTest, AForeignOriginAndARebindingHostAreRefusedTheGatewaysOwnLetIn) {
+  Gateway gateway(domain_, scene_dir_, dir_.path() / "web.log", {"--allow-origin", "https://viewer.example:8443"});
+  ASSERT_GT(gateway.port(), 0) << gateway.log();
+  const int port = gateway.port();
+  const std::string own = "http://127.0.0.1:" + std::to_string(port);
+  {
+    RawWebSocket foreign(port, "/ws?scene=s0", origin_header("http://evil.example"));
+    EXPECT_EQ(foreign.status(), "HTTP/1.1 403 Forbidden");
+    EXPECT_EQ(foreign.body(), "origin http://evil.example is not allowed (see --allow-origin)\n");
+  }
+  for (const std::string& origin : {own, "http://localhost:" + std::to_string(port), std::string("https://viewer.example:8443")}) {
+    RawWebSocket allowed(port, "/ws?scene=s0", origin_header(origin));
+    EXPECT_EQ(allowed.status(), "HTTP/1.1 101 Switching Protocols") << origin << ": " << allowed.body();
+  }
+  // The same origin on another port, or another scheme, is another origin.
+  for (const std::string& origin : {std::string("http://127.0.0.1:1"), "https://127.0.0.1:" + std::to_string(port),
+                                    std::string("null")}) {
+    RawWebSocket other(port, "/ws?scene=s0", origin_header(origin));
+    EXPECT_EQ(other.status(), "HTTP/1.1 403 Forbidden") << origin;
+  }
+  const auto api = http_get(port, "/api/scenes", origin_header("http://evil.example"));
+  EXPECT_EQ(api.first, "HTTP/1.1 403 Forbidden");
+  EXPECT_NE(api.second.find("origin http://evil.example is not allowed"), std::string::npos) << api.second;
+  // DNS rebinding: a name the attacker controls, pointed at 127.0.0.1.
+  for (const char* path : {"/api/scenes", "/api/mesh/s0", "/"}) {
+    const auto rebound = http_get(port, path, "", "rebind.example:" + std::to_string(port));
+    EXPECT_EQ(rebound.first, "HTTP/1.1 421 Misdirected Request") << path;
+    EXPECT_NE(rebound.second.find("host rebind.example:" + std::to_string(port) + " is not this gateway"),
+              std::string::npos)
+        << rebound.second;
+  }
+  EXPECT_EQ(http_get(port, "/", "", "localhost").first, "HTTP/1.1 421 Misdirected Request") << "another port (80)";
+  // No Origin (curl, the page's own files) with the gateway's Host: served.
+  EXPECT_EQ(http_get(port, "/").first, "HTTP/1.1 200 OK");
+  EXPECT_EQ(http_get(port, "/app.js", "", "localhost:" + std::to_string(port)).first, "HTTP/1.1 200 OK");
+  EXPECT_EQ(http_get(port, "/app.js", origin_header(own)).first, "HTTP/1.1 200 OK");
+  EXPECT_EQ(gateway.stop(), 0);
+  EXPECT_NE(gateway.log().find("9 requests refused by Host, Origin or token"), std::string::npos) << gateway.log();
+}
+
+// A real page of another origin, in headless Chromium, opens ws://127.0.0.1:PORT/ws: refused;
+// the same page is let in once its origin is named by --allow-origin.
+TEST_F(WebGatewayTest, APageOfAnotherOriginCannotOpenTheWebSocket) {
+  ASSERT_TRUE(std::filesystem::exists("/usr/bin/chromium")) << "Debian's chromium (deploy/install-deps.sh installs it)";
+  const int page_port = free_port();
+  const std::string page_origin = "http://127.0.0.1:" + std::to_string(page_port);
+  const auto try_page = [&](int gateway_port) {
+    const auto out = dir_.path() / "origin.txt";
+    const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' node '" +
+                                ISPARS_SOURCE_DIR + "/tests/web/origin_check.mjs' " + std::to_string(gateway_port) + " " +
+                                std::to_string(page_port) + " s0 60 > '" + out.string() + "' 2>&1";
+    EXPECT_EQ(std::system(command.c_str()), 0) << read_text(out);
+    const auto json = nlohmann::json::parse(read_text(out), nullptr, false);
+    return json.is_discarded() ? nlohmann::json{{"failure", read_text(out)}} : json;
+  };
+  {
+    Gateway gateway(domain_, scene_dir_, dir_.path() / "web.log");
+    ASSERT_GT(gateway.port(), 0) << gateway.log();
+    const auto refused = try_page(gateway.port());
+    EXPECT_EQ(refused.value("ws", ""), "refused") << refused;
+    EXPECT_EQ(refused.value("origin", ""), page_origin) << refused;
+    EXPECT_EQ(gateway.stop(), 0);
+    EXPECT_NE(gateway.log().find(" 1 requests refused by Host, Origin or token"), std::string::npos) << gateway.log();
+  }
+  Gateway allowing(domain_, scene_dir_, dir_.path() / "web-allowing.log", {"--allow-origin", page_origin});
+  ASSERT_GT(allowing.port(), 0) << allowing.log();
+  const auto opened = try_page(allowing.port());
+  EXPECT_EQ(opened.value("ws", ""), "open") << opened;
+  EXPECT_EQ(allowing.stop(), 0);
+  EXPECT_NE(allowing.log().find(" 0 requests refused by Host, Origin or token"), std::string::npos) << allowing.log();
+}
+
+// Off loopback, in network namespaces made by the test (nothing reaches the machine's own): a
+// gateway refuses to listen without a token; with one, every peer off loopback must present it
+// (header, query then cookie, or cookie), while a peer on loopback needs none.
+TEST_F(WebGatewayTest, APeerOffLoopbackNeedsTheToken) {
+  NetnsLab lab(dir_.path() / "netns", {"gw", "cl"}, std::chrono::seconds(3));
+  const std::string address = lab.address("gw");
+  const std::string web = std::string(ISPARS_WEB) + " --domain " + std::to_string(domain_) + " --profile-file " +
+                          lab.profile("gw").string();
+  for (const std::string& listen : {std::string("0.0.0.0:0"), address + ":0"}) {
+    const auto refused = lab.run("gw", web + " --listen " + listen);
+    EXPECT_EQ(refused.status, 2) << refused.output;
+    EXPECT_NE(refused.output.find("--listen " + listen + " is not a loopback address"), std::string::npos) << refused.output;
+  }
+  const std::string token = "tok-0123456789abcdef-XYZ";
+  const auto token_file = dir_.path() / "token";
+  std::ofstream(token_file) << token << "\n";
+  Gateway gateway(domain_, scene_dir_, dir_.path() / "web.log",
+                  {"--token-file", token_file.string(), "--profile-file", lab.profile("gw").string()}, lab.prefix("gw"),
+                  "0.0.0.0:0");
+  ASSERT_GT(gateway.port(), 0) << gateway.log();
+  EXPECT_EQ(gateway.log().find(token), std::string::npos) << "the token is not printed";
+  const std::string url = "http://" + address + ":" + std::to_string(gateway.port());
+  const auto code = [&](const std::string& host, const std::string& args) {
+    return lab.run(host, "curl -s -o /dev/null -w \"%{http_code}\" " + args).output;
+  };
+  EXPECT_EQ(code("cl", url + "/"), "401");
+  EXPECT_NE(lab.run("cl", "curl -s " + url + "/app.js").output.find(lab.address("cl") + " is not loopback: a token is required"),
+            std::string::npos);
+  EXPECT_EQ(code("cl", "-H \"Authorization: Bearer tok-0123456789abcdef-XYy\" " + url + "/"), "401");
+  EXPECT_EQ(code("cl", "-H \"Cookie: ispars_token=" + token + "x\" " + url + "/"), "401");
+  EXPECT_EQ(code("cl", "-H \"Authorization: Bearer " + token + "\" " + url + "/"), "200");
+  EXPECT_EQ(code("cl", "-H \"Cookie: a=b; ispars_token=" + token + "\" " + url + "/app.js"), "200");
+  // The page opened once as /?token=: the response keeps the token in a cookie for the page's
+  // requests and its WebSocket (which a browser cannot give an Authorization header).
+  const auto headers = lab.run("cl", "curl -s -D - -o /dev/null \"" + url + "/?token=" + token + "\"").output;
+  EXPECT_NE(headers.find("HTTP/1.1 200 OK"), std::string::npos) << headers;
+  EXPECT_NE(headers.find("Set-Cookie: ispars_token=" + token + "; Path=/; HttpOnly; SameSite=Strict"), std::string::npos)
+      << headers;
+  const std::string upgrade = "curl -s -i --max-time 2 -H \"Origin: " + url +
+                              "\" -H \"Connection: Upgrade\" -H \"Upgrade: websocket\" -H \"Sec-WebSocket-Version: 13\" "
+                              "-H \"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\" ";
+  EXPECT_EQ(lab.run("cl", upgrade + url + "/ws?scene=s0 | head -1").output, "HTTP/1.1 401 Unauthorized\r\n");
+  EXPECT_EQ(lab.run("cl", upgrade + "-H \"Cookie: ispars_token=" + token + "\" " + url + "/ws?scene=s0 | head -1").output,
+            "HTTP/1.1 101 Switching Protocols\r\n");
+  // On the gateway's host: its own address is off loopback too; 127.0.0.1 is not.
+  EXPECT_EQ(code("gw", url + "/"), "401");
+  EXPECT_EQ(code("gw", "http://127.0.0.1:" + std::to_string(gateway.port()) + "/"), "200");
+  EXPECT_EQ(gateway.stop(), 0) << gateway.log();
+}
+
+// Two pages ask for a tour at once through a gateway of --max-tours 1: the second is refused by
+// name and served once the first ends. Then, with every page gone, the scene's feed is dropped.
+TEST_F(WebGatewayTest, ToursAreBoundedPerGatewayAndAnUnwatchedSceneIsDropped) {
+  auto daemon = start("d");
+  Client client(client_options(domain_));
+  client.load("s0");
+  client.build("s0", ispars_build(scaled(3000)));
+  (void)client.wait_idle("s0", {}, kLong);
+  Gateway gateway(domain_, scene_dir_, dir_.path() / "web.log", {"--max-tours", "1", "--feed-linger", "1"});
+  ASSERT_GT(gateway.port(), 0) << gateway.log();
+  const std::string own = origin_header("http://127.0.0.1:" + std::to_string(gateway.port()));
+  // The next message of `type` on `ws` (others, the roadmap's batches and statuses, are skipped).
+  const auto next_of = [](RawWebSocket& ws, const std::set<std::string>& types) {
+    while (const auto text = ws.next(std::chrono::seconds(30))) {
+      const auto m = nlohmann::json::parse(*text, nullptr, false);
+      if (!m.is_discarded() && types.count(m.value("type", "")) != 0) return m;
+    }
+    return nlohmann::json{{"type", "nothing within 30 s"}};
+  };
+  {
+    RawWebSocket a(gateway.port(), "/ws?scene=s0", own);
+    RawWebSocket b(gateway.port(), "/ws?scene=s0", own);
+    ASSERT_EQ(a.status(), "HTTP/1.1 101 Switching Protocols") << a.body();
+    ASSERT_EQ(b.status(), "HTTP/1.1 101 Switching Protocols") << b.body();
+    // Followed: each page has had the scene's status (a tour needs the feed).
+    EXPECT_EQ(next_of(a, {"status", "error"})["type"], "status");
+    EXPECT_EQ(next_of(b, {"status", "error"})["type"], "status");
+    a.send_text(R"({"type":"tour","budget":3})");
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    b.send_text(R"({"type":"tour","budget":0.5})");
+    const auto refused = next_of(b, {"tour", "error"});
+    EXPECT_EQ(refused.value("message", ""),
+              "tour: the gateway runs 1 tours at once already (its limit, --max-tours); ask again when one ends")
+        << refused;
+    const auto first = next_of(a, {"tour", "error"});
+    EXPECT_EQ(first["type"], "tour") << first;
+    b.send_text(R"({"type":"tour","budget":0.5})");
+    const auto second = next_of(b, {"tour", "error"});
+    EXPECT_EQ(second["type"], "tour") << second;
+  }
+  // Both pages gone: the feed goes after --feed-linger (1 s), checked each second.
+  const std::string dropped = "stopped following scene s0: no browser watched it for 1 s";
+  for (int i = 0; i < 100 && gateway.log().find(dropped) == std::string::npos; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_NE(gateway.log().find(dropped), std::string::npos) << gateway.log();
+  // A page coming back follows it again.
+  RawWebSocket again(gateway.port(), "/ws?scene=s0", own);
+  EXPECT_EQ(next_of(again, {"status", "error"})["type"], "status");
+  EXPECT_EQ(gateway.stop(), 0);
+  EXPECT_NE(gateway.log().find(" 1 tours refused over --max-tours"), std::string::npos) << gateway.log();
+}
+
+}  // namespace
+}  // namespace ispars::test
