@@ -67,8 +67,14 @@ class Client::Impl final : public fdds::DataReaderListener {
                   [this](const msg::SceneStatus&) { status_changed_.notify_all(); },
                   wire::statuses_from_their_daemon(daemons_)),
         daemons_([](const msg::DaemonInfo& d) { return d.server_id().to_string(); },
-                 [this](const msg::DaemonInfo&) { statuses_.recheck(); }),
-        link_(std::make_unique<ClientLink>(options.participant, listeners())) {
+                 [this](const msg::DaemonInfo&) { statuses_.recheck(); }) {
+    // Made here, once every member exists: its readers call this object from the moment they
+    // are created (the daemon's route-open reply can arrive before the link's constructor returns).
+    auto link = std::make_unique<ClientLink>(options.participant, listeners());
+    {
+      std::unique_lock lock(link_mutex_);
+      link_ = std::move(link);
+    }
     set_id(link_->id());
     std::random_device rd;
     next_seq_ = (static_cast<std::uint64_t>(rd()) << 20) + 1;  // distinct across restarts with one GUID

@@ -7,6 +7,7 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <mutex>
@@ -19,6 +20,7 @@
 #include "ispars/roadmap/roadmap_log.hpp"
 #include "ispars/wire/convert.hpp"
 #include "ispars/wire/identity.hpp"
+#include "ispars/wire/scene_filter.hpp"
 #include "ispars/wire/topics.hpp"
 #include "ispars/wire/safe_type.hpp"
 #include "isparsPubSubTypes.h"
@@ -57,17 +59,28 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
   void attach(wire::Participant& participant) override {
     fdds::DomainParticipant* p = participant.get();
     fdds::Topic* topic = wire::find_or_create_topic(p, type_, wire::kUpdatesTopic);
+    // This scene's batches only (wire/scene_filter.hpp); a name of its own, as several replicas
+    // may share the participant.
+    static std::atomic<std::uint64_t> filters{0};
+    const std::string name = std::string(wire::kUpdatesTopic) + "@" + scene_ + "#" + std::to_string(++filters);
+    fdds::ContentFilteredTopic* filtered = topic ? wire::scene_filtered_topic(p, topic, name, scene_) : nullptr;
     fdds::Subscriber* subscriber = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-    if (!topic || !subscriber) throw std::runtime_error("cannot subscribe to roadmap updates");
+    if (!filtered || !subscriber) {
+      if (filtered) p->delete_contentfilteredtopic(filtered);
+      if (subscriber) p->delete_subscriber(subscriber);
+      throw std::runtime_error("cannot subscribe to roadmap updates");
+    }
     fdds::DataReader* reader =
-        subscriber->create_datareader(topic, wire::updates_reader_qos(), this, fdds::StatusMask::data_available());
+        subscriber->create_datareader(filtered, wire::updates_reader_qos(), this, fdds::StatusMask::data_available());
     if (!reader) {
       p->delete_subscriber(subscriber);
+      p->delete_contentfilteredtopic(filtered);
       throw std::runtime_error("cannot create the update reader");
     }
     std::lock_guard lock(mutex_);
     subscriber_ = subscriber;
     reader_ = reader;
+    filtered_ = filtered;
     rejoined_ = attached_ > 0;  // a new participant: batches may have been missed
     ++attached_;
     wake_.notify_all();
@@ -76,15 +89,18 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
   void detach(wire::Participant& participant) override {
     fdds::Subscriber* subscriber = nullptr;
     fdds::DataReader* reader = nullptr;
+    fdds::ContentFilteredTopic* filtered = nullptr;
     {
       std::lock_guard lock(mutex_);
       subscriber = std::exchange(subscriber_, nullptr);
       reader = std::exchange(reader_, nullptr);
+      filtered = std::exchange(filtered_, nullptr);
     }
     if (!reader) return;
     reader->set_listener(nullptr);
     subscriber->delete_datareader(reader);
     participant->delete_subscriber(subscriber);
+    participant->delete_contentfilteredtopic(filtered);
   }
 
   // Whether the update reader has matched a writer (false while detached).
@@ -100,7 +116,11 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
     msg::UpdateBatch batch;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&batch, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data || batch.scene() != scene_) continue;
+      if (!info.valid_data) continue;
+      if (batch.scene() != scene_) {  // the filter lets none through: counted, to show it
+        other_scenes_.fetch_add(1);
+        continue;
+      }
       // Only from the participant that announces the daemon the batch names (transport
       // identity): a forged batch never makes the replica resync.
       if (!client_.written_by_daemon(batch.server_id().to_string(), wire::sender_identity(info))) continue;
@@ -320,6 +340,8 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
   std::mutex mutex_;  // the reader, the inbox and stopping
   fdds::Subscriber* subscriber_ = nullptr;
   fdds::DataReader* reader_ = nullptr;
+  fdds::ContentFilteredTopic* filtered_ = nullptr;
+  std::atomic<std::size_t> other_scenes_{0};  // batches of other scenes that reached the reader
   std::size_t attached_ = 0;  // participants attached to so far
   bool rejoined_ = false;     // attached to a new participant since the last look
   // The replica's thread's: the last resync behind_owner() asked for, and since when the owner's
@@ -379,6 +401,7 @@ std::size_t RoadmapReplica::batches_applied() const {
   std::lock_guard lock(impl_->state_mutex_);
   return impl_->batches_;
 }
+std::size_t RoadmapReplica::batches_of_other_scenes() const { return impl_->other_scenes_.load(); }
 std::size_t RoadmapReplica::batches_dropped() const {
   std::lock_guard lock(impl_->mutex_);
   return impl_->dropped_;

@@ -1,5 +1,7 @@
 #include "ispars/wire/participant.hpp"
 
+#include "ispars/wire/identity.hpp"
+
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/log/Log.hpp>
@@ -83,7 +85,18 @@ class SpdlogConsumer final : public fdds::LogConsumer {
 // warning (see kSecureLeaseSeconds).
 class ParticipantEvents final : public fdds::DomainParticipantListener {
  public:
-  ParticipantEvents(bool secure, std::shared_ptr<PeerWatch> peers) : secure_(secure), peers_(std::move(peers)) {}
+  ParticipantEvents(bool secure, std::shared_ptr<PeerWatch> peers, std::function<void(const RemoteReader&)> readers)
+      : secure_(secure), peers_(std::move(peers)), readers_(std::move(readers)) {}
+
+  void on_subscriber_discovery(fdds::DomainParticipant*, rtps::ReaderDiscoveryInfo&& info) override {
+    if (info.status == rtps::ReaderDiscoveryInfo::CHANGED_QOS_READER) return;
+    RemoteReader reader;
+    reader.identity = identity_of(info.info.guid().guidPrefix);
+    reader.topic = info.info.topicName().to_string();
+    reader.partitions = info.info.m_qos.m_partition.names();
+    reader.present = info.status == rtps::ReaderDiscoveryInfo::DISCOVERED_READER;
+    readers_(reader);
+  }
 
   void on_participant_discovery(fdds::DomainParticipant*, rtps::ParticipantDiscoveryInfo&& info) override {
     const std::string who = describe(info.info.m_guid, info.info.m_participantName.to_string());
@@ -137,6 +150,7 @@ class ParticipantEvents final : public fdds::DomainParticipantListener {
   }
   bool secure_;
   std::shared_ptr<PeerWatch> peers_;
+  std::function<void(const RemoteReader&)> readers_;
 };
 
 }  // namespace
@@ -191,7 +205,11 @@ Participant::Participant(const ParticipantOptions& options, fdds::DomainParticip
   // Without a listener of the caller's, this one logs participant events; discovery and
   // authentication callbacks come whatever the mask, and no entity status reaches it.
   if (listener == nullptr) {
-    events_ = std::make_unique<ParticipantEvents>(!options.security.empty(), peers_);
+    events_ = std::make_unique<ParticipantEvents>(!options.security.empty(), peers_,
+                                                  [slot = readers_](const RemoteReader& reader) {
+                                                    std::lock_guard lock(slot->mutex);
+                                                    if (slot->watch) slot->watch(reader);
+                                                  });
     listener = events_.get();
   }
   const auto mask = events_ ? fdds::StatusMask::none() : fdds::StatusMask::all();
@@ -223,6 +241,11 @@ Participant::Participant(const ParticipantOptions& options, fdds::DomainParticip
                                         " (is its certificate signed by its ca.pem, and its permissions by the same "
                                         "authority, and valid now?)"));
   }
+}
+
+void Participant::watch_readers(ReaderWatch watch) {
+  std::lock_guard lock(readers_->mutex);
+  readers_->watch = std::move(watch);
 }
 
 Participant::~Participant() {

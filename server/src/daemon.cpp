@@ -226,6 +226,9 @@ void Daemon::handle(const Request& request) {
                                    "of the same release",
                                    msg::PROTOCOL_VERSION, request.protocol()));
     }
+    if (request.request_seq() == 0) {
+      throw InputError("request", "request_seq", "0 is reserved (the route-open reply); start at 1");
+    }
     now = answer(request, reply);
   } catch (const InputError& e) {
     reply.ok(false);

@@ -106,8 +106,11 @@ std::string DaemonMetrics::render(const DaemonGauges& g) const {
   }
   family(out, "ispars_update_subscribers", "gauge", "Readers matched to this daemon's roadmap updates.");
   line(fmt::format("ispars_update_subscribers {}\n", g.update_subscribers));
-  family(out, "ispars_reply_clients", "gauge", "Clients whose reply readers this daemon has matched.");
+  family(out, "ispars_reply_clients", "gauge",
+         "Clients whose reply routes are ready (reply reader matched and route acknowledged).");
   line(fmt::format("ispars_reply_clients {}\n", g.reply_clients));
+  family(out, "ispars_reply_routes", "gauge", "Reply routes held (one per client whose reply reader is present).");
+  line(fmt::format("ispars_reply_routes {}\n", g.reply_routes));
   family(out, "ispars_other_daemons", "gauge", "Other live daemons announced on the domain.");
   line(fmt::format("ispars_other_daemons {}\n", g.other_daemons));
   family(out, "ispars_memory_budget_bytes", "gauge", "Memory all loaded roadmaps may be expected to hold.");

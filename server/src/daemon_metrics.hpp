@@ -32,7 +32,8 @@ struct SceneGauges {
 struct DaemonGauges {
   std::vector<SceneGauges> scenes;
   std::uint64_t update_subscribers = 0;  ///< readers matched to the updates writer
-  std::uint64_t reply_clients = 0;       ///< clients whose reply readers are matched
+  std::uint64_t reply_clients = 0;       ///< clients whose reply routes are ready
+  std::uint64_t reply_routes = 0;        ///< reply routes held (a publisher and two writers each)
   std::uint64_t resident_bytes = 0;
   double memory_budget_bytes = 0;
   double memory_reserved_bytes = 0;  ///< the loaded scenes' roadmap peaks (memory_budget.hpp)

@@ -139,6 +139,7 @@ std::string Daemon::metrics_text() const {
     with_dds([&](DdsEndpoints& d) {
       g.update_subscribers = d.update_subscribers();
       g.reply_clients = d.reply_clients();
+      g.reply_routes = d.reply_routes();
       g.other_daemons = d.other_daemons().size();
     });
   }

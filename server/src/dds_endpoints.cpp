@@ -13,6 +13,7 @@
 #include "daemon.hpp"
 #include "ispars/wire/daemon_trust.hpp"
 #include "ispars/wire/identity.hpp"
+#include "ispars/wire/scene_filter.hpp"
 #include "ispars/wire/topics.hpp"
 #include "ispars/wire/safe_type.hpp"
 #include "isparsPubSubTypes.h"
@@ -80,7 +81,10 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
   fdds::Topic* progress_topic = wire::find_or_create_topic(p, progress_type_, wire::kTourProgressTopic);
   fdds::Publisher* pub = require(p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT), "publisher");
   fdds::Subscriber* sub = require(p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT), "subscriber");
-  routes_ = std::make_unique<ReplyRoutes>(p, reply_topic, progress_topic, this);
+  routes_ = std::make_unique<ReplyRoutes>(p, reply_topic, progress_topic, this, server_id_);
+  // Each replica's scene filter is evaluated here, per reader: a replica of one scene is sent no
+  // other scene's batches (wire/scene_filter.hpp).
+  if (!wire::register_scene_filter(p)) spdlog::warn("the scene filter could not be registered; replicas filter on their side");
   updates_ = require(pub->create_datawriter(update_topic, wire::updates_writer_qos()), "update writer");
   status_ = require(pub->create_datawriter(status_topic, wire::state_writer_qos()), "status writer");
   daemons_ = require(pub->create_datawriter(daemon_topic, wire::state_writer_qos()), "announcement writer");
@@ -98,9 +102,22 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
   // that way (measured), so there is no probe.
   if (config.security.empty()) probe_ = std::make_unique<SelfProbe>(p, daemon_type_, own_identity_);
   sender_ = std::thread([this] { send_pending_replies(); });
+  // A client's route is made as soon as its reply reader is discovered, before its first request.
+  participant_.watch_readers([this](const wire::RemoteReader& reader) {
+    if (reader.topic != wire::kReplyTopic) return;
+    const std::string own = wire::reply_partition(reader.identity);
+    if (std::find(reader.partitions.begin(), reader.partitions.end(), own) == reader.partitions.end()) return;
+    if (reader.present) {
+      routes_->want(reader.identity);
+    } else {
+      routes_->forget(reader.identity);
+    }
+    outbox_wake_.notify_all();
+  });
 }
 
 DdsEndpoints::~DdsEndpoints() {
+  participant_.watch_readers({});
   accepting_ = false;
   {
     std::lock_guard lock(outbox_mutex_);
@@ -123,7 +140,7 @@ namespace {
 
 template <class Request>
 void take_requests(fdds::DataReader* reader, Daemon& daemon, const std::string& server_id,
-                   const std::atomic<bool>& accepting) {
+                   const std::atomic<bool>& accepting, ReplyRoutes& routes) {
   Request request;
   fdds::SampleInfo info;
   while (reader->take_next_sample(&request, &info) == ReturnCode_t::RETCODE_OK) {
@@ -132,6 +149,7 @@ void take_requests(fdds::DataReader* reader, Daemon& daemon, const std::string& 
     // The sender is who the transport says, whatever the request claims: replies, retries and
     // the reply cache are keyed by it, so no client can answer, pre-empt or poison another's.
     request.client_id(wire::sender_identity(info));
+    routes.want(request.client_id().to_string());  // if its reader was not discovered yet
     daemon.receive(std::move(request));
   }
 }
@@ -146,22 +164,16 @@ void DdsEndpoints::on_data_available(fdds::DataReader* reader) {
     ~Reset() { in_dds_callback = false; }
   } reset;
   if (reader == queries_) {
-    take_requests<msg::QueryRequest>(reader, daemon_, server_id_, accepting_);
+    take_requests<msg::QueryRequest>(reader, daemon_, server_id_, accepting_, *routes_);
   } else if (reader == changes_) {
-    take_requests<msg::ChangeRequest>(reader, daemon_, server_id_, accepting_);
+    take_requests<msg::ChangeRequest>(reader, daemon_, server_id_, accepting_, *routes_);
   }
 }
 
 void DdsEndpoints::on_publication_matched(fdds::DataWriter*, const fdds::PublicationMatchedStatus& info) {
-  const std::string reader = wire::identity_of(info.last_subscription_handle);
-  {
-    std::lock_guard lock(matched_mutex_);
-    if (info.current_count_change > 0) {
-      matched_clients_.insert(reader);
-    } else if (info.current_count_change < 0) {
-      if (const auto it = matched_clients_.find(reader); it != matched_clients_.end()) matched_clients_.erase(it);
-      if (matched_clients_.count(reader) == 0) routes_->reader_left(reader);
-    }
+  // The last reader of a route left: release the route (on the sender thread).
+  if (info.current_count_change < 0 && info.current_count == 0) {
+    routes_->forget(wire::identity_of(info.last_subscription_handle));
   }
   outbox_wake_.notify_all();
 }
@@ -174,18 +186,9 @@ void DdsEndpoints::send_reply(const msg::Reply& reply, std::chrono::milliseconds
   // Replies made inside DDS's own callback (busy refusals, cached replies) always go through the
   // sender thread: creating or waiting for a route there would deadlock with DDS's receive locks.
   const std::string client = reply.client_id().to_string();
-  if (!in_dds_callback && routes_->has(client)) {
-    bool matched = false;
-    {
-      std::lock_guard lock(matched_mutex_);
-      matched = matched_clients_.count(client) > 0;
-    }
-    // Never into DDS with matched_mutex_ held: DDS's discovery thread takes it (in
-    // on_publication_matched) while holding its own locks.
-    if (matched) {
-      write_reply(reply);
-      return;
-    }
+  if (!in_dds_callback && routes_->ready(client)) {
+    write_reply(reply);
+    return;
   }
   {
     std::lock_guard lock(outbox_mutex_);
@@ -204,25 +207,25 @@ void DdsEndpoints::write_reply(const msg::Reply& reply) {
 }
 
 void DdsEndpoints::send_pending_replies() {
-  std::list<PendingReply> due;
+  bool handshaking = false;
   std::unique_lock lock(outbox_mutex_);
   while (!closing_) {
-    outbox_wake_.wait_for(lock, std::chrono::milliseconds(20), [&] { return closing_ || !outbox_.empty(); });
+    // A handshake waits for an acknowledgement, which calls nothing: poll it every 2 ms.
+    outbox_wake_.wait_for(lock, std::chrono::milliseconds(handshaking ? 2 : 20),
+                          [&] { return closing_ || !outbox_.empty() || routes_->has_work(); });
     std::list<PendingReply> pending;
     pending.splice(pending.end(), outbox_);
     lock.unlock();  // into DDS without outbox_mutex_: DDS's callbacks queue replies under it
-    for (auto& item : pending) routes_->open(item.reply.client_id().to_string());
+    for (auto& item : pending) {
+      if (!routes_->has(item.reply.client_id().to_string())) routes_->want(item.reply.client_id().to_string());
+    }
+    handshaking = routes_->service();
     const auto now = std::chrono::steady_clock::now();
     for (auto it = pending.begin(); it != pending.end();) {
-      bool matched = false;
-      {
-        std::lock_guard m(matched_mutex_);
-        matched = matched_clients_.count(it->reply.client_id().to_string()) > 0;
-      }
-      if (matched || now >= it->deadline) {
-        if (!matched) {
-          spdlog::warn("client {} has no matched reply reader; replying anyway (it will retry)", it->reply.client_id());
-        }
+      const std::string client = it->reply.client_id().to_string();
+      const bool ready = routes_->ready(client);
+      if (ready || now >= it->deadline) {
+        if (!ready) spdlog::warn("client {}'s reply reader has not acknowledged its route; replying anyway (it will retry)", client);
         write_reply(it->reply);
         it = pending.erase(it);
       } else {
@@ -292,14 +295,9 @@ std::uint64_t DdsEndpoints::update_subscribers() const {
   return static_cast<std::uint64_t>(std::max(0, matched.current_count));
 }
 
-std::uint64_t DdsEndpoints::reply_clients() const {
-  std::lock_guard lock(matched_mutex_);
-  std::uint64_t distinct = 0;
-  for (auto it = matched_clients_.begin(); it != matched_clients_.end(); it = matched_clients_.upper_bound(*it)) {
-    ++distinct;
-  }
-  return distinct;
-}
+std::uint64_t DdsEndpoints::reply_clients() const { return routes_->ready_count(); }
+
+std::uint64_t DdsEndpoints::reply_routes() const { return routes_->size(); }
 
 std::string DdsEndpoints::older_namesake() const {
   std::lock_guard lock(namesake_mutex_);

@@ -37,8 +37,8 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint64_t joined_ms);
   ~DdsEndpoints() override;
 
-  /// Writes a reply once the client's reply reader has matched (waiting at most `wait`); the
-  /// client retries with the same id if it is still lost.
+  /// Writes a reply once the client's reply route is ready (reply_routes.hpp), waiting at most
+  /// `wait`; the client retries with the same id if it is still lost.
   void send_reply(const msg::Reply& reply, std::chrono::milliseconds wait = std::chrono::milliseconds(2000));
   void publish_update(const msg::UpdateBatch& batch);
   /// Disposes `scene`'s update instance (its roadmap was dropped, or the scene left this daemon):
@@ -61,10 +61,11 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   /// before it (ties go to the lower participant GUID); empty while there is none. This daemon
   /// must then stop.
   [[nodiscard]] std::string older_namesake() const;
-  /// Readers matched to the updates writer (replicas, watchers), and clients whose reply readers
-  /// are matched: for the metrics.
+  /// Readers matched to the updates writer (replicas, watchers), clients whose reply routes are
+  /// ready (reader matched and acknowledged), and reply routes held: for the metrics.
   [[nodiscard]] std::uint64_t update_subscribers() const;
   [[nodiscard]] std::uint64_t reply_clients() const;
+  [[nodiscard]] std::uint64_t reply_routes() const;
   /// Stops delivering requests.
   void stop_requests();
   /// A peer this participant dropped and then discovered again under the same GUID, once.
@@ -72,7 +73,7 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
 
   // DataReaderListener (queries and changes)
   void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
-  // DataWriterListener (each client's reply writer): tracks which clients' reply readers have matched.
+  // DataWriterListener (each client's reply writer): a route whose last reader left is released.
   void on_publication_matched(eprosima::fastdds::dds::DataWriter* writer,
                               const eprosima::fastdds::dds::PublicationMatchedStatus& info) override;
 
@@ -119,9 +120,6 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   std::list<PendingReply> outbox_;
   bool closing_ = false;
   std::thread sender_;
-
-  mutable std::mutex matched_mutex_;
-  std::multiset<std::string> matched_clients_;  // identities (GUID prefixes) of matched reply readers
 };
 
 }  // namespace ispars::server

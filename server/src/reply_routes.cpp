@@ -2,17 +2,21 @@
 
 #include <spdlog/spdlog.h>
 
+#include <utility>
+#include <vector>
+
 #include "ispars/wire/topics.hpp"
 
 namespace ispars::server {
 namespace fdds = eprosima::fastdds::dds;
 
 ReplyRoutes::ReplyRoutes(fdds::DomainParticipant* participant, fdds::Topic* reply_topic, fdds::Topic* progress_topic,
-                         fdds::DataWriterListener* matched, std::size_t max_routes)
+                         fdds::DataWriterListener* matched, std::string server_id, std::size_t max_routes)
     : participant_(participant),
       reply_topic_(reply_topic),
       progress_topic_(progress_topic),
       matched_(matched),
+      server_id_(std::move(server_id)),
       max_routes_(max_routes < 1 ? 1 : max_routes) {}
 
 void ReplyRoutes::touch(ReplyRoute& route) {
@@ -20,18 +24,82 @@ void ReplyRoutes::touch(ReplyRoute& route) {
   route.last_used = ++tick_;
 }
 
-bool ReplyRoutes::open(const std::string& client) {
+void ReplyRoutes::want(const std::string& client) {
+  std::lock_guard lock(asked_mutex_);
+  asked_.emplace_back(client, true);
+}
+
+void ReplyRoutes::forget(const std::string& client) {
+  std::lock_guard lock(asked_mutex_);
+  asked_.emplace_back(client, false);
+}
+
+bool ReplyRoutes::has_work() const {
+  std::lock_guard lock(asked_mutex_);
+  return !asked_.empty();
+}
+
+bool ReplyRoutes::service(Clock::time_point now) {
+  std::deque<std::pair<std::string, bool>> asked;
   {
-    std::shared_lock lock(mutex_);
-    if (const auto it = routes_.find(client); it != routes_.end()) {
-      touch(it->second);
-      return true;
-    }
+    std::lock_guard lock(asked_mutex_);
+    asked.swap(asked_);
   }
   std::unique_lock lock(mutex_);
-  if (routes_.count(client) > 0) return true;
+  for (const auto& [client, open_it] : asked) {
+    const auto it = routes_.find(client);
+    if (open_it && it == routes_.end()) open(client, now);
+    if (!open_it && it != routes_.end()) release(it);
+  }
+  bool waiting = false;
+  for (auto it = routes_.begin(); it != routes_.end();) {
+    if (it->second.phase == ReplyRoute::Phase::opened && now - it->second.opened_at >= kUnmatchedLifetime) {
+      const auto next = std::next(it);
+      spdlog::debug("the reply route of client {} matched no reader in {} s", it->first,
+                    std::chrono::duration_cast<std::chrono::seconds>(kUnmatchedLifetime).count());
+      release(it);
+      it = next;
+      continue;
+    }
+    waiting = advance(it->first, it->second) || waiting;
+    ++it;
+  }
+  return waiting;
+}
+
+bool ReplyRoutes::advance(const std::string& client, ReplyRoute& route) {
+  if (route.phase == ReplyRoute::Phase::ready) return false;
+  if (route.phase == ReplyRoute::Phase::opened) {
+    fdds::PublicationMatchedStatus matched;
+    if (route.replies->get_publication_matched_status(matched) != ReturnCode_t::RETCODE_OK ||
+        matched.current_count < 1) {
+      return true;
+    }
+    // Written after the match, so the reader is owed it: its acknowledgement says it knows the
+    // writer. Clients ignore a reply to request_seq 0 (no request has it).
+    msg::Reply marker;
+    marker.client_id(client);
+    marker.request_seq(0);
+    marker.server_id(server_id_);
+    marker.protocol(msg::PROTOCOL_VERSION);
+    marker.ok(true);
+    marker.message("route open");
+    marker.body().list_scenes(msg::SceneList{});
+    if (!route.replies->write(&marker)) return true;
+    route.phase = ReplyRoute::Phase::marked;
+  }
+  if (route.replies->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(0, 0)) != ReturnCode_t::RETCODE_OK) {
+    return true;
+  }
+  route.phase = ReplyRoute::Phase::ready;
+  spdlog::debug("the reply route of client {} is ready", client);
+  return false;
+}
+
+void ReplyRoutes::open(const std::string& client, Clock::time_point now) {
   while (routes_.size() >= max_routes_) release_one();
   ReplyRoute route;
+  route.opened_at = now;
   route.publisher = participant_->create_publisher(wire::reply_publisher_qos(client));
   if (route.publisher != nullptr) {
     route.replies = route.publisher->create_datawriter(reply_topic_, wire::request_reply_writer_qos(), matched_,
@@ -44,36 +112,33 @@ bool ReplyRoutes::open(const std::string& client) {
       route.publisher->delete_contained_entities();
       participant_->delete_publisher(route.publisher);
     }
-    return false;
+    return;
   }
   touch(route);
   routes_.emplace(client, route);
-  std::lock_guard gone(gone_mutex_);
-  gone_.erase(client);
-  return true;
+  spdlog::debug("opened a reply route for client {} ({} held)", client, routes_.size());
 }
 
 bool ReplyRoutes::write_reply(const msg::Reply& reply) {
-  const std::string client = reply.client_id().to_string();
-  if (!open(client)) return false;
   std::shared_lock lock(mutex_);
-  const auto it = routes_.find(client);
-  if (it == routes_.end()) return false;  // released in between: the client retries
+  const auto it = routes_.find(reply.client_id().to_string());
+  if (it == routes_.end()) return false;
+  touch(it->second);
   msg::Reply copy = reply;
   return it->second.replies->write(&copy);
 }
 
 void ReplyRoutes::write_progress(const msg::TourProgress& progress) {
-  std::shared_lock lock(mutex_);
-  const auto it = routes_.find(progress.client_id().to_string());
-  if (it == routes_.end()) return;
-  msg::TourProgress copy = progress;
-  it->second.progress->write(&copy);
-}
-
-void ReplyRoutes::reader_left(const std::string& client) {
-  std::lock_guard lock(gone_mutex_);
-  gone_[client] = true;
+  {
+    std::shared_lock lock(mutex_);
+    const auto it = routes_.find(progress.client_id().to_string());
+    if (it != routes_.end()) {
+      msg::TourProgress copy = progress;
+      it->second.progress->write(&copy);
+      return;
+    }
+  }
+  want(progress.client_id().to_string());
 }
 
 bool ReplyRoutes::has(const std::string& client) const {
@@ -81,39 +146,37 @@ bool ReplyRoutes::has(const std::string& client) const {
   return routes_.count(client) > 0;
 }
 
+bool ReplyRoutes::ready(const std::string& client) const {
+  std::shared_lock lock(mutex_);
+  const auto it = routes_.find(client);
+  return it != routes_.end() && it->second.phase == ReplyRoute::Phase::ready;
+}
+
 std::size_t ReplyRoutes::size() const {
   std::shared_lock lock(mutex_);
   return routes_.size();
 }
 
+std::size_t ReplyRoutes::ready_count() const {
+  std::shared_lock lock(mutex_);
+  std::size_t n = 0;
+  for (const auto& [client, route] : routes_) n += route.phase == ReplyRoute::Phase::ready ? 1 : 0;
+  return n;
+}
+
 void ReplyRoutes::release_one() {
-  std::map<std::string, bool> gone;
-  {
-    std::lock_guard lock(gone_mutex_);
-    gone = gone_;
-  }
   auto victim = routes_.end();
-  for (const auto& [client, flag] : gone) {
-    const auto it = routes_.find(client);
-    if (it != routes_.end() && (victim == routes_.end() || it->second.last_used < victim->second.last_used)) victim = it;
-  }
-  if (victim == routes_.end()) {
-    for (auto it = routes_.begin(); it != routes_.end(); ++it) {
-      if (victim == routes_.end() || it->second.last_used < victim->second.last_used) victim = it;
-    }
+  for (auto it = routes_.begin(); it != routes_.end(); ++it) {
+    if (victim == routes_.end() || it->second.last_used < victim->second.last_used) victim = it;
   }
   if (victim != routes_.end()) release(victim);
 }
 
-void ReplyRoutes::release(std::map<std::string, ReplyRoute>::iterator it) {
+void ReplyRoutes::release(Routes::iterator it) {
   spdlog::debug("releasing the reply route of client {}", it->first);
   it->second.replies->set_listener(nullptr);
   it->second.publisher->delete_contained_entities();
   participant_->delete_publisher(it->second.publisher);
-  {
-    std::lock_guard lock(gone_mutex_);
-    gone_.erase(it->first);
-  }
   routes_.erase(it);
 }
 

@@ -149,7 +149,8 @@ TEST_F(ProtocolTest, AReplyIsHeldUntilTheClientsReaderMatchedAndNoLonger) {
   late.open_reply_reader();
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));
   EXPECT_EQ(late.replies_to(1), 0u) << "a reply was held past its bound";
-  EXPECT_NE(daemon.log().find(fmt::format("client {} has no matched reply reader", late.identity())), std::string::npos)
+  EXPECT_NE(daemon.log().find(fmt::format("client {}'s reply reader has not acknowledged its route", late.identity())),
+            std::string::npos)
       << daemon.log();
   // A client that gave up on the wait is answered when it asks again.
   stats.request_seq(2);

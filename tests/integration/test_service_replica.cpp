@@ -1,5 +1,6 @@
 // Replicas and the update history: a drop or an unload reaches every replica and releases the
-// batches the daemon keeps for late joiners; the CLI's watch says so and writes no stale file.
+// batches the daemon keeps for late joiners; the CLI's watch says so and writes no stale file; a
+// replica of one scene receives no other scene's batches.
 
 #include <gtest/gtest.h>
 
@@ -64,6 +65,25 @@ TEST_F(ReplicaTest, ADropEmptiesEveryReplicaAndReleasesTheKeptBatches) {
   // A new build on the same scene is followed again by the same replica.
   const msg::SceneStatus rebuilt = build_followed(client, replica, "s0");
   EXPECT_EQ(replica.generation(), rebuilt.generation());
+}
+
+// A replica of s0 subscribes through a filter on its scene: while s1 is built and followed by no
+// one, none of s1's batches reaches it (an unfiltered late joiner still gets them), and it keeps
+// following s0.
+TEST_F(ReplicaTest, AReplicaOfOneSceneReceivesNoOtherScenesBatches) {
+  auto daemon = start("d");
+  Client client(client_options(domain_));
+  client.load("s0");
+  client.load("s1");
+  client::RoadmapReplica replica(client, "s0");
+  client.build("s1", ispars_build(3000));
+  const msg::SceneStatus s1 = client.wait_idle("s1", {}, kLong);
+  ASSERT_GT(s1.version(), 0u);
+  const msg::SceneStatus s0 = build_followed(client, replica, "s0");
+  EXPECT_EQ(replica.generation(), s0.generation());
+  EXPECT_EQ(replica.batches_of_other_scenes(), 0u);
+  RawPeer unfiltered(domain_);
+  EXPECT_GT(unfiltered.kept_update_batches("s1", std::chrono::milliseconds(1500)), 0u);
 }
 
 // A replica whose owner's callback stalls while an extend streams batches: its queue (bounded at

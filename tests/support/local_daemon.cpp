@@ -138,6 +138,9 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
       ::dup2(fd, STDOUT_FILENO);
       ::dup2(fd, STDERR_FILENO);
     }
+    // Nothing else of the test's: a daemon outliving a crashed test must not hold its files (a
+    // lock a build waits on, say).
+    ::close_range(3, ~0U, 0);
     ::execve(argv[0], argv.data(), envp.data());
     ::_exit(127);
   }

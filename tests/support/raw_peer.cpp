@@ -62,6 +62,10 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
         ++foreign_;
         continue;
       }
+      if (reply.request_seq() == 0) {  // the daemon's route-open reply: no request has 0
+        ++route_opens_;
+        continue;
+      }
       replies_by_seq_[reply.request_seq()] = reply;
       ++deliveries_[reply.request_seq()];
       arrived_.notify_all();
@@ -85,12 +89,18 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
   std::map<std::uint64_t, msg::Reply> replies_by_seq_;
   std::map<std::uint64_t, std::size_t> deliveries_;  // replies received, by sequence number
   std::size_t foreign_ = 0;
+  std::size_t route_opens_ = 0;
 };
 
 RawPeer::RawPeer(int domain, const std::string& security, bool read_replies)
     : impl_(std::make_unique<Impl>(domain, security, read_replies)) {}
 
 void RawPeer::open_reply_reader() { impl_->open_reply_reader(); }
+
+std::size_t RawPeer::route_opens() const {
+  std::lock_guard lock(impl_->mutex_);
+  return impl_->route_opens_;
+}
 
 std::size_t RawPeer::foreign_replies() const {
   std::lock_guard lock(impl_->mutex_);

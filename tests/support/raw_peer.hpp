@@ -35,7 +35,9 @@ class RawPeer {
   /// Replies that arrived addressed to another client (the daemon keeps them off this peer's
   /// partition, so this stays 0).
   [[nodiscard]] std::size_t foreign_replies() const;
-  /// Replies received so far (to sends and posts alike), by sequence number.
+  /// Route-open replies (request_seq 0) received: the daemon writes one on each new route.
+  [[nodiscard]] std::size_t route_opens() const;
+  /// Replies received so far (to sends and posts alike), by sequence number; route-opens aside.
   [[nodiscard]] std::size_t replies_received() const;
   /// The replies received so far.
   [[nodiscard]] std::vector<msg::Reply> replies() const;

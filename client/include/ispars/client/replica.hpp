@@ -51,6 +51,9 @@ class RoadmapReplica {
   [[nodiscard]] std::size_t snapshots_taken() const;
   /// Batches applied on top of snapshots.
   [[nodiscard]] std::size_t batches_applied() const;
+  /// Batches of other scenes that reached this replica's reader: 0, as it subscribes through a
+  /// filter on its scene (wire/scene_filter.hpp).
+  [[nodiscard]] std::size_t batches_of_other_scenes() const;
   /// Batches dropped from a full queue (each drop leads to a resync).
   [[nodiscard]] std::size_t batches_dropped() const;
   /// The scene's root and POIs (from the first snapshot).

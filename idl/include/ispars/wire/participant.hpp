@@ -6,12 +6,14 @@
 #include <fastdds/dds/core/policy/QosPolicies.hpp>
 
 #include <chrono>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace ispars::wire {
 
@@ -71,6 +73,18 @@ class PeerWatch {
   std::map<std::string, Returned> returned_;  // by prefix; bounded by dropped_
 };
 
+/// A reader another participant announced (or withdrew), as discovery reports it.
+struct RemoteReader {
+  std::string identity;                 ///< Its participant's GUID prefix (identity_of).
+  std::string topic;
+  std::vector<std::string> partitions;  ///< Its subscriber's partitions.
+  bool present = true;                  ///< False when it left (or its participant did).
+};
+
+/// Called in DDS's discovery thread for every remote reader that comes or goes: it must only
+/// take note (creating or deleting DDS entities there deadlocks with DDS's own locks).
+using ReaderWatch = std::function<void(const RemoteReader&)>;
+
 /// Owns a participant and deletes it (with its entities) on destruction. Without a listener of
 /// the caller's, it logs (spdlog) which participants join, leave, are dropped (their lease ran
 /// out) or fail to authenticate. The localhost profile's lease is 3 s, 20 s under DDS Security.
@@ -88,9 +102,17 @@ class Participant {
   /// object logs the events itself, that is when no listener was given).
   [[nodiscard]] PeerWatch& peers() { return *peers_; }
   eprosima::fastdds::dds::DomainParticipant* operator->() const { return participant_; }
+  /// Calls `watch` for each remote reader discovered or gone from now on (only when this object
+  /// logs the events itself); an empty one stops the calls, and returns once none is running.
+  void watch_readers(ReaderWatch watch);
 
  private:
   std::shared_ptr<PeerWatch> peers_ = std::make_shared<PeerWatch>();
+  struct ReaderSlot {
+    std::mutex mutex;  // held while the watch runs: clearing it waits for a running call
+    ReaderWatch watch;
+  };
+  std::shared_ptr<ReaderSlot> readers_ = std::make_shared<ReaderSlot>();
   std::unique_ptr<eprosima::fastdds::dds::DomainParticipantListener> events_;  // outlives participant_
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
 };
