@@ -102,7 +102,7 @@ TEST_F(WebGatewayTest, APeerOffLoopbackNeedsTheToken) {
   const std::string web = std::string(ISPARS_WEB) + " --domain " + std::to_string(domain_) + " --profile-file " +
                           lab.profile("gw").string();
   for (const std::string& listen : {std::string("0.0.0.0:0"), address + ":0"}) {
-    const auto refused = lab.run("gw", web + " --listen " + listen);
+    const auto refused = lab.run("gw", "timeout 10 " + web + " --listen " + listen);  // 124: it served
     EXPECT_EQ(refused.status, 2) << refused.output;
     EXPECT_NE(refused.output.find("--listen " + listen + " is not a loopback address"), std::string::npos) << refused.output;
   }
