@@ -58,6 +58,12 @@ fdds::DataWriterQos request_reply_writer_qos() {
   return reliable(fdds::DATAWRITER_QOS_DEFAULT, fdds::VOLATILE_DURABILITY_QOS, 64);
 }
 
+fdds::DataWriterQos route_writer_qos() {
+  fdds::DataWriterQos qos = request_reply_writer_qos();
+  qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, 20'000'000);
+  return qos;
+}
+
 fdds::DataReaderQos request_reply_reader_qos() {
   return reliable(fdds::DATAREADER_QOS_DEFAULT, fdds::VOLATILE_DURABILITY_QOS, 64);
 }

@@ -102,9 +102,9 @@ void ReplyRoutes::open(const std::string& client, Clock::time_point now) {
   route.opened_at = now;
   route.publisher = participant_->create_publisher(wire::reply_publisher_qos(client));
   if (route.publisher != nullptr) {
-    route.replies = route.publisher->create_datawriter(reply_topic_, wire::request_reply_writer_qos(), matched_,
+    route.replies = route.publisher->create_datawriter(reply_topic_, wire::route_writer_qos(), matched_,
                                                        fdds::StatusMask::publication_matched());
-    route.progress = route.publisher->create_datawriter(progress_topic_, wire::request_reply_writer_qos());
+    route.progress = route.publisher->create_datawriter(progress_topic_, wire::route_writer_qos());
   }
   if (route.publisher == nullptr || route.replies == nullptr || route.progress == nullptr) {
     spdlog::error("cannot create the reply writers for client {}", client);
