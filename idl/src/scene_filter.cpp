@@ -6,6 +6,8 @@
 #include <cstring>
 #include <memory>
 
+#include "isparsPubSubTypes.h"
+
 namespace ispars::wire {
 namespace fdds = eprosima::fastdds::dds;
 
@@ -15,7 +17,6 @@ namespace {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wnon-virtual-dtor"
 
-constexpr const char* kUpdateType = "ispars::msg::UpdateBatch";
 
 // Passes the batches of one scene.
 class SceneFilter final : public fdds::IContentFilter {
@@ -43,7 +44,8 @@ class SceneFilterFactory final : public fdds::IContentFilterFactory {
   ReturnCode_t create_content_filter(const char*, const char* type_name, const fdds::TopicDataType*,
                                      const char* expression, const ParameterSeq& parameters,
                                      fdds::IContentFilter*& filter) override {
-    if (type_name == nullptr || std::strcmp(type_name, kUpdateType) != 0) return ReturnCode_t::RETCODE_BAD_PARAMETER;
+    static const std::string update_type = msg::UpdateBatchPubSubType().getName();
+    if (type_name == nullptr || update_type != type_name) return ReturnCode_t::RETCODE_BAD_PARAMETER;
     if (expression != nullptr && std::strcmp(expression, kSceneFilterExpression) != 0) {
       return ReturnCode_t::RETCODE_BAD_PARAMETER;
     }

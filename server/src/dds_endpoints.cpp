@@ -180,9 +180,8 @@ void DdsEndpoints::on_publication_matched(fdds::DataWriter*, const fdds::Publica
 
 void DdsEndpoints::send_reply(const msg::Reply& reply, std::chrono::milliseconds wait) {
   // DDS-RPC 1.0 sec. 7.6.2: a reply written before the client's reply reader matched is lost.
-  // A reply to a matched client goes out at once; others wait (bounded) on the sender thread, so
-  // no request thread is held by a client that is slow to match or gone. The client's route (its
-  // partition's writer) is made on the sender thread on its first reply.
+  // A reply on a ready route (reply_routes.hpp) goes out at once; others wait (bounded) on the
+  // sender thread, so no request thread is held by a client that is slow to match or gone.
   // Replies made inside DDS's own callback (busy refusals, cached replies) always go through the
   // sender thread: creating or waiting for a route there would deadlock with DDS's receive locks.
   const std::string client = reply.client_id().to_string();

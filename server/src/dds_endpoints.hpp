@@ -14,7 +14,6 @@
 #include <mutex>
 #include <optional>
 #include <list>
-#include <set>
 #include <thread>
 #include <string>
 #include <vector>

@@ -3,7 +3,6 @@
 #include <spdlog/spdlog.h>
 
 #include <utility>
-#include <vector>
 
 #include "ispars/wire/topics.hpp"
 
