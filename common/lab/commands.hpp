@@ -94,6 +94,8 @@ struct ExperimentOptions {
   std::uint64_t iterations = 30'000;  ///< solver iterations per roadmap (0: the budget alone)
   bool replot = false;                ///< anytime: only draw --png from an existing --csv
   double bound_seconds = 20.0;        ///< anytime: seconds of LP bound per roadmap (0: none)
+  double stretch_slack = 0.0;             ///< ablation: the stretch rules' slack (a fraction of Delta)
+  std::uint64_t stretch_slack_after = 0;  ///< ablation: the slack applies from this sample on
   std::vector<std::string> rule_sets{"alg1", "alg1+join", "alg1+witness", "alg1-shortcut", "stretch+shortcut",
                                      "stretch"};
 };

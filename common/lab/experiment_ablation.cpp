@@ -47,9 +47,10 @@ int run_experiment_ablation(const ExperimentOptions& options) {
   const SolverWork work{options.iterations, options.cap, options.jobs};
   std::cout << fmt::format(
       "# Ablation on {} (calibrated: delta {:.3f}, Delta {:.3f}; N = {}, K = {}; {} seeds); tours: the same targets "
-      "I_t for every roadmap of a seed, {} solver iterations each (one thread, {} at a time, {:.0f} s cap)\n\n",
+      "I_t for every roadmap of a seed, {} solver iterations each (one thread, {} at a time, {:.0f} s cap); "
+      "stretch_slack {} from sample {}\n\n",
       options.scene, delta, 1.5 * delta, samples, paper.pois, options.seeds, work.iterations, work.jobs,
-      work.cap_seconds);
+      work.cap_seconds, options.stretch_slack, options.stretch_slack_after);
 
   std::map<std::string, Row> rows;
   std::vector<double> targets;
@@ -65,6 +66,8 @@ int run_experiment_ablation(const ExperimentOptions& options) {
     BuildOptions build;
     build.seed = seed;
     build.threads = options.threads;
+    build.stretch_slack = options.stretch_slack;  // read by the stretch rules only
+    build.stretch_slack_after = options.stretch_slack_after;
     std::vector<InspectionGraph> graphs;  // dense, irisc, then each rule set
     std::vector<std::string> names{"dense", "irisc"};
     graphs.reserve(rule_sets.size() + 2);
@@ -91,7 +94,8 @@ int run_experiment_ablation(const ExperimentOptions& options) {
       row.over3.push_back(s.within_3_delta.vs_dense.share_over_t);
       row.segment_median3.push_back(s.within_3_delta.vs_segment.median);
       row.segment_p95_3.push_back(s.within_3_delta.vs_segment.p95);
-      for (std::size_t k = 0; k < 4; ++k) row.median_bin[k].push_back(s.bins[k].vs_dense.median);
+      for (std::size_t k = 0; k < 3; ++k) row.median_bin[k].push_back(s.bins[k].vs_dense.median);
+      row.median_bin[3].push_back(s.beyond_3_delta.vs_dense.median);
       graphs.push_back(InspectionGraph::from_roadmap(b.roadmap()));
       names.push_back(options.rule_sets[i]);
       nlohmann::json run = to_json(b.admissions());
@@ -178,6 +182,8 @@ int run_experiment_ablation(const ExperimentOptions& options) {
   }
   if (options.json) {
     std::cout << nlohmann::json{{"scene", options.scene}, {"delta", delta}, {"iterations", work.iterations},
+                                {"stretch_slack", options.stretch_slack},
+                                {"stretch_slack_after", options.stretch_slack_after},
                                 {"seeds", used}, {"skipped_seeds", skipped},
                                 {"summary", summary}, {"runs", runs}}
                      .dump()

@@ -122,8 +122,10 @@ nlohmann::json to_json(const SparsAdmissions& a) {
 namespace {
 
 nlohmann::json stats_json(const StretchStats& s) {
-  return {{"pairs", s.pairs}, {"disconnected", s.disconnected}, {"median", s.median},
-          {"p95", s.p95},     {"max", s.max},                   {"share_over_t", s.share_over_t}};
+  const auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json("inf"); };
+  return {{"pairs", s.pairs},     {"disconnected", s.disconnected}, {"median", number(s.median)},
+          {"p95", number(s.p95)}, {"p99", number(s.p99)},           {"max", number(s.max)},
+          {"share_over_t", s.share_over_t}, {"max_excess_Delta", number(s.max_excess)}};
 }
 
 nlohmann::json bin_json(const StretchBin& b) {
@@ -135,8 +137,9 @@ nlohmann::json bin_json(const StretchBin& b) {
 
 std::string stats_text(const StretchStats& s) {
   if (s.pairs == 0) return "no pairs";
-  return fmt::format("{} pairs, median {:.3f}, p95 {:.3f}, max {:.3f}, {:.1f}% > t{}", s.pairs, s.median, s.p95, s.max,
-                     100.0 * s.share_over_t,
+  return fmt::format("{} pairs, median {:.3f}, p95 {:.3f}, p99 {:.3f}, max {:.3f}, {:.1f}% > t, "
+                     "max (d_s - t d) / Delta {:.2f}{}",
+                     s.pairs, s.median, s.p95, s.p99, s.max, 100.0 * s.share_over_t, s.max_excess,
                      s.disconnected ? fmt::format(", {} not joined in G_s", s.disconnected) : std::string());
 }
 
@@ -145,8 +148,12 @@ std::string stats_text(const StretchStats& s) {
 nlohmann::json to_json(const RouteStretchReport& r) {
   nlohmann::json bins = nlohmann::json::array();
   for (const StretchBin& b : r.bins) bins.push_back(bin_json(b));
-  return {{"viewpoints", r.viewpoints}, {"sources", r.sources}, {"bins", bins},
-          {"within_3_Delta", bin_json(r.within_3_delta)}};
+  return {{"viewpoints", r.viewpoints},
+          {"sources", r.sources},
+          {"bins", bins},
+          {"within_3_Delta", bin_json(r.within_3_delta)},
+          {"beyond_3_Delta", bin_json(r.beyond_3_delta)},
+          {"all", bin_json(r.all)}};
 }
 
 std::string stretch_lines(const RouteStretchReport& r) {
@@ -159,6 +166,8 @@ std::string stretch_lines(const RouteStretchReport& r) {
   };
   for (const StretchBin& b : r.bins) line(b);
   line(r.within_3_delta);
+  line(r.beyond_3_delta);
+  line(r.all);
   return out;
 }
 

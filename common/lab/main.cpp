@@ -156,9 +156,11 @@ int main(int argc, char** argv) {
   spanner_cmd->add_option("--pairs-seed", exp.seeds, "Seed of the random dense pairs");
   spanner_cmd->add_option("--max-sources", exp.max_sources, "Measure pairs from at most this many viewpoints (0: all)")
       ->check(CLI::Range(std::size_t{0}, std::size_t{100'000'000}));
-  spanner_cmd->add_option("--variants", exp.variants, "Rule sets to compare (" + ispars::spars_variant_names() + ")")
-      ->delimiter(',')
-      ->check(spars_variant);
+  spanner_cmd->add_option("--variants", exp.variants,
+                          "Rule sets to compare: " + ispars::spars_variant_names() +
+                              ", spars (SPARS: alg1 without the inspection test), or a rule set as "
+                              "--rule-sets of ablation reads it (e.g. stretch+shortcut)")
+      ->delimiter(',');
   auto* anytime_cmd = experiment->add_subcommand(
       "anytime", "Fig. 4: best tour against solver time on Dense, Inspection-SPARS and IRIS-C roadmaps");
   common(anytime_cmd);
@@ -190,6 +192,12 @@ int main(int argc, char** argv) {
   ablation_cmd->add_option("--iterations", exp.iterations, "Solver iterations per roadmap")
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
   ablation_cmd->add_option("--cap", exp.cap, "Wall-clock cap per tour, seconds")->check(CLI::Range(0.1, 1e5));
+  ablation_cmd->add_option("--stretch-slack", exp.stretch_slack,
+                           "Stretch rules: additive slack of the bounds, a fraction of Delta (default 0)")
+      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack").max));
+  ablation_cmd->add_option("--stretch-slack-after", exp.stretch_slack_after,
+                           "Stretch rules: the slack applies from this sample on (default 0: from the first)")
+      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack_after").max));
   ablation_cmd->add_option("--jobs", exp.jobs, "Tours solved at once (one solver thread each)")->check(CLI::Range(1u, 64u));
 
   TourCommandOptions tour;

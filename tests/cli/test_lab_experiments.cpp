@@ -46,7 +46,7 @@ TEST_F(LabVariants, SpannerMeasuresShortPairsPerVariant) {
   const auto json = last_json_line(run.out);
   ASSERT_EQ(json["spanner"].size(), 2u);
   for (const auto& r : json["spanner"]) {
-    ASSERT_EQ(r["viewpoint_stretch"]["bins"].size(), 4u);
+    ASSERT_EQ(r["viewpoint_stretch"]["bins"].size(), 11u) << "one Delta each up to 10 Delta, then one to infinity";
     EXPECT_EQ(r["invariant_violations"], 0);
     EXPECT_TRUE(r["geometry_ok"].get<bool>());
     std::size_t by_cause = 0;
@@ -66,6 +66,20 @@ TEST_F(LabVariants, SpannerMeasuresShortPairsPerVariant) {
   }
   EXPECT_LT(json["spanner"][0]["viewpoint_stretch"]["within_3_Delta"]["vs_dense"]["median"].get<double>(),
             json["spanner"][1]["viewpoint_stretch"]["within_3_Delta"]["vs_dense"]["median"].get<double>());
+  // Far pairs too: every pair joined in G_d is in a bin, and the bins add up to all of them.
+  for (const auto& r : json["spanner"]) {
+    std::size_t pairs = 0;
+    for (const auto& bin : r["viewpoint_stretch"]["bins"]) pairs += bin["vs_dense"]["pairs"].get<std::size_t>();
+    EXPECT_EQ(pairs, r["viewpoint_stretch"]["all"]["vs_dense"]["pairs"].get<std::size_t>());
+    EXPECT_GT(r["viewpoint_stretch"]["beyond_3_Delta"]["vs_dense"]["pairs"].get<std::size_t>(), 0u);
+  }
+  const LabRun spars = lab("experiment spanner --scene water_tower --samples 2000 --pois 60 --variants spars,stretch+shortcut --json");
+  ASSERT_EQ(spars.exit_code, 0) << spars.err;
+  const auto spars_json = last_json_line(spars.out);
+  ASSERT_EQ(spars_json["spanner"].size(), 2u);
+  EXPECT_GT(spars_json["spanner"][0]["invariant_violations"].get<int>(), 0) << "SPARS has no inspection test";
+  EXPECT_GT(spars_json["spanner"][1]["edges_by_cause"]["shortcut"].get<int>(), 0);
+  EXPECT_GT(spars_json["spanner"][1]["edges_by_cause"]["join"].get<int>(), 0);
   EXPECT_EQ(lab("experiment spanner --scene water_tower --variants stretch,greedy --samples 10").exit_code, 2);
   const LabRun no_n = lab("experiment spanner --scene water_tower");
   EXPECT_EQ(no_n.exit_code, 2);
@@ -89,6 +103,27 @@ TEST_F(LabVariants, AblationComparesRuleSetsOnTheSameTargetsAndWork) {
       EXPECT_EQ(row["violations"], 0.0) << row["roadmap"];
     }
   }
+  // The stretch rules' slack: recorded, and it changes the stretch roadmap (not Alg. 1's).
+  const LabRun slack = lab("experiment ablation --scene water_tower --delta 2.348 --seeds 1 --iterations 50 "
+                           "--rule-sets alg1,stretch --stretch-slack 0.5 --json");
+  ASSERT_EQ(slack.exit_code, 0) << slack.err;
+  const auto slack_json = last_json_line(slack.out);
+  EXPECT_EQ(slack_json["stretch_slack"], 0.5);
+  EXPECT_EQ(slack_json["stretch_slack_after"], 0);
+  const auto edges = [](const nlohmann::json& j, const std::string& name) {
+    for (const auto& row : j["summary"]) {
+      if (row["roadmap"] == name) return row["edges"].get<double>();
+    }
+    return -1.0;
+  };
+  EXPECT_LT(edges(slack_json, "stretch"), edges(json, "stretch"));
+  EXPECT_EQ(edges(slack_json, "alg1"), edges(json, "alg1"));
+  // From a sample past N on, the slack changes nothing.
+  const LabRun late = lab("experiment ablation --scene water_tower --delta 2.348 --seeds 1 --iterations 50 "
+                          "--rule-sets stretch --stretch-slack 0.5 --stretch-slack-after 1000000 --json");
+  ASSERT_EQ(late.exit_code, 0) << late.err;
+  EXPECT_EQ(edges(last_json_line(late.out), "stretch"), edges(json, "stretch"));
+  EXPECT_EQ(lab("experiment ablation --scene water_tower --delta 2.3 --stretch-slack 1.5").exit_code, 2);
   const LabRun bad = lab("experiment ablation --scene water_tower --delta 2.3 --rule-sets alg1+teleport");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--rule-sets: rule set 'alg1+teleport': unknown rule 'teleport'"), std::string::npos) << bad.err;

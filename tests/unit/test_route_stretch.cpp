@@ -37,7 +37,10 @@ TEST(RouteStretch, BinsAndRatiosMatchAHandComputedRoadmap) {
   RouteStretchOptions options;
   options.big_delta = 1.5;
   options.stretch = 1.05;
+  options.bins = 3;
+  options.segment_bins = 3;
   const RouteStretchReport r = measure_route_stretch(scene, sparse, dense, ids, options);
+  ASSERT_EQ(r.bins.size(), 4u) << "[0,1) [1,2) [2,3) and [3,inf) Delta";
   EXPECT_EQ(r.viewpoints, 4u) << "f sees nothing";
   EXPECT_EQ(r.sources, 4u);
   // [0, 1.5): a-b and b-c, both sqrt 2 apart, routes equal to the segment: ratio 1.
@@ -45,21 +48,39 @@ TEST(RouteStretch, BinsAndRatiosMatchAHandComputedRoadmap) {
   EXPECT_DOUBLE_EQ(r.bins[0].vs_dense.max, 1.0);
   EXPECT_EQ(r.bins[0].vs_segment.pairs, 2u);
   EXPECT_EQ(r.bins[0].vs_dense.share_over_t, 0.0);
+  EXPECT_NEAR(r.bins[0].vs_dense.max_excess, -0.05 * std::sqrt(2.0) / 1.5, 1e-12) << "(d_s - t d) / Delta";
   // [1.5, 3): a-c, 2 apart: sparse 2 sqrt 2 against dense 2 and the segment 2.
   ASSERT_EQ(r.bins[1].vs_dense.pairs, 1u);
   EXPECT_NEAR(r.bins[1].vs_dense.median, std::sqrt(2.0), 1e-12);
   EXPECT_NEAR(r.bins[1].vs_segment.median, std::sqrt(2.0), 1e-12);
   EXPECT_EQ(r.bins[1].vs_dense.share_over_t, 1.0);
+  EXPECT_NEAR(r.bins[1].vs_dense.max_excess, (2.0 * std::sqrt(2.0) - 1.05 * 2.0) / 1.5, 1e-12);
+  EXPECT_NEAR(r.bins[1].vs_dense.p99, std::sqrt(2.0), 1e-12);
   EXPECT_EQ(r.bins[2].vs_dense.pairs, 0u);
   // [4.5, inf): e with a, b and c; joined in G_d, not in G_s: infinite ratios, counted.
   EXPECT_EQ(r.bins[3].vs_dense.pairs, 3u);
   EXPECT_EQ(r.bins[3].vs_dense.disconnected, 3u);
   EXPECT_TRUE(std::isinf(r.bins[3].vs_dense.median));
-  EXPECT_EQ(r.bins[3].vs_segment.pairs, 0u) << "segments are compared below 3 Delta only";
+  EXPECT_TRUE(std::isinf(r.bins[3].vs_dense.max_excess));
+  EXPECT_EQ(r.bins[3].vs_segment.pairs, 0u) << "segments are compared below segment_bins Delta only";
   // Within 3 Delta: the three short pairs together.
   EXPECT_EQ(r.within_3_delta.vs_dense.pairs, 3u);
   EXPECT_DOUBLE_EQ(r.within_3_delta.vs_dense.median, 1.0);
   EXPECT_NEAR(r.within_3_delta.vs_dense.max, std::sqrt(2.0), 1e-12);
+  EXPECT_EQ(r.beyond_3_delta.vs_dense.pairs, 3u);
+  EXPECT_EQ(r.all.vs_dense.pairs, 6u);
+  EXPECT_EQ(r.all.vs_dense.disconnected, 3u);
+
+  // Ten bins of one Delta (the default), segments checked up to 10 Delta: e, 8 to 10 apart from
+  // the others (bins 5 and 6), is compared with its segment too.
+  options.bins = 10;
+  options.segment_bins = 10;
+  const RouteStretchReport wide = measure_route_stretch(scene, sparse, dense, ids, options);
+  ASSERT_EQ(wide.bins.size(), 11u);
+  EXPECT_EQ(wide.bins[5].vs_dense.pairs + wide.bins[6].vs_dense.pairs, 3u);
+  EXPECT_EQ(wide.bins[5].vs_segment.pairs + wide.bins[6].vs_segment.pairs, 3u);
+  EXPECT_EQ(wide.beyond_3_delta.vs_segment.disconnected, 3u);
+  EXPECT_TRUE(std::isinf(wide.bins[10].to));
 }
 
 TEST(RouteStretch, PairsOutsideTheDenseComponentAreNotComparedAndSourcesCanBeCapped) {
