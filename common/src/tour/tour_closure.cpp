@@ -11,24 +11,62 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Keeps, for every target, its k richest viewers (most targets seen, then lowest id), with the
-// largest k that stays within `limit` candidates (at least 1 per target).
-std::vector<std::size_t> thin(const std::vector<std::vector<std::uint32_t>>& sees, std::size_t targets,
+// The candidates' order under each of thinning's three rankings: richest first (most targets
+// seen); nearest the root first; nearest an anchor first (the root, and every target's richest
+// and nearest viewers: the cheapest detours from where a tour goes anyway). Ties: lowest index.
+std::vector<std::vector<std::size_t>> rankings(const InspectionGraph& graph,
+                                               const std::vector<VertexId>& vertex,
+                                               const std::vector<std::vector<std::uint32_t>>& sees,
+                                               std::size_t targets, const std::vector<double>& from_root) {
+  std::vector<std::size_t> order(vertex.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto ranked = [&](const auto& before) {
+    std::vector<std::size_t> r = order;
+    std::stable_sort(r.begin() + 1, r.end(), before);  // the root stays first
+    return r;
+  };
+  std::vector<std::vector<std::size_t>> out;
+  out.push_back(ranked([&](std::size_t a, std::size_t b) { return sees[a].size() > sees[b].size(); }));
+  out.push_back(ranked([&](std::size_t a, std::size_t b) { return from_root[vertex[a]] < from_root[vertex[b]]; }));
+  // Anchors: the first viewer of every target in each of the two rankings so far.
+  std::vector<SearchSource> anchors{{vertex[0], 0.0}};
+  for (const auto& r : out) {
+    std::vector<char> has(targets, 0);
+    for (const std::size_t i : r) {
+      bool first = false;
+      for (const auto t : sees[i]) first = first || !has[t];
+      if (!first) continue;
+      for (const auto t : sees[i]) has[t] = 1;
+      anchors.push_back({vertex[i], 0.0});
+    }
+  }
+  std::vector<double> from_anchor;
+  dijkstra(graph, std::span<const SearchSource>(anchors), from_anchor);
+  out.push_back(ranked([&](std::size_t a, std::size_t b) { return from_anchor[vertex[a]] < from_anchor[vertex[b]]; }));
+  return out;
+}
+
+// Keeps, for every target and every ranking, its first k viewers in that ranking, with the
+// largest k that stays within `limit` candidates (at least 1 per target and ranking).
+std::vector<std::size_t> thin(const std::vector<std::vector<std::size_t>>& ranks,
+                              const std::vector<std::vector<std::uint32_t>>& sees, std::size_t targets,
                               std::size_t limit) {
-  std::vector<std::size_t> rank(sees.size());
-  for (std::size_t i = 0; i < rank.size(); ++i) rank[i] = i;
-  std::stable_sort(rank.begin() + 1, rank.end(), [&](std::size_t a, std::size_t b) {
-    return sees[a].size() > sees[b].size();
-  });
   const auto keep_with = [&](std::size_t k) {
-    std::vector<std::size_t> taken(targets, 0);
-    std::vector<std::size_t> kept{0};  // the root
-    for (std::size_t r = 1; r < rank.size(); ++r) {
-      bool wanted = false;
-      for (const auto t : sees[rank[r]]) wanted = wanted || taken[t] < k;
-      if (!wanted) continue;
-      for (const auto t : sees[rank[r]]) ++taken[t];
-      kept.push_back(rank[r]);
+    std::vector<char> keep(sees.size(), 0);
+    keep[0] = 1;  // the root
+    for (const auto& rank : ranks) {
+      std::vector<std::size_t> taken(targets, 0);
+      for (std::size_t r = 1; r < rank.size(); ++r) {
+        bool wanted = false;
+        for (const auto t : sees[rank[r]]) wanted = wanted || taken[t] < k;
+        if (!wanted) continue;
+        for (const auto t : sees[rank[r]]) ++taken[t];
+        keep[rank[r]] = 1;
+      }
+    }
+    std::vector<std::size_t> kept;
+    for (std::size_t i = 0; i < keep.size(); ++i) {
+      if (keep[i]) kept.push_back(i);
     }
     return kept;
   };
@@ -39,9 +77,7 @@ std::vector<std::size_t> thin(const std::vector<std::vector<std::uint32_t>>& see
     const std::size_t mid = (lo + hi) / 2;
     (keep_with(mid).size() <= limit ? lo : hi) = mid;
   }
-  std::vector<std::size_t> kept = keep_with(lo);
-  std::sort(kept.begin(), kept.end());
-  return kept;
+  return keep_with(lo);
 }
 
 }  // namespace
@@ -68,8 +104,19 @@ TourClosure::TourClosure(const InspectionGraph& graph, VertexId root, const std:
     }
     std::sort(sees[i].begin(), sees[i].end());
   }
+  // The simple bound, over every viewer (before any thinning): each target needs a round trip
+  // from the root to some vertex that sees it.
+  std::vector<double> from_root;
+  const SearchSource root_source{root, 0.0};
+  dijkstra(graph, std::span<const SearchSource>(&root_source, 1), from_root);
+  std::vector<double> cheapest(targets.size(), kInf);
+  for (std::size_t i = 0; i < vertex.size(); ++i) {
+    for (const auto t : sees[i]) cheapest[t] = std::min(cheapest[t], 2.0 * from_root[vertex[i]]);
+  }
+  for (const double c : cheapest) simple_bound = std::max(simple_bound, c);
   if (vertex.size() > options.max_candidates) {
-    const std::vector<std::size_t> kept = thin(sees, targets.size(), options.max_candidates);
+    const std::vector<std::size_t> kept =
+        thin(rankings(graph, vertex, sees, targets.size(), from_root), sees, targets.size(), options.max_candidates);
     thinned = vertex.size() - kept.size();
     std::vector<VertexId> kept_vertex;
     std::vector<std::vector<std::uint32_t>> kept_sees;

@@ -5,7 +5,11 @@
 // the graph. Distances come a row at a time (one Dijkstra from a candidate): all rows ahead of
 // the search when the candidates are few, otherwise a row on first use (a tour vertex's row
 // answers every distance the search asks of it). Memory is rows x candidates, never n^2 over
-// the graph; above `max_candidates` the candidates are thinned to each target's richest viewers.
+// the graph. Above `max_candidates` the candidates are thinned: every target keeps its first k
+// viewers by each of three rankings (most targets seen; nearest the root; nearest an anchor, the
+// root or a target's richest or nearest viewer), with the largest k that fits. Thinning can
+// lengthen the best tour the search can find; it never touches `simple_bound`, which is taken
+// over every viewer before thinning.
 
 #include <atomic>
 #include <cstdint>
@@ -57,6 +61,10 @@ class TourClosure {
   std::vector<std::vector<std::uint32_t>> sees;      ///< candidate -> local target ids, ascending
   std::vector<std::vector<std::uint32_t>> seen_by;   ///< local target -> candidates, ascending
   std::size_t thinned = 0;                           ///< Viewers left out by thinning.
+  /// Proven lower bound on every tour from the root that sees every target: the largest, over
+  /// targets, of the cheapest round trip from the root to a vertex of the component seeing it,
+  /// over all such vertices (computed before thinning, with one Dijkstra from the root).
+  double simple_bound = 0.0;
 
   /// Rows computed so far.
   [[nodiscard]] std::size_t rows() const { return row_count_.load(); }
