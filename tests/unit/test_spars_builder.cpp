@@ -19,6 +19,7 @@ SparsRules alg1_rules(bool inspection) { return SparsRules::for_variant(SparsVar
 struct PairRun {
   std::string scene;
   std::size_t samples;
+  bool spars_loses_pois;  // SPARS alone sees fewer POIs than G_d on both seeds (1, 2), at any scale
 };
 
 void PrintTo(const PairRun& run, std::ostream* os) { *os << run.scene << " N=" << run.samples; }
@@ -41,8 +42,12 @@ TEST_P(InvariantOnSharedScenes, InspectionSparsKeepsItAndSparsAloneDoesNot) {
     EXPECT_TRUE(rs.geometry_ok());
     // The same samples make the same dense roadmap; SPARS alone loses observations.
     EXPECT_EQ(test::fingerprint(*ispars.dense()), test::fingerprint(*spars.dense()));
-    EXPECT_TRUE(rs.invariant_violations > 0 || spars.roadmap().covered_pois() < spars.dense()->covered_pois())
-        << "seed " << seed;
+    // SPARS alone loses observations: local ones on every scene (Invariant 1 broken on the very
+    // samples it drew), and whole POIs (seen from G_d, from no sparse vertex) where the run says so.
+    EXPECT_GT(rs.invariant_violations, 0u) << "seed " << seed;
+    if (GetParam().spars_loses_pois) {
+      EXPECT_LT(spars.roadmap().covered_pois(), spars.dense()->covered_pois()) << "seed " << seed;
+    }
     // I(G_s) = I(G_d) follows from the invariant.
     EXPECT_EQ(ispars.roadmap().covered_pois(), ispars.dense()->covered_pois());
     EXPECT_GT(ispars.admissions().inspection, 0u);
@@ -51,39 +56,87 @@ TEST_P(InvariantOnSharedScenes, InspectionSparsKeepsItAndSparsAloneDoesNot) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, InvariantOnSharedScenes,
-                         ::testing::Values(PairRun{"water_tower", 3000}, PairRun{"truss_bridge", 3000},
-                                           PairRun{"radio_tower", 3000}, PairRun{"powerplant", 3000},
-                                           PairRun{"caric_city", 2500}),
+                         ::testing::Values(PairRun{"water_tower", 3000, true}, PairRun{"truss_bridge", 3000, true},
+                                           // here SPARS keeps every POI at N = 3000 (not at 150)
+                                           PairRun{"radio_tower", 3000, false}, PairRun{"powerplant", 3000, true},
+                                           PairRun{"caric_city", 2500, true}),
                          [](const auto& case_info) { return case_info.param.scene; });
 
-TEST(SparsBuilder, SparseRoutesStayWithinTheSpannerBound) {
-  // d_s <= t d_d + 4 Delta (SPARS's bound, asymptotic) for nearly all pairs already at N = 4000.
-  const Scene& scene = test::shared_scene("water_tower");
-  SparsBuilder b(scene, BuildOptions{}, default_rules(true));
-  b.extend(4000);
-  const Roadmap& dense = *b.dense();
+// The route bounds the stretch rules prove, checked exactly on a finished roadmap, over every
+// pair they speak of (docs/sparse-stretch.md). Far pairs are bounded by no rule: none is checked.
+struct LocalBounds {
+  std::size_t join_pairs = 0, join_violations = 0;        // sparse a, b within Delta in view
+  std::size_t witness_pairs = 0, witness_violations = 0;  // w, w' in W(q), every sample q drawn
+};
+
+// - Join invariant: d_s(a, b) <= t |a - b| for sparse a, b with |a - b| <= Delta and a valid segment.
+// - Witness invariant: for every sample q the build drew (a dense vertex), d_s(w, w') <=
+//   t (|w - q| + |q - w'|) for w, w' in W(q) as it was when q was stepped: the sparse vertices
+//   admitted before q (a lower dense id: without the dense shortcut a sparse vertex is admitted
+//   at its own sample's step) within Delta of q in view.
+LocalBounds check_local_bounds(const Scene& scene, const SparsBuilder& b) {
   const Roadmap& sparse = b.roadmap();
-  std::vector<VertexId> rooted;
-  for (VertexId v = 0; v < dense.vertex_count(); ++v) {
-    if (dense.same_component(v, 0)) rooted.push_back(v);
-  }
-  ASSERT_GT(rooted.size(), 1000u);
-  Rng rng(1);
+  const Roadmap& dense = *b.dense();
   const double t = scene.config().stretch;
   const double big_delta = scene.config().sparse_delta;
-  int within = 0;
-  const int pairs = 150;
-  for (int i = 0; i < pairs; ++i) {
-    const VertexId a = rooted[rng.below(rooted.size())];
-    const VertexId c = rooted[rng.below(rooted.size())];
-    const double dd = shortest_distances(dense, a)[c];
-    const VertexId ra = b.representative(a);
-    const VertexId rc = b.representative(c);
-    const double ds = (dense.position(a) - sparse.position(ra)).norm() + shortest_distances(sparse, ra)[rc] +
-                      (sparse.position(rc) - dense.position(c)).norm();
-    within += ds <= t * dd + 4.0 * big_delta;
+  const auto over = [](double route, double bound) { return route > bound * (1.0 + 1e-12); };
+  std::vector<std::vector<double>> d(sparse.vertex_count());
+  for (VertexId a = 0; a < sparse.vertex_count(); ++a) d[a] = shortest_distances(sparse, a);
+  LocalBounds r;
+  for (VertexId a = 0; a < sparse.vertex_count(); ++a) {
+    for (VertexId c = a + 1; c < sparse.vertex_count(); ++c) {
+      const double length = (sparse.position(a) - sparse.position(c)).norm();
+      if (length > big_delta || !scene.segment_valid(sparse.position(a), sparse.position(c))) continue;
+      ++r.join_pairs;
+      r.join_violations += over(d[a][c], t * length);
+    }
   }
-  EXPECT_GE(within, pairs * 95 / 100);
+  for (VertexId q = 1; q < dense.vertex_count(); ++q) {
+    const Vec3& pq = dense.position(q);
+    std::vector<VertexId> w;
+    for (VertexId s = 0; s < sparse.vertex_count() && b.dense_ids()[s] < q; ++s) {
+      const double length = (sparse.position(s) - pq).norm();
+      if (length <= big_delta && scene.segment_valid(sparse.position(s), pq)) w.push_back(s);
+    }
+    for (std::size_t i = 0; i < w.size(); ++i) {
+      for (std::size_t j = i + 1; j < w.size(); ++j) {
+        ++r.witness_pairs;
+        const double through_q = (sparse.position(w[i]) - pq).norm() + (pq - sparse.position(w[j])).norm();
+        r.witness_violations += over(d[w[i]][w[j]], t * through_q);
+      }
+    }
+  }
+  return r;
+}
+
+TEST(SparsBuilder, SparseRoutesMeetTheBoundsTheRulesProveAtEveryPairTheySpeakOf) {
+  // Exact, over all such pairs: 0 violations with the default rules; with the vertex join off
+  // the join invariant breaks, with the witnessed pairs off the witness invariant breaks, so
+  // each half of the check can fail.
+  for (const char* name : {"water_tower", "truss_bridge"}) {
+    SCOPED_TRACE(name);
+    const Scene& scene = test::shared_scene(name);
+    const std::size_t samples = 4000;  // not scaled down in the sanitizer pass: small builds prove little
+    SparsBuilder b(scene, BuildOptions{}, default_rules(true));
+    b.extend(samples);
+    ASSERT_EQ(b.admissions().shortcut_edge + b.admissions().shortcut_path, 0u) << "W(q) is rebuilt by admission order";
+    const LocalBounds ours = check_local_bounds(scene, b);
+    EXPECT_GT(ours.join_pairs, 500u);
+    EXPECT_GT(ours.witness_pairs, 3000u);
+    EXPECT_EQ(ours.join_violations, 0u);
+    EXPECT_EQ(ours.witness_violations, 0u);
+
+    SparsRules no_join = default_rules(true);
+    no_join.vertex_join = false;
+    SparsBuilder without_join(scene, BuildOptions{}, no_join);
+    without_join.extend(samples);
+    EXPECT_GT(check_local_bounds(scene, without_join).join_violations, 0u) << "the join check caught nothing";
+    SparsRules no_witness = default_rules(true);
+    no_witness.witnessed_pairs = false;
+    SparsBuilder without_witness(scene, BuildOptions{}, no_witness);
+    without_witness.extend(samples);
+    EXPECT_GT(check_local_bounds(scene, without_witness).witness_violations, 0u) << "the witness check caught nothing";
+  }
 }
 
 TEST(SparsBuilder, EverySparseEdgeCostsItsOwnLengthAndIsValid) {
