@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(std::size_t{0}, std::size_t{100'000'000}));
   build_cmd->add_option("--seed", build.seed, "Seed of the sample stream");
   build_cmd->add_option("--variant", build.variant,
-                        "spars, ispars: stretch (default: enforces the stretch between sparse vertices) or alg1 "
+                        "spars, ispars: stretch (default: bounds routes between nearby sparse vertices) or alg1 "
                         "(the paper's Alg. 1 read literally)")
       ->check(spars_variant);
   build_cmd->add_option("--threads", build.threads, "Threads for per-sample checks (same roadmap for any count)")

@@ -1,6 +1,7 @@
-// The sparse-vertex stretch rules. Theorem 1's proof bounds the sparse route between two sparse
-// viewpoints by t times the continuous route (its "sparse-endpoint refinement"); nothing in
-// Alg. 1 enforces that between sparse vertices. Two rules do, with the same t:
+// The sparse-vertex stretch rules. Theorem 1's proof would bound the sparse route between two
+// sparse viewpoints by t times the continuous route (its "sparse-endpoint refinement"); nothing in
+// Alg. 1 enforces that between sparse vertices. Two rules do for nearby pairs, with the same t
+// (no rule bounds a farther pair; docs/sparse-stretch.md):
 // - vertex join: a new sparse vertex s takes an edge to each w in W(s) that it has no sparse
 //   route to within t |s - w| (the direct segment is valid, so d_C(s, w) = |s - w|);
 // - witnessed pairs: a sample q left out of G_s is a witness that w and w' of W(q) are at most
@@ -8,8 +9,8 @@
 // Both bounds take an additive slack (stretch_slack times Delta, 0 by default; from sample
 // stretch_slack_after of the stream on, when that is set). With a positive
 // slack each repair shortens its pair's route by more than the slack, so repairs thin out and
-// the roadmap converges (docs/results/ispars2.md measures it); the tour bound of Theorem 1 gains
-// the slack once per leg, the same order as the Delta it already adds per viewpoint.
+// the roadmap grows far more slowly (it still grows: docs/results/ispars2.md measures it). The
+// slack is paid per bounded pair: a route made of k such hops may be k slacks longer.
 // docs/sparse-stretch.md has the argument and the measurements.
 
 #include <algorithm>

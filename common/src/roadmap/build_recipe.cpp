@@ -25,7 +25,7 @@ constexpr std::array<RecipeParameter, 6> kOverrides{{
      &RoadmapRecipe::stretch},
     {"stretch_slack", 0.0, 1.0, "in [0, 1]",
      "the stretch rules' additive slack, a fraction of Delta: bounds t d + slack Delta (default 0; "
-     "0.5 lets a long extend converge, docs/results/ispars2.md)",
+     "0.5 keeps a long extend's cost per sample nearly flat, docs/results/ispars2.md)",
      &RoadmapRecipe::stretch_slack},
     {"stretch_slack_after", 0.0, 1e12, "a whole number of samples in [0, 1e12]",
      "the sample from which stretch_slack applies (default 0: from the first; the samples before it "

@@ -26,11 +26,12 @@ struct BuildOptions {
   SparsVariant variant = SparsVariant::stretch;
   /// spars, ispars and ispars2, stretch rules: the additive slack of the join and witnessed-pair
   /// bounds as a fraction of Delta, in [0, 1]: a route is long past t d + stretch_slack Delta.
-  /// 0 keeps the bounds purely multiplicative; a positive slack lets the roadmap converge.
+  /// 0 keeps the bounds purely multiplicative; a positive slack thins the repairs out, so a long
+  /// build grows far more slowly (measured, not proven: docs/results/ispars2.md).
   double stretch_slack = 0.0;
   /// The slack applies from this sample of the build's stream on (0: from the first); the samples
   /// before it see purely multiplicative bounds, so a build's first stretch_slack_after samples
-  /// grow exactly the roadmap that no slack grows, and a long extend then converges.
+  /// grow exactly the roadmap that no slack grows, and a long extend then grows slowly.
   std::uint64_t stretch_slack_after = 0;
   /// The stretch rules' cache of routes between sparse vertices (KnownRoutes): at most this many
   /// pairs, 16-32 bytes each (2048 .. 2^30). Any size gives the same roadmap; a small one

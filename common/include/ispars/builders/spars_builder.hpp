@@ -1,7 +1,9 @@
 #pragma once
 // SPARS (Dobson & Bekris 2014) and Inspection-SPARS (Alg. 1 of the paper): a sparse roadmap
-// G_s grown beside its dense delta-PRM G_d, with the sparse-vertex stretch rules that Theorem 1's
-// proof needs between sparse endpoints (docs/sparse-stretch.md).
+// G_s grown beside its dense delta-PRM G_d, with sparse-vertex stretch rules. What they prove is
+// local: a route within t |a - b| between sparse vertices within Delta in view, and within t times
+// the path through q between two members of a sample's W(q). They bound no farther pair, which
+// Theorem 1's proof would also need (docs/sparse-stretch.md; measured in docs/results/stretch.md).
 
 #include <cstdint>
 #include <map>
@@ -43,8 +45,8 @@ struct SparsRules {
 
   /// The named rule sets: `alg1` is the paper's Alg. 1 read literally (and SPARS without the
   /// inspection test); `stretch`, the default, adds the vertex join, the witnessed pairs over
-  /// all of W(q) and bridges by edge, and drops the dense shortcut they make redundant
-  /// (docs/sparse-stretch.md has the ablation behind this choice).
+  /// all of W(q) and bridges by edge, and drops the dense shortcut (with them it added edges for
+  /// tours 0.5-2.9% shorter; docs/sparse-stretch.md has the ablation behind this choice).
   [[nodiscard]] static SparsRules for_variant(SparsVariant variant, bool inspection_test);
   /// ispars2: the `stretch` rules with the inspection test, and no dense graph.
   [[nodiscard]] static SparsRules dense_free();

@@ -28,7 +28,8 @@ enum class BuildMethod { dense, spars, ispars, irisc, ispars2 };
 [[nodiscard]] std::string build_method_names();
 
 /// The rule set of the spars and ispars sparse roadmaps (spars_builder.hpp, SparsRules).
-/// `stretch` (the default) enforces the stretch between sparse vertices that Theorem 1 needs;
+/// `stretch` (the default) bounds the routes between sparse vertices within Delta in view, and
+/// between the members of a sample's W, by t (not between far ones: docs/sparse-stretch.md);
 /// `alg1` is the paper's Alg. 1 read literally, kept to reproduce the paper.
 enum class SparsVariant { stretch, alg1 };
 
