@@ -257,6 +257,8 @@ int main(int argc, char** argv) {
                                      {"bound_trace", bound_trace},
                                      {"bound_complete", r.bound_complete()},
                                      {"walk_steps", r.walk().empty() ? 0 : r.walk().size() - 1},
+                                     {"shortcut_cost", r.shortcut_cost()},
+                                     {"shortcut_steps", r.shortcut_stops().empty() ? 0 : r.shortcut_stops().size() - 1},
                                      {"version", r.version()}};
       if (!out.empty()) {
         nlohmann::json positions = nlohmann::json::array();
@@ -264,13 +266,18 @@ int main(int argc, char** argv) {
         nlohmann::json file = result;
         file["walk"] = r.walk();
         file["positions"] = positions;
+        nlohmann::json flown = nlohmann::json::array();  // the shortcut tour: what render draws
+        for (const auto& p : r.shortcut_path()) flown.push_back({p.x(), p.y(), p.z()});
+        file["path"] = flown;
         write_text(out, file.dump() + "\n");
       }
       if (json) {
         std::cout << result.dump() << std::endl;
       } else {
         std::cout << reply.message() << "\n";
-        std::cout << fmt::format("  {} steps, proven lower bound {:.6g} (gap {:.1f}%{}), {}\n",
+        std::cout << fmt::format("  shortcut: {:.6g} in {} straight steps (the path as flown)\n", r.shortcut_cost(),
+                                 r.shortcut_stops().empty() ? 0 : r.shortcut_stops().size() - 1);
+        std::cout << fmt::format("  {} roadmap steps, proven lower bound {:.6g} (gap {:.1f}%{}), {}\n",
                                  r.walk().empty() ? 0 : r.walk().size() - 1, r.lower_bound(),
                                  r.cost() > 0 ? 100.0 * (r.cost() - r.lower_bound()) / r.cost() : 0.0,
                                  r.bound_complete() ? ", LP solved over all its cuts" : "",

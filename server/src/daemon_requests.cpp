@@ -69,11 +69,14 @@ msg::TourResult to_message(const TourOutcome& o) {
   msg::TourResult m;
   m.walk(std::vector<std::uint32_t>(r.tour.walk.begin(), r.tour.walk.end()));
   for (const Vec3& p : o.waypoints) m.waypoints().push_back(wire::to_message(p));
+  m.shortcut_stops(std::vector<std::uint32_t>(o.shortcut.stops.begin(), o.shortcut.stops.end()));
+  for (const Vec3& p : o.shortcut.path) m.shortcut_path().push_back(wire::to_message(p));
+  m.shortcut_cost(o.shortcut.cost);
   m.cost(r.tour.cost);
   m.covered(static_cast<std::uint32_t>(r.tour.covered.size()));
   m.target_count(static_cast<std::uint32_t>(r.targets.size()));
   m.lower_bound(r.lower_bound.value_or(0.0));
-  m.valid(r.validation.valid());
+  m.valid(r.validation.valid() && o.shortcut_validation.valid());  // the walk and the shortcut path both
   for (const auto& [t, c] : r.trace) {
     m.trace().push_back(t);
     m.trace().push_back(c);

@@ -47,6 +47,29 @@ TEST_F(ServiceTest, ToursAreSearchedByTheDaemonWithProgressAndValidated) {
     cost += (snapshot.roadmap.position(r.walk()[i]) - snapshot.roadmap.position(r.walk()[i - 1])).norm();
   }
   EXPECT_NEAR(cost, r.cost(), 1e-9 * cost);
+  // The shortcut tour, checked here with the test's own copy of the scene: its stops are walk
+  // vertices, each step an edge or a segment the collision checker accepts, every target still
+  // seen from a stop, and its length the sum of its steps, never above the walk's.
+  const Scene scene = Scene::load(scene_dir_ / "s0.yaml");
+  ASSERT_GE(r.shortcut_stops().size(), 2u);
+  ASSERT_EQ(r.shortcut_path().size(), r.shortcut_stops().size());
+  EXPECT_EQ(r.shortcut_stops().front(), 0u);
+  EXPECT_EQ(r.shortcut_stops().back(), 0u);
+  double flown = 0;
+  std::vector<std::uint64_t> seen_from_stops(snapshot.roadmap.visible(0).size(), 0);
+  for (std::size_t i = 0; i < r.shortcut_stops().size(); ++i) {
+    const VertexId v = r.shortcut_stops()[i];
+    ASSERT_NE(std::find(r.walk().begin(), r.walk().end(), v), r.walk().end()) << "stop " << i;
+    unite(seen_from_stops, snapshot.roadmap.visible(v));
+    if (i == 0) continue;
+    const VertexId u = r.shortcut_stops()[i - 1];
+    const Vec3 a = snapshot.roadmap.position(u), b = snapshot.roadmap.position(v);
+    EXPECT_TRUE(snapshot.roadmap.has_edge(u, v) || scene.segment_valid(a, b)) << "step " << i;
+    flown += (b - a).norm();
+  }
+  EXPECT_NEAR(flown, r.shortcut_cost(), 1e-9 * flown);
+  EXPECT_LE(r.shortcut_cost(), r.cost() * (1 + 1e-12));
+  EXPECT_EQ(count(seen_from_stops), r.covered());  // every target (here: every POI seen from the root's component)
   // A subset of targets, and bad tour requests.
   const msg::TourResult two = client.tour("s0", 0.3, 1, {0u}).body().tour();
   EXPECT_TRUE(two.valid());

@@ -185,7 +185,8 @@ function onTour(m) {
   tourLine = new THREE.Line(g, new THREE.LineBasicMaterial({ color: 0xff8000 }));
   scene3.add(tourLine);
   viewer.tour = m;
-  $('tour').textContent = `tour of ${m.cost.toFixed(1)} m through ${m.positions.length} waypoints, ` +
+  $('tour').textContent = `tour of ${m.cost.toFixed(1)} m (on the roadmap ${m.roadmap_cost.toFixed(1)} m) ` +
+      `through ${m.positions.length} waypoints, ` +
       `${m.covered} of ${m.targets} POIs${m.valid ? '' : ' (NOT valid)'}`;
   $('tour_button').disabled = false;
 }

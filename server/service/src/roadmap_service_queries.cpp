@@ -187,6 +187,14 @@ void RoadmapService::run_tour(const std::shared_ptr<RoadmapSession>& session, co
     TourOutcome outcome;
     outcome.result = solve_gip(graph, options);
     for (const VertexId v : outcome.result.tour.walk) outcome.waypoints.push_back(published.roadmap->position(v));
+    const Scene& scene = session->scene();
+    ShortcutOptions shortcut;
+    shortcut.stop = stop.get();  // a stop leaves the path shortened in part, still valid
+    const SegmentValid segment_valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
+    outcome.shortcut = shortcut_tour(graph, published.roadmap->positions(), outcome.result.targets,
+                                     outcome.result.tour, segment_valid, shortcut);
+    outcome.shortcut_validation = check_shortcut_tour(graph, published.roadmap->positions(), options.root,
+                                                      outcome.result.targets, outcome.shortcut, segment_valid);
     outcome.version = published.roadmap->version();
     if (callbacks.done) callbacks.done(std::move(outcome));
   } catch (const InputError& e) {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "ispars/tour/gip_solver.hpp"
+#include "ispars/tour/tour_shortcut.hpp"
 #include "ispars/service/memory_budget.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/worker_pool.hpp"
@@ -107,10 +108,13 @@ struct TourRequest {
 inline constexpr double kMaxTourBudget = 3600.0;
 inline constexpr std::size_t kMaxTourTargets = 1'000'000;
 
-/// A finished tour: the search's result on the roadmap version it searched.
+/// A finished tour: the search's result on the roadmap version it searched, and that tour
+/// shortcut by the scene's collision checker (tour_shortcut.hpp): the path a robot would fly.
 struct TourOutcome {
   GipResult result;
   std::vector<Vec3> waypoints;  ///< The walk's positions.
+  ShortcutTour shortcut;
+  ShortcutValidation shortcut_validation;  ///< check_shortcut_tour's independent check of it.
   std::uint64_t version = 0;
 };
 
