@@ -110,6 +110,7 @@ struct TourCommandOptions {
   std::uint64_t iterations = 0;
   std::string targets;         ///< A file of POI ids (default: every POI seen from the root's component).
   std::string bound = "lp";    ///< "lp" or "simple".
+  std::string scene;           ///< The roadmap's scene YAML: shortcut the tour with its collision checker.
   bool json = false;
   std::string out;
 };

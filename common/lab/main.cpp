@@ -214,7 +214,9 @@ int main(int argc, char** argv) {
   tour_cmd->add_option("--bound", tour.bound, "lp: prove a lower bound by linear programming beside the search; simple")
       ->check(CLI::IsMember({"lp", "simple"}));
   tour_cmd->add_flag("--json", tour.json, "Print one JSON object as the last line of stdout");
-  tour_cmd->add_option("--out", tour.out, "Write the tour (walk, positions, trace) as JSON");
+  tour_cmd->add_option("--out", tour.out, "Write the tour (walk, positions, trace, path: what render draws) as JSON");
+  tour_cmd->add_option("--scene", tour.scene, "The roadmap's scene YAML: also shortcut the tour (straight checked segments)")
+      ->check(CLI::ExistingFile);
 
   RenderCommandOptions render;
   auto* render_cmd = app.add_subcommand("render", "A PNG of a scene, a roadmap file's graphs, its POIs and a tour");

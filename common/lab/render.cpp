@@ -25,7 +25,8 @@ Vec3 vec3_option(const std::vector<double>& v, const char* name) {
   return {v[0], v[1], v[2]};
 }
 
-// The positions of a tour file's walk.
+// The path a tour file says to draw: its "path" (the shortcut tour, when the tour was shortcut),
+// else its walk's "positions".
 std::vector<Vec3> read_tour_positions(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path, "--tour", "cannot open for reading");
@@ -35,13 +36,14 @@ std::vector<Vec3> read_tour_positions(const std::string& path) {
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path, "json", e.what());
   }
-  if (!file.contains("positions") || !file["positions"].is_array()) {
+  const char* field = file.contains("path") && file["path"].is_array() && !file["path"].empty() ? "path" : "positions";
+  if (!file.contains(field) || !file[field].is_array()) {
     throw InputError(path, "positions", "missing (write the tour with ispars-lab tour --out from a roadmap file)");
   }
   std::vector<Vec3> walk;
-  for (const auto& p : file["positions"]) {
+  for (const auto& p : file[field]) {
     if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number()) {
-      throw InputError(path, "positions", "each position must be three numbers");
+      throw InputError(path, field, "each position must be three numbers");
     }
     walk.emplace_back(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
   }

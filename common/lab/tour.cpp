@@ -15,6 +15,8 @@
 #include "ispars/tour/gip_solver.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
+#include "ispars/scene/scene.hpp"
+#include "ispars/tour/tour_shortcut.hpp"
 #include "json_output.hpp"
 
 namespace ispars::lab {
@@ -47,11 +49,29 @@ std::vector<PoiId> read_targets(const std::string& path) {
   return targets;
 }
 
+// The tour shortcut by the scene's collision checker (tour_shortcut.hpp), when a scene is given.
+std::optional<ShortcutTour> shortcut_with_scene(const TourCommandOptions& options, const RoadmapFileGraph& input,
+                                                const GipResult& r) {
+  if (options.scene.empty()) return std::nullopt;
+  const Scene scene = Scene::build(parse_scene_config(options.scene));
+  if (input.positions.empty() || (input.positions[0] - scene.config().root).norm() > 1e-6) {
+    throw InputError(options.scene, "--scene", "its root is not the roadmap's root (vertex 0): not the roadmap's scene");
+  }
+  const SegmentValid valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
+  ShortcutTour t = shortcut_tour(input.graph, input.positions, r.targets, r.tour, valid);
+  const ShortcutValidation check = check_shortcut_tour(input.graph, input.positions, 0, r.targets, t, valid);
+  if (!check.valid()) throw std::runtime_error("tour: the shortcut tour failed its check: " + check.problem);
+  return t;
+}
+
 }  // namespace
 
 int run_tour(const TourCommandOptions& options) {
   if (options.roadmap.empty() == options.iris.empty()) {
     throw InputError("tour", "input", "give either a roadmap file or --iris PREFIX");
+  }
+  if (!options.scene.empty() && !options.iris.empty()) {
+    throw InputError("tour", "--scene", "shortcuts need a roadmap file's positions; IRIS files have none");
   }
   RoadmapFileGraph input;
   if (!options.iris.empty()) {
@@ -83,6 +103,7 @@ int run_tour(const TourCommandOptions& options) {
   }
   const GipResult r = solve_gip(input.graph, solve);
   if (live) std::cerr << '\n';
+  const std::optional<ShortcutTour> shortcut = shortcut_with_scene(options, input, r);
 
   nlohmann::json trace = nlohmann::json::array();
   for (const auto& [t, c] : r.trace) trace.push_back({t, c});
@@ -103,6 +124,9 @@ int run_tour(const TourCommandOptions& options) {
                               {"bound_note", r.bound_note},
                               {"gap", r.lower_bound && r.tour.cost > 0 ? (r.tour.cost - *r.lower_bound) / r.tour.cost : 0.0},
                               {"walk_steps", r.tour.walk.size() - 1},
+                              {"shortcut_cost", shortcut ? nlohmann::json(shortcut->cost) : nlohmann::json()},
+                              {"shortcut_steps", shortcut ? shortcut->stops.size() - 1 : 0},
+                              {"shortcut_segments_checked", shortcut ? shortcut->segments_checked : 0},
                               {"candidates", r.candidates},
                               {"iterations", r.iterations},
                               {"vertices", input.graph.vertex_count()},
@@ -114,6 +138,13 @@ int run_tour(const TourCommandOptions& options) {
       nlohmann::json positions = nlohmann::json::array();
       for (const VertexId v : r.tour.walk) positions.push_back(to_json(input.positions[v]));
       file["positions"] = std::move(positions);
+      nlohmann::json path = nlohmann::json::array();  // what render draws: the shortcut tour, or the walk
+      if (shortcut) {
+        for (const Vec3& p : shortcut->path) path.push_back(to_json(p));
+      } else {
+        path = file["positions"];
+      }
+      file["path"] = std::move(path);
     }
     std::ofstream f(options.out);
     if (!f) throw InputError(options.out, "--out", "cannot open for writing");
@@ -128,6 +159,11 @@ int run_tour(const TourCommandOptions& options) {
     std::cout << fmt::format("tour: cost {:.6g}, {} steps, covers {}/{} targets, {}\n", r.tour.cost,
                              r.tour.walk.size() - 1, r.tour.covered.size(), r.targets.size(),
                              r.validation.valid() ? "valid" : "INVALID: " + r.validation.problem);
+    if (shortcut) {
+      std::cout << fmt::format("shortcut tour: cost {:.6g} ({:.1f}% shorter), {} straight steps, {} segments checked\n",
+                               shortcut->cost, 100.0 * (1.0 - shortcut->cost / r.tour.cost), shortcut->stops.size() - 1,
+                               shortcut->segments_checked);
+    }
     if (r.lower_bound) {
       std::cout << fmt::format("proven lower bound {:.6g} (gap {:.1f}%){}\n", *r.lower_bound,
                                100.0 * (r.tour.cost - *r.lower_bound) / r.tour.cost,

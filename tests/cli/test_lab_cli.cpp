@@ -232,6 +232,18 @@ TEST_F(LabTour, ToursOnRoadmapFilesAndIrisFilesKeepTheJsonContract) {
   ASSERT_EQ(lab(fixed + (dir_ / "a.json").string()).exit_code, 0);
   ASSERT_EQ(lab(fixed + (dir_ / "b.json").string()).exit_code, 0);
   EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "a.json"))["walk"], nlohmann::json::parse(slurp(dir_ / "b.json"))["walk"]);
+  // With its scene, the tour is shortcut too: never longer, and what render draws ("path").
+  const LabRun cut = lab("tour " + roadmap.string() + " --budget 2 --iterations 30 --json --scene " + scene + " --out " +
+                         (dir_ / "cut.json").string());
+  ASSERT_EQ(cut.exit_code, 0) << cut.err;
+  const auto cut_json = nlohmann::json::parse(cut.out.substr(cut.out.rfind('{')));
+  EXPECT_GT(cut_json["shortcut_cost"].get<double>(), 0.0);
+  EXPECT_LE(cut_json["shortcut_cost"].get<double>(), cut_json["cost"].get<double>());
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "cut.json"))["path"].size(), cut_json["shortcut_steps"].get<std::size_t>() + 1);
+  const LabRun other = lab("tour " + roadmap.string() + " --budget 1 --iterations 5 --scene " + std::string(ISPARS_SCENES_DIR) +
+                           "/demo_truss_bridge.yaml");
+  EXPECT_NE(other.exit_code, 0);
+  EXPECT_NE(other.err.find("--scene: its root is not the roadmap's root"), std::string::npos) << other.err;
   // IRIS files: all edges or valid ones only.
   const std::string prefix = (dir_ / "wt").string();
   ASSERT_EQ(lab("build " + scene + " --method irisc --samples 3000 --iris " + prefix).exit_code, 0);
