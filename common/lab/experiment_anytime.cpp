@@ -1,9 +1,11 @@
 // `ispars-lab experiment anytime`: the paper's Fig. 4. For each scene and seed: Dense,
 // Inspection-SPARS (the default rule set and the literal Alg. 1) and IRIS-C roadmaps,
-// calibrated as in Table II; the common target set I_t (POIs seen from the root's component in
-// all of them); and the same GIP solver with the same work on each (an iteration cap, one
-// solver thread per roadmap). Also Dense routing with each sparse roadmap's viewpoints, which
-// splits a sparse roadmap's loss into "viewpoints lost" and "routing lost".
+// calibrated as in Table II, and Dense-wide (the same samples joined within 2 Delta, the reach
+// of a sparse edge); the common target set I_t (POIs seen from the root's component in all of
+// them); and the same GIP solver with the same work on each (an iteration cap, one solver
+// thread per roadmap). Every tour is also shortcut with the scene's collision checker
+// (tour_shortcut.hpp), as a robot would fly it. Also Dense routing with each sparse roadmap's
+// viewpoints, which splits a sparse roadmap's loss into "viewpoints lost" and "routing lost".
 // Prints a summary table; writes the best tour against time (CSV, PNG) and every run (JSON).
 
 #include <fmt/format.h>
@@ -20,7 +22,9 @@
 #include "experiment_support.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/builders/irisc_builder.hpp"
+#include "ispars/builders/dense_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/tour/tour_shortcut.hpp"
 #include "tour_support.hpp"
 
 namespace ispars::lab {
@@ -29,11 +33,11 @@ namespace {
 // The roadmaps of one seed, in this order; the last two are Dense routing with the viewpoints
 // of the two sparse roadmaps.
 const std::vector<std::string>& roadmap_names() {
-  static const std::vector<std::string> names{"dense", "ispars", "ispars-alg1", "irisc", "dense/ispars-viewpoints",
-                                              "dense/alg1-viewpoints"};
+  static const std::vector<std::string> names{"dense",  "ispars", "ispars-alg1", "irisc", "dense-wide",
+                                              "dense/ispars-viewpoints", "dense/alg1-viewpoints"};
   return names;
 }
-constexpr std::size_t kPlotted = 4;  // the first four are the figure's curves
+constexpr std::size_t kPlotted = 5;  // the first five are the figure's curves (the methods)
 
 // The best cost found by time t (NaN before the first tour).
 double best_at(const std::vector<std::pair<double, double>>& trace, double t) {
@@ -54,7 +58,7 @@ void plot(const std::string& csv, const std::string& png, const std::string& wor
          << ")'\n"
          << "set key right top\nset grid\nset logscale x\nset xlabel 'solver time [s] (log)'\n"
          << "set ylabel 'tour length'\nset style fill transparent solid 0.15 noborder\n";
-  const char* colours[] = {"#7b3294", "#1b9e77", "#56b4e9", "#e69f00"};
+  const char* colours[] = {"#7b3294", "#1b9e77", "#56b4e9", "#e69f00", "#d7191c"};
   for (const PaperSetting& s : paper_settings()) {
     script << "set title '" << s.scene << "'\nplot ";
     for (std::size_t m = 0; m < kPlotted; ++m) {
@@ -74,8 +78,38 @@ void plot(const std::string& csv, const std::string& png, const std::string& wor
 struct Runs {
   std::vector<std::vector<std::pair<double, double>>> traces;
   std::vector<double> vertices, edges, costs, over_dense, over_irisc, first, seconds, violations, bounds, gaps;
+  std::vector<double> shortcut, shortcut_over_best_other;  // the shortcut tours, and / the best other method's
+  std::vector<double> rounds, bound_seconds;              // the LP's solves and wall time
   std::size_t complete = 0;  // bounds solved over all their cuts
 };
+
+// Each tour shortcut with the scene's collision checker; positions[i] places graphs[i]'s vertices.
+std::vector<ShortcutTour> shortcut_each(std::span<const InspectionGraph> graphs,
+                                        const std::vector<std::span<const Vec3>>& positions,
+                                        const std::vector<PoiId>& targets, const std::vector<GipResult>& tours,
+                                        const Scene& scene) {
+  const SegmentValid valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
+  std::vector<ShortcutTour> out;
+  for (std::size_t i = 0; i < graphs.size(); ++i) {
+    out.push_back(shortcut_tour(graphs[i], positions[i], targets, tours[i].tour, valid));
+    const ShortcutValidation check = check_shortcut_tour(graphs[i], positions[i], 0, targets, out.back(), valid);
+    if (!check.valid()) throw std::runtime_error("a shortcut tour failed its check: " + check.problem);
+  }
+  return out;
+}
+
+// For each method (the first kPlotted), its shortcut tour over the best other method's.
+std::vector<double> over_best_other(const std::vector<ShortcutTour>& shortcuts) {
+  std::vector<double> ratio;
+  for (std::size_t i = 0; i < kPlotted; ++i) {
+    double best = INFINITY;
+    for (std::size_t j = 0; j < kPlotted; ++j) {
+      if (j != i) best = std::min(best, shortcuts[j].cost);
+    }
+    ratio.push_back(shortcuts[i].cost / best);
+  }
+  return ratio;
+}
 
 std::string cell(const std::vector<double>& v, int decimals) {
   if (v.empty()) return "-";
@@ -108,8 +142,10 @@ int run_experiment_anytime(const ExperimentOptions& options) {
   nlohmann::json results = nlohmann::json::array();
   std::ostringstream summary, per_seed, notes;
   summary << "| scene | I_t (mean) | roadmap | \\|V\\| | \\|E\\| | best tour, mean +- sd | / Dense | / IRIS-C "
-             "| proven bound, mean (gap; LPs complete) | Inv. 1 violations | first tour [s] | solver seconds |\n"
-             "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+             "| shortcut tour, mean +- sd | shortcut / best other method's "
+             "| proven bound on roadmap tours, mean (gap; LPs complete; LP rounds, s) | Inv. 1 violations "
+             "| first tour [s] | solver seconds |\n"
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   per_seed << "| scene | seed | I_t |";
   for (const std::string& n : roadmap_names()) per_seed << ' ' << n << " |";
   per_seed << "\n|---|---|---|";
@@ -135,11 +171,19 @@ int run_experiment_anytime(const ExperimentOptions& options) {
       stretch.extend(ps.samples);
       alg1.extend(ps.samples);
       irisc.extend(ps.samples);
+      // Dense-wide: the same sample stream, joined within 2 Delta = 3 delta (a sparse edge's reach).
+      const Scene wide_scene = Scene::build(scene_variant(base, ps.pois, seed, 3.0 * delta));
+      DenseBuilder wide(wide_scene, build);
+      wide.extend(ps.samples);
       const Roadmap& dense = *stretch.dense();  // both sparse builders drew the same G_d
       const std::vector<InspectionGraph> graphs{
-          InspectionGraph::from_roadmap(dense),         InspectionGraph::from_roadmap(stretch.roadmap()),
+          InspectionGraph::from_roadmap(dense),          InspectionGraph::from_roadmap(stretch.roadmap()),
           InspectionGraph::from_roadmap(alg1.roadmap()), InspectionGraph::from_roadmap(irisc.roadmap()),
-          with_viewpoints(dense, stretch.dense_ids()),  with_viewpoints(dense, alg1.dense_ids())};
+          InspectionGraph::from_roadmap(wide.roadmap()), with_viewpoints(dense, stretch.dense_ids()),
+          with_viewpoints(dense, alg1.dense_ids())};
+      const std::vector<std::span<const Vec3>> positions{
+          dense.positions(),        stretch.roadmap().positions(), alg1.roadmap().positions(), irisc.roadmap().positions(),
+          wide.roadmap().positions(), dense.positions(),           dense.positions()};
       std::vector<double> violations(graphs.size(), 0.0);
       violations[1] = static_cast<double>(
           verify_sparse_pair(scene, stretch.roadmap(), dense, stretch.dense_ids()).invariant_violations);
@@ -163,6 +207,8 @@ int run_experiment_anytime(const ExperimentOptions& options) {
       dropped.push_back(static_cast<double>(paper_targets - common.size()));
       target_counts.push_back(static_cast<double>(common.size()));
       const std::vector<GipResult> tours = solve_each(pointers, common, seed, work);
+      const std::vector<ShortcutTour> shortcuts = shortcut_each(graphs, positions, common, tours, scene);
+      const std::vector<double> shortcut_ratio = over_best_other(shortcuts);
       // The proven LP bound of the four roadmaps, on the same targets: it tells "the search got
       // stuck" (a gap) from "the roadmap holds no better tour" (none).
       const std::vector<TourBoundResult> bounds =
@@ -179,6 +225,8 @@ int run_experiment_anytime(const ExperimentOptions& options) {
         run.vertices.push_back(static_cast<double>(graphs[i].vertex_count()));
         run.edges.push_back(static_cast<double>(graphs[i].edge_count()));
         run.costs.push_back(r.tour.cost);
+        run.shortcut.push_back(shortcuts[i].cost);
+        if (i < kPlotted) run.shortcut_over_best_other.push_back(shortcut_ratio[i]);
         run.over_dense.push_back(r.tour.cost / tours[0].tour.cost);
         run.over_irisc.push_back(r.tour.cost / tours[3].tour.cost);
         run.first.push_back(r.trace.empty() ? r.seconds : r.trace.front().first);
@@ -186,22 +234,31 @@ int run_experiment_anytime(const ExperimentOptions& options) {
         run.violations.push_back(violations[i]);
         if (i < kPlotted && options.bound_seconds > 0.0) {
           run.bounds.push_back(bounds[i].bound);
+          // The bound is on the roadmap's tours; a shortcut tour leaves the roadmap and may beat it.
           run.gaps.push_back((r.tour.cost - bounds[i].bound) / r.tour.cost);
           run.complete += bounds[i].complete;
+          run.rounds.push_back(static_cast<double>(bounds[i].rounds));
+          run.bound_seconds.push_back(bounds[i].seconds);
         }
         longest = std::max(longest, r.seconds);
-        per_seed << fmt::format(" {:.1f} |", r.tour.cost);
+        per_seed << fmt::format(" {:.1f} / {:.1f} |", r.tour.cost, shortcuts[i].cost);
         results.push_back({{"scene", ps.scene}, {"seed", seed}, {"roadmap", roadmap_names()[i]},
                            {"targets", common.size()}, {"vertices", graphs[i].vertex_count()},
                            {"edges", graphs[i].edge_count()}, {"cost", r.tour.cost}, {"seconds", r.seconds},
+                           {"shortcut_cost", shortcuts[i].cost}, {"shortcut_steps", shortcuts[i].stops.size() - 1},
+                           {"shortcut_segments_checked", shortcuts[i].segments_checked},
+                           {"bound_rounds", i < kPlotted ? bounds[i].rounds : 0},
+                           {"bound_seconds", i < kPlotted ? bounds[i].seconds : 0.0},
                            {"iterations", r.iterations}, {"invariant_violations", violations[i]}, {"trace", r.trace},
                            {"lower_bound", i < kPlotted ? nlohmann::json(bounds[i].bound) : nlohmann::json()},
                            {"bound_complete", i < kPlotted && bounds[i].complete}});
       }
       per_seed << '\n';
-      std::cerr << fmt::format("{} seed {}: I_t = {}; dense {:.1f}, ispars {:.1f}, alg1 {:.1f}, irisc {:.1f}\n",
-                               ps.scene, seed, common.size(), tours[0].tour.cost, tours[1].tour.cost,
-                               tours[2].tour.cost, tours[3].tour.cost);
+      std::cerr << fmt::format("{} seed {}: I_t = {}; tour / shortcut: dense {:.1f} / {:.1f}, ispars {:.1f} / {:.1f}, "
+                               "alg1 {:.1f} / {:.1f}, irisc {:.1f} / {:.1f}, dense-wide {:.1f} / {:.1f}\n",
+                               ps.scene, seed, common.size(), tours[0].tour.cost, shortcuts[0].cost, tours[1].tour.cost,
+                               shortcuts[1].cost, tours[2].tour.cost, shortcuts[2].cost, tours[3].tour.cost,
+                               shortcuts[3].cost, tours[4].tour.cost, shortcuts[4].cost);
     }
     notes << fmt::format("{}: seeds {} (skipped, no common target: {})\n", ps.scene, fmt::join(used, ", "),
                          skipped.empty() ? std::string("none") : fmt::format("{}", fmt::join(skipped, ", ")));
@@ -226,14 +283,21 @@ int run_experiment_anytime(const ExperimentOptions& options) {
         }
       }
       const bool sparse = m == 1 || m == 2;
-      summary << fmt::format("| {} | {:.1f} | {} | {:.0f} | {:.0f} | {} | {:.3f} | {:.3f} | {} | {} | {:.2f} | {:.1f} |\n",
+      summary << fmt::format("| {} | {:.1f} | {} | {:.0f} | {:.0f} | {} | {:.3f} | {:.3f} | {} | {} | {} | {} | {:.2f} "
+                             "| {:.1f} |\n",
                              ps.scene, mean_sd(target_counts).mean, roadmap_names()[m], mean_sd(run.vertices).mean,
                              mean_sd(run.edges).mean, cell(run.costs, 1), mean_sd(run.over_dense).mean,
-                             mean_sd(run.over_irisc).mean,
+                             mean_sd(run.over_irisc).mean, cell(run.shortcut, 1),
+                             run.shortcut_over_best_other.empty()
+                                 ? std::string("-")
+                                 : fmt::format("{:.3f} (max {:.3f})", mean_sd(run.shortcut_over_best_other).mean,
+                                               *std::max_element(run.shortcut_over_best_other.begin(),
+                                                                 run.shortcut_over_best_other.end())),
                              run.bounds.empty() ? std::string("-")
-                                                : fmt::format("{:.1f} ({:.1f}%; {}/{})", mean_sd(run.bounds).mean,
-                                                              100.0 * mean_sd(run.gaps).mean, run.complete,
-                                                              run.bounds.size()),
+                                                : fmt::format("{:.1f} ({:.1f}%; {}/{}; {:.0f}, {:.1f})",
+                                                              mean_sd(run.bounds).mean, 100.0 * mean_sd(run.gaps).mean,
+                                                              run.complete, run.bounds.size(), mean_sd(run.rounds).mean,
+                                                              mean_sd(run.bound_seconds).mean),
                              sparse ? fmt::format("{:.0f}", mean_sd(run.violations).mean * run.violations.size())
                                     : std::string("-"),
                              mean_sd(run.first).mean, mean_sd(run.seconds).mean);

@@ -162,6 +162,7 @@ TourBoundResult lp_tour_bound(const InspectionGraph& graph, const TourBoundOptio
       break;
     }
   }
+  result.seconds = elapsed();
   return result;
 }
 

@@ -41,6 +41,7 @@ struct TourBoundResult {
   bool complete = false;    ///< No violated cut is left: the LP optimum over all cuts.
   std::size_t rounds = 0;   ///< LP solves.
   std::size_t cuts = 0;     ///< Rows added.
+  double seconds = 0.0;     ///< Wall time of the rounds (the bound depends on it: a budget stops them).
   std::vector<std::pair<double, double>> trace;  ///< (seconds, bound) at each rise.
   std::string skipped;      ///< Non-empty when no LP was solved, and why.
 };
