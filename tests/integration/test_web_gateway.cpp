@@ -179,6 +179,8 @@ TEST_F(WebGatewayTest, ToursAreBoundedPerGatewayAndAnUnwatchedSceneIsDropped) {
         << refused;
     const auto first = next_of(a, {"tour", "error"});
     EXPECT_EQ(first["type"], "tour") << first;
+    // What the page draws and names first is the shortcut tour; the roadmap walk's length comes with it.
+    EXPECT_LE(first["cost"].get<double>(), first["roadmap_cost"].get<double>() * (1 + 1e-12)) << first;
     b.send_text(R"({"type":"tour","budget":0.5})");
     const auto second = next_of(b, {"tour", "error"});
     EXPECT_EQ(second["type"], "tour") << second;

@@ -1,6 +1,7 @@
 #include "ispars/tour/tour_closure.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <thread>
 
@@ -17,7 +18,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 std::vector<std::vector<std::size_t>> rankings(const InspectionGraph& graph,
                                                const std::vector<VertexId>& vertex,
                                                const std::vector<std::vector<std::uint32_t>>& sees,
-                                               std::size_t targets, const std::vector<double>& from_root) {
+                                               std::size_t targets, const std::vector<double>& from_root,
+                                               const std::function<bool(VertexId)>& stopped) {
   std::vector<std::size_t> order(vertex.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   const auto ranked = [&](const auto& before) {
@@ -41,7 +43,7 @@ std::vector<std::vector<std::size_t>> rankings(const InspectionGraph& graph,
     }
   }
   std::vector<double> from_anchor;
-  dijkstra(graph, std::span<const SearchSource>(anchors), from_anchor);
+  dijkstra(graph, std::span<const SearchSource>(anchors), from_anchor, nullptr, stopped);
   out.push_back(ranked([&](std::size_t a, std::size_t b) { return from_anchor[vertex[a]] < from_anchor[vertex[b]]; }));
   return out;
 }
@@ -106,17 +108,26 @@ TourClosure::TourClosure(const InspectionGraph& graph, VertexId root, const std:
   }
   // The simple bound, over every viewer (before any thinning): each target needs a round trip
   // from the root to some vertex that sees it.
+  // These searches end early on should_stop() (checked every 4,096 settled vertices): a stopped
+  // one gives no bound, and thinning by partial distances (the rows are refused anyway).
+  bool was_stopped = false;
+  std::size_t settled = 0;
+  const std::function<bool(VertexId)> stopped = [&](VertexId) {
+    if ((++settled & 4095) == 0 && should_stop_ && should_stop_()) was_stopped = true;
+    return was_stopped;
+  };
   std::vector<double> from_root;
   const SearchSource root_source{root, 0.0};
-  dijkstra(graph, std::span<const SearchSource>(&root_source, 1), from_root);
+  dijkstra(graph, std::span<const SearchSource>(&root_source, 1), from_root, nullptr, stopped);
   std::vector<double> cheapest(targets.size(), kInf);
   for (std::size_t i = 0; i < vertex.size(); ++i) {
     for (const auto t : sees[i]) cheapest[t] = std::min(cheapest[t], 2.0 * from_root[vertex[i]]);
   }
   for (const double c : cheapest) simple_bound = std::max(simple_bound, c);
+  if (was_stopped) simple_bound = 0.0;  // distances past the stop are not shortest: no bound
   if (vertex.size() > options.max_candidates) {
-    const std::vector<std::size_t> kept =
-        thin(rankings(graph, vertex, sees, targets.size(), from_root), sees, targets.size(), options.max_candidates);
+    const std::vector<std::size_t> kept = thin(rankings(graph, vertex, sees, targets.size(), from_root, stopped), sees,
+                                               targets.size(), options.max_candidates);
     thinned = vertex.size() - kept.size();
     std::vector<VertexId> kept_vertex;
     std::vector<std::vector<std::uint32_t>> kept_sees;
