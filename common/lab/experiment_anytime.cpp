@@ -80,6 +80,7 @@ struct Runs {
   std::vector<double> vertices, edges, costs, over_dense, over_irisc, first, seconds, violations, bounds, gaps;
   std::vector<double> shortcut, shortcut_over_best_other;  // the shortcut tours, and / the best other method's
   std::vector<double> rounds, bound_seconds;              // the LP's solves and wall time
+  std::string skipped;                                    // why an LP was not attempted, if one was not
   std::size_t complete = 0;  // bounds solved over all their cuts
 };
 
@@ -232,7 +233,9 @@ int run_experiment_anytime(const ExperimentOptions& options) {
         run.first.push_back(r.trace.empty() ? r.seconds : r.trace.front().first);
         run.seconds.push_back(r.seconds);
         run.violations.push_back(violations[i]);
-        if (i < kPlotted && options.bound_seconds > 0.0) {
+        if (i < kPlotted && options.bound_seconds > 0.0 && !bounds[i].skipped.empty()) {
+          run.skipped = bounds[i].skipped;  // e.g. over the LP's edge limit: no bound, not a bound of 0
+        } else if (i < kPlotted && options.bound_seconds > 0.0) {
           run.bounds.push_back(bounds[i].bound);
           // The bound is on the roadmap's tours; a shortcut tour leaves the roadmap and may beat it.
           run.gaps.push_back((r.tour.cost - bounds[i].bound) / r.tour.cost);
@@ -293,7 +296,8 @@ int run_experiment_anytime(const ExperimentOptions& options) {
                                  : fmt::format("{:.3f} (max {:.3f})", mean_sd(run.shortcut_over_best_other).mean,
                                                *std::max_element(run.shortcut_over_best_other.begin(),
                                                                  run.shortcut_over_best_other.end())),
-                             run.bounds.empty() ? std::string("-")
+                             !run.skipped.empty() ? "no LP on some seeds: " + run.skipped
+                             : run.bounds.empty() ? std::string("-")
                                                 : fmt::format("{:.1f} ({:.1f}%; {}/{}; {:.0f}, {:.1f})",
                                                               mean_sd(run.bounds).mean, 100.0 * mean_sd(run.gaps).mean,
                                                               run.complete, run.bounds.size(), mean_sd(run.rounds).mean,
