@@ -118,6 +118,30 @@ std::string cell(const std::vector<double>& v, int decimals) {
   return fmt::format("{:.{}f} +- {:.{}f}", m.mean, decimals, m.sd, decimals);
 }
 
+// One row of the summary table: roadmap m's figures over the seeds of one scene.
+std::string summary_row(const std::string& scene, double targets, std::size_t m, const Runs& run) {
+  const bool sparse = m == 1 || m == 2;
+  return fmt::format("| {} | {:.1f} | {} | {:.0f} | {:.0f} | {} | {:.3f} | {:.3f} | {} | {} | {} | {} | {:.2f} "
+                     "| {:.1f} |\n",
+                     scene, targets, roadmap_names()[m], mean_sd(run.vertices).mean,
+                     mean_sd(run.edges).mean, cell(run.costs, 1), mean_sd(run.over_dense).mean,
+                     mean_sd(run.over_irisc).mean, cell(run.shortcut, 1),
+                     run.shortcut_over_best_other.empty()
+                         ? std::string("-")
+                         : fmt::format("{:.3f} (max {:.3f})", mean_sd(run.shortcut_over_best_other).mean,
+                                       *std::max_element(run.shortcut_over_best_other.begin(),
+                                                         run.shortcut_over_best_other.end())),
+                     !run.skipped.empty() ? "no LP on some seeds: " + run.skipped
+                     : run.bounds.empty() ? std::string("-")
+                                        : fmt::format("{:.1f} ({:.1f}%; {}/{}; {:.0f}, {:.1f})",
+                                                      mean_sd(run.bounds).mean, 100.0 * mean_sd(run.gaps).mean,
+                                                      run.complete, run.bounds.size(), mean_sd(run.rounds).mean,
+                                                      mean_sd(run.bound_seconds).mean),
+                     sparse ? fmt::format("{:.0f}", mean_sd(run.violations).mean * run.violations.size())
+                            : std::string("-"),
+                     mean_sd(run.first).mean, mean_sd(run.seconds).mean);
+}
+
 }  // namespace
 
 int run_experiment_anytime(const ExperimentOptions& options) {
@@ -285,26 +309,7 @@ int run_experiment_anytime(const ExperimentOptions& options) {
                              values.size());
         }
       }
-      const bool sparse = m == 1 || m == 2;
-      summary << fmt::format("| {} | {:.1f} | {} | {:.0f} | {:.0f} | {} | {:.3f} | {:.3f} | {} | {} | {} | {} | {:.2f} "
-                             "| {:.1f} |\n",
-                             ps.scene, mean_sd(target_counts).mean, roadmap_names()[m], mean_sd(run.vertices).mean,
-                             mean_sd(run.edges).mean, cell(run.costs, 1), mean_sd(run.over_dense).mean,
-                             mean_sd(run.over_irisc).mean, cell(run.shortcut, 1),
-                             run.shortcut_over_best_other.empty()
-                                 ? std::string("-")
-                                 : fmt::format("{:.3f} (max {:.3f})", mean_sd(run.shortcut_over_best_other).mean,
-                                               *std::max_element(run.shortcut_over_best_other.begin(),
-                                                                 run.shortcut_over_best_other.end())),
-                             !run.skipped.empty() ? "no LP on some seeds: " + run.skipped
-                             : run.bounds.empty() ? std::string("-")
-                                                : fmt::format("{:.1f} ({:.1f}%; {}/{}; {:.0f}, {:.1f})",
-                                                              mean_sd(run.bounds).mean, 100.0 * mean_sd(run.gaps).mean,
-                                                              run.complete, run.bounds.size(), mean_sd(run.rounds).mean,
-                                                              mean_sd(run.bound_seconds).mean),
-                             sparse ? fmt::format("{:.0f}", mean_sd(run.violations).mean * run.violations.size())
-                                    : std::string("-"),
-                             mean_sd(run.first).mean, mean_sd(run.seconds).mean);
+      summary << summary_row(ps.scene, mean_sd(target_counts).mean, m, run);
     }
   }
   csv.close();
