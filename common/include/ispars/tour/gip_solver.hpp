@@ -51,7 +51,7 @@ struct GipResult {
   InspectionTour tour;
   std::vector<PoiId> targets;
   std::vector<std::pair<double, double>> trace;  ///< (seconds, best cost) at each improvement.
-  std::optional<double> lower_bound;             ///< A proven lower bound on the optimum.
+  std::optional<double> lower_bound;             ///< Proven: no tour in the graph is shorter (never over a thinned set).
   std::vector<std::pair<double, double>> bound_trace;  ///< (seconds, proven bound) at each rise.
   bool bound_complete = false;                   ///< The LP was solved over all its cuts.
   std::size_t bound_rounds = 0;                  ///< LP solves.
