@@ -147,7 +147,15 @@ TourClosure::TourClosure(const InspectionGraph& graph, VertexId root, const std:
   for (std::size_t i = 0; i < n; ++i) rows_[i].store(nullptr);
   storage_.resize(n);
 
-  if (n > options.rows_ahead_up_to) return;  // rows on first use
+  if (n > options.rows_ahead_up_to) {  // rows on first use; the root's is in hand already
+    if (!was_stopped) {
+      storage_[0] = std::make_unique<double[]>(n);
+      for (std::size_t j = 0; j < n; ++j) storage_[0][j] = from_root[vertex[j]];
+      rows_[0].store(storage_[0].get(), std::memory_order_release);
+      ++row_count_;
+    }
+    return;
+  }
   matrix_ = std::make_unique<double[]>(n * n);
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
