@@ -12,6 +12,19 @@
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
 
+namespace {
+
+// --stretch-slack and --stretch-slack-after, with the recipe's own ranges.
+void add_stretch_slack_options(CLI::App& command, double& slack, std::uint64_t& after) {
+  command.add_option("--stretch-slack", slack, "Stretch rules: additive slack of the bounds, a fraction of Delta (default 0)")
+      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack").max));
+  command.add_option("--stretch-slack-after", after,
+                     "Stretch rules: the slack applies from this sample on (default 0: from the first)")
+      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack_after").max));
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace ispars::lab;
   spdlog::set_level(spdlog::level::warn);
@@ -67,12 +80,7 @@ int main(int argc, char** argv) {
   bench_build_cmd->add_option("--variant", bench_build.variant, "spars, ispars: stretch (default) or alg1")
       ->check(spars_variant);
   bench_build_cmd->add_option("--samples", bench_build.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
-  bench_build_cmd->add_option("--stretch-slack", bench_build.stretch_slack,
-                              "Stretch rules: additive slack of the bounds, a fraction of Delta (default 0)")
-      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack").max));
-  bench_build_cmd->add_option("--stretch-slack-after", bench_build.stretch_slack_after,
-                              "Stretch rules: the slack applies from this sample on (default 0: from the first)")
-      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack_after").max));
+  add_stretch_slack_options(*bench_build_cmd, bench_build.stretch_slack, bench_build.stretch_slack_after);
   bench_build_cmd->add_option("--checkpoints", bench_build.checkpoints, "Report rows")->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
   bench_build_cmd->add_option("--seed", bench_build.seed, "Seed");
   bench_build_cmd->add_option("--threads", bench_build.threads, "Threads")->check(CLI::Range(1u, 64u));
@@ -192,12 +200,7 @@ int main(int argc, char** argv) {
   ablation_cmd->add_option("--iterations", exp.iterations, "Solver iterations per roadmap")
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
   ablation_cmd->add_option("--cap", exp.cap, "Wall-clock cap per tour, seconds")->check(CLI::Range(0.1, 1e5));
-  ablation_cmd->add_option("--stretch-slack", exp.stretch_slack,
-                           "Stretch rules: additive slack of the bounds, a fraction of Delta (default 0)")
-      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack").max));
-  ablation_cmd->add_option("--stretch-slack-after", exp.stretch_slack_after,
-                           "Stretch rules: the slack applies from this sample on (default 0: from the first)")
-      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack_after").max));
+  add_stretch_slack_options(*ablation_cmd, exp.stretch_slack, exp.stretch_slack_after);
   ablation_cmd->add_option("--jobs", exp.jobs, "Tours solved at once (one solver thread each)")->check(CLI::Range(1u, 64u));
 
   TourCommandOptions tour;
