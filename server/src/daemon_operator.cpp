@@ -60,8 +60,9 @@ void Daemon::open_metrics_endpoint() {
 void Daemon::start_serving() {
   last_progress_ = Clock::now().time_since_epoch().count();
   serving_ = true;
-  watchdog_thread_ = std::thread([this] { watch_health(); });
+  // READY before the first ping: the watchdog thread may run before this thread is scheduled again.
   notifier_.ready(fmt::format("serving on DDS domain {} as {}", config_.domain, config_.server_id));
+  watchdog_thread_ = std::thread([this] { watch_health(); });
 }
 
 void Daemon::watch_health() {
