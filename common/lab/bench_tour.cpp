@@ -94,7 +94,7 @@ int run_bench_tour(const BenchTourOptions& options) {
                                 {"edges", g.edge_count()}, {"build_seconds", build_seconds},
                                 {"budget", options.budget}, {"returned_after", wall},
                                 {"first_tour", r.trace.empty() ? nlohmann::json() : nlohmann::json(r.trace.front().first)},
-                                {"cost", r.tour.cost}, {"valid", r.validation.valid()},
+                                {"cost", r.tour.cost}, {"trace", r.trace}, {"valid", r.validation.valid()},
                                 {"candidates", r.candidates}, {"thinned", r.thinned},
                                 {"distance_rows", r.distance_rows}, {"iterations", r.iterations},
                                 {"lower_bound", r.lower_bound.value_or(0.0)}, {"bound_note", r.bound_note},

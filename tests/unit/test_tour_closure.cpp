@@ -136,5 +136,44 @@ TEST(TourClosure, PlantedOptimaSurviveThousandsOfDecoyViewers) {
   }
 }
 
+TEST(TourClosure, RowsOnFirstUseAndAheadAreTheWholeGraphsShortestPaths) {
+  // A row's search ends once every candidate is settled. Here the candidates sit in the left
+  // half of a 40 x 40 grid with random weights, so shortest paths between them often cross the
+  // right half, whose vertices are no candidates and are settled late or never.
+  const std::size_t side = 40;
+  Rng rng(7);
+  std::vector<RoadmapEdge> edges;
+  const auto at = [&](std::size_t x, std::size_t y) { return static_cast<VertexId>(y * side + x); };
+  for (std::size_t y = 0; y < side; ++y) {
+    for (std::size_t x = 0; x < side; ++x) {
+      const double left = x < side / 2 ? 5.0 : 1.0;  // the right half is the fast way round
+      if (x + 1 < side) edges.push_back({at(x, y), at(x + 1, y), left * (0.5 + rng.uniform01())});
+      if (y + 1 < side) edges.push_back({at(x, y), at(x, y + 1), left * (0.5 + rng.uniform01())});
+    }
+  }
+  const std::size_t pois = 6;
+  std::vector<std::vector<PoiId>> visible(side * side);
+  for (std::size_t y = 0; y < side; ++y) {
+    for (std::size_t x = 0; x < side / 2; ++x) {
+      if (rng.uniform01() < 0.1) visible[at(x, y)] = {static_cast<PoiId>(static_cast<std::size_t>(rng.uniform01() * pois) % pois)};
+    }
+  }
+  const InspectionGraph g = InspectionGraph::from_edges(side * side, edges, std::move(visible), pois);
+  for (const std::size_t ahead : {std::size_t{0}, std::size_t{3000}}) {
+    TourClosureOptions options;
+    options.rows_ahead_up_to = ahead;
+    const TourClosure c(g, 0, every_poi(pois), g.component_of(0), options);
+    ASSERT_GT(c.n, 50u);
+    std::vector<double> dist;
+    for (std::size_t a = 0; a < c.n; a += 7) {
+      const SearchSource from{c.vertex[a], 0.0};
+      dijkstra(g, std::span<const SearchSource>(&from, 1), dist);
+      for (std::size_t b = 0; b < c.n; ++b) {
+        ASSERT_DOUBLE_EQ(c.d(a, b), dist[c.vertex[b]]) << "rows ahead up to " << ahead << ", " << a << " to " << b;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ispars

@@ -31,6 +31,24 @@ struct Solution {
   std::size_t uncovered = 0;
 };
 
+// The candidates among every target's `k` richest viewers (most targets seen; ties: lowest
+// index). A first tour built from these alone needs few stops, hence few distance rows, when rows
+// come on first use (each a Dijkstra over the whole graph).
+inline std::vector<char> richest_viewers(const Closure& c, std::size_t k) {
+  std::vector<char> pool(c.n, 0);
+  std::vector<std::uint32_t> viewers;
+  for (const auto& seen_by : c.seen_by) {
+    viewers = seen_by;
+    const std::size_t keep = std::min(k, viewers.size());
+    std::partial_sort(viewers.begin(), viewers.begin() + static_cast<std::ptrdiff_t>(keep), viewers.end(),
+                      [&](std::uint32_t a, std::uint32_t b) {
+                        return c.sees[a].size() != c.sees[b].size() ? c.sees[a].size() > c.sees[b].size() : a < b;
+                      });
+    for (std::size_t i = 0; i < keep; ++i) pool[viewers[i]] = 1;
+  }
+  return pool;
+}
+
 class Chain {
  public:
   Chain(const Closure& c, std::uint64_t seed) : c_(c), rng_(seed) {}
@@ -127,8 +145,9 @@ class Chain {
   }
 
   // Greedy repair: insert the candidate with the least added cost per newly seen target until
-  // every target is seen; `noise` randomises the choice.
-  void repair(Solution& s, double noise) {
+  // every target is seen; `noise` randomises the choice. With `pool`, only candidates it marks
+  // are inserted (it must hold a viewer of every target).
+  void repair(Solution& s, double noise, const std::vector<char>* pool = nullptr) {
     std::vector<std::uint32_t> gain(c_.n, 0);
     std::vector<std::uint32_t> touched;
     while (s.uncovered > 0) {
@@ -136,7 +155,7 @@ class Chain {
       for (std::size_t t = 0; t < s.count.size(); ++t) {
         if (s.count[t] != 0) continue;
         for (const auto v : c_.seen_by[t]) {
-          if (s.in_tour[v]) continue;
+          if (s.in_tour[v] || (pool != nullptr && !(*pool)[v])) continue;
           if (gain[v]++ == 0) touched.push_back(v);
         }
       }

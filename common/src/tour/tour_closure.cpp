@@ -139,6 +139,8 @@ TourClosure::TourClosure(const InspectionGraph& graph, VertexId root, const std:
     sees = std::move(kept_sees);
   }
   n = vertex.size();
+  is_candidate_.assign(graph.vertex_count(), 0);
+  for (const VertexId v : vertex) is_candidate_[v] = 1;
   seen_by.resize(targets.size());
   for (std::size_t i = 0; i < n; ++i) {
     for (const auto t : sees[i]) seen_by[t].push_back(static_cast<std::uint32_t>(i));
@@ -184,9 +186,11 @@ const double* TourClosure::row(std::size_t a) const {
 }
 
 void TourClosure::compute_row(std::size_t a, std::vector<double>& dist) const {
-  // Dijkstra from candidate a over the whole graph; only the candidates' entries are kept.
+  // Dijkstra from candidate a, until every candidate is settled; only their entries are kept.
   const SearchSource from{vertex[a], 0.0};
-  dijkstra(*graph_, std::span<const SearchSource>(&from, 1), dist);
+  std::size_t found = 0;
+  dijkstra(*graph_, std::span<const SearchSource>(&from, 1), dist, nullptr,
+           [&](VertexId v) { return is_candidate_[v] && ++found == n; });
   double* values = nullptr;
   if (matrix_) {
     values = matrix_.get() + a * n;

@@ -2,9 +2,10 @@
 // The graph inspection problem on the metric closure of candidate viewpoints, for the tour
 // solver: candidate 0 is the root, every other candidate is a vertex of the root's component
 // that sees a target, and the distance between two candidates is their shortest-path length in
-// the graph. Distances come a row at a time (one Dijkstra from a candidate): all rows ahead of
-// the search when the candidates are few, otherwise a row on first use (a tour vertex's row
-// answers every distance the search asks of it). Memory is rows x candidates, never n^2 over
+// the graph. Distances come a row at a time (one Dijkstra from a candidate, ended once every
+// candidate is settled, so its entries are exact): all rows ahead of the search when the
+// candidates are few, otherwise a row on first use (a tour vertex's row answers every distance
+// the search asks of it). Memory is rows x candidates, never n^2 over
 // the graph. Above `max_candidates` the candidates are thinned: every target keeps its first k
 // viewers by each of three rankings (most targets seen; nearest the root; nearest an anchor, the
 // root or a target's richest or nearest viewer), with the largest k that fits. Thinning can
@@ -75,6 +76,7 @@ class TourClosure {
 
   const InspectionGraph* graph_;
   std::function<bool()> should_stop_;
+  std::vector<char> is_candidate_;  // graph vertex -> 1 when a candidate: a row's search ends once all are settled
   std::unique_ptr<std::atomic<const double*>[]> rows_;
   mutable std::vector<std::unique_ptr<double[]>> storage_;  // lazy rows
   // Rows computed ahead live in one n x n block; when every row is there, d() reads it directly.
