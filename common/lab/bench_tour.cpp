@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "experiment_support.hpp"
 #include "ispars/tour/gip_solver.hpp"
+#include "ispars/tour/tour_shortcut.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
 
@@ -74,12 +75,19 @@ int run_bench_tour(const BenchTourOptions& options) {
   const GipResult r = solve_gip(g, o);
   const double wall = now_seconds() - t0;
   const double rss_tour = peak_rss_mib();
+  // The shortcut the daemon gives every tour, with the scene's collision checker.
+  const SegmentValid segment_valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
+  const double s0 = now_seconds();
+  const ShortcutTour shortcut = shortcut_tour(g, builder->roadmap().positions(), r.targets, r.tour, segment_valid);
+  const double shortcut_seconds = now_seconds() - s0;
   std::cout << fmt::format(
       "budget {:.1f} s: returned after {:.2f} s; first tour at {:.2f} s; best {:.6g} ({}), {} targets, {} candidates "
       "({} thinned), {} distance rows, {} iterations; bound {:.6g}{}; peak RSS {:.0f} MiB\n",
       options.budget, wall, r.trace.empty() ? wall : r.trace.front().first, r.tour.cost,
       r.validation.valid() ? "valid" : "INVALID", r.targets.size(), r.candidates, r.thinned, r.distance_rows,
       r.iterations, r.lower_bound.value_or(0.0), r.bound_note.empty() ? "" : " (" + r.bound_note + ")", rss_tour);
+  std::cout << fmt::format("shortcut: {:.6g} from a walk of {} vertices in {:.3f} s ({} segments checked)\n",
+                           shortcut.cost, r.tour.walk.size(), shortcut_seconds, shortcut.segments_checked);
   nlohmann::json stops = nlohmann::json::array();
   for (const double at : options.stop_at) {
     const StopRun s = stop_after(g, at, options.seed);
@@ -95,6 +103,7 @@ int run_bench_tour(const BenchTourOptions& options) {
                                 {"budget", options.budget}, {"returned_after", wall},
                                 {"first_tour", r.trace.empty() ? nlohmann::json() : nlohmann::json(r.trace.front().first)},
                                 {"cost", r.tour.cost}, {"trace", r.trace}, {"valid", r.validation.valid()},
+                                {"shortcut_cost", shortcut.cost}, {"shortcut_seconds", shortcut_seconds},
                                 {"candidates", r.candidates}, {"thinned", r.thinned},
                                 {"distance_rows", r.distance_rows}, {"iterations", r.iterations},
                                 {"lower_bound", r.lower_bound.value_or(0.0)}, {"bound_note", r.bound_note},

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <thread>
 
 #include "ispars/geometry/random.hpp"
 #include "ispars/tour/gip_solver.hpp"
@@ -126,6 +128,28 @@ TEST(TourShortcut, SolvedToursShortenDeterministicallyAndStayValid) {
     EXPECT_NEAR(s.cost, r.tour.cost, 1e-9 * r.tour.cost);
     EXPECT_TRUE(check_shortcut_tour(g, at, 0, r.targets, s, ball).valid());
   }
+}
+
+TEST(TourShortcut, ABudgetEndsShorteningWithAValidPathWithinAWindowOfChecks) {
+  // A slow collision checker (2 ms a segment) on a long staircase: with a 20 ms budget the
+  // shortening stops after a handful of stops, leaving a path shortened in part and still sound.
+  const Staircase s = staircase(401, {400});
+  const std::vector<PoiId> targets{0};
+  const auto slow = [](const Vec3&, const Vec3&) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    return false;  // nothing straight: every stop tries its whole window
+  };
+  ShortcutOptions budgeted;
+  budgeted.budget_seconds = 0.02;
+  const auto t0 = std::chrono::steady_clock::now();
+  const ShortcutTour t = shortcut_tour(s.graph, s.positions, targets, out_and_back(401), slow, budgeted);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_TRUE(t.stopped);
+  // At most one stop's window past the budget (without it: ~800 stops x 48 checks, ~77 s).
+  EXPECT_LE(t.segments_checked, 20u / 2 + 2 * budgeted.window);
+  EXPECT_LT(seconds, 1.0);
+  const auto free = [](const Vec3&, const Vec3&) { return true; };
+  EXPECT_TRUE(check_shortcut_tour(s.graph, s.positions, 0, targets, t, free).valid());
 }
 
 }  // namespace

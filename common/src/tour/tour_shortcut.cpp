@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 
 namespace ispars {
@@ -56,7 +57,8 @@ std::size_t farthest_by_coverage(const Stops& s, const std::vector<std::size_t>&
 // One pass: from each kept stop, the farthest stop within the window that the coverage, the
 // length and the collision checker allow. Returns the kept stops.
 std::vector<VertexId> one_pass(const Stops& s, std::span<const Vec3> positions, const SegmentValid& segment_valid,
-                               const ShortcutOptions& o, ShortcutTour& out) {
+                               const ShortcutOptions& o, std::chrono::steady_clock::time_point deadline,
+                               ShortcutTour& out) {
   const std::size_t n = s.vertex.size();
   std::vector<double> along(n, 0.0);  // walk length from stop 0
   for (std::size_t k = 1; k < n; ++k) {
@@ -67,7 +69,8 @@ std::vector<VertexId> one_pass(const Stops& s, std::span<const Vec3> positions, 
   std::vector<VertexId> kept{s.vertex[0]};
   for (std::size_t i = 0; i + 1 < n;) {
     std::size_t next = i + 1;
-    const bool stopped = o.stop != nullptr && o.stop->load();
+    const bool stopped = (o.stop != nullptr && o.stop->load()) ||
+                         (o.budget_seconds > 0.0 && std::chrono::steady_clock::now() >= deadline);
     out.stopped = out.stopped || stopped;
     const std::size_t reach = stopped ? i + 1 : std::min(farthest_by_coverage(s, count, i, n, removed), i + o.window);
     for (std::size_t j = std::min(reach, n - 1); j >= i + 2; --j) {
@@ -101,6 +104,9 @@ ShortcutTour shortcut_tour(const InspectionGraph& graph, std::span<const Vec3> p
     throw std::invalid_argument(fmt::format("shortcut_tour: {} positions for {} vertices", positions.size(),
                                             graph.vertex_count()));
   }
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(std::clamp(options.budget_seconds, 0.0, 1e6)));
   ShortcutTour out;
   std::vector<VertexId> stops;
   for (const VertexId v : tour.walk) {
@@ -108,7 +114,7 @@ ShortcutTour shortcut_tour(const InspectionGraph& graph, std::span<const Vec3> p
   }
   for (std::size_t pass = 0; pass < options.max_passes && stops.size() > 2; ++pass) {
     const std::size_t before = out.shortcuts;
-    stops = one_pass(make_stops(graph, targets, std::move(stops)), positions, segment_valid, options, out);
+    stops = one_pass(make_stops(graph, targets, std::move(stops)), positions, segment_valid, options, deadline, out);
     if (out.shortcuts == before || out.stopped) break;
   }
   out.stops = std::move(stops);

@@ -27,7 +27,7 @@ struct ShortcutTour {
   double cost = 0.0;            ///< Sum of the straight steps' lengths.
   std::size_t segments_checked = 0;  ///< Calls to segment_valid.
   std::size_t shortcuts = 0;         ///< Stretches replaced by one segment.
-  bool stopped = false;              ///< `stop` was set: the path is shortened only in part.
+  bool stopped = false;              ///< `stop` or the budget ended it: the path is shortened only in part.
 };
 
 struct ShortcutOptions {
@@ -38,6 +38,9 @@ struct ShortcutOptions {
   std::size_t max_passes = 4;
   /// When set and true, shortening stops and the path so far is returned (still valid).
   const std::atomic<bool>* stop = nullptr;
+  /// When > 0, shortening stops as `stop` does once this many seconds have passed (checked before
+  /// each stop's candidates: at most `window` segment checks later). 0: no limit (deterministic).
+  double budget_seconds = 0.0;
 };
 
 /// True when the straight motion from a to b is collision-free (Scene::segment_valid).
