@@ -52,4 +52,4 @@ echo "== ispars snapshot $scene --out $work/roadmap.json"
 stop_daemon
 trap - EXIT
 echo
-echo "Next: build/bin/ispars --help, build/bin/isparsd --help; README.md has the service's topics and formats."
+echo "Next: build/bin/ispars --help, build/bin/isparsd --help; docs/service.md has the service's topics and formats."

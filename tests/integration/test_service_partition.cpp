@@ -60,8 +60,8 @@ class PartitionTest : public ServiceTest {
     return o;
   }
   // A client on hc that sees every daemon. Under DDS Security a first handshake can fail for good
-  // in Debian's Fast DDS 2.9.1 (README, "A stall under security"): a client that has not seen
-  // them all in 10 s joins again.
+  // in Debian's Fast DDS 2.9.1 (docs/service.md, "A stall under security"): a client that has not
+  // seen them all in 10 s joins again.
   std::unique_ptr<Client> joined(std::size_t daemons = kDaemons.size()) const {
     for (int attempt = 1;; ++attempt) {
       if (auto client = fresh(daemons)) return client;

@@ -1,10 +1,10 @@
 // A long-lived secured client that dropped a daemon which kept it (one-way loss: the client heard
 // nothing from the daemon for longer than the lease, the daemon heard the client throughout).
 // Debian's Fast DDS 2.9.1 cannot authenticate the two again while the daemon keeps its session
-// (README, "A stall under security"), and the daemon, which never lost the client, has no reason
-// to rejoin: the client must, by itself, without losing its state. Here the test's own client and
-// a replica of it, on a host of their own (tests/support/netns_lab.hpp), must answer and follow
-// the scene again within a stated bound of the link coming back.
+// (docs/service.md, "A stall under security"), and the daemon, which never lost the client, has
+// no reason to rejoin: the client must, by itself, without losing its state. Here the test's own
+// client and a replica of it, on a host of their own (tests/support/netns_lab.hpp), must answer
+// and follow the scene again within a stated bound of the link coming back.
 
 #include <gtest/gtest.h>
 

@@ -251,7 +251,8 @@ TEST_F(SecureServiceTest, AViewerQueriesAndFollowsUpdatesButItsChangesNeverReach
 }
 
 // A daemon that stalls for longer than a 3 s lease (stopped for 5 s here): with that lease Fast
-// DDS 2.9.1 left the replica deaf to the daemon for good (README, "A stall under security").
+// DDS 2.9.1 left the replica deaf to the daemon for good (docs/service.md, "A stall under
+// security").
 TEST_F(SecureServiceTest, AReplicaFollowsOnAfterTheDaemonStalledForFiveSeconds) {
   BuiltAndFollowed world(*this);
   auto [op, viewer, replica, done] = world.parts();

@@ -1,8 +1,8 @@
 // A secured fleet whose owner stalls past its lease (SIGSTOP), then resumes: the other daemon
 // takes the scene over while the owner is stopped, and once it runs again the two must see each
 // other again and settle on one owner (docs/fleet.md). Debian's Fast DDS 2.9.1 cannot
-// re-authenticate a peer that one side dropped while the other kept the session (README, "A
-// stall under security").
+// re-authenticate a peer that one side dropped while the other kept the session (docs/service.md,
+// "A stall under security").
 //
 // ISPARS_STALL_ROUNDS sets the rounds (default 2; `deploy/fleet-campaign.sh` runs 10).
 
