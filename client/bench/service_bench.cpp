@@ -40,7 +40,7 @@
 #include "bench_common.hpp"
 #include "support/local_daemon.hpp"
 #include "ispars/client/replica.hpp"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/wire/topics.hpp"
 #include "isparsPubSubTypes.h"
 

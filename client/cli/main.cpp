@@ -17,7 +17,7 @@
 #include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/client/replica.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/wire/convert.hpp"
 
 namespace {

@@ -2,7 +2,7 @@
 // progress, and waiting for a scene's job to end.
 
 #include "client_impl.hpp"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 
 namespace ispars::client {
 namespace {

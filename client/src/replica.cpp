@@ -17,7 +17,7 @@
 #include <string>
 #include <thread>
 
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/wire/convert.hpp"
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/scene_filter.hpp"

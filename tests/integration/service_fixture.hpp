@@ -11,7 +11,7 @@
 
 #include "ispars/client/client.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/scene/scene.hpp"
 #include "support/local_daemon.hpp"
 #include "support/test_support.hpp"

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "ispars/input_error.hpp"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "roadmap_session_fixture.hpp"
 
 namespace ispars {

@@ -9,7 +9,7 @@
 
 #include "ispars/builders/known_routes.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -9,7 +9,7 @@
 #include "ispars/scene/procedural.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -6,7 +6,7 @@
 #include "ispars/search/graph_search.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/builders/spars_builder.hpp"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

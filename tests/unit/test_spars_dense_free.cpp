@@ -10,7 +10,7 @@
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/builders/spars_builder.hpp"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

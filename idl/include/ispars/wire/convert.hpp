@@ -4,7 +4,7 @@
 #include <string>
 
 #include "ispars.h"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 
 namespace ispars::wire {
 

@@ -23,7 +23,7 @@
 #include "ispars/builders/build_cost.hpp"
 #include "ispars/search/path_query.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/service/reader_gate.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"

@@ -33,7 +33,7 @@
 #include "ispars/roadmap/record_file.hpp"
 #include "ispars/roadmap/roadmap.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 
 namespace ispars {
 

@@ -1,4 +1,4 @@
-#include "ispars/roadmap/roadmap_log.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 
 #include <algorithm>
 #include <utility>
@@ -7,12 +7,6 @@
 #include "ispars/roadmap/record_file.hpp"
 
 namespace ispars {
-namespace {
-
-// Format 03 record headers; files of the 02 layout are still read.
-const RecordFormat kMagic{{"ISPLOG02", RecordLayout::checked}, {"ISPLOG01", RecordLayout::escaped}};
-
-}  // namespace
 
 RoadmapBatch batch_since(const Roadmap& roadmap, std::uint64_t version) {
   return batch_range(roadmap, version, roadmap.version());
@@ -246,49 +240,6 @@ RoadmapBatch decode_batch(std::string_view payload) {
   }
   if (!in.done()) throw std::runtime_error("batch payload has trailing bytes");
   return batch;
-}
-
-LogReplay read_roadmap_log(const std::filesystem::path& path) {
-  LogReplay replay;
-  std::uint64_t version = 0;
-  bool first = true;
-  RecordReplay records = read_record_file(path, kMagic, [&](const std::string& payload) -> std::string {
-    RoadmapBatch batch;
-    try {
-      batch = decode_batch(payload);
-    } catch (const std::runtime_error& e) {
-      return std::string("undecodable record: ") + e.what();
-    }
-    if (!first && batch.from_version != version) return "record out of sequence";
-    first = false;
-    version = batch.to_version;
-    replay.batches.push_back(std::move(batch));
-    return {};
-  });
-  replay.valid_bytes = records.valid_bytes;
-  replay.torn_tail = records.torn_tail;
-  replay.tail_problem = std::move(records.tail_problem);
-  return replay;
-}
-
-RoadmapLogWriter::RoadmapLogWriter(const std::filesystem::path& path) {
-  const LogReplay existing = read_roadmap_log(path);
-  torn_tail_ = existing.torn_tail;
-  empty_ = existing.batches.empty();
-  version_ = empty_ ? 0 : existing.batches.back().to_version;
-  file_ = std::make_unique<RecordFileWriter>(path, kMagic, existing.valid_bytes);
-}
-
-RoadmapLogWriter::~RoadmapLogWriter() = default;
-
-void RoadmapLogWriter::append(const RoadmapBatch& batch) {
-  if (!empty_ && batch.from_version != version_) {
-    throw std::invalid_argument("batch from version " + std::to_string(batch.from_version) +
-                                " does not continue the log at version " + std::to_string(version_));
-  }
-  file_->append(encode_batch(batch));
-  empty_ = false;
-  version_ = batch.to_version;
 }
 
 }  // namespace ispars

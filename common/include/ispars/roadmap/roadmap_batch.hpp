@@ -1,21 +1,14 @@
 #pragma once
-// A crash-safe, append-only log of roadmap batches: the persistence the service replays.
-//
-// File: an 8-byte magic, then records. A record is [u32 payload length][u32 CRC-32 of the
-// payload][payload], little-endian. A payload is one batch: the version range it covers and the
-// vertices (position, visible POIs) and edges (u, v, cost) it added, in change-log order.
-// Appends are fsync'ed. A reader replays every whole record and stops at the first torn or
-// corrupt one: after a crash at any moment, the log recovers the last committed batch, and a
-// torn tail is detected and dropped, never half-applied.
+// Roadmap batches: everything a roadmap gained between two versions, as the service's journal,
+// snapshots and update stream carry it. A batch's encoding holds the version range it covers and
+// the vertices (position, visible POIs) and edges (u, v, cost) it added, in change-log order;
+// a replica applies a batch only when it continues it exactly, and whole or not at all.
 
 #include <cstdint>
-#include <filesystem>
-#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "ispars/roadmap/record_file.hpp"
 #include "ispars/roadmap/roadmap.hpp"
 
 namespace ispars {
@@ -50,44 +43,7 @@ void check_batch(const Roadmap& replica, const RoadmapBatch& batch);
 /// store checks every part of a commit before it applies any).
 void apply_checked_batch(Roadmap& replica, const RoadmapBatch& batch);
 
-/// What reading a log found.
-struct LogReplay {
-  std::vector<RoadmapBatch> batches;  ///< Every whole, valid record, in order.
-  std::uint64_t valid_bytes = 0;      ///< Length of the valid prefix of the file.
-  bool torn_tail = false;             ///< Bytes after the valid prefix were dropped.
-  std::string tail_problem;           ///< What was wrong with them.
-};
-
-/// Reads a log file (a missing file is an empty log). Throws std::runtime_error when the file
-/// exists but is not a roadmap log (bad magic).
-[[nodiscard]] LogReplay read_roadmap_log(const std::filesystem::path& path);
-
-/// Appends batches to a log, durably.
-class RoadmapLogWriter {
- public:
-  /// Opens (creating it when missing) the log at `path` for appending. A torn tail left by a
-  /// crash is cut off first, so new records never follow garbage.
-  explicit RoadmapLogWriter(const std::filesystem::path& path);
-  ~RoadmapLogWriter();
-  RoadmapLogWriter(const RoadmapLogWriter&) = delete;
-  RoadmapLogWriter& operator=(const RoadmapLogWriter&) = delete;
-
-  /// Appends one record and fsyncs; when this returns, the batch survives a crash. Throws
-  /// std::invalid_argument when the batch does not continue the log's last version.
-  void append(const RoadmapBatch& batch);
-  /// The version the log ends at (0 for an empty log).
-  [[nodiscard]] std::uint64_t version() const { return version_; }
-  /// What opening found (the replayed batches are not kept here).
-  [[nodiscard]] bool recovered_torn_tail() const { return torn_tail_; }
-
- private:
-  std::unique_ptr<RecordFileWriter> file_;
-  bool torn_tail_ = false;
-  bool empty_ = true;
-  std::uint64_t version_ = 0;
-};
-
-/// Serialises a batch to the record payload format, and back (throws std::runtime_error on a
+/// Serialises a batch to its payload encoding, and back (throws std::runtime_error on a
 /// payload that does not parse exactly).
 [[nodiscard]] std::string encode_batch(const RoadmapBatch& batch);
 /// encode_batch's bytes appended to `out`, which grows once, by exactly encoded_batch_size().
