@@ -84,9 +84,8 @@ class ParticipantUser {
 /// Security a client rejoins by itself: when a daemon (or any peer) that its participant dropped
 /// comes back under the same participant and does not authenticate again within 10 s (Debian's
 /// Fast DDS 2.9.1 cannot while the peer keeps its old session), it replaces its participant (at
-/// most once in 30 s),
-/// keeping what it knows, its calls, and its participant's users (README, "A stall under
-/// security"). A change request sent before a rejoin is not sent again after it (the daemon could
+/// most once in 30 s), keeping what it knows, its calls, and its participant's users
+/// (docs/service.md, "A stall under security"). A change request sent before a rejoin is not sent again after it (the daemon could
 /// not tell it from a new one): its call fails naming the rejoin.
 class Client {
  public:

@@ -41,7 +41,7 @@ struct ParticipantOptions {
 /// the same GUID: the peer kept running (it stalled, or the link between them was cut) while this
 /// side forgot it. When both sides dropped each other (a cut both ways) they authenticate afresh;
 /// when only this side did, Debian's Fast DDS 2.9.1 cannot authenticate the peer again while it
-/// keeps the old DDS Security session (README, "A stall under security"), and the peer stays
+/// keeps the old DDS Security session (docs/service.md, "A stall under security"), and the peer stays
 /// unauthenticated: "unhealed". Safe from any thread.
 class PeerWatch {
  public:
