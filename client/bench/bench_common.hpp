@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "ispars/client/client.hpp"
-#include "support/local_daemon.hpp"
+#include "ispars/local/local_daemon.hpp"
 
 namespace ispars::bench {
 

@@ -38,7 +38,7 @@
 #include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/client/client.hpp"
 #include "bench_common.hpp"
-#include "support/local_daemon.hpp"
+#include "ispars/local/local_daemon.hpp"
 #include "ispars/client/replica.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/wire/topics.hpp"

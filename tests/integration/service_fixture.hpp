@@ -13,7 +13,7 @@
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/scene/scene.hpp"
-#include "support/local_daemon.hpp"
+#include "ispars/local/local_daemon.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars::test {

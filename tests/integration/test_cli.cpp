@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "ispars/render/scene_render.hpp"
-#include "support/local_daemon.hpp"
+#include "ispars/local/local_daemon.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars::test {

@@ -10,7 +10,7 @@
 
 #include "ispars/client/client.hpp"
 #include "ispars/wire/convert.hpp"
-#include "support/local_daemon.hpp"
+#include "ispars/local/local_daemon.hpp"
 #include "support/raw_peer.hpp"
 #include "support/test_support.hpp"
 

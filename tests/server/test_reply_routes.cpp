@@ -16,7 +16,7 @@
 #include "ispars/wire/participant.hpp"
 #include "ispars/wire/topics.hpp"
 #include "reply_routes.hpp"
-#include "support/local_daemon.hpp"
+#include "ispars/local/local_daemon.hpp"
 
 namespace ispars::server {
 namespace {

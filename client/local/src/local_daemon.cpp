@@ -1,4 +1,4 @@
-#include "support/local_daemon.hpp"
+#include "ispars/local/local_daemon.hpp"
 
 #include <algorithm>
 #include <fcntl.h>

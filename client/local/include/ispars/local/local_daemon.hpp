@@ -1,6 +1,7 @@
 #pragma once
-// A local isparsd child process (tests, benchmarks, quickstarts): started on a given domain with
-// the built-in localhost-only profile, ready once a client sees its announcement.
+// A local isparsd child process (the service benchmark, the integration tests): started on a
+// given domain with the built-in localhost-only profile, ready once a client sees its
+// announcement.
 
 #include <sys/types.h>
 
