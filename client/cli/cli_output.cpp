@@ -93,4 +93,21 @@ void write_text(const std::string& path, const std::string& text) {
 }
 
 
+int follow_job(client::Client& client, const std::string& scene, const msg::Reply& reply, bool wait, bool json) {
+  if (!json) std::cout << reply.message() << "\n";
+  msg::SceneStatus final_status = reply.status();
+  if (wait) {
+    Progress progress(!json);
+    final_status = client.wait_idle(scene, [&](const msg::SceneStatus& s) { progress(s); },
+                                    std::chrono::hours(24 * 365));
+    progress.finish();
+  }
+  if (json) {
+    std::cout << status_json(final_status).dump() << std::endl;
+  } else if (wait) {
+    print_status(final_status);
+  }
+  return wait && final_status.state() == msg::SCENE_FAILED ? 1 : 0;
+}
+
 }  // namespace ispars::cli

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "ispars/client/client.hpp"
 #include "ispars/wire/convert.hpp"
 
 namespace ispars::cli {
@@ -27,6 +28,11 @@ class Progress {
   bool drawn_ = false;
   std::chrono::steady_clock::time_point last_{};
 };
+
+/// After a build or extend request: its reply's message (unless `json`), then with `wait` its
+/// progress until the scene is idle, then the final status (text, or JSON with `json`). Exit
+/// code 1 when a followed job failed, else 0.
+int follow_job(client::Client& client, const std::string& scene, const msg::Reply& reply, bool wait, bool json);
 
 /// Writes `text` to `path`, throwing CLI::ValidationError("--out", ...) on failure.
 void write_text(const std::string& path, const std::string& text);

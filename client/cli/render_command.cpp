@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "commands.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/render/scene_render.hpp"
 #include "ispars/scene/scene.hpp"
@@ -88,5 +89,25 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
                            g.edge_count(), tour.empty() ? "" : fmt::format(", a tour of {:.6g}", tour_cost));
   return 0;
 }
+
+}  // namespace ispars::cli
+
+namespace ispars::cli {
+namespace {
+
+class RenderCommand final : public Command {
+ public:
+  void add(CLI::App& app) override { cmd_ = add_render_command(app, args_); }
+  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
+  int run(client::Client& client) override { return render_from_daemon(client, args_); }
+
+ private:
+  CLI::App* cmd_ = nullptr;
+  RenderArgs args_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_render_command() { return std::make_unique<RenderCommand>(); }
 
 }  // namespace ispars::cli

@@ -1,0 +1,61 @@
+// `ispars build`: a new roadmap for a scene, with the recipe's parameter overrides.
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+
+#include "cli_output.hpp"
+#include "commands.hpp"
+#include "ispars/roadmap/build_recipe.hpp"
+
+namespace ispars::cli {
+namespace {
+
+class BuildCommand final : public Command {
+ public:
+  void add(CLI::App& app) override {
+    cmd_ = app.add_subcommand("build", "build a new roadmap");
+    cmd_->add_option("scene", scene_, "scene name")->required();
+    cmd_->add_option("--method", args_.method, build_method_names())->required();
+    cmd_->add_option("--variant", args_.variant,
+                     "spars, ispars: the rule set, " + spars_variant_names() + " (default stretch)");
+    cmd_->add_option("--samples", args_.samples, "samples to draw")->required()->check(CLI::PositiveNumber);
+    cmd_->add_option("--seed", args_.seed, "random seed");
+    cmd_->add_flag("--replace", args_.replace, "replace an existing roadmap");
+    std::string set_help = "parameter override NAME=VALUE, one of:";
+    for (const RecipeParameter& p : recipe_overrides()) set_help += fmt::format("\n    {}: {}; {}", p.name, p.doc, p.range);
+    cmd_->add_option("--set", sets_, set_help);
+    cmd_->add_flag("--wait", wait_, "follow progress until the build ends");
+    cmd_->add_flag("--json", json_, "print the final status as JSON");
+  }
+  void check() override {
+    // NAME=NUMBER each; the daemon checks the name and the value against the recipe.
+    for (const std::string& s : sets_) {
+      const auto eq = s.find('=');
+      char* end = nullptr;
+      const double value = eq == std::string::npos ? 0.0 : std::strtod(s.c_str() + eq + 1, &end);
+      if (eq == std::string::npos || eq == 0 || end == s.c_str() + eq + 1 || *end != '\0') {
+        throw CLI::ValidationError("--set", "'" + s + "' is not NAME=NUMBER");
+      }
+      args_.overrides[s.substr(0, eq)] = value;
+    }
+  }
+  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
+  int run(client::Client& client) override {
+    return follow_job(client, scene_, client.build(scene_, args_), wait_, json_);
+  }
+
+ private:
+  CLI::App* cmd_ = nullptr;
+  std::string scene_;
+  client::BuildArgs args_;
+  std::vector<std::string> sets_;
+  bool wait_ = false;
+  bool json_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_build_command() { return std::make_unique<BuildCommand>(); }
+
+}  // namespace ispars::cli

@@ -1,0 +1,45 @@
+#pragma once
+// The subcommands of `ispars`, one file each: a command declares its arguments on the app, and,
+// when it is the one the user chose, runs with a connected client and returns the exit code.
+// Client errors propagate to main, which maps them to exit codes.
+
+#include <CLI/CLI.hpp>
+
+#include <memory>
+#include <vector>
+
+#include "ispars/client/client.hpp"
+
+namespace ispars::cli {
+
+/// One `ispars` subcommand.
+class Command {
+ public:
+  virtual ~Command() = default;
+  /// Declares the subcommand and its arguments on `app`.
+  virtual void add(CLI::App& app) = 0;
+  /// Called after parsing, before a client exists: throws CLI::ValidationError on bad arguments.
+  virtual void check() {}
+  /// Whether the user chose this subcommand.
+  [[nodiscard]] virtual bool chosen() const = 0;
+  /// Does it; the process's exit code.
+  virtual int run(client::Client& client) = 0;
+};
+
+std::unique_ptr<Command> make_scenes_command();    // scenes list | load | unload
+std::unique_ptr<Command> make_build_command();     // build
+std::unique_ptr<Command> make_extend_command();    // extend
+std::unique_ptr<Command> make_cancel_command();    // cancel
+std::unique_ptr<Command> make_stats_command();     // stats
+std::unique_ptr<Command> make_drop_command();      // drop
+std::unique_ptr<Command> make_verify_command();    // verify
+std::unique_ptr<Command> make_path_command();      // path
+std::unique_ptr<Command> make_watch_command();     // watch
+std::unique_ptr<Command> make_tour_command();      // tour
+std::unique_ptr<Command> make_snapshot_command();  // snapshot
+std::unique_ptr<Command> make_render_command();    // render
+
+/// Every subcommand, in the order `--help` lists them.
+[[nodiscard]] std::vector<std::unique_ptr<Command>> all_commands();
+
+}  // namespace ispars::cli

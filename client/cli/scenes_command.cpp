@@ -1,0 +1,71 @@
+// `ispars scenes list | load | unload`.
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <iostream>
+
+#include "cli_output.hpp"
+#include "commands.hpp"
+
+namespace ispars::cli {
+namespace {
+
+class ScenesCommand final : public Command {
+ public:
+  void add(CLI::App& app) override {
+    scenes_ = app.add_subcommand("scenes", "list, load or unload scenes");
+    scenes_->require_subcommand(1);
+    list_ = scenes_->add_subcommand("list", "scenes of every daemon");
+    list_->add_flag("--json", json_, "one JSON object");
+    load_ = scenes_->add_subcommand("load", "load a scene (and its stored roadmap)");
+    load_->add_option("scene", scene_, "scene name")->required();
+    unload_ = scenes_->add_subcommand("unload", "unload a scene (its stored roadmap stays)");
+    unload_->add_option("scene", scene_, "scene name")->required();
+  }
+  [[nodiscard]] bool chosen() const override { return scenes_->parsed(); }
+  int run(client::Client& client) override {
+    if (*list_) {
+      print_list(client.list_scenes());
+    } else if (*load_) {
+      const msg::Reply r = client.load(scene_);
+      std::cout << r.message() << "\n";
+      print_status(r.status());
+    } else {
+      std::cout << client.unload(scene_).message() << "\n";
+    }
+    return 0;
+  }
+
+ private:
+  template <class Entries>
+  void print_list(const Entries& entries) const {
+    if (json_) {
+      nlohmann::json list = nlohmann::json::array();
+      for (const auto& e : entries) {
+        list.push_back({{"name", e.scene().to_string()}, {"server_id", e.server_id().to_string()},
+                        {"loaded", e.loaded()}, {"has_roadmap", e.has_roadmap()}, {"note", e.note()}});
+      }
+      std::cout << nlohmann::json{{"scenes", list}}.dump() << std::endl;
+      return;
+    }
+    for (const auto& e : entries) {
+      std::cout << fmt::format("{:<24} {:<28} {}{}{}\n", e.scene().to_string(), e.server_id().to_string(),
+                               e.loaded() ? "loaded" : "-", e.has_roadmap() ? ", stored roadmap" : "",
+                               e.note().empty() ? "" : "\n    " + e.note());
+    }
+  }
+
+  CLI::App* scenes_ = nullptr;
+  CLI::App* list_ = nullptr;
+  CLI::App* load_ = nullptr;
+  CLI::App* unload_ = nullptr;
+  std::string scene_;
+  bool json_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_scenes_command() { return std::make_unique<ScenesCommand>(); }
+
+}  // namespace ispars::cli

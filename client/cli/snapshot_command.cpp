@@ -1,0 +1,41 @@
+// `ispars snapshot`: the whole roadmap of a scene, written as the roadmap file JSON.
+
+#include <fmt/format.h>
+
+#include <iostream>
+
+#include "cli_output.hpp"
+#include "commands.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
+#include "ispars/roadmap/roadmap_json.hpp"
+
+namespace ispars::cli {
+namespace {
+
+class SnapshotCommand final : public Command {
+ public:
+  void add(CLI::App& app) override {
+    cmd_ = app.add_subcommand("snapshot", "fetch the whole roadmap");
+    cmd_->add_option("scene", scene_, "scene name")->required();
+    cmd_->add_option("--out", out_, "JSON file to write")->required();
+  }
+  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
+  int run(client::Client& client) override {
+    const client::Snapshot s = client.snapshot(scene_);
+    write_text(out_, roadmap_file_json(scene_, s.root, s.pois, s.roadmap, nullptr));
+    std::cout << fmt::format("wrote {} at version {} ({} vertices, {} edges, digest {:016x}) to {}\n", scene_,
+                             s.version, s.roadmap.vertex_count(), s.roadmap.edge_count(), roadmap_digest(s.roadmap),
+                             out_);
+    return 0;
+  }
+
+ private:
+  CLI::App* cmd_ = nullptr;
+  std::string scene_, out_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_snapshot_command() { return std::make_unique<SnapshotCommand>(); }
+
+}  // namespace ispars::cli

@@ -1,0 +1,112 @@
+// `ispars tour`: an inspection tour searched by the daemon, with live progress on stderr; the
+// roadmap walk, its shortcut (the path as flown) and the proven bound.
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <iostream>
+
+#include "cli_output.hpp"
+#include "commands.hpp"
+
+namespace ispars::cli {
+namespace {
+
+// [t0, v0, t1, v1, ...] as [[t0, v0], [t1, v1], ...].
+template <class Flat>
+nlohmann::json pairs(const Flat& flat) {
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t i = 0; i + 1 < flat.size(); i += 2) out.push_back({flat[i], flat[i + 1]});
+  return out;
+}
+
+template <class Points>
+nlohmann::json points_json(const Points& points) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& p : points) out.push_back({p.x(), p.y(), p.z()});
+  return out;
+}
+
+std::size_t steps(std::size_t stops) { return stops == 0 ? 0 : stops - 1; }
+
+nlohmann::json tour_json(const msg::TourResult& r) {
+  return {{"cost", r.cost()},
+          {"covered", r.covered()},
+          {"targets", r.target_count()},
+          {"seconds", r.trace().empty() ? 0.0 : r.trace()[r.trace().size() - 2]},
+          {"lower_bound", r.lower_bound()},
+          {"valid", r.valid()},
+          {"trace", pairs(r.trace())},
+          {"bound_trace", pairs(r.bound_trace())},
+          {"bound_complete", r.bound_complete()},
+          {"walk_steps", steps(r.walk().size())},
+          {"shortcut_cost", r.shortcut_cost()},
+          {"shortcut_steps", steps(r.shortcut_stops().size())},
+          {"version", r.version()}};
+}
+
+void print_tour(const msg::Reply& reply) {
+  const msg::TourResult& r = reply.body().tour();
+  std::cout << reply.message() << "\n";
+  std::cout << fmt::format("  shortcut: {:.6g} in {} straight steps (the path as flown)\n", r.shortcut_cost(),
+                           steps(r.shortcut_stops().size()));
+  std::cout << fmt::format("  {} roadmap steps, proven lower bound {:.6g} (gap {:.1f}%{}), {}\n",
+                           steps(r.walk().size()), r.lower_bound(),
+                           r.cost() > 0 ? 100.0 * (r.cost() - r.lower_bound()) / r.cost() : 0.0,
+                           r.bound_complete() ? ", LP solved over all its cuts" : "", r.valid() ? "valid" : "NOT valid");
+}
+
+class TourCommand final : public Command {
+ public:
+  void add(CLI::App& app) override {
+    cmd_ = app.add_subcommand("tour", "an inspection tour on the scene's roadmap, searched by the daemon");
+    cmd_->add_option("scene", scene_, "scene name")->required();
+    cmd_->add_option("--budget", budget_, "seconds of search")->required()->check(CLI::Range(0.001, 3600.0));
+    cmd_->add_option("--seed", seed_, "search seed");
+    cmd_->add_option("--targets", targets_, "POI ids to see (default: every POI seen from the root's component)")
+        ->delimiter(',');
+    cmd_->add_flag("--json", json_, "one JSON object");
+    cmd_->add_option("--out", out_, "write the tour (walk, positions, trace) as JSON");
+  }
+  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
+  int run(client::Client& client) override {
+    const bool tty = ::isatty(STDERR_FILENO) != 0;
+    const msg::Reply reply = client.tour(scene_, budget_, seed_, targets_, [&](double t, double cost, double bound) {
+      if (json_) return;
+      std::cerr << fmt::format("{}{:8.2f} s  best tour {:.6g}  proven bound {:.6g}{}", tty ? "\r" : "", t, cost,
+                               bound, tty ? "   " : "\n")
+                << std::flush;
+    });
+    if (tty && !json_) std::cerr << "\n";
+    const msg::TourResult& r = reply.body().tour();
+    const nlohmann::json result = tour_json(r);
+    if (!out_.empty()) {
+      nlohmann::json file = result;
+      file["walk"] = r.walk();
+      file["positions"] = points_json(r.waypoints());
+      file["path"] = points_json(r.shortcut_path());  // the shortcut tour: what render draws
+      write_text(out_, file.dump() + "\n");
+    }
+    if (json_) {
+      std::cout << result.dump() << std::endl;
+    } else {
+      print_tour(reply);
+    }
+    return r.valid() ? 0 : 1;
+  }
+
+ private:
+  CLI::App* cmd_ = nullptr;
+  std::string scene_, out_;
+  double budget_ = 10;
+  std::uint64_t seed_ = 1;
+  std::vector<std::uint32_t> targets_;
+  bool json_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_tour_command() { return std::make_unique<TourCommand>(); }
+
+}  // namespace ispars::cli

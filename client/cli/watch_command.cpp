@@ -1,0 +1,91 @@
+// `ispars watch`: a live replica of a scene's roadmap, kept from its update stream until Ctrl-C,
+// SIGTERM, the scene going idle (--until-idle) or its roadmap being dropped or unloaded.
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <csignal>
+#include <iostream>
+#include <thread>
+
+#include "cli_output.hpp"
+#include "commands.hpp"
+#include "ispars/client/replica.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
+#include "ispars/roadmap/roadmap_json.hpp"
+
+namespace ispars::cli {
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+// Whether the scene is idle and the replica has caught up with it.
+bool caught_up(client::Client& client, const std::string& scene, const msg::SceneStatus& s,
+               const client::RoadmapReplica& replica) {
+  if (s.state() == msg::SCENE_BUILDING || s.state() == msg::SCENE_QUEUED || s.state() == msg::SCENE_REPLAYING ||
+      replica.snapshots_taken() == 0) {
+    return false;
+  }
+  const msg::SceneStatus now = client.stats(scene);
+  return replica.wait_for(now.generation(), now.version(), std::chrono::seconds(10));
+}
+
+class WatchCommand final : public Command {
+ public:
+  void add(CLI::App& app) override {
+    cmd_ = app.add_subcommand("watch", "follow a roadmap live (a replica kept from update batches)");
+    cmd_->add_option("scene", scene_, "scene name")->required();
+    cmd_->add_option("--dump", dump_, "write the replica to FILE on exit (the ispars-lab build --out JSON)");
+    cmd_->add_flag("--until-idle", until_idle_, "exit when the scene has no job and the replica is current");
+  }
+  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
+  int run(client::Client& client) override {
+    std::signal(SIGINT, [](int) { g_interrupted = true; });
+    std::signal(SIGTERM, [](int) { g_interrupted = true; });
+    (void)client.stats(scene_);  // fails clearly when the scene is not loaded anywhere
+    Progress progress(true);
+    client::RoadmapReplica replica(client, scene_);
+    bool retired = false;
+    while (!g_interrupted) {
+      const auto s = client.latest_status(scene_);
+      if (s) progress(*s);
+      if (replica.retirements() > 0) {  // dropped or unloaded: nothing left to follow
+        retired = true;
+        break;
+      }
+      if (until_idle_ && s && caught_up(client, scene_, *s, replica)) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    progress.finish();
+    const Roadmap g = replica.roadmap();
+    std::cout << fmt::format(
+        "replica of {}: version {}, {} vertices, {} edges, digest {:016x} ({} snapshots, {} batches)\n", scene_,
+        g.version(), g.vertex_count(), g.edge_count(), roadmap_digest(g), replica.snapshots_taken(),
+        replica.batches_applied());
+    if (retired) return report_retired(client);
+    if (!dump_.empty()) write_text(dump_, roadmap_file_json(scene_, replica.root(), replica.pois(), g, nullptr));
+    return 0;
+  }
+
+ private:
+  int report_retired(client::Client& client) const {
+    const auto s = client.latest_status(scene_);
+    const std::string what = !s                                     ? "dropped or unloaded"
+                             : s->state() == msg::SCENE_UNLOADED ? "unloaded"
+                             : s->state() == msg::SCENE_EMPTY     ? "dropped"
+                                                                  : "dropped or unloaded";
+    std::cerr << fmt::format("ispars: the roadmap of scene '{}' was {} while watching{}\n", scene_, what,
+                             dump_.empty() ? "" : "; nothing written to " + dump_);
+    return 1;
+  }
+
+  CLI::App* cmd_ = nullptr;
+  std::string scene_, dump_;
+  bool until_idle_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_watch_command() { return std::make_unique<WatchCommand>(); }
+
+}  // namespace ispars::cli
