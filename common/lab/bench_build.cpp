@@ -8,6 +8,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "experiment_support.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
@@ -69,6 +70,22 @@ int run_bench_build(const BenchBuildOptions& options) {
               << std::endl;
   }
   return 0;
+}
+
+CLI::App* add_bench_build_command(CLI::App& parent, BenchBuildOptions& options) {
+  auto* cmd = parent.add_subcommand("build", "Construction time, checks per sample and peak memory against N");
+  cmd->add_option("scene", options.scene, "Scene YAML file")->required();
+  cmd->add_option("--method", options.method, "dense | spars | ispars | irisc | ispars2")
+      ->check(build_method_check());
+  cmd->add_option("--variant", options.variant, "spars, ispars: stretch (default) or alg1")
+      ->check(spars_variant_check());
+  cmd->add_option("--samples", options.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
+  add_stretch_slack_options(*cmd, options.stretch_slack, options.stretch_slack_after);
+  cmd->add_option("--checkpoints", options.checkpoints, "Report rows")->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
+  cmd->add_option("--seed", options.seed, "Seed");
+  cmd->add_option("--threads", options.threads, "Threads")->check(CLI::Range(1u, 64u));
+  cmd->add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
+  return cmd;
 }
 
 }  // namespace ispars::lab

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "ispars/reference/brute_force.hpp"
 #include "ispars/reference/fcl_checker.hpp"
 #include "ispars/scene/scene.hpp"
@@ -207,6 +208,20 @@ int run_bench_geometry(const BenchGeometryOptions& options) {
       point_disagree, segment_disagree, chi_disagree, chi_ambiguous, fcl_point_disagree,
       fcl_segment_disagree);
   return 0;
+}
+
+CLI::App* add_bench_geometry_command(CLI::App& parent, BenchGeometryOptions& options) {
+  auto* cmd = parent.add_subcommand(
+      "geometry", "Point, segment and visibility query costs against brute-force and FCL references");
+  cmd->add_option("scene", options.scene, "Scene YAML file")->required();
+  cmd->add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
+  cmd->add_option("--queries", options.queries, "Queries per fast-path measurement")
+      ->check(CLI::Range(std::size_t{64}, std::size_t{10'000'000}));
+  cmd->add_option("--reference-queries", options.reference_queries,
+                  "Queries through the brute-force reference")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000}));
+  cmd->add_option("--seed", options.seed, "Seed of the random queries");
+  return cmd;
 }
 
 }  // namespace ispars::lab

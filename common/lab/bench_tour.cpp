@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "experiment_support.hpp"
 #include "ispars/tour/gip_solver.hpp"
 #include "ispars/tour/tour_shortcut.hpp"
@@ -112,6 +113,22 @@ int run_bench_tour(const BenchTourOptions& options) {
               << std::endl;
   }
   return r.validation.valid() ? 0 : 1;
+}
+
+CLI::App* add_bench_tour_command(CLI::App& parent, BenchTourOptions& options) {
+  auto* cmd = parent.add_subcommand(
+      "tour", "The tour solver on a large roadmap: first tour, budget, memory, stop latency");
+  cmd->add_option("scene", options.scene, "Scene YAML file")->required();
+  cmd->add_option("--method", options.method, "dense | spars | ispars | irisc | ispars2")
+      ->check(build_method_check());
+  cmd->add_option("--samples", options.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{10'000'000}));
+  cmd->add_option("--seed", options.seed, "Seed of the roadmap and the search");
+  cmd->add_option("--budget", options.budget, "Seconds of search")->check(CLI::Range(0.01, 3600.0));
+  cmd->add_option("--stop-at", options.stop_at, "Request a stop this many seconds after the start")
+      ->delimiter(',')
+      ->check(CLI::Range(0.0, 3600.0));
+  cmd->add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
+  return cmd;
 }
 
 }  // namespace ispars::lab

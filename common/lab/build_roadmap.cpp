@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
@@ -160,6 +161,33 @@ int run_build(const BuildCommandOptions& options) {
               << '\n';
   }
   return 0;
+}
+
+CLI::App* add_build_command(CLI::App& parent, BuildCommandOptions& options) {
+  auto* cmd = parent.add_subcommand("build", "Build a roadmap: dense, spars, ispars, irisc or ispars2");
+  cmd->add_option("scene", options.scene, "Scene YAML file")->required();
+  cmd->add_option("--method", options.method, "dense | spars | ispars | irisc | ispars2")
+      ->required()
+      ->check(build_method_check());
+  cmd->add_option("--samples", options.samples, "Samples to draw (N)")
+      ->check(CLI::Range(std::size_t{0}, std::size_t{100'000'000}));
+  cmd->add_option("--seed", options.seed, "Seed of the sample stream");
+  cmd->add_option("--variant", options.variant,
+                  "spars, ispars: stretch (default: bounds routes between nearby sparse vertices) or alg1 "
+                  "(the paper's Alg. 1 read literally)")
+      ->check(spars_variant_check());
+  cmd->add_option("--threads", options.threads, "Threads for per-sample checks (same roadmap for any count)")
+      ->check(CLI::Range(1u, 64u));
+  cmd->add_option("--p-accept", options.p_accept, "IRIS-C: admission probability without new coverage")
+      ->check(CLI::Range(0.0, 1.0));
+  add_stretch_slack_options(*cmd, options.stretch_slack, options.stretch_slack_after);
+  cmd->add_flag("--verify", options.verify, "Check validity, costs and the inspection invariant exactly");
+  cmd->add_option("--fresh", options.fresh, "Also check Invariant 1 on this many fresh samples (a seed of its own)")
+      ->check(CLI::Range(std::size_t{0}, std::size_t{10'000'000}));
+  cmd->add_option("--out", options.out, "Write the roadmap (and its dense pair) as JSON");
+  cmd->add_option("--iris", options.iris, "Write IRIS text files PREFIX_vertex, PREFIX_edge, PREFIX_conf");
+  cmd->add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
+  return cmd;
 }
 
 }  // namespace ispars::lab

@@ -6,7 +6,14 @@
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}  // namespace CLI
+
 namespace ispars::lab {
+
+// Each subcommand: its options, add_*_command (declares it under `parent`, parsing into
+// `options`) and run_* (does it), both in the subcommand's own file.
 
 struct SceneInfoOptions {
   std::string scene;
@@ -14,6 +21,7 @@ struct SceneInfoOptions {
   std::size_t samples = 10'000;  ///< Random valid configurations for the coverage estimate.
   std::uint64_t seed = 1;
 };
+CLI::App* add_scene_info_command(CLI::App& parent, SceneInfoOptions& options);
 int run_scene_info(const SceneInfoOptions& options);
 
 struct BenchGeometryOptions {
@@ -23,6 +31,7 @@ struct BenchGeometryOptions {
   std::size_t reference_queries = 200;   ///< Queries through the brute-force reference.
   std::uint64_t seed = 1;
 };
+CLI::App* add_bench_geometry_command(CLI::App& parent, BenchGeometryOptions& options);
 int run_bench_geometry(const BenchGeometryOptions& options);
 
 struct BuildCommandOptions {
@@ -41,6 +50,7 @@ struct BuildCommandOptions {
   std::string out;   ///< --out FILE.json: the roadmap (and its dense pair) in full.
   std::string iris;  ///< --iris PREFIX: IRIS text files PREFIX_vertex, _edge, _conf.
 };
+CLI::App* add_build_command(CLI::App& parent, BuildCommandOptions& options);
 int run_build(const BuildCommandOptions& options);
 
 struct BenchBuildOptions {
@@ -55,6 +65,7 @@ struct BenchBuildOptions {
   unsigned threads = 1;
   bool json = false;
 };
+CLI::App* add_bench_build_command(CLI::App& parent, BenchBuildOptions& options);
 int run_bench_build(const BenchBuildOptions& options);
 
 struct BenchTourOptions {
@@ -66,6 +77,7 @@ struct BenchTourOptions {
   std::vector<double> stop_at{0.2, 2.0};  ///< Seconds after the start at which to request a stop.
   bool json = false;
 };
+CLI::App* add_bench_tour_command(CLI::App& parent, BenchTourOptions& options);
 int run_bench_tour(const BenchTourOptions& options);
 
 struct ExperimentOptions {
@@ -114,6 +126,7 @@ struct TourCommandOptions {
   bool json = false;
   std::string out;
 };
+CLI::App* add_tour_command(CLI::App& parent, TourCommandOptions& options);
 int run_tour(const TourCommandOptions& options);
 
 struct RenderCommandOptions {
@@ -130,12 +143,18 @@ struct RenderCommandOptions {
   std::size_t max_edges = 2'000'000;
   bool json = false;
 };
+CLI::App* add_render_command(CLI::App& parent, RenderCommandOptions& options);
 int run_render(const RenderCommandOptions& options);
 
+CLI::App* add_experiment_table_command(CLI::App& parent, ExperimentOptions& options);
 int run_experiment_table(const ExperimentOptions& options);
+CLI::App* add_experiment_scaling_command(CLI::App& parent, ExperimentOptions& options);
 int run_experiment_scaling(const ExperimentOptions& options);
+CLI::App* add_experiment_spanner_command(CLI::App& parent, ExperimentOptions& options);
 int run_experiment_spanner(const ExperimentOptions& options);
+CLI::App* add_experiment_anytime_command(CLI::App& parent, ExperimentOptions& options);
 int run_experiment_anytime(const ExperimentOptions& options);
+CLI::App* add_experiment_ablation_command(CLI::App& parent, ExperimentOptions& options);
 int run_experiment_ablation(const ExperimentOptions& options);
 
 }  // namespace ispars::lab

@@ -10,6 +10,7 @@
 #include <map>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "experiment_support.hpp"
 #include "ispars/builders/irisc_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
@@ -190,6 +191,25 @@ int run_experiment_ablation(const ExperimentOptions& options) {
               << std::endl;
   }
   return 0;
+}
+
+CLI::App* add_experiment_ablation_command(CLI::App& parent, ExperimentOptions& options) {
+  auto* cmd = parent.add_subcommand(
+      "ablation", "Sparse-roadmap rules one by one: size, route stretch, Invariant 1 and tours (same targets, same work)");
+  add_experiment_flags(*cmd, options);
+  cmd->add_option("--scene", options.scene, "water_tower, truss_bridge or caric_city (the paper's setting)");
+  cmd->add_option("--seeds", options.seeds, "Seeds 1..S")->check(CLI::Range(1, 1000));
+  cmd->add_option("--delta", options.delta, "delta (0: calibrated)")->check(CLI::Range(0.0, 1e6));
+  cmd->add_option("--samples", options.samples, "N (0: the paper's)")->check(CLI::Range(0, 100'000'000));
+  cmd->add_option("--rule-sets", options.rule_sets,
+                  "Rule sets: alg1 or stretch, then +R / -R with R in join, witness, shortcut")
+      ->delimiter(',');
+  cmd->add_option("--iterations", options.iterations, "Solver iterations per roadmap")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
+  cmd->add_option("--cap", options.cap, "Wall-clock cap per tour, seconds")->check(CLI::Range(0.1, 1e5));
+  add_stretch_slack_options(*cmd, options.stretch_slack, options.stretch_slack_after);
+  cmd->add_option("--jobs", options.jobs, "Tours solved at once (one solver thread each)")->check(CLI::Range(1u, 64u));
+  return cmd;
 }
 
 }  // namespace ispars::lab

@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "experiment_support.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/builders/irisc_builder.hpp"
@@ -320,6 +321,27 @@ int run_experiment_anytime(const ExperimentOptions& options) {
   if (!options.csv.empty() && !options.png.empty()) plot(options.csv, options.png, work_text);
   if (options.json) std::cout << nlohmann::json{{"runs", results}}.dump() << std::endl;
   return 0;
+}
+
+CLI::App* add_experiment_anytime_command(CLI::App& parent, ExperimentOptions& options) {
+  auto* cmd = parent.add_subcommand(
+      "anytime", "Fig. 4: best tour against solver time on Dense, Inspection-SPARS and IRIS-C roadmaps");
+  add_experiment_flags(*cmd, options);
+  cmd->add_option("--seeds", options.seeds, "Seeds 1..S")->check(CLI::Range(1, 1000));
+  cmd->add_option("--iterations", options.iterations,
+                  "Solver iterations per roadmap: the same work for each (0: a time budget instead)")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{100'000'000}));
+  cmd->add_option("--budget", options.budget, "With --iterations 0: solver seconds per roadmap (the paper: 150)")
+      ->check(CLI::Range(0.1, 1e5));
+  cmd->add_option("--cap", options.cap, "With --iterations: wall-clock cap per tour, seconds")
+      ->check(CLI::Range(0.1, 1e5));
+  cmd->add_option("--jobs", options.jobs, "Roadmaps solved at once (one solver thread each)")->check(CLI::Range(1u, 64u));
+  cmd->add_option("--csv", options.csv, "CSV of mean +- sd of the best tour against time");
+  cmd->add_option("--png", options.png, "Plot (gnuplot)");
+  cmd->add_flag("--replot", options.replot, "Only draw --png from the --csv of an earlier run");
+  cmd->add_option("--bound-seconds", options.bound_seconds, "Seconds of LP lower bound per roadmap (0: none)")
+      ->check(CLI::Range(0.0, 1e5));
+  return cmd;
 }
 
 }  // namespace ispars::lab

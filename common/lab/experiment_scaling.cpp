@@ -11,6 +11,7 @@
 #include <map>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "experiment_support.hpp"
 #include "ispars/input_error.hpp"
 #include "timing.hpp"
@@ -127,6 +128,21 @@ int run_experiment_scaling(const ExperimentOptions& options) {
   }
   if (options.json) std::cout << nlohmann::json{{"delta", delta}, {"scaling", json}}.dump() << std::endl;
   return 0;
+}
+
+CLI::App* add_experiment_scaling_command(CLI::App& parent, ExperimentOptions& options) {
+  options.seeds = 10;  // the paper's Fig. 5 uses ten seeds
+  options.pois = 100;  // the paper's K on the water tower
+  auto* cmd = parent.add_subcommand("scaling", "Fig. 5: |V|, |E|, coverage, checks against N");
+  add_experiment_flags(*cmd, options);
+  cmd->add_option("--scene", options.scene, "Scene name in --scenes");
+  cmd->add_option("--seeds", options.seeds, "Seeds 1..S")->check(CLI::Range(1, 1000));
+  cmd->add_option("--max-samples", options.max_samples, "Largest N")->check(CLI::Range(250, 100'000'000));
+  cmd->add_option("--pois", options.pois, "K")->check(CLI::Range(1, 10'000'000));
+  cmd->add_option("--delta", options.delta, "delta (0: calibrate to the paper's density)")->check(CLI::Range(0.0, 1e6));
+  cmd->add_option("--csv", options.csv, "Write per-seed rows here (and means to FILE.summary)");
+  cmd->add_option("--png", options.png, "Write the plot here (gnuplot)");
+  return cmd;
 }
 
 }  // namespace ispars::lab

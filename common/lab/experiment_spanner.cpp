@@ -13,6 +13,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "experiment_support.hpp"
 #include "ispars/search/graph_search.hpp"
 #include "ispars/input_error.hpp"
@@ -152,6 +153,31 @@ int run_experiment_spanner(const ExperimentOptions& options) {
               << std::endl;
   }
   return 0;
+}
+
+CLI::App* add_experiment_spanner_command(CLI::App& parent, ExperimentOptions& options) {
+  options.seeds = 1;  // --pairs-seed
+  auto* cmd = parent.add_subcommand(
+      "spanner", "Route quality: sparse viewpoint pairs against dense routes and segments, by distance, per variant");
+  add_experiment_flags(*cmd, options);
+  cmd->add_option("--scene", options.scene, "Scene name in --scenes");
+  cmd->add_flag("--calibrate", options.calibrate,
+                "The paper's N, K and calibrated delta for the scene (water_tower, truss_bridge, caric_city)");
+  cmd->add_option("--samples", options.samples, "N")->check(CLI::Range(1, 100'000'000));
+  cmd->add_option("--pairs", options.pairs, "Random pairs of dense vertices (SPARS's bound)")
+      ->check(CLI::Range(1, 10'000'000));
+  cmd->add_option("--pois", options.pois, "K")->check(CLI::Range(1, 10'000'000));
+  cmd->add_option("--delta", options.delta, "delta (0: the scene's, or calibrated)")->check(CLI::Range(0.0, 1e6));
+  cmd->add_option("--seed", options.build_seed, "Seed of the build (and of the POIs)");
+  cmd->add_option("--pairs-seed", options.seeds, "Seed of the random dense pairs");
+  cmd->add_option("--max-sources", options.max_sources, "Measure pairs from at most this many viewpoints (0: all)")
+      ->check(CLI::Range(std::size_t{0}, std::size_t{100'000'000}));
+  cmd->add_option("--variants", options.variants,
+                  "Rule sets to compare: " + ispars::spars_variant_names() +
+                  ", spars (SPARS: alg1 without the inspection test), or a rule set as "
+                  "--rule-sets of ablation reads it (e.g. stretch+shortcut)")
+      ->delimiter(',');
+  return cmd;
 }
 
 }  // namespace ispars::lab

@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "experiment_support.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "json_output.hpp"
@@ -139,6 +140,13 @@ int run_experiment_table(const ExperimentOptions& options) {
   }
   if (options.json) std::cout << nlohmann::json{{"table", results}}.dump() << std::endl;
   return 0;
+}
+
+CLI::App* add_experiment_table_command(CLI::App& parent, ExperimentOptions& options) {
+  auto* cmd = parent.add_subcommand("table", "Table II: |V|, |E|, coverage over seeds, three scenes");
+  add_experiment_flags(*cmd, options);
+  cmd->add_option("--seeds", options.seeds, "Seeds 1..S")->check(CLI::Range(1, 1000));
+  return cmd;
 }
 
 }  // namespace ispars::lab

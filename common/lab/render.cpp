@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/render/scene_render.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
@@ -131,6 +132,24 @@ int run_render(const RenderCommandOptions& options) {
     }
   }
   return 0;
+}
+
+CLI::App* add_render_command(CLI::App& parent, RenderCommandOptions& options) {
+  auto* cmd = parent.add_subcommand("render", "A PNG of a scene, a roadmap file's graphs, its POIs and a tour");
+  cmd->add_option("scene", options.scene, "Scene YAML")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--roadmap", options.roadmap, "Roadmap JSON (ispars-lab build --out, ispars snapshot --out)");
+  cmd->add_flag("--dense", options.dense, "Also draw the file's dense graph, faint");
+  cmd->add_option("--tour", options.tour, "Tour JSON (ispars-lab tour --out)");
+  cmd->add_option("--out", options.out, "The PNG file to write")->required();
+  cmd->add_option("--width", options.width, "Pixels")->check(CLI::Range(16, 8192));
+  cmd->add_option("--height", options.height, "Pixels")->check(CLI::Range(16, 8192));
+  cmd->add_option("--eye", options.eye, "Camera position X Y Z (default: framed from the front-right)")->expected(3);
+  cmd->add_option("--target", options.target, "Camera target X Y Z (with --eye)")->expected(3);
+  cmd->add_option("--fov", options.fov, "Vertical field of view, degrees")->check(CLI::Range(1.0, 170.0));
+  cmd->add_option("--max-edges", options.max_edges, "Edges of each graph drawn at most (an evenly spread subset)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
+  cmd->add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
+  return cmd;
 }
 
 }  // namespace ispars::lab

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "ispars/scene/scene.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
@@ -91,6 +92,17 @@ int run_scene_info(const SceneInfoOptions& options) {
       options.samples, 100.0 * static_cast<double>(seen_count) / static_cast<double>(scene.pois().size()),
       scene.counts().point, scene.counts().segment, scene.counts().rays, load_seconds, sample_seconds);
   return 0;
+}
+
+CLI::App* add_scene_info_command(CLI::App& parent, SceneInfoOptions& options) {
+  auto* cmd = parent.add_subcommand(
+      "info", "Triangles, bounds, POIs, root clearance and POIs seen from random valid configurations");
+  cmd->add_option("scene", options.scene, "Scene YAML file")->required();
+  cmd->add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
+  cmd->add_option("--samples", options.samples, "Random valid configurations for the coverage estimate")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{10'000'000}));
+  cmd->add_option("--seed", options.seed, "Seed of the random configurations");
+  return cmd;
 }
 
 }  // namespace ispars::lab

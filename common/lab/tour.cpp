@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "flags.hpp"
 #include "ispars/tour/gip_solver.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
@@ -176,6 +177,26 @@ int run_tour(const TourCommandOptions& options) {
                              r.iterations);
   }
   return r.validation.valid() ? 0 : 1;
+}
+
+CLI::App* add_tour_command(CLI::App& parent, TourCommandOptions& options) {
+  auto* cmd = parent.add_subcommand("tour", "An inspection tour (GIP) on a roadmap file or IRIS files");
+  cmd->add_option("roadmap", options.roadmap, "Roadmap JSON (ispars-lab build --out, ispars snapshot --out)");
+  cmd->add_option("--graph", options.graph, "Which graph of the file")->check(CLI::IsMember({"roadmap", "dense"}));
+  cmd->add_option("--iris", options.iris, "IRIS files PREFIX_vertex and PREFIX_edge instead of a roadmap file");
+  cmd->add_flag("--all-edges", options.all_edges, "IRIS: keep edges marked invalid (as the published solver read them)");
+  cmd->add_option("--budget", options.budget, "Seconds of search")->required()->check(CLI::Range(0.0, 1e6));
+  cmd->add_option("--seed", options.seed, "Seed");
+  cmd->add_option("--threads", options.threads, "Search threads (one chain each)")->check(CLI::Range(1u, 64u));
+  cmd->add_option("--iterations", options.iterations, "Stop after this many search iterations per thread (deterministic)");
+  cmd->add_option("--targets", options.targets, "A file of target POI ids (default: all seen from the root)");
+  cmd->add_option("--bound", options.bound, "lp: prove a lower bound by linear programming beside the search; simple")
+      ->check(CLI::IsMember({"lp", "simple"}));
+  cmd->add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
+  cmd->add_option("--out", options.out, "Write the tour (walk, positions, trace, path: what render draws) as JSON");
+  cmd->add_option("--scene", options.scene, "The roadmap's scene YAML: also shortcut the tour (straight checked segments)")
+      ->check(CLI::ExistingFile);
+  return cmd;
 }
 
 }  // namespace ispars::lab

@@ -1,0 +1,39 @@
+#include "flags.hpp"
+
+#include "commands.hpp"
+#include "ispars/roadmap/build_recipe.hpp"
+
+namespace ispars::lab {
+
+CLI::Validator build_method_check() {
+  return CLI::Validator(
+      [](std::string& text) {
+        return parse_build_method(text) ? std::string() : "unknown method '" + text + "' (" + build_method_names() + ")";
+      },
+      "dense|spars|ispars|irisc|ispars2");
+}
+
+CLI::Validator spars_variant_check() {
+  return CLI::Validator(
+      [](std::string& text) {
+        return parse_spars_variant(text) ? std::string()
+                                         : "unknown variant '" + text + "' (" + spars_variant_names() + ")";
+      },
+      "stretch|alg1");
+}
+
+void add_stretch_slack_options(CLI::App& command, double& slack, std::uint64_t& after) {
+  command.add_option("--stretch-slack", slack, "Stretch rules: additive slack of the bounds, a fraction of Delta (default 0)")
+      ->check(CLI::Range(0.0, recipe_override("stretch_slack").max));
+  command.add_option("--stretch-slack-after", after,
+                     "Stretch rules: the slack applies from this sample on (default 0: from the first)")
+      ->check(CLI::Range(0.0, recipe_override("stretch_slack_after").max));
+}
+
+void add_experiment_flags(CLI::App& command, ExperimentOptions& options) {
+  command.add_option("--scenes", options.scenes_dir, "Directory of the scene YAML files");
+  command.add_option("--threads", options.threads, "Threads per build")->check(CLI::Range(1u, 64u));
+  command.add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
+}
+
+}  // namespace ispars::lab
