@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "ispars/search/graph_search.hpp"
@@ -99,145 +100,151 @@ InspectionTour expand(const InspectionGraph& g, const Closure& c, const std::vec
   return tour;
 }
 
-}  // namespace
-
-GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
-  const auto t0 = Clock::now();
-  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+// The root and budget checked; a root with no edges refused unless it sees every target itself.
+void check_options(const InspectionGraph& g, const GipOptions& o) {
   if (o.root >= g.vertex_count()) {
     throw InputError("tour", "root", fmt::format("vertex {} is not in the graph ({} vertices)", o.root, g.vertex_count()));
   }
   if (!(o.budget_seconds >= 0.0) || !std::isfinite(o.budget_seconds)) {
     throw InputError("tour", "budget", fmt::format("must be a finite number of seconds >= 0, got {}", o.budget_seconds));
   }
-  if (g.neighbors(o.root).empty()) {
-    // Only a root that sees every target by itself needs no edges.
-    const auto sees = g.visible(o.root);
-    const bool root_suffices =
-        o.targets ? !o.targets->empty() && std::all_of(o.targets->begin(), o.targets->end(), [&](PoiId p) {
-          return std::binary_search(sees.begin(), sees.end(), p);
-        })
-                  : !sees.empty();
-    if (!root_suffices) {
-      throw InputError("tour", "root", fmt::format("the root (vertex {}) has no edges: no tour can leave it", o.root));
+  if (!g.neighbors(o.root).empty()) return;
+  const auto sees = g.visible(o.root);
+  const bool root_suffices =
+      o.targets ? !o.targets->empty() && std::all_of(o.targets->begin(), o.targets->end(), [&](PoiId p) {
+        return std::binary_search(sees.begin(), sees.end(), p);
+      })
+                : !sees.empty();
+  if (!root_suffices) {
+    throw InputError("tour", "root", fmt::format("the root (vertex {}) has no edges: no tour can leave it", o.root));
+  }
+}
+
+// One solve: the LP bound on a thread of its own beside the search, a quick first tour on large
+// instances, the search chains over the closure, and the result assembled at the end.
+class GipRun {
+ public:
+  GipRun(const InspectionGraph& g, const GipOptions& o) : g_(g), o_(o) {}
+  ~GipRun() {  // if the search throws, the bounding thread is stopped and joined anyway
+    abandon_bound_ = true;
+    if (bound_thread_.joinable()) bound_thread_.join();
+  }
+  GipRun(const GipRun&) = delete;
+  GipRun& operator=(const GipRun&) = delete;
+
+  GipResult solve() {
+    const std::vector<VertexId> component = g_.component_of(o_.root);
+    result_.targets = choose_targets(g_, o_, component);
+    if (root_sees_every_target()) return staying_at_the_root();
+    start_bound();
+    // A large instance first gets a walk to the nearest unseen viewpoints (quick_tour.hpp), so a
+    // tour is in hand within the budget even before the closure rows for a search tour exist.
+    if (component.size() > kQuickTourAbove) {
+      quick_ = nearest_viewpoint_tour(g_, o_.root, result_.targets, o_.stop);
+      if (quick_) improved(quick_->cost);
     }
+    const Closure c(g_, o_.root, result_.targets, component, closure_options());
+    result_.thinned = c.thinned;
+    result_.candidates = c.n;
+    result_.lower_bound = c.simple_bound;  // over every viewer (thinning never touches it; tour_closure.hpp)
+    search(c);
+    result_.distance_rows = c.rows();
+    finish_bound();
+    if (best_.seq.empty() && !quick_) {
+      throw std::runtime_error(fmt::format(
+          "tour: stopped before a first tour was found ({} of {} distance rows computed)", c.rows(), c.n));
+    }
+    result_.tour = best_.seq.empty() ? *quick_ : expand(g_, c, best_.seq);
+    return finish();
   }
-  const std::vector<VertexId> component = g.component_of(o.root);
-  GipResult result;
-  result.targets = choose_targets(g, o, component);
-  // The root alone sees every target: the tour is staying there.
-  const auto root_sees = g.visible(o.root);
-  if (std::all_of(result.targets.begin(), result.targets.end(), [&](PoiId p) {
-        return std::binary_search(root_sees.begin(), root_sees.end(), p);
-      })) {
-    result.tour.walk = {o.root};
-    result.tour.covered = result.targets;
-    result.trace.push_back({elapsed(), 0.0});
-    result.lower_bound = 0.0;
-    result.candidates = 1;
-    result.validation = validate_tour(g, o.root, result.targets, result.tour);
-    result.seconds = elapsed();
-    return result;
+
+ private:
+  double elapsed() const { return std::chrono::duration<double>(Clock::now() - t0_).count(); }
+  bool timed() const { return o_.max_iterations == 0 || o_.budget_seconds > 0; }
+
+  bool root_sees_every_target() const {
+    const auto sees = g_.visible(o_.root);
+    return std::all_of(result_.targets.begin(), result_.targets.end(),
+                       [&](PoiId p) { return std::binary_search(sees.begin(), sees.end(), p); });
   }
+  GipResult staying_at_the_root() {
+    result_.tour.walk = {o_.root};
+    result_.tour.covered = result_.targets;
+    result_.trace.push_back({elapsed(), 0.0});
+    result_.lower_bound = 0.0;
+    result_.candidates = 1;
+    result_.validation = validate_tour(g_, o_.root, result_.targets, result_.tour);
+    result_.seconds = elapsed();
+    return std::move(result_);
+  }
+
+  void improved(double cost) {  // called with mutex_ held, or before the chains start
+    result_.trace.push_back({elapsed(), cost});
+    if (o_.on_improvement) o_.on_improvement(result_.trace.back().first, cost);
+  }
+
   // The LP bound runs beside the search on its own thread, until the search ends.
-  std::atomic<bool> abandon_bound{false};  // set when the search fails, or ends with no bound budget
-  std::mutex bound_mutex;
-  TourBoundResult bounded;
-  std::thread bound_thread;
-  if (o.lp_bound) {
+  void start_bound() {
+    if (!o_.lp_bound) return;
     TourBoundOptions bo;
-    bo.root = o.root;
-    bo.targets = result.targets;
-    bo.budget_seconds = o.bound_seconds > 0.0 ? o.bound_seconds : o.budget_seconds > 0.0 ? o.budget_seconds : 1e7;
-    bo.should_stop = [&] { return abandon_bound.load() || (o.stop != nullptr && o.stop->load()); };
+    bo.root = o_.root;
+    bo.targets = result_.targets;
+    bo.budget_seconds = o_.bound_seconds > 0.0 ? o_.bound_seconds : o_.budget_seconds > 0.0 ? o_.budget_seconds : 1e7;
+    bo.should_stop = [this] { return abandon_bound_.load() || (o_.stop != nullptr && o_.stop->load()); };
     const double offset = elapsed();
-    bo.on_improvement = [&, offset](double seconds, double bound) {
-      std::lock_guard lock(bound_mutex);
-      result.bound_trace.emplace_back(offset + seconds, bound);
-      if (o.on_bound) o.on_bound(offset + seconds, bound);
+    bo.on_improvement = [this, offset](double seconds, double bound) {
+      std::lock_guard lock(bound_mutex_);
+      result_.bound_trace.emplace_back(offset + seconds, bound);
+      if (o_.on_bound) o_.on_bound(offset + seconds, bound);
     };
-    bound_thread = std::thread([&, bo] { bounded = lp_tour_bound(g, bo); });
+    bound_thread_ = std::thread([this, bo] { bounded_ = lp_tour_bound(g_, bo); });
   }
-  struct JoinOnExit {  // if the search throws, the bounding thread is stopped and joined anyway
-    std::atomic<bool>& done;
-    std::thread& thread;
-    ~JoinOnExit() {
-      done = true;
-      if (thread.joinable()) thread.join();
-    }
-  } join_on_exit{abandon_bound, bound_thread};
-  const auto finish_bound = [&] {
-    if (o.bound_seconds <= 0.0 && o.budget_seconds <= 0.0) abandon_bound = true;  // no budget of its own
-    if (bound_thread.joinable()) bound_thread.join();
-    result.lower_bound = std::max(result.lower_bound.value_or(0.0), bounded.bound);
-    result.bound_complete = bounded.complete;
-    result.bound_rounds = bounded.rounds;
-    result.bound_cuts = bounded.cuts;
-    result.bound_note = bounded.skipped;
-  };
-  // A large instance first gets a walk to the nearest unseen viewpoints (quick_tour.hpp), so a
-  // tour is in hand within the budget even before the closure rows for a search tour exist.
-  std::optional<InspectionTour> quick;
-  if (component.size() > kQuickTourAbove) {
-    quick = nearest_viewpoint_tour(g, o.root, result.targets, o.stop);
-    if (quick) {
-      result.trace.push_back({elapsed(), quick->cost});
-      if (o.on_improvement) o.on_improvement(result.trace.back().first, quick->cost);
+  void finish_bound() {
+    if (o_.bound_seconds <= 0.0 && o_.budget_seconds <= 0.0) abandon_bound_ = true;  // no budget of its own
+    if (bound_thread_.joinable()) bound_thread_.join();
+    result_.lower_bound = std::max(result_.lower_bound.value_or(0.0), bounded_.bound);
+    result_.bound_complete = bounded_.complete;
+    result_.bound_rounds = bounded_.rounds;
+    result_.bound_cuts = bounded_.cuts;
+    result_.bound_note = bounded_.skipped;
+  }
+
+  TourClosureOptions closure_options() const {
+    TourClosureOptions co;
+    co.threads = std::max(1u, o_.threads);
+    // Rows ahead stop at the budget (the rest come on first use). A lazy row is refused after a
+    // stop, and, with a quick tour in hand, past the budget too.
+    co.should_stop = [this] {
+      return (o_.stop != nullptr && o_.stop->load()) || (quick_ && timed() && elapsed() >= o_.budget_seconds);
+    };
+    co.stop_rows_ahead = [this] { return timed() && elapsed() >= o_.budget_seconds; };
+    return co;
+  }
+
+  void offer(const Solution& s, std::size_t chain) {
+    std::lock_guard lock(mutex_);
+    const bool better = s.cost < best_.cost - kEps;
+    if (better || (std::abs(s.cost - best_.cost) <= kEps && chain < best_chain_)) {
+      best_ = s;
+      best_chain_ = chain;
+      if (better) improved(s.cost);
     }
   }
-  const unsigned threads = std::max(1u, o.threads);
-  TourClosureOptions closure_options;
-  closure_options.threads = threads;
-  // Rows ahead stop at the budget (the rest come on first use); a lazy row is refused after a stop.
-  const bool timed = o.max_iterations == 0 || o.budget_seconds > 0;
-  // With a quick tour in hand, lazy rows are refused past the budget too.
-  closure_options.should_stop = [&, timed] {
-    return (o.stop != nullptr && o.stop->load()) || (quick && timed && elapsed() >= o.budget_seconds);
-  };
-  closure_options.stop_rows_ahead = [&, timed] { return timed && elapsed() >= o.budget_seconds; };
-  const Closure c(g, o.root, result.targets, component, closure_options);
-  result.thinned = c.thinned;
-  result.candidates = c.n;
 
-  // The simple bound, over every viewer (thinning never touches it; tour_closure.hpp).
-  result.lower_bound = c.simple_bound;
-
-  std::mutex mutex;
-  Solution best;
-  best.cost = quick ? quick->cost : kInf;  // a search tour is offered only when it beats the quick one
-  std::size_t best_chain = 0;
-  std::atomic<std::uint64_t> iterations{0};
-  const auto offer = [&](const Solution& s, std::size_t chain) {
-    std::lock_guard lock(mutex);
-    if (s.cost < best.cost - kEps || (std::abs(s.cost - best.cost) <= kEps && chain < best_chain)) {
-      const bool improved = s.cost < best.cost - kEps;
-      best = s;
-      best_chain = chain;
-      if (improved) {
-        const double t = elapsed();
-        result.trace.push_back({t, s.cost});
-        if (o.on_improvement) o.on_improvement(t, s.cost);
-      }
-    }
-  };
-  // When rows come on first use (each a Dijkstra over the whole graph, about 0.2 s at 5.7 M
-  // edges), every stop of the first tour costs one: it is built from the richest viewers alone,
-  // which need few stops. Later repairs draw on every candidate.
-  const std::vector<char> first_pool = c.rows() < c.n ? gip_search::richest_viewers(c, kFirstTourViewers)
-                                                       : std::vector<char>{};
-  const auto search_chain = [&](std::size_t index) {
-    Chain chain(c, o.seed * 0x9E3779B97F4A7C15ull + index + 1);
+  // One chain: a greedy first tour, local search, then destroy/repair with annealing.
+  void search_chain(const Closure& c, std::size_t index, const std::vector<char>* first_pool) {
+    Chain chain(c, o_.seed * 0x9E3779B97F4A7C15ull + index + 1);
     Solution current = chain.empty();
-    chain.repair(current, index == 0 ? 0.0 : 0.3, first_pool.empty() ? nullptr : &first_pool);
+    chain.repair(current, index == 0 ? 0.0 : 0.3, first_pool);
     chain.local_search(current);
     offer(current, index);
     Solution chain_best = current;
     double temperature = 0.05 * current.cost / std::max<std::size_t>(1, current.seq.size());
     // An iteration cap with a zero budget means "no time limit"; otherwise the budget always holds.
     for (std::uint64_t it = 0;; ++it) {
-      if (o.max_iterations > 0 && it >= o.max_iterations) break;
-      if (timed && elapsed() >= o.budget_seconds) break;
-      if (o.stop != nullptr && o.stop->load()) break;
+      if (o_.max_iterations > 0 && it >= o_.max_iterations) break;
+      if (timed() && elapsed() >= o_.budget_seconds) break;
+      if (o_.stop != nullptr && o_.stop->load()) break;
       Solution trial = (it % 200 == 199) ? chain_best : current;  // return to the best now and then
       chain.destroy(trial);
       if (chain.rng().uniform01() < 0.5) {
@@ -246,7 +253,7 @@ GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
         chain.repair_by_target(trial, chain.rng().uniform01());
       }
       chain.local_search(trial);
-      ++iterations;
+      ++iterations_;
       if (trial.cost < current.cost - kEps ||
           chain.rng().uniform01() < std::exp(-(trial.cost - current.cost) / std::max(temperature, 1e-12))) {
         current = std::move(trial);
@@ -257,38 +264,64 @@ GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
       }
       temperature *= 0.9995;
     }
-  };
-  const auto run_chain = [&](std::size_t index) {
-    try {
-      search_chain(index);
-    } catch (const ClosureStopped&) {
-      // stopped while a distance row was missing: the best tour offered so far stands
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(run_chain, t);
-  run_chain(0);
-  for (auto& t : pool) t.join();
+  }
 
-  result.iterations = iterations;
-  result.distance_rows = c.rows();
-  finish_bound();
-  if (best.seq.empty() && !quick) {
-    throw std::runtime_error(fmt::format("tour: stopped before a first tour was found ({} of {} distance rows computed)",
-                                         c.rows(), c.n));
+  void search(const Closure& c) {
+    best_.cost = quick_ ? quick_->cost : kInf;  // a search tour is offered only when it beats the quick one
+    // When rows come on first use (each a Dijkstra over the graph, about 0.1 s at 5.7 M edges),
+    // every stop of the first tour costs one: it is built from the richest viewers alone, which
+    // need few stops. Later repairs draw on every candidate.
+    const std::vector<char> first_pool =
+        c.rows() < c.n ? gip_search::richest_viewers(c, kFirstTourViewers) : std::vector<char>{};
+    const auto run_chain = [&](std::size_t index) {
+      try {
+        search_chain(c, index, first_pool.empty() ? nullptr : &first_pool);
+      } catch (const ClosureStopped&) {
+        // stopped while a distance row was missing: the best tour offered so far stands
+      }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned t = 1; t < std::max(1u, o_.threads); ++t) pool.emplace_back(run_chain, t);
+    run_chain(0);
+    for (auto& t : pool) t.join();
+    result_.iterations = iterations_;
   }
-  result.tour = best.seq.empty() ? *quick : expand(g, c, best.seq);
-  result.tour.covered.clear();
-  std::vector<char> seen(g.poi_count(), 0);
-  for (const VertexId v : result.tour.walk) {
-    for (const PoiId p : g.visible(v)) seen[p] = 1;
+
+  GipResult finish() {
+    result_.tour.covered.clear();
+    std::vector<char> seen(g_.poi_count(), 0);
+    for (const VertexId v : result_.tour.walk) {
+      for (const PoiId p : g_.visible(v)) seen[p] = 1;
+    }
+    for (const PoiId p : result_.targets) {
+      if (seen[p]) result_.tour.covered.push_back(p);
+    }
+    result_.validation = validate_tour(g_, o_.root, result_.targets, result_.tour);
+    result_.seconds = elapsed();
+    return std::move(result_);
   }
-  for (const PoiId p : result.targets) {
-    if (seen[p]) result.tour.covered.push_back(p);
-  }
-  result.validation = validate_tour(g, o.root, result.targets, result.tour);
-  result.seconds = elapsed();
-  return result;
+
+  const InspectionGraph& g_;
+  const GipOptions& o_;
+  const Clock::time_point t0_ = Clock::now();
+  GipResult result_;
+  std::optional<InspectionTour> quick_;
+  std::atomic<bool> abandon_bound_{false};  // set when the search fails, or ends with no bound budget
+  std::mutex bound_mutex_;
+  TourBoundResult bounded_;
+  std::thread bound_thread_;
+  std::mutex mutex_;  // the best tour and the trace
+  Solution best_;
+  std::size_t best_chain_ = 0;
+  std::atomic<std::uint64_t> iterations_{0};
+};
+
+}  // namespace
+
+GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
+  check_options(g, o);
+  GipRun run(g, o);
+  return run.solve();
 }
 
 }  // namespace ispars
