@@ -128,141 +128,22 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
   // A running verify stops (a job is a writer of the roadmaps it reads); new ones are refused
   // while the job is queued or runs (lock_idle_job).
   readers_->stop_all(fmt::format("a build started on scene '{}'", name_));
-  std::lock_guard job(job_mutex_);
-  std::optional<RoadmapRecipe> build;
-  std::uint64_t samples = 0;
-  RoadmapRecipe recipe;
-  bool cancelled_early = false;
-  {
-    std::lock_guard lock(mutex_);
-    if (state_ != SessionState::queued) return;
-    build = pending_recipe_;
-    samples = pending_samples_;
-    pending_recipe_.reset();
-    pending_samples_ = 0;
-    if (cancel_ || stopping) {  // cancelled while queued: nothing is touched
-      state_ = recipe_ ? SessionState::idle : SessionState::empty;
-      last_error_ = cancel_ ? "cancelled before it started" : "daemon stopped before the job started";
-      cancel_ = false;
-      cancelled_early = true;
-    } else {
-      recipe = build ? *build : *recipe_;
-      // Taken from the queue: a cancel from now on reaches the job (cancel_), not the queue. While
-      // the builder comes back (ensure_builder) the job is already running.
-      state_ = SessionState::building;
-    }
-  }
-  if (cancelled_early) {
-    notify_status();
-    return;
-  }
+  std::lock_guard job_lock(job_mutex_);
+  std::optional<Job> job = take_job(stopping);
+  if (!job) return;
   try {
-    std::uint64_t roadmap_version = 0;
-    std::uint64_t dense_version = 0;
-    if (build) {
-      // The old roadmap (if any) stays published and stored until this build's first commit: the
-      // new store is made aside and takes its place then (RoadmapStore::create).
-      store_.reset();
-      builder_.reset();
-      recovered_.reset();
-      build_scene_ = std::make_unique<Scene>(session_detail::scene_for(scene_, recipe));
-      builder_ = builder_for(*build_scene_, recipe, limits_.build_threads);
-      store_ = RoadmapStore::create(store_dir_, recipe);
-      store_->set_compact_every(limits_.compact_every);
-    } else {
-      if (!store_) {
-        // It could not be reopened for writing after an earlier failure (a read-only filesystem,
-        // say), and the last commit was served from a read: try again now, or fail saying why.
-        StoreRecovery reopened;
-        store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), reopened);
-        store_->set_compact_every(limits_.compact_every);
-      }
-      ensure_builder(stopping);
-      roadmap_version = builder_->roadmap().version();
-      dense_version = builder_->dense() ? builder_->dense()->version() : 0;
-    }
-    const std::uint64_t target = builder_->samples() + samples;
+    prepare_job(*job, stopping);
+    const std::uint64_t target = builder_->samples() + job->samples;
     {
       std::lock_guard lock(mutex_);
       // A new roadmap's target shows from its first commit on, with its recipe: until then the
       // status describes the old roadmap only (a takeover rebuilds from the status).
-      if (!build) samples_target_ = target;
+      if (!job->build) samples_target_ = target;
       state_ = SessionState::building;
     }
     notify_status();
-
-    // Commit in chunks of about a quarter second: often enough for live progress and a small
-    // loss on a crash, rarely enough that fsync and publishing stay a small share of the time.
-    std::uint64_t chunk = 64;
-    auto last_copy = std::chrono::steady_clock::now() - std::chrono::hours(1);
-    double copy_seconds = 0.0;
-    bool first = build.has_value();  // a new roadmap commits at least its first chunk (the root)
-    while (first || (builder_->samples() < target && !stopping && !cancel_)) {
-      const auto t0 = std::chrono::steady_clock::now();
-      const std::uint64_t n = std::min(chunk, target - builder_->samples());
-      builder_->extend(n);
-      const RoadmapsView view = live_view();
-      BuildCommit commit = commit_since(view, roadmap_version, dense_version);
-      store_->commit(commit);
-      roadmap_version = view.roadmap->version();
-      dense_version = view.dense ? view.dense->version() : 0;
-      // Readers get an immutable copy. A copy costs time in the roadmap's size, so it is taken
-      // only when the last one is older than ten times its own cost (at least every 5 s, and
-      // always at the end): publishing stays a small share of the build however large it grows.
-      const bool last_chunk = builder_->samples() >= target || stopping || cancel_;
-      const double since_copy = seconds_since(last_copy);
-      std::optional<PublishedRoadmap> copy;
-      if (last_chunk || since_copy >= std::min(5.0, std::max(0.25, 10.0 * copy_seconds))) {
-        const auto c0 = std::chrono::steady_clock::now();
-        copy = make_published(std::make_shared<const Roadmap>(*view.roadmap), recipe.generation, builder_->samples());
-        copy_seconds = seconds_since(c0);
-        last_copy = std::chrono::steady_clock::now();
-      }
-      {
-        std::lock_guard lock(mutex_);
-        if (build && first) {  // the new roadmap is stored: it replaces the old one everywhere now
-          recipe_ = recipe;
-          samples_target_ = target;
-          damage_.clear();  // a damaged store, if there was one, was discarded by this build (replace)
-        }
-        samples_done_ = builder_->samples();
-        if (copy) published_ = std::move(*copy);
-        dense_vertices_ = view.dense ? view.dense->vertex_count() : 0;
-        dense_edges_ = view.dense ? view.dense->edge_count() : 0;
-      }
-      if (callbacks_.on_commit) callbacks_.on_commit(commit.roadmap, recipe.generation, commit.samples);
-      notify_status();
-      const double took = seconds_since(t0);
-      if (took < 0.1) chunk = std::min<std::uint64_t>(chunk * 2, 100'000);
-      if (took > 0.5) chunk = std::max<std::uint64_t>(chunk / 2, 16);
-      first = false;
-    }
-    if (!published_is_builders(recipe.generation)) {
-      // A cancel or a stop that came after a chunk's copy was decided (no copy) ended the loop:
-      // readers would see an older roadmap than the status's samples. They get the last commit.
-      auto copy = make_published(std::make_shared<const Roadmap>(builder_->roadmap()), recipe.generation,
-                                 builder_->samples());
-      std::lock_guard lock(mutex_);
-      published_ = std::move(copy);
-    }
-    if (recipe.method == BuildMethod::dense) {
-      // A Dense builder resumes from the published copy of its last commit: an idle Dense scene
-      // holds its roadmap once, not twice. (ispars2 keeps its builder: its route cache makes the
-      // next extend's first samples cheaper than a resumed builder's.)
-      builder_.reset();
-      build_scene_.reset();
-      ::malloc_trim(0);  // hand the freed adjacency back to the system, not to a later build
-    }
-    {
-      std::lock_guard lock(mutex_);
-      if (cancel_) last_error_ = fmt::format("cancelled at {} of {} samples", samples_done_, samples_target_);
-      if (stopping && samples_done_ < samples_target_) {
-        last_error_ = fmt::format("daemon stopped at {} of {} samples", samples_done_, samples_target_);
-      }
-      samples_target_ = samples_done_;
-      state_ = SessionState::idle;
-      cancel_ = false;
-    }
+    grow(*job, target, stopping);
+    end_job(*job, stopping);
   } catch (const ReplayInterrupted& e) {
     // The builder was being rebuilt from the recipe; the store and what is served are untouched.
     builder_.reset();
@@ -273,52 +154,179 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
     state_ = SessionState::idle;
     cancel_ = false;
   } catch (const std::exception& e) {
-    // Whatever the builder holds past the last commit is not trusted: reopen the store.
-    builder_.reset();
-    build_scene_.reset();
-    store_.reset();
-    recovered_.reset();
-    std::string error = e.what();
-    std::optional<StoreRecovery> recovery;
-    try {
-      if (std::filesystem::exists(store_dir_)) {
-        recovery.emplace();
-        store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), *recovery);
-        store_->set_compact_every(limits_.compact_every);
-      }
-    } catch (const std::exception& reopen) {
-      error += std::string("; reopening the store failed: ") + reopen.what();
-      recovery.reset();
-      store_.reset();
-      // Not writable (a read-only filesystem, say) but readable: serve its last commit.
-      try {
-        if (std::filesystem::exists(store_dir_)) recovery = RoadmapStore::read(store_dir_, scene_.pois().size());
-      } catch (const std::exception&) {
-        recovery.reset();
-      }
-    }
-    // What the store holds now is the truth: make everything the session shows agree with it.
+    fail_job(e.what());
+  }
+  notify_status();
+}
+
+std::optional<RoadmapSession::Job> RoadmapSession::take_job(const std::atomic<bool>& stopping) {
+  Job job;
+  {
     std::lock_guard lock(mutex_);
-    last_error_ = error;
-    if (recovery) {
-      recipe_ = recovery->recipe;
-      samples_done_ = recovery->roadmaps.samples;
-      published_ = make_published(std::make_shared<const Roadmap>(recovery->roadmaps.roadmap), recipe_->generation,
-                                  samples_done_);
-      dense_vertices_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->vertex_count() : 0;
-      dense_edges_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->edge_count() : 0;
-      recovered_ = std::move(recovery->roadmaps);
-    } else {
-      recipe_.reset();
-      published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0);
-      samples_done_ = 0;
-      dense_vertices_ = dense_edges_ = 0;
+    if (state_ != SessionState::queued) return std::nullopt;
+    job.build = pending_recipe_;
+    job.samples = pending_samples_;
+    pending_recipe_.reset();
+    pending_samples_ = 0;
+    if (!cancel_ && !stopping) {
+      job.recipe = job.build ? *job.build : *recipe_;
+      // Taken from the queue: a cancel from now on reaches the job (cancel_), not the queue. While
+      // the builder comes back (ensure_builder) the job is already running.
+      state_ = SessionState::building;
+      return job;
     }
-    samples_target_ = samples_done_;
-    state_ = SessionState::failed;
+    // Cancelled while queued: nothing is touched.
+    state_ = recipe_ ? SessionState::idle : SessionState::empty;
+    last_error_ = cancel_ ? "cancelled before it started" : "daemon stopped before the job started";
     cancel_ = false;
   }
   notify_status();
+  return std::nullopt;
+}
+
+void RoadmapSession::prepare_job(Job& job, const std::atomic<bool>& stopping) {
+  if (job.build) {
+    // The old roadmap (if any) stays published and stored until this build's first commit: the
+    // new store is made aside and takes its place then (RoadmapStore::create).
+    store_.reset();
+    builder_.reset();
+    recovered_.reset();
+    build_scene_ = std::make_unique<Scene>(session_detail::scene_for(scene_, job.recipe));
+    builder_ = builder_for(*build_scene_, job.recipe, limits_.build_threads);
+    store_ = RoadmapStore::create(store_dir_, job.recipe);
+    store_->set_compact_every(limits_.compact_every);
+    return;
+  }
+  if (!store_) {
+    // It could not be reopened for writing after an earlier failure (a read-only filesystem,
+    // say), and the last commit was served from a read: try again now, or fail saying why.
+    StoreRecovery reopened;
+    store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), reopened);
+    store_->set_compact_every(limits_.compact_every);
+  }
+  ensure_builder(stopping);
+  job.roadmap_version = builder_->roadmap().version();
+  job.dense_version = builder_->dense() ? builder_->dense()->version() : 0;
+}
+
+void RoadmapSession::grow(Job& job, std::uint64_t target, const std::atomic<bool>& stopping) {
+  // Commit in chunks of about a quarter second: often enough for live progress and a small
+  // loss on a crash, rarely enough that fsync and publishing stay a small share of the time.
+  std::uint64_t chunk = 64;
+  auto last_copy = std::chrono::steady_clock::now() - std::chrono::hours(1);
+  double copy_seconds = 0.0;
+  bool first = job.build.has_value();  // a new roadmap commits at least its first chunk (the root)
+  while (first || (builder_->samples() < target && !stopping && !cancel_)) {
+    const auto t0 = std::chrono::steady_clock::now();
+    builder_->extend(std::min(chunk, target - builder_->samples()));
+    const RoadmapsView view = live_view();
+    BuildCommit commit = commit_since(view, job.roadmap_version, job.dense_version);
+    store_->commit(commit);
+    job.roadmap_version = view.roadmap->version();
+    job.dense_version = view.dense ? view.dense->version() : 0;
+    // Readers get an immutable copy. A copy costs time in the roadmap's size, so it is taken
+    // only when the last one is older than ten times its own cost (at least every 5 s, and
+    // always at the end): publishing stays a small share of the build however large it grows.
+    const bool last_chunk = builder_->samples() >= target || stopping || cancel_;
+    std::optional<PublishedRoadmap> copy;
+    if (last_chunk || seconds_since(last_copy) >= std::min(5.0, std::max(0.25, 10.0 * copy_seconds))) {
+      const auto c0 = std::chrono::steady_clock::now();
+      copy = make_published(std::make_shared<const Roadmap>(*view.roadmap), job.recipe.generation, builder_->samples());
+      copy_seconds = seconds_since(c0);
+      last_copy = std::chrono::steady_clock::now();
+    }
+    {
+      std::lock_guard lock(mutex_);
+      if (job.build && first) {  // the new roadmap is stored: it replaces the old one everywhere now
+        recipe_ = job.recipe;
+        samples_target_ = target;
+        damage_.clear();  // a damaged store, if there was one, was discarded by this build (replace)
+      }
+      samples_done_ = builder_->samples();
+      if (copy) published_ = std::move(*copy);
+      dense_vertices_ = view.dense ? view.dense->vertex_count() : 0;
+      dense_edges_ = view.dense ? view.dense->edge_count() : 0;
+    }
+    if (callbacks_.on_commit) callbacks_.on_commit(commit.roadmap, job.recipe.generation, commit.samples);
+    notify_status();
+    const double took = seconds_since(t0);
+    if (took < 0.1) chunk = std::min<std::uint64_t>(chunk * 2, 100'000);
+    if (took > 0.5) chunk = std::max<std::uint64_t>(chunk / 2, 16);
+    first = false;
+  }
+}
+
+void RoadmapSession::end_job(const Job& job, const std::atomic<bool>& stopping) {
+  if (!published_is_builders(job.recipe.generation)) {
+    // A cancel or a stop that came after a chunk's copy was decided (no copy) ended the loop:
+    // readers would see an older roadmap than the status's samples. They get the last commit.
+    auto copy = make_published(std::make_shared<const Roadmap>(builder_->roadmap()), job.recipe.generation,
+                               builder_->samples());
+    std::lock_guard lock(mutex_);
+    published_ = std::move(copy);
+  }
+  if (job.recipe.method == BuildMethod::dense) {
+    // A Dense builder resumes from the published copy of its last commit: an idle Dense scene
+    // holds its roadmap once, not twice. (ispars2 keeps its builder: its route cache makes the
+    // next extend's first samples cheaper than a resumed builder's.)
+    builder_.reset();
+    build_scene_.reset();
+    ::malloc_trim(0);  // hand the freed adjacency back to the system, not to a later build
+  }
+  std::lock_guard lock(mutex_);
+  if (cancel_) last_error_ = fmt::format("cancelled at {} of {} samples", samples_done_, samples_target_);
+  if (stopping && samples_done_ < samples_target_) {
+    last_error_ = fmt::format("daemon stopped at {} of {} samples", samples_done_, samples_target_);
+  }
+  samples_target_ = samples_done_;
+  state_ = SessionState::idle;
+  cancel_ = false;
+}
+
+void RoadmapSession::fail_job(std::string error) {
+  // Whatever the builder holds past the last commit is not trusted: reopen the store.
+  builder_.reset();
+  build_scene_.reset();
+  store_.reset();
+  recovered_.reset();
+  std::optional<StoreRecovery> recovery;
+  try {
+    if (std::filesystem::exists(store_dir_)) {
+      recovery.emplace();
+      store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), *recovery);
+      store_->set_compact_every(limits_.compact_every);
+    }
+  } catch (const std::exception& reopen) {
+    error += std::string("; reopening the store failed: ") + reopen.what();
+    recovery.reset();
+    store_.reset();
+    // Not writable (a read-only filesystem, say) but readable: serve its last commit.
+    try {
+      if (std::filesystem::exists(store_dir_)) recovery = RoadmapStore::read(store_dir_, scene_.pois().size());
+    } catch (const std::exception&) {
+      recovery.reset();
+    }
+  }
+  // What the store holds now is the truth: make everything the session shows agree with it.
+  std::lock_guard lock(mutex_);
+  last_error_ = std::move(error);
+  if (recovery) {
+    recipe_ = recovery->recipe;
+    samples_done_ = recovery->roadmaps.samples;
+    published_ = make_published(std::make_shared<const Roadmap>(recovery->roadmaps.roadmap), recipe_->generation,
+                                samples_done_);
+    dense_vertices_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->vertex_count() : 0;
+    dense_edges_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->edge_count() : 0;
+    recovered_ = std::move(recovery->roadmaps);
+  } else {
+    recipe_.reset();
+    published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0);
+    samples_done_ = 0;
+    dense_vertices_ = dense_edges_ = 0;
+  }
+  samples_target_ = samples_done_;
+  state_ = SessionState::failed;
+  cancel_ = false;
 }
 
 }  // namespace ispars

@@ -185,6 +185,19 @@ class RoadmapSession {
   void notify_status();
   RoadmapsView live_view() const;
   void ensure_builder(const std::atomic<bool>& stopping);
+  // The phases of run_job (roadmap_session_job.cpp).
+  struct Job {
+    std::optional<RoadmapRecipe> build;  // a new roadmap's recipe; none for an extend
+    std::uint64_t samples = 0;           // samples to add
+    RoadmapRecipe recipe;                // the recipe the job grows
+    std::uint64_t roadmap_version = 0;   // the last commit's versions
+    std::uint64_t dense_version = 0;
+  };
+  std::optional<Job> take_job(const std::atomic<bool>& stopping);
+  void prepare_job(Job& job, const std::atomic<bool>& stopping);
+  void grow(Job& job, std::uint64_t target, const std::atomic<bool>& stopping);
+  void end_job(const Job& job, const std::atomic<bool>& stopping);
+  void fail_job(std::string error);
   // Whether the published roadmap is the builder's, of `generation` (the job's last copy).
   [[nodiscard]] bool published_is_builders(std::uint64_t generation) const;
   [[nodiscard]] std::uint64_t samples_done() const;  // takes mutex_
