@@ -188,7 +188,7 @@ TEST(InspectionGraph, ReadIrisNamesAMissingFile) {
 // ".5" and the next number, which shifts every field after it: the vertex silently sees POI 2
 // instead of the line being refused. Disabled: the parser reads the index with >> into an
 // integer and does not check that the token ended there (inspection_graph.cpp, read_iris).
-TEST(InspectionGraph, DISABLED_ReadIrisRefusesAVertexIndexThatIsNotAnInteger) {
+TEST(InspectionGraph, ReadIrisRefusesAVertexIndexThatIsNotAnInteger) {
   const InputError e = iris_error("0.5 1 2\n", "");
   EXPECT_EQ(e.field(), "line 1") << e.what();
 }

@@ -3,9 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "ispars/input_error.hpp"
 
@@ -47,6 +51,27 @@ InspectionGraph InspectionGraph::from_edges(std::size_t vertices, std::span<cons
   return g;
 }
 
+namespace {
+
+// A line's whitespace-separated fields.
+std::vector<std::string> fields_of(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> out;
+  for (std::string f; in >> f;) out.push_back(f);
+  return out;
+}
+
+// The whole field as a number of type T, or nullopt ("0.5" is no integer, "1x" no number).
+template <class T>
+std::optional<T> whole(const std::string& field) {
+  T value{};
+  const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), value);
+  if (error != std::errc() || end != field.data() + field.size()) return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
 InspectionGraph InspectionGraph::read_iris(const std::filesystem::path& prefix, bool all_edges) {
   const std::string vertex_file = prefix.string() + "_vertex";
   const std::string edge_file = prefix.string() + "_edge";
@@ -57,25 +82,27 @@ InspectionGraph InspectionGraph::read_iris(const std::filesystem::path& prefix, 
   std::string line;
   for (std::size_t number = 1; std::getline(vin, line); ++number) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    std::istringstream in(line);
-    long long index = -1;
-    double time_vis = 0, time_build = 0;
-    if (!(in >> index >> time_vis >> time_build)) {
-      throw InputError(vertex_file, fmt::format("line {}", number), "expected 'index time_vis time_build poi ...'");
-    }
-    if (index != static_cast<long long>(visible.size())) {
+    const std::vector<std::string> f = fields_of(line);
+    const auto index = f.size() >= 3 ? whole<long long>(f[0]) : std::nullopt;
+    if (!index || !whole<double>(f[1]) || !whole<double>(f[2])) {
       throw InputError(vertex_file, fmt::format("line {}", number),
-                       fmt::format("vertex index {} where {} was expected (indices are consecutive from 0)", index,
+                       "expected 'index time_vis time_build poi ...' (an integer index, two numbers)");
+    }
+    if (*index != static_cast<long long>(visible.size())) {
+      throw InputError(vertex_file, fmt::format("line {}", number),
+                       fmt::format("vertex index {} where {} was expected (indices are consecutive from 0)", *index,
                                    visible.size()));
     }
     std::vector<PoiId> pois;
-    long long p = 0;
-    while (in >> p) {
-      if (p < 0 || p > 100'000'000) throw InputError(vertex_file, fmt::format("line {}", number), fmt::format("POI id {}", p));
-      pois.push_back(static_cast<PoiId>(p));
-      poi_count = std::max<std::size_t>(poi_count, static_cast<std::size_t>(p) + 1);
+    for (std::size_t k = 3; k < f.size(); ++k) {
+      const auto p = whole<long long>(f[k]);
+      if (!p) throw InputError(vertex_file, fmt::format("line {}", number), "a POI id is not an integer");
+      if (*p < 0 || *p > 100'000'000) {
+        throw InputError(vertex_file, fmt::format("line {}", number), fmt::format("POI id {}", *p));
+      }
+      pois.push_back(static_cast<PoiId>(*p));
+      poi_count = std::max<std::size_t>(poi_count, static_cast<std::size_t>(*p) + 1);
     }
-    if (!in.eof()) throw InputError(vertex_file, fmt::format("line {}", number), "a POI id is not an integer");
     visible.push_back(std::move(pois));
   }
   if (visible.empty()) throw InputError(vertex_file, "file", "has no vertices");
@@ -84,14 +111,19 @@ InspectionGraph InspectionGraph::read_iris(const std::filesystem::path& prefix, 
   std::vector<RoadmapEdge> edges;
   for (std::size_t number = 1; std::getline(ein, line); ++number) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    std::istringstream in(line);
-    long long u = -1, v = -1;
-    int checked = 0, valid = 0;
-    double time_fk = 0, time_cd = 0, cost = 0;
-    if (!(in >> u >> v >> checked >> valid >> time_fk >> time_cd >> cost)) {
+    const std::vector<std::string> f = fields_of(line);
+    const auto u_read = f.size() == 7 ? whole<long long>(f[0]) : std::nullopt;
+    const auto v_read = f.size() == 7 ? whole<long long>(f[1]) : std::nullopt;
+    const auto checked = f.size() == 7 ? whole<int>(f[2]) : std::nullopt;
+    const auto valid_read = f.size() == 7 ? whole<int>(f[3]) : std::nullopt;
+    const auto cost_read = f.size() == 7 ? whole<double>(f[6]) : std::nullopt;
+    if (!u_read || !v_read || !checked || !valid_read || !whole<double>(f[4]) || !whole<double>(f[5]) || !cost_read) {
       throw InputError(edge_file, fmt::format("line {}", number),
-                       "expected 'source target checked valid time_fk time_cd cost'");
+                       "expected 'source target checked valid time_fk time_cd cost' (four integers, three numbers)");
     }
+    const long long u = *u_read, v = *v_read;
+    const int valid = *valid_read;
+    const double cost = *cost_read;
     if (u < 0 || v < 0 || u >= static_cast<long long>(visible.size()) || v >= static_cast<long long>(visible.size())) {
       throw InputError(edge_file, fmt::format("line {}", number),
                        fmt::format("edge {}-{} names a vertex outside 0..{}", u, v, visible.size() - 1));
