@@ -151,7 +151,7 @@ TEST(RoadmapJson, AMissingFileIsNamed) {
 // get<std::uint32_t>, so the file below reads as an edge 0-1 and a vertex seeing POI 1 instead
 // of being refused. Disabled: read_roadmap_file_graph (roadmap_json.cpp) does not check that
 // ids are unsigned integers (is_number_unsigned) before get<VertexId>() / get<PoiId>().
-TEST(RoadmapJson, DISABLED_FractionalIdsAreRefused) {
+TEST(RoadmapJson, FractionalIdsAreRefused) {
   const std::string pois = R"("pois":[[0,0,0],[1,1,1]],)";
   const InputError edge = error_for("{" + pois + R"("graphs": {"roadmap": {"vertices": [[0,0,0],[1,0,0]],
       "visible": [[],[]], "edges": [[0, 1.5, 1.0]]}}})");

@@ -2,7 +2,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <fmt/format.h>
+
+#include <cstdint>
 #include <fstream>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "ispars/input_error.hpp"
 
@@ -36,6 +42,24 @@ std::string roadmap_file_json(const std::string& scene, const Vec3& root, std::s
   return file.dump() + "\n";
 }
 
+namespace {
+
+// A vertex or POI id that is not a whole number in range (1.5, -1, 2^40): the file is malformed.
+struct BadId : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// `x` as an id; `what` names it in the error.
+std::uint32_t id_of(const nlohmann::json& x, const std::string& what) {
+  if (!x.is_number_unsigned() || x.get<std::uint64_t>() > std::numeric_limits<std::uint32_t>::max()) {
+    throw BadId(fmt::format("{} is {}, not a whole number in 0..{}", what, x.dump(),
+                            std::numeric_limits<std::uint32_t>::max()));
+  }
+  return static_cast<std::uint32_t>(x.get<std::uint64_t>());
+}
+
+}  // namespace
+
 RoadmapFileGraph read_roadmap_file_graph(const std::filesystem::path& path, const std::string& which) {
   const std::string file = path.string();
   std::ifstream in(path);
@@ -59,15 +83,24 @@ RoadmapFileGraph read_roadmap_file_graph(const std::filesystem::path& path, cons
     RoadmapFileGraph out;
     std::vector<std::vector<PoiId>> lists;
     for (const auto& v : vertices) out.positions.emplace_back(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>());
-    for (const auto& l : visible) lists.push_back(l.get<std::vector<PoiId>>());
+    for (std::size_t v = 0; v < visible.size(); ++v) {
+      std::vector<PoiId>& list = lists.emplace_back();
+      for (const auto& p : visible[v].get_ref<const nlohmann::json::array_t&>()) {
+        list.push_back(id_of(p, fmt::format("a POI id of vertex {}", v)));
+      }
+    }
     std::vector<RoadmapEdge> edge_list;
-    for (const auto& e : edges) {
-      edge_list.push_back({e.at(0).get<VertexId>(), e.at(1).get<VertexId>(), e.at(2).get<double>()});
+    for (std::size_t k = 0; k < edges.size(); ++k) {
+      const auto& e = edges[k];
+      edge_list.push_back({id_of(e.at(0), fmt::format("edge {}'s first vertex", k)),
+                           id_of(e.at(1), fmt::format("edge {}'s second vertex", k)), e.at(2).get<double>()});
     }
     const std::size_t pois = j.contains("pois") ? j["pois"].size() : 0;
     out.graph = InspectionGraph::from_edges(vertices.size(), edge_list, std::move(lists), pois);
     return out;
   } catch (const nlohmann::json::exception& e) {
+    throw InputError(file, field, std::string("malformed: ") + e.what());
+  } catch (const BadId& e) {
     throw InputError(file, field, std::string("malformed: ") + e.what());
   } catch (const InputError& e) {
     throw InputError(file, field + "." + e.field(), e.problem());
