@@ -17,9 +17,12 @@ struct RoadmapPath {
 };
 
 /// The shortest path from `start` to `goal` through `roadmap`, entering and leaving it by free
-/// segments to vertices within `join_radius` (Delta). Throws InputError (file "path", field
-/// "from" or "to") when a point is non-finite, in collision, or has no free segment to a vertex
-/// within the radius, and (field "to") when the two joins lie in different components.
+/// segments to vertices within `join_radius` (Delta). The straight segment is taken instead when
+/// the points are within `join_radius`, it is free and no route is shorter (even when the joins
+/// lie in different components; both points still need a join). Throws InputError
+/// (file "path", field "from" or "to") when a point is non-finite, outside the scene's bounds, in
+/// collision, or has no free segment to a vertex within the radius, and (field "to") when the two
+/// joins lie in different components.
 [[nodiscard]] RoadmapPath plan_path(const Scene& scene, const Roadmap& roadmap, const Vec3& start,
                                     const Vec3& goal, double join_radius);
 
