@@ -14,7 +14,7 @@ PACKAGES=(
   libsystemd-dev libcpp-httplib-dev libboost-dev
   gnuplot-nox
   nodejs chromium
-  gdb
+  gdb python3
   iproute2 nftables
 )
 
