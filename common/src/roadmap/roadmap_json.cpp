@@ -49,11 +49,11 @@ struct BadId : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// `x` as an id; `what` names it in the error.
-std::uint32_t id_of(const nlohmann::json& x, const std::string& what) {
+// `x` as an id; `what` (with `{}` for `index`) names it in the error, formatted only then.
+std::uint32_t id_of(const nlohmann::json& x, const char* what, std::size_t index) {
   if (!x.is_number_unsigned() || x.get<std::uint64_t>() > std::numeric_limits<std::uint32_t>::max()) {
-    throw BadId(fmt::format("{} is {}, not a whole number in 0..{}", what, x.dump(),
-                            std::numeric_limits<std::uint32_t>::max()));
+    throw BadId(fmt::format("{} is {}, not a whole number in 0..{}", fmt::format(fmt::runtime(what), index),
+                            x.dump(), std::numeric_limits<std::uint32_t>::max()));
   }
   return static_cast<std::uint32_t>(x.get<std::uint64_t>());
 }
@@ -86,14 +86,14 @@ RoadmapFileGraph read_roadmap_file_graph(const std::filesystem::path& path, cons
     for (std::size_t v = 0; v < visible.size(); ++v) {
       std::vector<PoiId>& list = lists.emplace_back();
       for (const auto& p : visible[v].get_ref<const nlohmann::json::array_t&>()) {
-        list.push_back(id_of(p, fmt::format("a POI id of vertex {}", v)));
+        list.push_back(id_of(p, "a POI id of vertex {}", v));
       }
     }
     std::vector<RoadmapEdge> edge_list;
     for (std::size_t k = 0; k < edges.size(); ++k) {
       const auto& e = edges[k];
-      edge_list.push_back({id_of(e.at(0), fmt::format("edge {}'s first vertex", k)),
-                           id_of(e.at(1), fmt::format("edge {}'s second vertex", k)), e.at(2).get<double>()});
+      edge_list.push_back({id_of(e.at(0), "edge {}'s first vertex", k),
+                           id_of(e.at(1), "edge {}'s second vertex", k), e.at(2).get<double>()});
     }
     const std::size_t pois = j.contains("pois") ? j["pois"].size() : 0;
     out.graph = InspectionGraph::from_edges(vertices.size(), edge_list, std::move(lists), pois);
