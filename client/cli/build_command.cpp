@@ -13,20 +13,21 @@ namespace {
 
 class BuildCommand final : public Command {
  public:
-  void add(CLI::App& app) override {
-    cmd_ = app.add_subcommand("build", "build a new roadmap");
-    cmd_->add_option("scene", scene_, "scene name")->required();
-    cmd_->add_option("--method", args_.method, build_method_names())->required();
-    cmd_->add_option("--variant", args_.variant,
+  CLI::App* add(CLI::App& app) override {
+    auto* cmd = app.add_subcommand("build", "build a new roadmap");
+    cmd->add_option("scene", scene_, "scene name")->required();
+    cmd->add_option("--method", args_.method, build_method_names())->required();
+    cmd->add_option("--variant", args_.variant,
                      "spars, ispars: the rule set, " + spars_variant_names() + " (default stretch)");
-    cmd_->add_option("--samples", args_.samples, "samples to draw")->required()->check(CLI::PositiveNumber);
-    cmd_->add_option("--seed", args_.seed, "random seed");
-    cmd_->add_flag("--replace", args_.replace, "replace an existing roadmap");
+    cmd->add_option("--samples", args_.samples, "samples to draw")->required()->check(CLI::PositiveNumber);
+    cmd->add_option("--seed", args_.seed, "random seed");
+    cmd->add_flag("--replace", args_.replace, "replace an existing roadmap");
     std::string set_help = "parameter override NAME=VALUE, one of:";
     for (const RecipeParameter& p : recipe_overrides()) set_help += fmt::format("\n    {}: {}; {}", p.name, p.doc, p.range);
-    cmd_->add_option("--set", sets_, set_help);
-    cmd_->add_flag("--wait", wait_, "follow progress until the build ends");
-    cmd_->add_flag("--json", json_, "print the final status as JSON");
+    cmd->add_option("--set", sets_, set_help);
+    cmd->add_flag("--wait", wait_, "follow progress until the build ends");
+    cmd->add_flag("--json", json_, "print the final status as JSON");
+    return cmd;
   }
   void check() override {
     // NAME=NUMBER each; the daemon checks the name and the value against the recipe.
@@ -40,13 +41,11 @@ class BuildCommand final : public Command {
       args_.overrides[s.substr(0, eq)] = value;
     }
   }
-  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
   int run(client::Client& client) override {
     return follow_job(client, scene_, client.build(scene_, args_), wait_, json_);
   }
 
  private:
-  CLI::App* cmd_ = nullptr;
   std::string scene_;
   client::BuildArgs args_;
   std::vector<std::string> sets_;

@@ -16,12 +16,10 @@ namespace ispars::cli {
 class Command {
  public:
   virtual ~Command() = default;
-  /// Declares the subcommand and its arguments on `app`.
-  virtual void add(CLI::App& app) = 0;
+  /// Declares the subcommand and its arguments on `app`; returns it (parsed() says it was chosen).
+  virtual CLI::App* add(CLI::App& app) = 0;
   /// Called after parsing, before a client exists: throws CLI::ValidationError on bad arguments.
   virtual void check() {}
-  /// Whether the user chose this subcommand.
-  [[nodiscard]] virtual bool chosen() const = 0;
   /// Does it; the process's exit code.
   virtual int run(client::Client& client) = 0;
 };

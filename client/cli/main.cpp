@@ -62,12 +62,15 @@ int run(int argc, char** argv) {
   ConnectionArgs connection;
   connection.add(app);
   const std::vector<std::unique_ptr<Command>> commands = all_commands();
-  for (const auto& c : commands) c->add(app);
+  std::vector<CLI::App*> subcommands;
+  for (const auto& c : commands) subcommands.push_back(c->add(app));
+  Command* chosen = nullptr;
   try {
     app.parse(argc, argv);
-    for (const auto& c : commands) {
-      if (c->chosen()) c->check();
+    for (std::size_t i = 0; i < commands.size(); ++i) {
+      if (subcommands[i]->parsed()) chosen = commands[i].get();
     }
+    if (chosen != nullptr) chosen->check();
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
@@ -77,11 +80,9 @@ int run(int argc, char** argv) {
     return 2;
   }
   try {
+    if (chosen == nullptr) return 0;  // require_subcommand(1): not reached
     client::Client client(connection.options());
-    for (const auto& c : commands) {
-      if (c->chosen()) return c->run(client);
-    }
-    return 0;
+    return chosen->run(client);
   } catch (const client::ClientError& e) {
     std::cerr << "ispars: " << e.what() << "\n";
     const auto kind = e.kind();

@@ -12,14 +12,14 @@ namespace {
 
 class PathCommand final : public Command {
  public:
-  void add(CLI::App& app) override {
-    cmd_ = app.add_subcommand("path", "shortest path through the roadmap");
-    cmd_->add_option("scene", scene_, "scene name")->required();
-    cmd_->add_option("--from", from_, "start X Y Z")->required()->expected(3);
-    cmd_->add_option("--to", to_, "goal X Y Z")->required()->expected(3);
-    cmd_->add_flag("--json", json_, "one JSON object");
+  CLI::App* add(CLI::App& app) override {
+    auto* cmd = app.add_subcommand("path", "shortest path through the roadmap");
+    cmd->add_option("scene", scene_, "scene name")->required();
+    cmd->add_option("--from", from_, "start X Y Z")->required()->expected(3);
+    cmd->add_option("--to", to_, "goal X Y Z")->required()->expected(3);
+    cmd->add_flag("--json", json_, "one JSON object");
+    return cmd;
   }
-  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
   int run(client::Client& client) override {
     const msg::Reply reply = client.path(scene_, {from_[0], from_[1], from_[2]}, {to_[0], to_[1], to_[2]});
     const msg::PathResult& r = reply.body().path();
@@ -35,7 +35,6 @@ class PathCommand final : public Command {
   }
 
  private:
-  CLI::App* cmd_ = nullptr;
   std::string scene_;
   std::vector<double> from_, to_;
   bool json_ = false;

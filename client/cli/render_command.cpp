@@ -97,12 +97,10 @@ namespace {
 
 class RenderCommand final : public Command {
  public:
-  void add(CLI::App& app) override { cmd_ = add_render_command(app, args_); }
-  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
+  CLI::App* add(CLI::App& app) override { return add_render_command(app, args_); }
   int run(client::Client& client) override { return render_from_daemon(client, args_); }
 
  private:
-  CLI::App* cmd_ = nullptr;
   RenderArgs args_;
 };
 

@@ -15,19 +15,18 @@ class SceneCommand final : public Command {
   using Action = std::function<int(client::Client&, const std::string& scene, bool json)>;
   SceneCommand(std::string name, std::string help, bool has_json, Action action)
       : name_(std::move(name)), help_(std::move(help)), has_json_(has_json), action_(std::move(action)) {}
-  void add(CLI::App& app) override {
-    cmd_ = app.add_subcommand(name_, help_);
-    cmd_->add_option("scene", scene_, "scene name")->required();
-    if (has_json_) cmd_->add_flag("--json", json_, "one JSON object");
+  CLI::App* add(CLI::App& app) override {
+    auto* cmd = app.add_subcommand(name_, help_);
+    cmd->add_option("scene", scene_, "scene name")->required();
+    if (has_json_) cmd->add_flag("--json", json_, "one JSON object");
+    return cmd;
   }
-  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
   int run(client::Client& client) override { return action_(client, scene_, json_); }
 
  private:
   std::string name_, help_;
   bool has_json_;
   Action action_;
-  CLI::App* cmd_ = nullptr;
   std::string scene_;
   bool json_ = false;
 };

@@ -13,7 +13,7 @@ namespace {
 
 class ScenesCommand final : public Command {
  public:
-  void add(CLI::App& app) override {
+  CLI::App* add(CLI::App& app) override {
     scenes_ = app.add_subcommand("scenes", "list, load or unload scenes");
     scenes_->require_subcommand(1);
     list_ = scenes_->add_subcommand("list", "scenes of every daemon");
@@ -22,8 +22,8 @@ class ScenesCommand final : public Command {
     load_->add_option("scene", scene_, "scene name")->required();
     unload_ = scenes_->add_subcommand("unload", "unload a scene (its stored roadmap stays)");
     unload_->add_option("scene", scene_, "scene name")->required();
+    return scenes_;
   }
-  [[nodiscard]] bool chosen() const override { return scenes_->parsed(); }
   int run(client::Client& client) override {
     if (*list_) {
       print_list(client.list_scenes());

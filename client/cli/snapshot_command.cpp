@@ -14,12 +14,12 @@ namespace {
 
 class SnapshotCommand final : public Command {
  public:
-  void add(CLI::App& app) override {
-    cmd_ = app.add_subcommand("snapshot", "fetch the whole roadmap");
-    cmd_->add_option("scene", scene_, "scene name")->required();
-    cmd_->add_option("--out", out_, "JSON file to write")->required();
+  CLI::App* add(CLI::App& app) override {
+    auto* cmd = app.add_subcommand("snapshot", "fetch the whole roadmap");
+    cmd->add_option("scene", scene_, "scene name")->required();
+    cmd->add_option("--out", out_, "JSON file to write")->required();
+    return cmd;
   }
-  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
   int run(client::Client& client) override {
     const client::Snapshot s = client.snapshot(scene_);
     write_text(out_, roadmap_file_json(scene_, s.root, s.pois, s.roadmap, nullptr));
@@ -30,7 +30,6 @@ class SnapshotCommand final : public Command {
   }
 
  private:
-  CLI::App* cmd_ = nullptr;
   std::string scene_, out_;
 };
 

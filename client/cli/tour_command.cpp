@@ -59,17 +59,17 @@ void print_tour(const msg::Reply& reply) {
 
 class TourCommand final : public Command {
  public:
-  void add(CLI::App& app) override {
-    cmd_ = app.add_subcommand("tour", "an inspection tour on the scene's roadmap, searched by the daemon");
-    cmd_->add_option("scene", scene_, "scene name")->required();
-    cmd_->add_option("--budget", budget_, "seconds of search")->required()->check(CLI::Range(0.001, 3600.0));
-    cmd_->add_option("--seed", seed_, "search seed");
-    cmd_->add_option("--targets", targets_, "POI ids to see (default: every POI seen from the root's component)")
+  CLI::App* add(CLI::App& app) override {
+    auto* cmd = app.add_subcommand("tour", "an inspection tour on the scene's roadmap, searched by the daemon");
+    cmd->add_option("scene", scene_, "scene name")->required();
+    cmd->add_option("--budget", budget_, "seconds of search")->required()->check(CLI::Range(0.001, 3600.0));
+    cmd->add_option("--seed", seed_, "search seed");
+    cmd->add_option("--targets", targets_, "POI ids to see (default: every POI seen from the root's component)")
         ->delimiter(',');
-    cmd_->add_flag("--json", json_, "one JSON object");
-    cmd_->add_option("--out", out_, "write the tour (walk, positions, trace) as JSON");
+    cmd->add_flag("--json", json_, "one JSON object");
+    cmd->add_option("--out", out_, "write the tour (walk, positions, trace) as JSON");
+    return cmd;
   }
-  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
   int run(client::Client& client) override {
     const bool tty = ::isatty(STDERR_FILENO) != 0;
     const msg::Reply reply = client.tour(scene_, budget_, seed_, targets_, [&](double t, double cost, double bound) {
@@ -97,7 +97,6 @@ class TourCommand final : public Command {
   }
 
  private:
-  CLI::App* cmd_ = nullptr;
   std::string scene_, out_;
   double budget_ = 10;
   std::uint64_t seed_ = 1;

@@ -32,13 +32,13 @@ bool caught_up(client::Client& client, const std::string& scene, const msg::Scen
 
 class WatchCommand final : public Command {
  public:
-  void add(CLI::App& app) override {
-    cmd_ = app.add_subcommand("watch", "follow a roadmap live (a replica kept from update batches)");
-    cmd_->add_option("scene", scene_, "scene name")->required();
-    cmd_->add_option("--dump", dump_, "write the replica to FILE on exit (the ispars-lab build --out JSON)");
-    cmd_->add_flag("--until-idle", until_idle_, "exit when the scene has no job and the replica is current");
+  CLI::App* add(CLI::App& app) override {
+    auto* cmd = app.add_subcommand("watch", "follow a roadmap live (a replica kept from update batches)");
+    cmd->add_option("scene", scene_, "scene name")->required();
+    cmd->add_option("--dump", dump_, "write the replica to FILE on exit (the ispars-lab build --out JSON)");
+    cmd->add_flag("--until-idle", until_idle_, "exit when the scene has no job and the replica is current");
+    return cmd;
   }
-  [[nodiscard]] bool chosen() const override { return cmd_->parsed(); }
   int run(client::Client& client) override {
     std::signal(SIGINT, [](int) { g_interrupted = true; });
     std::signal(SIGTERM, [](int) { g_interrupted = true; });
@@ -79,7 +79,6 @@ class WatchCommand final : public Command {
     return 1;
   }
 
-  CLI::App* cmd_ = nullptr;
   std::string scene_, dump_;
   bool until_idle_ = false;
 };
