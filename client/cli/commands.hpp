@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "ispars/client/client.hpp"
@@ -22,6 +23,9 @@ class Command {
   virtual void check() {}
   /// Does it; the process's exit code.
   virtual int run(client::Client& client) = 0;
+  /// A command another program does (delegate_command.cpp) replaces this process with it, given
+  /// the same arguments, before any client connects; returns only when it could not.
+  virtual std::optional<int> run_elsewhere(int /*argc*/, char** /*argv*/) { return std::nullopt; }
 };
 
 std::unique_ptr<Command> make_scenes_command();    // scenes list | load | unload
@@ -35,9 +39,8 @@ std::unique_ptr<Command> make_path_command();      // path
 std::unique_ptr<Command> make_watch_command();     // watch
 std::unique_ptr<Command> make_tour_command();      // tour
 std::unique_ptr<Command> make_snapshot_command();  // snapshot
-std::unique_ptr<Command> make_render_command();    // render
+std::unique_ptr<Command> make_render_command();    // render, in ispars-render
+std::unique_ptr<Command> make_render_delegate();   // render in ispars: runs ispars-render
 
-/// Every subcommand, in the order `--help` lists them.
-[[nodiscard]] std::vector<std::unique_ptr<Command>> all_commands();
 
 }  // namespace ispars::cli

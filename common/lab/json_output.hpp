@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ispars/geometry/check_counters.hpp"
-#include "ispars/geometry/vec.hpp"
+#include "ispars/roadmap/vec.hpp"
 
 namespace ispars::lab {
 

@@ -5,11 +5,11 @@ root after deploy/build.sh release; every source file is put back as it was, and
 Usage: python3 tests/tools/fsync_ablation.py [LETTERS]   (e.g. A C: only those cases)"""
 import subprocess, sys, shutil
 cases = [
- ("A journal append fsync (RecordFileWriter::append)", "common/src/roadmap/record_file.cpp", "    write_pieces(*file_, payload, path_, {});\n    file_->sync();", "    write_pieces(*file_, payload, path_, {});"),
- ("B temporary file fsync before rename (replace_atomically)", "common/src/roadmap/record_file.cpp", "      write(*file, tmp);\n      file->sync();", "      write(*file, tmp);"),
- ("C directory fsync after rename (replace_atomically)", "common/src/roadmap/record_file.cpp", "    throw;\n  }\n  fsync_directory_of(path, fs);\n}", "    throw;\n  }\n}"),
- ("D new journal's fsync (RecordFileWriter constructor)", "common/src/roadmap/record_file.cpp", "  file_->sync();\n  fsync_directory_of(path_, fs);\n}", "  fsync_directory_of(path_, fs);\n}"),
- ("E new journal's directory fsync (RecordFileWriter constructor)", "common/src/roadmap/record_file.cpp", "  file_->sync();\n  fsync_directory_of(path_, fs);\n}", "  file_->sync();\n}"),
+ ("A journal append fsync (RecordFileWriter::append)", "common/roadmap/src/record_file.cpp", "    write_pieces(*file_, payload, path_, {});\n    file_->sync();", "    write_pieces(*file_, payload, path_, {});"),
+ ("B temporary file fsync before rename (replace_atomically)", "common/roadmap/src/record_file.cpp", "      write(*file, tmp);\n      file->sync();", "      write(*file, tmp);"),
+ ("C directory fsync after rename (replace_atomically)", "common/roadmap/src/record_file.cpp", "    throw;\n  }\n  fsync_directory_of(path, fs);\n}", "    throw;\n  }\n}"),
+ ("D new journal's fsync (RecordFileWriter constructor)", "common/roadmap/src/record_file.cpp", "  file_->sync();\n  fsync_directory_of(path_, fs);\n}", "  fsync_directory_of(path_, fs);\n}"),
+ ("E new journal's directory fsync (RecordFileWriter constructor)", "common/roadmap/src/record_file.cpp", "  file_->sync();\n  fsync_directory_of(path_, fs);\n}", "  file_->sync();\n}"),
  ("F data directory fsync after a new store's rename (RoadmapStore::create)", "server/service/src/roadmap_store.cpp", "    fs.rename(staging, dir);\n    fsync_directory_of(dir, fs);", "    fs.rename(staging, dir);"),
  ("G data directory fsync after a replacing store's exchange (take_place)", "server/service/src/roadmap_store.cpp", "  fsync_directory_of(replaces_, fs_);\n  fs_.remove_all(staging);", "  fs_.remove_all(staging);"),
  ("H store directory fsync after rotating the journal (start_compaction)", "server/service/src/roadmap_store_compaction.cpp", "      fs_.rename(journal_path(dir_), old_journal_path(dir_));\n      fsync_directory_of(journal_path(dir_), fs_);", "      fs_.rename(journal_path(dir_), old_journal_path(dir_));"),

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/geometry/sample_batch.hpp"
+#include "ispars/builders/sample_batch.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

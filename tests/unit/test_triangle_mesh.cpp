@@ -7,7 +7,7 @@
 
 #include "ispars/input_error.hpp"
 #include "ispars/scene/procedural.hpp"
-#include "ispars/scene/triangle_mesh.hpp"
+#include "ispars/geometry/triangle_mesh.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -1,0 +1,96 @@
+#include "cli_app.hpp"
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <iostream>
+
+namespace ispars::cli {
+namespace {
+
+// Where the daemons are and who this client is: flags, or ISPARS_* environment variables.
+struct ConnectionArgs {
+  int domain = 0;
+  double timeout_s = 15;
+  std::string profile_file, profile_name = "ispars", security, server;
+
+  void add(CLI::App& app) {
+    app.add_option("--domain", domain, "DDS domain id")->envname("ISPARS_DOMAIN")->check(CLI::Range(0, 232));
+    app.add_option("--profile-file", profile_file, "Fast DDS XML profiles file (default: built-in localhost only)")
+        ->envname("ISPARS_PROFILE_FILE");
+    app.add_option("--profile-name", profile_name, "participant profile in the profiles file");
+    app.add_option("--security", security,
+                   "DDS Security identity directory (deploy/security/make-keystore.sh); default: no security")
+        ->envname("ISPARS_SECURITY");
+    app.add_option("--timeout", timeout_s, "seconds to wait for a daemon and each reply")->check(CLI::PositiveNumber);
+    app.add_option("--server", server, "the daemon to load a scene on, when several offer it");
+  }
+  [[nodiscard]] client::ClientOptions options() const {
+    client::ClientOptions o;
+    o.server = server;
+    o.participant.domain = domain;
+    o.participant.profile_file = profile_file;
+    o.participant.profile_name = profile_name;
+    o.participant.security = security;
+    o.participant.name = "ispars cli";
+    o.timeout = std::chrono::milliseconds(static_cast<long>(timeout_s * 1000));
+    return o;
+  }
+};
+
+// The chosen command, checked; nullptr when parsing ended the run (help), with `code` set.
+Command* parse(CLI::App& app, int argc, char** argv, const std::vector<std::unique_ptr<Command>>& commands,
+               int& code) {
+  std::vector<CLI::App*> subcommands;
+  for (const auto& c : commands) subcommands.push_back(c->add(app));
+  try {
+    app.parse(argc, argv);
+    for (std::size_t i = 0; i < commands.size(); ++i) {
+      if (subcommands[i]->parsed()) {
+        commands[i]->check();
+        return commands[i].get();
+      }
+    }
+    code = 0;  // require_subcommand(1): not reached
+  } catch (const CLI::CallForHelp& e) {
+    code = app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    code = app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ispars: " << e.what() << " (see --help)\n";
+    code = 2;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+int run_cli(int argc, char** argv, const char* title, const std::vector<std::unique_ptr<Command>>& commands) {
+  // Warnings from the client library (a peer dropped under DDS Security, say) go to stderr, never
+  // into the command's output (--json included).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("ispars"));
+  CLI::App app{title};
+  app.require_subcommand(1);
+  ConnectionArgs connection;
+  connection.add(app);
+  int code = 0;
+  Command* chosen = parse(app, argc, argv, commands, code);
+  if (chosen == nullptr) return code;
+  try {
+    if (const auto delegated = chosen->run_elsewhere(argc, argv)) return *delegated;
+    client::Client client(connection.options());
+    return chosen->run(client);
+  } catch (const client::ClientError& e) {
+    std::cerr << "ispars: " << e.what() << "\n";
+    const auto kind = e.kind();
+    return kind == client::ClientError::Kind::rejected || kind == client::ClientError::Kind::forbidden ? 1 : 3;
+  } catch (const CLI::ValidationError& e) {
+    std::cerr << "ispars: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ispars: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace ispars::cli

@@ -1,0 +1,12 @@
+// `ispars-render`: `ispars render` as a program of its own, the one client program that links the
+// renderer (the scene's mesh through assimp, rays through Embree). `ispars render ARGS` runs it
+// with the same arguments: `ispars-render [connection flags] render SCENE ...`.
+
+#include "cli_app.hpp"
+
+int main(int argc, char** argv) {
+  using namespace ispars::cli;
+  std::vector<std::unique_ptr<Command>> commands;
+  commands.push_back(make_render_command());
+  return run_cli(argc, argv, "ispars-render: a PNG of a scene's roadmap as an isparsd daemon serves it", commands);
+}
