@@ -29,7 +29,10 @@ phase() {
   echo "test.sh: $1 after $(( $(date +%s) - start )) s; /dev/shm: $(df -h --output=used,size /dev/shm 2>/dev/null | awk 'NR == 2 { print $1 " used of " $2 }'), $(ls /dev/shm 2>/dev/null | wc -l) files"
 }
 
-deploy/build.sh release -DISPARS_WERROR=ON
+# One translation unit per batch of sources (CMAKE_UNITY_BUILD): the headers (Fast DDS, Eigen,
+# CLI11, nlohmann/json) are parsed once per batch instead of once per file.
+unity=(-DCMAKE_UNITY_BUILD=ON)
+deploy/build.sh release -DISPARS_WERROR=ON "${unity[@]}"
 phase "Release build done"
 (cd build && ctest --output-on-failure --parallel "$(nproc)" --timeout 900)
 fastdds shm clean >/dev/null 2>&1 || true  # segments left by the kill -9 test
@@ -45,10 +48,10 @@ if [ "$mode" != release ]; then
   # volume, so this pass exercises the same code on a twentieth of the queries.
   export ISPARS_TEST_QUERY_SCALE=0.05
   if [ "$mode" = ci ]; then
-    ISPARS_BUILD_TARGET=ispars_server_unit_tests deploy/build.sh sanitize -DISPARS_WERROR=ON
+    ISPARS_BUILD_TARGET=ispars_server_unit_tests deploy/build.sh sanitize -DISPARS_WERROR=ON "${unity[@]}"
     (cd build-sanitize && ctest --output-on-failure --parallel "$(nproc)" --timeout 1800 -L server_unit)
   else
-    ISPARS_BUILD_TARGET=ispars_tests deploy/build.sh sanitize -DISPARS_WERROR=ON
+    ISPARS_BUILD_TARGET=ispars_tests deploy/build.sh sanitize -DISPARS_WERROR=ON "${unity[@]}"
     (cd build-sanitize && ctest --output-on-failure --parallel "$(nproc)" --timeout 1800)
     fastdds shm clean >/dev/null 2>&1 || true
   fi
@@ -57,7 +60,7 @@ if [ "$mode" != release ]; then
 fi
 
 if [ "$mode" = full ]; then
-  ISPARS_BUILD_TARGET=ispars_tests deploy/build.sh thread -DISPARS_WERROR=ON -DISPARS_SERVICE_TESTS=OFF  # see below
+  ISPARS_BUILD_TARGET=ispars_tests deploy/build.sh thread -DISPARS_WERROR=ON -DISPARS_SERVICE_TESTS=OFF "${unity[@]}"  # see below
   # Embree builds its BVH on TBB threads, synchronised inside those uninstrumented libraries;
   # tests/tsan.supp hides only races reported inside them.
   export TSAN_OPTIONS="halt_on_error=1 suppressions=$PWD/tests/tsan.supp"

@@ -26,12 +26,6 @@ struct Row {
   std::vector<double> segment_median3, segment_p95_3;  // within 3 Delta, against segments
 };
 
-std::string cell(const std::vector<double>& v, int decimals) {
-  if (v.empty()) return "-";
-  const MeanSd m = mean_sd(v);
-  return fmt::format("{:.{}f} +- {:.{}f}", m.mean, decimals, m.sd, decimals);
-}
-
 std::string mean_cell(const std::vector<double>& v, int decimals) {
   return v.empty() ? "-" : fmt::format("{:.{}f}", mean_sd(v).mean, decimals);
 }
@@ -165,7 +159,7 @@ int run_experiment_ablation(const ExperimentOptions& options) {
     const Row& r = rows[name];
     const bool sparse = !r.median3.empty();
     std::cout << fmt::format(
-        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", name, cell(r.vertices, 0), cell(r.edges, 0),
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", name, mean_sd_cell(r.vertices, 0), mean_sd_cell(r.edges, 0),
         sparse ? mean_cell(r.components, 1) : "-", sparse ? mean_cell(r.violations, 0) : "-",
         sparse ? fmt::format("{} / {} / {:.1f}%", mean_cell(r.median3, 3), mean_cell(r.p95_3, 3),
                              100.0 * mean_sd(r.over3).mean)
@@ -174,7 +168,7 @@ int run_experiment_ablation(const ExperimentOptions& options) {
                              mean_cell(r.median_bin[2], 3), mean_cell(r.median_bin[3], 3))
                : "-",
         sparse ? fmt::format("{} / {}", mean_cell(r.segment_median3, 3), mean_cell(r.segment_p95_3, 3)) : "-",
-        cell(r.tour, 1), mean_cell(r.tour_ratio, 3));
+        mean_sd_cell(r.tour, 1), mean_cell(r.tour_ratio, 3));
     summary.push_back({{"roadmap", name}, {"vertices", mean_sd(r.vertices).mean}, {"edges", mean_sd(r.edges).mean},
                        {"tour", mean_sd(r.tour).mean}, {"tour_over_dense", mean_sd(r.tour_ratio).mean},
                        {"median_within_3_Delta", sparse ? mean_sd(r.median3).mean : 0.0},

@@ -113,20 +113,14 @@ std::vector<double> over_best_other(const std::vector<ShortcutTour>& shortcuts) 
   return ratio;
 }
 
-std::string cell(const std::vector<double>& v, int decimals) {
-  if (v.empty()) return "-";
-  const MeanSd m = mean_sd(v);
-  return fmt::format("{:.{}f} +- {:.{}f}", m.mean, decimals, m.sd, decimals);
-}
-
 // One row of the summary table: roadmap m's figures over the seeds of one scene.
 std::string summary_row(const std::string& scene, double targets, std::size_t m, const Runs& run) {
   const bool sparse = m == 1 || m == 2;
   return fmt::format("| {} | {:.1f} | {} | {:.0f} | {:.0f} | {} | {:.3f} | {:.3f} | {} | {} | {} | {} | {:.2f} "
                      "| {:.1f} |\n",
                      scene, targets, roadmap_names()[m], mean_sd(run.vertices).mean,
-                     mean_sd(run.edges).mean, cell(run.costs, 1), mean_sd(run.over_dense).mean,
-                     mean_sd(run.over_irisc).mean, cell(run.shortcut, 1),
+                     mean_sd(run.edges).mean, mean_sd_cell(run.costs, 1), mean_sd(run.over_dense).mean,
+                     mean_sd(run.over_irisc).mean, mean_sd_cell(run.shortcut, 1),
                      run.shortcut_over_best_other.empty()
                          ? std::string("-")
                          : fmt::format("{:.3f} (max {:.3f})", mean_sd(run.shortcut_over_best_other).mean,

@@ -37,6 +37,12 @@ MeanSd mean_sd(const std::vector<double>& values) {
   return {mean, sd};
 }
 
+std::string mean_sd_cell(const std::vector<double>& values, int decimals) {
+  if (values.empty()) return "-";
+  const MeanSd m = mean_sd(values);
+  return fmt::format("{:.{}f} +- {:.{}f}", m.mean, decimals, m.sd, decimals);
+}
+
 SceneConfig scene_variant(const SceneConfig& base, std::size_t pois, std::uint64_t poi_seed, double delta) {
   SceneConfig c = base;
   if (pois > 0) {

@@ -24,6 +24,8 @@ struct MeanSd {
   double sd = 0.0;
 };
 [[nodiscard]] MeanSd mean_sd(const std::vector<double>& values);
+/// A table cell "mean +- sd" with `decimals` decimals; "-" for no values.
+[[nodiscard]] std::string mean_sd_cell(const std::vector<double>& values, int decimals);
 
 /// The scene's config with K POIs drawn from `poi_seed`, and delta (Delta = 1.5 delta) when
 /// `delta` > 0.

@@ -51,11 +51,6 @@ const std::vector<TableScene>& table_scenes() {
   return scenes;
 }
 
-std::string cell(const std::vector<double>& values, int decimals) {
-  const MeanSd m = mean_sd(values);
-  return fmt::format("{:.{}f} +- {:.{}f}", m.mean, decimals, m.sd, decimals);
-}
-
 }  // namespace
 
 int run_experiment_table(const ExperimentOptions& options) {
@@ -122,9 +117,9 @@ int run_experiment_table(const ExperimentOptions& options) {
           all.push_back(static_cast<double>(f.covered));
           secs.push_back(f.seconds);
         }
-        const std::string viol = violations.count(m) ? cell(violations[m], 1) : "-";
-        std::cout << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.2f} |\n", label, m, cell(v, 0),
-                                 cell(e, 0), cell(root, 1), cell(all, 1), viol, mean_sd(secs).mean);
+        const std::string viol = violations.count(m) ? mean_sd_cell(violations[m], 1) : "-";
+        std::cout << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.2f} |\n", label, m, mean_sd_cell(v, 0),
+                                 mean_sd_cell(e, 0), mean_sd_cell(root, 1), mean_sd_cell(all, 1), viol, mean_sd(secs).mean);
         results.push_back({{"scene", ts.name}, {"parameters", label}, {"delta", delta}, {"method", m},
                            {"samples", ts.samples}, {"pois", ts.pois}, {"vertices", v}, {"edges", e},
                            {"covered_root", root}, {"covered", all},

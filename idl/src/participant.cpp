@@ -24,15 +24,12 @@ namespace {
 // Participant ports are 7400 + 250 * domain + 10 + 2 * id: at domain 232, ids up to 62 fit.
 constexpr std::uint32_t kLocalParticipants = 32;
 
-
 // Under DDS Security a participant's lease is long. Fast DDS 2.9.1 cannot re-authenticate a peer
 // that one side dropped (its lease ran out here) while the other still holds the old session: the
 // new handshake is refused as unexpected, and the pair stays deaf to each other until one of them
 // leaves (measured: a secured daemon stopped for 5 s never again reached a replica that was
 // following it; without security the replica caught up). A short lease turns any stall of that
 // length (a loaded machine, a paused VM) into such a split; 20 s is Fast DDS's own default.
-constexpr int kLeaseSeconds = 3;
-constexpr int kSecureLeaseSeconds = 20;
 
 fdds::DomainParticipantQos localhost_qos(const std::string& name, bool secure) {
   fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;

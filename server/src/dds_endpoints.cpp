@@ -33,12 +33,6 @@ wire::ParticipantOptions participant_options(const DaemonConfig& c) {
   return o;
 }
 
-template <class T>
-T* require(T* entity, const char* what) {
-  if (entity == nullptr) throw std::runtime_error(std::string("cannot create the ") + what);
-  return entity;
-}
-
 }  // namespace
 
 DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint64_t joined_ms)
@@ -79,22 +73,22 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
   fdds::Topic* status_topic = wire::find_or_create_topic(p, status_type_, wire::kStatusTopic);
   fdds::Topic* daemon_topic = wire::find_or_create_topic(p, daemon_type_, wire::kDaemonsTopic);
   fdds::Topic* progress_topic = wire::find_or_create_topic(p, progress_type_, wire::kTourProgressTopic);
-  fdds::Publisher* pub = require(p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT), "publisher");
-  fdds::Subscriber* sub = require(p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT), "subscriber");
+  fdds::Publisher* pub = wire::created(p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT), "publisher");
+  fdds::Subscriber* sub = wire::created(p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT), "subscriber");
   routes_ = std::make_unique<ReplyRoutes>(p, reply_topic, progress_topic, this, server_id_);
   // Each replica's scene filter is evaluated here, per reader: a replica of one scene is sent no
   // other scene's batches (wire/scene_filter.hpp).
   if (!wire::register_scene_filter(p)) spdlog::warn("the scene filter could not be registered; replicas filter on their side");
-  updates_ = require(pub->create_datawriter(update_topic, wire::updates_writer_qos()), "update writer");
-  status_ = require(pub->create_datawriter(status_topic, wire::state_writer_qos()), "status writer");
-  daemons_ = require(pub->create_datawriter(daemon_topic, wire::state_writer_qos()), "announcement writer");
-  daemons_reader_ = require(sub->create_datareader(daemon_topic, wire::state_reader_qos(), &daemons_seen_),
+  updates_ = wire::created(pub->create_datawriter(update_topic, wire::updates_writer_qos()), "update writer");
+  status_ = wire::created(pub->create_datawriter(status_topic, wire::state_writer_qos()), "status writer");
+  daemons_ = wire::created(pub->create_datawriter(daemon_topic, wire::state_writer_qos()), "announcement writer");
+  daemons_reader_ = wire::created(sub->create_datareader(daemon_topic, wire::state_reader_qos(), &daemons_seen_),
                             "announcement reader");
-  status_reader_ = require(sub->create_datareader(status_topic, wire::state_reader_qos(), &statuses_), "status reader");
-  queries_ = require(sub->create_datareader(query_topic, wire::request_reply_reader_qos(), this,
+  status_reader_ = wire::created(sub->create_datareader(status_topic, wire::state_reader_qos(), &statuses_), "status reader");
+  queries_ = wire::created(sub->create_datareader(query_topic, wire::request_reply_reader_qos(), this,
                                             fdds::StatusMask::data_available()),
                      "query reader");
-  changes_ = require(sub->create_datareader(change_topic, wire::request_reply_reader_qos(), this,
+  changes_ = wire::created(sub->create_datareader(change_topic, wire::request_reply_reader_qos(), this,
                                             fdds::StatusMask::data_available()),
                      "change reader");
   // Without DDS Security the daemon delivers nothing inside its process (main.cpp): its probe

@@ -17,12 +17,6 @@ namespace {
 
 constexpr const char* kProbeTopic = "ispars/probe";
 
-template <class T>
-T* require(T* entity, const char* what) {
-  if (entity == nullptr) throw std::runtime_error(std::string("cannot create the DDS probe's ") + what);
-  return entity;
-}
-
 }  // namespace
 
 SelfProbe::SelfProbe(fdds::DomainParticipant* participant, fdds::TypeSupport& type, const std::string& identity) {
@@ -32,8 +26,8 @@ SelfProbe::SelfProbe(fdds::DomainParticipant* participant, fdds::TypeSupport& ty
   pub_qos.partition().push_back(partition.c_str());
   fdds::SubscriberQos sub_qos = fdds::SUBSCRIBER_QOS_DEFAULT;
   sub_qos.partition().push_back(partition.c_str());
-  fdds::Publisher* pub = require(participant->create_publisher(pub_qos), "publisher");
-  fdds::Subscriber* sub = require(participant->create_subscriber(sub_qos), "subscriber");
+  fdds::Publisher* pub = wire::created(participant->create_publisher(pub_qos), "DDS probe's publisher");
+  fdds::Subscriber* sub = wire::created(participant->create_subscriber(sub_qos), "DDS probe's subscriber");
   // Best effort, volatile, the latest only: a lost probe is replaced by the next.
   fdds::DataWriterQos writer_qos = fdds::DATAWRITER_QOS_DEFAULT;
   writer_qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
@@ -43,8 +37,9 @@ SelfProbe::SelfProbe(fdds::DomainParticipant* participant, fdds::TypeSupport& ty
   reader_qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
   reader_qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
   reader_qos.history().depth = 1;
-  writer_ = require(pub->create_datawriter(topic, writer_qos), "writer");
-  reader_ = require(sub->create_datareader(topic, reader_qos, this, fdds::StatusMask::data_available()), "reader");
+  writer_ = wire::created(pub->create_datawriter(topic, writer_qos), "DDS probe's writer");
+  reader_ = wire::created(sub->create_datareader(topic, reader_qos, this, fdds::StatusMask::data_available()),
+                          "DDS probe's reader");
   sample_.server_id(identity.substr(0, 64));
 }
 

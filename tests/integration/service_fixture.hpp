@@ -29,6 +29,9 @@ using client::make_change;
 using client::make_query;
 
 inline constexpr auto kLong = std::chrono::seconds(120);
+/// The built-in profile's participant lease under DDS Security: a cut or stalled secured peer is
+/// dropped after it.
+inline constexpr std::chrono::seconds kSecureLease{wire::kSecureLeaseSeconds};
 // The largest memory budget a daemon accepts (1 PiB), for tests that start builds of millions of
 // samples only to stop them early: the budget would refuse them (rightly) before they start.
 inline constexpr const char* kNoBudget = "1073741824";

@@ -28,7 +28,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 const std::vector<std::string> kDaemons{"d1", "d2", "d3"};
 
-int rounds() {
+int partition_rounds() {
   const char* v = std::getenv("ISPARS_PARTITION_ROUNDS");
   return v != nullptr ? std::max(1, std::atoi(v)) : 3;
 }
@@ -121,7 +121,7 @@ void PartitionTest::run_campaign(bool secured) {
   auto watcher = joined();
   client::RoadmapReplica replica(*watcher, "s0");
   std::vector<Ack> acks{{"start", status.generation(), status.samples_done()}};
-  for (int round = 0; round < rounds(); ++round) {
+  for (int round = 0; round < partition_rounds(); ++round) {
     const std::string cut = status.server_id().to_string();
     SCOPED_TRACE("round " + std::to_string(round) + ", " + cut + " cut off");
     lab_->cut(cut);

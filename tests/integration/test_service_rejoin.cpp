@@ -19,7 +19,6 @@ namespace ispars::test {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr std::chrono::seconds kSecureLease{20};
 // How soon after the link is back the client answers again: a peer's next announcement (lease/3
 // in the lab's profile, 6.7 s), the grace a returned peer has to authenticate again (10 s), the
 // rejoin, and a handshake.

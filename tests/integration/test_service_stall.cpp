@@ -21,9 +21,8 @@ namespace ispars::test {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr std::chrono::seconds kSecureLease{20};  // the built-in profile's lease under DDS Security
 
-int rounds() {
+int stall_rounds() {
   const char* v = std::getenv("ISPARS_STALL_ROUNDS");
   return v != nullptr ? std::max(1, std::atoi(v)) : 2;
 }
@@ -68,7 +67,7 @@ TEST_F(StallTest, AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner)
   client->load("s0");
   client->build("s0", ispars_build(800, 2));
   std::string owner = client->wait_idle("s0", {}, kLong).server_id().to_string();
-  for (int round = 0; round < rounds(); ++round) {
+  for (int round = 0; round < stall_rounds(); ++round) {
     SCOPED_TRACE("round " + std::to_string(round) + ", " + owner + " stalled");
     const std::string other = owner == "a" ? "b" : "a";
     ASSERT_EQ(::kill(daemons[owner]->pid(), SIGSTOP), 0);

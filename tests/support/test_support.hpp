@@ -7,11 +7,18 @@
 #include <string>
 #include <vector>
 
+#include "ispars/builders/sample_batch.hpp"
 #include "ispars/geometry/random.hpp"
 #include "ispars/roadmap/roadmap.hpp"
 #include "ispars/scene/scene.hpp"
 
 namespace ispars::test {
+
+/// Whether `text` contains `part` (an error message names what it should).
+inline bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+/// A valid sample at `q` that sees no POI, to step a builder by hand.
+inline PreparedSample valid_at(const Vec3& q) { return PreparedSample{q, true, {}}; }
 
 /// deploy/scenes in the source tree.
 std::filesystem::path scenes_dir();

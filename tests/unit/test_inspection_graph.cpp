@@ -15,7 +15,7 @@
 namespace ispars {
 namespace {
 
-bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::mentions;
 
 // The InputError `f` throws; fails the test when it throws none.
 template <class F>

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "ispars/tour/inspection_tour.hpp"
+#include "support/test_support.hpp"
 
 namespace ispars {
 namespace {
@@ -19,7 +20,7 @@ InspectionGraph graph() {
 
 InspectionTour tour(std::vector<VertexId> walk, double cost) { return {std::move(walk), cost, {}}; }
 
-bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::mentions;
 
 TEST(InspectionTour, AValidTourPassesEveryCheck) {
   const InspectionGraph g = graph();

@@ -44,7 +44,7 @@ InputError error_of(const Roadmap& r, const Vec3& from, const Vec3& to, double r
   return InputError("", "", "no error");
 }
 
-bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::mentions;
 
 TEST(PathQuery, RouteThroughTheRoadmapFromTheJoinsWithin) {
   const Roadmap r = over_the_wall();

@@ -14,7 +14,7 @@
 namespace ispars {
 namespace {
 
-bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::mentions;
 
 // Positions that are not short decimals, so a lossy number format would show.
 Roadmap sample_roadmap() {

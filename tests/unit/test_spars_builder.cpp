@@ -198,7 +198,7 @@ TEST(SparsBuilder, EachShortcutComparesOnePairsOwnLengths) {
   }
 }
 
-PreparedSample valid_at(const Vec3& q) { return PreparedSample{q, true, {}}; }
+using test::valid_at;
 
 TEST(SparsBuilder, RadiiAreInclusiveEverywhere) {
   // OMPL defect: <= and < mixed for delta. Here: exactly delta apart is an edge, exactly Delta

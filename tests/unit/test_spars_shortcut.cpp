@@ -14,7 +14,7 @@
 namespace ispars {
 namespace {
 
-PreparedSample valid_at(const Vec3& q) { return PreparedSample{q, true, {}}; }
+using test::valid_at;
 
 // SPARS of Alg. 1 (no inspection test, dense shortcut on, no stretch rules).
 SparsRules shortcut_rules() { return SparsRules::for_variant(SparsVariant::alg1, false); }

@@ -11,7 +11,7 @@ namespace {
 
 using namespace std::chrono_literals;
 using Clock = RejoinSchedule::Clock;
-const Clock::time_point t0{};
+const Clock::time_point epoch{};
 
 void come_back(PeerWatch& peers, const std::string& prefix, Clock::time_point at) {
   peers.discovered(prefix, "isparsd " + prefix, at);
@@ -22,48 +22,48 @@ void come_back(PeerWatch& peers, const std::string& prefix, Clock::time_point at
 TEST(RejoinSchedule, AnUnhealedPeerRejoinsAfterTheGraceThenAtMostOncePerPeriod) {
   PeerWatch peers;
   RejoinSchedule schedule(30s, 5s);
-  EXPECT_FALSE(schedule.poll(peers, t0 + 1s).now);
-  come_back(peers, "a", t0 + 2s);
-  EXPECT_FALSE(schedule.poll(peers, t0 + 6s).now);  // within the grace: it may authenticate yet
-  const auto first = schedule.poll(peers, t0 + 7s);
+  EXPECT_FALSE(schedule.poll(peers, epoch + 1s).now);
+  come_back(peers, "a", epoch + 2s);
+  EXPECT_FALSE(schedule.poll(peers, epoch + 6s).now);  // within the grace: it may authenticate yet
+  const auto first = schedule.poll(peers, epoch + 7s);
   ASSERT_TRUE(first.now);
   EXPECT_EQ(first.now->prefix, "a");
-  come_back(peers, "b", t0 + 10s);
-  const auto early = schedule.poll(peers, t0 + 16s);
+  come_back(peers, "b", epoch + 10s);
+  const auto early = schedule.poll(peers, epoch + 16s);
   EXPECT_FALSE(early.now);
   ASSERT_TRUE(early.deferred);
   EXPECT_EQ(early.since_last, 9s);
-  EXPECT_FALSE(schedule.poll(peers, t0 + 17s).deferred);  // said once
-  EXPECT_FALSE(schedule.poll(peers, t0 + 36s).now);       // still within 30 s of the first
-  const auto due = schedule.poll(peers, t0 + 37s);
+  EXPECT_FALSE(schedule.poll(peers, epoch + 17s).deferred);  // said once
+  EXPECT_FALSE(schedule.poll(peers, epoch + 36s).now);       // still within 30 s of the first
+  const auto due = schedule.poll(peers, epoch + 37s);
   ASSERT_TRUE(due.now);
   EXPECT_EQ(due.now->prefix, "b");
-  EXPECT_FALSE(schedule.poll(peers, t0 + 90s).now);  // nothing left
+  EXPECT_FALSE(schedule.poll(peers, epoch + 90s).now);  // nothing left
 }
 
 // A cut both ways: each side dropped the other, and they authenticate afresh. No rejoin.
 TEST(RejoinSchedule, APeerThatAuthenticatesLeavesOrIsDroppedAgainMakesNoRejoin) {
   PeerWatch peers;
   RejoinSchedule schedule(30s, 5s);
-  come_back(peers, "a", t0);
+  come_back(peers, "a", epoch);
   peers.authenticated("a");
-  come_back(peers, "b", t0);
+  come_back(peers, "b", epoch);
   peers.left("b");  // it rejoined itself
-  come_back(peers, "c", t0);
+  come_back(peers, "c", epoch);
   peers.dropped("c");  // gone again
-  EXPECT_FALSE(schedule.poll(peers, t0 + 60s).now);
-  EXPECT_FALSE(peers.unhealed(t0 + 60s, 5s));
+  EXPECT_FALSE(schedule.poll(peers, epoch + 60s).now);
+  EXPECT_FALSE(peers.unhealed(epoch + 60s, 5s));
 }
 
 TEST(RejoinSchedule, AFailedRejoinIsDueAgainAfterThePeriod) {
   PeerWatch peers;
   RejoinSchedule schedule(30s, 5s);
-  come_back(peers, "a", t0);
-  const auto first = schedule.poll(peers, t0 + 5s);
+  come_back(peers, "a", epoch);
+  const auto first = schedule.poll(peers, epoch + 5s);
   ASSERT_TRUE(first.now);
   schedule.failed(*first.now);
-  EXPECT_FALSE(schedule.poll(peers, t0 + 34s).now);
-  const auto again = schedule.poll(peers, t0 + 35s);
+  EXPECT_FALSE(schedule.poll(peers, epoch + 34s).now);
+  const auto again = schedule.poll(peers, epoch + 35s);
   ASSERT_TRUE(again.now);
   EXPECT_EQ(again.now->prefix, "a");
 }

@@ -6,11 +6,11 @@
 #include <algorithm>
 
 #include "ispars/input_error.hpp"
+#include "request_input.hpp"
 
 namespace ispars {
 namespace {
 
-constexpr const char* kRequest = "request";
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 constexpr double kMiB = 1024.0 * 1024.0;
 

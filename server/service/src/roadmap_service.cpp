@@ -16,14 +16,9 @@
 #include "ispars/service/pending_jobs.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/service/scene_catalog.hpp"
+#include "request_input.hpp"
 
 namespace ispars {
-namespace {
-
-constexpr const char* kRequest = "request";
-
-}  // namespace
-
 RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events)
     : settings_(std::move(settings)),
       events_(std::move(events)),

@@ -7,11 +7,11 @@
 #include "ispars/input_error.hpp"
 #include "ispars/service/pending_jobs.hpp"
 #include "ispars/service/roadmap_service.hpp"
+#include "request_input.hpp"
 
 namespace ispars {
 namespace {
 
-constexpr const char* kRequest = "request";
 constexpr std::uint32_t kMaxResumes = 3;  // a job that takes the daemon down with it is given up then
 
 }  // namespace

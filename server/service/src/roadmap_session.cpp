@@ -12,14 +12,9 @@
 #include "ispars/input_error.hpp"
 #include "ispars/service/drop_mark.hpp"
 #include "roadmap_session_detail.hpp"
+#include "request_input.hpp"
 
 namespace ispars {
-namespace {
-
-constexpr const char* kRequest = "request";
-
-}  // namespace
-
 std::uint64_t session_detail::new_generation() {
   return static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())

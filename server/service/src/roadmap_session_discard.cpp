@@ -8,13 +8,9 @@
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "roadmap_session_detail.hpp"
+#include "request_input.hpp"
 
 namespace ispars {
-namespace {
-
-constexpr const char* kRequest = "request";
-
-}  // namespace
 
 void RoadmapSession::drop() { (void)discard_store(""); }
 

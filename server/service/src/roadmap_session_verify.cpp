@@ -7,11 +7,11 @@
 #include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "roadmap_session_detail.hpp"
+#include "request_input.hpp"
 
 namespace ispars {
 namespace {
 
-constexpr const char* kRequest = "request";
 // Fresh samples Invariant 1 is checked on for a roadmap without a dense graph (ispars2).
 constexpr std::size_t kFreshVerifySamples = 20000;
 

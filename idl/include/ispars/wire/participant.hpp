@@ -85,9 +85,14 @@ struct RemoteReader {
 /// take note (creating or deleting DDS entities there deadlocks with DDS's own locks).
 using ReaderWatch = std::function<void(const RemoteReader&)>;
 
+/// The built-in profile's participant lease in seconds (a peer silent this long is dropped).
+inline constexpr int kLeaseSeconds = 3;
+/// The same under DDS Security, longer (participant.cpp says why).
+inline constexpr int kSecureLeaseSeconds = 20;
+
 /// Owns a participant and deletes it (with its entities) on destruction. Without a listener of
 /// the caller's, it logs (spdlog) which participants join, leave, are dropped (their lease ran
-/// out) or fail to authenticate. The localhost profile's lease is 3 s, 20 s under DDS Security.
+/// out) or fail to authenticate.
 class Participant {
  public:
   /// Throws std::runtime_error naming the domain and the profile when creation fails.

@@ -10,6 +10,7 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include <stdexcept>
 #include <string>
 
 namespace ispars::wire {
@@ -33,6 +34,14 @@ inline constexpr const char* kTourProgressTopic = "ispars/tour_progress";
 /// A publisher (daemon) or subscriber (client) QoS in `identity`'s reply partition.
 [[nodiscard]] eprosima::fastdds::dds::PublisherQos reply_publisher_qos(const std::string& identity);
 [[nodiscard]] eprosima::fastdds::dds::SubscriberQos reply_subscriber_qos(const std::string& identity);
+
+/// `entity` as a Fast DDS create_* call returned it; throws std::runtime_error("cannot create the
+/// <what>") when the call created none.
+template <class T>
+T* created(T* entity, const std::string& what) {
+  if (entity == nullptr) throw std::runtime_error("cannot create the " + what);
+  return entity;
+}
 
 /// The topic `name` of `type` on `participant`: registers the type, then returns the topic the
 /// participant already has under that name or creates it. Throws std::runtime_error naming the
