@@ -36,6 +36,7 @@
 #include <thread>
 
 #include "ispars/roadmap/build_recipe.hpp"
+#include "ispars/roadmap/recipe_flags.hpp"
 #include "ispars/client/client.hpp"
 #include "bench_common.hpp"
 #include "ispars/local/local_daemon.hpp"
@@ -187,10 +188,8 @@ int main(int argc, char** argv) {
   grow->add_option("--method", grow_method, "build method");
   grow->add_option("--samples", grow_samples, "samples in all")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
   grow->add_option("--step", grow_step, "samples per extend")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
-  grow->add_option("--stretch-slack", grow_slack, "the build's stretch_slack override (0: none)")
-      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack").max));
-  grow->add_option("--stretch-slack-after", grow_slack_after, "the build's stretch_slack_after override (0: none)")
-      ->check(CLI::Range(0.0, ispars::recipe_override("stretch_slack_after").max));
+  ispars::add_recipe_flag(*grow, "stretch_slack", grow_slack);  // the build's overrides (0: none)
+  ispars::add_recipe_flag(*grow, "stretch_slack_after", grow_slack_after);
   int echo_domain = 0;
   std::string echo_security, echo_client, echo_reply;
   auto* echo = app.add_subcommand("echo", "")->group("");  // hidden: rtt's raw echo server

@@ -16,6 +16,7 @@
 #include "experiment_support.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
+#include "ispars/roadmap/recipe_flags.hpp"
 
 namespace ispars::lab {
 namespace {
@@ -178,8 +179,7 @@ CLI::App* add_build_command(CLI::App& parent, BuildCommandOptions& options) {
       ->check(spars_variant_check());
   cmd->add_option("--threads", options.threads, "Threads for per-sample checks (same roadmap for any count)")
       ->check(CLI::Range(1u, 64u));
-  cmd->add_option("--p-accept", options.p_accept, "IRIS-C: admission probability without new coverage")
-      ->check(CLI::Range(0.0, 1.0));
+  add_recipe_flag(*cmd, "p_accept", options.p_accept);
   add_stretch_slack_options(*cmd, options.stretch_slack, options.stretch_slack_after);
   cmd->add_flag("--verify", options.verify, "Check validity, costs and the inspection invariant exactly");
   cmd->add_option("--fresh", options.fresh, "Also check Invariant 1 on this many fresh samples (a seed of its own)")

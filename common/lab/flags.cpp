@@ -2,6 +2,7 @@
 
 #include "commands.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
+#include "ispars/roadmap/recipe_flags.hpp"
 
 namespace ispars::lab {
 
@@ -23,11 +24,8 @@ CLI::Validator spars_variant_check() {
 }
 
 void add_stretch_slack_options(CLI::App& command, double& slack, std::uint64_t& after) {
-  command.add_option("--stretch-slack", slack, "Stretch rules: additive slack of the bounds, a fraction of Delta (default 0)")
-      ->check(CLI::Range(0.0, recipe_override("stretch_slack").max));
-  command.add_option("--stretch-slack-after", after,
-                     "Stretch rules: the slack applies from this sample on (default 0: from the first)")
-      ->check(CLI::Range(0.0, recipe_override("stretch_slack_after").max));
+  add_recipe_flag(command, "stretch_slack", slack);
+  add_recipe_flag(command, "stretch_slack_after", after);
 }
 
 void add_experiment_flags(CLI::App& command, ExperimentOptions& options) {

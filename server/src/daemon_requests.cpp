@@ -1,6 +1,6 @@
-// isparsd's operations: each request's arguments decoded into the service's typed form, the
-// service called, and its result encoded into the reply. Nothing here decides anything the
-// service should: values are checked there.
+// isparsd's operations: each request's arguments decoded into the service's typed form
+// (request_codec.hpp), the service called, and its result encoded into the reply. Nothing here
+// decides anything the service should: values are checked there.
 
 #include <fmt/format.h>
 
@@ -8,89 +8,9 @@
 #include "dds_endpoints.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/wire/convert.hpp"
+#include "request_codec.hpp"
 
 namespace ispars::server {
-namespace {
-
-std::string operation_name(msg::Operation operation) {
-  const std::string name = wire::to_string(operation);
-  return name != "unknown" ? name : fmt::format("operation {}", static_cast<int>(operation));
-}
-
-BuildRequest build_request_from(const msg::BuildArgs& args) {
-  const std::string method_name = args.method().to_string();
-  const auto method = parse_build_method(method_name);
-  if (!method) {
-    throw InputError("request", "method", fmt::format("'{}' is not one of {}", method_name, build_method_names()));
-  }
-  const std::string variant_name = args.variant().to_string();
-  const auto variant = variant_name.empty() ? SparsVariant::stretch : parse_spars_variant(variant_name);
-  if (!variant) {
-    throw InputError("request", "variant", fmt::format("'{}' is not one of {}", variant_name, spars_variant_names()));
-  }
-  if (!variant_name.empty() && !has_variants(*method)) {
-    throw InputError("request", "variant",
-                     fmt::format("'{}' given, but {} has no rule-set variants (spars and ispars have)", variant_name,
-                                 method_name));
-  }
-  if (args.overrides().size() > msg::MAX_OVERRIDES) {
-    throw InputError("request", "overrides",
-                     fmt::format("{} given; at most {} allowed", args.overrides().size(), msg::MAX_OVERRIDES));
-  }
-  BuildRequest build;
-  build.method = *method;
-  build.variant = *variant;
-  build.samples = args.samples();
-  build.seed = args.seed();
-  build.replace = args.replace();
-  for (const auto& o : args.overrides()) {
-    if (!build.overrides.emplace(o.name().to_string(), o.value()).second) {
-      throw InputError("request", "overrides." + o.name().to_string(), "given twice");
-    }
-  }
-  return build;
-}
-
-msg::VerifyResult to_message(const VerifyOutcome& v) {
-  msg::VerifyResult m;
-  m.violations(v.violations());
-  m.invalid_vertices(v.report.invalid_vertices);
-  m.invalid_edges(v.report.invalid_edges);
-  m.wrong_costs(v.report.wrong_costs);
-  m.sparse_not_dense(v.report.sparse_not_dense);
-  m.invariant_violations(v.report.invariant_violations);
-  m.invariant_vertices(v.report.invariant_vertices);
-  m.invariant_promised(v.invariant_promised);
-  return m;
-}
-
-msg::TourResult to_message(const TourOutcome& o) {
-  const GipResult& r = o.result;
-  msg::TourResult m;
-  m.walk(std::vector<std::uint32_t>(r.tour.walk.begin(), r.tour.walk.end()));
-  for (const Vec3& p : o.waypoints) m.waypoints().push_back(wire::to_message(p));
-  m.shortcut_stops(std::vector<std::uint32_t>(o.shortcut.stops.begin(), o.shortcut.stops.end()));
-  for (const Vec3& p : o.shortcut.path) m.shortcut_path().push_back(wire::to_message(p));
-  m.shortcut_cost(o.shortcut.cost);
-  m.cost(r.tour.cost);
-  m.covered(static_cast<std::uint32_t>(r.tour.covered.size()));
-  m.target_count(static_cast<std::uint32_t>(r.targets.size()));
-  m.lower_bound(r.lower_bound.value_or(0.0));
-  m.valid(r.validation.valid() && o.shortcut_validation.valid());  // the walk and the shortcut path both
-  for (const auto& [t, c] : r.trace) {
-    m.trace().push_back(t);
-    m.trace().push_back(c);
-  }
-  for (const auto& [t, b] : r.bound_trace) {
-    m.bound_trace().push_back(t);
-    m.bound_trace().push_back(b);
-  }
-  m.bound_complete(r.bound_complete);
-  m.version(o.version);
-  return m;
-}
-
-}  // namespace
 
 bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
   const std::string scene = request.scene().to_string();

@@ -30,7 +30,7 @@ msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id
     m.sparse_delta(s.recipe->sparse_delta);
     m.stretch(s.recipe->stretch);
     m.stretch_slack(s.recipe->stretch_slack);
-    m.stretch_slack_after(static_cast<std::uint64_t>(s.recipe->stretch_slack_after));
+    m.stretch_slack_after(s.recipe->stretch_slack_after);
     m.p_accept(s.recipe->p_accept);
     m.scene_fingerprint(s.recipe->scene_fingerprint.substr(0, 64));
     m.builder_version(s.recipe->builder_version);
@@ -66,7 +66,7 @@ std::optional<RoadmapRecipe> recipe_of(const msg::SceneStatus& m) {
   recipe.sparse_delta = m.sparse_delta();
   recipe.stretch = m.stretch();
   recipe.stretch_slack = m.stretch_slack();
-  recipe.stretch_slack_after = static_cast<double>(m.stretch_slack_after());
+  recipe.stretch_slack_after = m.stretch_slack_after();
   recipe.p_accept = m.p_accept();
   recipe.generation = m.generation();
   return recipe;

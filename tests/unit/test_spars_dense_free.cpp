@@ -51,6 +51,21 @@ TEST_P(DenseFreeOnSharedScenes, GrowsTheSameSparseRoadmapAsIsparsWithoutADenseGr
   }
 }
 
+// A slack outside the range the recipe declares is refused by the builder itself, naming it.
+TEST(DenseFree, ASlackOutsideItsDeclaredRangeIsRefusedNamingTheRange) {
+  const Scene& scene = test::shared_scene("truss_bridge");
+  for (const double slack : {-0.25, 1.5}) {
+    BuildOptions options;
+    options.stretch_slack = slack;
+    try {
+      (void)make_roadmap_builder(BuildMethod::ispars2, scene, options);
+      ADD_FAILURE() << "slack " << slack << " was taken";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("stretch_slack must be in [0, 1]"), std::string::npos) << e.what();
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Scenes, DenseFreeOnSharedScenes,
                          ::testing::Values("truss_bridge", "water_tower", "caric_city", "radio_tower"));
 

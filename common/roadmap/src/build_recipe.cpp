@@ -26,7 +26,7 @@ constexpr std::array<RecipeParameter, 6> kOverrides{{
     {"stretch_slack", 0.0, 1.0, "in [0, 1]",
      "the stretch rules' additive slack, a fraction of Delta: bounds t d + slack Delta (default 0; "
      "0.5 keeps a long extend's cost per sample nearly flat, docs/results/ispars2.md)",
-     &RoadmapRecipe::stretch_slack},
+     &RoadmapRecipe::stretch_slack, true},
     {"stretch_slack_after", 0.0, 1e12, "a whole number of samples in [0, 1e12]",
      "the sample from which stretch_slack applies (default 0: from the first; the samples before it "
      "grow the roadmap no slack grows)",
@@ -34,11 +34,6 @@ constexpr std::array<RecipeParameter, 6> kOverrides{{
     {"p_accept", 0.0, 1.0, "a probability in [0, 1]",
      "IRIS-C: probability of admitting a state that adds no POI (default 0.2)", &RoadmapRecipe::p_accept},
 }};
-
-// Whether `value` is one that parameter `p` accepts: finite, in its range, whole where it must be.
-bool accepts(const RecipeParameter& p, double value) {
-  return std::isfinite(value) && value >= p.min && value <= p.max && (!p.whole || value == std::floor(value));
-}
 
 template <typename Items, typename Name>
 std::string join_names(const Items& items, Name name) {
@@ -48,6 +43,23 @@ std::string join_names(const Items& items, Name name) {
 }
 
 }  // namespace
+
+bool RecipeParameter::accepts(double value) const {
+  return std::isfinite(value) && value >= min && value <= max && (!whole() || value == std::floor(value));
+}
+
+double RecipeParameter::get(const RoadmapRecipe& recipe) const {
+  if (const auto* count = std::get_if<CountField>(&field)) return static_cast<double>(recipe.**count);
+  return recipe.*std::get<RealField>(field);
+}
+
+void RecipeParameter::set(RoadmapRecipe& recipe, double value) const {
+  if (const auto* count = std::get_if<CountField>(&field)) {
+    recipe.**count = static_cast<std::uint64_t>(value);
+  } else {
+    recipe.*std::get<RealField>(field) = value;
+  }
+}
 
 std::string_view to_string(BuildMethod method) {
   switch (method) {
@@ -116,17 +128,18 @@ void check_stretch_slack(const RoadmapRecipe& recipe, std::string_view file) {
                                  has_variants(recipe.method) ? "variant " + std::string(to_string(recipe.variant))
                                                              : std::string("method")));
   }
-  if (recipe.stretch_slack_after > 0.0 && recipe.stretch_slack == 0.0) {
+  if (recipe.stretch_slack_after > 0 && recipe.stretch_slack == 0.0) {
     throw InputError(std::string(file), "overrides.stretch_slack_after",
                      fmt::format("{} given, but there is no stretch_slack to start there", recipe.stretch_slack_after));
   }
 }
 
 bool same_roadmap(const RoadmapRecipe& a, const RoadmapRecipe& b) {
-  return a.method == b.method && a.seed == b.seed && (!has_variants(a.method) || a.variant == b.variant) &&
-         a.dense_delta == b.dense_delta && a.sparse_delta == b.sparse_delta && a.stretch == b.stretch &&
-         a.stretch_slack == b.stretch_slack && a.stretch_slack_after == b.stretch_slack_after &&
-         a.p_accept == b.p_accept;
+  if (a.method != b.method || a.seed != b.seed || (has_variants(a.method) && a.variant != b.variant)) return false;
+  for (const RecipeParameter& p : kOverrides) {
+    if (p.get(a) != p.get(b)) return false;
+  }
+  return true;
 }
 
 std::string recipe_override_names() {
@@ -138,32 +151,51 @@ void set_recipe_override(RoadmapRecipe& recipe, std::string_view name, double va
   for (const RecipeParameter& p : kOverrides) {
     if (p.name != name) continue;
     if (!std::isfinite(value)) throw InputError(std::string(file), field, fmt::format("must be finite, got {}", value));
-    if (!accepts(p, value)) {
+    if (!p.accepts(value)) {
       throw InputError(std::string(file), field, fmt::format("must be {}, got {}", p.range, value));
     }
-    recipe.*(p.field) = value;
+    p.set(recipe, value);
     return;
   }
   throw InputError(std::string(file), field, fmt::format("unknown parameter (expected {})", recipe_override_names()));
 }
 
 std::string recipe_to_json(const RoadmapRecipe& r) {
-  const nlohmann::json j = {{"scene", r.scene},
-                            {"method", std::string(to_string(r.method))},
-                            {"seed", r.seed},
-                            {"p_accept", r.p_accept},
-                            {"variant", std::string(to_string(r.variant))},
-                            {"dense_delta", r.dense_delta},
-                            {"sparse_delta", r.sparse_delta},
-                            {"stretch", r.stretch},
-                            {"stretch_slack", r.stretch_slack},
-                            {"stretch_slack_after", r.stretch_slack_after},
-                            {"generation", r.generation},
-                            {"scene_fingerprint", r.scene_fingerprint},
-                            {"builder_version", r.builder_version},
-                            {"format", kRecipeFormat}};
+  nlohmann::json j = {{"scene", r.scene},
+                      {"method", std::string(to_string(r.method))},
+                      {"seed", r.seed},
+                      {"variant", std::string(to_string(r.variant))},
+                      {"generation", r.generation},
+                      {"scene_fingerprint", r.scene_fingerprint},
+                      {"builder_version", r.builder_version},
+                      {"format", kRecipeFormat}};
+  for (const RecipeParameter& p : kOverrides) {  // each in its type: a count as an integer
+    std::visit([&](auto field) { j[std::string(p.name)] = r.*field; }, p.field);
+  }
   return j.dump(2) + "\n";
 }
+
+namespace {
+
+// Every override from recipe.json, checked as a request's is (the file may have been edited).
+void read_overrides(const nlohmann::json& j, RoadmapRecipe& r) {
+  for (const RecipeParameter& p : kOverrides) {
+    const std::string name(p.name);
+    if (!j.contains(name)) {
+      if (p.optional_in_file) continue;  // written before the parameter existed: 0, as built
+      throw std::runtime_error("recipe.json lacks " + name);
+    }
+    const nlohmann::json& v = j.at(name);
+    if (!v.is_number()) throw std::runtime_error(fmt::format("recipe.json: {} must be a number", name));
+    const double value = v.get<double>();
+    if (!p.accepts(value)) {
+      throw std::runtime_error(fmt::format("recipe.json: {} must be {}, got {}", name, p.range, value));
+    }
+    p.set(r, value);
+  }
+}
+
+}  // namespace
 
 RoadmapRecipe recipe_from_json(const std::string& text) {
   nlohmann::json j;
@@ -183,26 +215,13 @@ RoadmapRecipe recipe_from_json(const std::string& text) {
     if (!method) throw std::runtime_error("recipe.json: unknown method");
     r.method = *method;
     r.seed = field("seed").get<std::uint64_t>();
-    r.p_accept = field("p_accept").get<double>();
     r.variant = SparsVariant::alg1;  // recipes written before the variants existed
     if (j.contains("variant")) {
       const auto variant = parse_spars_variant(j.at("variant").get<std::string>());
       if (!variant) throw std::runtime_error("recipe.json: unknown variant");
       r.variant = *variant;
     }
-    r.dense_delta = field("dense_delta").get<double>();
-    r.sparse_delta = field("sparse_delta").get<double>();
-    r.stretch = field("stretch").get<double>();
-    // Older files have neither: 0, as they were built.
-    if (j.contains("stretch_slack")) r.stretch_slack = j.at("stretch_slack").get<double>();
-    if (j.contains("stretch_slack_after")) r.stretch_slack_after = j.at("stretch_slack_after").get<double>();
-    // Every override, as a request's is checked (the file may have been edited).
-    for (const RecipeParameter& p : kOverrides) {
-      const double value = r.*(p.field);
-      if (!accepts(p, value)) {
-        throw std::runtime_error(fmt::format("recipe.json: {} must be {}, got {}", p.name, p.range, value));
-      }
-    }
+    read_overrides(j, r);
     r.generation = field("generation").get<std::uint64_t>();
     if (j.contains("format") && j.at("format").get<int>() > kRecipeFormat) {
       throw std::runtime_error("recipe.json is format " + std::to_string(j.at("format").get<int>()) +

@@ -142,18 +142,21 @@ BuildRequest rebuild_request(const RoadmapRecipe& recipe, std::uint64_t samples)
   request.samples = samples;
   request.generation = recipe.generation;
   for (const RecipeParameter& p : recipe_overrides()) {
-    if (recipe.*p.field > 0.0) request.overrides.emplace(std::string(p.name), recipe.*p.field);
+    if (p.get(recipe) > 0.0) request.overrides.emplace(std::string(p.name), p.get(recipe));
   }
   return request;
 }
 
-std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
-  if (request.samples == 0) throw InputError(kRequest, "samples", "must be at least 1");
-  if (request.samples > limits_.max_samples) {
+void RoadmapSession::check_samples(std::uint64_t samples) const {
+  if (samples == 0) throw InputError(kRequest, "samples", "must be at least 1");
+  if (samples > limits_.max_samples) {
     throw InputError(kRequest, "samples",
-                     fmt::format("{} is more than this daemon allows per request ({})", request.samples,
-                                 limits_.max_samples));
+                     fmt::format("{} is more than this daemon allows per request ({})", samples, limits_.max_samples));
   }
+}
+
+std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
+  check_samples(request.samples);
   RoadmapRecipe recipe;
   recipe.scene = name_;
   recipe.method = request.method;
@@ -200,11 +203,7 @@ std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
 
 std::uint64_t RoadmapSession::request_extend(std::uint64_t samples) {
   std::uint64_t target = 0;
-  if (samples == 0) throw InputError(kRequest, "samples", "must be at least 1");
-  if (samples > limits_.max_samples) {
-    throw InputError(kRequest, "samples",
-                     fmt::format("{} is more than this daemon allows per request ({})", samples, limits_.max_samples));
-  }
+  check_samples(samples);
   {
     std::lock_guard lock(mutex_);
     check_can_start("scene");

@@ -27,7 +27,7 @@ BuildOptions build_options(const RoadmapRecipe& recipe, unsigned threads) {
   options.threads = threads;
   options.p_accept = recipe.p_accept;
   options.stretch_slack = recipe.stretch_slack;
-  options.stretch_slack_after = static_cast<std::uint64_t>(recipe.stretch_slack_after);
+  options.stretch_slack_after = recipe.stretch_slack_after;
   options.variant = recipe.variant;
   return options;
 }

@@ -1,8 +1,12 @@
 #include "ispars/builders/spars_builder.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "ispars/roadmap/build_recipe.hpp"
 
 namespace ispars {
 namespace {
@@ -51,8 +55,10 @@ SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, cons
       sparse_(scene.pois().size()),
       sparse_grid_(scene.config().sparse_delta),
       known_routes_(options.known_route_pairs) {
-  if (!(options.stretch_slack >= 0.0 && options.stretch_slack <= 1.0)) {
-    throw std::invalid_argument("stretch_slack must be in [0, 1] (a fraction of Delta)");
+  // A precondition of this library's callers, with the range the recipe declares.
+  if (const RecipeParameter& slack = recipe_override("stretch_slack"); !slack.accepts(options.stretch_slack)) {
+    throw std::invalid_argument(fmt::format("stretch_slack must be {} (a fraction of Delta), got {}", slack.range,
+                                            options.stretch_slack));
   }
   if (rules.dense_shortcut && !rules.dense_graph) {
     throw std::invalid_argument("the dense shortcut reads the dense graph: it cannot run without one");

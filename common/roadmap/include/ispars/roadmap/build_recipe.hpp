@@ -1,14 +1,16 @@
 #pragma once
 // How a roadmap is built, in one typed form from the request to the store: the method, the rule
 // set, the seed and the scene parameters a build may override. Each parameter an override may
-// set is declared once here (name, range, one line of doc); the CLI help, the service's
-// validation and the store's recipe.json all read this table.
+// set is declared once here (name, type, range, one line of doc); the CLI help, the service's
+// validation, the lab's and the benchmark's flags, and the store's recipe.json all read this
+// table.
 
 #include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <variant>
 
 namespace ispars {
 
@@ -63,9 +65,9 @@ struct RoadmapRecipe {
   /// spars, ispars, ispars2 with the stretch rules: the additive slack of the stretch bounds,
   /// as a fraction of Delta (0, the default: the bounds are t times the distance alone).
   double stretch_slack = 0.0;
-  /// The sample from which the slack applies (a whole number; 0: from the first). The first
-  /// stretch_slack_after samples grow the roadmap that no slack grows.
-  double stretch_slack_after = 0.0;
+  /// The sample from which the slack applies (0: from the first). The first stretch_slack_after
+  /// samples grow the roadmap that no slack grows.
+  std::uint64_t stretch_slack_after = 0;
 };
 
 /// Whether two recipes build the same roadmap: method, seed, the variant where the method has
@@ -83,15 +85,29 @@ inline constexpr std::uint32_t kBuilderVersion = 1;
 /// The recipe.json format this code writes; it refuses to read a newer one.
 inline constexpr int kRecipeFormat = 1;
 
-/// A recipe parameter a build request may override, declared once.
+/// A recipe parameter a build request may override, declared once: its name, its type (a real
+/// number, or a count held as an integer), its range and its doc.
 struct RecipeParameter {
+  using RealField = double RoadmapRecipe::*;
+  using CountField = std::uint64_t RoadmapRecipe::*;
+
   std::string_view name;
   double min = 0.0;  ///< Smallest value accepted (inclusive).
-  double max = 0.0;  ///< Largest value accepted (inclusive).
+  double max = 0.0;  ///< Largest value accepted (inclusive; a count's is below 2^53, so exact).
   std::string_view range;  ///< The range in words, for errors: "must be <range>, got <value>".
   std::string_view doc;    ///< One line: what it is, and its default.
-  double RoadmapRecipe::*field = nullptr;
-  bool whole = false;  ///< Only whole numbers (a sample count).
+  std::variant<RealField, CountField> field;
+  /// Whether a recipe.json written before the parameter existed lacks it (then it reads as 0).
+  bool optional_in_file = false;
+
+  /// Whether it is a count: only whole numbers are accepted.
+  [[nodiscard]] bool whole() const { return std::holds_alternative<CountField>(field); }
+  /// Whether it accepts `value`: finite, within [min, max], and whole if it is a count.
+  [[nodiscard]] bool accepts(double value) const;
+  /// Its value in `recipe`.
+  [[nodiscard]] double get(const RoadmapRecipe& recipe) const;
+  /// Sets it in `recipe` to `value`, which it must accept (a count takes it as an integer).
+  void set(RoadmapRecipe& recipe, double value) const;
 };
 
 /// dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after and p_accept, in that

@@ -202,6 +202,8 @@ class RoadmapSession {
   [[nodiscard]] bool published_is_builders(std::uint64_t generation) const;
   [[nodiscard]] std::uint64_t samples_done() const;  // takes mutex_
   void check_can_start(const char* field) const;  // with mutex_ held
+  // A build's or extend's sample count: at least 1, at most limits_.max_samples (InputError).
+  void check_samples(std::uint64_t samples) const;
   // Why the stored roadmap (of recipe `stored`) must not be served here: another version of the
   // scene, or of the builders. Empty when it may.
   [[nodiscard]] std::string stale_store_reason(const RoadmapRecipe& stored) const;

@@ -1,0 +1,30 @@
+#pragma once
+// Between the wire and the service, with no DDS: a request's arguments decoded into the
+// service's typed form, and the service's results encoded into reply messages. Decoding checks
+// only what the typed form cannot hold (a known method and variant, overrides named once and no
+// more than the IDL bound); the values are the service's to check.
+
+#include <string>
+
+#include "ispars.h"
+#include "ispars/service/roadmap_service.hpp"
+
+namespace ispars::server {
+
+/// "build", or "operation 42" for a code this daemon does not know.
+[[nodiscard]] std::string operation_name(msg::Operation operation);
+
+/// BUILD's arguments as a BuildRequest. Throws InputError ("request", FIELD) for an unknown
+/// method or variant, a variant given to a method without variants, more than MAX_OVERRIDES
+/// overrides, or one named twice. An empty variant is the default (stretch).
+[[nodiscard]] BuildRequest build_request_from(const msg::BuildArgs& args);
+
+/// A verify's reply: its report and the violations the method promises to avoid.
+[[nodiscard]] msg::VerifyResult to_message(const VerifyOutcome& v);
+
+/// A tour's reply: the walk and its waypoints, the shortcut tour, costs, coverage, the proven
+/// bound (0: none), the traces as (seconds, value) pairs flattened, and valid when both the walk
+/// and the shortcut tour passed their independent checks.
+[[nodiscard]] msg::TourResult to_message(const TourOutcome& o);
+
+}  // namespace ispars::server

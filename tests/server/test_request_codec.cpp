@@ -1,0 +1,157 @@
+// The daemon's request decoding and reply encoding, without DDS: what reaches the service from a
+// BUILD's arguments, the errors that name what the typed form cannot hold, and a tour's and a
+// verify's replies field by field.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "ispars/input_error.hpp"
+#include "request_codec.hpp"
+
+namespace ispars::server {
+namespace {
+
+msg::BuildArgs build_args(const std::string& method, const std::string& variant = "") {
+  msg::BuildArgs a;
+  a.method(method);
+  a.variant(variant);
+  a.samples(5000);
+  a.seed(7);
+  a.replace(true);
+  return a;
+}
+
+msg::Parameter parameter(const std::string& name, double value) {
+  msg::Parameter p;
+  p.name(name);
+  p.value(value);
+  return p;
+}
+
+// The decoding error's "field: problem", or "" when it decodes.
+std::string decode_error(const msg::BuildArgs& a) {
+  try {
+    (void)build_request_from(a);
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "request");
+    return e.field() + ": " + e.problem();
+  }
+  return "";
+}
+
+TEST(RequestCodec, BuildArgumentsDecodeIntoTheTypedRequest) {
+  msg::BuildArgs a = build_args("spars", "alg1");
+  a.overrides().push_back(parameter("stretch", 1.5));
+  a.overrides().push_back(parameter("stretch_slack_after", 2000));
+  const BuildRequest r = build_request_from(a);
+  EXPECT_EQ(r.method, BuildMethod::spars);
+  EXPECT_EQ(r.variant, SparsVariant::alg1);
+  EXPECT_EQ(r.samples, 5000u);
+  EXPECT_EQ(r.seed, 7u);
+  EXPECT_TRUE(r.replace);
+  EXPECT_EQ(r.overrides.size(), 2u);
+  EXPECT_EQ(r.overrides.at("stretch"), 1.5);
+  EXPECT_EQ(r.overrides.at("stretch_slack_after"), 2000.0);
+  EXPECT_EQ(r.generation, 0u) << "a request always asks for a new roadmap";
+  // No variant is the default rule set, for every method.
+  EXPECT_EQ(build_request_from(build_args("ispars")).variant, SparsVariant::stretch);
+  EXPECT_EQ(build_request_from(build_args("ispars2")).method, BuildMethod::ispars2);
+}
+
+TEST(RequestCodec, WhatTheTypedFormCannotHoldIsRefusedByName) {
+  EXPECT_EQ(decode_error(build_args("Dense")),
+            "method: 'Dense' is not one of dense, spars, ispars, irisc, ispars2");
+  EXPECT_EQ(decode_error(build_args("ispars", "loose")), "variant: 'loose' is not one of stretch, alg1");
+  EXPECT_EQ(decode_error(build_args("irisc", "alg1")),
+            "variant: 'alg1' given, but irisc has no rule-set variants (spars and ispars have)");
+  msg::BuildArgs twice = build_args("ispars");
+  twice.overrides().push_back(parameter("stretch", 1.5));
+  twice.overrides().push_back(parameter("stretch", 2.0));
+  EXPECT_EQ(decode_error(twice), "overrides.stretch: given twice");
+  // More than the IDL's bound (a peer that ignores it: the sequence arrives longer).
+  msg::BuildArgs many = build_args("ispars");
+  for (std::uint32_t i = 0; i <= msg::MAX_OVERRIDES; ++i) many.overrides().push_back(parameter("p" + std::to_string(i), 1));
+  EXPECT_EQ(decode_error(many), "overrides: 17 given; at most 16 allowed");
+  // Values are the service's to check, not the decoder's.
+  msg::BuildArgs odd = build_args("ispars");
+  odd.overrides().push_back(parameter("stretch", -4));
+  odd.samples(0);
+  EXPECT_EQ(decode_error(odd), "");
+}
+
+TEST(RequestCodec, ATourReplyCarriesTheWalkTheShortcutTheBoundAndTheTraces) {
+  TourOutcome o;
+  o.result.tour.walk = {0, 3, 0};
+  o.result.tour.cost = 8.5;
+  o.result.tour.covered = {1, 2};
+  o.result.targets = {1, 2, 4};
+  o.result.trace = {{0.5, 9.0}, {1.25, 8.5}};
+  o.result.bound_trace = {{0.75, 6.0}};
+  o.result.lower_bound = 6.0;
+  o.result.bound_complete = true;
+  o.result.validation.closed = true;
+  o.result.validation.steps_are_edges = true;
+  o.result.validation.covers_targets = true;
+  o.result.validation.cost_matches = true;
+  o.waypoints = {Vec3(0, 0, 0), Vec3(1, 2, 3), Vec3(0, 0, 0)};
+  o.shortcut.stops = {0, 3};
+  o.shortcut.path = {Vec3(0, 0, 0), Vec3(1, 2, 3)};
+  o.shortcut.cost = 7.25;
+  o.version = 12;
+  msg::TourResult m = to_message(o);
+  EXPECT_EQ(m.walk(), (std::vector<std::uint32_t>{0, 3, 0}));
+  ASSERT_EQ(m.waypoints().size(), 3u);
+  EXPECT_EQ(m.waypoints()[1].y(), 2.0);
+  EXPECT_EQ(m.shortcut_stops(), (std::vector<std::uint32_t>{0, 3}));
+  ASSERT_EQ(m.shortcut_path().size(), 2u);
+  EXPECT_EQ(m.shortcut_path()[1].z(), 3.0);
+  EXPECT_EQ(m.cost(), 8.5);
+  EXPECT_EQ(m.shortcut_cost(), 7.25);
+  EXPECT_EQ(m.covered(), 2u);
+  EXPECT_EQ(m.target_count(), 3u);
+  EXPECT_EQ(m.lower_bound(), 6.0);
+  EXPECT_TRUE(m.bound_complete());
+  EXPECT_EQ(m.trace(), (std::vector<double>{0.5, 9.0, 1.25, 8.5}));
+  EXPECT_EQ(m.bound_trace(), (std::vector<double>{0.75, 6.0}));
+  EXPECT_EQ(m.version(), 12u);
+  EXPECT_TRUE(m.valid());
+  // Valid only when both checks passed: a bad shortcut spoils it, and so does a bad walk.
+  o.shortcut_validation.problem = "a step crosses the mesh";
+  EXPECT_FALSE(to_message(o).valid());
+  o.shortcut_validation.problem.clear();
+  o.result.validation.covers_targets = false;
+  EXPECT_FALSE(to_message(o).valid());
+  // No bound proven reads as 0.
+  o.result.lower_bound.reset();
+  EXPECT_EQ(to_message(o).lower_bound(), 0.0);
+}
+
+TEST(RequestCodec, AVerifyReplyCarriesEachCountAndThePromise) {
+  VerifyOutcome v;
+  v.report.invalid_vertices = 1;
+  v.report.invalid_edges = 2;
+  v.report.wrong_costs = 3;
+  v.report.sparse_not_dense = 4;
+  v.report.invariant_violations = 5;
+  v.report.invariant_vertices = 6;
+  v.invariant_promised = true;
+  const msg::VerifyResult m = to_message(v);
+  EXPECT_EQ(m.invalid_vertices(), 1u);
+  EXPECT_EQ(m.invalid_edges(), 2u);
+  EXPECT_EQ(m.wrong_costs(), 3u);
+  EXPECT_EQ(m.sparse_not_dense(), 4u);
+  EXPECT_EQ(m.invariant_violations(), 5u);
+  EXPECT_EQ(m.invariant_vertices(), 6u);
+  EXPECT_TRUE(m.invariant_promised());
+  EXPECT_EQ(m.violations(), v.violations());
+  EXPECT_GT(m.violations(), 0u);
+}
+
+TEST(RequestCodec, AnUnknownOperationIsNamedByItsCode) {
+  EXPECT_EQ(operation_name(msg::BUILD), "build");
+  EXPECT_EQ(operation_name(static_cast<msg::Operation>(42)), "operation 42");
+}
+
+}  // namespace
+}  // namespace ispars::server
