@@ -35,6 +35,18 @@ constexpr std::array<RecipeParameter, 6> kOverrides{{
      "IRIS-C: probability of admitting a state that adds no POI (default 0.2)", &RoadmapRecipe::p_accept},
 }};
 
+// A count travels as a double (the wire's overrides, get()): exact while its range stays within
+// 2^53, which this checks for every count declared above, at compile time.
+constexpr bool counts_are_exact_as_doubles() {
+  for (const RecipeParameter& p : kOverrides) {
+    if (std::holds_alternative<RecipeParameter::CountField>(p.field) && (p.min < 0.0 || p.max > 9007199254740992.0)) {
+      return false;
+    }
+  }
+  return true;
+}
+static_assert(counts_are_exact_as_doubles(), "a count's declared range must lie within [0, 2^53]");
+
 template <typename Items, typename Name>
 std::string join_names(const Items& items, Name name) {
   std::string out;
