@@ -28,7 +28,14 @@ int random_domain() {
   // never reuses an id within a process (deleted participants included), and it exits the
   // process when a port passes 65535. At domain 232 that is the 63rd participant, which the kill
   // -9 campaign (three clients for each of its fifty restarts) went past; at 200, the 4063rd.
-  constexpr int kDomains = 101;
+  // Domains are spaced four apart: a process's participant number n listens on ports up to
+  // 7400 + 250 * domain + 11 + 2 * n, so a test with more than 125 participants (the 300-client
+  // test has over 300) reaches the ports of the next domains, where another test's daemon hears
+  // it. Seen 2026-11-27: a daemon on domain 187 discovered the raw peers of the 300-client test,
+  // warned that its multicast port 54150 was taken, and both tests failed. Four apart leaves each
+  // test 375 participants.
+  constexpr int kSpacing = 4;
+  constexpr int kDomains = 26;  // 100, 104, ..., 200
   // Tests run in parallel, each in its own process: a domain is taken by locking its file (held
   // until the process exits), so no two running tests share one. Of the free domains, the one
   // taken longest ago is tried first (each file's time is set when it is taken): a domain a test
@@ -40,7 +47,7 @@ int random_domain() {
   std::random_device rd;
   const int start = static_cast<int>(rd() % kDomains);
   for (int i = 0; i < kDomains; ++i) {
-    const int domain = 100 + (start + i) % kDomains;
+    const int domain = 100 + kSpacing * ((start + i) % kDomains);
     std::error_code ec;
     const auto taken = std::filesystem::last_write_time(dir / (std::to_string(domain) + ".lock"), ec);
     order.emplace_back(ec ? std::filesystem::file_time_type::min() : taken, domain);
