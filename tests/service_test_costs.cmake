@@ -13,14 +13,14 @@ set_tests_properties(ServiceTest.LoopingViewersNeverHoldUpAnUnloadADropOrTheStop
 set_tests_properties(WebViewerTest.FourBrowsersFollowABuildAndDrawWhatStatsSays PROPERTIES RUN_SERIAL TRUE)
 set_tests_properties(PartitionTest.CutAndHealTheOwnerPlain PartitionTest.CutAndHealTheOwnerSecured
                      StallTest.AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner PROPERTIES COST 500)
-# The two secured campaigns run alone. On 2026-11-27 each failed once in a full parallel run,
-# beside the kill -9 campaign; both passed in two other full runs, and each alone (88 s, 89 s). The partition
-# failure's logs show a product race, not fixed yet: a secured daemon that has not re-authenticated
-# a peer 5 s after a heal rejoins (a new participant), and its peers read the old participant's
-# leave as "left while holding scene": one takes the scene over, so an extend sent to the former
-# owner is refused. Under load the re-authentication is slower, hence the 5 s grace runs out.
-set_tests_properties(PartitionTest.CutAndHealTheOwnerSecured
-                     StallTest.AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner PROPERTIES RUN_SERIAL TRUE)
+# The secured stall campaign runs alone. On 2026-11-27 it and the secured partition campaign each
+# failed once in a full parallel run, beside the kill -9 campaign, and passed alone (88 s, 89 s).
+# The partition failure was a product race, since fixed: a secured daemon that rejoined (a new
+# participant) deleted its old participant first, and a peer that had not authenticated the new
+# one yet read the leave as "left while holding scene" and took the scene over
+# (RejoinTest.ASecuredDaemonThatRejoinsKeepsItsScenes). The stall failure's output was lost; it
+# may have been the same race or the domain cross-talk fixed the same day (local_daemon.cpp).
+set_tests_properties(StallTest.AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner PROPERTIES RUN_SERIAL TRUE)
 # The client of another vendor (tests/vendor/, Cyclone DDS): `ctest -L vendor` runs it alone. Its
 # hundred fresh clients take about 80 s in a row and start early.
 set_tests_properties(VendorTest.ACycloneClientReadsStatusUpdatesStatsAndATourWithProgress

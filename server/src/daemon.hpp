@@ -108,13 +108,18 @@ class Daemon {
   void announce_if_fresher();  // held roadmaps changed: at once for a new generation or target
   // Rejoining (daemon_rejoin.cpp): a peer this one dropped came back under the same GUID,
   // so the sessions between them may never recover (PeerWatch); this daemon then replaces its
-  // participant, announces and publishes its statuses again, and listens a discovery wait.
+  // participant: the new one announces and publishes its statuses again while the old one still
+  // announces this daemon, and the old one leaves once the daemons it heard hear the new one.
   void rejoin_if_a_peer_returned();
   void rejoin(const std::string& why);
+  // Keeps the old participant beside the new one until the new one has heard every daemon in
+  // `heard`; false if it had not when the overlap ran out.
+  bool overlap_until_heard(const std::vector<std::string>& heard);
   void mark_version(const std::string& scene, const RoadmapSession& session);  // an empty batch at its version
   // The DDS side, replaced whole by rejoin(). Every use goes through with_dds(), which holds
   // dds_mutex_ shared; rejoin() holds it alone only to swap the pointer, never while a
-  // participant is made or deleted (whose callbacks may be waiting for it).
+  // participant is made or deleted (whose callbacks may be waiting for it): the old one is
+  // deleted after the overlap, outside the lock.
   template <class F>
   void with_dds(F&& f) const {
     std::shared_lock lock(dds_mutex_);
@@ -158,7 +163,6 @@ class Daemon {
   std::chrono::steady_clock::time_point last_held_announce_{};
   mutable std::shared_mutex dds_mutex_;
   std::unique_ptr<DdsEndpoints> dds_;
-  std::chrono::steady_clock::time_point last_rejoin_{};
   wire::RejoinSchedule rejoin_schedule_{std::chrono::seconds(30), std::chrono::seconds(10)};  // the fleet thread's
   std::unique_ptr<RoadmapService> service_;
   std::unique_ptr<WorkerPool> quick_lane_;  // list, stats, cancel, unload, build, extend, tour

@@ -93,13 +93,6 @@ void Daemon::watch_fleet() {
       if (refresh_listing()) announce();
     }
     rejoin_if_a_peer_returned();
-    bool endpoints = false;
-    with_dds([&](DdsEndpoints&) { endpoints = true; });
-    if (!endpoints) {  // a rejoin that failed: the rule must not run on an empty view of the fleet
-      if (std::chrono::steady_clock::now() - last_rejoin_ >= rejoin_schedule_.period()) rejoin("the last rejoin failed");
-      lock.lock();
-      continue;
-    }
     for (const ContestedScene& contest : claims_->contested()) give_up(contest);
     for (const OrphanScene& orphan : claims_->orphans()) take_over(orphan);
     announce_if_fresher();

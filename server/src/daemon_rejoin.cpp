@@ -4,15 +4,17 @@
 // stalled or the link was cut one way. The sessions between the two may never recover: Debian's
 // Fast DDS 2.9.1 cannot authenticate a peer again while the other side keeps its DDS Security
 // session. A new participant (a new GUID) meets every peer afresh. The daemon keeps its scenes,
-// claims and jobs; it announces itself and publishes each scene's status again, and its fleet
-// thread listens a discovery wait before applying the fleet's rule (so it does not take the
-// scenes of daemons it has not heard yet). Replicas see a new update writer and resync.
+// claims and jobs; it announces itself and publishes each scene's status again from the new
+// participant while the old one, answering no requests, still announces it; the old one leaves
+// once the daemons it heard have heard the new one. Meanwhile the fleet thread does not apply the
+// fleet's rule (it does not take the scenes of daemons it has not heard yet). Replicas see a new
+// update writer and resync.
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <utility>
-
 
 #include "daemon.hpp"
 #include "dds_endpoints.hpp"
@@ -23,6 +25,8 @@ namespace {
 // How long after rejoining the fleet's rule waits (at least): under DDS Security a handshake
 // takes a few hundred milliseconds per peer.
 constexpr std::chrono::milliseconds kRejoinListen{3000};
+// How long the old participant stays, at most, while the daemons it heard have not heard the new one.
+constexpr std::chrono::milliseconds kRejoinOverlap{15000};
 
 }  // namespace
 
@@ -74,22 +78,25 @@ void Daemon::mark_version(const std::string& scene, const RoadmapSession& sessio
 
 void Daemon::rejoin(const std::string& why) {
   const auto start = std::chrono::steady_clock::now();
-  last_rejoin_ = start;
   spdlog::warn("rejoining DDS domain {} with a new participant: {}", config_.domain, why);
+  // Made before the old one leaves (a rejoin is not a leave): peers that meet the new participant
+  // while the old one still announces this daemon never see it gone, so none of them takes its
+  // scenes over (read as "left while holding" when the old one left first: CI, 2026-11-27).
   std::unique_ptr<DdsEndpoints> old;
-  {
-    std::unique_lock lock(dds_mutex_);
-    old = std::move(dds_);
-  }
-  old.reset();  // peers see it leave; its callbacks find no endpoints and drop what they carry
   try {
     auto fresh = std::make_unique<DdsEndpoints>(*this, config_, joined_ms_);
     std::unique_lock lock(dds_mutex_);
+    old = std::move(dds_);
     dds_ = std::move(fresh);
   } catch (const std::exception& e) {
-    spdlog::error("rejoining DDS domain {} failed: {}; trying again in {:.0f} s", config_.domain, e.what(),
-                  std::chrono::duration<double>(rejoin_schedule_.period()).count());
+    spdlog::error("rejoining DDS domain {} failed: {}; the old participant stays, trying again in {:.0f} s",
+                  config_.domain, e.what(), std::chrono::duration<double>(rejoin_schedule_.period()).count());
     return;
+  }
+  std::vector<std::string> heard;  // the daemons the old participant heard, which must hear the new one
+  if (old) {
+    old->stop_requests();  // requests are answered by the new participant alone
+    for (const msg::DaemonInfo& d : old->other_daemons()) heard.push_back(d.server_id().to_string());
   }
   announce();
   for (const std::string& scene : service_->loaded_scenes()) {
@@ -101,15 +108,40 @@ void Daemon::rejoin(const std::string& why) {
       // unloaded meanwhile
     }
   }
-  {
-    // Interrupted by a stop (SIGTERM is honoured within half a second).
-    std::unique_lock lock(fleet_mutex_);
-    fleet_wake_.wait_for(lock, std::max(kRejoinListen, std::chrono::milliseconds(config_.discovery_wait_ms)),
-                         [this] { return fleet_stop_; });
-  }
-  spdlog::info("rejoined DDS domain {} in {:.2f} s; {} other daemons heard", config_.domain,
+  const bool all_heard = overlap_until_heard(heard);
+  old.reset();  // peers see the old participant leave, and keep the new one's announcement
+  announce();   // the latest announcement everywhere is the new participant's
+  spdlog::info("rejoined DDS domain {} in {:.2f} s; {} other daemons heard{}", config_.domain,
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-               other_daemons().size());
+               other_daemons().size(), all_heard ? "" : " (not every daemon the old participant heard)");
+}
+
+bool Daemon::overlap_until_heard(const std::vector<std::string>& heard) {
+  // At least kRejoinListen (the fleet's rule waits as long: it must not take the scenes of daemons
+  // not heard yet), then until the new participant hears every daemon the old one heard, at most
+  // kRejoinOverlap. A daemon heard has authenticated the new participant, and its announcement
+  // reader has matched the new writer or does within milliseconds. Interrupted by a stop.
+  const auto start = std::chrono::steady_clock::now();
+  const auto listen = std::max(kRejoinListen, std::chrono::milliseconds(config_.discovery_wait_ms));
+  const auto all_heard = [&] {
+    const std::vector<msg::DaemonInfo> now = other_daemons();
+    return std::all_of(heard.begin(), heard.end(), [&](const std::string& id) {
+      return std::any_of(now.begin(), now.end(), [&](const msg::DaemonInfo& d) { return d.server_id() == id; });
+    });
+  };
+  std::unique_lock lock(fleet_mutex_);
+  while (!fleet_stop_) {
+    const auto elapsed = std::chrono::steady_clock::now() - start;
+    if (elapsed >= kRejoinOverlap) break;
+    if (elapsed >= listen) {
+      lock.unlock();
+      const bool done = all_heard();
+      lock.lock();
+      if (done) return true;
+    }
+    fleet_wake_.wait_for(lock, std::chrono::milliseconds(100), [this] { return fleet_stop_; });
+  }
+  return all_heard();
 }
 
 }  // namespace ispars::server

@@ -7,6 +7,8 @@
 #include <fastdds/rtps/common/InstanceHandle.h>
 #include <spdlog/spdlog.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -53,9 +55,15 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
                     },
                     // Every announcement is accepted; one of this daemon's id by another
                     // participant is noted (judged per sample, with its own sender: DDS delivers
-                    // on several threads, this daemon's own samples among them).
+                    // on several threads, this daemon's own samples among them), unless it is
+                    // this process's own participant that a rejoin replaces (same host, pid and
+                    // joining time).
                     [this](const msg::DaemonInfo& d, const std::string& sender) {
-                      if (d.server_id() == server_id_ && sender != own_identity_) note_namesake(d, sender);
+                      const bool this_process = d.pid() == ::getpid() && d.joined_ms() == joined_ms_ &&
+                                                d.host() == host_name();
+                      if (d.server_id() == server_id_ && sender != own_identity_ && !this_process) {
+                        note_namesake(d, sender);
+                      }
                       return true;
                     }),
       // A status counts only from the participant that announces the daemon it names: a forged

@@ -1,14 +1,19 @@
-// A long-lived secured client that dropped a daemon which kept it (one-way loss: the client heard
-// nothing from the daemon for longer than the lease, the daemon heard the client throughout).
-// Debian's Fast DDS 2.9.1 cannot authenticate the two again while the daemon keeps its session
-// (docs/service.md, "A stall under security"), and the daemon, which never lost the client, has
-// no reason to rejoin: the client must, by itself, without losing its state. Here the test's own
-// client and a replica of it, on a host of their own (tests/support/netns_lab.hpp), must answer
-// and follow the scene again within a stated bound of the link coming back.
+// Rejoining under DDS Security (docs/fleet.md, "Rejoining"), in network namespaces of the test's
+// own (tests/support/netns_lab.hpp):
+// - a long-lived secured client that dropped a daemon which kept it (one-way loss: the client
+//   heard nothing from the daemon for longer than the lease, the daemon heard the client
+//   throughout). Debian's Fast DDS 2.9.1 cannot authenticate the two again while the daemon keeps
+//   its session (docs/service.md, "A stall under security"), and the daemon, which never lost the
+//   client, has no reason to rejoin: the client must, by itself, without losing its state. The
+//   client and a replica of it must answer and follow the scene again within a stated bound;
+// - a secured daemon that rejoins while it holds a scene keeps it.
 
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <map>
+#include <memory>
+#include <string>
 #include <thread>
 
 #include "integration/service_fixture.hpp"
@@ -25,6 +30,16 @@ using Clock = std::chrono::steady_clock;
 constexpr std::chrono::seconds kHealBound{30};
 
 class RejoinTest : public ServiceTest {};
+
+// A transport identity as the daemon's log writes it: bytes dotted ("86f2" -> "86.f2").
+std::string dotted(const std::string& identity) {
+  std::string out;
+  for (std::size_t i = 0; i < identity.size(); ++i) {
+    if (i > 0 && i % 2 == 0) out.push_back('.');
+    out.push_back(identity[i]);
+  }
+  return out;
+}
 
 TEST_F(RejoinTest, ASecuredClientThatDroppedADaemonWhichKeptItRejoinsByItself) {
   NetnsLab lab(dir_.path() / "netns", {"d1", "hc"}, kSecureLease);
@@ -85,6 +100,90 @@ TEST_F(RejoinTest, ASecuredClientThatDroppedADaemonWhichKeptItRejoinsByItself) {
   EXPECT_LT(answered_s, static_cast<double>(kHealBound.count()));
   EXPECT_TRUE(daemon.alive());
   EXPECT_EQ(daemon.log().find("rejoining DDS domain"), std::string::npos) << "the daemon rejoined: it lost the client";
+}
+
+// A secured daemon that rejoins (a new participant) while it holds a scene keeps it: its peers
+// must not read the old participant's leave as the holder leaving. The owner is made deaf to the
+// other daemon past the lease, so it drops the other, which kept it; once the link is back the
+// two cannot authenticate again and the owner rejoins (docs/fleet.md, "Rejoining"). Found in CI
+// (2026-11-27): a peer took the scene over 90 ms after the old participant left, and an extend
+// sent to the owner was refused.
+TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
+  NetnsLab lab(dir_.path() / "netns", {"d1", "d2", "hc"}, kSecureLease);
+  const auto keystore =
+      client::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
+                            dir_.path() / "keystore", {"daemon:d1", "daemon:d2", "operator:op", "viewer:probe"});
+  const auto identity = [&](const std::string& name) { return (keystore / "identities" / name).string(); };
+  lab.enter("hc");
+  std::map<std::string, std::unique_ptr<DaemonProcess>> daemons;
+  for (const std::string id : {"d1", "d2"}) {
+    daemons[id] = std::make_unique<DaemonProcess>(
+        ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id,
+        std::vector<std::string>{"--profile-file", lab.profile(id).string(), "--security", identity(id)},
+        identity("probe"), std::vector<std::string>{}, std::chrono::seconds(60), lab.prefix(id),
+        lab.profile("hc").string());
+  }
+  client::ClientOptions options = client_options(domain_);
+  options.participant.profile_file = lab.profile("hc").string();
+  options.participant.security = identity("op");
+  Client client(options);
+  const auto met = Clock::now();
+  while (client.daemons().size() < 2 && Clock::now() - met < std::chrono::seconds(30)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(client.daemons().size(), 2u) << "the client did not hear both daemons";
+  client.load("s0");
+  client.build("s0", ispars_build(800, 3));
+  const msg::SceneStatus built = client.wait_idle("s0", {}, kLong);
+  const std::string owner = built.server_id().to_string();
+  const std::string other = owner == "d1" ? "d2" : "d1";
+
+  const std::string first_participant = client.daemon_identity(owner);
+  ASSERT_FALSE(first_participant.empty());
+
+  lab.deafen(owner, other);  // the owner drops the other once its lease runs out; the other keeps it
+  std::this_thread::sleep_for(kSecureLease + std::chrono::seconds(5));
+  lab.undeafen(owner, other);
+  const auto healed = Clock::now();
+  // The positive control: the owner did rejoin (else this test shows nothing).
+  const auto rejoined = [&] { return daemons[owner]->log().find("rejoined DDS domain") != std::string::npos; };
+  while (!rejoined() && Clock::now() - healed < std::chrono::seconds(60)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  ASSERT_TRUE(rejoined()) << "the owner never rejoined:\n" << daemons[owner]->log();
+  const double rejoined_s = std::chrono::duration<double>(Clock::now() - healed).count();
+  const std::string second_participant = client.daemon_identity(owner);
+  ASSERT_FALSE(second_participant.empty());
+  ASSERT_NE(second_participant, first_participant);
+
+  // Made before break: the other daemon authenticated the owner's new participant before the old
+  // one left, so it never saw the owner gone. Broken (the old participant deleted first), the old
+  // one leaves about 10 ms before the new one is even discovered; a peer whose handshake takes
+  // longer than its fleet period (100 ms), as under load, takes the scene over.
+  const std::string left = "participant " + dotted(first_participant) + " (RTPSParticipant) left";
+  const std::string authenticated = "participant " + dotted(second_participant) + " authenticated";
+  const auto seen = [&](const std::string& line) { return daemons[other]->log().find(line) != std::string::npos; };
+  const auto since = Clock::now();
+  while (!(seen(left) && seen(authenticated)) && Clock::now() - since < std::chrono::seconds(10)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const std::string log = daemons[other]->log();
+  ASSERT_NE(log.find(left), std::string::npos) << log;
+  ASSERT_NE(log.find(authenticated), std::string::npos) << log;
+  EXPECT_LT(log.find(authenticated), log.find(left)) << "the old participant left before daemon " << other
+                                           << " heard the new one:\n" << log;
+
+  // Served by the owner throughout: an extend sent to it is taken, and nothing moved.
+  client.extend("s0", 200);
+  const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
+  EXPECT_EQ(extended.server_id().to_string(), owner);
+  EXPECT_EQ(extended.generation(), built.generation());
+  EXPECT_EQ(extended.samples_done(), 1000u);
+  EXPECT_EQ(daemons[other]->log().find("takes it over"), std::string::npos)
+      << "daemon " << other << " took the scene over:\n" << daemons[other]->log();
+  EXPECT_EQ(daemons[owner]->log().find("handed over to"), std::string::npos) << daemons[owner]->log();
+  std::printf("daemon %s rejoined %.1f s after the link came back and kept scene s0\n", owner.c_str(), rejoined_s);
+  for (auto& [id, d] : daemons) EXPECT_TRUE(d->alive()) << id;
 }
 
 }  // namespace
