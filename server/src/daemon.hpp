@@ -24,6 +24,7 @@
 #include "ispars/wire/rejoin_schedule.hpp"
 #include "reply_cache.hpp"
 #include "scene_claims.hpp"
+#include "takeover_gate.hpp"
 #include "systemd_notify.hpp"
 
 namespace ispars::server {
@@ -143,6 +144,7 @@ class Daemon {
   mutable std::uint64_t status_seq_ = 0;
   std::mutex publish_mutex_;  // writes statuses in stamp order
   std::unique_ptr<SceneClaims> claims_;  // made before dds_: DDS callbacks read it
+  TakeoverGate takeover_gate_;           // requests for a scene wait while take_over() resumes it
   std::mutex announce_mutex_;  // announcements written in the order they were made
   // The scene files and stored roadmaps as last announced: the fleet's rule runs on what the
   // others were told, and is not rescanned on every tick (refresh_listing).

@@ -124,6 +124,7 @@ void Daemon::give_up(const ContestedScene& contest) {
 void Daemon::take_over(const OrphanScene& orphan) {
   spdlog::warn("daemon {} {} scene '{}'; this daemon takes it over", orphan.former_owner,
                orphan.handed_over ? "handed over" : "left while holding", orphan.scene);
+  const auto held = takeover_gate_.hold(orphan.scene);  // until the former owner's work is resumed here
   try {
     const auto [session, loaded_now] = service_->load(orphan.scene);
     FormerRoadmap former;

@@ -14,6 +14,7 @@ namespace ispars::server {
 
 bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
   const std::string scene = request.scene().to_string();
+  if (!scene.empty()) (void)takeover_gate_.wait(scene);  // not the empty roadmap of a takeover half done
   const msg::QueryArgs& args = request.args();
   switch (args._d()) {
     case msg::LIST_SCENES: {
@@ -94,6 +95,7 @@ bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
 
 bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
   const std::string scene = request.scene().to_string();
+  if (!scene.empty()) (void)takeover_gate_.wait(scene);
   const msg::ChangeArgs& args = request.args();
   switch (args._d()) {
     case msg::LOAD_SCENE: {
