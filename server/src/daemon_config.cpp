@@ -9,9 +9,54 @@
 
 #include <set>
 
+#include "daemon_settings.hpp"
 #include "ispars/input_error.hpp"
 
 namespace ispars::server {
+
+namespace {
+
+// Reads each declared setting from a config file's mapping, checking it as it arrives.
+struct YamlReader {
+  const YAML::Node& root;
+  DaemonConfig& config;
+  const std::string& source;
+  std::filesystem::path base;  // relative paths are resolved against the file's directory
+
+  template <class T>
+  void operator()(const IntegerSetting<T>& s) {
+    if (const YAML::Node v = root[std::string(s.key)]) {
+      config.*s.field = checked_integer(s, read<std::int64_t>(v, s.key), source, std::string(s.key));
+    }
+  }
+  template <class T>
+  void operator()(const TextSetting<T>& s) {
+    if (const YAML::Node v = root[std::string(s.key)]) {
+      config.*s.field = checked_text(s, read<std::string>(v, s.key), base, source, std::string(s.key));
+    }
+  }
+  void operator()(const ListSetting& s) {
+    if (const YAML::Node v = root[std::string(s.key)]) {
+      config.*s.field = checked_list(s, read<std::vector<std::string>>(v, s.key), source, std::string(s.key));
+    }
+  }
+  void operator()(const AddressSetting& s) {
+    if (const YAML::Node v = root[std::string(s.key)]) {
+      config.*s.field = parse_listen_address(read<std::string>(v, s.key), source, std::string(s.key));
+    }
+  }
+
+  template <class T>
+  T read(const YAML::Node& value, std::string_view key) const {
+    try {
+      return value.as<T>();
+    } catch (const YAML::Exception&) {
+      throw InputError(source, std::string(key), fmt::format("has the wrong type (line {})", value.Mark().line + 1));
+    }
+  }
+};
+
+}  // namespace
 
 DaemonConfig load_daemon_config(const std::filesystem::path& path) {
   const std::string source = path.string();
@@ -26,45 +71,39 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
   DaemonConfig config;
   if (!root || root.IsNull()) return config;
   if (!root.IsMap()) throw InputError(source, "yaml", "the config must be a mapping of keys to values");
-  const std::set<std::string> known{"data_dir", "scene_dir", "domain", "workers", "build_threads", "profile_file", "profile_name",
-                                    "log_level", "server_id", "max_samples", "snapshot_compact_every", "preload",
-                                    "request_queue", "memory_budget_mb", "security", "discovery_wait_ms",
-                                    "log_file", "log_file_mb", "metrics"};
-  const std::filesystem::path base = path.parent_path();
-  const auto resolve = [&](const std::string& p) {
-    const std::filesystem::path fp(p);
-    return fp.is_absolute() ? fp : base / fp;
-  };
+  std::set<std::string> known;
+  visit_settings([&](const auto& setting) { known.insert(std::string(setting.key)); });
   for (const auto& item : root) {
     const std::string key = item.first.as<std::string>();
-    if (!known.count(key)) throw InputError(source, key, "unknown key");
-    const YAML::Node& value = item.second;
-    try {
-      if (key == "data_dir") config.data_dir = resolve(value.as<std::string>());
-      if (key == "scene_dir") config.scene_dir = resolve(value.as<std::string>());
-      if (key == "domain") config.domain = value.as<int>();
-      if (key == "workers") config.workers = value.as<unsigned>();
-      if (key == "build_threads") config.build_threads = value.as<unsigned>();
-      if (key == "profile_file") config.profile_file = resolve(value.as<std::string>()).string();
-      if (key == "profile_name") config.profile_name = value.as<std::string>();
-      if (key == "security") config.security = resolve(value.as<std::string>()).string();
-      if (key == "log_level") config.log_level = value.as<std::string>();
-      if (key == "server_id") config.server_id = value.as<std::string>();
-      if (key == "max_samples") config.max_samples = value.as<std::uint64_t>();
-      if (key == "snapshot_compact_every") config.snapshot_compact_every = value.as<std::size_t>();
-      if (key == "preload") config.preload = value.as<std::vector<std::string>>();
-      if (key == "request_queue") config.request_queue = value.as<std::size_t>();
-      if (key == "memory_budget_mb") config.memory_budget_mb = value.as<std::uint64_t>();
-      if (key == "discovery_wait_ms") config.discovery_wait_ms = value.as<std::uint32_t>();
-      if (key == "log_file") config.log_file = resolve(value.as<std::string>());
-      if (key == "log_file_mb") config.log_file_mb = value.as<std::uint64_t>();
-      if (key == "metrics") config.metrics = parse_listen_address(value.as<std::string>(), source, "metrics");
-    } catch (const YAML::Exception&) {
-      throw InputError(source, key, fmt::format("has the wrong type (line {})", value.Mark().line + 1));
-    }
+    if (!known.count(key)) throw InputError(source, key.substr(0, 64), "unknown key");
   }
-  check_daemon_config(config, source);
+  const YAML::Node& mapping = root;
+  visit_settings(YamlReader{mapping, config, source, path.parent_path()});
   return config;
+}
+
+std::string flag_of(std::string_view key) {
+  std::string flag = "--";
+  for (const char c : key) flag.push_back(c == '_' ? '-' : c);
+  return flag;
+}
+
+std::string log_level_rule(const std::string& level) {
+  if (spdlog::level::from_str(level) != spdlog::level::off || level == "off") return {};
+  return fmt::format("'{}' is not one of trace, debug, info, warn, error, critical, off", level);
+}
+
+std::string log_file_rule(const std::filesystem::path& file) {
+  if (file.empty()) return {};
+  const std::filesystem::path dir = file.parent_path().empty() ? "." : file.parent_path();
+  std::error_code ec;
+  if (std::filesystem::is_directory(dir, ec)) return {};
+  return fmt::format("its directory {} does not exist", dir.string());
+}
+
+std::string memory_budget_rule(const std::uint64_t& mib) {
+  if (mib == 0 || mib >= 16) return {};
+  return fmt::format("must be 0 (half of this machine's memory) or in 16..{}, got {}", 1ull << 30, mib);
 }
 
 double memory_budget_bytes(const DaemonConfig& config) {
@@ -73,43 +112,6 @@ double memory_budget_bytes(const DaemonConfig& config) {
   const long page = ::sysconf(_SC_PAGE_SIZE);
   if (pages <= 0 || page <= 0) return 4.0 * 1024.0 * 1024.0 * 1024.0;  // unknown: 4 GiB
   return 0.5 * static_cast<double>(pages) * static_cast<double>(page);
-}
-
-void check_daemon_config(const DaemonConfig& c, const std::string& source) {
-  if (c.domain < 0 || c.domain > 232) throw InputError(source, "domain", fmt::format("must be in 0..232, got {}", c.domain));
-  if (c.workers < 1 || c.workers > 64) throw InputError(source, "workers", fmt::format("must be in 1..64, got {}", c.workers));
-  if (c.build_threads < 1 || c.build_threads > 64) {
-    throw InputError(source, "build_threads", fmt::format("must be in 1..64, got {}", c.build_threads));
-  }
-  if (c.max_samples < 1) throw InputError(source, "max_samples", "must be at least 1");
-  if (c.snapshot_compact_every < 1) throw InputError(source, "snapshot_compact_every", "must be at least 1");
-  if (spdlog::level::from_str(c.log_level) == spdlog::level::off && c.log_level != "off") {
-    throw InputError(source, "log_level", fmt::format("'{}' is not one of trace, debug, info, warn, error, critical, off",
-                                                      c.log_level));
-  }
-  if (c.server_id.size() > 64) throw InputError(source, "server_id", "is longer than 64 characters");
-  if (c.memory_budget_mb != 0 && (c.memory_budget_mb < 16 || c.memory_budget_mb > (1ull << 30))) {
-    throw InputError(source, "memory_budget_mb",
-                     fmt::format("must be 0 (half of this machine's memory) or in 16..{}, got {}", 1ull << 30,
-                                 c.memory_budget_mb));
-  }
-  if (c.request_queue < 1 || c.request_queue > 100'000) {
-    throw InputError(source, "request_queue", fmt::format("must be in 1..100000, got {}", c.request_queue));
-  }
-  if (c.discovery_wait_ms < 100 || c.discovery_wait_ms > 60'000) {
-    throw InputError(source, "discovery_wait_ms", fmt::format("must be in 100..60000, got {}", c.discovery_wait_ms));
-  }
-  if (c.log_file_mb < 1 || c.log_file_mb > 100'000) {
-    throw InputError(source, "log_file_mb", fmt::format("must be in 1..100000, got {}", c.log_file_mb));
-  }
-  if (!c.log_file.empty()) {
-    if (c.log_file.string().size() > 4096) throw InputError(source, "log_file", "is longer than 4096 characters");
-    const std::filesystem::path dir = c.log_file.parent_path().empty() ? "." : c.log_file.parent_path();
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec)) {
-      throw InputError(source, "log_file", fmt::format("its directory {} does not exist", dir.string()));
-    }
-  }
 }
 
 ListenAddress parse_listen_address(const std::string& text, const std::string& source, const std::string& field) {

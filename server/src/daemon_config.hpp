@@ -1,5 +1,7 @@
 #pragma once
-// isparsd's configuration: a YAML file, then command-line flags over it.
+// isparsd's configuration: a YAML file, then command-line flags over it. Each setting is declared
+// once, with its key, bounds and doc, in daemon_settings.hpp; the file's reader (here) and the
+// flags (daemon_flags.hpp) check each value as it arrives.
 
 #include <cstdint>
 #include <filesystem>
@@ -54,14 +56,12 @@ struct DaemonConfig {
 /// The memory budget in bytes: config.memory_budget_mb, or half of physical memory when 0.
 [[nodiscard]] double memory_budget_bytes(const DaemonConfig& config);
 
-/// Reads a config file. Throws InputError naming the file and field on a bad or unknown key.
+/// Reads a config file. Throws InputError naming the file and key on an unknown key or a value
+/// of the wrong type, out of its bounds, or against its rule (daemon_settings.hpp).
 [[nodiscard]] DaemonConfig load_daemon_config(const std::filesystem::path& path);
 
 /// Parses "ADDRESS:PORT"; throws InputError naming `source` and `field` when it is not one.
 [[nodiscard]] ListenAddress parse_listen_address(const std::string& text, const std::string& source,
                                                  const std::string& field);
-
-/// Checks a config (after flags are applied): throws InputError naming the field.
-void check_daemon_config(const DaemonConfig& config, const std::string& source);
 
 }  // namespace ispars::server

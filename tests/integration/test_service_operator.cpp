@@ -183,7 +183,9 @@ TEST_F(ServiceTest, ALogFileOrMetricsAddressThatCannotBeUsedStopsTheStartWithIts
   };
   const auto [missing_status, missing] = run({"--log-file", (dir_.path() / "no" / "such" / "x.log").string()});
   EXPECT_EQ(missing_status, 2);
-  EXPECT_NE(missing.find("log_file: its directory " + (dir_.path() / "no" / "such").string() + " does not exist"),
+  // A bad flag is named by the flag (a bad key of the config file by the key: DaemonConfig tests).
+  EXPECT_NE(missing.find("isparsd: command line: --log-file: its directory " + (dir_.path() / "no" / "such").string() +
+                         " does not exist"),
             std::string::npos)
       << missing;
   for (const std::string bad : {"localhost:9464", "127.0.0.1", "127.0.0.1:70000", "127.0.0.1:-1", "::1:80"}) {
@@ -193,7 +195,8 @@ TEST_F(ServiceTest, ALogFileOrMetricsAddressThatCannotBeUsedStopsTheStartWithIts
   }
   const auto [size_status, size_out] = run({"--log-file-mb", "0"});
   EXPECT_EQ(size_status, 2);
-  EXPECT_NE(size_out.find("log_file_mb: must be in 1..100000, got 0"), std::string::npos) << size_out;
+  EXPECT_NE(size_out.find("isparsd: command line: --log-file-mb: must be in 1..100000, got 0"), std::string::npos)
+      << size_out;
 }
 
 }  // namespace

@@ -1,10 +1,16 @@
-// isparsd's config file: keys, relative paths, and named errors.
+// isparsd's settings: the config file (keys, relative paths, named errors), the flags over it,
+// and the one declaration both walk (daemon_settings.hpp).
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <set>
+#include <type_traits>
 
 #include "daemon_config.hpp"
+#include "daemon_flags.hpp"
+#include "daemon_settings.hpp"
 #include "ispars/input_error.hpp"
 #include "support/test_support.hpp"
 
@@ -99,6 +105,105 @@ TEST(DaemonConfig, AListenAddressIsAnIpv4AddressAndAPort) {
   EXPECT_THROW((void)parse_listen_address("127.0.0.256:80", "isparsd", "metrics"), InputError);
   EXPECT_THROW((void)parse_listen_address("[::1]:80", "isparsd", "metrics"), InputError);
   EXPECT_THROW((void)parse_listen_address(":80", "isparsd", "metrics"), InputError);
+}
+
+
+// Parses `args` as isparsd's flags and applies them over `config`.
+DaemonConfig with_flags(std::vector<std::string> args, DaemonConfig config = {}) {
+  CLI::App app;
+  const DaemonFlags flags(app);
+  args.insert(args.begin(), "isparsd");
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  app.parse(static_cast<int>(argv.size()), argv.data());
+  flags.apply(config);
+  return config;
+}
+
+TEST(DaemonFlags, EachSettingHasAFlagOverTheFile) {
+  DaemonConfig file;
+  file.preload = {"from-file"};
+  file.workers = 5;
+  const DaemonConfig c = with_flags({"--workers", "3", "--compact-every", "5", "--load", "a", "--preload", "b",
+                                     "--metrics", "127.0.0.1:9", "--data-dir", "rel/data", "--log-level", "warn",
+                                     "--discovery-wait-ms", "100", "--max-samples", "7"},
+                                    file);
+  EXPECT_EQ(c.workers, 3u);
+  EXPECT_EQ(c.snapshot_compact_every, 5u);
+  EXPECT_EQ(c.preload, (std::vector<std::string>{"from-file", "a", "b"}));
+  EXPECT_EQ(c.metrics, (ListenAddress{"127.0.0.1", 9}));
+  EXPECT_EQ(c.data_dir, "rel/data") << "a flag's path is the caller's, as given";
+  EXPECT_EQ(c.log_level, "warn");
+  EXPECT_EQ(c.discovery_wait_ms, 100u);
+  EXPECT_EQ(c.max_samples, 7u);
+  EXPECT_EQ(with_flags({}, file).workers, 5u) << "no flag: the file's value stays";
+}
+
+TEST(DaemonFlags, BadValuesAreNamedByTheirFlag) {
+  const auto expect = [](const std::vector<std::string>& args, const std::string& needle) {
+    try {
+      (void)with_flags(args);
+      ADD_FAILURE() << "accepted: " << args[0] << " " << args[1];
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect({"--workers", "0"}, "command line: --workers: must be in 1..64, got 0");
+  expect({"--domain", "-1"}, "--domain: must be in 0..232, got -1");
+  expect({"--compact-every", "0"}, "--snapshot-compact-every: must be in 1..");
+  expect({"--memory-budget-mb", "8"}, "--memory-budget-mb: must be 0 (half of this machine's memory)");
+  expect({"--log-level", "chatty"}, "--log-level: 'chatty' is not one of");
+  expect({"--server-id", std::string(65, 'x')}, "--server-id: is longer than 64 characters");
+  expect({"--log-file", "/nowhere/at/all/x.log"}, "--log-file: its directory /nowhere/at/all does not exist");
+  expect({"--metrics", "localhost:1"}, "--metrics: 'localhost:1' does not start with an IPv4 address");
+  EXPECT_THROW((void)with_flags({"--workers", "many"}), CLI::ParseError);
+}
+
+TEST(DaemonFlags, TheHelpGivesEachIntegerItsBoundsAndDefault) {
+  CLI::App app;
+  const DaemonFlags flags(app);
+  const std::string help = app.help();
+  EXPECT_NE(help.find("--request-queue"), std::string::npos) << help;
+  EXPECT_NE(help.find("(1..100000, default 256)"), std::string::npos) << help;
+  EXPECT_NE(help.find("--snapshot-compact-every"), std::string::npos) << help;
+  EXPECT_NE(help.find("--compact-every"), std::string::npos) << help;
+}
+
+// Every declared default keeps its own bounds and rule (a default is never checked at run time).
+TEST(DaemonSettings, EveryDefaultIsWithinItsBounds) {
+  const DaemonConfig defaults;
+  std::size_t settings = 0;
+  visit_settings([&](const auto& s) {
+    ++settings;
+    if constexpr (requires { s.min; }) {
+      const auto value = static_cast<std::int64_t>(defaults.*s.field);
+      EXPECT_NO_THROW((void)checked_integer(s, value, "defaults", std::string(s.key))) << s.key;
+      EXPECT_LT(s.min, s.max) << s.key;
+    } else if constexpr (requires { s.max_length; }) {
+      EXPECT_LE(std::string(defaults.*s.field).size(), s.max_length) << s.key;
+    }
+  });
+  EXPECT_EQ(settings, 19u);
+}
+
+// deploy/isparsd.yaml, the shipped config, names every setting (set or commented out) and no
+// other key: a setting added to the declaration without it fails here.
+TEST(DaemonSettings, TheShippedConfigNamesEverySetting) {
+  std::set<std::string> declared;
+  visit_settings([&](const auto& s) { declared.insert(std::string(s.key)); });
+  std::set<std::string> shipped;
+  std::ifstream in(std::string(ISPARS_SCENES_DIR) + "/../isparsd.yaml");
+  ASSERT_TRUE(in) << "deploy/isparsd.yaml";
+  for (std::string line; std::getline(in, line);) {
+    std::size_t at = line.find_first_not_of("# ");
+    if (at == std::string::npos) continue;
+    const std::size_t colon = line.find(':', at);
+    const std::string key = colon == std::string::npos ? std::string() : line.substr(at, colon - at);
+    if (!key.empty() && key.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") == std::string::npos) {
+      shipped.insert(key);
+    }
+  }
+  EXPECT_EQ(shipped, declared);
 }
 
 }  // namespace

@@ -1,0 +1,73 @@
+#include "daemon_flags.hpp"
+
+#include <fmt/format.h>
+
+#include <type_traits>
+
+#include "daemon_settings.hpp"
+
+namespace ispars::server {
+namespace {
+
+constexpr const char* kCommandLine = "command line";
+
+template <class S>
+std::string names_of(const S& s) {
+  std::string names = flag_of(s.key);
+  if constexpr (requires { s.alias; }) {
+    if (!s.alias.empty()) names += "," + flag_of(s.alias);
+  }
+  return names;
+}
+
+template <class T>
+struct IsInteger : std::false_type {};
+template <class T>
+struct IsInteger<IntegerSetting<T>> : std::true_type {};
+template <class T>
+struct IsText : std::false_type {};
+template <class T>
+struct IsText<TextSetting<T>> : std::true_type {};
+
+}  // namespace
+
+DaemonFlags::DaemonFlags(CLI::App& app) {
+  const DaemonConfig defaults;
+  visit_settings([&](const auto& s) {
+    using S = std::decay_t<decltype(s)>;
+    Staged& staged = staged_.emplace_back();
+    const std::string names = names_of(s);
+    const std::string flag = flag_of(s.key);
+    if constexpr (IsInteger<S>::value) {
+      app.add_option(names, staged.integer,
+                     fmt::format("{} ({}..{}, default {})", s.doc, s.min, s.max, defaults.*s.field));
+      appliers_.push_back([s, &staged, flag](DaemonConfig& c) {
+        if (staged.integer) c.*s.field = checked_integer(s, *staged.integer, kCommandLine, flag);
+      });
+    } else if constexpr (IsText<S>::value) {
+      app.add_option(names, staged.text, std::string(s.doc));
+      appliers_.push_back([s, &staged, flag](DaemonConfig& c) {
+        if (staged.text) c.*s.field = checked_text(s, *staged.text, {}, kCommandLine, flag);
+      });
+    } else if constexpr (std::is_same_v<S, ListSetting>) {
+      app.add_option(names, staged.list, std::string(s.doc));
+      appliers_.push_back([s, &staged, flag](DaemonConfig& c) {
+        std::vector<std::string> all = c.*s.field;
+        all.insert(all.end(), staged.list.begin(), staged.list.end());
+        c.*s.field = checked_list(s, std::move(all), kCommandLine, flag);
+      });
+    } else {
+      static_assert(std::is_same_v<S, AddressSetting>);
+      app.add_option(names, staged.text, std::string(s.doc));
+      appliers_.push_back([s, &staged, flag](DaemonConfig& c) {
+        if (staged.text) c.*s.field = parse_listen_address(*staged.text, kCommandLine, flag);
+      });
+    }
+  });
+}
+
+void DaemonFlags::apply(DaemonConfig& config) const {
+  for (const auto& apply_one : appliers_) apply_one(config);
+}
+
+}  // namespace ispars::server
