@@ -54,7 +54,8 @@ msg::Reply reply_to(const Request& request, const std::string& server_id) {
 
 }  // namespace
 
-Daemon::Daemon(DaemonConfig config) : config_(std::move(config)) {
+Daemon::Daemon(DaemonConfig config)
+    : config_(std::move(config)), listing_(config_.scene_dir, config_.data_dir) {
   if (config_.server_id.empty()) config_.server_id = fmt::format("{}-{}", host_name(), ::getpid());
   std::filesystem::create_directories(config_.data_dir);
   const auto lock_path = config_.data_dir / ".isparsd.lock";

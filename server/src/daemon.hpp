@@ -23,6 +23,7 @@
 #include "ispars/service/worker_pool.hpp"
 #include "ispars/wire/rejoin_schedule.hpp"
 #include "reply_cache.hpp"
+#include "fleet_listing.hpp"
 #include "scene_claims.hpp"
 #include "takeover_gate.hpp"
 #include "systemd_notify.hpp"
@@ -98,7 +99,7 @@ class Daemon {
   void publish_unloaded(const std::string& scene, bool given_up);
   void announce();
   msg::DaemonInfo self_info() const;
-  bool refresh_listing();  // rescans the scene and data directories; true when either changed
+  bool refresh_listing();  // listing_.refresh() with the scenes held; true when it changed
   ServiceEvents service_events();
   // The fleet (daemon_fleet.cpp): waiting for the other daemons at start, then a thread that
   // gives up contested scenes and takes over those whose holder left.
@@ -127,8 +128,6 @@ class Daemon {
     if (dds_) f(*dds_);
   }
   [[nodiscard]] std::vector<msg::DaemonInfo> other_daemons() const;
-  void set_fleet_note(const std::string& scene, const std::string& note);
-  [[nodiscard]] std::string fleet_note(const std::string& scene) const;  // for the scenes list
   // For operators (daemon_operator.cpp): readiness, watchdog, metrics and health.
   void open_metrics_endpoint();  // first of all: a port in use stops the start
   void start_serving();          // READY
@@ -146,21 +145,7 @@ class Daemon {
   std::unique_ptr<SceneClaims> claims_;  // made before dds_: DDS callbacks read it
   TakeoverGate takeover_gate_;           // requests for a scene wait while take_over() resumes it
   std::mutex announce_mutex_;  // announcements written in the order they were made
-  // The scene files and stored roadmaps as last announced: the fleet's rule runs on what the
-  // others were told, and is not rescanned on every tick (refresh_listing).
-  mutable std::mutex listing_mutex_;
-  std::vector<std::string> available_;
-  std::vector<std::string> stored_;
-  std::vector<ServedRoadmap> stored_roadmaps_;  // stored, not loaded (roadmap_service.hpp)
-  std::vector<UnservableStore> unservable_;
-  // Scenes this daemon handed to another (the winner, and the samples it had accepted to reach),
-  // announced with its copy until it holds the scene again.
-  struct Handover {
-    std::string to;
-    std::uint64_t accepted = 0;
-  };
-  std::map<std::string, Handover> handed_over_;
-  std::map<std::string, std::string> fleet_notes_;  // scene -> what the fleet last decided about it here
+  FleetListing listing_;  // scene files, stored roadmaps, handovers and notes, as announced
   std::vector<ServedRoadmap> last_held_;  // held roadmaps as last announced (announce_if_fresher)
   std::chrono::steady_clock::time_point last_held_announce_{};
   mutable std::shared_mutex dds_mutex_;

@@ -111,10 +111,9 @@ void Daemon::give_up(const ContestedScene& contest) {
   {
     // Announced with this daemon's copy from the moment the scene is released: the winner takes
     // it over, continuing to `accepted`, and no daemon weighs this copy while the winner lives.
-    std::lock_guard lock(listing_mutex_);
-    handed_over_[contest.scene] = {contest.winner, accepted};
-    fleet_notes_[contest.scene] = fmt::format("handed over to daemon {} ({}); this daemon's copy is kept",
-                                              contest.winner, contest.why);
+    listing_.hand_over(contest.scene, contest.winner, accepted,
+                       fmt::format("handed over to daemon {} ({}); this daemon's copy is kept", contest.winner,
+                                   contest.why));
   }
   spdlog::warn("scene '{}' is handed over to daemon {}: {}; the {} samples accepted here go with it", contest.scene,
                contest.winner, contest.why, accepted);
@@ -144,7 +143,7 @@ void Daemon::take_over(const OrphanScene& orphan) {
     }
     if (plan.action == TakeoverPlan::Action::extend) service_->extend(orphan.scene, plan.extend_by);
     if (plan.action == TakeoverPlan::Action::rebuild) service_->build(orphan.scene, plan.request);
-    set_fleet_note(orphan.scene, plan.outcome);
+    listing_.set_note(orphan.scene, plan.outcome);
     if (plan.refused) {
       spdlog::warn("{}", plan.outcome);
     } else {

@@ -25,7 +25,7 @@ bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
         e.loaded(l.loaded);
         e.has_roadmap(l.has_roadmap);
         e.server_id(config_.server_id);
-        e.note(fleet_note(l.name));
+        e.note(listing_.note(l.name));
         list.scenes().push_back(e);
       }
       reply.body().list_scenes(std::move(list));

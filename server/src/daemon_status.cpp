@@ -1,6 +1,6 @@
 // What isparsd tells the domain: the service's events as messages. Each scene's status, stamped
 // in order; committed batches as updates; and the daemon's own announcement (protocol, host, pid,
-// scenes available, claimed and stored).
+// scenes claimed; the scene files and stored roadmaps come from its FleetListing).
 
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -9,7 +9,6 @@
 
 #include "daemon.hpp"
 #include "dds_endpoints.hpp"
-#include "ispars/service/scene_catalog.hpp"
 #include "ispars/wire/convert.hpp"
 #include "status_message.hpp"
 
@@ -27,8 +26,7 @@ ServiceEvents Daemon::service_events() {
   events.on_scenes_changed = [this] { announce(); };
   events.claim = [this](const std::string& scene) {
     claims_->claim(scene);
-    std::lock_guard lock(listing_mutex_);
-    handed_over_.erase(scene);  // held here again: no longer handed over
+    listing_.held_again(scene);
   };
   events.release = [this](const std::string& scene) {
     claims_->release(scene);
@@ -81,68 +79,14 @@ msg::DaemonInfo Daemon::self_info() const {
   info.pid(static_cast<std::int32_t>(::getpid()));
   info.joined_ms(joined_ms_);
   info.builder_version(kBuilderVersion);
-  std::vector<ServedRoadmap> roadmaps = service_ ? service_->held_roadmaps() : std::vector<ServedRoadmap>{};
-  {
-    std::lock_guard lock(listing_mutex_);
-    for (const std::string& name : available_) info.available().push_back(name);
-    for (const std::string& name : stored_) info.stored().push_back(name);
-    for (const ServedRoadmap& r : stored_roadmaps_) {
-      const bool held = std::any_of(roadmaps.begin(), roadmaps.end(), [&](const ServedRoadmap& h) { return h.scene == r.scene; });
-      if (!held) roadmaps.push_back(r);  // loaded since the listing: the live figures above count
-    }
-    for (const ServedRoadmap& r : roadmaps) {
-      msg::StoredRoadmap m;
-      m.scene(r.scene);
-      m.generation(r.generation);
-      m.samples(r.samples);
-      m.target(r.target);
-      m.builder_version(kBuilderVersion);
-      m.fingerprint(r.fingerprint.substr(0, 64));
-      if (const auto h = handed_over_.find(r.scene); h != handed_over_.end() && !r.held) {
-        m.yielded_to(h->second.to);
-        m.target(std::max(r.samples, h->second.accepted));
-      }
-      info.roadmaps().push_back(std::move(m));
-    }
-  }
+  listing_.describe(info, service_ ? service_->held_roadmaps() : std::vector<ServedRoadmap>{});
   // Claimed scenes (being loaded or loaded) are announced as held: no other daemon claims them.
   for (const std::string& name : claims_->claimed()) info.loaded().push_back(name);
   return info;
 }
 
 bool Daemon::refresh_listing() {
-  std::vector<std::string> available = list_scene_names(config_.scene_dir);
-  StoredListing listing;
-  if (service_) listing = list_stored_roadmaps(config_.data_dir, service_->loaded_scenes());
-  std::vector<std::string>& stored = listing.scenes;
-  std::vector<ServedRoadmap>& roadmaps = listing.served;
-  const auto same = [](const std::vector<ServedRoadmap>& a, const std::vector<ServedRoadmap>& b) {
-    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const ServedRoadmap& x, const ServedRoadmap& y) {
-      return x.scene == y.scene && x.generation == y.generation && x.samples == y.samples;
-    });
-  };
-  std::lock_guard lock(listing_mutex_);
-  for (const UnservableStore& u : listing.unservable) {
-    auto& note = fleet_notes_[u.scene];
-    if (note != u.why) spdlog::warn("scene '{}': {}", u.scene, u.why);
-    note = u.why;
-  }
-  if (available == available_ && stored == stored_ && same(roadmaps, stored_roadmaps_)) return false;
-  available_ = std::move(available);
-  stored_ = std::move(stored);
-  stored_roadmaps_ = std::move(roadmaps);
-  return true;
-}
-
-void Daemon::set_fleet_note(const std::string& scene, const std::string& note) {
-  std::lock_guard lock(listing_mutex_);
-  fleet_notes_[scene] = note;
-}
-
-std::string Daemon::fleet_note(const std::string& scene) const {
-  std::lock_guard lock(listing_mutex_);
-  const auto it = fleet_notes_.find(scene);
-  return it == fleet_notes_.end() ? std::string() : it->second;
+  return listing_.refresh(service_ ? std::optional(service_->loaded_scenes()) : std::nullopt);
 }
 
 void Daemon::announce() {

@@ -1,0 +1,84 @@
+#include "fleet_listing.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+#include "ispars/roadmap/build_recipe.hpp"
+#include "ispars/service/scene_catalog.hpp"
+
+namespace ispars::server {
+
+FleetListing::FleetListing(std::filesystem::path scene_dir, std::filesystem::path data_dir)
+    : scene_dir_(std::move(scene_dir)), data_dir_(std::move(data_dir)) {}
+
+bool FleetListing::refresh(const std::optional<std::vector<std::string>>& loaded) {
+  std::vector<std::string> available = list_scene_names(scene_dir_);
+  StoredListing listing;
+  if (loaded) listing = list_stored_roadmaps(data_dir_, *loaded);
+  const auto same = [](const std::vector<ServedRoadmap>& a, const std::vector<ServedRoadmap>& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const ServedRoadmap& x, const ServedRoadmap& y) {
+      return x.scene == y.scene && x.generation == y.generation && x.samples == y.samples;
+    });
+  };
+  std::lock_guard lock(mutex_);
+  for (const UnservableStore& u : listing.unservable) {
+    auto& note = notes_[u.scene];
+    if (note != u.why) spdlog::warn("scene '{}': {}", u.scene, u.why);
+    note = u.why;
+  }
+  if (available == available_ && listing.scenes == stored_ && same(listing.served, stored_roadmaps_)) return false;
+  available_ = std::move(available);
+  stored_ = std::move(listing.scenes);
+  stored_roadmaps_ = std::move(listing.served);
+  return true;
+}
+
+void FleetListing::describe(msg::DaemonInfo& info, std::vector<ServedRoadmap> held) const {
+  std::lock_guard lock(mutex_);
+  for (const std::string& name : available_) info.available().push_back(name);
+  for (const std::string& name : stored_) info.stored().push_back(name);
+  for (const ServedRoadmap& r : stored_roadmaps_) {
+    const bool is_held = std::any_of(held.begin(), held.end(), [&](const ServedRoadmap& h) { return h.scene == r.scene; });
+    if (!is_held) held.push_back(r);  // a scene loaded since the listing: the live figures count
+  }
+  for (const ServedRoadmap& r : held) {
+    msg::StoredRoadmap m;
+    m.scene(r.scene);
+    m.generation(r.generation);
+    m.samples(r.samples);
+    m.target(r.target);
+    m.builder_version(kBuilderVersion);
+    m.fingerprint(r.fingerprint.substr(0, 64));
+    if (const auto h = handed_over_.find(r.scene); h != handed_over_.end() && !r.held) {
+      m.yielded_to(h->second.to);
+      m.target(std::max(r.samples, h->second.accepted));
+    }
+    info.roadmaps().push_back(std::move(m));
+  }
+}
+
+void FleetListing::hand_over(const std::string& scene, const std::string& to, std::uint64_t accepted,
+                             const std::string& note) {
+  std::lock_guard lock(mutex_);
+  handed_over_[scene] = {to, accepted};
+  notes_[scene] = note;
+}
+
+void FleetListing::held_again(const std::string& scene) {
+  std::lock_guard lock(mutex_);
+  handed_over_.erase(scene);
+}
+
+void FleetListing::set_note(const std::string& scene, const std::string& note) {
+  std::lock_guard lock(mutex_);
+  notes_[scene] = note;
+}
+
+std::string FleetListing::note(const std::string& scene) const {
+  std::lock_guard lock(mutex_);
+  const auto it = notes_.find(scene);
+  return it == notes_.end() ? std::string() : it->second;
+}
+
+}  // namespace ispars::server

@@ -1,0 +1,60 @@
+#pragma once
+// What this daemon tells the fleet it has, besides the scenes it holds: the scene files in its
+// scene directory and the roadmaps stored in its data directory, as last announced (the fleet's
+// rule runs on what the others were told, and the directories are not rescanned on every tick);
+// the scenes it handed to another daemon, announced with its copy until it holds them again; and
+// a note per scene of what the fleet last decided about it here, for the scenes list.
+// Safe from many threads. Knows nothing of DDS: it fills the announcement's message.
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ispars.h"
+#include "ispars/service/roadmap_service.hpp"
+
+namespace ispars::server {
+
+class FleetListing {
+ public:
+  FleetListing(std::filesystem::path scene_dir, std::filesystem::path data_dir);
+
+  /// Rescans both directories; `loaded` are the scenes held here (their stores are the
+  /// service's, not listed as stored), none before the service has started (no store is listed
+  /// then). True when what is announced changed. A store that cannot be served is noted (and
+  /// logged once per reason).
+  bool refresh(const std::optional<std::vector<std::string>>& loaded);
+  /// Fills `info`'s scene files, stored scenes and roadmaps: `held` (the roadmaps held now), then
+  /// the stored ones not held; a scene handed over and not held again names its winner and the
+  /// samples accepted here.
+  void describe(msg::DaemonInfo& info, std::vector<ServedRoadmap> held) const;
+
+  /// `scene` was handed to daemon `to` with `accepted` samples accepted here; `note` says so.
+  void hand_over(const std::string& scene, const std::string& to, std::uint64_t accepted, const std::string& note);
+  /// `scene` is held here again: no longer announced as handed over.
+  void held_again(const std::string& scene);
+
+  void set_note(const std::string& scene, const std::string& note);
+  /// What the fleet last decided about `scene` here; empty if nothing.
+  [[nodiscard]] std::string note(const std::string& scene) const;
+
+ private:
+  struct Handover {
+    std::string to;
+    std::uint64_t accepted = 0;
+  };
+  const std::filesystem::path scene_dir_;
+  const std::filesystem::path data_dir_;
+  mutable std::mutex mutex_;
+  std::vector<std::string> available_;
+  std::vector<std::string> stored_;
+  std::vector<ServedRoadmap> stored_roadmaps_;  // stored, not loaded
+  std::map<std::string, Handover> handed_over_;
+  std::map<std::string, std::string> notes_;
+};
+
+}  // namespace ispars::server
