@@ -71,7 +71,7 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
     throw std::runtime_error(fmt::format("store {} belongs to scene '{}', not '{}'", store_dir_.string(),
                                          recovery.recipe.scene, name_));
   }
-  if (std::string why = stale_store_reason(recovery.recipe); !why.empty()) {
+  if (std::string why = stale_store_reason(name_, recovery.recipe, fingerprint_); !why.empty()) {
     refuse_store(std::move(why));
     return;
   }
@@ -112,20 +112,6 @@ void RoadmapSession::refuse_store(std::string why) {
   state_ = SessionState::failed;
 }
 
-std::string RoadmapSession::stale_store_reason(const RoadmapRecipe& stored) const {
-  if (!stored.scene_fingerprint.empty() && stored.scene_fingerprint != fingerprint_) {
-    return fmt::format("the stored roadmap of scene '{}' was built on another version of the scene (its mesh, POIs "
-                       "or parameters changed: fingerprint {} stored, {} now); it is left untouched",
-                       name_, stored.scene_fingerprint, fingerprint_);
-  }
-  if (stored.builder_version != 0 && stored.builder_version != kBuilderVersion) {
-    return fmt::format("the stored roadmap of scene '{}' was made by builder version {}, and this ispars has "
-                       "version {}; it is left untouched",
-                       name_, stored.builder_version, kBuilderVersion);
-  }
-  return {};
-}
-
 void RoadmapSession::check_can_start(const char* field) const {
   if (closed_) throw InputError(kRequest, "scene", fmt::format("scene '{}' was unloaded", name_));
   if (discarding_) throw InputError(kRequest, "scene", fmt::format("scene '{}' is being dropped", name_));
@@ -134,42 +120,8 @@ void RoadmapSession::check_can_start(const char* field) const {
   }
 }
 
-BuildRequest rebuild_request(const RoadmapRecipe& recipe, std::uint64_t samples) {
-  BuildRequest request;
-  request.method = recipe.method;
-  request.variant = recipe.variant;
-  request.seed = recipe.seed;
-  request.samples = samples;
-  request.generation = recipe.generation;
-  for (const RecipeParameter& p : recipe_overrides()) {
-    if (p.get(recipe) > 0.0) request.overrides.emplace(std::string(p.name), p.get(recipe));
-  }
-  return request;
-}
-
-void RoadmapSession::check_samples(std::uint64_t samples) const {
-  if (samples == 0) throw InputError(kRequest, "samples", "must be at least 1");
-  if (samples > limits_.max_samples) {
-    throw InputError(kRequest, "samples",
-                     fmt::format("{} is more than this daemon allows per request ({})", samples, limits_.max_samples));
-  }
-}
-
 std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
-  check_samples(request.samples);
-  RoadmapRecipe recipe;
-  recipe.scene = name_;
-  recipe.method = request.method;
-  recipe.variant = request.variant;
-  recipe.seed = request.seed;
-  recipe.dense_delta = scene_.config().dense_delta;
-  recipe.sparse_delta = scene_.config().sparse_delta;
-  recipe.stretch = scene_.config().stretch;
-  for (const auto& [key, value] : request.overrides) set_recipe_override(recipe, key, value, kRequest);
-  check_stretch_slack(recipe, kRequest);
-  (void)scene_.with_roadmap_parameters(recipe.dense_delta, recipe.sparse_delta, recipe.stretch,
-                                       kRequest);  // throws InputError naming the bad one
-  if (!request.overrides.empty()) check_override_scale(recipe);
+  RoadmapRecipe recipe = requested_recipe(name_, scene_, request, limits_);
   const BuildCost cost = estimate(recipe, request.samples);
   {
     std::lock_guard lock(mutex_);
@@ -203,7 +155,7 @@ std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
 
 std::uint64_t RoadmapSession::request_extend(std::uint64_t samples) {
   std::uint64_t target = 0;
-  check_samples(samples);
+  check_samples(samples, limits_);
   {
     std::lock_guard lock(mutex_);
     check_can_start("scene");
@@ -272,26 +224,6 @@ BuildCost RoadmapSession::expected_cost() const {
   std::lock_guard lock(mutex_);
   if (!recipe_) return {};
   return estimate(*recipe_, std::max(samples_target_, samples_done_));
-}
-
-void RoadmapSession::check_override_scale(const RoadmapRecipe& recipe) const {
-  // Parameters far off the scene's scale make a single neighbourhood query scan millions of grid
-  // cells, and a build that can never be cancelled: refuse them.
-  const double diagonal = (scene_.config().bounds.max - scene_.config().bounds.min).norm();
-  if (recipe.dense_delta < diagonal * 1e-4) {
-    throw InputError(kRequest, "overrides.dense_delta",
-                     fmt::format("{} is too small for this scene (at least {:.4g}, 1e-4 of its diagonal)",
-                                 recipe.dense_delta, diagonal * 1e-4));
-  }
-  if (recipe.sparse_delta > diagonal) {
-    throw InputError(kRequest, "overrides.sparse_delta",
-                     fmt::format("{} is larger than the scene's diagonal ({:.4g})", recipe.sparse_delta, diagonal));
-  }
-  if (recipe.sparse_delta > 50 * recipe.dense_delta) {
-    throw InputError(kRequest, "overrides.sparse_delta",
-                     fmt::format("must be at most 50 times dense_delta (got {} and {})", recipe.sparse_delta,
-                                 recipe.dense_delta));
-  }
 }
 
 SessionStatus RoadmapSession::status_locked() const {

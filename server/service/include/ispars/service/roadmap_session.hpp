@@ -24,6 +24,7 @@
 #include "ispars/search/path_query.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
+#include "ispars/service/build_request.hpp"
 #include "ispars/service/reader_gate.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
@@ -64,25 +65,6 @@ struct SessionStatus {
   std::uint64_t generation = 0;
 };
 
-/// A build request, as checked by request_build(): the recipe's choices, the scene parameters
-/// it overrides (by name, recipe_overrides() in build_recipe.hpp) and the job's size.
-struct BuildRequest {
-  BuildMethod method = BuildMethod::ispars;
-  SparsVariant variant = SparsVariant::stretch;
-  std::uint64_t samples = 0;
-  std::uint64_t seed = 1;
-  std::map<std::string, double> overrides;
-  bool replace = false;
-  /// 0: a new roadmap, with a new generation. Otherwise the generation of the roadmap this build
-  /// makes again (a fleet takeover continuing another daemon's roadmap: the same lineage).
-  std::uint64_t generation = 0;
-};
-
-/// The build request that makes `recipe`'s roadmap to `samples` samples: its method, variant and
-/// seed, with its deltas, stretch and p_accept as overrides (request_build's inverse; a value of 0,
-/// unknown to the sender, is left to the scene), and its generation.
-[[nodiscard]] BuildRequest rebuild_request(const RoadmapRecipe& recipe, std::uint64_t samples);
-
 /// A published roadmap: immutable, shared by every reader that holds it, with its coverage
 /// figures computed once when it is published (not on every status query).
 struct PublishedRoadmap {
@@ -97,12 +79,6 @@ struct PublishedRoadmap {
 [[nodiscard]] PublishedRoadmap make_published(std::shared_ptr<const Roadmap> roadmap, std::uint64_t generation,
                                               std::uint64_t samples);
 
-/// Limits a session enforces on requests.
-struct SessionLimits {
-  std::uint64_t max_samples = 50'000'000;  ///< Per build or extend request.
-  std::size_t compact_every = 64;          ///< Journal commits between store compactions.
-  unsigned build_threads = 1;              ///< Threads per build (any count: the same roadmap).
-};
 
 /// A verify running longer than this is stopped and answered with an error naming the budget.
 inline constexpr std::chrono::milliseconds kVerifyBudget{300'000};
@@ -202,14 +178,8 @@ class RoadmapSession {
   [[nodiscard]] bool published_is_builders(std::uint64_t generation) const;
   [[nodiscard]] std::uint64_t samples_done() const;  // takes mutex_
   void check_can_start(const char* field) const;  // with mutex_ held
-  // A build's or extend's sample count: at least 1, at most limits_.max_samples (InputError).
-  void check_samples(std::uint64_t samples) const;
-  // Why the stored roadmap (of recipe `stored`) must not be served here: another version of the
-  // scene, or of the builders. Empty when it may.
-  [[nodiscard]] std::string stale_store_reason(const RoadmapRecipe& stored) const;
   // Marks the stored roadmap unusable (`why`): FAILED, nothing served, files untouched.
   void refuse_store(std::string why);
-  void check_override_scale(const RoadmapRecipe& recipe) const;
   std::filesystem::path discard_store(const std::string& aside_why);  // drop (empty why) or set aside
   BuildCost estimate(const RoadmapRecipe& recipe, std::uint64_t total_samples) const;
   // Takes job_mutex_ (shared or alone) once no job is queued or running; a job that has just
