@@ -107,6 +107,19 @@ TEST(SceneConfig, EveryNumericFieldIsChecked) {
   expect_error(with("pois", "pois: {count: 10, seed: 1, skip_ground: maybe}"), "pois.skip_ground");
 }
 
+// Every numeric parameter has an upper bound too (a scene 1000 km across, a stretch of 1000).
+TEST(SceneConfig, EveryNumericFieldHasAnUpperBound) {
+  for (const std::string key : {"scale", "robot_radius", "sensor_range", "dense_delta", "sparse_delta"}) {
+    EXPECT_NE(expect_error(with(key, key + ": 2e6"), key).find("must be at most 1000000, got 2000000"),
+              std::string::npos)
+        << key;
+    EXPECT_NO_THROW((void)parse_scene_config_text(with(key, key + ": 1e6"), ".", "scene.yaml")) << key;
+  }
+  EXPECT_NE(expect_error(with("stretch", "stretch: 1001"), "stretch").find("must be at most 1000"),
+            std::string::npos);
+  EXPECT_NE(expect_error(with("stretch", "stretch: 0.9"), "stretch").find("must be at least 1"), std::string::npos);
+}
+
 TEST(SceneConfig, BoundsAndRootAreChecked) {
   expect_error(with("bounds", "bounds: {min: [0, 0, 0], max: [1, 1]}"), "bounds.max");
   expect_error(with("bounds", "bounds: {min: [0, 0, 5], max: [1, 1, 5]}"), "bounds");

@@ -14,6 +14,30 @@
 namespace ispars {
 namespace {
 
+// A scene's numeric parameters, each declared once: its key, its field, its bounds and whether a
+// mesh scene must give it (a procedural scene's generator supplies every one). The reader, the
+// list of known keys and check_scene_config all walk this table.
+struct SceneNumber {
+  const char* key;
+  double SceneConfig::*field;
+  double min;            // the smallest value allowed; `positive` makes it exclusive
+  bool positive;
+  double max;            // the largest value allowed (scene units: a mesh 1000 km across is not a scene)
+  bool required;         // for a mesh scene
+  const char* min_text;  // what the lower bound means, for the error
+};
+
+constexpr double kLargest = 1e6;
+constexpr SceneNumber kSceneNumbers[] = {
+    {"scale", &SceneConfig::scale, 0.0, true, kLargest, false, "must be positive"},
+    {"robot_radius", &SceneConfig::robot_radius, 0.0, true, kLargest, true, "must be positive"},
+    {"sensor_range", &SceneConfig::sensor_range, 0.0, true, kLargest, true, "must be positive"},
+    {"dense_delta", &SceneConfig::dense_delta, 0.0, true, kLargest, true, "must be positive"},
+    {"sparse_delta", &SceneConfig::sparse_delta, 0.0, true, kLargest, true, "must be positive"},
+    {"stretch", &SceneConfig::stretch, 1.0, false, 1e3, true,
+     "must be at least 1 (the spanner's stretch factor t)"},
+};
+
 // Reads fields of one YAML map, naming the file and the dotted field path in every error.
 class FieldReader {
  public:
@@ -40,16 +64,6 @@ class FieldReader {
 
   [[nodiscard]] double number(const std::string& key) const {
     return to_number(child(key), key);
-  }
-
-  [[nodiscard]] double number_or(const std::string& key, double fallback) const {
-    return has(key) ? number(key) : fallback;
-  }
-
-  [[nodiscard]] double positive(const std::string& key) const {
-    const double value = number(key);
-    if (!(value > 0.0)) fail(key, fmt::format("must be positive, got {}", value));
-    return value;
   }
 
   [[nodiscard]] std::uint64_t whole(const std::string& key) const {
@@ -128,8 +142,9 @@ SceneConfig parse_root(const YAML::Node& root, const std::filesystem::path& base
                        const std::string& source) {
   if (!root.IsMap()) throw InputError(source, "yaml", "expected a mapping of scene fields at the top level");
   const FieldReader top(source, root, "");
-  top.reject_unknown({"name", "mesh", "procedural", "scale", "bounds", "robot_radius",
-                      "sensor_range", "dense_delta", "sparse_delta", "stretch", "root", "pois"});
+  std::set<std::string> known{"name", "mesh", "procedural", "bounds", "root", "pois"};
+  for (const SceneNumber& n : kSceneNumbers) known.insert(n.key);
+  top.reject_unknown(known);
 
   SceneConfig config;
   if (top.has("mesh") == top.has("procedural")) {
@@ -156,22 +171,17 @@ SceneConfig parse_root(const YAML::Node& root, const std::filesystem::path& base
     config.name = std::filesystem::path(source).stem().string();
   }
 
-  // Required for a mesh scene; optional (generator default) for a procedural one.
-  const auto read_number = [&](const std::string& key, double& field) {
-    if (top.has(key) || !procedural) field = top.number(key);
-  };
-  config.scale = top.number_or("scale", 1.0);
+  // Required for a mesh scene (scale aside: 1 by default); optional (generator default) for a
+  // procedural one.
+  for (const SceneNumber& n : kSceneNumbers) {
+    if (top.has(n.key) || (!procedural && n.required)) config.*n.field = top.number(n.key);
+  }
   if (top.has("bounds") || !procedural) {
     const FieldReader bounds = top.map("bounds");
     bounds.reject_unknown({"min", "max"});
     config.bounds.min = bounds.point("min");
     config.bounds.max = bounds.point("max");
   }
-  read_number("robot_radius", config.robot_radius);
-  read_number("sensor_range", config.sensor_range);
-  read_number("dense_delta", config.dense_delta);
-  read_number("sparse_delta", config.sparse_delta);
-  read_number("stretch", config.stretch);
   if (top.has("root") || !procedural) config.root = top.point("root");
 
   if (top.has("pois") || !procedural) {
@@ -205,17 +215,11 @@ void check_scene_config(const SceneConfig& c) {
   const auto fail = [&](const std::string& field, const std::string& problem) {
     throw InputError(c.source, field, problem);
   };
-  const auto require_positive = [&](const std::string& field, double value) {
-    if (!std::isfinite(value)) fail(field, fmt::format("must be finite, got {}", value));
-    if (!(value > 0.0)) fail(field, fmt::format("must be positive, got {}", value));
-  };
-  require_positive("scale", c.scale);
-  require_positive("robot_radius", c.robot_radius);
-  require_positive("sensor_range", c.sensor_range);
-  require_positive("dense_delta", c.dense_delta);
-  require_positive("sparse_delta", c.sparse_delta);
-  if (!std::isfinite(c.stretch) || !(c.stretch >= 1.0)) {
-    fail("stretch", fmt::format("must be at least 1 (the spanner's stretch factor t), got {}", c.stretch));
+  for (const SceneNumber& n : kSceneNumbers) {
+    const double value = c.*n.field;
+    if (!std::isfinite(value)) fail(n.key, fmt::format("must be finite, got {}", value));
+    if (n.positive ? !(value > n.min) : !(value >= n.min)) fail(n.key, fmt::format("{}, got {}", n.min_text, value));
+    if (value > n.max) fail(n.key, fmt::format("must be at most {}, got {}", n.max, value));
   }
   if (!c.bounds.min.allFinite() || !c.bounds.max.allFinite()) fail("bounds", "must be finite");
   for (int i = 0; i < 3; ++i) {
