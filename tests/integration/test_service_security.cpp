@@ -13,6 +13,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -101,6 +102,18 @@ class SecureServiceTest : public ServiceTest {
     }
     return false;
   }
+  // The positive control of a check that a forbidden load never happened: the operator loads the
+  // scene itself, and its view of the daemon's announcements shows it loaded within 10 s. Without
+  // this, a view that never showed any load would pass that check vacuously.
+  static void expect_an_allowed_load_is_seen(Client& op, const std::string& scene) {
+    EXPECT_NO_THROW(op.load(scene)) << "the operator may load " << scene;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (std::chrono::steady_clock::now() < deadline && !loaded_on(op, scene)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    EXPECT_TRUE(loaded_on(op, scene)) << "the operator's view never showed its own load of " << scene
+                                      << ": it would not have shown a forbidden one either";
+  }
 
   static TempDir* keystore_;
 };
@@ -113,6 +126,28 @@ msg::SceneStatus build_followed(Client& op, client::RoadmapReplica& replica) {
   const auto done = op.wait_idle("s0", {}, kLong);
   replica.wait_for(done.generation(), done.version(), kLong);
   return done;
+}
+
+// The positive control of a check that forged statuses and batches changed nothing: the daemon's
+// own ones still reach the same status reader (`viewer`'s) and the same replica. `op` extends s0
+// past `done`; the viewer must see the extend's last status and the replica must follow to it.
+// Without this, a reader that had stopped hearing anything would pass that check vacuously.
+void expect_the_daemons_extend_is_followed(Client& op, Client& viewer, client::RoadmapReplica& replica,
+                                           const msg::SceneStatus& done) {
+  op.extend("s0", 1500);
+  const auto extended = op.wait_idle("s0", {}, kLong);
+  ASSERT_GT(extended.version(), done.version());
+  EXPECT_TRUE(replica.wait_for(extended.generation(), extended.version(), std::chrono::seconds(30)))
+      << "the replica did not follow the daemon's extend: " << replica.version() << " of " << extended.version();
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  std::optional<msg::SceneStatus> seen = viewer.latest_status("s0");
+  while (std::chrono::steady_clock::now() < deadline && !(seen && seen->version() == extended.version())) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    seen = viewer.latest_status("s0");
+  }
+  ASSERT_TRUE(seen.has_value());
+  EXPECT_EQ(seen->version(), extended.version()) << "the viewer never saw the daemon's status after the extend";
+  EXPECT_EQ(seen->vertices(), extended.vertices());
 }
 
 // A secured daemon "d"; an operator that loaded and built s0; a viewer whose replica followed.
@@ -213,6 +248,7 @@ TEST_F(SecureServiceTest, AnUnauthenticatedParticipantSeesAndWritesNothing) {
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   EXPECT_FALSE(loaded_on(op, "s1"));
   EXPECT_TRUE(daemon->alive());
+  expect_an_allowed_load_is_seen(op, "s1");
 }
 
 TEST_F(SecureServiceTest, AViewerQueriesAndFollowsUpdatesButItsChangesNeverReachTheDaemon) {
@@ -248,6 +284,7 @@ TEST_F(SecureServiceTest, AViewerQueriesAndFollowsUpdatesButItsChangesNeverReach
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   EXPECT_FALSE(loaded_on(op, "s1"));
   EXPECT_EQ(op.stats("s0").vertices(), done.vertices());
+  expect_an_allowed_load_is_seen(op, "s1");
 }
 
 // A daemon that stalls for longer than a 3 s lease (stopped for 5 s here): with that lease Fast
@@ -309,6 +346,7 @@ TEST_F(SecureServiceTest, AForgedStatusOrUpdateFromANonDaemonIdentityChangesNoth
   EXPECT_EQ(replica.snapshots_taken(), snapshots) << "a forged batch made the replica resync";
   EXPECT_EQ(roadmap_digest(replica.roadmap()), digest);
   EXPECT_EQ(op.stats("s0").vertices(), done.vertices());
+  expect_the_daemons_extend_is_followed(op, viewer, replica, done);
 }
 
 // Without security: a participant that is not the announcing daemon writes a status and an
@@ -340,6 +378,7 @@ TEST_F(ServiceTest, AForgedStatusOrUpdateFromAnotherParticipantChangesNothing) {
   EXPECT_EQ(replica.snapshots_taken(), snapshots) << "a forged batch made the replica resync";
   EXPECT_EQ(roadmap_digest(replica.roadmap()), digest);
   EXPECT_NE(op.daemon_identity("d"), "");
+  expect_the_daemons_extend_is_followed(op, op, replica, done);
 }
 
 // Another client's replies, snapshot chunks included, never reach a reader that is not theirs.
@@ -357,6 +396,14 @@ void expect_replies_reach_only_their_requester(Client& requester, RawPeer& bysta
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   EXPECT_EQ(bystander.foreign_replies(), 0u);
   EXPECT_EQ(bystander.replies_received(), 1u);
+  // The positive control: the bystander's reader still hears its own replies after that window
+  // (a reader that heard nothing would have counted no foreign reply either).
+  list.request_seq(8);
+  const auto own = bystander.send(list, std::chrono::seconds(30));
+  ASSERT_TRUE(own.has_value()) << "the bystander's own request after the window was not answered";
+  EXPECT_EQ(own->client_id(), bystander.identity());
+  EXPECT_EQ(bystander.foreign_replies(), 0u);
+  EXPECT_EQ(bystander.replies_received(), 2u);
 }
 
 TEST_F(ServiceTest, RepliesReachOnlyTheirRequester) {
