@@ -65,6 +65,11 @@ TEST_F(ReplicaTest, ADropEmptiesEveryReplicaAndReleasesTheKeptBatches) {
   // A new build on the same scene is followed again by the same replica.
   const msg::SceneStatus rebuilt = build_followed(client, replica, "s0");
   EXPECT_EQ(replica.generation(), rebuilt.generation());
+  // The positive control of `other`'s zero retirements above: a drop of s1 does reach s1's
+  // replica, so that zero was not the count of a replica deaf to every drop.
+  client.drop("s1");
+  EXPECT_TRUE(eventually([&] { return other.retirements() >= 1; })) << "a drop of s1 never reached s1's replica";
+  EXPECT_EQ(other.roadmap().vertex_count(), 0u);
 }
 
 // A replica of s0 subscribes through a filter on its scene: while s1 is built and followed by no
