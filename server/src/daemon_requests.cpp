@@ -37,47 +37,25 @@ bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
     case msg::PATH: {
       const RoadmapPath path =
           service_->path(scene, wire::from_message(args.path().from()), wire::from_message(args.path().to()));
-      msg::PathResult result;
-      for (const Vec3& p : path.waypoints) result.waypoints().push_back(wire::to_message(p));
-      result.length(path.length);
-      reply.body().path(std::move(result));
+      reply.body().path(to_message(path));
       reply.status(status_message(*service_->session(scene)));
       return true;
     }
     case msg::SNAPSHOT: {
       const msg::SnapshotArgs& a = args.snapshot();
       const SnapshotSlice slice = service_->snapshot(scene, a.version(), a.generation(), a.chunk_index());
-      msg::SnapshotChunk chunk;
-      chunk.generation(slice.generation);
-      chunk.version(slice.version);
-      chunk.chunk_index(slice.chunk_index);
-      chunk.chunk_count(slice.chunk_count);
-      chunk.bytes().assign(slice.encoded->begin() + static_cast<std::ptrdiff_t>(slice.begin),
-                           slice.encoded->begin() + static_cast<std::ptrdiff_t>(slice.end));
-      if (slice.chunk_index == 0) {
-        const auto s = service_->session(scene);
-        reply.status(status_message(*s));
-        chunk.root(wire::to_message(s->scene().config().root));
-        for (const Vec3& p : s->scene().pois()) chunk.pois().push_back(wire::to_message(p));
+      if (slice.chunk_index != 0) {
+        reply.body().snapshot(to_message(slice, nullptr));
+        return true;
       }
-      reply.body().snapshot(std::move(chunk));
+      const auto session = service_->session(scene);
+      reply.status(status_message(*session));
+      reply.body().snapshot(to_message(slice, &session->scene()));
       return true;
     }
     case msg::VERIFY: {
       const VerifyOutcome v = service_->verify(scene);
-      const VerificationReport& r = v.report;
-      const std::size_t dense_vertices = service_->stats(scene).dense_vertices;
-      const std::string checked_on =
-          r.invariant_samples > 0
-              ? fmt::format("{} of {} fresh samples, drawn for this check: an estimate, not counted; every sample "
-                            "the build drew keeps it",
-                            r.invariant_vertices, r.invariant_samples)
-              : fmt::format("{} of {} dense vertices", r.invariant_vertices, dense_vertices);
-      reply.message(fmt::format("invalid vertices {}, invalid edges {}, wrong costs {}, sparse not dense {}, "
-                                "Invariant 1 violations {} ({} have one){}",
-                                r.invalid_vertices, r.invalid_edges, r.wrong_costs, r.sparse_not_dense,
-                                r.invariant_violations, checked_on,
-                                v.invariant_promised ? "" : "; Invariant 1 is not promised by this method"));
+      reply.message(verify_summary(v, service_->stats(scene).dense_vertices));
       reply.body().verify(to_message(v));
       reply.status(status_message(*service_->session(scene)));
       return true;

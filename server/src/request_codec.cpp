@@ -85,4 +85,40 @@ msg::TourResult to_message(const TourOutcome& o) {
   return m;
 }
 
+std::string verify_summary(const VerifyOutcome& v, std::size_t dense_vertices) {
+  const VerificationReport& r = v.report;
+  const std::string checked_on =
+      r.invariant_samples > 0
+          ? fmt::format("{} of {} fresh samples, drawn for this check: an estimate, not counted; every sample "
+                        "the build drew keeps it",
+                        r.invariant_vertices, r.invariant_samples)
+          : fmt::format("{} of {} dense vertices", r.invariant_vertices, dense_vertices);
+  return fmt::format("invalid vertices {}, invalid edges {}, wrong costs {}, sparse not dense {}, "
+                     "Invariant 1 violations {} ({} have one){}",
+                     r.invalid_vertices, r.invalid_edges, r.wrong_costs, r.sparse_not_dense, r.invariant_violations,
+                     checked_on, v.invariant_promised ? "" : "; Invariant 1 is not promised by this method");
+}
+
+msg::PathResult to_message(const RoadmapPath& path) {
+  msg::PathResult result;
+  for (const Vec3& p : path.waypoints) result.waypoints().push_back(wire::to_message(p));
+  result.length(path.length);
+  return result;
+}
+
+msg::SnapshotChunk to_message(const SnapshotSlice& slice, const Scene* first) {
+  msg::SnapshotChunk chunk;
+  chunk.generation(slice.generation);
+  chunk.version(slice.version);
+  chunk.chunk_index(slice.chunk_index);
+  chunk.chunk_count(slice.chunk_count);
+  chunk.bytes().assign(slice.encoded->begin() + static_cast<std::ptrdiff_t>(slice.begin),
+                       slice.encoded->begin() + static_cast<std::ptrdiff_t>(slice.end));
+  if (slice.chunk_index == 0 && first != nullptr) {
+    chunk.root(wire::to_message(first->config().root));
+    for (const Vec3& p : first->pois()) chunk.pois().push_back(wire::to_message(p));
+  }
+  return chunk;
+}
+
 }  // namespace ispars::server

@@ -21,6 +21,17 @@ namespace ispars::server {
 
 /// A verify's reply: its report and the violations the method promises to avoid.
 [[nodiscard]] msg::VerifyResult to_message(const VerifyOutcome& v);
+/// A verify's one-line summary, for the reply's message: each count, what Invariant 1 was checked
+/// on (the fresh samples drawn for the check, else the `dense_vertices` dense vertices), and
+/// whether the method promises it.
+[[nodiscard]] std::string verify_summary(const VerifyOutcome& v, std::size_t dense_vertices);
+
+/// A path's reply: its waypoints and length.
+[[nodiscard]] msg::PathResult to_message(const RoadmapPath& path);
+
+/// A snapshot chunk: the slice's bytes and counters; the first chunk (index 0) also carries the
+/// scene's root and POIs, from `first` (which the other chunks do not need: null for them).
+[[nodiscard]] msg::SnapshotChunk to_message(const SnapshotSlice& slice, const Scene* first);
 
 /// A tour's reply: the walk and its waypoints, the shortcut tour, costs, coverage, the proven
 /// bound (0: none), the traces as (seconds, value) pairs flattened, and valid when both the walk

@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <string>
 
 #include "ispars/input_error.hpp"
 #include "request_codec.hpp"
+#include "support/test_support.hpp"
 
 namespace ispars::server {
 namespace {
@@ -150,6 +152,54 @@ TEST(RequestCodec, AVerifyReplyCarriesEachCountAndThePromise) {
   EXPECT_TRUE(m.invariant_promised());
   EXPECT_EQ(m.violations(), v.violations());
   EXPECT_GT(m.violations(), 0u);
+}
+
+TEST(RequestCodec, AVerifySummaryNamesEachCountAndWhatInvariantOneWasCheckedOn) {
+  VerifyOutcome v;
+  v.report.invalid_edges = 2;
+  v.report.invariant_violations = 5;
+  v.report.invariant_vertices = 6;
+  v.invariant_promised = true;
+  EXPECT_EQ(verify_summary(v, 40),
+            "invalid vertices 0, invalid edges 2, wrong costs 0, sparse not dense 0, Invariant 1 violations 5 (6 of "
+            "40 dense vertices have one)");
+  v.report.invariant_samples = 1000;
+  v.invariant_promised = false;
+  const std::string sampled = verify_summary(v, 40);
+  EXPECT_NE(sampled.find("6 of 1000 fresh samples, drawn for this check"), std::string::npos) << sampled;
+  EXPECT_NE(sampled.find("; Invariant 1 is not promised by this method"), std::string::npos) << sampled;
+}
+
+TEST(RequestCodec, APathAndSnapshotChunksAreEncodedWhole) {
+  RoadmapPath path;
+  path.waypoints = {Vec3(0, 0, 1), Vec3(3, 4, 1)};
+  path.length = 5.0;
+  const msg::PathResult p = to_message(path);
+  ASSERT_EQ(p.waypoints().size(), 2u);
+  EXPECT_EQ(p.waypoints()[1].x(), 3.0);
+  EXPECT_EQ(p.length(), 5.0);
+
+  const Scene& scene = test::shared_scene("demo_tank_tower");
+  SnapshotSlice slice;
+  slice.generation = 9;
+  slice.version = 4;
+  slice.chunk_count = 2;
+  slice.encoded = std::make_shared<const std::string>("abcdef");
+  slice.begin = 1;
+  slice.end = 4;
+  const msg::SnapshotChunk first = to_message(slice, &scene);
+  EXPECT_EQ(std::string(first.bytes().begin(), first.bytes().end()), "bcd");
+  EXPECT_EQ(first.generation(), 9u);
+  EXPECT_EQ(first.version(), 4u);
+  EXPECT_EQ(first.chunk_count(), 2u);
+  EXPECT_EQ(first.pois().size(), scene.pois().size());
+  EXPECT_EQ(first.root().z(), scene.config().root.z());
+  slice.chunk_index = 1;
+  slice.begin = 4;
+  slice.end = 6;
+  const msg::SnapshotChunk second = to_message(slice, nullptr);
+  EXPECT_EQ(std::string(second.bytes().begin(), second.bytes().end()), "ef");
+  EXPECT_TRUE(second.pois().empty()) << "only the first chunk carries the POIs";
 }
 
 TEST(RequestCodec, AnUnknownOperationIsNamedByItsCode) {
