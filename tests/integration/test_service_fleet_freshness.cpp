@@ -14,10 +14,26 @@
 #include "ispars/client/replica.hpp"
 #include "ispars/wire/scene_owner.hpp"
 
+#include <httplib.h>  // after Eigen (service_fixture.hpp): it defines a macro Eigen's headers use
+
 namespace ispars::test {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// How many other live daemons the daemon serving metrics on `port` counts (the fleet view its
+// takeovers are decided on); -1 when unreadable.
+double other_daemons_counted_on(int port) {
+  httplib::Client http("127.0.0.1", port);
+  http.set_read_timeout(5, 0);
+  const auto res = http.Get("/metrics");
+  if (!res || res->status != 200) return -1;
+  const std::string text = "\n" + res->body;
+  const std::string series = "\nispars_other_daemons ";
+  const auto at = text.find(series);
+  if (at == std::string::npos) return -1;
+  return std::stod(text.substr(at + series.size()));
+}
 
 // Waits until exactly `id` holds `scene` and serves it idle; returns how long it took (-1: it
 // did not within `limit`), and in `announced` how long until the announcements said so.
@@ -54,9 +70,10 @@ std::string note_of(Client& client, const std::string& scene, const std::string&
 // peers in 3 tries of 3: the profile has no shared memory transport since.)
 class FleetFreshnessTest : public ServiceTest {
  protected:
-  std::unique_ptr<DaemonProcess> start(const std::string& id, const std::filesystem::path& scenes = {}) {
+  std::unique_ptr<DaemonProcess> start(const std::string& id, const std::filesystem::path& scenes = {},
+                                       const std::vector<std::string>& extra = {}) {
     return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id),
-                                           scenes.empty() ? scene_dir_ : scenes, id, std::vector<std::string>{});
+                                           scenes.empty() ? scene_dir_ : scenes, id, extra);
   }
   // Daemon `id` alone builds `scene` to `samples` samples, then stops (SIGTERM).
   void build_alone_and_stop(const std::string& id, const std::string& scene, std::uint64_t samples,
@@ -102,7 +119,9 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
   // new owner is idle and writes no batch.
   client::RoadmapReplica replica(client, "s0");
   ASSERT_TRUE(replica.wait_for(stale.generation(), stale.version(), std::chrono::seconds(30))) << replica.last_error();
-  other = start(p);  // with its 4,000: O must hand the scene over
+  other = start(p, {}, {"--metrics", "127.0.0.1:0"});  // with its 4,000: O must hand the scene over
+  const int p_metrics = metrics_port(other->log());
+  ASSERT_GT(p_metrics, 0) << other->log();
   double held = -1.0;
   const double handover = wait_held_idle_by(client, "s0", p, std::chrono::seconds(30), &held);
   ASSERT_GE(handover, 0.0) << owner->log() << other->log();
@@ -118,8 +137,16 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
       << "the replica stayed on the stale copy: " << replica.version() << " of " << fresher.version();
   EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(client.snapshot("s0").roadmap));
 
+  EXPECT_EQ(other_daemons_counted_on(p_metrics), 1) << "P does not count O before O is killed";
   owner->kill9();
   std::this_thread::sleep_for(std::chrono::seconds(5));  // past the lease: P must not rebuild anything
+  // The window was observed: P's fleet view, on which it decides takeovers, has lost O before the
+  // checks below (else they would show nothing about P's answer to O's leave).
+  const auto lost_by = Clock::now() + std::chrono::seconds(30);
+  while (Clock::now() < lost_by && other_daemons_counted_on(p_metrics) != 0) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(other_daemons_counted_on(p_metrics), 0) << "P never noticed O's kill -9:\n" << other->log();
   const msg::SceneStatus final_status = client.wait_idle("s0", {}, kLong);
   EXPECT_EQ(final_status.server_id(), p);
   EXPECT_EQ(final_status.samples_done(), 4000u);
