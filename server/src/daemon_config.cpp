@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <set>
+#include <type_traits>
 
 #include "daemon_settings.hpp"
 #include "ispars/input_error.hpp"
@@ -80,6 +81,28 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
   const YAML::Node& mapping = root;
   visit_settings(YamlReader{mapping, config, source, path.parent_path()});
   return config;
+}
+
+std::string to_yaml(const DaemonConfig& config) {
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  visit_settings([&](const auto& s) {
+    using S = std::decay_t<decltype(s)>;
+    const std::string key(s.key);
+    if constexpr (std::is_same_v<S, AddressSetting>) {
+      if (const auto& a = config.*s.field) out << YAML::Key << key << YAML::Value << fmt::format("{}:{}", a->host, a->port);
+    } else if constexpr (std::is_same_v<S, ListSetting>) {
+      out << YAML::Key << key << YAML::Value << YAML::Flow << config.*s.field;
+    } else if constexpr (requires { s.max_length; }) {
+      std::string text = std::filesystem::path(config.*s.field).string();
+      if (s.path && !text.empty()) text = std::filesystem::absolute(text).lexically_normal().string();
+      out << YAML::Key << key << YAML::Value << YAML::DoubleQuoted << text;
+    } else {
+      out << YAML::Key << key << YAML::Value << static_cast<std::int64_t>(config.*s.field);
+    }
+  });
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
 }
 
 std::string flag_of(std::string_view key) {

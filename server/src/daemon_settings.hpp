@@ -118,6 +118,10 @@ void visit_settings(Visitor&& visit) {
 /// The flag of a setting: "--" and its key with dashes ("data_dir": "--data-dir").
 [[nodiscard]] std::string flag_of(std::string_view key);
 
+/// `config` as a config file (`isparsd --print-config`): every setting, paths made absolute, an
+/// unset listen address left out. Reading it back gives the same config.
+[[nodiscard]] std::string to_yaml(const DaemonConfig& config);
+
 /// `value` for the setting `s`, or InputError naming `source` and `field` (a key or a flag).
 template <class T>
 T checked_integer(const IntegerSetting<T>& s, std::int64_t value, const std::string& source, const std::string& field) {

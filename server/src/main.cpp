@@ -10,6 +10,7 @@
 
 #include "daemon.hpp"
 #include "daemon_flags.hpp"
+#include "daemon_settings.hpp"
 #include "daemon_log.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/wire/participant.hpp"
@@ -19,6 +20,8 @@ int main(int argc, char** argv) {
   CLI::App app{"isparsd: holds scenes and persistent Inspection-SPARS roadmaps, and serves them over DDS"};
   std::string config_file;
   app.add_option("-c,--config", config_file, "YAML config file (flags override it)")->check(CLI::ExistingFile);
+  bool print_config = false;
+  app.add_flag("--print-config", print_config, "print the config the file and flags make, as a config file, and exit");
   const ispars::server::DaemonFlags flags(app);  // one per setting (daemon_settings.hpp)
   CLI11_PARSE(app, argc, argv);
 
@@ -40,6 +43,10 @@ int main(int argc, char** argv) {
 
   try {
     DaemonConfig config = configure();
+    if (print_config) {
+      std::cout << ispars::server::to_yaml(config);
+      return 0;
+    }
     ispars::server::start_daemon_log(config);
     ispars::wire::route_fastdds_log_to_spdlog();
     // Undone when this scope ends, after the daemon (declared below) is gone, on every path.

@@ -169,6 +169,26 @@ TEST(DaemonFlags, TheHelpGivesEachIntegerItsBoundsAndDefault) {
   EXPECT_NE(help.find("--compact-every"), std::string::npos) << help;
 }
 
+// --print-config's output read back gives the same config, for the defaults and for a config
+// with every setting changed (relative paths come out absolute, so they read back the same).
+TEST(DaemonSettings, APrintedConfigReadsBackTheSame) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir.path() / "logs");
+  DaemonConfig changed = with_flags({"--data-dir", "rel/data", "--domain", "7", "--workers", "3", "--preload", "a",
+                                     "--preload", "b", "--metrics", "127.0.0.1:9464", "--log-file",
+                                     (dir.path() / "logs" / "d.log").string(), "--server-id", "east 1: \"quoted\"",
+                                     "--memory-budget-mb", "64", "--compact-every", "9"});
+  for (const DaemonConfig& config : {DaemonConfig{}, changed}) {
+    const std::string printed = to_yaml(config);
+    const auto path = dir.write("printed.yaml", printed);
+    EXPECT_EQ(to_yaml(load_daemon_config(path)), printed) << printed;
+  }
+  const std::string printed = to_yaml(changed);
+  EXPECT_NE(printed.find("metrics: 127.0.0.1:9464"), std::string::npos) << printed;
+  EXPECT_NE(printed.find((std::filesystem::current_path() / "rel" / "data").string()), std::string::npos) << printed;
+  EXPECT_EQ(to_yaml(DaemonConfig{}).find("metrics"), std::string::npos) << "no address: the key is left out";
+}
+
 // Every declared default keeps its own bounds and rule (a default is never checked at run time).
 TEST(DaemonSettings, EveryDefaultIsWithinItsBounds) {
   const DaemonConfig defaults;
