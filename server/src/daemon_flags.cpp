@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <type_traits>
 
 #include "daemon_settings.hpp"
+#include "ispars/input_error.hpp"
 
 namespace ispars::server {
 namespace {
@@ -18,6 +20,19 @@ std::string names_of(const S& s) {
     if (!s.alias.empty()) names += "," + flag_of(s.alias);
   }
   return names;
+}
+
+// `text` as a whole number, or InputError naming `flag` and the setting's bounds.
+template <class S>
+std::int64_t whole_number(const std::string& text, const S& s, const std::string& flag) {
+  std::int64_t value = 0;
+  const char* end = text.data() + text.size();
+  const auto [at, error] = std::from_chars(text.data(), end, value);
+  if (text.empty() || error != std::errc() || at != end) {
+    throw InputError(kCommandLine, flag,
+                     fmt::format("'{}' is not a whole number in {}..{}", text.substr(0, 32), s.min, s.max));
+  }
+  return value;
 }
 
 template <class T>
@@ -39,10 +54,11 @@ DaemonFlags::DaemonFlags(CLI::App& app) {
     const std::string names = names_of(s);
     const std::string flag = flag_of(s.key);
     if constexpr (IsInteger<S>::value) {
-      app.add_option(names, staged.integer,
-                     fmt::format("{} ({}..{}, default {})", s.doc, s.min, s.max, defaults.*s.field));
+      // Read as text and converted here: CLI11 saturates a number past 64 bits.
+      app.add_option(names, staged.text, fmt::format("{} ({}..{}, default {})", s.doc, s.min, s.max, defaults.*s.field))
+          ->type_name("INT");
       appliers_.push_back([s, &staged, flag](DaemonConfig& c) {
-        if (staged.integer) c.*s.field = checked_integer(s, *staged.integer, kCommandLine, flag);
+        if (staged.text) c.*s.field = checked_integer(s, whole_number(*staged.text, s, flag), kCommandLine, flag);
       });
     } else if constexpr (IsText<S>::value) {
       app.add_option(names, staged.text, std::string(s.doc));

@@ -5,7 +5,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <cstdint>
 #include <deque>
 #include <functional>
 #include <optional>
@@ -28,8 +27,7 @@ class DaemonFlags {
   void apply(DaemonConfig& config) const;
 
  private:
-  struct Staged {  // what CLI11 parsed for one setting
-    std::optional<std::int64_t> integer;
+  struct Staged {  // what CLI11 parsed for one setting (an integer as text: converted here)
     std::optional<std::string> text;
     std::vector<std::string> list;
   };

@@ -156,7 +156,9 @@ TEST(DaemonFlags, BadValuesAreNamedByTheirFlag) {
   expect({"--server-id", std::string(65, 'x')}, "--server-id: is longer than 64 characters");
   expect({"--log-file", "/nowhere/at/all/x.log"}, "--log-file: its directory /nowhere/at/all does not exist");
   expect({"--metrics", "localhost:1"}, "--metrics: 'localhost:1' does not start with an IPv4 address");
-  EXPECT_THROW((void)with_flags({"--workers", "many"}), CLI::ParseError);
+  expect({"--workers", "many"}, "--workers: 'many' is not a whole number in 1..64");
+  expect({"--domain", "99999999999999999999"}, "--domain: '99999999999999999999' is not a whole number in 0..232");
+  expect({"--request-queue", "12x"}, "--request-queue: '12x' is not a whole number");
 }
 
 TEST(DaemonFlags, TheHelpGivesEachIntegerItsBoundsAndDefault) {
