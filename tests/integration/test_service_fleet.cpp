@@ -211,7 +211,24 @@ TEST_F(FleetTest, OfTwoRunningDaemonsWithOneIdTheOneThatJoinedLaterStops) {
   {
     RawPeer clockless(domain_);  // a joining time of 0 (no real-time clock, or forged): no time at all
     namesake.joined_ms(0);
-    clockless.announce(namesake);
+    // Announced until the daemon has judged it: a namesake that is not the older one makes the
+    // daemon stay and announce itself again (at most once in 5 s), so a second "announcing again"
+    // shows this announcement arrived and was judged before the daemon is checked to stay.
+    const auto announced_again = [&] {
+      const std::string log = daemon->log();
+      std::size_t n = 0;
+      for (auto at = log.find("announcing again"); at != std::string::npos; at = log.find("announcing again", at + 1)) {
+        ++n;
+      }
+      return n;
+    };
+    const std::size_t before = announced_again();
+    const auto deadline = Clock::now() + std::chrono::seconds(15);
+    while (Clock::now() < deadline && announced_again() == before) {
+      clockless.announce(namesake);
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+    EXPECT_GT(announced_again(), before) << "the clockless namesake was never judged:\n" << daemon->log();
     EXPECT_FALSE(daemon->exit_within(std::chrono::milliseconds(1500)).has_value()) << daemon->log();
   }
   RawPeer older(domain_);  // joined a minute before it: the daemon stops
