@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <spdlog/spdlog.h>
 
+#include <functional>
 #include <iostream>
 
 #include "daemon.hpp"
@@ -15,8 +16,65 @@
 #include "ispars/input_error.hpp"
 #include "ispars/wire/participant.hpp"
 
+namespace {
+
+using ispars::server::DaemonConfig;
+
+// Blocks the stop signals in every thread (threads made later inherit it); main waits for them.
+sigset_t block_stop_signals() {
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGHUP);  // never a stop: a reload (see serve)
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  return signals;
+}
+
+// The daemon hears its own probe samples through the transport, not through a shortcut inside
+// the process: its health (daemon_operator.cpp, self_probe.hpp) then covers its sockets and
+// receive threads. Not under DDS Security: there a daemon never heard its own announcements
+// through the transport (measured with Fast DDS 2.9.1: /healthz went 503; the cause was not looked
+// into), so a secured daemon keeps in-process delivery and has no probe.
+void deliver_through_the_transport(const DaemonConfig& config) {
+  if (!config.security.empty()) return;
+  eprosima::fastrtps::LibrarySettingsAttributes library;
+  library.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
+  eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(library);
+}
+
+// Runs the daemon until SIGTERM or SIGINT (SIGHUP reloads what `configure` reads now); its exit status.
+int serve(DaemonConfig config, const std::function<DaemonConfig()>& configure, const sigset_t& signals) {
+  ispars::server::start_daemon_log(config);
+  ispars::wire::route_fastdds_log_to_spdlog();
+  // Undone when this scope ends, after the daemon (declared below) is gone, on every path.
+  struct StopRouting {
+    ~StopRouting() { ispars::wire::stop_fastdds_log_routing(); }
+  } stop_routing;
+  deliver_through_the_transport(config);
+  ispars::server::Daemon daemon(std::move(config));
+  int signal = 0;
+  for (;;) {
+    sigwait(&signals, &signal);
+    if (signal != SIGHUP) break;
+    try {
+      daemon.reload(configure());
+    } catch (const std::exception& e) {
+      spdlog::error("SIGHUP: the config was not reloaded: {}; serving on as before", e.what());
+    }
+  }
+  if (daemon.displaced()) {
+    spdlog::error("stopping: an older daemon serves server id '{}'", daemon.server_id());
+  } else {
+    spdlog::info("{}: finishing the current batches and stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+  }
+  daemon.shutdown();
+  return daemon.displaced() ? ispars::server::kExitServerIdTaken : 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  using ispars::server::DaemonConfig;
   CLI::App app{"isparsd: holds scenes and persistent Inspection-SPARS roadmaps, and serves them over DDS"};
   std::string config_file;
   app.add_option("-c,--config", config_file, "YAML config file (flags override it)")->check(CLI::ExistingFile);
@@ -24,14 +82,7 @@ int main(int argc, char** argv) {
   app.add_flag("--print-config", print_config, "print the config the file and flags make, as a config file, and exit");
   const ispars::server::DaemonFlags flags(app);  // one per setting (daemon_settings.hpp)
   CLI11_PARSE(app, argc, argv);
-
-  // Block the stop signals in every thread; main waits for them below.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGTERM);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGHUP);  // never a stop: a reload (see below)
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  const sigset_t stop_signals = block_stop_signals();
 
   // The config: the file (read again on SIGHUP), then the flags over it.
   const auto configure = [&] {
@@ -40,48 +91,13 @@ int main(int argc, char** argv) {
     flags.apply(config);
     return config;
   };
-
   try {
     DaemonConfig config = configure();
     if (print_config) {
       std::cout << ispars::server::to_yaml(config);
       return 0;
     }
-    ispars::server::start_daemon_log(config);
-    ispars::wire::route_fastdds_log_to_spdlog();
-    // Undone when this scope ends, after the daemon (declared below) is gone, on every path.
-    struct StopRouting {
-      ~StopRouting() { ispars::wire::stop_fastdds_log_routing(); }
-    } stop_routing;
-
-    // The daemon hears its own probe samples through the transport, not through a shortcut inside
-    // the process: its health (daemon_operator.cpp, self_probe.hpp) then covers its sockets and
-    // receive threads. Not under DDS Security: there a daemon never heard its own announcements
-    // through the transport (measured with Fast DDS 2.9.1: /healthz went 503; the cause was not looked
-    // into), so a secured daemon keeps in-process delivery and has no probe.
-    if (config.security.empty()) {
-      eprosima::fastrtps::LibrarySettingsAttributes library;
-      library.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
-      eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(library);
-    }
-    ispars::server::Daemon daemon(std::move(config));
-    int signal = 0;
-    for (;;) {
-      sigwait(&stop_signals, &signal);
-      if (signal != SIGHUP) break;
-      try {
-        daemon.reload(configure());
-      } catch (const std::exception& e) {
-        spdlog::error("SIGHUP: the config was not reloaded: {}; serving on as before", e.what());
-      }
-    }
-    if (daemon.displaced()) {
-      spdlog::error("stopping: an older daemon serves server id '{}'", daemon.server_id());
-    } else {
-      spdlog::info("{}: finishing the current batches and stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
-    }
-    daemon.shutdown();
-    return daemon.displaced() ? ispars::server::kExitServerIdTaken : 0;
+    return serve(std::move(config), configure, stop_signals);
   } catch (const ispars::InputError& e) {
     std::cerr << "isparsd: " << e.what() << "\n";
     return 2;
