@@ -114,6 +114,15 @@ TEST_F(FleetTest, DaemonsStartedTogetherWithTheSameSceneToLoadLeaveOneOwner) {
         EXPECT_NE(d->log().find("daemon " + held[0]), std::string::npos);  // the refusal names the owner
       }
     }
+    // The positive control of the settled window: the observer's view does follow a change of
+    // holders (the holder unloads s2), so the one holder it showed after that window was not a
+    // view that had stopped changing.
+    observer.unload("s2");
+    const auto unloaded_by = Clock::now() + std::chrono::seconds(10);
+    while (Clock::now() < unloaded_by && !holders(observer, "s2").empty()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    EXPECT_EQ(holders(observer, "s2"), std::vector<std::string>{}) << "round " << round;
     for (auto& d : daemons) EXPECT_EQ(d->terminate(), 0);
   }
 }
