@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "ispars/input_error.hpp"
-#include "ispars/scene/scene.hpp"
+#include "ispars/scene/scene_file.hpp"
 #include "ispars/wire/convert.hpp"
 
 namespace ispars::web {
@@ -174,16 +174,16 @@ std::shared_ptr<const std::string> SceneFeed::load_mesh(const std::filesystem::p
   if (scene_dir.empty() || !std::filesystem::exists(file)) {
     throw std::runtime_error(fmt::format("no mesh: {} is not in the gateway's scene directory", scene_ + ".yaml"));
   }
-  const Scene scene = Scene::load(file);
+  const SceneFile scene = read_scene_file(file);  // no collision or visibility checks: only shown here
   const std::vector<Vec3> pois = replica.pois();
-  bool same = pois.size() == scene.pois().size();
-  for (std::size_t i = 0; same && i < pois.size(); ++i) same = (pois[i] - scene.pois()[i]).norm() < 1e-6;
+  bool same = pois.size() == scene.pois.size();
+  for (std::size_t i = 0; same && i < pois.size(); ++i) same = (pois[i] - scene.pois[i]).norm() < 1e-6;
   if (!same) {
     throw std::runtime_error(fmt::format("no mesh: {} in the gateway's scene directory is not the daemon's scene "
                                          "(its POIs differ)",
                                          file.filename().string()));
   }
-  const TriangleMesh& m = scene.mesh();
+  const TriangleMesh& m = scene.mesh;
   auto bytes = std::make_shared<std::string>();
   const auto put = [&](const void* data, std::size_t size) { bytes->append(static_cast<const char*>(data), size); };
   const auto nv = static_cast<std::uint32_t>(m.vertices.size());

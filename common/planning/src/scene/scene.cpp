@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "ispars/input_error.hpp"
-#include "ispars/scene/poi_sampling.hpp"
+#include "ispars/scene/scene_file.hpp"
 #include "ispars/scene/procedural.hpp"
 
 namespace ispars {
@@ -30,27 +30,13 @@ Scene Scene::with_roadmap_parameters(double dense_delta, double sparse_delta, do
 
 Scene Scene::build(const SceneConfig& config) {
   check_scene_config(config);
-  TriangleMesh mesh = config.procedural
-                          ? make_procedural_mesh(config.procedural->kind, config.procedural->seed)
-                          : load_triangle_mesh(config.mesh, "mesh");
-  return build(config, std::move(mesh));
+  return build(config, scene_mesh(config));
 }
 
 Scene Scene::build(const SceneConfig& config, TriangleMesh mesh) {
-  check_scene_config(config);
-  if (mesh.empty()) throw InputError(config.source, "mesh", "mesh contains no triangles");
-  if (config.scale != 1.0) mesh.scale(config.scale);
-
-  std::vector<Vec3> pois;
-  if (!config.pois.file.empty()) {
-    pois = read_poi_file(config.pois.file, "pois.file");
-  } else {
-    try {
-      pois = sample_pois_on_surface(mesh, config.pois.count, config.pois.seed, config.pois.skip_ground);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(config.source, "pois", e.what());
-    }
-  }
+  SceneFile file = scene_file_from(config, std::move(mesh));  // the mesh scaled, the POIs made
+  std::vector<Vec3> pois = std::move(file.pois);
+  mesh = std::move(file.mesh);
 
   Scene scene;
   scene.config_ = std::make_shared<const SceneConfig>(config);
