@@ -96,6 +96,17 @@ inline BuildArgs ispars_build(std::uint64_t samples, std::uint64_t seed = 1, boo
   return a;
 }
 
+// A built scene, as most service tests start: `scene` loaded, built with `args`, and waited for.
+// The status it settled in; the test fails at once unless that is idle with every sample.
+inline msg::SceneStatus load_and_build(Client& client, const std::string& scene, const BuildArgs& args) {
+  client.load(scene);
+  client.build(scene, args);
+  msg::SceneStatus status = client.wait_idle(scene, {}, kLong);
+  EXPECT_EQ(status.state(), msg::SCENE_IDLE) << scene << ": " << status.last_error();
+  EXPECT_EQ(status.samples_done(), args.samples) << scene;
+  return status;
+}
+
 // The roadmap an uninterrupted in-process build of `samples` gives: the reference for the daemon.
 inline std::uint64_t reference_digest(const std::filesystem::path& scene_file, std::uint64_t samples, std::uint64_t seed,
                                       BuildMethod method = BuildMethod::ispars, double stretch_slack = 0.0,

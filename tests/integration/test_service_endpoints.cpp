@@ -94,9 +94,7 @@ TEST_F(ServiceTest, MetricsCountRequestsByOutcomeAndShowEachRoadmapAsStatsDoes) 
   http.set_read_timeout(5, 0);
 
   Client c(client_options(domain_));
-  c.load("s0");
-  c.build("s0", ispars_build(1500));
-  const msg::SceneStatus built = c.wait_idle("s0", {}, kLong);
+  const msg::SceneStatus built = load_and_build(c, "s0", ispars_build(1500));
   for (int i = 0; i < 3; ++i) (void)c.stats("s0");
   EXPECT_THROW((void)c.stats("nowhere"), ClientError);
 

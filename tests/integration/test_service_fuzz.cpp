@@ -79,9 +79,7 @@ std::string random_payload(std::mt19937_64& rng) {
 TEST_F(ServiceTest, AThousandMalformedRequestsWhileEightClientsQuery) {
   auto daemon = start("d");
   Client control(client_options(domain_));
-  control.load("s0");
-  control.build("s0", ispars_build(3000));
-  const auto built = control.wait_idle("s0", {}, kLong);
+  const auto built = load_and_build(control, "s0", ispars_build(3000));
   const std::uint64_t digest = roadmap_digest(control.snapshot("s0").roadmap);
 
   std::atomic<bool> done{false};

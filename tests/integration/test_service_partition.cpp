@@ -115,9 +115,7 @@ void PartitionTest::run_campaign(bool secured) {
   for (const auto& id : kDaemons) daemons[id] = start_on(id);
   auto client_owner = joined();
   Client& client = *client_owner;
-  client.load("s0");
-  client.build("s0", ispars_build(800, 4));
-  msg::SceneStatus status = client.wait_idle("s0", {}, kLong);
+  msg::SceneStatus status = load_and_build(client, "s0", ispars_build(800, 4));
   auto watcher = joined();
   client::RoadmapReplica replica(*watcher, "s0");
   std::vector<Ack> acks{{"start", status.generation(), status.samples_done()}};

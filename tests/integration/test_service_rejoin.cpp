@@ -56,9 +56,7 @@ TEST_F(RejoinTest, ASecuredClientThatDroppedADaemonWhichKeptItRejoinsByItself) {
   options.participant.security = identity("op");
   Client client(options);
   const std::string first_id = client.id();
-  client.load("s0");
-  client.build("s0", ispars_build(800, 3));
-  msg::SceneStatus status = client.wait_idle("s0", {}, kLong);
+  msg::SceneStatus status = load_and_build(client, "s0", ispars_build(800, 3));
   client::RoadmapReplica replica(client, "s0");
   ASSERT_TRUE(replica.wait_for(status.generation(), status.version(), std::chrono::seconds(60))) << replica.last_error();
 
@@ -132,9 +130,7 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   ASSERT_EQ(client.daemons().size(), 2u) << "the client did not hear both daemons";
-  client.load("s0");
-  client.build("s0", ispars_build(800, 3));
-  const msg::SceneStatus built = client.wait_idle("s0", {}, kLong);
+  const msg::SceneStatus built = load_and_build(client, "s0", ispars_build(800, 3));
   const std::string owner = built.server_id().to_string();
   const std::string other = owner == "d1" ? "d2" : "d1";
 

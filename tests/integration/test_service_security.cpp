@@ -309,9 +309,7 @@ TEST_F(SecureServiceTest, AnOperatorBuildsVerifiesAndDrops) {
   auto daemon = start_secure("d");
   const auto joined = joined_as("op");
   Client& op = *joined;
-  op.load("s0");
-  op.build("s0", ispars_build(1200));
-  const auto done = op.wait_idle("s0", {}, kLong);
+  const auto done = load_and_build(op, "s0", ispars_build(1200));
   EXPECT_GT(done.vertices(), 0u);
   EXPECT_TRUE(op.verify("s0").ok());
   op.drop("s0");

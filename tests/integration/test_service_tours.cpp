@@ -13,9 +13,7 @@ namespace {
 TEST_F(ServiceTest, ToursAreSearchedByTheDaemonWithProgressAndValidated) {
   auto daemon = start("d");
   Client client(client_options(domain_));
-  client.load("s0");
-  client.build("s0", ispars_build(4000));
-  const auto built = client.wait_idle("s0", {}, kLong);
+  const auto built = load_and_build(client, "s0", ispars_build(4000));
   std::vector<double> seen, bounds;
   const msg::Reply reply = client.tour("s0", 1.0, 3, {}, [&](double, double cost, double bound) {
     seen.push_back(cost);
