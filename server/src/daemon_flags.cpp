@@ -35,15 +35,6 @@ std::int64_t whole_number(const std::string& text, const S& s, const std::string
   return value;
 }
 
-template <class T>
-struct IsInteger : std::false_type {};
-template <class T>
-struct IsInteger<IntegerSetting<T>> : std::true_type {};
-template <class T>
-struct IsText : std::false_type {};
-template <class T>
-struct IsText<TextSetting<T>> : std::true_type {};
-
 }  // namespace
 
 DaemonFlags::DaemonFlags(CLI::App& app) {
@@ -53,14 +44,14 @@ DaemonFlags::DaemonFlags(CLI::App& app) {
     Staged& staged = staged_.emplace_back();
     const std::string names = names_of(s);
     const std::string flag = flag_of(s.key);
-    if constexpr (IsInteger<S>::value) {
+    if constexpr (requires { s.min; }) {  // an IntegerSetting
       // Read as text and converted here: CLI11 saturates a number past 64 bits.
       app.add_option(names, staged.text, fmt::format("{} ({}..{}, default {})", s.doc, s.min, s.max, defaults.*s.field))
           ->type_name("INT");
       appliers_.push_back([s, &staged, flag](DaemonConfig& c) {
         if (staged.text) c.*s.field = checked_integer(s, whole_number(*staged.text, s, flag), kCommandLine, flag);
       });
-    } else if constexpr (IsText<S>::value) {
+    } else if constexpr (requires { s.max_length; }) {  // a TextSetting
       app.add_option(names, staged.text, std::string(s.doc));
       appliers_.push_back([s, &staged, flag](DaemonConfig& c) {
         if (staged.text) c.*s.field = checked_text(s, *staged.text, {}, kCommandLine, flag);

@@ -32,7 +32,7 @@ struct IntegerSetting {
   std::string_view doc;
   std::int64_t min = 0;
   std::int64_t max = 0;
-  SettingRule<T> rule = nullptr;   ///< Replaces the bounds' message where the rule is richer.
+  SettingRule<T> rule = nullptr;   ///< Checked after the bounds, on the narrowed value.
   std::string_view alias = {};     ///< An older flag, still accepted ("--compact-every").
 };
 

@@ -59,11 +59,10 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
                     // this process's own participant that a rejoin replaces (same host, pid and
                     // joining time).
                     [this](const msg::DaemonInfo& d, const std::string& sender) {
-                      const bool this_process = d.pid() == ::getpid() && d.joined_ms() == joined_ms_ &&
-                                                d.host() == host_name();
-                      if (d.server_id() == server_id_ && sender != own_identity_ && !this_process) {
-                        note_namesake(d, sender);
-                      }
+                      if (d.server_id() != server_id_ || sender == own_identity_) return true;
+                      const bool this_process =
+                          d.pid() == ::getpid() && d.joined_ms() == joined_ms_ && d.host() == host_;
+                      if (!this_process) note_namesake(d, sender);
                       return true;
                     }),
       // A status counts only from the participant that announces the daemon it names: a forged
@@ -74,6 +73,7 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
   fdds::DomainParticipant* p = participant_.get();
   own_identity_ = wire::identity_of(p->guid().guidPrefix);
   joined_ms_ = joined_ms;
+  host_ = host_name();
   fdds::Topic* query_topic = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
   fdds::Topic* change_topic = wire::find_or_create_topic(p, change_type_, wire::kChangeTopic);
   fdds::Topic* reply_topic = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);

@@ -98,6 +98,7 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   std::atomic<bool> id_contested_{false};
   std::unique_ptr<SelfProbe> probe_;
   std::uint64_t joined_ms_ = 0;  // this daemon's DaemonInfo.joined_ms (set before any reader exists)
+  std::string host_;             // this machine's name, as this daemon announces it (set with joined_ms_)
   mutable std::mutex namesake_mutex_;
   std::string older_namesake_;
 
