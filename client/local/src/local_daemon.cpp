@@ -10,9 +10,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <random>
 #include <sstream>
@@ -204,37 +206,97 @@ bool LocalDaemon::alive() {
   return r == 0;
 }
 
-std::optional<int> LocalDaemon::exit_within(std::chrono::milliseconds limit) {
+namespace {
+
+// gdb's bound, and its own: a tool that hangs must not hang the stop it reports on.
+constexpr const char* kGdbSeconds = "20";
+constexpr const char* kGdbKillAfterSeconds = "5";
+constexpr std::chrono::seconds kGdbReapDeadline{30};
+
+// reap_within's result for a process that is not (or no longer) a child of this one.
+constexpr int kNotAChild = -1;
+
+// Waits up to `limit` for child `pid` to exit: its wait status (or kNotAChild), or nullopt when
+// it still runs.
+std::optional<int> reap_within(pid_t pid, std::chrono::milliseconds limit) {
   const auto deadline = std::chrono::steady_clock::now() + limit;
-  while (pid_ > 0) {
+  for (;;) {
     int status = 0;
-    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-      pid_ = -1;
-      return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
-    }
+    const pid_t r = ::waitpid(pid, &status, WNOHANG);
+    if (r == pid) return status;
+    if (r < 0 && errno == ECHILD) return kNotAChild;
     if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  return std::nullopt;
 }
 
-int LocalDaemon::wait_exit() {
-  int status = 0;
-  if (::waitpid(pid_, &status, 0) != pid_) return -1000;
+// Appends every thread's stack of process `pid` to `log` (gdb -p PID -batch, bounded by timeout).
+void append_thread_stacks(pid_t pid, const std::filesystem::path& log) {
+  std::ofstream(log, std::ios::app) << "\n==== LocalDaemon: every thread's stack of pid " << pid
+                                    << " (gdb), which did not stop in time ====\n";
+  std::vector<std::string> args = {"/usr/bin/timeout", "--kill-after", kGdbKillAfterSeconds, kGdbSeconds,
+                                    "/usr/bin/gdb", "-nx", "-batch", "-p", std::to_string(pid),
+                                    "-ex", "thread apply all bt"};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string log_path = log.string();
+  const pid_t gdb = ::fork();
+  if (gdb < 0) return;
+  if (gdb == 0) {
+    const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    if (fd >= 0) {
+      ::dup2(fd, STDOUT_FILENO);
+      ::dup2(fd, STDERR_FILENO);
+    }
+    const int null = ::open("/dev/null", O_RDONLY);
+    if (null >= 0) ::dup2(null, STDIN_FILENO);
+    ::close_range(3, ~0U, 0);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  if (!reap_within(gdb, kGdbReapDeadline)) {
+    ::kill(gdb, SIGKILL);
+    (void)reap_within(gdb, std::chrono::seconds(1));
+  }
+  std::ofstream(log, std::ios::app) << "==== LocalDaemon: end of the stacks of pid " << pid << " ====\n";
+}
+
+}  // namespace
+
+std::optional<int> LocalDaemon::exit_within(std::chrono::milliseconds limit) {
+  if (pid_ <= 0) return std::nullopt;
+  const auto status = reap_within(pid_, limit);
+  if (!status) return std::nullopt;
   pid_ = -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+  if (*status == kNotAChild) return -1000;
+  return WIFEXITED(*status) ? WEXITSTATUS(*status) : -WTERMSIG(*status);
 }
 
 int LocalDaemon::terminate() {
   if (pid_ <= 0) return -1000;
-  ::kill(pid_, SIGTERM);
-  return wait_exit();
+  const pid_t pid = pid_;
+  ::kill(pid, SIGTERM);
+  if (const auto status = exit_within(kStopDeadline)) return *status;
+  stop_timed_out_ = true;
+  std::cerr << "LocalDaemon: STOP TIMED OUT: isparsd " << server_id_ << " (pid " << pid << ") did not exit within "
+            << kStopDeadline.count() << " s of SIGTERM; every thread's stack goes into " << log_path_.string()
+            << ", then SIGKILL" << std::endl;
+  append_thread_stacks(pid, log_path_);
+  kill9();
+  return kStopTimedOut;
 }
 
-void LocalDaemon::kill9() {
-  if (pid_ <= 0) return;
-  ::kill(pid_, SIGKILL);
-  wait_exit();
+bool LocalDaemon::kill9() {
+  if (pid_ <= 0) return true;
+  const pid_t pid = pid_;
+  ::kill(pid, SIGKILL);
+  if (exit_within(kStopDeadline)) return true;
+  stop_timed_out_ = true;
+  pid_ = -1;  // not waited for again (by the destructor, say)
+  std::cerr << "LocalDaemon: STOP TIMED OUT: isparsd " << server_id_ << " (pid " << pid << ") did not exit within "
+            << kStopDeadline.count() << " s of SIGKILL (uninterruptible sleep?); left behind" << std::endl;
+  return false;
 }
 
 std::string LocalDaemon::log() const {

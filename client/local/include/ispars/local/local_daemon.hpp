@@ -47,15 +47,26 @@ class LocalDaemon {
               const std::string& probe_security = "", const std::vector<std::string>& environment = {},
               std::chrono::seconds ready_within = std::chrono::seconds(20),
               const std::vector<std::string>& command_prefix = {}, const std::string& probe_profile_file = "");
-  /// Stops it with SIGTERM if it still runs.
+  /// Stops it with terminate() if it still runs.
   ~LocalDaemon();
   LocalDaemon(const LocalDaemon&) = delete;
   LocalDaemon& operator=(const LocalDaemon&) = delete;
 
-  /// SIGTERM, then waits; returns the exit status (or -signal).
+  /// How long terminate() waits after SIGTERM, and kill9() after SIGKILL, before it gives up on
+  /// the daemon: an orderly stop takes well under a second (a running build's current chunk and
+  /// its commit, then the participant's deletion), so a daemon still running after ten hangs.
+  static constexpr std::chrono::seconds kStopDeadline{10};
+  /// terminate()'s result when the daemon had not exited kStopDeadline after SIGTERM: every
+  /// thread's stack (gdb, at most about 25 s) went into its log, then it was killed with SIGKILL.
+  static constexpr int kStopTimedOut = -2000;
+
+  /// SIGTERM, then waits up to kStopDeadline: the exit status (or -signal), or kStopTimedOut
+  /// (said on stderr too).
   int terminate();
-  /// SIGKILL, then waits.
-  void kill9();
+  /// SIGKILL, then waits up to kStopDeadline; false (said on stderr) when it still had not exited.
+  bool kill9();
+  /// Whether a terminate() or kill9() of this daemon (its destructor's included) ran out of time.
+  [[nodiscard]] bool stop_timed_out() const { return stop_timed_out_; }
   /// Whether the process is still running.
   bool alive();
   /// Waits up to `limit` for the process to exit by itself: its exit status (or -signal), or
@@ -67,8 +78,8 @@ class LocalDaemon {
   [[nodiscard]] pid_t pid() const { return pid_; }
 
  private:
-  int wait_exit();
   pid_t pid_ = -1;
+  bool stop_timed_out_ = false;
   int domain_;
   std::string server_id_;
   std::filesystem::path log_path_;
