@@ -18,6 +18,7 @@
 #include "ispars/input_error.hpp"
 #include "ispars/wire/convert.hpp"
 #include "metrics_endpoint.hpp"
+#include "stop_watchdog.hpp"
 
 namespace ispars::server {
 namespace {
@@ -130,26 +131,35 @@ void Daemon::shutdown() {
   leaving_ = true;
   serving_ = false;
   notifier_.stopping("stopping: running builds commit their current chunk");
+  // Each step is named for the stop watchdog's line, should the stop hang there.
+  note_stop_step("the request readers' stop");
   with_dds([](DdsEndpoints& d) { d.stop_requests(); });
   {
     std::lock_guard lock(fleet_mutex_);
     fleet_stop_ = true;
   }
   fleet_wake_.notify_all();
+  note_stop_step("the fleet thread");
   if (fleet_thread_.joinable()) fleet_thread_.join();
+  note_stop_step("the health watchdog thread");
   if (watchdog_thread_.joinable()) watchdog_thread_.join();
   // Requests being answered finish (a running verify is stopped first, and answers so); queued
   // ones are dropped (their clients retry elsewhere or time out).
+  note_stop_step("the requests being answered (quick and slow lanes)");
   if (service_) service_->stop_all_readers("the daemon is stopping");
   if (quick_lane_) quick_lane_->stop();
   if (slow_lane_) slow_lane_->stop();
+  note_stop_step("the running builds' last commits and tours");
   if (service_) service_->stop();                  // tours reply with their best; builds commit and stop
+  note_stop_step("the metrics endpoint and the service's release");
   metrics_endpoint_.reset();  // it reads the service and the endpoints
   service_.reset();
+  note_stop_step("the DDS endpoints' and participant's deletion");
   {
     std::unique_lock lock(dds_mutex_);
     dds_.reset();
   }
+  note_stop_step("the data directory's lock");
   if (lock_fd_ >= 0) ::close(lock_fd_);
   lock_fd_ = -1;
   spdlog::info("isparsd {} stopped", config_.server_id);

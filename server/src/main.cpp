@@ -15,6 +15,7 @@
 #include "daemon_log.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/wire/participant.hpp"
+#include "stop_watchdog.hpp"
 
 namespace {
 
@@ -68,7 +69,9 @@ int serve(DaemonConfig config, const std::function<DaemonConfig()>& configure, c
   } else {
     spdlog::info("{}: finishing the current batches and stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
   }
+  ispars::server::arm_stop_watchdog();  // from here the process ends within kStopDeadline
   daemon.shutdown();
+  ispars::server::note_stop_step("the daemon's destruction");
   return daemon.displaced() ? ispars::server::kExitServerIdTaken : 0;
 }
 
@@ -97,7 +100,9 @@ int main(int argc, char** argv) {
       std::cout << ispars::server::to_yaml(config);
       return 0;
     }
-    return serve(std::move(config), configure, stop_signals);
+    const int status = serve(std::move(config), configure, stop_signals);
+    ispars::server::note_stop_step("the process's exit (static destructors: Fast DDS's participant factory)");
+    return status;
   } catch (const ispars::InputError& e) {
     std::cerr << "isparsd: " << e.what() << "\n";
     return 2;

@@ -54,7 +54,8 @@ class LocalDaemon {
 
   /// How long terminate() waits after SIGTERM, and kill9() after SIGKILL, before it gives up on
   /// the daemon: an orderly stop takes well under a second (a running build's current chunk and
-  /// its commit, then the participant's deletion), so a daemon still running after ten hangs.
+  /// its commit, then the participant's deletion), and isparsd's own watchdog ends a stuck stop
+  /// at 5 s (exit status 4), so this catches only a daemon whose watchdog could not run either.
   static constexpr std::chrono::seconds kStopDeadline{10};
   /// terminate()'s result when the daemon had not exited kStopDeadline after SIGTERM: every
   /// thread's stack (gdb, at most about 25 s) went into its log, then it was killed with SIGKILL.
