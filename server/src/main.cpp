@@ -5,7 +5,9 @@
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
+#include <cstdlib>
 #include <functional>
 #include <iostream>
 
@@ -70,6 +72,12 @@ int serve(DaemonConfig config, const std::function<DaemonConfig()>& configure, c
     spdlog::info("{}: finishing the current batches and stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
   }
   ispars::server::arm_stop_watchdog();  // from here the process ends within kStopDeadline
+  // For tests only (DaemonStopWatchdogTest): the stop stalls here, as a Fast DDS deadlock once
+  // stalled one, until the watchdog ends the process.
+  if (std::getenv("ISPARS_TEST_STALL_STOP") != nullptr) {
+    ispars::server::note_stop_step("a stall a test asked for (ISPARS_TEST_STALL_STOP)");
+    for (;;) ::pause();
+  }
   daemon.shutdown();
   ispars::server::note_stop_step("the daemon's destruction");
   return daemon.displaced() ? ispars::server::kExitServerIdTaken : 0;
