@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "ispars/client/client.hpp"
+#include "ispars/client/wire_calls.hpp"
 #include "ispars/local/local_daemon.hpp"
 
 namespace ispars::bench {

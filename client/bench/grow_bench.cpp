@@ -30,20 +30,20 @@ nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem:
     } else {
       client.extend(scene, n);
     }
-    const msg::SceneStatus s = client.wait_idle(scene, {}, std::chrono::hours(24));
-    if (s.samples_done() != done + n) throw std::runtime_error("the build stopped at " + std::to_string(s.samples_done()) + ": " + s.last_error());
+    const client::SceneStatus s = client.wait_idle(scene, {}, std::chrono::hours(24));
+    if (s.samples_done != done + n) throw std::runtime_error("the build stopped at " + std::to_string(s.samples_done) + ": " + s.last_error);
     const double seconds = seconds_since(t0);
     done += n;
     rows.push_back({{"samples", done},
                     {"seconds", seconds},
                     {"us_per_sample", 1e6 * seconds / static_cast<double>(n)},
                     {"rss_mib", proc_status_kib(bench.daemon->pid(), "VmRSS:") / 1024.0},
-                    {"vertices", s.vertices()},
-                    {"edges", s.edges()},
-                    {"dense_vertices", s.dense_vertices()},
-                    {"dense_edges", s.dense_edges()},
-                    {"pois_covered", s.pois_covered()},
-                    {"poi_count", s.poi_count()}});
+                    {"vertices", s.vertices},
+                    {"edges", s.edges},
+                    {"dense_vertices", s.dense_vertices},
+                    {"dense_edges", s.dense_edges},
+                    {"pois_covered", s.pois_covered},
+                    {"poi_count", s.poi_count}});
     std::cerr << rows.back().dump() << std::endl;
   }
   const double total = seconds_since(started);
@@ -54,13 +54,13 @@ nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem:
   const double announced = seconds_since(t0);
   Client after(bench.options());
   after.load(scene);  // stored roadmaps are loaded at start: this only confirms it
-  const msg::SceneStatus back = after.stats(scene);
+  const client::SceneStatus back = after.stats(scene);
   const double answered = seconds_since(t0);
-  if (back.samples_done() != samples) throw std::runtime_error("the restarted daemon holds " + std::to_string(back.samples_done()) + " samples");
+  if (back.samples_done != samples) throw std::runtime_error("the restarted daemon holds " + std::to_string(back.samples_done) + " samples");
   after.extend(scene, 1000);
-  const msg::SceneStatus extended = after.wait_idle(scene, {}, std::chrono::hours(24));
+  const client::SceneStatus extended = after.wait_idle(scene, {}, std::chrono::hours(24));
   const double extended_at = seconds_since(t0);
-  if (extended.samples_done() != samples + 1000) throw std::runtime_error("the extend after the restart failed: " + extended.last_error());
+  if (extended.samples_done != samples + 1000) throw std::runtime_error("the extend after the restart failed: " + extended.last_error);
   return {{"bench", "grow"},
           {"scene", scene},
           {"method", method},

@@ -62,8 +62,8 @@ nlohmann::json run_one(const std::string& daemon_binary, const std::string& meth
   reset_peak(pid);
   const double loaded = proc_status_kib(pid, "VmRSS:") / kKiBPerMiB;
   client.build("tower", {method, samples, 1, {}, false, {}});
-  const msg::SceneStatus done = client.wait_idle("tower", {}, std::chrono::hours(4));
-  if (done.samples_done() != samples) throw std::runtime_error(method + " stopped early: " + done.last_error());
+  const client::SceneStatus done = client.wait_idle("tower", {}, std::chrono::hours(4));
+  if (done.samples_done != samples) throw std::runtime_error(method + " stopped early: " + done.last_error);
   wait_for_fold(bench.dir / "data");
   const double peak = proc_status_kib(pid, "VmHWM:") / kKiBPerMiB;
   const double held = proc_status_kib(pid, "VmRSS:") / kKiBPerMiB;
@@ -74,10 +74,10 @@ nlohmann::json run_one(const std::string& daemon_binary, const std::string& meth
   const double recovered_peak = proc_status_kib(bench.daemon->pid(), "VmHWM:") / kKiBPerMiB;
   nlohmann::json row{{"method", method},
                      {"samples", samples},
-                     {"vertices", done.vertices()},
-                     {"edges", done.edges()},
-                     {"dense_vertices", done.dense_vertices()},
-                     {"dense_edges", done.dense_edges()},
+                     {"vertices", done.vertices},
+                     {"edges", done.edges},
+                     {"dense_vertices", done.dense_vertices},
+                     {"dense_edges", done.dense_edges},
                      {"rss_loaded_mib", loaded},
                      {"rss_built_mib", held},
                      {"build_peak_above_loaded_mib", peak - loaded},

@@ -26,6 +26,7 @@
 
 #include "bench_common.hpp"
 #include "ispars/wire/identity.hpp"
+#include "ispars/wire/participant.hpp"
 #include "ispars/wire/topics.hpp"
 #include "isparsPubSubTypes.h"
 
@@ -148,7 +149,7 @@ struct Setting {
     client->build("tower", {"ispars", 2000, 1, {}, false, {}});
     client->wait_idle("tower", {}, std::chrono::seconds(120));
     raw = std::make_unique<RawEndpoints>(bench.domain, identity(keystore, "bench-raw"), false);
-    const std::string reply_hex = reply_to_hex(client->call(stats));
+    const std::string reply_hex = reply_to_hex(client::call(*client, stats));
     // fork + exec: forking a process that already runs DDS threads is unsafe.
     echo = ::fork();
     if (echo == 0) {
@@ -178,7 +179,7 @@ struct Setting {
 
   double service_round_trip() {
     const auto t0 = Clock::now();
-    (void)client->call(stats);
+    (void)client::call(*client, stats);
     return seconds_since(t0);
   }
   double raw_round_trip() {

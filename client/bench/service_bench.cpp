@@ -68,7 +68,7 @@ nlohmann::json run_stream(const std::string& daemon_binary, std::uint64_t sample
     const double build_seconds = seconds_since(t0);
     bool all_equal = true;
     for (auto& r : replicas) {
-      r->wait_for(done.generation(), done.version(), std::chrono::seconds(120));
+      r->wait_for(done.generation, done.version, std::chrono::seconds(120));
     }
     const double seconds = seconds_since(t0);
     const std::uint64_t digest = ispars::roadmap_digest(control.snapshot("tower").roadmap);
@@ -77,10 +77,10 @@ nlohmann::json run_stream(const std::string& daemon_binary, std::uint64_t sample
       all_equal = all_equal && ispars::roadmap_digest(r->roadmap()) == digest;
       resyncs += r->snapshots_taken() - 1;
     }
-    const double vertices = done.vertices();
+    const double vertices = done.vertices;
     rows.push_back({{"subscribers", subscribers},
-                    {"vertices", done.vertices()},
-                    {"edges", done.edges()},
+                    {"vertices", done.vertices},
+                    {"edges", done.edges},
                     {"build_seconds", build_seconds},
                     {"seconds_until_all_replicas_current", seconds},
                     {"vertices_per_second_per_subscriber", vertices / seconds},
@@ -108,8 +108,8 @@ nlohmann::json run_snapshot(const std::string& daemon_binary, std::uint64_t vert
     bytes = ispars::encode_batch(ispars::batch_since(s.roadmap, 0)).size();
   }
   return {{"bench", "snapshot"},
-          {"vertices", done.vertices()},
-          {"edges", done.edges()},
+          {"vertices", done.vertices},
+          {"edges", done.edges},
           {"bytes", bytes},
           {"median_seconds", percentile(times, 0.5)},
           {"max_seconds", percentile(times, 1.0)},
@@ -132,12 +132,12 @@ nlohmann::json run_memory(const std::string& daemon_binary, std::uint64_t sample
     // after the build (measured 300 ms after it: ispars 574-703 MiB; 6 s after: 368 MiB).
     std::this_thread::sleep_for(std::chrono::seconds(6));
     const std::size_t after = rss_kib(bench.daemon->pid());
-    const double dense = method == "dense" ? done.vertices() : done.dense_vertices();
+    const double dense = method == "dense" ? done.vertices : done.dense_vertices;
     rows.push_back({{"method", method},
                     {"samples", samples},
                     {"dense_vertices", dense},
-                    {"dense_edges", method == "dense" ? done.edges() : done.dense_edges()},
-                    {"sparse_vertices", method == "dense" ? 0u : done.vertices()},
+                    {"dense_edges", method == "dense" ? done.edges : done.dense_edges},
+                    {"sparse_vertices", method == "dense" ? 0u : done.vertices},
                     {"rss_loaded_mib", before / 1024.0},
                     {"rss_built_mib", after / 1024.0},
                     {"mib_per_100k_dense_vertices", (after - before) / 1024.0 / (dense / 1e5)}});

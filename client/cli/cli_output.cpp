@@ -9,74 +9,74 @@
 
 namespace ispars::cli {
 
-nlohmann::json status_json(const msg::SceneStatus& s) {
-  return {{"scene", s.scene().to_string()},
-          {"server_id", s.server_id().to_string()},
-          {"state", ispars::wire::to_string(s.state())},
-          {"method", s.method().to_string()},
-          {"variant", s.variant().to_string()},
-          {"seed", s.seed()},
-          {"generation", s.generation()},
-          {"samples_done", s.samples_done()},
-          {"samples_target", s.samples_target()},
-          {"version", s.version()},
-          {"vertices", s.vertices()},
-          {"edges", s.edges()},
-          {"components", s.components()},
-          {"dense_vertices", s.dense_vertices()},
-          {"dense_edges", s.dense_edges()},
-          {"poi_count", s.poi_count()},
-          {"pois_covered", s.pois_covered()},
-          {"pois_covered_root", s.pois_covered_root()},
-          {"dense_delta", s.dense_delta()},
-          {"sparse_delta", s.sparse_delta()},
-          {"stretch", s.stretch()},
-          {"stretch_slack", s.stretch_slack()},
-          {"stretch_slack_after", s.stretch_slack_after()},
-          {"last_error", s.last_error()}};
+nlohmann::json status_json(const client::SceneStatus& s) {
+  return {{"scene", s.scene},
+          {"server_id", s.server_id},
+          {"state", client::to_string(s.state)},
+          {"method", s.method},
+          {"variant", s.variant},
+          {"seed", s.seed},
+          {"generation", s.generation},
+          {"samples_done", s.samples_done},
+          {"samples_target", s.samples_target},
+          {"version", s.version},
+          {"vertices", s.vertices},
+          {"edges", s.edges},
+          {"components", s.components},
+          {"dense_vertices", s.dense_vertices},
+          {"dense_edges", s.dense_edges},
+          {"poi_count", s.poi_count},
+          {"pois_covered", s.pois_covered},
+          {"pois_covered_root", s.pois_covered_root},
+          {"dense_delta", s.dense_delta},
+          {"sparse_delta", s.sparse_delta},
+          {"stretch", s.stretch},
+          {"stretch_slack", s.stretch_slack},
+          {"stretch_slack_after", s.stretch_slack_after},
+          {"last_error", s.last_error}};
 }
 
-void print_status(const msg::SceneStatus& s) {
-  std::cout << fmt::format("{} on {}: {}", s.scene().to_string(), s.server_id().to_string(), ispars::wire::to_string(s.state()));
-  if (s.method().size() != 0) {
-    std::cout << fmt::format(", {}{} seed {}, {}/{} samples\n", s.method().to_string(),
-                             s.variant().size() == 0 ? std::string() : fmt::format(" ({} rules)", s.variant().c_str()),
-                             s.seed(),
-                             s.samples_done(), s.samples_target());
-    if (s.stretch_slack() > 0.0) {
-      std::cout << fmt::format("  stretch: t = {}, slack {} Delta from sample {}\n", s.stretch(), s.stretch_slack(),
-                               s.stretch_slack_after());
+void print_status(const client::SceneStatus& s) {
+  std::cout << fmt::format("{} on {}: {}", s.scene, s.server_id, client::to_string(s.state));
+  if (!s.method.empty()) {
+    std::cout << fmt::format(", {}{} seed {}, {}/{} samples\n", s.method,
+                             s.variant.empty() ? std::string() : fmt::format(" ({} rules)", s.variant),
+                             s.seed,
+                             s.samples_done, s.samples_target);
+    if (s.stretch_slack > 0.0) {
+      std::cout << fmt::format("  stretch: t = {}, slack {} Delta from sample {}\n", s.stretch, s.stretch_slack,
+                               s.stretch_slack_after);
     }
-    std::cout << fmt::format("  roadmap: {} vertices, {} edges, {} components, version {}\n", s.vertices(), s.edges(),
-                             s.components(), s.version());
-    if (s.dense_vertices() > 0) {
-      std::cout << fmt::format("  dense:   {} vertices, {} edges\n", s.dense_vertices(), s.dense_edges());
+    std::cout << fmt::format("  roadmap: {} vertices, {} edges, {} components, version {}\n", s.vertices, s.edges,
+                             s.components, s.version);
+    if (s.dense_vertices > 0) {
+      std::cout << fmt::format("  dense:   {} vertices, {} edges\n", s.dense_vertices, s.dense_edges);
     }
-    std::cout << fmt::format("  POIs:    {} of {} seen, {} from the root's component\n", s.pois_covered(),
-                             s.poi_count(), s.pois_covered_root());
+    std::cout << fmt::format("  POIs:    {} of {} seen, {} from the root's component\n", s.pois_covered,
+                             s.poi_count, s.pois_covered_root);
   } else {
     std::cout << ", no roadmap\n";
   }
-  if (!s.last_error().empty()) std::cout << "  note: " << s.last_error() << "\n";
+  if (!s.last_error.empty()) std::cout << "  note: " << s.last_error << "\n";
 }
 
 // One line of live progress: redrawn in place on a terminal, one line per second otherwise.
 Progress::Progress(bool enabled) : enabled_(enabled), tty_(::isatty(STDERR_FILENO) != 0) {}
 
-void Progress::operator()(const msg::SceneStatus& s) {
+void Progress::operator()(const client::SceneStatus& s) {
     if (!enabled_) return;
     const auto now = std::chrono::steady_clock::now();
-    const bool busy = s.state() == msg::SCENE_BUILDING || s.state() == msg::SCENE_QUEUED || s.state() == msg::SCENE_REPLAYING;
+    const bool busy = client::busy(s.state);
     if (!tty_ && busy && now - last_ < std::chrono::seconds(1)) return;
     last_ = now;
-    const double fraction = s.samples_target() ? static_cast<double>(s.samples_done()) / s.samples_target()
+    const double fraction = s.samples_target ? static_cast<double>(s.samples_done) / s.samples_target
                                                : (busy ? 0.0 : 1.0);
     const int width = 30;
     const int filled = static_cast<int>(width * std::min(1.0, fraction));
     const std::string line =
         fmt::format("[{:<{}}] {:3.0f}% {} {}/{} samples, {} vertices, {} edges",
                     std::string(static_cast<std::size_t>(filled), '#'), width, 100 * fraction,
-                    ispars::wire::to_string(s.state()), s.samples_done(), s.samples_target(), s.vertices(), s.edges());
+                    client::to_string(s.state), s.samples_done, s.samples_target, s.vertices, s.edges);
     std::cerr << (tty_ ? "\r" + line : line + "\n") << std::flush;
     drawn_ = true;
 }
@@ -93,12 +93,12 @@ void write_text(const std::string& path, const std::string& text) {
 }
 
 
-int follow_job(client::Client& client, const std::string& scene, const msg::Reply& reply, bool wait, bool json) {
-  if (!json) std::cout << reply.message() << "\n";
-  msg::SceneStatus final_status = reply.status();
+int follow_job(client::Client& client, const std::string& scene, const client::Reply& reply, bool wait, bool json) {
+  if (!json) std::cout << reply.message << "\n";
+  client::SceneStatus final_status = reply.status;
   if (wait) {
     Progress progress(!json);
-    final_status = client.wait_idle(scene, [&](const msg::SceneStatus& s) { progress(s); },
+    final_status = client.wait_idle(scene, [&](const client::SceneStatus& s) { progress(s); },
                                     std::chrono::hours(24 * 365));
     progress.finish();
   }
@@ -107,7 +107,7 @@ int follow_job(client::Client& client, const std::string& scene, const msg::Repl
   } else if (wait) {
     print_status(final_status);
   }
-  return wait && final_status.state() == msg::SCENE_FAILED ? 1 : 0;
+  return wait && final_status.state == client::SceneState::failed ? 1 : 0;
 }
 
 }  // namespace ispars::cli

@@ -21,16 +21,16 @@ class PathCommand final : public Command {
     return cmd;
   }
   int run(client::Client& client) override {
-    const msg::Reply reply = client.path(scene_, {from_[0], from_[1], from_[2]}, {to_[0], to_[1], to_[2]});
-    const msg::PathResult& r = reply.body().path();
+    const auto reply = client.path(scene_, {from_[0], from_[1], from_[2]}, {to_[0], to_[1], to_[2]});
+    const client::Path& r = reply.path;
     if (json_) {
       nlohmann::json points = nlohmann::json::array();
-      for (const auto& p : r.waypoints()) points.push_back({p.x(), p.y(), p.z()});
-      std::cout << nlohmann::json{{"scene", scene_}, {"length", r.length()}, {"waypoints", points}}.dump() << std::endl;
+      for (const auto& p : r.waypoints) points.push_back({p.x(), p.y(), p.z()});
+      std::cout << nlohmann::json{{"scene", scene_}, {"length", r.length}, {"waypoints", points}}.dump() << std::endl;
       return 0;
     }
-    std::cout << fmt::format("path of length {:.3f} through {} waypoints\n", r.length(), r.waypoints().size());
-    for (const auto& p : r.waypoints()) std::cout << fmt::format("  {:.3f} {:.3f} {:.3f}\n", p.x(), p.y(), p.z());
+    std::cout << fmt::format("path of length {:.3f} through {} waypoints\n", r.length, r.waypoints.size());
+    for (const auto& p : r.waypoints) std::cout << fmt::format("  {:.3f} {:.3f} {:.3f}\n", p.x(), p.y(), p.z());
     return 0;
   }
 

@@ -51,12 +51,12 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
   std::vector<Vec3> tour;
   double tour_cost = 0.0;
   if (args.tour_budget > 0) {
-    const msg::Reply reply = client.tour(args.scene, args.tour_budget, 1, {}, {});
+    const auto reply = client.tour(args.scene, args.tour_budget, 1, {}, {});
     // The shortcut tour: the path a robot flies (the roadmap walk when the daemon sent none).
-    const msg::TourResult& r = reply.body().tour();
-    const auto& drawn = r.shortcut_path().empty() ? r.waypoints() : r.shortcut_path();
+    const client::Tour& r = reply.tour;
+    const auto& drawn = r.shortcut_path.empty() ? r.waypoints : r.shortcut_path;
     for (const auto& p : drawn) tour.emplace_back(p.x(), p.y(), p.z());
-    tour_cost = r.shortcut_path().empty() ? r.cost() : r.shortcut_cost();
+    tour_cost = r.shortcut_path.empty() ? r.cost : r.shortcut_cost;
   }
   RenderRequest request;
   request.width = args.width;

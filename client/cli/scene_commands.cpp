@@ -36,7 +36,7 @@ class SceneCommand final : public Command {
 std::unique_ptr<Command> make_cancel_command() {
   return std::make_unique<SceneCommand>("cancel", "stop a running build after its current chunk", false,
                                         [](client::Client& c, const std::string& scene, bool) {
-                                          std::cout << c.cancel(scene).message() << "\n";
+                                          std::cout << c.cancel(scene).message << "\n";
                                           return 0;
                                         });
 }
@@ -44,7 +44,7 @@ std::unique_ptr<Command> make_cancel_command() {
 std::unique_ptr<Command> make_stats_command() {
   return std::make_unique<SceneCommand>("stats", "a scene's roadmap status", true,
                                         [](client::Client& c, const std::string& scene, bool json) {
-                                          const msg::SceneStatus s = c.stats(scene);
+                                          const client::SceneStatus s = c.stats(scene);
                                           if (json) {
                                             std::cout << status_json(s).dump() << std::endl;
                                           } else {
@@ -57,7 +57,7 @@ std::unique_ptr<Command> make_stats_command() {
 std::unique_ptr<Command> make_drop_command() {
   return std::make_unique<SceneCommand>("drop", "delete a scene's roadmap", false,
                                         [](client::Client& c, const std::string& scene, bool) {
-                                          std::cout << c.drop(scene).message() << "\n";
+                                          std::cout << c.drop(scene).message << "\n";
                                           return 0;
                                         });
 }
@@ -66,9 +66,9 @@ std::unique_ptr<Command> make_verify_command() {
   return std::make_unique<SceneCommand>(
       "verify", "check a roadmap (validity, costs, Invariant 1)", false,
       [](client::Client& c, const std::string& scene, bool) {
-        const msg::Reply r = c.verify(scene);
-        const std::uint64_t violations = r.body().verify().violations();
-        std::cout << (violations == 0 ? "verified: " : "NOT verified: ") << r.message() << "\n";
+        const auto r = c.verify(scene);
+        const std::uint64_t violations = r.verify.violations;
+        std::cout << (violations == 0 ? "verified: " : "NOT verified: ") << r.message << "\n";
         return violations == 0 ? 0 : 1;
       });
 }

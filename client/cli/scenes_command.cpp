@@ -28,11 +28,11 @@ class ScenesCommand final : public Command {
     if (*list_) {
       print_list(client.list_scenes());
     } else if (*load_) {
-      const msg::Reply r = client.load(scene_);
-      std::cout << r.message() << "\n";
-      print_status(r.status());
+      const auto r = client.load(scene_);
+      std::cout << r.message << "\n";
+      print_status(r.status);
     } else {
-      std::cout << client.unload(scene_).message() << "\n";
+      std::cout << client.unload(scene_).message << "\n";
     }
     return 0;
   }
@@ -43,16 +43,16 @@ class ScenesCommand final : public Command {
     if (json_) {
       nlohmann::json list = nlohmann::json::array();
       for (const auto& e : entries) {
-        list.push_back({{"name", e.scene().to_string()}, {"server_id", e.server_id().to_string()},
-                        {"loaded", e.loaded()}, {"has_roadmap", e.has_roadmap()}, {"note", e.note()}});
+        list.push_back({{"name", e.scene}, {"server_id", e.server_id},
+                        {"loaded", e.loaded}, {"has_roadmap", e.has_roadmap}, {"note", e.note}});
       }
       std::cout << nlohmann::json{{"scenes", list}}.dump() << std::endl;
       return;
     }
     for (const auto& e : entries) {
-      std::cout << fmt::format("{:<24} {:<28} {}{}{}\n", e.scene().to_string(), e.server_id().to_string(),
-                               e.loaded() ? "loaded" : "-", e.has_roadmap() ? ", stored roadmap" : "",
-                               e.note().empty() ? "" : "\n    " + e.note());
+      std::cout << fmt::format("{:<24} {:<28} {}{}{}\n", e.scene, e.server_id,
+                               e.loaded ? "loaded" : "-", e.has_roadmap ? ", stored roadmap" : "",
+                               e.note.empty() ? "" : "\n    " + e.note);
     }
   }
 

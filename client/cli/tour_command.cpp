@@ -30,31 +30,31 @@ nlohmann::json points_json(const Points& points) {
 
 std::size_t steps(std::size_t stops) { return stops == 0 ? 0 : stops - 1; }
 
-nlohmann::json tour_json(const msg::TourResult& r) {
-  return {{"cost", r.cost()},
-          {"covered", r.covered()},
-          {"targets", r.target_count()},
-          {"seconds", r.trace().empty() ? 0.0 : r.trace()[r.trace().size() - 2]},
-          {"lower_bound", r.lower_bound()},
-          {"valid", r.valid()},
-          {"trace", pairs(r.trace())},
-          {"bound_trace", pairs(r.bound_trace())},
-          {"bound_complete", r.bound_complete()},
-          {"walk_steps", steps(r.walk().size())},
-          {"shortcut_cost", r.shortcut_cost()},
-          {"shortcut_steps", steps(r.shortcut_stops().size())},
-          {"version", r.version()}};
+nlohmann::json tour_json(const client::Tour& r) {
+  return {{"cost", r.cost},
+          {"covered", r.covered},
+          {"targets", r.target_count},
+          {"seconds", r.trace.empty() ? 0.0 : r.trace[r.trace.size() - 2]},
+          {"lower_bound", r.lower_bound},
+          {"valid", r.valid},
+          {"trace", pairs(r.trace)},
+          {"bound_trace", pairs(r.bound_trace)},
+          {"bound_complete", r.bound_complete},
+          {"walk_steps", steps(r.walk.size())},
+          {"shortcut_cost", r.shortcut_cost},
+          {"shortcut_steps", steps(r.shortcut_stops.size())},
+          {"version", r.version}};
 }
 
-void print_tour(const msg::Reply& reply) {
-  const msg::TourResult& r = reply.body().tour();
-  std::cout << reply.message() << "\n";
-  std::cout << fmt::format("  shortcut: {:.6g} in {} straight steps (the path as flown)\n", r.shortcut_cost(),
-                           steps(r.shortcut_stops().size()));
+void print_tour(const client::TourReply& reply) {
+  const client::Tour& r = reply.tour;
+  std::cout << reply.message << "\n";
+  std::cout << fmt::format("  shortcut: {:.6g} in {} straight steps (the path as flown)\n", r.shortcut_cost,
+                           steps(r.shortcut_stops.size()));
   std::cout << fmt::format("  {} roadmap steps, proven lower bound {:.6g} (gap {:.1f}%{}), {}\n",
-                           steps(r.walk().size()), r.lower_bound(),
-                           r.cost() > 0 ? 100.0 * (r.cost() - r.lower_bound()) / r.cost() : 0.0,
-                           r.bound_complete() ? ", LP solved over all its cuts" : "", r.valid() ? "valid" : "NOT valid");
+                           steps(r.walk.size()), r.lower_bound,
+                           r.cost > 0 ? 100.0 * (r.cost - r.lower_bound) / r.cost : 0.0,
+                           r.bound_complete ? ", LP solved over all its cuts" : "", r.valid ? "valid" : "NOT valid");
 }
 
 class TourCommand final : public Command {
@@ -72,20 +72,20 @@ class TourCommand final : public Command {
   }
   int run(client::Client& client) override {
     const bool tty = ::isatty(STDERR_FILENO) != 0;
-    const msg::Reply reply = client.tour(scene_, budget_, seed_, targets_, [&](double t, double cost, double bound) {
+    const auto reply = client.tour(scene_, budget_, seed_, targets_, [&](double t, double cost, double bound) {
       if (json_) return;
       std::cerr << fmt::format("{}{:8.2f} s  best tour {:.6g}  proven bound {:.6g}{}", tty ? "\r" : "", t, cost,
                                bound, tty ? "   " : "\n")
                 << std::flush;
     });
     if (tty && !json_) std::cerr << "\n";
-    const msg::TourResult& r = reply.body().tour();
+    const client::Tour& r = reply.tour;
     const nlohmann::json result = tour_json(r);
     if (!out_.empty()) {
       nlohmann::json file = result;
-      file["walk"] = r.walk();
-      file["positions"] = points_json(r.waypoints());
-      file["path"] = points_json(r.shortcut_path());  // the shortcut tour: what render draws
+      file["walk"] = r.walk;
+      file["positions"] = points_json(r.waypoints);
+      file["path"] = points_json(r.shortcut_path);  // the shortcut tour: what render draws
       write_text(out_, file.dump() + "\n");
     }
     if (json_) {
@@ -93,7 +93,7 @@ class TourCommand final : public Command {
     } else {
       print_tour(reply);
     }
-    return r.valid() ? 0 : 1;
+    return r.valid ? 0 : 1;
   }
 
  private:

@@ -20,14 +20,11 @@ namespace {
 std::atomic<bool> g_interrupted{false};
 
 // Whether the scene is idle and the replica has caught up with it.
-bool caught_up(client::Client& client, const std::string& scene, const msg::SceneStatus& s,
+bool caught_up(client::Client& client, const std::string& scene, const client::SceneStatus& s,
                const client::RoadmapReplica& replica) {
-  if (s.state() == msg::SCENE_BUILDING || s.state() == msg::SCENE_QUEUED || s.state() == msg::SCENE_REPLAYING ||
-      replica.snapshots_taken() == 0) {
-    return false;
-  }
-  const msg::SceneStatus now = client.stats(scene);
-  return replica.wait_for(now.generation(), now.version(), std::chrono::seconds(10));
+  if (client::busy(s.state) || replica.snapshots_taken() == 0) return false;
+  const client::SceneStatus now = client.stats(scene);
+  return replica.wait_for(now.generation, now.version, std::chrono::seconds(10));
 }
 
 class WatchCommand final : public Command {
@@ -71,8 +68,8 @@ class WatchCommand final : public Command {
   int report_retired(client::Client& client) const {
     const auto s = client.latest_status(scene_);
     const std::string what = !s                                     ? "dropped or unloaded"
-                             : s->state() == msg::SCENE_UNLOADED ? "unloaded"
-                             : s->state() == msg::SCENE_EMPTY     ? "dropped"
+                             : s->state == client::SceneState::unloaded ? "unloaded"
+                             : s->state == client::SceneState::empty     ? "dropped"
                                                                   : "dropped or unloaded";
     std::cerr << fmt::format("ispars: the roadmap of scene '{}' was {} while watching{}\n", scene_, what,
                              dump_.empty() ? "" : "; nothing written to " + dump_);

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "ispars/client/client.hpp"
+#include "ispars/wire/participant.hpp"
 
 namespace ispars::client {
 

@@ -220,12 +220,12 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
         if (generation_ != 0 && generation_ != s.generation) retired_.insert(generation_);
         roadmap_ = std::move(s.roadmap);
         generation_ = s.generation;
-        owner_ = s.status.server_id();
+        owner_ = s.status.server_id;
         root_ = s.root;
         pois_ = std::move(s.pois);
         ++snapshots_;
         last_error_.clear();
-        samples_ = s.status.samples_done();
+        samples_ = s.status.samples_done;
       }
       state_changed_.notify_all();
       notify(true);
@@ -247,8 +247,8 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
       owner = owner_;
     }
     const auto status = client_.latest_status(scene_);
-    return status && status->server_id() == owner &&
-           (status->state() == msg::SCENE_EMPTY || status->state() == msg::SCENE_UNLOADED);
+    return status && status->server_id == owner &&
+           (status->state == SceneState::empty || status->state == SceneState::unloaded);
   }
 
   // Whether this replica must resync although no batch says so, as the scene's status (believed
@@ -268,13 +268,13 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
       version = roadmap_.version();
     }
     const auto status = client_.latest_status(scene_);
-    if (!status || status->state() == msg::SCENE_UNLOADED || status->state() == msg::SCENE_EMPTY) return false;
+    if (!status || status->state == SceneState::unloaded || status->state == SceneState::empty) return false;
     // Holding nothing (a snapshot of a scene just claimed, before its roadmap was published)
     // while the status shows a built roadmap.
-    if (generation == 0) return status->generation() != 0;
-    if (status->server_id() != owner || status->generation() != generation) return true;
+    if (generation == 0) return status->generation != 0;
+    if (status->server_id != owner || status->generation != generation) return true;
     const auto now = std::chrono::steady_clock::now();
-    if (!quiet || status->version() <= version) {
+    if (!quiet || status->version <= version) {
       lag_since_.reset();
       return false;
     }

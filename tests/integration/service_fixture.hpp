@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "ispars/client/client.hpp"
+#include "ispars/client/wire_calls.hpp"
+#include "ispars/wire/participant.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/scene/scene.hpp"
@@ -27,6 +29,9 @@ using client::Client;
 using client::ClientError;
 using client::make_change;
 using client::make_query;
+using client::SceneState;
+using client::SceneStatus;
+using client::Tour;
 
 inline constexpr auto kLong = std::chrono::seconds(120);
 /// The built-in profile's participant lease under DDS Security: a cut or stalled secured peer is
@@ -59,8 +64,8 @@ class ServiceTest : public ::testing::Test {
 inline std::vector<std::string> holders(Client& client, const std::string& scene) {
   std::vector<std::string> out;
   for (const auto& d : client.daemons()) {
-    if (std::find(d.loaded().begin(), d.loaded().end(), scene) != d.loaded().end()) {
-      out.push_back(d.server_id().to_string());
+    if (std::find(d.loaded.begin(), d.loaded.end(), scene) != d.loaded.end()) {
+      out.push_back(d.server_id);
     }
   }
   return out;
@@ -98,12 +103,12 @@ inline BuildArgs ispars_build(std::uint64_t samples, std::uint64_t seed = 1, boo
 
 // A built scene, as most service tests start: `scene` loaded, built with `args`, and waited for.
 // The status it settled in; the test fails at once unless that is idle with every sample.
-inline msg::SceneStatus load_and_build(Client& client, const std::string& scene, const BuildArgs& args) {
+inline SceneStatus load_and_build(Client& client, const std::string& scene, const BuildArgs& args) {
   client.load(scene);
   client.build(scene, args);
-  msg::SceneStatus status = client.wait_idle(scene, {}, kLong);
-  EXPECT_EQ(status.state(), msg::SCENE_IDLE) << scene << ": " << status.last_error();
-  EXPECT_EQ(status.samples_done(), args.samples) << scene;
+  SceneStatus status = client.wait_idle(scene, {}, kLong);
+  EXPECT_EQ(status.state, SceneState::idle) << scene << ": " << status.last_error;
+  EXPECT_EQ(status.samples_done, args.samples) << scene;
   return status;
 }
 

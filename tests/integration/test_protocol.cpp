@@ -69,7 +69,7 @@ TEST_F(ProtocolTest, AClientRefusesToAddressADaemonOfAnotherVersion) {
   options.timeout = std::chrono::seconds(20);
   Client client(options);
   try {
-    (void)client.call(client::make_query(msg::LIST_SCENES, ""), "future");
+    (void)call(client, client::make_query(msg::LIST_SCENES, ""), "future");
     ADD_FAILURE() << "a daemon of another protocol version was addressed";
   } catch (const ClientError& e) {
     EXPECT_EQ(e.kind(), ClientError::Kind::protocol);
@@ -135,7 +135,7 @@ TEST_F(ProtocolTest, AReplyIsHeldUntilTheClientsReaderMatchedAndNoLonger) {
   ASSERT_TRUE(late.post(stats));
   // While both replies wait, another client is answered at once.
   const auto t0 = std::chrono::steady_clock::now();
-  EXPECT_EQ(client.stats("s0").scene(), "s0");
+  EXPECT_EQ(client.stats("s0").scene, "s0");
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(1500));
 
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
@@ -200,7 +200,7 @@ TEST_F(ProtocolTest, ARoadmapOfSeveralMegabytesTravelsInChunksAtOneVersion) {
   dense.method = "dense";  // every pair within delta: many edges, a large encoding
   dense.samples = 15000;
   client.build("s0", dense);
-  const msg::SceneStatus built = client.wait_idle("s0", {}, std::chrono::minutes(5));
+  const SceneStatus built = client.wait_idle("s0", {}, std::chrono::minutes(5));
   RawPeer peer(domain_);
   msg::QueryRequest first = client::make_query(msg::SNAPSHOT, "s0");
   first.server_id("d");
@@ -213,9 +213,9 @@ TEST_F(ProtocolTest, ARoadmapOfSeveralMegabytesTravelsInChunksAtOneVersion) {
   EXPECT_GE(chunks, 2u) << "the roadmap fits one chunk: the test needs a larger one";
   // The client pulls every chunk at chunk 0's version and decodes the whole roadmap.
   const client::Snapshot whole = client.snapshot("s0");
-  EXPECT_EQ(whole.version, built.version());
-  EXPECT_EQ(whole.roadmap.vertex_count(), built.vertices());
-  EXPECT_EQ(whole.roadmap.edge_count(), built.edges());
+  EXPECT_EQ(whole.version, built.version);
+  EXPECT_EQ(whole.roadmap.vertex_count(), built.vertices);
+  EXPECT_EQ(whole.roadmap.edge_count(), built.edges);
   // Past the last chunk: an error naming the field, not a hang.
   msg::QueryRequest past = first;
   past.request_seq(2);

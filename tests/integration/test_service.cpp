@@ -52,16 +52,16 @@ TEST_F(ServiceTest, EightConcurrentClientsGetTheirOwnRepliesAndNoneIsLost) {
             }
             case 1: {
               const auto s = client.stats(scene);
-              if (s.scene() != scene || s.server_id() != "d") ++crossed;
+              if (s.scene != scene || s.server_id != "d") ++crossed;
               break;
             }
             case 2: {
               const Vec3 from(0.0, 0.0, 1.0 + 0.01 * c), to(2.0, -3.0, 4.0);
               try {
                 const auto r = client.path(scene, from, to);
-                const auto& waypoints = r.body().path().waypoints();
+                const auto& waypoints = r.path.waypoints;
                 if (waypoints.empty() || std::abs(waypoints.front().z() - from.z()) > 1e-12 ||
-                    r.status().scene() != scene) {
+                    r.status.scene != scene) {
                   ++crossed;
                 }
               } catch (const ClientError& e) {
@@ -92,8 +92,8 @@ TEST_F(ServiceTest, EightConcurrentClientsGetTheirOwnRepliesAndNoneIsLost) {
   Client check(client_options(domain_));
   for (const char* s : {"s0", "s1", "s2", "s3"}) {
     const auto status = check.wait_idle(s, {}, kLong);
-    EXPECT_NE(status.state(), msg::SCENE_FAILED) << status.last_error();
-    EXPECT_EQ(check.verify(s).body().verify().violations(), 0u) << s;
+    EXPECT_NE(status.state, SceneState::failed) << status.last_error;
+    EXPECT_EQ(check.verify(s).verify.violations, 0u) << s;
   }
   EXPECT_TRUE(daemon->alive());
 }
@@ -106,16 +106,16 @@ TEST_F(ServiceTest, LateJoinerReplicaEqualsTheServersSnapshot) {
   client.build("s0", ispars_build(30000));
   // Join while the build runs.
   Client late_client(client_options(domain_));
-  for (int i = 0; i < 200 && client.stats("s0").samples_done() == 0; ++i) {
+  for (int i = 0; i < 200 && client.stats("s0").samples_done == 0; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   client::RoadmapReplica late(late_client, "s0");
   const auto done = client.wait_idle("s0", {}, kLong);
-  ASSERT_EQ(done.state(), msg::SCENE_IDLE) << done.last_error();
-  ASSERT_TRUE(late.wait_for(done.generation(), done.version(), std::chrono::seconds(30))) << late.last_error();
-  ASSERT_TRUE(early.wait_for(done.generation(), done.version(), std::chrono::seconds(30))) << early.last_error();
+  ASSERT_EQ(done.state, SceneState::idle) << done.last_error;
+  ASSERT_TRUE(late.wait_for(done.generation, done.version, std::chrono::seconds(30))) << late.last_error();
+  ASSERT_TRUE(early.wait_for(done.generation, done.version, std::chrono::seconds(30))) << early.last_error();
   const client::Snapshot snapshot = client.snapshot("s0");
-  EXPECT_EQ(snapshot.version, done.version());
+  EXPECT_EQ(snapshot.version, done.version);
   const std::uint64_t digest = roadmap_digest(snapshot.roadmap);
   EXPECT_EQ(roadmap_digest(late.roadmap()), digest);
   EXPECT_EQ(roadmap_digest(early.roadmap()), digest);
@@ -125,7 +125,7 @@ TEST_F(ServiceTest, LateJoinerReplicaEqualsTheServersSnapshot) {
   // A rebuild (new generation) resyncs both replicas from a snapshot.
   client.build("s0", ispars_build(3000, 7, /*replace=*/true));
   const auto rebuilt = client.wait_idle("s0", {}, kLong);
-  ASSERT_TRUE(late.wait_for(rebuilt.generation(), rebuilt.version(), std::chrono::seconds(30))) << late.last_error();
+  ASSERT_TRUE(late.wait_for(rebuilt.generation, rebuilt.version, std::chrono::seconds(30))) << late.last_error();
   EXPECT_EQ(roadmap_digest(late.roadmap()), reference_digest(scene_dir_ / "s0.yaml", 3000, 7));
   EXPECT_GE(late.snapshots_taken(), 2u);
 }
@@ -136,10 +136,10 @@ TEST_F(ServiceTest, KillNineDuringABuildThenRestartRecoversAVerifiedRoadmap) {
     Client client(client_options(domain_));
     client.load("s1");
     client.build("s1", ispars_build(5'000'000, 3));
-    for (int i = 0; i < 1500 && client.stats("s1").samples_done() < 20000; ++i) {
+    for (int i = 0; i < 1500 && client.stats("s1").samples_done < 20000; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    ASSERT_GE(client.stats("s1").samples_done(), 20000u);
+    ASSERT_GE(client.stats("s1").samples_done, 20000u);
   }
   daemon->kill9();
   // A torn record at the tail, as a crash inside write() leaves it.
@@ -150,24 +150,24 @@ TEST_F(ServiceTest, KillNineDuringABuildThenRestartRecoversAVerifiedRoadmap) {
   daemon = start("d");  // reloads every stored roadmap
   Client client(client_options(domain_));
   const auto recovered = client.stats("s1");
-  EXPECT_EQ(recovered.state(), msg::SCENE_IDLE);
-  EXPECT_GE(recovered.samples_done(), 20000u);
-  EXPECT_GT(recovered.version(), 0u);
+  EXPECT_EQ(recovered.state, SceneState::idle);
+  EXPECT_GE(recovered.samples_done, 20000u);
+  EXPECT_GT(recovered.version, 0u);
   // Cut at warning level, and only after the cut bytes were kept aside.
   EXPECT_NE(daemon->log().find("warning scene 's1': cut a torn journal tail"), std::string::npos) << daemon->log();
   EXPECT_EQ(read_text(dir_.path() / "data-d" / "s1" / "journal.log.torn.1"), std::string(partial, sizeof(partial)));
   const auto verified = client.verify("s1");
-  EXPECT_EQ(verified.body().verify().violations(), 0u) << verified.message();
+  EXPECT_EQ(verified.verify.violations, 0u) << verified.message;
   // The recovered roadmap is exactly the uninterrupted build's at that many samples, and it
   // extends exactly as if the daemon had never stopped.
   const client::Snapshot at_recovery = client.snapshot("s1");
-  EXPECT_EQ(roadmap_digest(at_recovery.roadmap), reference_digest(scene_dir_ / "s1.yaml", recovered.samples_done(), 3));
+  EXPECT_EQ(roadmap_digest(at_recovery.roadmap), reference_digest(scene_dir_ / "s1.yaml", recovered.samples_done, 3));
   client.extend("s1", 2000);
   const auto extended = client.wait_idle("s1", {}, kLong);
-  ASSERT_EQ(extended.state(), msg::SCENE_IDLE) << extended.last_error();
-  EXPECT_EQ(extended.samples_done(), recovered.samples_done() + 2000);
+  ASSERT_EQ(extended.state, SceneState::idle) << extended.last_error;
+  EXPECT_EQ(extended.samples_done, recovered.samples_done + 2000);
   EXPECT_EQ(roadmap_digest(client.snapshot("s1").roadmap),
-            reference_digest(scene_dir_ / "s1.yaml", extended.samples_done(), 3));
+            reference_digest(scene_dir_ / "s1.yaml", extended.samples_done, 3));
 }
 
 TEST_F(ServiceTest, SigtermFinishesTheBatchPersistsAndExitsZero) {
@@ -177,10 +177,10 @@ TEST_F(ServiceTest, SigtermFinishesTheBatchPersistsAndExitsZero) {
     Client client(client_options(domain_));
     client.load("s2");
     client.build("s2", ispars_build(5'000'000, 5));
-    for (int i = 0; i < 1500 && client.stats("s2").samples_done() < 5000; ++i) {
+    for (int i = 0; i < 1500 && client.stats("s2").samples_done < 5000; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    before = client.stats("s2").samples_done();
+    before = client.stats("s2").samples_done;
   }
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(daemon->terminate(), 0) << daemon->log();
@@ -196,10 +196,10 @@ TEST_F(ServiceTest, SigtermFinishesTheBatchPersistsAndExitsZero) {
   daemon = start("d");
   Client client(client_options(domain_));
   const auto after = client.stats("s2");
-  EXPECT_GE(after.samples_done(), before);
-  EXPECT_EQ(after.samples_done(), stopped_at);
-  EXPECT_EQ(after.state(), msg::SCENE_IDLE);
-  EXPECT_EQ(roadmap_digest(client.snapshot("s2").roadmap), reference_digest(scene_dir_ / "s2.yaml", after.samples_done(), 5));
+  EXPECT_GE(after.samples_done, before);
+  EXPECT_EQ(after.samples_done, stopped_at);
+  EXPECT_EQ(after.state, SceneState::idle);
+  EXPECT_EQ(roadmap_digest(client.snapshot("s2").roadmap), reference_digest(scene_dir_ / "s2.yaml", after.samples_done, 5));
 }
 
 TEST_F(ServiceTest, TwoDaemonsSplitScenesByTheFleetRuleAndNeverBothAnswer) {
@@ -211,34 +211,34 @@ TEST_F(ServiceTest, TwoDaemonsSplitScenesByTheFleetRuleAndNeverBothAnswer) {
   for (unsigned i = 0; i < 4; ++i) {
     const std::string s = scene_name(i);
     owner[s] = wire::outranks(s, "alpha", "beta") ? "alpha" : "beta";
-    EXPECT_EQ(any.load(s).server_id(), owner[s]) << s;
+    EXPECT_EQ(any.load(s).server_id, owner[s]) << s;
   }
   // A load addressed to the other daemon is refused, naming the owner.
   const std::string other = owner["s0"] == "alpha" ? "beta" : "alpha";
-  const msg::Reply refused = any.call_raw(make_change(msg::LOAD_SCENE, "s0"), other);
+  const msg::Reply refused = call_raw(any, make_change(msg::LOAD_SCENE, "s0"), other);
   EXPECT_FALSE(refused.ok());
   EXPECT_NE(refused.error().find("owned by daemon " + owner["s0"]), std::string::npos) << refused.error();
   any.build("s0", ispars_build(1000));
   any.build("s1", ispars_build(1000));
-  EXPECT_EQ(any.wait_idle("s0", {}, kLong).server_id(), owner["s0"]);
-  EXPECT_EQ(any.wait_idle("s1", {}, kLong).server_id(), owner["s1"]);
+  EXPECT_EQ(any.wait_idle("s0", {}, kLong).server_id, owner["s0"]);
+  EXPECT_EQ(any.wait_idle("s1", {}, kLong).server_id, owner["s1"]);
   // Each daemon lists its own view; both are listed.
   const auto entries = any.list_scenes();
   EXPECT_EQ(entries.size(), 8u);
   std::map<std::string, int> loaded;
   for (const auto& e : entries) {
-    if (e.loaded()) ++loaded[e.server_id().to_string()];
+    if (e.loaded) ++loaded[e.server_id];
   }
   for (const auto& [scene, id] : owner) --loaded[id];
   for (const auto& [id, n] : loaded) EXPECT_EQ(n, 0) << id;
   // Unloaded, s0 stays the other daemon's to refuse: the rule, not who asks, names its owner;
   // its owner keeps it (it now has a stored roadmap of s0).
   any.unload("s0");
-  const msg::Reply again = any.call_raw(make_change(msg::LOAD_SCENE, "s0"), other);
+  const msg::Reply again = call_raw(any, make_change(msg::LOAD_SCENE, "s0"), other);
   EXPECT_FALSE(again.ok());
   EXPECT_NE(again.error().find("belongs to daemon " + owner["s0"] + " by the fleet's rule"), std::string::npos)
       << again.error();
-  EXPECT_EQ(any.load("s0").server_id(), owner["s0"]);
+  EXPECT_EQ(any.load("s0").server_id, owner["s0"]);
 }
 
 TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
@@ -246,7 +246,7 @@ TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
   Client client(client_options(domain_));
   client.load("s0");
   const auto expect_error = [&](const auto& request, const std::string& needle) {
-    const msg::Reply reply = client.call_raw(request, "d");
+    const msg::Reply reply = call_raw(client, request, "d");
     EXPECT_FALSE(reply.ok()) << needle;
     EXPECT_NE(reply.error().find(needle), std::string::npos) << "expected '" << needle << "' in: " << reply.error();
   };
@@ -333,7 +333,7 @@ TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
   client.build("s0", ispars_build(900'000));
   // Once its first chunk is committed, the scene has a roadmap that the cancel below keeps (a
   // build cancelled while still queued leaves none, and a loaded machine can be that slow).
-  for (int i = 0; i < 3000 && client.stats("s0").samples_done() == 0; ++i) {
+  for (int i = 0; i < 3000 && client.stats("s0").samples_done == 0; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   expect_error(build("s0"), "already running");
@@ -344,7 +344,7 @@ TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
   }
   expect_error(make_change(msg::UNLOAD_SCENE, "s0"), "cancel it first");
   expect_error(make_change(msg::DROP, "s0"), "running");
-  EXPECT_TRUE(client.cancel("s0").ok());
+  EXPECT_NO_THROW((void)client.cancel("s0"));
   client.wait_idle("s0", {}, kLong);
   expect_error(build("s0"), "request: replace: scene 's0' already has a roadmap");
   {
@@ -372,9 +372,9 @@ TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
   // Still serving, and the roadmap is intact.
   EXPECT_TRUE(daemon->alive());
   const auto status = client.stats("s0");
-  EXPECT_EQ(status.state(), msg::SCENE_IDLE);
-  EXPECT_GT(status.samples_done(), 0u);
-  EXPECT_EQ(client.verify("s0").body().verify().violations(), 0u);
+  EXPECT_EQ(status.state, SceneState::idle);
+  EXPECT_GT(status.samples_done, 0u);
+  EXPECT_EQ(client.verify("s0").verify.violations, 0u);
 }
 
 TEST_F(ServiceTest, NoDaemonIsATimeoutNamingTheDomain) {

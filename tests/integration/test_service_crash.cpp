@@ -56,20 +56,20 @@ TEST_F(CrashTest, KillNineAtFiftyMomentsLosesNoCommitAndReplaysByteForByte) {
   std::uint64_t committed_before = 0;  // samples of the roadmap before the interrupted operation
   auto daemon = start_daemon();
   std::string operation;  // the one interrupted last
-  std::optional<msg::SceneStatus> seen;  // the last status a client saw before the kill
+  std::optional<SceneStatus> seen;  // the last status a client saw before the kill
   std::size_t compared_with_ack = 0;     // restarts compared with an acknowledged status
   for (std::size_t k = 0; k < kills; ++k) {
     try {
       Client client(client_options(domain_));
       (void)client.load("s0");  // loaded at start when stored; loaded now otherwise
-      const msg::SceneStatus before = client.stats("s0");
-      const bool has_roadmap = !before.method().to_string().empty();
+      const SceneStatus before = client.stats("s0");
+      const bool has_roadmap = !before.method.empty();
       // The operation to interrupt.
       msg::ChangeRequest request = make_change(msg::BUILD, "s0");
       const int pick = has_roadmap ? static_cast<int>(rng() % 4) : 0;
       if (pick == 0 || pick == 1) {  // a build, or a replacing build with the other seed
         operation = has_roadmap ? "replace" : "build";
-        seed = has_roadmap ? (before.seed() == 5 ? 6 : 5) : 5;
+        seed = has_roadmap ? (before.seed == 5 ? 6 : 5) : 5;
         request.args().build().method("ispars");
         request.args().build().samples(20000);
         request.args().build().seed(seed);
@@ -82,7 +82,7 @@ TEST_F(CrashTest, KillNineAtFiftyMomentsLosesNoCommitAndReplaysByteForByte) {
         operation = "drop";
         request = make_change(msg::DROP, "s0");
       }
-      committed_before = before.samples_done();
+      committed_before = before.samples_done;
       // Sent once (no retry), from a client that gives up quickly: the kill may come before the reply.
       auto fire_options = client_options(domain_);
       fire_options.timeout = std::chrono::milliseconds(500);
@@ -91,7 +91,7 @@ TEST_F(CrashTest, KillNineAtFiftyMomentsLosesNoCommitAndReplaysByteForByte) {
       (void)fire.daemons();
       std::thread sender([&] {
         try {
-          (void)fire.call_raw(request, "d");
+          (void)call_raw(fire, request, "d");
         } catch (const std::exception&) {
           // killed before it answered
         }
@@ -99,7 +99,7 @@ TEST_F(CrashTest, KillNineAtFiftyMomentsLosesNoCommitAndReplaysByteForByte) {
       const auto delay = std::chrono::milliseconds(rng() % 2000);
       std::this_thread::sleep_for(delay);
       seen = client.latest_status("s0");
-      ++killed_in[operation + "/" + (seen ? wire::to_string(seen->state()) : std::string("?"))];
+      ++killed_in[operation + "/" + (seen ? std::string(to_string(seen->state)) : std::string("?"))];
       daemon->kill9();
       sender.join();
       daemon = start_daemon();
@@ -109,51 +109,51 @@ TEST_F(CrashTest, KillNineAtFiftyMomentsLosesNoCommitAndReplaysByteForByte) {
       // The interrupted job was resumed at start: cancelled here, so what is checked is a
       // committed roadmap (what the kill left, and whatever the resumed job committed since).
       (void)after.cancel("s0");
-      const msg::SceneStatus recovered = after.wait_idle("s0", {}, kLong);
-      ASSERT_NE(recovered.state(), msg::SCENE_FAILED)
-          << "kill " << k << " in " << operation << ": " << recovered.last_error() << "\n" << daemon->log();
-      if (recovered.method().to_string().empty()) {
+      const SceneStatus recovered = after.wait_idle("s0", {}, kLong);
+      ASSERT_NE(recovered.state, SceneState::failed)
+          << "kill " << k << " in " << operation << ": " << recovered.last_error << "\n" << daemon->log();
+      if (recovered.method.empty()) {
         EXPECT_TRUE(operation == "drop" || !has_roadmap) << "kill " << k << ": the roadmap vanished in " << operation;
-        EXPECT_TRUE(!seen || seen->method().to_string().empty() || operation == "drop")
+        EXPECT_TRUE(!seen || seen->method.empty() || operation == "drop")
             << "kill " << k << ": a roadmap a status acknowledged is gone";
         continue;
       }
-      EXPECT_FALSE(operation == "drop" && seen && seen->method().to_string().empty() && has_roadmap)
+      EXPECT_FALSE(operation == "drop" && seen && seen->method.empty() && has_roadmap)
           << "kill " << k << ": an acknowledged drop came back";
       // A committed roadmap: never less than before an extend, the old one or the new one's first
       // commits after a replacing build.
       if (operation == "extend") {
-        EXPECT_GE(recovered.samples_done(), committed_before) << "kill " << k;
+        EXPECT_GE(recovered.samples_done, committed_before) << "kill " << k;
       }
-      if (operation == "replace" && recovered.seed() != seed) {
-        EXPECT_EQ(recovered.samples_done(), committed_before) << "kill " << k << ": the old roadmap was cut";
+      if (operation == "replace" && recovered.seed != seed) {
+        EXPECT_EQ(recovered.samples_done, committed_before) << "kill " << k << ": the old roadmap was cut";
       }
       // A status is published only once the commit it counts is durable: the last one a client saw
       // before the kill is an acknowledgement. The same roadmap (generation) holds at least its
       // samples; another one only replaced it (a replacing build committed after that status).
-      if (seen && !seen->method().to_string().empty()) {
-        if (recovered.generation() == seen->generation()) {
-          EXPECT_GE(recovered.samples_done(), seen->samples_done())
+      if (seen && !seen->method.empty()) {
+        if (recovered.generation == seen->generation) {
+          EXPECT_GE(recovered.samples_done, seen->samples_done)
               << "kill " << k << " in " << operation << ": an acknowledged commit was lost";
           ++compared_with_ack;
         } else {
-          EXPECT_EQ(operation, "replace") << "kill " << k << ": generation " << seen->generation() << " became "
-                                          << recovered.generation();
-          EXPECT_GT(recovered.generation(), seen->generation()) << "kill " << k;
+          EXPECT_EQ(operation, "replace") << "kill " << k << ": generation " << seen->generation << " became "
+                                          << recovered.generation;
+          EXPECT_GT(recovered.generation, seen->generation) << "kill " << k;
         }
       }
-      EXPECT_GT(recovered.samples_done(), 0u);
-      const msg::Reply verified = after.verify("s0");
-      EXPECT_EQ(verified.body().verify().violations(), 0u) << "kill " << k << ": " << verified.message();
+      EXPECT_GT(recovered.samples_done, 0u);
+      const auto verified = after.verify("s0");
+      EXPECT_EQ(verified.verify.violations, 0u) << "kill " << k << ": " << verified.message;
       EXPECT_EQ(roadmap_digest(after.snapshot("s0").roadmap),
-                references.digest(recovered.seed(), recovered.samples_done()))
-          << "kill " << k << " in " << operation << " at " << recovered.samples_done() << " samples";
+                references.digest(recovered.seed, recovered.samples_done))
+          << "kill " << k << " in " << operation << " at " << recovered.samples_done << " samples";
       if (k % 5 == 4) {  // extending to a fixed count: the uninterrupted build's roadmap exactly
-        const std::uint64_t target = recovered.samples_done() + 1500;
+        const std::uint64_t target = recovered.samples_done + 1500;
         after.extend("s0", 1500);
-        const msg::SceneStatus extended = after.wait_idle("s0", {}, kLong);
-        ASSERT_EQ(extended.samples_done(), target) << extended.last_error();
-        EXPECT_EQ(roadmap_digest(after.snapshot("s0").roadmap), references.digest(extended.seed(), target))
+        const SceneStatus extended = after.wait_idle("s0", {}, kLong);
+        ASSERT_EQ(extended.samples_done, target) << extended.last_error;
+        EXPECT_EQ(roadmap_digest(after.snapshot("s0").roadmap), references.digest(extended.seed, target))
             << "kill " << k;
       }
     } catch (const std::exception& e) {

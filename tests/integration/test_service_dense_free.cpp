@@ -34,20 +34,20 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
       EXPECT_NE(std::string(e.what()).find("'alg1' given, but ispars2 has no rule-set variants"), std::string::npos)
           << e.what();
     }
-    EXPECT_TRUE(client.stats("s0").method().to_string().empty()) << "the refused build changed the scene";
+    EXPECT_TRUE(client.stats("s0").method.empty()) << "the refused build changed the scene";
     client.build("s0", ispars2_build(3000));
-    const msg::SceneStatus built = client.wait_idle("s0", {}, kLong);
-    ASSERT_EQ(built.state(), msg::SCENE_IDLE) << built.last_error();
-    EXPECT_EQ(built.method(), "ispars2");
-    EXPECT_EQ(built.dense_vertices(), 0u);
-    EXPECT_EQ(built.dense_edges(), 0u);
-    EXPECT_GT(built.vertices(), 10u);
+    const SceneStatus built = client.wait_idle("s0", {}, kLong);
+    ASSERT_EQ(built.state, SceneState::idle) << built.last_error;
+    EXPECT_EQ(built.method, "ispars2");
+    EXPECT_EQ(built.dense_vertices, 0u);
+    EXPECT_EQ(built.dense_edges, 0u);
+    EXPECT_GT(built.vertices, 10u);
     // The same sparse roadmap as ispars's, which keeps the dense graph it never reads.
     EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 3000, 1));
-    const msg::Reply verified = client.verify("s0");
-    EXPECT_EQ(verified.body().verify().violations(), 0u) << verified.message();
-    EXPECT_NE(verified.message().find("of 20000 fresh samples, drawn for this check"), std::string::npos)
-        << verified.message();
+    const auto verified = client.verify("s0");
+    EXPECT_EQ(verified.verify.violations, 0u) << verified.message;
+    EXPECT_NE(verified.message.find("of 20000 fresh samples, drawn for this check"), std::string::npos)
+        << verified.message;
   }
   ASSERT_EQ(daemon->terminate(), 0);
   daemon = start("d");
@@ -55,8 +55,8 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
     Client client(client_options(domain_));
     client.load("s0");
     client.extend("s0", 2000);
-    const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
-    ASSERT_EQ(extended.samples_done(), 5000u) << extended.last_error();
+    const SceneStatus extended = client.wait_idle("s0", {}, kLong);
+    ASSERT_EQ(extended.samples_done, 5000u) << extended.last_error;
     EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 5000, 1, BuildMethod::ispars2));
   }
   const std::string log = daemon->log();
@@ -65,7 +65,7 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
   {
     Client client(client_options(domain_));
     client.extend("s0", 400000);
-    for (int i = 0; i < 200 && client.stats("s0").samples_done() < 6000; ++i) {
+    for (int i = 0; i < 200 && client.stats("s0").samples_done < 6000; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
   }
@@ -74,13 +74,13 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
   Client client(client_options(domain_));
   client.load("s0");
   (void)client.cancel("s0");  // the resumed extend: what is checked is what the kill left
-  const msg::SceneStatus recovered = client.wait_idle("s0", {}, kLong);
-  ASSERT_EQ(recovered.state(), msg::SCENE_IDLE) << recovered.last_error();
-  ASSERT_GE(recovered.samples_done(), 5000u);
-  const std::uint64_t target = recovered.samples_done() + 1000;
+  const SceneStatus recovered = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(recovered.state, SceneState::idle) << recovered.last_error;
+  ASSERT_GE(recovered.samples_done, 5000u);
+  const std::uint64_t target = recovered.samples_done + 1000;
   client.extend("s0", 1000);
-  const msg::SceneStatus done = client.wait_idle("s0", {}, kLong);
-  ASSERT_EQ(done.samples_done(), target) << done.last_error();
+  const SceneStatus done = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(done.samples_done, target) << done.last_error;
   EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", target, 1, BuildMethod::ispars2));
 }
 
@@ -107,10 +107,10 @@ TEST_F(ServiceTest, AStretchSlackIsBuiltReportedStoredAndKeptAfterARestart) {
     args.overrides.emplace("stretch_slack", 0.5);
     args.overrides.emplace("stretch_slack_after", 1000);
     client.build("s0", args);
-    const msg::SceneStatus built = client.wait_idle("s0", {}, kLong);
-    ASSERT_EQ(built.state(), msg::SCENE_IDLE) << built.last_error();
-    EXPECT_EQ(built.stretch_slack(), 0.5);
-    EXPECT_EQ(built.stretch_slack_after(), 1000u);
+    const SceneStatus built = client.wait_idle("s0", {}, kLong);
+    ASSERT_EQ(built.state, SceneState::idle) << built.last_error;
+    EXPECT_EQ(built.stretch_slack, 0.5);
+    EXPECT_EQ(built.stretch_slack_after, 1000u);
     EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), slack_reference(scene_dir_ / "s0.yaml", 3000, 0.5));
     EXPECT_NE(roadmap_digest(client.snapshot("s0").roadmap), slack_reference(scene_dir_ / "s0.yaml", 3000, 0.0))
         << "the slack changed nothing on this scene: the test would prove nothing";
@@ -119,11 +119,11 @@ TEST_F(ServiceTest, AStretchSlackIsBuiltReportedStoredAndKeptAfterARestart) {
   daemon = start("d");
   Client client(client_options(domain_));
   client.load("s0");
-  EXPECT_EQ(client.stats("s0").stretch_slack(), 0.5);
-  EXPECT_EQ(client.stats("s0").stretch_slack_after(), 1000u);
+  EXPECT_EQ(client.stats("s0").stretch_slack, 0.5);
+  EXPECT_EQ(client.stats("s0").stretch_slack_after, 1000u);
   client.extend("s0", 2000);
-  const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
-  ASSERT_EQ(extended.samples_done(), 5000u) << extended.last_error();
+  const SceneStatus extended = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(extended.samples_done, 5000u) << extended.last_error;
   EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), slack_reference(scene_dir_ / "s0.yaml", 5000, 0.5));
 }
 
@@ -149,7 +149,7 @@ TEST_F(ServiceTest, ADenseOrDensePairRoadmapGoesOnAfterARestartWithoutReplay) {
       args.samples = 2000;
       args.replace = method != BuildMethod::dense;
       client.build("s0", args);
-      ASSERT_EQ(client.wait_idle("s0", {}, kLong).state(), msg::SCENE_IDLE);
+      ASSERT_EQ(client.wait_idle("s0", {}, kLong).state, SceneState::idle);
     }
     if (method == BuildMethod::dense) {
       ASSERT_EQ(daemon->terminate(), 0);
@@ -160,14 +160,14 @@ TEST_F(ServiceTest, ADenseOrDensePairRoadmapGoesOnAfterARestartWithoutReplay) {
     Client client(client_options(domain_));
     client.load("s0");
     client.extend("s0", 1000);
-    const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
-    ASSERT_EQ(extended.samples_done(), 3000u) << extended.last_error();
+    const SceneStatus extended = client.wait_idle("s0", {}, kLong);
+    ASSERT_EQ(extended.samples_done, 3000u) << extended.last_error;
     EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 3000, 1, method));
     const std::string log = daemon->log();
     EXPECT_NE(log.find("the " + name + " builder resumed from its stored roadmaps at 2000 samples"), std::string::npos)
         << log;
     if (method == BuildMethod::ispars) {
-      EXPECT_EQ(client.verify("s0").body().verify().violations(), 0u) << "Invariant 1 on the resumed dense pair";
+      EXPECT_EQ(client.verify("s0").verify.violations, 0u) << "Invariant 1 on the resumed dense pair";
     }
     ASSERT_EQ(daemon->terminate(), 0);
   }

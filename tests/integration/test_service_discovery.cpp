@@ -72,7 +72,7 @@ TEST_F(ServiceTest, DaemonsAndClientsFindEachOtherThroughADiscoveryServer) {
   const auto seen_by = std::chrono::steady_clock::now() + std::chrono::seconds(15);
   while (std::chrono::steady_clock::now() < seen_by && ids.size() < 2) {
     ids.clear();
-    for (const auto& d : client.daemons()) ids.push_back(d.server_id().to_string());
+    for (const auto& d : client.daemons()) ids.push_back(d.server_id);
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   std::sort(ids.begin(), ids.end());
@@ -81,11 +81,11 @@ TEST_F(ServiceTest, DaemonsAndClientsFindEachOtherThroughADiscoveryServer) {
   client.load("s0");
   client::RoadmapReplica replica(client, "s0");
   client.build("s0", ispars_build(1500));
-  const msg::SceneStatus built = client.wait_idle("s0", {}, kLong);
-  EXPECT_GT(built.vertices(), 0u);
-  EXPECT_TRUE(replica.wait_for(0, built.version(), std::chrono::seconds(20)));
-  EXPECT_EQ(replica.version(), built.version());
-  EXPECT_EQ(replica.roadmap().vertex_count(), built.vertices());
+  const SceneStatus built = client.wait_idle("s0", {}, kLong);
+  EXPECT_GT(built.vertices, 0u);
+  EXPECT_TRUE(replica.wait_for(0, built.version, std::chrono::seconds(20)));
+  EXPECT_EQ(replica.version(), built.version);
+  EXPECT_EQ(replica.roadmap().vertex_count(), built.vertices);
   EXPECT_EQ(one->terminate(), 0);
   EXPECT_EQ(two->terminate(), 0);
 }

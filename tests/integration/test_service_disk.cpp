@@ -48,33 +48,33 @@ TEST_F(ServiceTest, AFullDiskFailsTheBuildLoudlyAndLosesNoCommit) {
     c.load("s0");
     c.load("s1");
     c.build("s0", ispars_build(40'000));
-    const msg::SceneStatus failed = c.wait_idle("s0", {}, kLong);
-    ASSERT_EQ(failed.state(), msg::SCENE_FAILED) << "the build fitted in the small disk: " << failed.samples_done();
-    EXPECT_NE(failed.last_error().find("No space left on device"), std::string::npos) << failed.last_error();
-    EXPECT_NE(failed.last_error().find((dir_.path() / "data-d").string()), std::string::npos) << failed.last_error();
-    samples = failed.samples_done();
+    const SceneStatus failed = c.wait_idle("s0", {}, kLong);
+    ASSERT_EQ(failed.state, SceneState::failed) << "the build fitted in the small disk: " << failed.samples_done;
+    EXPECT_NE(failed.last_error.find("No space left on device"), std::string::npos) << failed.last_error;
+    EXPECT_NE(failed.last_error.find((dir_.path() / "data-d").string()), std::string::npos) << failed.last_error;
+    samples = failed.samples_done;
     ASSERT_GT(samples, 0u);
     EXPECT_LT(samples, 40'000u);
     // What it serves is what it committed: valid, and the same after a restart.
-    EXPECT_EQ(c.verify("s0").body().verify().violations(), 0u);
+    EXPECT_EQ(c.verify("s0").verify.violations, 0u);
     digest = roadmap_digest(c.snapshot("s0").roadmap);
-    EXPECT_EQ(c.stats("s1").state(), msg::SCENE_EMPTY) << "another scene is untouched";
+    EXPECT_EQ(c.stats("s1").state, SceneState::empty) << "another scene is untouched";
     EXPECT_TRUE(daemon->alive());
     EXPECT_EQ(daemon->terminate(), 0);
   }
   ASSERT_TRUE(disk.remount("size=64m"));
   auto daemon = start("d");
   Client c(client_options(domain_));
-  const msg::SceneStatus back = c.stats("s0");
-  EXPECT_NE(back.state(), msg::SCENE_FAILED) << back.last_error();
-  EXPECT_EQ(back.samples_done(), samples);
+  const SceneStatus back = c.stats("s0");
+  EXPECT_NE(back.state, SceneState::failed) << back.last_error;
+  EXPECT_EQ(back.samples_done, samples);
   EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), digest);
   // With room again, it extends from its last commit.
   c.extend("s0", 2000);
-  const msg::SceneStatus extended = c.wait_idle("s0", {}, kLong);
-  EXPECT_EQ(extended.state(), msg::SCENE_IDLE) << extended.last_error();
-  EXPECT_EQ(extended.samples_done(), samples + 2000);
-  EXPECT_EQ(c.verify("s0").body().verify().violations(), 0u);
+  const SceneStatus extended = c.wait_idle("s0", {}, kLong);
+  EXPECT_EQ(extended.state, SceneState::idle) << extended.last_error;
+  EXPECT_EQ(extended.samples_done, samples + 2000);
+  EXPECT_EQ(c.verify("s0").verify.violations, 0u);
 }
 
 // (A filesystem with files open for writing cannot be remounted read-only, so a daemon meets a
@@ -88,7 +88,7 @@ TEST_F(ServiceTest, AReadOnlyDataDirStopsTheStartNamingItAndLeavesTheRoadmapAsIt
     Client c(client_options(domain_));
     c.load("s0");
     c.build("s0", ispars_build(1500));
-    samples = c.wait_idle("s0", {}, kLong).samples_done();
+    samples = c.wait_idle("s0", {}, kLong).samples_done;
     digest = roadmap_digest(c.snapshot("s0").roadmap);
     EXPECT_EQ(daemon->terminate(), 0);
   }
@@ -105,9 +105,9 @@ TEST_F(ServiceTest, AReadOnlyDataDirStopsTheStartNamingItAndLeavesTheRoadmapAsIt
   ASSERT_TRUE(disk.remount("rw")) << std::strerror(errno);
   auto daemon = start("d");
   Client c(client_options(domain_));
-  const msg::SceneStatus back = c.stats("s0");
-  EXPECT_EQ(back.state(), msg::SCENE_IDLE) << back.last_error();
-  EXPECT_EQ(back.samples_done(), samples);
+  const SceneStatus back = c.stats("s0");
+  EXPECT_EQ(back.state, SceneState::idle) << back.last_error;
+  EXPECT_EQ(back.samples_done, samples);
   EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), digest);
 }
 

@@ -94,7 +94,7 @@ TEST_F(ServiceTest, MetricsCountRequestsByOutcomeAndShowEachRoadmapAsStatsDoes) 
   http.set_read_timeout(5, 0);
 
   Client c(client_options(domain_));
-  const msg::SceneStatus built = load_and_build(c, "s0", ispars_build(1500));
+  const SceneStatus built = load_and_build(c, "s0", ispars_build(1500));
   for (int i = 0; i < 3; ++i) (void)c.stats("s0");
   EXPECT_THROW((void)c.stats("nowhere"), ClientError);
 
@@ -114,8 +114,8 @@ TEST_F(ServiceTest, MetricsCountRequestsByOutcomeAndShowEachRoadmapAsStatsDoes) 
             metric(text, "ispars_request_duration_seconds_bucket{operation=\"stats\",le=\"0.01\"}"));
   EXPECT_EQ(metric(text, "ispars_samples_built_total"), 1500);
   EXPECT_EQ(metric(text, "ispars_scenes{state=\"idle\"}"), 1);
-  EXPECT_EQ(metric(text, "ispars_roadmap_vertices{scene=\"s0\"}"), static_cast<double>(built.vertices()));
-  EXPECT_EQ(metric(text, "ispars_roadmap_edges{scene=\"s0\"}"), static_cast<double>(built.edges()));
+  EXPECT_EQ(metric(text, "ispars_roadmap_vertices{scene=\"s0\"}"), static_cast<double>(built.vertices));
+  EXPECT_EQ(metric(text, "ispars_roadmap_edges{scene=\"s0\"}"), static_cast<double>(built.edges));
   EXPECT_GT(metric(text, "process_resident_memory_bytes"), 1e6);
   // The built roadmap reserves its estimated peak of the budget; nothing runs that leases any.
   EXPECT_GT(metric(text, "ispars_memory_reserved_bytes"), 0);

@@ -53,7 +53,7 @@ TEST_F(FleetTest, ThreeDaemonsLoadingOneSceneAtTheSameMomentLeaveExactlyOneOwner
       threads.emplace_back([&, i] {
         go.arrive_and_wait();
         try {
-          replies[i] = clients[i]->call_raw(make_change(msg::LOAD_SCENE, scene), ids[i]);
+          replies[i] = call_raw(*clients[i], make_change(msg::LOAD_SCENE, scene), ids[i]);
         } catch (const std::exception& e) {
           replies[i].ok(false);
           replies[i].error(e.what());
@@ -108,7 +108,7 @@ TEST_F(FleetTest, DaemonsStartedTogetherWithTheSameSceneToLoadLeaveOneOwner) {
     std::this_thread::sleep_for(std::chrono::milliseconds(500));  // and stay settled
     const auto held = holders(observer, "s2");
     ASSERT_EQ(held.size(), 1u) << "round " << round;
-    EXPECT_EQ(observer.stats("s2").server_id(), held[0]);
+    EXPECT_EQ(observer.stats("s2").server_id, held[0]);
     for (auto& d : daemons) {
       if (d->server_id() != held[0]) {
         EXPECT_NE(d->log().find("daemon " + held[0]), std::string::npos);  // the refusal names the owner
@@ -134,16 +134,15 @@ TEST_F(FleetTest, AnAddedSceneFileAndAStoredRoadmapAreAnnouncedWhileTheDaemonRun
   Client client(client_options(domain_));
   const auto announced = [&](auto field, const std::string& scene) {
     for (const auto& d : client.daemons()) {
-      if (d.server_id() != "d") continue;
-      for (const auto& name : (d.*field)()) {
+      if (d.server_id != "d") continue;
+      for (const auto& name : d.*field) {
         if (name == scene) return true;
       }
     }
     return false;
   };
-  using Names = const std::vector<msg::Name>& (msg::DaemonInfo::*)() const;
-  const Names available = &msg::DaemonInfo::available;
-  const Names stored = &msg::DaemonInfo::stored;
+  const auto available = &client::DaemonInfo::available;
+  const auto stored = &client::DaemonInfo::stored;
   ASSERT_TRUE(announced(available, "s0"));
   ASSERT_FALSE(announced(available, "s9"));
   client::write_tank_tower_scenes(scene_dir_, {"s9"});
@@ -159,7 +158,7 @@ TEST_F(FleetTest, AnAddedSceneFileAndAStoredRoadmapAreAnnouncedWhileTheDaemonRun
   client.load("s0");
   EXPECT_FALSE(announced(stored, "s0"));
   client.build("s0", ispars_build(800));
-  ASSERT_EQ(client.wait_idle("s0", {}, kLong).state(), msg::SCENE_IDLE);
+  ASSERT_EQ(client.wait_idle("s0", {}, kLong).state, SceneState::idle);
   const auto built = Clock::now();
   while (Clock::now() < built + std::chrono::seconds(10) && !announced(stored, "s0")) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -190,7 +189,7 @@ TEST_F(FleetTest, ADaemonWhoseIdIsAlreadyAnnouncedRefusesToStartOrStopsOnceItSee
   }
   ASSERT_TRUE(first->alive()) << first->log();
   Client client(client_options(domain_));
-  EXPECT_EQ(client.load("s0").server_id(), "same");
+  EXPECT_EQ(client.load("s0").server_id, "same");
 }
 
 // A running daemon that sees its id announced by another participant: the one that joined the
@@ -279,38 +278,38 @@ TEST_F(FleetTest, WhenTheOwnerIsKilledAnotherTakesOverAndRebuildsTheSameRoadmap)
   Client watcher(client_options(domain_));
   client::RoadmapReplica replica(watcher, "s1");
   client.build("s1", ispars_build(1500, 3));
-  const msg::SceneStatus built = client.wait_idle("s1", {}, kLong);
+  const SceneStatus built = client.wait_idle("s1", {}, kLong);
   const std::uint64_t digest = roadmap_digest(client.snapshot("s1").roadmap);
-  ASSERT_TRUE(replica.wait_for(built.generation(), built.version(), std::chrono::seconds(30)));
+  ASSERT_TRUE(replica.wait_for(built.generation, built.version, std::chrono::seconds(30)));
   const std::size_t snapshots_before = replica.snapshots_taken();
-  const std::string first_owner = built.server_id().to_string();
+  const std::string first_owner = built.server_id;
   for (auto& d : daemons) {
     if (d->server_id() == first_owner) d->kill9();
   }
   const auto killed = Clock::now();
   // The client addresses the scene, not a daemon: its next request follows the scene.
-  const msg::SceneStatus after = client.stats("s1");
+  const SceneStatus after = client.stats("s1");
   const double answered_after = std::chrono::duration<double>(Clock::now() - killed).count();
-  EXPECT_NE(after.server_id(), first_owner);
-  std::vector<msg::DaemonInfo> live = client.daemons();
+  EXPECT_NE(after.server_id, first_owner);
+  std::vector<msg::DaemonInfo> live = client::daemon_messages(client);
   std::erase_if(live, [&](const msg::DaemonInfo& d) { return d.server_id() == first_owner; });
-  EXPECT_EQ(after.server_id(), wire::assigned_daemon("s1", live));
+  EXPECT_EQ(after.server_id, wire::assigned_daemon("s1", live));
   // The bound: the participant lease (3 s on localhost), the client's retry (1 s), the claim
   // window (0.3 s) and the scene's load, with room for a loaded 2-core machine.
   EXPECT_LT(answered_after, 12.0) << "the new owner answered " << answered_after << " s after the kill";
-  std::printf("takeover: %s answered stats on s1 %.2f s after %s was killed\n", after.server_id().c_str(),
+  std::printf("takeover: %s answered stats on s1 %.2f s after %s was killed\n", after.server_id.c_str(),
               answered_after, first_owner.c_str());
-  const msg::SceneStatus rebuilt = client.wait_idle("s1", {}, kLong);
-  EXPECT_EQ(rebuilt.samples_done(), built.samples_done());
-  EXPECT_EQ(rebuilt.method(), "ispars");
-  EXPECT_EQ(rebuilt.seed(), 3u);
+  const SceneStatus rebuilt = client.wait_idle("s1", {}, kLong);
+  EXPECT_EQ(rebuilt.samples_done, built.samples_done);
+  EXPECT_EQ(rebuilt.method, "ispars");
+  EXPECT_EQ(rebuilt.seed, 3u);
   EXPECT_EQ(roadmap_digest(client.snapshot("s1").roadmap), digest);
-  EXPECT_EQ(holders(client, "s1"), std::vector<std::string>{after.server_id().to_string()});
+  EXPECT_EQ(holders(client, "s1"), std::vector<std::string>{after.server_id});
   // The takeover continues the roadmap's lineage (docs/fleet.md): the same generation, so a
   // replica that already holds that version of it needs no resync (it may take one, as the
   // publisher changed); either way it holds the rebuilt roadmap.
-  EXPECT_EQ(rebuilt.generation(), built.generation());
-  EXPECT_TRUE(replica.wait_for(rebuilt.generation(), rebuilt.version(), std::chrono::seconds(30)))
+  EXPECT_EQ(rebuilt.generation, built.generation);
+  EXPECT_TRUE(replica.wait_for(rebuilt.generation, rebuilt.version, std::chrono::seconds(30)))
       << "replica at generation " << replica.generation() << " version " << replica.version() << "; "
       << replica.last_error();
   EXPECT_GE(replica.snapshots_taken(), snapshots_before);

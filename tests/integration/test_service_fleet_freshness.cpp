@@ -46,8 +46,8 @@ double wait_held_idle_by(Client& client, const std::string& scene, const std::st
         *announced = std::chrono::duration<double>(Clock::now() - start).count();
       }
       try {
-        const msg::SceneStatus s = client.stats(scene);
-        if (s.server_id() == id && s.state() == msg::SCENE_IDLE) {
+        const SceneStatus s = client.stats(scene);
+        if (s.server_id == id && s.state == SceneState::idle) {
           return std::chrono::duration<double>(Clock::now() - start).count();
         }
       } catch (const ClientError&) {
@@ -60,7 +60,7 @@ double wait_held_idle_by(Client& client, const std::string& scene, const std::st
 
 std::string note_of(Client& client, const std::string& scene, const std::string& server) {
   for (const auto& e : client.list_scenes()) {
-    if (e.scene() == scene && e.server_id() == server) return e.note();
+    if (e.scene == scene && e.server_id == server) return e.note;
   }
   return "";
 }
@@ -82,7 +82,7 @@ class FleetFreshnessTest : public ServiceTest {
     Client client(options());
     client.load(scene);
     client.build(scene, ispars_build(samples, seed));
-    ASSERT_EQ(client.wait_idle(scene, {}, kLong).samples_done(), samples);
+    ASSERT_EQ(client.wait_idle(scene, {}, kLong).samples_done, samples);
     EXPECT_EQ(d->terminate(), 0);
   }
   client::ClientOptions options() const { return client_options(domain_); }
@@ -98,27 +98,27 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
   Client client(options());
   client.load("s0");
   client.build("s0", ispars_build(2000, 5));
-  const std::string o = client.wait_idle("s0", {}, kLong).server_id().to_string();
+  const std::string o = client.wait_idle("s0", {}, kLong).server_id;
   const std::string p = o == "one" ? "two" : "one";
   auto& owner = o == "one" ? one : two;
   auto& other = o == "one" ? two : one;
   owner->kill9();
   ASSERT_GE(wait_held_idle_by(client, "s0", p, std::chrono::seconds(60)), 0.0) << other->log();
-  ASSERT_EQ(client.stats("s0").samples_done(), 2000u);
+  ASSERT_EQ(client.stats("s0").samples_done, 2000u);
   client.extend("s0", 2000);
-  const msg::SceneStatus acked = client.wait_idle("s0", {}, kLong);
-  ASSERT_EQ(acked.server_id(), p);
-  ASSERT_EQ(acked.samples_done(), 4000u);  // the client's acknowledgement
+  const SceneStatus acked = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(acked.server_id, p);
+  ASSERT_EQ(acked.samples_done, 4000u);  // the client's acknowledgement
 
   EXPECT_EQ(other->terminate(), 0);
   owner = start(o);  // alone: it loads its own 2,000
   ASSERT_GE(wait_held_idle_by(client, "s0", o, std::chrono::seconds(30)), 0.0) << owner->log();
-  const msg::SceneStatus stale = client.stats("s0");
-  EXPECT_EQ(stale.samples_done(), 2000u);
+  const SceneStatus stale = client.stats("s0");
+  EXPECT_EQ(stale.samples_done, 2000u);
   // A replica following the stale copy must follow the scene to the fresher one, although its
   // new owner is idle and writes no batch.
   client::RoadmapReplica replica(client, "s0");
-  ASSERT_TRUE(replica.wait_for(stale.generation(), stale.version(), std::chrono::seconds(30))) << replica.last_error();
+  ASSERT_TRUE(replica.wait_for(stale.generation, stale.version, std::chrono::seconds(30))) << replica.last_error();
   other = start(p, {}, {"--metrics", "127.0.0.1:0"});  // with its 4,000: O must hand the scene over
   const int p_metrics = metrics_port(other->log());
   ASSERT_GT(p_metrics, 0) << other->log();
@@ -127,14 +127,14 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
   ASSERT_GE(handover, 0.0) << owner->log() << other->log();
   std::printf("handover: %s announced s0 held %.2f s, and answered it idle %.2f s, after it announced itself\n",
               p.c_str(), held, handover);
-  EXPECT_EQ(client.stats("s0").samples_done(), 4000u);
+  EXPECT_EQ(client.stats("s0").samples_done, 4000u);
   EXPECT_NE(owner->log().find("scene 's0' is handed over to daemon " + p + ": its copy is fresher"),
             std::string::npos)
       << owner->log();
   EXPECT_NE(note_of(client, "s0", o).find("handed over to daemon " + p), std::string::npos);
-  const msg::SceneStatus fresher = client.stats("s0");
-  ASSERT_TRUE(replica.wait_for(fresher.generation(), fresher.version(), std::chrono::seconds(30)))
-      << "the replica stayed on the stale copy: " << replica.version() << " of " << fresher.version();
+  const SceneStatus fresher = client.stats("s0");
+  ASSERT_TRUE(replica.wait_for(fresher.generation, fresher.version, std::chrono::seconds(30)))
+      << "the replica stayed on the stale copy: " << replica.version() << " of " << fresher.version;
   EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(client.snapshot("s0").roadmap));
 
   EXPECT_EQ(other_daemons_counted_on(p_metrics), 1) << "P does not count O before O is killed";
@@ -147,9 +147,9 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   ASSERT_EQ(other_daemons_counted_on(p_metrics), 0) << "P never noticed O's kill -9:\n" << other->log();
-  const msg::SceneStatus final_status = client.wait_idle("s0", {}, kLong);
-  EXPECT_EQ(final_status.server_id(), p);
-  EXPECT_EQ(final_status.samples_done(), 4000u);
+  const SceneStatus final_status = client.wait_idle("s0", {}, kLong);
+  EXPECT_EQ(final_status.server_id, p);
+  EXPECT_EQ(final_status.samples_done, 4000u);
   EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap),
             reference_digest(scene_dir_ / "s0.yaml", 4000, 5));
   const std::string log = other->log();  // this run's part: after its last start
@@ -185,7 +185,7 @@ TEST_F(FleetFreshnessTest, TwoEqualCopiesSettleByWeightAndTheOtherContinuesWitho
   ASSERT_GE(took, 0.0) << spare->log();
   std::printf("SIGTERM takeover: %s served s1 from its own copy %.2f s after the owner stopped\n", spare_id.c_str(),
               took);
-  EXPECT_EQ(client.stats("s1").samples_done(), 1500u);
+  EXPECT_EQ(client.stats("s1").samples_done, 1500u);
   EXPECT_NE(spare->log().find("this daemon's copy (generation"), std::string::npos) << spare->log();
   EXPECT_EQ(spare->log().find("rebuilding"), std::string::npos) << spare->log();
   EXPECT_EQ(roadmap_digest(client.snapshot("s1").roadmap), reference_digest(scene_dir_ / "s1.yaml", 1500, 2));
@@ -211,9 +211,9 @@ TEST_F(FleetFreshnessTest, ADropOutlivesAnUnloadAndARestartAndSetsTheOlderCopyAs
   ASSERT_EQ(holders(client, "s1").size(), 1u);
   const std::string h = holders(client, "s1")[0];
   const std::string x = h == "first" ? "second" : "first";
-  const std::uint64_t built = client.stats("s1").generation();
+  const std::uint64_t built = client.stats("s1").generation;
   client.drop("s1");
-  const std::uint64_t dropped = client.stats("s1").generation();
+  const std::uint64_t dropped = client.stats("s1").generation;
   ASSERT_GT(dropped, built);
   client.unload("s1");
   EXPECT_EQ(daemons[h]->terminate(), 0);
@@ -221,7 +221,7 @@ TEST_F(FleetFreshnessTest, ADropOutlivesAnUnloadAndARestartAndSetsTheOlderCopyAs
   // Announced again with the drop's generation, though not loaded.
   const auto announced_by = Clock::now() + std::chrono::seconds(20);
   const auto drop_announced = [&] {
-    for (const auto& info : client.daemons()) {
+    for (const auto& info : client::daemon_messages(client)) {
       const msg::StoredRoadmap* r = wire::roadmap_of(info, "s1");
       if (info.server_id() == h && r != nullptr && r->generation() == dropped && r->samples() == 0) return true;
     }
@@ -230,11 +230,11 @@ TEST_F(FleetFreshnessTest, ADropOutlivesAnUnloadAndARestartAndSetsTheOlderCopyAs
   while (Clock::now() < announced_by && !drop_announced()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_TRUE(drop_announced()) << daemons[h]->log();
   client.load("s1");
-  msg::SceneStatus s = client.stats("s1");
-  EXPECT_EQ(s.server_id(), h);
-  EXPECT_EQ(s.state(), msg::SCENE_EMPTY);
-  EXPECT_EQ(s.generation(), dropped);
-  EXPECT_EQ(s.samples_done(), 0u) << "the dropped roadmap was served again";
+  SceneStatus s = client.stats("s1");
+  EXPECT_EQ(s.server_id, h);
+  EXPECT_EQ(s.state, SceneState::empty);
+  EXPECT_EQ(s.generation, dropped);
+  EXPECT_EQ(s.samples_done, 0u) << "the dropped roadmap was served again";
   // The dropping daemon stops while holding the empty scene: the other takes it over from it,
   // and sets its own older copy aside instead of serving it.
   EXPECT_EQ(daemons[h]->terminate(), 0);
@@ -245,9 +245,9 @@ TEST_F(FleetFreshnessTest, ADropOutlivesAnUnloadAndARestartAndSetsTheOlderCopyAs
   }
   ASSERT_NE(daemons[x]->log().find(outcome), std::string::npos) << daemons[x]->log();
   s = client.stats("s1");
-  EXPECT_EQ(s.server_id(), x);
-  EXPECT_EQ(s.state(), msg::SCENE_EMPTY);
-  EXPECT_GT(s.generation(), built);
+  EXPECT_EQ(s.server_id, x);
+  EXPECT_EQ(s.state, SceneState::empty);
+  EXPECT_GT(s.generation, built);
   EXPECT_EQ(client.snapshot("s1").roadmap.vertex_count(), 0u);
   bool kept_aside = false;
   for (const auto& entry : std::filesystem::directory_iterator(dir_.path() / ("data-" + x) / ".aside")) {
@@ -265,14 +265,14 @@ TEST_F(FleetFreshnessTest, ADaemonWithAnotherSceneFileRefusesToContinueTheOwners
   Client client(options());
   client.load("s0");
   client.build("s0", ispars_build(1000, 1));
-  ASSERT_EQ(client.wait_idle("s0", {}, kLong).server_id(), "owner");
+  ASSERT_EQ(client.wait_idle("s0", {}, kLong).server_id, "owner");
   auto different = start("different", other_scenes);
   // Only a daemon that saw the owner hold the scene knows to take it over: wait until `different`
   // refuses the scene naming its owner.
   const auto seen_by = Clock::now() + std::chrono::seconds(20);
   std::string refusal;
   while (Clock::now() < seen_by && refusal.find("owned by daemon owner") == std::string::npos) {
-    refusal = client.call_raw(make_change(msg::LOAD_SCENE, "s0"), "different").error();
+    refusal = call_raw(client, make_change(msg::LOAD_SCENE, "s0"), "different").error();
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   ASSERT_NE(refusal.find("owned by daemon owner"), std::string::npos) << refusal;
@@ -284,9 +284,9 @@ TEST_F(FleetFreshnessTest, ADaemonWithAnotherSceneFileRefusesToContinueTheOwners
   }
   EXPECT_NE(different->log().find(outcome), std::string::npos) << different->log();
   EXPECT_NE(note_of(client, "s0", "different").find(outcome), std::string::npos);
-  const msg::SceneStatus s = client.stats("s0");
-  EXPECT_EQ(s.server_id(), "different");
-  EXPECT_EQ(s.samples_done(), 0u);  // nothing rebuilt from a recipe meant for another scene
+  const SceneStatus s = client.stats("s0");
+  EXPECT_EQ(s.server_id, "different");
+  EXPECT_EQ(s.samples_done, 0u);  // nothing rebuilt from a recipe meant for another scene
   EXPECT_TRUE(std::filesystem::exists(dir_.path() / "data-owner" / "s0" / "recipe.json"));
 }
 
@@ -313,7 +313,7 @@ TEST_F(FleetFreshnessTest, AStoreOfAnotherBuilderVersionIsNotOfferedAndLeftUntou
   }
   EXPECT_NE(d->log().find(outcome), std::string::npos) << d->log();
   EXPECT_NE(note_of(client, "s2", "d").find(outcome), std::string::npos);
-  for (const auto& info : client.daemons()) EXPECT_EQ(wire::roadmap_of(info, "s2"), nullptr);
+  for (const auto& info : client::daemon_messages(client)) EXPECT_EQ(wire::roadmap_of(info, "s2"), nullptr);
   std::ifstream in(recipe_path);
   const std::string after((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(after, text);

@@ -92,7 +92,7 @@ TEST_F(ServiceTest, AThousandMalformedRequestsWhileEightClientsQuery) {
         Client client(client_options(domain_));
         while (!done) {
           const auto s = client.stats("s0");
-          if (s.samples_done() != built.samples_done() || s.version() != built.version()) {
+          if (s.samples_done != built.samples_done || s.version != built.version) {
             failures[static_cast<std::size_t>(c)] = "the roadmap changed";
             return;
           }
@@ -147,8 +147,8 @@ TEST_F(ServiceTest, AThousandMalformedRequestsWhileEightClientsQuery) {
   EXPECT_NE(daemon->log().find("dropped a malformed ispars::msg::QueryRequest sample"), std::string::npos)
       << "random bytes were not reported";
   const auto after = control.stats("s0");
-  EXPECT_EQ(after.samples_done(), built.samples_done());
-  EXPECT_EQ(after.version(), built.version());
+  EXPECT_EQ(after.samples_done, built.samples_done);
+  EXPECT_EQ(after.version, built.version);
   EXPECT_EQ(roadmap_digest(control.snapshot("s0").roadmap), digest) << "stored data changed";
 }
 

@@ -39,7 +39,7 @@ TEST_F(ServiceTest, SlowRequestsNeverHoldBackStatsAndAFullLaneAnswersBusy) {
       while (!go) std::this_thread::yield();
       const auto k = static_cast<std::size_t>(i);
       try {
-        replies[k] = clients[k]->call_raw(make_query(msg::VERIFY, "s0"), "d");
+        replies[k] = call_raw(*clients[k], make_query(msg::VERIFY, "s0"), "d");
       } catch (const ClientError& e) {  // a failure, not the end of the test process
         replies[k].ok(false);
         replies[k].error(std::string("no reply: ") + e.what());
@@ -49,7 +49,7 @@ TEST_F(ServiceTest, SlowRequestsNeverHoldBackStatsAndAFullLaneAnswersBusy) {
   }
   go = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  msg::SceneStatus status;
+  SceneStatus status;
   std::string stats_error;
   try {
     status = control.stats("s0");
@@ -59,7 +59,7 @@ TEST_F(ServiceTest, SlowRequestsNeverHoldBackStatsAndAFullLaneAnswersBusy) {
   const Clock::time_point stats_at = Clock::now();
   for (auto& t : threads) t.join();
   EXPECT_EQ(stats_error, "") << "STATS was refused behind the verifies";
-  EXPECT_EQ(status.state(), msg::SCENE_IDLE);
+  EXPECT_EQ(status.state, SceneState::idle);
   int verified = 0, busy = 0;
   Clock::time_point first_verified = Clock::time_point::max();
   for (int i = 0; i < kVerifies; ++i) {
@@ -96,14 +96,14 @@ TEST_F(ServiceTest, ExhaustionAttemptsAreRefusedBeforeMemoryGrows) {
       p.value(*dense_delta);
       r.args().build().overrides().push_back(p);
     }
-    const msg::Reply reply = client.call_raw(r, "d");
+    const msg::Reply reply = call_raw(client, r, "d");
     EXPECT_FALSE(reply.ok()) << samples;
     EXPECT_NE(reply.error().find("more than this daemon's memory budget leaves"), std::string::npos) << reply.error();
   };
   refused(100'000, 1e6);      // every pair within delta: about 10^10 edges
   refused(50'000'000, {});    // the most samples a request may ask for
   refused(40'000'000, 0.1);   // a tiny delta does not save a huge N
-  EXPECT_EQ(client.stats("s0").state(), msg::SCENE_EMPTY) << "a refusal changed the scene";
+  EXPECT_EQ(client.stats("s0").state, SceneState::empty) << "a refusal changed the scene";
   client.build("s0", ispars_build(2000));
   const auto built = client.wait_idle("s0", {}, kLong);
   // Thousands of requests at once from raw writers: the slow lane holds 256, the rest are
@@ -119,7 +119,7 @@ TEST_F(ServiceTest, ExhaustionAttemptsAreRefusedBeforeMemoryGrows) {
       ASSERT_TRUE(peer->post(r));
     }
   }
-  EXPECT_EQ(client.stats("s0").samples_done(), built.samples_done());
+  EXPECT_EQ(client.stats("s0").samples_done, built.samples_done);
   std::size_t received = 0, last = 0;
   for (int quiet = 0; quiet < 20 && received < 2000; ++quiet) {  // until 2 s pass without a reply
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -149,8 +149,8 @@ TEST_F(ServiceTest, ExhaustionAttemptsAreRefusedBeforeMemoryGrows) {
               busy, received);
   EXPECT_LT(peak, 512.0) << "memory grew under the attempts";
   const auto after = client.stats("s0");
-  EXPECT_EQ(after.samples_done(), built.samples_done());
-  EXPECT_EQ(after.version(), built.version());
+  EXPECT_EQ(after.samples_done, built.samples_done);
+  EXPECT_EQ(after.version, built.version);
 }
 
 }  // namespace

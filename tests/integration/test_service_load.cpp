@@ -28,7 +28,7 @@ TEST_F(ServiceTest, EightClientsTimesTenThousandMixedQueriesLoseAndCrossNoReply)
       setup.load(scene);
       setup.build(scene, ispars_build(1000 + 300 * s));
     }
-    for (unsigned s = 0; s < 4; ++s) vertices[scene_name(s)] = setup.wait_idle(scene_name(s), {}, kLong).vertices();
+    for (unsigned s = 0; s < 4; ++s) vertices[scene_name(s)] = setup.wait_idle(scene_name(s), {}, kLong).vertices;
   }
   const std::size_t per_client = scaled(10'000);
   std::atomic<std::size_t> answered{0}, crossed{0}, lost{0}, refused_paths{0};
@@ -46,15 +46,15 @@ TEST_F(ServiceTest, EightClientsTimesTenThousandMixedQueriesLoseAndCrossNoReply)
           const unsigned kind = rng() % 10;
           if (kind < 6) {
             const auto s = client.stats(scene);
-            if (s.scene() != scene || s.vertices() != vertices[scene]) ++crossed;
+            if (s.scene != scene || s.vertices != vertices[scene]) ++crossed;
           } else if (kind < 9) {
             // A start point no other call uses: its first waypoint must come back.
             const double z = 1.0 + 1e-6 * static_cast<double>(c * per_client + i);
             const Vec3 from(0.0, 0.0, z), to(2.0, -3.0, 4.0);
             try {
               const auto r = client.path(scene, from, to);
-              const auto& w = r.body().path().waypoints();
-              if (w.empty() || w.front().z() != z || r.status().scene() != scene) ++crossed;
+              const auto& w = r.path.waypoints;
+              if (w.empty() || w.front().z() != z || r.status.scene != scene) ++crossed;
             } catch (const ClientError& e) {
               if (e.kind() != ClientError::Kind::rejected) throw;
               ++refused_paths;  // not joinable on that roadmap: a named refusal, still its own reply

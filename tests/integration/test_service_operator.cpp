@@ -20,7 +20,7 @@ TEST_F(ServiceTest, SighupNeitherStopsTheDaemonNorDisturbsItsRequests) {
     ASSERT_EQ(::kill(daemon->pid(), SIGHUP), 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     EXPECT_TRUE(daemon->alive());
-    EXPECT_EQ(c.stats("s0").scene(), "s0");
+    EXPECT_EQ(c.stats("s0").scene, "s0");
   }
   EXPECT_NE(daemon->log().find("SIGHUP: log reopened (level debug)"), std::string::npos) << daemon->log();
   EXPECT_EQ(daemon->terminate(), 0) << "SIGTERM still stops it cleanly";
@@ -38,7 +38,7 @@ TEST_F(ServiceTest, AnUnloadSurvivesARestartAndALoadBringsTheRoadmapBack) {
       c.build(s, ispars_build(1200));
       c.wait_idle(s, {}, kLong);
     }
-    vertices = c.stats("s0").vertices();
+    vertices = c.stats("s0").vertices;
     c.unload("s0");
     ASSERT_EQ(daemon->terminate(), 0);
   }
@@ -47,20 +47,20 @@ TEST_F(ServiceTest, AnUnloadSurvivesARestartAndALoadBringsTheRoadmapBack) {
     Client c(client_options(domain_));
     const auto list = c.list_scenes();
     for (const auto& e : list) {
-      if (e.scene() == "s0") {
-        EXPECT_FALSE(e.loaded()) << "an unloaded scene was reloaded at start";
+      if (e.scene == "s0") {
+        EXPECT_FALSE(e.loaded) << "an unloaded scene was reloaded at start";
       }
-      if (e.scene() == "s1") {
-        EXPECT_TRUE(e.loaded()) << "a loaded scene was not reloaded at start";
+      if (e.scene == "s1") {
+        EXPECT_TRUE(e.loaded) << "a loaded scene was not reloaded at start";
       }
     }
     c.load("s0");
-    EXPECT_EQ(c.stats("s0").vertices(), vertices);
+    EXPECT_EQ(c.stats("s0").vertices, vertices);
     ASSERT_EQ(daemon->terminate(), 0);
   }
   auto daemon = start("d");
   Client c(client_options(domain_));
-  EXPECT_EQ(c.stats("s0").vertices(), vertices) << "loaded again, it is reloaded at start again";
+  EXPECT_EQ(c.stats("s0").vertices, vertices) << "loaded again, it is reloaded at start again";
 }
 
 // SIGHUP after an outside rotation (logrotate renames the file): the daemon writes a new file at
@@ -97,7 +97,7 @@ TEST_F(ServiceTest, SighupReopensTheLogFileAndAppliesTheConfigsLogLevel) {
                                      "workers"),
             std::string::npos)
       << read_text(log_file);
-  EXPECT_EQ(c.stats("s0").scene(), "s0");
+  EXPECT_EQ(c.stats("s0").scene, "s0");
   c.load("s1");
   c.unload("s1");
   EXPECT_NE(read_text(log_file).find(" debug "), std::string::npos)
@@ -118,7 +118,7 @@ TEST_F(ServiceTest, SighupReopensTheLogFileAndAppliesTheConfigsLogLevel) {
   EXPECT_NE(read_text(log_file).find(refused), std::string::npos)
       << read_text(log_file);
   EXPECT_TRUE(daemon.alive());
-  EXPECT_EQ(c.stats("s0").scene(), "s0");
+  EXPECT_EQ(c.stats("s0").scene, "s0");
   EXPECT_EQ(daemon.terminate(), 0);
 }
 
@@ -138,25 +138,25 @@ TEST_F(ServiceTest, AnInterruptedBuildAndAQueuedOneResumeAfterARestart) {
     c.build("s2", ispars_build(1000, 3));
     c.cancel("s2");  // queued and cancelled: never resumed
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (std::chrono::steady_clock::now() < deadline && c.stats("s0").samples_done() == 0) {
+    while (std::chrono::steady_clock::now() < deadline && c.stats("s0").samples_done == 0) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    ASSERT_GT(c.stats("s0").samples_done(), 0u);
-    ASSERT_LT(c.stats("s0").samples_done(), 30'000u) << "the build ended before SIGTERM: make it longer";
-    EXPECT_EQ(c.stats("s1").state(), msg::SCENE_QUEUED);
+    ASSERT_GT(c.stats("s0").samples_done, 0u);
+    ASSERT_LT(c.stats("s0").samples_done, 30'000u) << "the build ended before SIGTERM: make it longer";
+    EXPECT_EQ(c.stats("s1").state, SceneState::queued);
     EXPECT_EQ(daemon->terminate(), 0);
   }
   {
     auto daemon = start("d", one_worker);
     Client c(client_options(domain_));
-    const msg::SceneStatus s0 = c.wait_idle("s0", {}, kLong);
-    const msg::SceneStatus s1 = c.wait_idle("s1", {}, kLong);
-    EXPECT_EQ(s0.samples_done(), 30'000u) << s0.last_error();
-    EXPECT_EQ(s1.samples_done(), 2000u) << s1.last_error();
-    EXPECT_EQ(s1.seed(), 2u);
+    const SceneStatus s0 = c.wait_idle("s0", {}, kLong);
+    const SceneStatus s1 = c.wait_idle("s1", {}, kLong);
+    EXPECT_EQ(s0.samples_done, 30'000u) << s0.last_error;
+    EXPECT_EQ(s1.samples_done, 2000u) << s1.last_error;
+    EXPECT_EQ(s1.seed, 2u);
     EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 30'000, 1));
     EXPECT_EQ(roadmap_digest(c.snapshot("s1").roadmap), reference_digest(scene_dir_ / "s1.yaml", 2000, 2));
-    EXPECT_EQ(c.load("s2").status().method(), "") << "a cancelled build was resumed";
+    EXPECT_EQ(c.load("s2").status.method, "") << "a cancelled build was resumed";
     const std::string log = daemon->log();
     EXPECT_NE(log.find("scene 's0': resuming an interrupted job at "), std::string::npos) << log;
     EXPECT_NE(log.find("scene 's1': resuming a build that had not committed: 2000 samples, seed 2"),
@@ -166,7 +166,7 @@ TEST_F(ServiceTest, AnInterruptedBuildAndAQueuedOneResumeAfterARestart) {
   }
   auto daemon = start("d", one_worker);
   Client c(client_options(domain_));
-  EXPECT_EQ(c.stats("s0").state(), msg::SCENE_IDLE);
+  EXPECT_EQ(c.stats("s0").state, SceneState::idle);
   // The log holds all three runs: the two resumptions of the second, none of the third.
   const std::string log = daemon->log();
   std::size_t resumed = 0;

@@ -115,31 +115,31 @@ void PartitionTest::run_campaign(bool secured) {
   for (const auto& id : kDaemons) daemons[id] = start_on(id);
   auto client_owner = joined();
   Client& client = *client_owner;
-  msg::SceneStatus status = load_and_build(client, "s0", ispars_build(800, 4));
+  SceneStatus status = load_and_build(client, "s0", ispars_build(800, 4));
   auto watcher = joined();
   client::RoadmapReplica replica(*watcher, "s0");
-  std::vector<Ack> acks{{"start", status.generation(), status.samples_done()}};
+  std::vector<Ack> acks{{"start", status.generation, status.samples_done}};
   for (int round = 0; round < partition_rounds(); ++round) {
-    const std::string cut = status.server_id().to_string();
+    const std::string cut = status.server_id;
     SCOPED_TRACE("round " + std::to_string(round) + ", " + cut + " cut off");
     lab_->cut(cut);
     Client& c = client;
     // The side without the owner takes the scene over once the owner's lease runs out there.
     const auto cut_at = Clock::now();
-    msg::SceneStatus taken;
+    SceneStatus taken;
     while (Clock::now() - cut_at < lease + std::chrono::seconds(60)) {
       const auto held = holders(c, "s0");
       if (held.size() == 1 && held[0] != cut) {
         try {
           taken = c.wait_idle("s0", {}, kLong);
-          if (taken.server_id() == held[0]) break;
+          if (taken.server_id == held[0]) break;
         } catch (const ClientError&) {
         }
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }
-    ASSERT_FALSE(taken.server_id().to_string().empty()) << "the client never saw the side without " << cut << " take the scene over";
-    ASSERT_NE(taken.server_id(), cut) << "the side without " << cut << " never took the scene over";
+    ASSERT_FALSE(taken.server_id.empty()) << "the client never saw the side without " << cut << " take the scene over";
+    ASSERT_NE(taken.server_id, cut) << "the side without " << cut << " never took the scene over";
     const double takeover_s = std::chrono::duration<double>(Clock::now() - cut_at).count();
     // Both sides acknowledge an extend; the larger one alternates between the sides.
     const std::uint64_t on_owner_side = round % 2 == 0 ? 300 : 600;
@@ -148,8 +148,8 @@ void PartitionTest::run_campaign(bool secured) {
     ASSERT_EQ(a.at("server_id"), cut);
     acks.push_back({cut, a.at("generation"), a.at("samples_done")});
     c.extend("s0", on_other_side);
-    const msg::SceneStatus b = c.wait_idle("s0", {}, kLong);
-    acks.push_back({b.server_id().to_string(), b.generation(), b.samples_done()});
+    const SceneStatus b = c.wait_idle("s0", {}, kLong);
+    acks.push_back({b.server_id, b.generation, b.samples_done});
     lab_->heal(cut);
     const auto healed_at = Clock::now();
     // Settled: one holder, idle, holding the larger side's samples, for two seconds running.
@@ -165,7 +165,7 @@ void PartitionTest::run_campaign(bool secured) {
       if (ok) {
         try {
           status = v.stats("s0");
-          ok = status.server_id() == held[0] && status.state() == msg::SCENE_IDLE && status.samples_done() == expected;
+          ok = status.server_id == held[0] && status.state == SceneState::idle && status.samples_done == expected;
         } catch (const ClientError&) {
           ok = false;
         }
@@ -182,17 +182,17 @@ void PartitionTest::run_campaign(bool secured) {
     const double heal_s = std::chrono::duration<double>(settled_since - healed_at).count();
     std::printf("partition round %d%s: %s cut; %s served the other side after %.2f s; healed to one owner (%s, %llu "
                 "samples) after %.2f s\n",
-                round, secured ? " (secured)" : "", cut.c_str(), taken.server_id().c_str(), takeover_s,
-                status.server_id().c_str(), static_cast<unsigned long long>(status.samples_done()), heal_s);
+                round, secured ? " (secured)" : "", cut.c_str(), taken.server_id.c_str(), takeover_s,
+                status.server_id.c_str(), static_cast<unsigned long long>(status.samples_done), heal_s);
     // The fresher copy wins (docs/fleet.md): the side whose extend was larger keeps the scene.
     const Ack& larger = acks[acks.size() - 1].samples > acks[acks.size() - 2].samples ? acks[acks.size() - 1]
                                                                                        : acks[acks.size() - 2];
-    EXPECT_EQ(status.server_id(), larger.side) << "the holder of the fresher copy did not keep the scene";
+    EXPECT_EQ(status.server_id, larger.side) << "the holder of the fresher copy did not keep the scene";
     for (const Ack& ack : acks) {
-      EXPECT_EQ(ack.generation, status.generation()) << "an acknowledged extend on " << ack.side;
-      EXPECT_LE(ack.samples, status.samples_done()) << "an acknowledged extend on " << ack.side;
+      EXPECT_EQ(ack.generation, status.generation) << "an acknowledged extend on " << ack.side;
+      EXPECT_LE(ack.samples, status.samples_done) << "an acknowledged extend on " << ack.side;
     }
-    const bool followed = replica.wait_for(status.generation(), status.version(), std::chrono::seconds(60));
+    const bool followed = replica.wait_for(status.generation, status.version, std::chrono::seconds(60));
     const std::string where = "the long-lived replica is at generation " + std::to_string(replica.generation()) +
                               " version " + std::to_string(replica.version()) + " (" +
                               std::to_string(replica.snapshots_taken()) + " snapshots, last error '" +
@@ -202,12 +202,12 @@ void PartitionTest::run_campaign(bool secured) {
       // And a replica made after the heal (a new participant that must authenticate afresh).
       auto late_watcher = joined();
       client::RoadmapReplica late(*late_watcher, "s0");
-      ASSERT_TRUE(late.wait_for(status.generation(), status.version(), std::chrono::seconds(60))) << late.last_error();
+      ASSERT_TRUE(late.wait_for(status.generation, status.version, std::chrono::seconds(60))) << late.last_error();
       EXPECT_EQ(roadmap_digest(late.roadmap()), roadmap_digest(late_watcher->snapshot("s0").roadmap));
     }
   }
   const std::uint64_t digest = roadmap_digest(client.snapshot("s0").roadmap);
-  EXPECT_EQ(digest, reference_digest(scene_dir_ / "s0.yaml", status.samples_done(), 4));
+  EXPECT_EQ(digest, reference_digest(scene_dir_ / "s0.yaml", status.samples_done, 4));
   EXPECT_EQ(roadmap_digest(replica.roadmap()), digest);
   std::printf("the test's client rejoined %llu times, its replica's %llu times, and the replica resynced %zu times\n",
               static_cast<unsigned long long>(client.rejoins()), static_cast<unsigned long long>(watcher->rejoins()),

@@ -26,10 +26,10 @@ TEST_F(ServiceTest, LoopingViewersNeverHoldUpAnUnloadADropOrTheStop) {
   for (const char* scene : {"s0", "s1", "s2"}) op.load(scene);
   op.build("s0", ispars_build(scaled(100'000)));
   op.build("s2", ispars_build(scaled(100'000)));
-  ASSERT_EQ(op.wait_idle("s0", {}, std::chrono::seconds(600)).state(), msg::SCENE_IDLE);
-  ASSERT_EQ(op.wait_idle("s2", {}, std::chrono::seconds(600)).state(), msg::SCENE_IDLE);
+  ASSERT_EQ(op.wait_idle("s0", {}, std::chrono::seconds(600)).state, SceneState::idle);
+  ASSERT_EQ(op.wait_idle("s2", {}, std::chrono::seconds(600)).state, SceneState::idle);
   op.build("s1", ispars_build(2000));
-  ASSERT_EQ(op.wait_idle("s1", {}, kLong).state(), msg::SCENE_IDLE);
+  ASSERT_EQ(op.wait_idle("s1", {}, kLong).state, SceneState::idle);
 
   std::atomic<bool> done{false};
   std::atomic<int> verifies{0}, snapshots{0};
@@ -45,7 +45,7 @@ TEST_F(ServiceTest, LoopingViewersNeverHoldUpAnUnloadADropOrTheStop) {
       while (!done) {
         try {
           if (i % 2 == 0) {
-            if (viewer.call_raw(make_query(msg::VERIFY, scene), "d").ok()) {
+            if (call_raw(viewer, make_query(msg::VERIFY, scene), "d").ok()) {
               ++verifies;
             } else {
               std::this_thread::sleep_for(std::chrono::milliseconds(50));

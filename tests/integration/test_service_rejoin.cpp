@@ -56,9 +56,9 @@ TEST_F(RejoinTest, ASecuredClientThatDroppedADaemonWhichKeptItRejoinsByItself) {
   options.participant.security = identity("op");
   Client client(options);
   const std::string first_id = client.id();
-  msg::SceneStatus status = load_and_build(client, "s0", ispars_build(800, 3));
+  SceneStatus status = load_and_build(client, "s0", ispars_build(800, 3));
   client::RoadmapReplica replica(client, "s0");
-  ASSERT_TRUE(replica.wait_for(status.generation(), status.version(), std::chrono::seconds(60))) << replica.last_error();
+  ASSERT_TRUE(replica.wait_for(status.generation, status.version, std::chrono::seconds(60))) << replica.last_error();
 
   lab.deafen("hc", "d1");
   // The client drops the daemon once its lease runs out here; the daemon keeps the client.
@@ -73,7 +73,7 @@ TEST_F(RejoinTest, ASecuredClientThatDroppedADaemonWhichKeptItRejoinsByItself) {
   double answered_s = -1.0;
   while (Clock::now() - heard_at < kHealBound + std::chrono::seconds(40)) {
     try {
-      if (client.stats("s0").server_id() == "d1") {
+      if (client.stats("s0").server_id == "d1") {
         answered_s = std::chrono::duration<double>(Clock::now() - heard_at).count();
         break;
       }
@@ -87,8 +87,8 @@ TEST_F(RejoinTest, ASecuredClientThatDroppedADaemonWhichKeptItRejoinsByItself) {
   EXPECT_EQ(client.rejoins(), 1u);
   client.extend("s0", 300);
   status = client.wait_idle("s0", {}, kLong);
-  EXPECT_EQ(status.samples_done(), 1100u);
-  ASSERT_TRUE(replica.wait_for(status.generation(), status.version(), std::chrono::seconds(60))) << replica.last_error();
+  EXPECT_EQ(status.samples_done, 1100u);
+  ASSERT_TRUE(replica.wait_for(status.generation, status.version, std::chrono::seconds(60))) << replica.last_error();
   const double followed_s = std::chrono::duration<double>(Clock::now() - heard_at).count();
   EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(client.snapshot("s0").roadmap));
   std::printf("one-way loss for %.0f s: the client answered %.2f s after the link came back (bound %lld s); its "
@@ -130,8 +130,8 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   ASSERT_EQ(client.daemons().size(), 2u) << "the client did not hear both daemons";
-  const msg::SceneStatus built = load_and_build(client, "s0", ispars_build(800, 3));
-  const std::string owner = built.server_id().to_string();
+  const SceneStatus built = load_and_build(client, "s0", ispars_build(800, 3));
+  const std::string owner = built.server_id;
   const std::string other = owner == "d1" ? "d2" : "d1";
 
   const std::string first_participant = client.daemon_identity(owner);
@@ -171,10 +171,10 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
 
   // Served by the owner throughout: an extend sent to it is taken, and nothing moved.
   client.extend("s0", 200);
-  const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
-  EXPECT_EQ(extended.server_id().to_string(), owner);
-  EXPECT_EQ(extended.generation(), built.generation());
-  EXPECT_EQ(extended.samples_done(), 1000u);
+  const SceneStatus extended = client.wait_idle("s0", {}, kLong);
+  EXPECT_EQ(extended.server_id, owner);
+  EXPECT_EQ(extended.generation, built.generation);
+  EXPECT_EQ(extended.samples_done, 1000u);
   EXPECT_EQ(daemons[other]->log().find("takes it over"), std::string::npos)
       << "daemon " << other << " took the scene over:\n" << daemons[other]->log();
   EXPECT_EQ(daemons[owner]->log().find("handed over to"), std::string::npos) << daemons[owner]->log();

@@ -34,10 +34,10 @@ bool eventually(Predicate ready, std::chrono::seconds timeout = std::chrono::sec
 class ReplicaTest : public ServiceTest {
  protected:
   // Loads and builds `scene`, and waits until `replica` holds the built roadmap.
-  msg::SceneStatus build_followed(Client& client, client::RoadmapReplica& replica, const std::string& scene) {
+  SceneStatus build_followed(Client& client, client::RoadmapReplica& replica, const std::string& scene) {
     client.build(scene, ispars_build(1500));
-    const msg::SceneStatus built = client.wait_idle(scene, {}, kLong);
-    EXPECT_TRUE(replica.wait_for(built.generation(), built.version(), std::chrono::seconds(30)));
+    const SceneStatus built = client.wait_idle(scene, {}, kLong);
+    EXPECT_TRUE(replica.wait_for(built.generation, built.version, std::chrono::seconds(30)));
     EXPECT_GT(replica.roadmap().vertex_count(), 0u);
     return built;
   }
@@ -63,8 +63,8 @@ TEST_F(ReplicaTest, ADropEmptiesEveryReplicaAndReleasesTheKeptBatches) {
   EXPECT_EQ(later.kept_update_batches("s0", std::chrono::milliseconds(1500)), 0u);
   EXPECT_GT(later.kept_update_batches("s1", std::chrono::milliseconds(1500)), 0u);
   // A new build on the same scene is followed again by the same replica.
-  const msg::SceneStatus rebuilt = build_followed(client, replica, "s0");
-  EXPECT_EQ(replica.generation(), rebuilt.generation());
+  const SceneStatus rebuilt = build_followed(client, replica, "s0");
+  EXPECT_EQ(replica.generation(), rebuilt.generation);
   // The positive control of `other`'s zero retirements above: a drop of s1 does reach s1's
   // replica, so that zero was not the count of a replica deaf to every drop.
   client.drop("s1");
@@ -82,10 +82,10 @@ TEST_F(ReplicaTest, AReplicaOfOneSceneReceivesNoOtherScenesBatches) {
   client.load("s1");
   client::RoadmapReplica replica(client, "s0");
   client.build("s1", ispars_build(3000));
-  const msg::SceneStatus s1 = client.wait_idle("s1", {}, kLong);
-  ASSERT_GT(s1.version(), 0u);
-  const msg::SceneStatus s0 = build_followed(client, replica, "s0");
-  EXPECT_EQ(replica.generation(), s0.generation());
+  const SceneStatus s1 = client.wait_idle("s1", {}, kLong);
+  ASSERT_GT(s1.version, 0u);
+  const SceneStatus s0 = build_followed(client, replica, "s0");
+  EXPECT_EQ(replica.generation(), s0.generation);
   EXPECT_EQ(replica.batches_of_other_scenes(), 0u);
   RawPeer unfiltered(domain_);
   EXPECT_GT(unfiltered.kept_update_batches("s1", std::chrono::milliseconds(1500)), 0u);
@@ -125,18 +125,18 @@ TEST_F(ReplicaTest, AReplicaThatFallsBehindDropsItsOldestBatchesAndResyncsToTheS
     ASSERT_TRUE(released_cv.wait_for(lock, std::chrono::seconds(30), [&] { return stalled; }))
         << "the replica applied no batch of the extend";
   }
-  const msg::SceneStatus extended = client.wait_idle("s0", {}, kLong);
-  ASSERT_EQ(extended.state(), msg::SCENE_IDLE) << extended.last_error();
+  const SceneStatus extended = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(extended.state, SceneState::idle) << extended.last_error;
   EXPECT_GT(replica.batches_dropped(), 0u) << "the extend sent too few batches to fill the queue";
   {
     std::lock_guard lock(mutex);
     released = true;
   }
   released_cv.notify_all();
-  ASSERT_TRUE(replica.wait_for(extended.generation(), extended.version(), std::chrono::seconds(30))) << replica.last_error();
+  ASSERT_TRUE(replica.wait_for(extended.generation, extended.version, std::chrono::seconds(30))) << replica.last_error();
   EXPECT_GT(replica.snapshots_taken(), snapshots) << "the dropped batches did not lead to a resync";
   const client::Snapshot snapshot = client.snapshot("s0");
-  EXPECT_EQ(snapshot.version, extended.version());
+  EXPECT_EQ(snapshot.version, extended.version);
   EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(snapshot.roadmap));
   EXPECT_THROW(client::RoadmapReplica(client, "s0", {}, client::ReplicaQueueLimits{0, 64u << 10}), std::invalid_argument);
   EXPECT_THROW(client::RoadmapReplica(client, "s0", {}, client::ReplicaQueueLimits{2, 1000}), std::invalid_argument);
@@ -147,7 +147,7 @@ TEST_F(ReplicaTest, AnUnloadEmptiesTheReplicaAndALoadBringsItBack) {
   Client client(client_options(domain_));
   client.load("s2");
   client::RoadmapReplica replica(client, "s2");
-  const msg::SceneStatus built = build_followed(client, replica, "s2");
+  const SceneStatus built = build_followed(client, replica, "s2");
   const std::uint64_t digest = roadmap_digest(replica.roadmap());
   client.unload("s2");
   ASSERT_TRUE(eventually([&] { return replica.retirements() == 1; }));
@@ -158,7 +158,7 @@ TEST_F(ReplicaTest, AnUnloadEmptiesTheReplicaAndALoadBringsItBack) {
   client.load("s2");  // its stored roadmap comes back, and so does the replica
   ASSERT_TRUE(eventually([&] { return replica.roadmap().vertex_count() > 0; }, std::chrono::seconds(30)));
   EXPECT_EQ(roadmap_digest(replica.roadmap()), digest);
-  EXPECT_EQ(replica.version(), built.version());
+  EXPECT_EQ(replica.version(), built.version);
 }
 
 TEST_F(ReplicaTest, WatchStopsOnADropAndWritesNoStaleFile) {

@@ -66,7 +66,7 @@ TEST_F(StallTest, AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner)
   ASSERT_TRUE(client) << "no client heard both daemons";
   client->load("s0");
   client->build("s0", ispars_build(800, 2));
-  std::string owner = client->wait_idle("s0", {}, kLong).server_id().to_string();
+  std::string owner = client->wait_idle("s0", {}, kLong).server_id;
   for (int round = 0; round < stall_rounds(); ++round) {
     SCOPED_TRACE("round " + std::to_string(round) + ", " + owner + " stalled");
     const std::string other = owner == "a" ? "b" : "a";
@@ -98,9 +98,9 @@ TEST_F(StallTest, AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner)
     client.reset();
     for (int attempt = 0; attempt < 3 && !client; ++attempt) client = fresh_client();
     ASSERT_TRUE(client);
-    const msg::SceneStatus s = client->wait_idle("s0", {}, kLong);
-    EXPECT_EQ(s.server_id(), owner);
-    EXPECT_EQ(s.samples_done(), 800u);
+    const SceneStatus s = client->wait_idle("s0", {}, kLong);
+    EXPECT_EQ(s.server_id, owner);
+    EXPECT_EQ(s.samples_done, 800u);
   }
   for (auto& [id, d] : daemons) EXPECT_TRUE(d->alive()) << id;
 }

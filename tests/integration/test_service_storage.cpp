@@ -23,7 +23,7 @@ TEST_F(ServiceTest, ACorruptJournalMiddleFailsItsSceneLoudlyAndTheOthersServe) {
       c.build(s, ispars_build(3000));
       c.wait_idle(s, {}, kLong);
     }
-    s1_vertices = c.stats("s1").vertices();
+    s1_vertices = c.stats("s1").vertices;
     ASSERT_EQ(daemon->terminate(), 0);
   }
   const auto journal = dir_.path() / "data-d" / "s0" / "journal.log";
@@ -37,11 +37,11 @@ TEST_F(ServiceTest, ACorruptJournalMiddleFailsItsSceneLoudlyAndTheOthersServe) {
   auto daemon = start("d", no_compaction);
   Client c(client_options(domain_));
   const auto s0 = c.stats("s0");
-  EXPECT_EQ(s0.state(), msg::SCENE_FAILED);
-  EXPECT_NE(s0.last_error().find("journal.log is damaged at byte " + std::to_string(second) + " (commit 2)"),
+  EXPECT_EQ(s0.state, SceneState::failed);
+  EXPECT_NE(s0.last_error.find("journal.log is damaged at byte " + std::to_string(second) + " (commit 2)"),
             std::string::npos)
-      << s0.last_error();
-  EXPECT_EQ(c.stats("s1").vertices(), s1_vertices) << "another scene stopped serving";
+      << s0.last_error;
+  EXPECT_EQ(c.stats("s1").vertices, s1_vertices) << "another scene stopped serving";
   try {
     c.build("s0", ispars_build(1000));
     FAIL() << "a build without replace went over a damaged store";
@@ -61,7 +61,7 @@ TEST_F(ServiceTest, AFlippedLengthInTheJournalsMiddleFailsTheSceneAndCutsNothing
     Client c(client_options(domain_));
     c.load("s0");
     c.build("s0", ispars_build(3000));
-    ASSERT_EQ(c.wait_idle("s0", {}, kLong).state(), msg::SCENE_IDLE);
+    ASSERT_EQ(c.wait_idle("s0", {}, kLong).state, SceneState::idle);
     ASSERT_EQ(daemon->terminate(), 0);
   }
   const auto store = dir_.path() / "data-d" / "s0";
@@ -78,11 +78,11 @@ TEST_F(ServiceTest, AFlippedLengthInTheJournalsMiddleFailsTheSceneAndCutsNothing
   auto daemon = start("d");
   Client c(client_options(domain_));
   const auto s0 = c.stats("s0");
-  EXPECT_EQ(s0.state(), msg::SCENE_FAILED);
-  EXPECT_NE(s0.last_error().find("journal.log is damaged at byte " + std::to_string(offset) + " (commit " +
+  EXPECT_EQ(s0.state, SceneState::failed);
+  EXPECT_NE(s0.last_error.find("journal.log is damaged at byte " + std::to_string(offset) + " (commit " +
                                  std::to_string(middle + 1) + "): record header checksum mismatch"),
             std::string::npos)
-      << s0.last_error();
+      << s0.last_error;
   EXPECT_EQ(read_text(store / "journal.log"), damaged) << "the damaged journal was changed";
   EXPECT_FALSE(std::filesystem::exists(store / "journal.log.torn.1")) << "damage was handled as a torn tail";
   EXPECT_TRUE(daemon->alive());
@@ -106,14 +106,14 @@ TEST_F(ServiceTest, AnEditedSceneFailsItsStoredRoadmapUntilRebuilt) {
   auto daemon = start("d");
   Client c(client_options(domain_));
   const auto s0 = c.stats("s0");
-  EXPECT_EQ(s0.state(), msg::SCENE_FAILED);
-  EXPECT_NE(s0.last_error().find("was built on another version of the scene"), std::string::npos) << s0.last_error();
-  EXPECT_EQ(s0.vertices(), 0u);
+  EXPECT_EQ(s0.state, SceneState::failed);
+  EXPECT_NE(s0.last_error.find("was built on another version of the scene"), std::string::npos) << s0.last_error;
+  EXPECT_EQ(s0.vertices, 0u);
   EXPECT_THROW(c.extend("s0", 500), ClientError);
   EXPECT_EQ(read_text(recipe), recipe_before);
   c.build("s0", ispars_build(1500, 1, true));
   const auto rebuilt = c.wait_idle("s0", {}, kLong);
-  EXPECT_EQ(rebuilt.state(), msg::SCENE_IDLE) << rebuilt.last_error();
+  EXPECT_EQ(rebuilt.state, SceneState::idle) << rebuilt.last_error;
   EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 1500, 1));
 }
 
@@ -145,14 +145,14 @@ TEST_F(ServiceTest, AReplayThatDoesNotReproduceTheStoredRoadmapFailsByNameAndRew
 
   auto daemon = start("d");
   Client c(client_options(domain_));
-  EXPECT_EQ(c.stats("s0").state(), msg::SCENE_IDLE) << "served as stored until something replays it";
+  EXPECT_EQ(c.stats("s0").state, SceneState::idle) << "served as stored until something replays it";
   c.extend("s0", 500);
-  const msg::SceneStatus failed = c.wait_idle("s0", {}, kLong);
-  EXPECT_EQ(failed.state(), msg::SCENE_FAILED);
-  EXPECT_NE(failed.last_error().find("replaying the recipe to 1500 samples did not reproduce the stored roadmap"),
+  const SceneStatus failed = c.wait_idle("s0", {}, kLong);
+  EXPECT_EQ(failed.state, SceneState::failed);
+  EXPECT_NE(failed.last_error.find("replaying the recipe to 1500 samples did not reproduce the stored roadmap"),
             std::string::npos)
-      << failed.last_error();
-  EXPECT_EQ(failed.samples_done(), 1500u);
+      << failed.last_error;
+  EXPECT_EQ(failed.samples_done, 1500u);
   EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), digest) << "what is stored is still served";
   for (const auto& [name, bytes] : files) EXPECT_EQ(read_text(store / name), bytes) << name << " was rewritten";
   EXPECT_TRUE(daemon->alive());

@@ -15,75 +15,74 @@ TEST_F(ServiceTest, ToursAreSearchedByTheDaemonWithProgressAndValidated) {
   Client client(client_options(domain_));
   const auto built = load_and_build(client, "s0", ispars_build(4000));
   std::vector<double> seen, bounds;
-  const msg::Reply reply = client.tour("s0", 1.0, 3, {}, [&](double, double cost, double bound) {
+  const auto reply = client.tour("s0", 1.0, 3, {}, [&](double, double cost, double bound) {
     seen.push_back(cost);
     bounds.push_back(bound);
   });
-  ASSERT_EQ(reply.body()._d(), msg::TOUR);
-  const msg::TourResult& r = reply.body().tour();
-  EXPECT_TRUE(r.valid());
-  EXPECT_EQ(r.covered(), r.target_count());
-  EXPECT_EQ(r.target_count(), built.pois_covered_root());
-  ASSERT_GE(r.walk().size(), 2u);
-  EXPECT_EQ(r.walk().front(), 0u);
-  EXPECT_EQ(r.walk().back(), 0u);
-  EXPECT_EQ(r.waypoints().size(), r.walk().size());
-  EXPECT_EQ(r.version(), built.version());
-  ASSERT_GE(r.trace().size(), 2u);
-  EXPECT_DOUBLE_EQ(r.trace().back(), r.cost());
-  EXPECT_LE(r.lower_bound(), r.cost());
-  EXPECT_GT(r.lower_bound(), 0.0);
-  ASSERT_GE(r.bound_trace().size(), 2u) << "the LP bound rose at least once";
-  EXPECT_LE(r.bound_trace().back(), r.lower_bound());
+  const Tour& r = reply.tour;
+  EXPECT_TRUE(r.valid);
+  EXPECT_EQ(r.covered, r.target_count);
+  EXPECT_EQ(r.target_count, built.pois_covered_root);
+  ASSERT_GE(r.walk.size(), 2u);
+  EXPECT_EQ(r.walk.front(), 0u);
+  EXPECT_EQ(r.walk.back(), 0u);
+  EXPECT_EQ(r.waypoints.size(), r.walk.size());
+  EXPECT_EQ(r.version, built.version);
+  ASSERT_GE(r.trace.size(), 2u);
+  EXPECT_DOUBLE_EQ(r.trace.back(), r.cost);
+  EXPECT_LE(r.lower_bound, r.cost);
+  EXPECT_GT(r.lower_bound, 0.0);
+  ASSERT_GE(r.bound_trace.size(), 2u) << "the LP bound rose at least once";
+  EXPECT_LE(r.bound_trace.back(), r.lower_bound);
   EXPECT_FALSE(seen.empty()) << "no progress was published";
   EXPECT_TRUE(std::any_of(bounds.begin(), bounds.end(), [](double b) { return b > 0.0; })) << "no bound was published";
   // The tour's steps are roadmap edges: check against a snapshot, independently of the daemon.
   const client::Snapshot snapshot = client.snapshot("s0");
   double cost = 0;
-  for (std::size_t i = 1; i < r.walk().size(); ++i) {
-    ASSERT_TRUE(snapshot.roadmap.has_edge(r.walk()[i - 1], r.walk()[i]));
-    cost += (snapshot.roadmap.position(r.walk()[i]) - snapshot.roadmap.position(r.walk()[i - 1])).norm();
+  for (std::size_t i = 1; i < r.walk.size(); ++i) {
+    ASSERT_TRUE(snapshot.roadmap.has_edge(r.walk[i - 1], r.walk[i]));
+    cost += (snapshot.roadmap.position(r.walk[i]) - snapshot.roadmap.position(r.walk[i - 1])).norm();
   }
-  EXPECT_NEAR(cost, r.cost(), 1e-9 * cost);
+  EXPECT_NEAR(cost, r.cost, 1e-9 * cost);
   // The shortcut tour, checked here with the test's own copy of the scene: its stops are walk
   // vertices, each step an edge or a segment the collision checker accepts, every target still
   // seen from a stop, and its length the sum of its steps, never above the walk's.
   const Scene scene = Scene::load(scene_dir_ / "s0.yaml");
-  ASSERT_GE(r.shortcut_stops().size(), 2u);
-  ASSERT_EQ(r.shortcut_path().size(), r.shortcut_stops().size());
-  EXPECT_EQ(r.shortcut_stops().front(), 0u);
-  EXPECT_EQ(r.shortcut_stops().back(), 0u);
+  ASSERT_GE(r.shortcut_stops.size(), 2u);
+  ASSERT_EQ(r.shortcut_path.size(), r.shortcut_stops.size());
+  EXPECT_EQ(r.shortcut_stops.front(), 0u);
+  EXPECT_EQ(r.shortcut_stops.back(), 0u);
   double flown = 0;
   std::vector<std::uint64_t> seen_from_stops(snapshot.roadmap.visible(0).size(), 0);
-  for (std::size_t i = 0; i < r.shortcut_stops().size(); ++i) {
-    const VertexId v = r.shortcut_stops()[i];
-    ASSERT_NE(std::find(r.walk().begin(), r.walk().end(), v), r.walk().end()) << "stop " << i;
+  for (std::size_t i = 0; i < r.shortcut_stops.size(); ++i) {
+    const VertexId v = r.shortcut_stops[i];
+    ASSERT_NE(std::find(r.walk.begin(), r.walk.end(), v), r.walk.end()) << "stop " << i;
     unite(seen_from_stops, snapshot.roadmap.visible(v));
     if (i == 0) continue;
-    const VertexId u = r.shortcut_stops()[i - 1];
+    const VertexId u = r.shortcut_stops[i - 1];
     const Vec3 a = snapshot.roadmap.position(u), b = snapshot.roadmap.position(v);
     EXPECT_TRUE(snapshot.roadmap.has_edge(u, v) || scene.segment_valid(a, b)) << "step " << i;
     flown += (b - a).norm();
   }
-  EXPECT_NEAR(flown, r.shortcut_cost(), 1e-9 * flown);
-  EXPECT_LE(r.shortcut_cost(), r.cost() * (1 + 1e-12));
-  EXPECT_EQ(count(seen_from_stops), r.covered());  // every target (here: every POI seen from the root's component)
+  EXPECT_NEAR(flown, r.shortcut_cost, 1e-9 * flown);
+  EXPECT_LE(r.shortcut_cost, r.cost * (1 + 1e-12));
+  EXPECT_EQ(count(seen_from_stops), r.covered);  // every target (here: every POI seen from the root's component)
   // A subset of targets, and bad tour requests.
-  const msg::TourResult two = client.tour("s0", 0.3, 1, {0u}).body().tour();
-  EXPECT_TRUE(two.valid());
-  EXPECT_EQ(two.target_count(), 1u);
+  const Tour two = client.tour("s0", 0.3, 1, {0u}).tour;
+  EXPECT_TRUE(two.valid);
+  EXPECT_EQ(two.target_count, 1u);
   msg::QueryRequest bad = make_query(msg::TOUR, "s0");
   bad.args().tour().budget(-1);
-  EXPECT_NE(client.call_raw(bad, "d").error().find("request: budget: must be in (0, 3600]"), std::string::npos);
+  EXPECT_NE(call_raw(client, bad, "d").error().find("request: budget: must be in (0, 3600]"), std::string::npos);
   bad.args().tour().budget(std::numeric_limits<double>::quiet_NaN());
-  EXPECT_FALSE(client.call_raw(bad, "d").ok());
+  EXPECT_FALSE(call_raw(client, bad, "d").ok());
   bad.args().tour().budget(0.2);
   bad.args().tour().targets({999999});
-  EXPECT_NE(client.call_raw(bad, "d").error().find("unknown POI ids"), std::string::npos);
+  EXPECT_NE(call_raw(client, bad, "d").error().find("unknown POI ids"), std::string::npos);
   client.load("s1");
   bad.scene("s1");
   bad.args().tour().targets({});
-  EXPECT_NE(client.call_raw(bad, "d").error().find("has no roadmap yet"), std::string::npos);
+  EXPECT_NE(call_raw(client, bad, "d").error().find("has no roadmap yet"), std::string::npos);
   EXPECT_TRUE(daemon->alive());
 }
 
@@ -94,7 +93,7 @@ TEST_F(ServiceTest, ToursAreBoundedAndCancelStopsThemWithTheirBestTour) {
   client.load("s0");
   client.build("s0", ispars_build(4000));
   (void)client.wait_idle("s0", {}, kLong);
-  std::vector<msg::Reply> replies(2);
+  std::vector<client::TourReply> replies(2);
   std::vector<std::unique_ptr<Client>> clients;
   for (int i = 0; i < 2; ++i) {
     clients.push_back(std::make_unique<Client>(client_options(domain_)));
@@ -123,27 +122,24 @@ TEST_F(ServiceTest, ToursAreBoundedAndCancelStopsThemWithTheirBestTour) {
   std::this_thread::sleep_for(std::chrono::seconds(2));
   msg::QueryRequest third = make_query(msg::TOUR, "s0");
   third.args().tour().budget(120.0);
-  const msg::Reply refused = client.call_raw(third, "d");
+  const msg::Reply refused = call_raw(client, third, "d");
   EXPECT_FALSE(refused.ok());
   EXPECT_NE(refused.error().find("request: kind: busy: 2 tours are queued or running"), std::string::npos)
       << refused.error();
   // CANCEL on the scene stops both: the running tour replies with its best tour, the queued one
   // is refused by name (it has no tour to give).
   const auto t0 = std::chrono::steady_clock::now();
-  const msg::Reply c = client.cancel("s0");
-  EXPECT_TRUE(c.ok()) << c.error();
-  EXPECT_NE(c.message().find("2 tours stopped"), std::string::npos) << c.message();
+  const auto c = client.cancel("s0");
+  EXPECT_NE(c.message.find("2 tours stopped"), std::string::npos) << c.message;
   for (auto& t : tours) t.join();
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 30.0)
       << "the tours ran on instead of stopping";
   int ran = 0, refused_queued = 0;
   for (std::size_t i = 0; i < 2; ++i) {
     if (failures[i].empty()) {
-      const msg::Reply& r = replies[i];
-      EXPECT_TRUE(r.ok()) << r.error();
-      ASSERT_EQ(r.body()._d(), msg::TOUR);
-      EXPECT_TRUE(r.body().tour().valid());
-      EXPECT_LE(r.body().tour().lower_bound(), r.body().tour().cost());
+      const client::TourReply& r = replies[i];
+      EXPECT_TRUE(r.tour.valid);
+      EXPECT_LE(r.tour.lower_bound, r.tour.cost);
       ++ran;
     } else if (failures[i].find("request: scene: the tour was cancelled before it started") != std::string::npos) {
       ++refused_queued;
@@ -157,8 +153,8 @@ TEST_F(ServiceTest, ToursAreBoundedAndCancelStopsThemWithTheirBestTour) {
   // Unload and load again while a tour runs: the tour keeps its roadmap and replies, and the
   // load does not wait for it (the unload released the store).
   {
-    const std::uint64_t vertices = client.stats("s0").vertices();
-    msg::Reply during;
+    const std::uint64_t vertices = client.stats("s0").vertices;
+    client::TourReply during;
     std::string during_failure;
     std::thread touring([&] {
       try {
@@ -169,17 +165,15 @@ TEST_F(ServiceTest, ToursAreBoundedAndCancelStopsThemWithTheirBestTour) {
     });
     std::this_thread::sleep_for(std::chrono::milliseconds(800));
     EXPECT_NO_THROW(client.unload("s0"));
-    const msg::Reply reloaded = client.load("s0");
-    EXPECT_TRUE(reloaded.ok()) << reloaded.error();
-    EXPECT_EQ(reloaded.status().vertices(), vertices);
+    const auto reloaded = client.load("s0");
+    EXPECT_EQ(reloaded.status.vertices, vertices);
     touring.join();
     EXPECT_EQ(during_failure, "");
-    EXPECT_TRUE(during.ok()) << during.error();
-    EXPECT_TRUE(during.body().tour().valid());
+    EXPECT_TRUE(during.tour.valid);
   }
   // SIGTERM during a tour: the tour stops, replies with its best tour, and the daemon exits
   // without waiting for the tour's budget (30 s).
-  msg::Reply last;
+  client::TourReply last;
   std::string last_failure;
   std::thread running([&] {
     try {
@@ -195,9 +189,7 @@ TEST_F(ServiceTest, ToursAreBoundedAndCancelStopsThemWithTheirBestTour) {
       << "SIGTERM waited for the tour";
   running.join();
   EXPECT_EQ(last_failure, "");
-  EXPECT_TRUE(last.ok()) << last.error();
-  ASSERT_EQ(last.body()._d(), msg::TOUR);
-  EXPECT_TRUE(last.body().tour().valid());
+  EXPECT_TRUE(last.tour.valid);
 }
 
 }  // namespace

@@ -79,15 +79,15 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   const std::string out = read_text(node_out);
   const auto result = nlohmann::json::parse(out.substr(out.rfind("\n{") == std::string::npos ? 0 : out.rfind("\n{") + 1));
   ASSERT_FALSE(result.contains("failure")) << out << "\n" << gateway.log();
-  const msg::SceneStatus stats = client.stats("s0");
-  EXPECT_EQ(stats.samples_done(), scaled(20'000));
+  const SceneStatus stats = client.stats("s0");
+  EXPECT_EQ(stats.samples_done, scaled(20'000));
   ASSERT_EQ(result["pages"].size(), 4u);
   int most_batches = 0;
   for (const auto& page : result["pages"]) {
-    EXPECT_EQ(page["vertices"], stats.vertices()) << page;
-    EXPECT_EQ(page["edges"], stats.edges()) << page;
-    EXPECT_EQ(page["shown_vertices"], stats.vertices()) << page;
-    EXPECT_EQ(page["shown_edges"], stats.edges()) << page;
+    EXPECT_EQ(page["vertices"], stats.vertices) << page;
+    EXPECT_EQ(page["edges"], stats.edges) << page;
+    EXPECT_EQ(page["shown_vertices"], stats.vertices) << page;
+    EXPECT_EQ(page["shown_edges"], stats.edges) << page;
     EXPECT_TRUE(page["mesh"].get<bool>()) << page;
     EXPECT_TRUE(page["errors"].empty()) << page;
     EXPECT_GE(page["batches"].get<int>(), 1) << page;
@@ -121,7 +121,7 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
     const auto note = page_text(small.port(), "note:drawing the first");
     EXPECT_EQ(note["vertices"], 50) << note;
     EXPECT_LE(note["edges"], 100) << note;
-    EXPECT_NE(text_of(note["text"]).find("drawing the first 50 of " + std::to_string(stats.vertices()) +
+    EXPECT_NE(text_of(note["text"]).find("drawing the first 50 of " + std::to_string(stats.vertices) +
                                                    " vertices"),
               std::string::npos)
         << note;
@@ -132,7 +132,7 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   // A page says so too, once the daemon's lease runs out.
   const auto gone = page_text(gateway.port(), "daemon_note:has left the DDS domain");
   EXPECT_NE(text_of(gone["text"]).find("daemon d has left the DDS domain"), std::string::npos) << gone;
-  EXPECT_EQ(gone["vertices"], stats.vertices()) << "the last roadmap stays shown";
+  EXPECT_EQ(gone["vertices"], stats.vertices) << "the last roadmap stays shown";
   std::pair<std::string, std::string> scenes;
   for (int i = 0; i < 15; ++i) {  // its announcement lasts until its lease (3 s) runs out
     scenes = http_get(gateway.port(), "/api/scenes");

@@ -172,7 +172,7 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
     if (log().find("isparsd " + server_id_ + " serving on DDS domain", log_start) != std::string::npos) {
       if (!serving_since) serving_since = std::chrono::steady_clock::now();
       for (const auto& d : probe->daemons()) {
-        if (d.server_id() == server_id_) return;
+        if (d.server_id == server_id_) return;
       }
       // Under DDS Security, Debian's Fast DDS 2.9.1 can fail a first handshake for good: a probe
       // that has not heard a serving daemon in 10 s joins again as a new participant.

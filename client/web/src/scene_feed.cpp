@@ -9,25 +9,24 @@
 
 #include "ispars/input_error.hpp"
 #include "ispars/scene/scene_file.hpp"
-#include "ispars/wire/convert.hpp"
 
 namespace ispars::web {
 
-std::string status_message(const msg::SceneStatus& s, bool daemon_gone) {
+std::string status_message(const client::SceneStatus& s, bool daemon_gone) {
   return nlohmann::json{{"type", "status"},
                         {"daemon_gone", daemon_gone},
-                        {"scene", s.scene().to_string()},
-                        {"server_id", s.server_id().to_string()},
-                        {"state", wire::to_string(s.state())},
-                        {"samples_done", s.samples_done()},
-                        {"samples_target", s.samples_target()},
-                        {"vertices", s.vertices()},
-                        {"edges", s.edges()},
-                        {"generation", s.generation()},
-                        {"version", s.version()},
-                        {"pois_covered", s.pois_covered()},
-                        {"poi_count", s.poi_count()},
-                        {"last_error", s.last_error()}}
+                        {"scene", s.scene},
+                        {"server_id", s.server_id},
+                        {"state", client::to_string(s.state)},
+                        {"samples_done", s.samples_done},
+                        {"samples_target", s.samples_target},
+                        {"vertices", s.vertices},
+                        {"edges", s.edges},
+                        {"generation", s.generation},
+                        {"version", s.version},
+                        {"pois_covered", s.pois_covered},
+                        {"poi_count", s.poi_count},
+                        {"last_error", s.last_error}}
       .dump();
 }
 
@@ -63,7 +62,7 @@ std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
   std::vector<std::string> out;
   // A holder that left the domain (its participant's lease ran out) takes its statuses with it:
   // the last one seen is shown, saying so, until a daemon holds the scene again.
-  std::optional<msg::SceneStatus> status = client_.latest_status(scene_);
+  std::optional<client::SceneStatus> status = client_.latest_status(scene_);
   bool gone = false;
   {
     std::lock_guard lock(mutex_);
@@ -74,7 +73,7 @@ std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
       gone = true;
     }
   }
-  if (status && !gone) gone = client_.daemon_identity(status->server_id().to_string()).empty();
+  if (status && !gone) gone = client_.daemon_identity(status->server_id).empty();
   if (status) {
     std::string message = status_message(*status, gone);
     if (message != cursor.last_status) {

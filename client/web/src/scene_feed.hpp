@@ -70,7 +70,7 @@ class SceneFeed {
   std::string scene_;
   DrawLimits limits_;
   mutable std::mutex mutex_;
-  std::optional<msg::SceneStatus> last_status_;  // the last status seen from a live daemon
+  std::optional<client::SceneStatus> last_status_;  // the last status seen from a live daemon
   std::atomic<std::uint64_t> changes_{0};        // the replica's changes so far
   std::mutex copy_mutex_;                        // one copy at a time; the others then share it
   std::uint64_t copied_changes_ = ~std::uint64_t{0};  // changes_ when roadmap_ was copied
@@ -86,6 +86,6 @@ class SceneFeed {
 };
 
 /// The JSON of a status message for the page; `daemon_gone`: its daemon has left the domain.
-[[nodiscard]] std::string status_message(const msg::SceneStatus& status, bool daemon_gone);
+[[nodiscard]] std::string status_message(const client::SceneStatus& status, bool daemon_gone);
 
 }  // namespace ispars::web

@@ -66,8 +66,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       try {
         nlohmann::json list = nlohmann::json::array();
         for (const auto& e : self->server_->client.list_scenes()) {
-          list.push_back({{"name", e.scene().to_string()}, {"server_id", e.server_id().to_string()},
-                          {"loaded", e.loaded()}, {"has_roadmap", e.has_roadmap()}});
+          list.push_back({{"name", e.scene}, {"server_id", e.server_id},
+                          {"loaded", e.loaded}, {"has_roadmap", e.has_roadmap}});
         }
         body = nlohmann::json{{"scenes", list}}.dump();
       } catch (const std::exception& e) {

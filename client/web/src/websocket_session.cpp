@@ -82,18 +82,18 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     net::post(server_->workers, [self = shared_from_this(), budget] {
       std::string reply;
       try {
-        const msg::Reply r = self->server_->client.tour(self->scene_, budget, 1, {});
+        const auto r = self->server_->client.tour(self->scene_, budget, 1, {});
         // The viewer draws the shortcut tour, the path as flown; both lengths go with it.
-        const msg::TourResult& t = r.body().tour();
-        const auto& drawn = t.shortcut_path().empty() ? t.waypoints() : t.shortcut_path();
+        const client::Tour& t = r.tour;
+        const auto& drawn = t.shortcut_path.empty() ? t.waypoints : t.shortcut_path;
         nlohmann::json positions = nlohmann::json::array();
         for (const auto& p : drawn) positions.push_back({p.x(), p.y(), p.z()});
         reply = nlohmann::json{{"type", "tour"},
-                               {"cost", t.shortcut_path().empty() ? t.cost() : t.shortcut_cost()},
-                               {"roadmap_cost", t.cost()},
-                               {"covered", r.body().tour().covered()},
-                               {"targets", r.body().tour().target_count()},
-                               {"valid", r.body().tour().valid()},
+                               {"cost", t.shortcut_path.empty() ? t.cost : t.shortcut_cost},
+                               {"roadmap_cost", t.cost},
+                               {"covered", r.tour.covered},
+                               {"targets", r.tour.target_count},
+                               {"valid", r.tour.valid},
                                {"positions", positions}}
                     .dump();
       } catch (const std::exception& e) {

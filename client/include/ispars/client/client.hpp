@@ -1,6 +1,7 @@
 #pragma once
 // The C++ client of isparsd: requests with correlation, retries and timeouts; scene ownership
-// across several daemons; snapshots; and live replicas of a roadmap (replica.hpp).
+// across several daemons; snapshots; and live replicas of a roadmap (replica.hpp). It speaks the
+// library's types (types.hpp); the wire's messages stay behind it (wire_calls.hpp).
 
 #include <chrono>
 #include <cstdint>
@@ -12,9 +13,13 @@
 #include <string>
 #include <vector>
 
-#include "ispars.h"
+#include "ispars/client/types.hpp"
 #include "ispars/roadmap/roadmap.hpp"
-#include "ispars/wire/participant.hpp"
+#include "ispars/wire/participant_options.hpp"
+
+namespace ispars::wire {
+class Participant;
+}
 
 namespace ispars::client {
 
@@ -53,12 +58,6 @@ struct BuildArgs {
   std::string variant;  ///< spars, ispars: "stretch" or "alg1" (empty: the daemon's default, stretch)
 };
 
-/// A query (list, stats, path, snapshot, verify, tour) or a change (load, unload, build, extend,
-/// cancel, drop) on `scene` with defaulted arguments, for call() or call_raw(). Throws
-/// std::invalid_argument when `operation` is of the other kind.
-[[nodiscard]] msg::QueryRequest make_query(msg::Operation operation, const std::string& scene);
-[[nodiscard]] msg::ChangeRequest make_change(msg::Operation operation, const std::string& scene);
-
 /// A whole roadmap fetched at one version.
 struct Snapshot {
   std::string scene;
@@ -67,7 +66,7 @@ struct Snapshot {
   Roadmap roadmap;
   Vec3 root = Vec3::Zero();
   std::vector<Vec3> pois;
-  msg::SceneStatus status;
+  SceneStatus status;
 };
 
 /// Something a caller makes on a client's DDS participant (a replica's update reader): made by
@@ -96,49 +95,35 @@ class Client {
   Client& operator=(const Client&) = delete;
 
   /// Scenes of every daemon on the domain.
-  std::vector<msg::SceneEntry> list_scenes();
-  msg::Reply load(const std::string& scene);
-  msg::Reply unload(const std::string& scene);
-  msg::Reply build(const std::string& scene, const BuildArgs& args);
-  msg::Reply extend(const std::string& scene, std::uint64_t samples);
-  msg::Reply cancel(const std::string& scene);
-  msg::SceneStatus stats(const std::string& scene);
-  msg::Reply path(const std::string& scene, const Vec3& from, const Vec3& to);
-  msg::Reply drop(const std::string& scene);
-  msg::Reply verify(const std::string& scene);
+  std::vector<SceneEntry> list_scenes();
+  Reply load(const std::string& scene);
+  Reply unload(const std::string& scene);
+  Reply build(const std::string& scene, const BuildArgs& args);
+  Reply extend(const std::string& scene, std::uint64_t samples);
+  Reply cancel(const std::string& scene);
+  SceneStatus stats(const std::string& scene);
+  PathReply path(const std::string& scene, const Vec3& from, const Vec3& to);
+  Reply drop(const std::string& scene);
+  VerifyReply verify(const std::string& scene);
   /// The whole roadmap, fetched in chunks at one version.
   Snapshot snapshot(const std::string& scene);
   /// An inspection tour on the scene's roadmap, searched for `budget` seconds; `progress` is
   /// called with (seconds, best cost, proven bound) as the daemon improves either (0: none yet).
   /// Empty targets: every POI seen from the root's component.
-  msg::Reply tour(const std::string& scene, double budget, std::uint64_t seed, const std::vector<std::uint32_t>& targets,
-                  const std::function<void(double seconds, double cost, double bound)>& progress = {});
+  TourReply tour(const std::string& scene, double budget, std::uint64_t seed, const std::vector<std::uint32_t>& targets,
+                 const std::function<void(double seconds, double cost, double bound)>& progress = {});
 
   /// Waits until the scene has no job (idle, empty or failed), calling `progress` on each status
   /// change seen meanwhile. Throws ClientError(timeout) after `timeout`.
-  msg::SceneStatus wait_idle(const std::string& scene, const std::function<void(const msg::SceneStatus&)>& progress,
-                             std::chrono::milliseconds timeout);
-
-  /// Sends one request to the daemon that owns its scene (or to `server`), retrying with the
-  /// same sequence number until a reply or the timeout. When the owner leaves the domain before
-  /// answering, the request follows the scene to the daemon that takes it over (unless `server`
-  /// was named). Throws ClientError(rejected) when the
-  /// reply is an error, with the daemon's message, and ClientError(protocol) when the daemon
-  /// speaks another protocol version (nothing is sent then).
-  msg::Reply call(msg::QueryRequest request, const std::string& server = {});
-  msg::Reply call(msg::ChangeRequest request, const std::string& server = {});
-  /// Like call(), with its own timeout.
-  msg::Reply call(msg::QueryRequest request, const std::string& server, std::chrono::milliseconds timeout);
-  /// Like call() but returns error replies instead of throwing.
-  msg::Reply call_raw(msg::QueryRequest request, const std::string& server);
-  msg::Reply call_raw(msg::ChangeRequest request, const std::string& server);
+  SceneStatus wait_idle(const std::string& scene, const std::function<void(const SceneStatus&)>& progress,
+                        std::chrono::milliseconds timeout);
 
   /// The daemon owning `scene` under the fleet's rule (ispars/wire/scene_owner.hpp): the live
   /// daemon holding it, else options.server when set, else the daemon the rule assigns it to.
   /// Throws ClientError(no_daemon) when none is running.
   std::string owner_of(const std::string& scene);
   /// Daemons seen on the domain (waits up to the timeout for the first).
-  std::vector<msg::DaemonInfo> daemons();
+  std::vector<DaemonInfo> daemons();
   /// This client's identity: its participant's GUID prefix (24 hex digits), as the daemon reads
   /// it from the transport and writes it into every reply to this client. A rejoin changes it.
   [[nodiscard]] std::string id() const;
@@ -151,7 +136,7 @@ class Client {
   [[nodiscard]] std::uint64_t rejoins() const;
   /// The latest status of `scene` seen on the status topic, written by the participant that
   /// announces the daemon the status names (a status from any other participant is not shown).
-  [[nodiscard]] std::optional<msg::SceneStatus> latest_status(const std::string& scene) const;
+  [[nodiscard]] std::optional<SceneStatus> latest_status(const std::string& scene) const;
   /// The transport identity (wire::identity_of) of the participant announcing daemon
   /// `server_id`; empty when no such daemon is seen.
   [[nodiscard]] std::string daemon_identity(const std::string& server_id) const;
@@ -161,12 +146,8 @@ class Client {
 
  private:
   class Impl;
-  /// call_raw() to `server`, or to the scene's owner, following the scene when its owner leaves.
-  template <class Request>
-  msg::Reply routed(Request request, const std::string& server, std::chrono::milliseconds timeout);
-  /// The owner of `scene` once daemon `gone` has left: waits (until `deadline`) for another to hold it.
-  std::string new_owner_of(const std::string& scene, const std::string& gone,
-                           std::chrono::steady_clock::time_point deadline);
+  /// Sends requests as messages (wire_calls.hpp), for this class and the seam's free functions.
+  friend struct WireAccess;
   ClientOptions options_;
   std::unique_ptr<Impl> impl_;
 };

@@ -15,22 +15,9 @@
 #include <string>
 #include <vector>
 
-namespace ispars::wire {
+#include "ispars/wire/participant_options.hpp"
 
-/// How to join a DDS domain.
-struct ParticipantOptions {
-  int domain = 0;
-  /// A Fast DDS XML profiles file. Empty: the built-in localhost-only settings (UDP bound to
-  /// 127.0.0.1; nothing leaves the machine).
-  std::string profile_file;
-  /// The participant profile in profile_file to use.
-  std::string profile_name = "ispars";
-  std::string name = "ispars";
-  /// An identity directory made by deploy/security/make-keystore.sh (cert.pem, key.pem,
-  /// permissions.p7s, ca.pem, governance.p7s). Empty: no DDS Security, and a secured daemon
-  /// neither sees nor hears this participant.
-  std::string security;
-};
+namespace ispars::wire {
 
 /// The DDS Security properties (PKI-DH authentication, access control by signed governance and
 /// permissions, AES-GCM encryption) for the identity directory `dir`. Throws std::runtime_error
