@@ -26,18 +26,32 @@ extern char** environ;  // NOLINT: the process environment (POSIX)
 namespace ispars::client {
 
 int random_domain() {
-  // Domains 100..200: a participant's ports are 7400 + 250 * domain + 11 + 2 * id, Fast DDS 2.9
-  // never reuses an id within a process (deleted participants included), and it exits the
-  // process when a port passes 65535. At domain 232 that is the 63rd participant, which the kill
-  // -9 campaign (three clients for each of its fifty restarts) went past; at 200, the 4063rd.
+  // A participant's ports are 7400 + 250 * domain + 10 (+ 1 for data) + 2 * id, and Fast DDS 2.9
+  // never reuses an id within a process (deleted participants included).
   // Domains are spaced four apart: a process's participant number n listens on ports up to
   // 7400 + 250 * domain + 11 + 2 * n, so a test with more than 125 participants (the 300-client
   // test has over 300) reaches the ports of the next domains, where another test's daemon hears
   // it. Seen 2026-11-27: a daemon on domain 187 discovered the raw peers of the 300-client test,
   // warned that its multicast port 54150 was taken, and both tests failed. Four apart leaves each
   // test 375 participants.
+  // Every port of every test domain lies below Linux's ephemeral ports (32768..60999), which any
+  // socket bound to port 0 may get. Cyclone DDS reads the datagrams that reach its transmit socket
+  // (an ephemeral port, new for each of its domain instances), and neither Fast DDS 2.9.1 nor
+  // Cyclone tells one domain's discovery from another's (Fast DDS sends and checks no domain id):
+  // when a fresh client of the vendor test, on domain 192, had its transmit socket on 54432, one of
+  // the ports a daemon on domain 188 sends its announcements to, the client discovered that daemon
+  // and was answered by it (19 replies of 20, in a network namespace whose ephemeral range was
+  // 54432..54433). Seen 2026-11-27 in a full run, most likely so: 40 Cyclone clients in a row of
+  // the vendor test were answered by the 300-client test's daemon on domain 188 (after one contact,
+  // the next ones follow: Fast DDS 2.9.1 keeps a Cyclone participant that left until its lease
+  // runs out, announcing itself to its port, which the next fresh client takes again). The domains
+  // used to be 100..200, all of whose ports are ephemeral ones.
+  constexpr int kFirst = 1;  // not 0, the default domain of a daemon and a client run by hand
   constexpr int kSpacing = 4;
-  constexpr int kDomains = 26;  // 100, 104, ..., 200
+  constexpr int kDomains = 25;  // 1, 5, ..., 97
+  constexpr int kParticipants = 375;
+  static_assert(7400 + 250 * (kFirst + kSpacing * (kDomains - 1)) + 11 + 2 * kParticipants < 32768,
+                "a test domain's ports reach Linux's ephemeral ports");
   // Tests run in parallel, each in its own process: a domain is taken by locking its file (held
   // until the process exits), so no two running tests share one. Of the free domains, the one
   // taken longest ago is tried first (each file's time is set when it is taken): a domain a test
@@ -49,7 +63,7 @@ int random_domain() {
   std::random_device rd;
   const int start = static_cast<int>(rd() % kDomains);
   for (int i = 0; i < kDomains; ++i) {
-    const int domain = 100 + kSpacing * ((start + i) % kDomains);
+    const int domain = kFirst + kSpacing * ((start + i) % kDomains);
     std::error_code ec;
     const auto taken = std::filesystem::last_write_time(dir / (std::to_string(domain) + ".lock"), ec);
     order.emplace_back(ec ? std::filesystem::file_time_type::min() : taken, domain);
@@ -64,7 +78,7 @@ int random_domain() {
     }
     ::close(fd);
   }
-  throw std::runtime_error("every DDS domain in 100..200 is taken by a running test");
+  throw std::runtime_error("every test DDS domain (1, 5, ..., 97) is taken by a running test");
 }
 
 void write_tank_tower_scenes(const std::filesystem::path& dir, const std::vector<std::string>& names) {

@@ -15,8 +15,9 @@
 
 namespace ispars::client {
 
-/// A DDS domain id in 100..200 that no other test process on this machine holds: each process
-/// locks the domains it draws (/tmp/ispars-test-domains/N.lock) until it exits.
+/// A DDS domain id of 1, 5, ..., 97 (whose ports lie below Linux's ephemeral ones) that no other
+/// test process on this machine holds: each process locks the domains it draws
+/// (/tmp/ispars-test-domains/N.lock) until it exits.
 int random_domain();
 
 /// Writes procedural scenes NAME.yaml (tank towers with seeds 1, 2, ...) into `dir`.
