@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "ispars/roadmap/roadmap.hpp"
@@ -138,6 +139,32 @@ TEST(Roadmap, RootComponentCoverage) {
   g.add_edge(0, 1);
   EXPECT_EQ(g.covered_pois(), 6u);
   EXPECT_EQ(g.covered_pois_in_component_of(0), 3u);
+}
+
+// New POIs (an inspection task) seen by vertices already built: coverage counts them, the change
+// log does not move, and the roadmap equals one built with every POI from the start.
+TEST(Roadmap, NewPoisSeenByBuiltVerticesCountAndLeaveTheLogAlone) {
+  Roadmap g(3);
+  g.add_vertex(Vec3(0, 0, 0), std::vector<PoiId>{0});
+  g.add_vertex(Vec3(1, 0, 0), std::vector<PoiId>{1});
+  g.add_vertex(Vec3(9, 0, 0), std::vector<PoiId>{2});
+  g.add_edge(0, 1);
+  const std::uint64_t version = g.version();
+  g.widen_pois(100);
+  g.add_visible(1, std::vector<PoiId>{70, 99});
+  g.add_visible(2, std::vector<PoiId>{3});
+  EXPECT_EQ(g.poi_count(), 100u);
+  EXPECT_EQ(g.version(), version);
+  EXPECT_EQ(g.covered_pois(), 6u);
+  EXPECT_EQ(g.covered_pois_in_component_of(0), 4u);
+  Roadmap wide(100);
+  wide.add_vertex(Vec3(0, 0, 0), std::vector<PoiId>{0});
+  wide.add_vertex(Vec3(1, 0, 0), std::vector<PoiId>{1, 70, 99});
+  wide.add_vertex(Vec3(9, 0, 0), std::vector<PoiId>{2, 3});
+  wide.add_edge(0, 1);
+  EXPECT_TRUE(g.same_changes_as(wide));
+  EXPECT_THROW(g.add_visible(3, std::vector<PoiId>{0}), std::out_of_range);
+  EXPECT_THROW(g.widen_pois(99), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 #include "ispars/roadmap/poi_set.hpp"
 
+#include <algorithm>
 #include <bit>
+#include <stdexcept>
+#include <string>
 
 namespace ispars {
 
@@ -11,6 +14,37 @@ std::size_t PoiSetTable::append(std::span<const PoiId> ids) {
   for (const PoiId id : ids) row[id / 64] |= std::uint64_t{1} << (id % 64);
   if (words_ == 0) ++rows_;
   return index;
+}
+
+void PoiSetTable::widen(std::size_t poi_count) {
+  if (poi_count < poi_count_) {
+    throw std::invalid_argument("POI sets cannot shrink from " + std::to_string(poi_count_) + " to " +
+                                std::to_string(poi_count) + " POIs");
+  }
+  const std::size_t words = poi_words(poi_count);
+  if (words != words_) {
+    const std::size_t n = rows();
+    std::vector<std::uint64_t> wider(n * words, 0);
+    for (std::size_t r = 0; r < n; ++r) {
+      std::copy_n(bits_.begin() + static_cast<std::ptrdiff_t>(r * words_), words_,
+                  wider.begin() + static_cast<std::ptrdiff_t>(r * words));
+    }
+    bits_ = std::move(wider);
+    words_ = words;
+    rows_ = 0;  // counted by bits_ from now on, as in a table built this wide
+  }
+  poi_count_ = poi_count;
+}
+
+void PoiSetTable::add(std::size_t i, std::span<const PoiId> ids) {
+  if (i >= rows()) throw std::out_of_range("no POI set row " + std::to_string(i));
+  for (const PoiId id : ids) {
+    if (id >= poi_count_) {
+      throw std::out_of_range("POI " + std::to_string(id) + " is not one of the " + std::to_string(poi_count_));
+    }
+  }
+  std::uint64_t* row = bits_.data() + i * words_;
+  for (const PoiId id : ids) row[id / 64] |= std::uint64_t{1} << (id % 64);
 }
 
 std::vector<PoiId> PoiSetTable::ids(std::size_t i) const {

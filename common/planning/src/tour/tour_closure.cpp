@@ -10,7 +10,7 @@
 namespace ispars {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNoRoute = std::numeric_limits<double>::infinity();
 
 // The candidates' order under each of thinning's three rankings: richest first (most targets
 // seen); nearest the root first; nearest an anchor first (the root, and every target's richest
@@ -119,7 +119,7 @@ TourClosure::TourClosure(const InspectionGraph& graph, VertexId root, const std:
   std::vector<double> from_root;
   const SearchSource root_source{root, 0.0};
   dijkstra(graph, std::span<const SearchSource>(&root_source, 1), from_root, nullptr, stopped);
-  std::vector<double> cheapest(targets.size(), kInf);
+  std::vector<double> cheapest(targets.size(), kNoRoute);
   for (std::size_t i = 0; i < vertex.size(); ++i) {
     for (const auto t : sees[i]) cheapest[t] = std::min(cheapest[t], 2.0 * from_root[vertex[i]]);
   }

@@ -9,7 +9,7 @@
 namespace ispars {
 namespace {
 
-constexpr double kEps = 1e-9;
+constexpr double kShorterBy = 1e-9;  // a straight step must be shorter than the walk by this
 
 // The stops of one pass and what they see: local target ids per stop, and how many stops see
 // each target.
@@ -76,7 +76,7 @@ std::vector<VertexId> one_pass(const Stops& s, std::span<const Vec3> positions, 
     for (std::size_t j = std::min(reach, n - 1); j >= i + 2; --j) {
       const Vec3& a = positions[s.vertex[i]];
       const Vec3& b = positions[s.vertex[j]];
-      if ((b - a).norm() >= along[j] - along[i] - kEps) continue;  // no shorter
+      if ((b - a).norm() >= along[j] - along[i] - kShorterBy) continue;  // no shorter
       if (s.vertex[i] != s.vertex[j]) {
         ++out.segments_checked;
         if (!segment_valid(a, b)) continue;

@@ -23,6 +23,13 @@ class PoiSetTable {
 
   /// Appends a row holding `ids`; returns its index.
   std::size_t append(std::span<const PoiId> ids);
+  /// Grows the set of POIs to `poi_count` (ids only append: every row keeps its ids, and the new
+  /// POIs are in no row). The table then equals one built with `poi_count` from the start. Throws
+  /// std::invalid_argument when `poi_count` is below poi_count(). O(rows x words) when the rows
+  /// need another word, else O(1).
+  void widen(std::size_t poi_count);
+  /// Adds `ids` to row i (each below poi_count(); throws std::out_of_range otherwise).
+  void add(std::size_t i, std::span<const PoiId> ids);
   [[nodiscard]] PoiBits row(std::size_t i) const { return {bits_.data() + i * words_, words_}; }
   [[nodiscard]] std::size_t rows() const { return words_ == 0 ? rows_ : bits_.size() / words_; }
   [[nodiscard]] std::size_t poi_count() const { return poi_count_; }

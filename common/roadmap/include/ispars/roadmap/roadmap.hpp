@@ -146,6 +146,13 @@ class Roadmap {
 
   /// Adds a vertex seeing `visible`; returns its id (ids are dense: 0, 1, 2, ...).
   VertexId add_vertex(const Vec3& position, std::span<const PoiId> visible);
+  /// Grows the POIs to `poi_count` (new POIs get the next ids and are seen by no vertex yet), for
+  /// an inspection task added to a built roadmap. Neither this nor add_visible is a change of the
+  /// log: version() stays. Throws std::invalid_argument when `poi_count` is below poi_count().
+  void widen_pois(std::size_t poi_count) { visible_.widen(poi_count); }
+  /// Vertex v sees `ids` too (each below poi_count(); throws std::out_of_range otherwise).
+  void add_visible(VertexId v, std::span<const PoiId> ids) { visible_.add(v, ids); }
+  [[nodiscard]] std::size_t poi_count() const { return visible_.poi_count(); }
   /// Adds the edge u-v with cost |u - v|, unless it exists or u == v; returns whether it was added.
   bool add_edge(VertexId u, VertexId v);
   /// Adds the edge u-v that the caller knows is new (u != v, both exist, no u-v yet): add_edge
