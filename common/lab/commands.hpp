@@ -68,6 +68,21 @@ struct BenchBuildOptions {
 CLI::App* add_bench_build_command(CLI::App& parent, BenchBuildOptions& options);
 int run_bench_build(const BenchBuildOptions& options);
 
+struct BenchTaskOptions {
+  std::string scene;
+  std::string method = "ispars";  ///< ispars or ispars2
+  std::size_t samples = 100'000;
+  std::size_t pois = 500;         ///< The task's POIs, sampled on the surface.
+  std::uint64_t poi_seed = 7;
+  std::uint64_t seed = 1;
+  unsigned threads = 2;
+  std::uint64_t iterations = 20'000;  ///< Tour solver iterations on each roadmap.
+  bool verify = false;
+  bool json = false;
+};
+CLI::App* add_bench_task_command(CLI::App& parent, BenchTaskOptions& options);
+int run_bench_task(const BenchTaskOptions& options);
+
 struct BenchTourOptions {
   std::string scene;
   std::string method = "dense";

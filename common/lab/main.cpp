@@ -21,6 +21,7 @@ struct Lab {
   BenchGeometryOptions geometry;
   BenchBuildOptions bench_build;
   BenchTourOptions bench_tour;
+  BenchTaskOptions bench_task;
   BuildCommandOptions build;
   ExperimentOptions table, scaling, spanner, anytime, ablation;
   TourCommandOptions tour;
@@ -35,6 +36,7 @@ struct Lab {
     on(add_bench_geometry_command(*bench, geometry), [this] { return run_bench_geometry(geometry); });
     on(add_bench_build_command(*bench, bench_build), [this] { return run_bench_build(bench_build); });
     on(add_bench_tour_command(*bench, bench_tour), [this] { return run_bench_tour(bench_tour); });
+    on(add_bench_task_command(*bench, bench_task), [this] { return run_bench_task(bench_task); });
     on(add_build_command(app, build), [this] { return run_build(build); });
     auto* experiment = app.add_subcommand("experiment", "Reproduce the paper's experiments")->require_subcommand(1);
     on(add_experiment_table_command(*experiment, table), [this] { return run_experiment_table(table); });

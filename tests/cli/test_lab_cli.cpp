@@ -53,6 +53,21 @@ TEST_F(LabCli, BenchGeometryReportsAllPathsAndAgreement) {
   EXPECT_GT(json["rays_per_second"].get<double>(), 0.0);
 }
 
+TEST_F(LabCli, BenchTaskAddsATaskThatKeepsInvariantOneAndToursIt) {
+  const LabRun run = lab(std::string("bench task ") + ISPARS_SCENES_DIR +
+                         "/truss_bridge.yaml --samples 2000 --pois 40 --iterations 300 --verify --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string last = run.out.substr(run.out.rfind('\n', run.out.size() - 2) + 1);
+  const auto json = nlohmann::json::parse(last);
+  EXPECT_EQ(json["task_pois"], 40);
+  EXPECT_EQ(json["verify"]["invariant_violations"], 0);
+  EXPECT_TRUE(json["verify"]["geometry_ok"].get<bool>());
+  EXPECT_GT(json["targets"].get<int>(), 0);
+  EXPECT_GT(json["tour_added"].get<double>(), 0.0);
+  EXPECT_GT(json["tour_rebuilt"].get<double>(), 0.0);
+  EXPECT_GT(json["add_seconds"].get<double>(), 0.0);
+}
+
 TEST_F(LabCli, MissingSceneFile) {
   expect_input_error(lab("scene info " + (dir_ / "nope.yaml").string()), (dir_ / "nope.yaml").string(), "file");
 }

@@ -20,4 +20,9 @@ VertexId DeltaPrm::insert(const Vec3& q, std::span<const PoiId> visible) {
   return id;
 }
 
+void DeltaPrm::use_scene(const Scene& scene) {
+  scene_ = &scene;
+  graph_.widen_pois(scene.pois().size());
+}
+
 }  // namespace ispars

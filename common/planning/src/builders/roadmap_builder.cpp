@@ -9,6 +9,11 @@
 
 namespace ispars {
 
+std::size_t RoadmapBuilder::add_pois(const Scene&) {
+  throw std::invalid_argument(
+      "this method cannot take new POIs into a built roadmap (spars and ispars can): rebuild it with them");
+}
+
 std::unique_ptr<RoadmapBuilder> make_roadmap_builder(BuildMethod method, const Scene& scene,
                                                      const BuildOptions& options) {
   switch (method) {

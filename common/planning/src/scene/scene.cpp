@@ -28,6 +28,14 @@ Scene Scene::with_roadmap_parameters(double dense_delta, double sparse_delta, do
   return copy;
 }
 
+Scene Scene::with_more_pois(std::span<const Vec3> more) const {
+  std::vector<Vec3> pois = visibility_->pois();
+  pois.insert(pois.end(), more.begin(), more.end());
+  Scene copy = *this;
+  copy.visibility_ = std::make_shared<const VisibilityOracle>(embree_, std::move(pois), config_->sensor_range);
+  return copy;
+}
+
 Scene Scene::build(const SceneConfig& config) {
   check_scene_config(config);
   return build(config, scene_mesh(config));

@@ -24,6 +24,12 @@ class DeltaPrm {
     grid_.within(q, radius, graph_.positions(), out);
   }
 
+  /// Uses `scene` from now on: this one's geometry with more POIs (Scene::with_more_pois), which
+  /// the graph's vertices are then counted over (each sees none of the new ones until told).
+  void use_scene(const Scene& scene);
+  /// Dense vertex v sees `ids` too.
+  void add_visible(VertexId v, std::span<const PoiId> ids) { graph_.add_visible(v, ids); }
+
   [[nodiscard]] const Roadmap& graph() const { return graph_; }
   [[nodiscard]] double delta() const { return delta_; }
 

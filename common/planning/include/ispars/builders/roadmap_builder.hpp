@@ -50,6 +50,13 @@ class RoadmapBuilder {
   /// Processes one given sample of the sampling box (not drawn from the builder's stream, and
   /// not counted in samples()). Invalid samples are dropped.
   virtual void step(const Vec3& sample) = 0;
+  /// Adds an inspection task: `widened` is this builder's scene with POIs appended
+  /// (Scene::with_more_pois), used from now on (it must outlive the builder). The vertices built
+  /// learn which new POIs they see, and the method does what it promises for them too; returns
+  /// the vertices added. Throws std::invalid_argument when `widened` does not begin with this
+  /// scene's POIs, or the method cannot take POIs without a rebuild.
+  virtual std::size_t add_pois(const Scene& widened);
+
   /// The method's roadmap: the sparse one for spars and ispars. Vertex 0 is the root.
   [[nodiscard]] virtual const Roadmap& roadmap() const = 0;
   /// The paired dense roadmap (spars and ispars), else nullptr.

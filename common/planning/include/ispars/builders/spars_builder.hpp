@@ -105,6 +105,13 @@ class SparsBuilder final : public RoadmapBuilder {
   SparsBuilder(const Scene& scene, const BuildOptions& options, const SparsRules& rules, BuiltRoadmaps built);
 
   void extend(std::size_t samples) override;
+  /// An inspection task (spars_task.cpp): every vertex learns the new POIs it sees; then, with
+  /// the inspection test, Alg. 1's lines 18-23 run again for the new POIs over every sample drawn
+  /// so far, in the build's order (the dense vertices with G_d; the seed's stream drawn again
+  /// without): a sample seeing a new POI that no sparse vertex within Delta in view sees becomes a
+  /// guard, joined by the stretch rules (vertex join). Invariant 1 then holds for the new POIs as
+  /// for the old. Samples given to step(Vec3) are not in the stream and are not replayed.
+  std::size_t add_pois(const Scene& widened) override;
   [[nodiscard]] const Roadmap& roadmap() const override { return sparse_; }
   [[nodiscard]] const Roadmap* dense() const override { return rules_.dense_graph ? &dense_.graph() : nullptr; }
   [[nodiscard]] std::span<const VertexId> dense_ids() const override {
@@ -156,6 +163,15 @@ class SparsBuilder final : public RoadmapBuilder {
   /// uninterrupted build holds them. rep(x) is the nearest sparse vertex within Delta in view,
   /// the lower id on a tie (as add_guard keeps it); a vertex's partners are its neighbours' reps.
   void restore_representatives();
+
+  /// Whether a sparse vertex within Delta of `q`, in view, sees each POI of `seen` (bits over the
+  /// new POIs; `fresh` holds each sparse vertex's): the inspection test for new POIs, checking
+  /// segments only for vertices that would add to the cover.
+  bool new_pois_covered(const Vec3& q, PoiBits seen, const PoiSetTable& fresh);
+  /// The task's replay over the dense vertices (`dense_fresh`: their new POIs), or over the
+  /// seed's stream; each guard's new POIs join `sparse_fresh`. Return the guards added.
+  std::size_t replay_dense(const PoiSetTable& dense_fresh, PoiSetTable& sparse_fresh);
+  std::size_t replay_stream(PoiSetTable& sparse_fresh, PoiId first);
 
   /// AddGuard: dense vertex x becomes a sparse vertex (no edges); representatives and supports
   /// follow.

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "ispars/geometry/check_counters.hpp"
@@ -32,6 +33,11 @@ class Scene {
   /// InputError naming the parameter (as `source`'s field) when one is out of range.
   [[nodiscard]] Scene with_roadmap_parameters(double dense_delta, double sparse_delta, double stretch,
                                               const std::string& source) const;
+
+  /// This scene with `more` POIs after its own (ids pois().size(), ...), sharing the geometry: the
+  /// scene an inspection task is planned in. Each POI's visibility is the same as in a scene
+  /// whose POIs were all there from the start.
+  [[nodiscard]] Scene with_more_pois(std::span<const Vec3> more) const;
 
   [[nodiscard]] const SceneConfig& config() const { return *config_; }
   [[nodiscard]] const TriangleMesh& mesh() const { return *mesh_; }

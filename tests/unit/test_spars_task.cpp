@@ -1,0 +1,146 @@
+// Inspection tasks on a built roadmap (spars_task.cpp): the new POIs' visibility is exactly a
+// rebuild's, Invariant 1 holds for them, the same addition gives the same roadmap, and a task the
+// builder cannot take changes nothing.
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
+#include "ispars/scene/poi_sampling.hpp"
+#include "support/test_support.hpp"
+
+namespace ispars {
+namespace {
+
+constexpr std::size_t kSamples = 3000;
+
+BuildOptions options_with(unsigned threads) {
+  BuildOptions options;
+  options.seed = 3;
+  options.threads = threads;
+  return options;
+}
+
+// `count` new POIs on the scene's surface, from a seed of their own.
+std::vector<Vec3> task_pois(const Scene& scene, std::size_t count) {
+  return sample_pois_on_surface(scene.mesh(), count, 77, true);
+}
+
+// The sparse and dense roadmaps' digests.
+std::pair<std::uint64_t, std::uint64_t> digests(const RoadmapBuilder& b) {
+  return {roadmap_digest(b.roadmap()), b.dense() != nullptr ? roadmap_digest(*b.dense()) : 0};
+}
+
+VerificationReport verify(const Scene& scene, const RoadmapBuilder& b) {
+  return verify_sparse_pair(scene, b.roadmap(), *b.dense(), b.dense_ids());
+}
+
+TEST(SparsTask, EveryDenseVertexSeesTheNewPoisARebuildWithThemWouldSee) {
+  const Scene& scene = test::shared_scene("truss_bridge");
+  const Scene widened = scene.with_more_pois(task_pois(scene, 60));
+  auto built = make_roadmap_builder(BuildMethod::ispars, scene, options_with(1));
+  built->extend(kSamples);
+  const std::uint64_t dense_version = built->dense()->version();
+  built->add_pois(widened);
+  auto rebuilt = make_roadmap_builder(BuildMethod::ispars, widened, options_with(1));
+  rebuilt->extend(kSamples);
+  // G_d does not depend on the POIs: the same graph, and now the same chi of every vertex.
+  EXPECT_EQ(built->dense()->version(), dense_version);
+  EXPECT_TRUE(built->dense()->same_changes_as(*rebuilt->dense()));
+  EXPECT_EQ(built->roadmap().poi_count(), widened.pois().size());
+}
+
+TEST(SparsTask, InvariantOneHoldsForTheNewPoisAndAfterLaterSamples) {
+  const Scene& scene = test::shared_scene("truss_bridge");
+  const Scene widened = scene.with_more_pois(task_pois(scene, 60));
+  auto builder = make_roadmap_builder(BuildMethod::ispars, scene, options_with(2));
+  builder->extend(kSamples);
+  const std::size_t before = builder->roadmap().vertex_count();
+  const std::size_t added = builder->add_pois(widened);
+  EXPECT_GT(added, 0u) << "no sample needed a guard for 60 new POIs";
+  EXPECT_EQ(builder->roadmap().vertex_count(), before + added);
+  const VerificationReport report = verify(widened, *builder);
+  EXPECT_TRUE(report.geometry_ok());
+  EXPECT_EQ(report.invariant_violations, 0u);
+  // The positive control: the same roadmaps told the new POIs they see, without the replay's
+  // guards, break Invariant 1.
+  auto control = make_roadmap_builder(BuildMethod::ispars, scene, options_with(2));
+  control->extend(kSamples);
+  Roadmap sparse = control->roadmap();
+  Roadmap dense = *control->dense();
+  sparse.widen_pois(widened.pois().size());
+  dense.widen_pois(widened.pois().size());
+  for (VertexId x = 0; x < dense.vertex_count(); ++x) {
+    dense.add_visible(x, widened.visibility().visible_pois(dense.position(x)));
+  }
+  for (VertexId s = 0; s < sparse.vertex_count(); ++s) {
+    sparse.add_visible(s, widened.visibility().visible_pois(sparse.position(s)));
+  }
+  EXPECT_GT(verify_sparse_pair(widened, sparse, dense, control->dense_ids()).invariant_violations, 0u);
+  // spars keeps no Invariant 1: its vertices learn what they see, and nothing is added.
+  auto chi_only = make_roadmap_builder(BuildMethod::spars, scene, options_with(2));
+  chi_only->extend(kSamples);
+  EXPECT_EQ(chi_only->add_pois(widened), 0u);
+  EXPECT_EQ(chi_only->roadmap().poi_count(), widened.pois().size());
+  // Later samples treat every POI alike.
+  builder->extend(1000);
+  EXPECT_EQ(verify(widened, *builder).invariant_violations, 0u);
+}
+
+TEST(SparsTask, TheSameAdditionGivesTheSameRoadmapWithAnyThreadCount) {
+  const Scene& scene = test::shared_scene("truss_bridge");
+  const Scene widened = scene.with_more_pois(task_pois(scene, 40));
+  const Scene wider = widened.with_more_pois(sample_pois_on_surface(scene.mesh(), 30, 78, true));
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> seen;
+  for (const unsigned threads : {1u, 2u}) {
+    auto b = make_roadmap_builder(BuildMethod::ispars, scene, options_with(threads));
+    b->extend(kSamples);
+    b->add_pois(widened);
+    b->extend(500);
+    b->add_pois(wider);
+    seen.push_back(digests(*b));
+  }
+  EXPECT_EQ(seen[0], seen[1]);
+}
+
+// ispars2 draws its samples again from the seed: the same guards as ispars finds on its dense
+// vertices, so the two sparse roadmaps stay byte for byte the same through tasks and extends.
+TEST(SparsTask, Ispars2DrawsItsSamplesAgainAndStaysTheRoadmapIsparsGrows) {
+  const Scene& scene = test::shared_scene("truss_bridge");
+  const Scene widened = scene.with_more_pois(task_pois(scene, 60));
+  auto ispars = make_roadmap_builder(BuildMethod::ispars, scene, options_with(2));
+  auto ispars2 = make_roadmap_builder(BuildMethod::ispars2, scene, options_with(2));
+  for (RoadmapBuilder* b : {ispars.get(), ispars2.get()}) b->extend(kSamples);
+  const std::size_t added = ispars->add_pois(widened);
+  EXPECT_GT(added, 0u);
+  EXPECT_EQ(ispars2->add_pois(widened), added);
+  EXPECT_TRUE(ispars2->roadmap().same_changes_as(ispars->roadmap()));
+  for (RoadmapBuilder* b : {ispars.get(), ispars2.get()}) b->extend(700);
+  EXPECT_TRUE(ispars2->roadmap().same_changes_as(ispars->roadmap()));
+  EXPECT_EQ(verify(widened, *ispars).invariant_violations, 0u);
+}
+
+TEST(SparsTask, ATaskTheBuilderCannotTakeChangesNothing) {
+  const Scene& scene = test::shared_scene("truss_bridge");
+  auto builder = make_roadmap_builder(BuildMethod::ispars, scene, options_with(1));
+  builder->extend(1000);
+  const auto digest = digests(*builder);
+  // A scene whose POIs do not begin with the roadmap's own.
+  const Scene& other = test::shared_scene("water_tower");
+  EXPECT_THROW(builder->add_pois(other.with_more_pois(task_pois(other, 5))), std::invalid_argument);
+  EXPECT_EQ(digests(*builder), digest);
+  EXPECT_EQ(builder->roadmap().poi_count(), scene.pois().size());
+  // A builder that promises nothing per POI.
+  const Scene widened = scene.with_more_pois(task_pois(scene, 5));
+  auto dense = make_roadmap_builder(BuildMethod::dense, scene, options_with(1));
+  dense->extend(200);
+  EXPECT_THROW(dense->add_pois(widened), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ispars
