@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "ispars/builders/poi_visibility.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
@@ -140,6 +141,44 @@ TEST(SparsTask, ATaskTheBuilderCannotTakeChangesNothing) {
   auto dense = make_roadmap_builder(BuildMethod::dense, scene, options_with(1));
   dense->extend(200);
   EXPECT_THROW(dense->add_pois(widened), std::invalid_argument);
+}
+
+TEST(SparsTask, SeeingNewPoisOnARoadmapGivesTheRowsTheBuilderGaveIt) {
+  // What a store's recovery does for the vertices built before a task: the builder's own rows.
+  const Scene& scene = test::shared_scene("truss_bridge");
+  const Scene widened = scene.with_more_pois(task_pois(scene, 60));
+  auto built = make_roadmap_builder(BuildMethod::ispars, scene, options_with(1));
+  built->extend(kSamples);
+  Roadmap sparse = built->roadmap();
+  Roadmap dense = *built->dense();
+  built->add_pois(widened);
+  const std::uint64_t dense_with_task = roadmap_digest(*built->dense());
+  built->extend(500);  // vertices built seeing every POI: seeing them again changes nothing
+  Roadmap sparse_after = built->roadmap();
+  see_new_pois(sparse, widened, static_cast<PoiId>(scene.pois().size()));
+  see_new_pois(dense, widened, static_cast<PoiId>(scene.pois().size()));
+  EXPECT_EQ(roadmap_digest(dense), dense_with_task);
+  const std::uint64_t before = roadmap_digest(sparse_after);
+  see_new_pois(sparse_after, widened, static_cast<PoiId>(scene.pois().size()));
+  EXPECT_EQ(roadmap_digest(sparse_after), before);
+  // The sparse roadmap before the task, told what its vertices see, is the task's roadmap less
+  // its guards: every vertex it has, it has with the same POIs.
+  for (VertexId v = 0; v < sparse.vertex_count(); ++v) {
+    ASSERT_TRUE(std::equal(sparse.visible(v).begin(), sparse.visible(v).end(), sparse_after.visible(v).begin()))
+        << "vertex " << v;
+  }
+}
+
+TEST(SparsTask, AnAdditionStopsWhenAskedAndSaysSo) {
+  const Scene& scene = test::shared_scene("truss_bridge");
+  const Scene widened = scene.with_more_pois(task_pois(scene, 20));
+  for (const BuildMethod method : {BuildMethod::ispars, BuildMethod::ispars2}) {
+    auto built = make_roadmap_builder(method, scene, options_with(1));
+    built->extend(kSamples);
+    int asked = 0;
+    EXPECT_THROW(built->add_pois(widened, [&] { return ++asked < 3; }), AdditionStopped) << to_string(method);
+    EXPECT_EQ(asked, 3) << "it stops at the first no";
+  }
 }
 
 }  // namespace

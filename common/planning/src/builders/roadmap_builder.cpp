@@ -9,7 +9,7 @@
 
 namespace ispars {
 
-std::size_t RoadmapBuilder::add_pois(const Scene&) {
+std::size_t RoadmapBuilder::add_pois(const Scene&, const std::function<bool()>&) {
   throw std::invalid_argument(
       "this method cannot take new POIs into a built roadmap (spars and ispars can): rebuild it with them");
 }

@@ -115,4 +115,26 @@ VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& spars
   return report;
 }
 
+VerificationReport verify_drawn_samples(const Scene& scene, const Roadmap& sparse, std::uint64_t seed,
+                                        std::size_t samples, const VerifyKeepGoing& keep_going) {
+  VerificationReport report;
+  InvariantCheck check(scene, sparse);
+  Rng stream(seed);
+  std::vector<PoiId> visible;
+  std::vector<std::uint64_t> seen(poi_words(scene.pois().size()));
+  for (std::size_t i = 0; i < samples; ++i) {
+    check_in(i, keep_going);
+    const Vec3 q = stream.uniform_in(scene.config().bounds);
+    if (!scene.point_valid(q)) continue;
+    scene.visible_pois(q, visible);
+    std::fill(seen.begin(), seen.end(), 0);
+    for (const PoiId p : visible) seen[p / 64] |= std::uint64_t{1} << (p % 64);
+    const std::uint64_t missing = check.missing(q, seen);
+    report.invariant_violations += missing;
+    report.invariant_vertices += missing > 0;
+  }
+  report.invariant_drawn = samples;
+  return report;
+}
+
 }  // namespace ispars

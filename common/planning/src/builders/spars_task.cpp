@@ -3,8 +3,11 @@
 // vertices with G_d, the seed's stream drawn again without (ispars2).
 
 #include <algorithm>
+#include <thread>
+#include <vector>
 #include <stdexcept>
 
+#include "ispars/builders/poi_visibility.hpp"
 #include "ispars/builders/spars_builder.hpp"
 
 namespace ispars {
@@ -25,26 +28,50 @@ void check_widened(const Scene& scene, const Scene& widened) {
   }
 }
 
-// Each dense vertex's new POIs (ids relative to `first`): the candidates within sensor range,
-// each with its own ray, as the widened scene's chi finds them.
-PoiSetTable new_visibility(const Scene& widened, const Roadmap& dense, PoiId first) {
-  PoiSetTable fresh(widened.pois().size() - first);
-  std::vector<PoiId> in_range, ids;
-  for (VertexId x = 0; x < dense.vertex_count(); ++x) {
-    const Vec3& q = dense.position(x);
-    widened.visibility().pois_in_range(q, in_range);
-    ids.clear();
-    for (const PoiId id : in_range) {
-      if (id >= first && widened.visibility().line_of_sight(q, id)) ids.push_back(id - first);
+// A sample of the build's stream drawn again, with the new POIs it sees (ids relative to the
+// first new POI): none when it is invalid or sees none.
+struct ReplayedSample {
+  Vec3 q = Vec3::Zero();
+  std::vector<PoiId> ids;
+};
+
+// Draws `count` samples from `stream` in order (three uniforms each, as prepare_samples does),
+// then finds each one's new POIs on `threads` threads: the work that depends on the sample alone.
+// The result does not depend on the thread count.
+void replay_samples(const Scene& widened, Rng& stream, std::size_t count, PoiId first, unsigned threads,
+                    std::vector<ReplayedSample>& out) {
+  out.resize(count);
+  for (ReplayedSample& s : out) s.q = stream.uniform_in(widened.config().bounds);
+  const VisibilityOracle& chi = widened.visibility();
+  const auto find = [&](std::size_t from, std::size_t stride) {
+    std::vector<PoiId> in_range;
+    for (std::size_t i = from; i < count; i += stride) {
+      ReplayedSample& s = out[i];
+      s.ids.clear();
+      chi.pois_in_range(s.q, in_range);  // ascending
+      if (in_range.empty() || in_range.back() < first || !widened.point_valid(s.q)) continue;
+      for (const PoiId id : in_range) {
+        if (id >= first && chi.line_of_sight(s.q, id)) s.ids.push_back(id - first);
+      }
     }
-    fresh.append(ids);
-  }
-  return fresh;
+  };
+  const std::size_t workers = std::clamp<std::size_t>(threads, 1, std::max<std::size_t>(1, count / 64));
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(find, t, workers);
+  find(0, workers);
+  for (std::thread& t : pool) t.join();
 }
 
 std::vector<PoiId> shifted(std::vector<PoiId> ids, PoiId by) {
   for (PoiId& id : ids) id += by;
   return ids;
+}
+
+// Every 256 steps, asks whether to go on; throws AdditionStopped when not.
+void stop_if_asked(const std::function<bool()>& keep_going, std::size_t step) {
+  if (step % 256 == 0 && keep_going && !keep_going()) {
+    throw AdditionStopped("adding the task's POIs was stopped");
+  }
 }
 
 bool any(PoiBits bits) {
@@ -56,7 +83,7 @@ bool any(PoiBits bits) {
 
 }  // namespace
 
-std::size_t SparsBuilder::add_pois(const Scene& widened) {
+std::size_t SparsBuilder::add_pois(const Scene& widened, const std::function<bool()>& keep_going) {
   check_widened(*scene_, widened);
   const auto first = static_cast<PoiId>(scene_->pois().size());
   // The new POIs each vertex sees (ids from `first`): each dense vertex's with G_d, and each
@@ -64,10 +91,10 @@ std::size_t SparsBuilder::add_pois(const Scene& widened) {
   PoiSetTable dense_fresh;
   PoiSetTable sparse_fresh(widened.pois().size() - first);
   if (rules_.dense_graph) {
-    dense_fresh = new_visibility(widened, dense_.graph(), first);
+    dense_fresh = new_poi_visibility(widened, dense_.graph(), first, keep_going);
     for (const VertexId x : dense_of_sparse_) sparse_fresh.append(dense_fresh.ids(x));
   } else {
-    sparse_fresh = new_visibility(widened, sparse_, first);
+    sparse_fresh = new_poi_visibility(widened, sparse_, first, keep_going);
   }
   // From here on the builder plans in the widened scene; every vertex sees what it sees there.
   scene_ = &widened;
@@ -79,12 +106,15 @@ std::size_t SparsBuilder::add_pois(const Scene& widened) {
   }
   if (!rules_.inspection_test) return 0;
   slack_now_ = slack_at(samples_);
-  return rules_.dense_graph ? replay_dense(dense_fresh, sparse_fresh) : replay_stream(sparse_fresh, first);
+  return rules_.dense_graph ? replay_dense(dense_fresh, sparse_fresh, keep_going)
+                            : replay_stream(sparse_fresh, first, keep_going);
 }
 
-std::size_t SparsBuilder::replay_dense(const PoiSetTable& dense_fresh, PoiSetTable& sparse_fresh) {
+std::size_t SparsBuilder::replay_dense(const PoiSetTable& dense_fresh, PoiSetTable& sparse_fresh,
+                                       const std::function<bool()>& keep_going) {
   std::size_t added = 0;
   for (VertexId x = 0; x < dense_fresh.rows(); ++x) {
+    stop_if_asked(keep_going, x);
     if (sparse_of_dense_[x] != kNoVertex || !any(dense_fresh.row(x))) continue;
     const Vec3 q = dense_.graph().position(x);
     if (new_pois_covered(q, dense_fresh.row(x), sparse_fresh)) continue;
@@ -98,32 +128,31 @@ std::size_t SparsBuilder::replay_dense(const PoiSetTable& dense_fresh, PoiSetTab
   return added;
 }
 
-std::size_t SparsBuilder::replay_stream(PoiSetTable& sparse_fresh, PoiId first) {
-  // The build's samples drawn again, in its order: its seed's stream (prepare_samples).
+std::size_t SparsBuilder::replay_stream(PoiSetTable& sparse_fresh, PoiId first,
+                                        const std::function<bool()>& keep_going) {
+  // The build's samples drawn again, in its order: its seed's stream (prepare_samples), in blocks
+  // whose chi runs on the build's threads; the inspection test then takes them one by one.
+  constexpr std::size_t kBlock = 1024;
   Rng stream(options_.seed);
-  const VisibilityOracle& chi = scene_->visibility();
-  std::vector<PoiId> in_range, ids;
+  std::vector<ReplayedSample> block;
   std::vector<std::uint64_t> seen(poi_words(sparse_fresh.poi_count()));
   std::size_t added = 0;
-  for (std::size_t i = 0; i < samples_; ++i) {
-    const Vec3 q = stream.uniform_in(scene_->config().bounds);
-    chi.pois_in_range(q, in_range);
-    if (in_range.empty() || in_range.back() < first || !scene_->point_valid(q)) continue;
-    ids.clear();
-    for (const PoiId id : in_range) {
-      if (id >= first && chi.line_of_sight(q, id)) ids.push_back(id - first);
+  for (std::size_t done = 0; done < samples_; done += kBlock) {
+    stop_if_asked(keep_going, 0);
+    replay_samples(*scene_, stream, std::min(kBlock, samples_ - done), first, options_.threads, block);
+    for (const ReplayedSample& sample : block) {
+      if (sample.ids.empty()) continue;
+      std::fill(seen.begin(), seen.end(), 0);
+      for (const PoiId id : sample.ids) seen[id / 64] |= std::uint64_t{1} << (id % 64);
+      if (new_pois_covered(sample.q, seen, sparse_fresh)) continue;
+      reachable_guards(sample.q);
+      const VertexId s = sparse_.add_vertex(sample.q, scene_->visibility().visible_pois(sample.q));
+      sparse_grid_.insert(s, sample.q);
+      sparse_fresh.append(sample.ids);
+      ++admissions_.inspection;
+      ++added;
+      if (rules_.vertex_join) vertex_join(s, reachable_);
     }
-    if (ids.empty()) continue;
-    std::fill(seen.begin(), seen.end(), 0);
-    for (const PoiId id : ids) seen[id / 64] |= std::uint64_t{1} << (id % 64);
-    if (new_pois_covered(q, seen, sparse_fresh)) continue;
-    reachable_guards(q);
-    const VertexId s = sparse_.add_vertex(q, chi.visible_pois(q));
-    sparse_grid_.insert(s, q);
-    sparse_fresh.append(ids);
-    ++admissions_.inspection;
-    ++added;
-    if (rules_.vertex_join) vertex_join(s, reachable_);
   }
   return added;
 }

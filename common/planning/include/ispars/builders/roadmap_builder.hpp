@@ -1,6 +1,7 @@
 #pragma once
 // Incremental roadmap construction: Dense (delta-PRM), SPARS, Inspection-SPARS and IRIS-C.
 
+#include <functional>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -54,8 +55,9 @@ class RoadmapBuilder {
   /// (Scene::with_more_pois), used from now on (it must outlive the builder). The vertices built
   /// learn which new POIs they see, and the method does what it promises for them too; returns
   /// the vertices added. Throws std::invalid_argument when `widened` does not begin with this
-  /// scene's POIs, or the method cannot take POIs without a rebuild.
-  virtual std::size_t add_pois(const Scene& widened);
+  /// scene's POIs, or the method cannot take POIs without a rebuild; AdditionStopped
+  /// (poi_visibility.hpp) when `keep_going` said no part way (the builder must then be discarded).
+  virtual std::size_t add_pois(const Scene& widened, const std::function<bool()>& keep_going = {});
 
   /// The method's roadmap: the sparse one for spars and ispars. Vertex 0 is the root.
   [[nodiscard]] virtual const Roadmap& roadmap() const = 0;

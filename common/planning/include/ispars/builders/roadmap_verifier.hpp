@@ -24,6 +24,9 @@ struct VerificationReport {
   /// Fresh samples Invariant 1 was checked on instead of dense vertices (a roadmap without a
   /// dense graph: verify_fresh_samples); 0 when it was checked on the dense graph.
   std::uint64_t invariant_samples = 0;
+  /// Samples of the build's own stream Invariant 1 was checked on, drawn again (a roadmap without
+  /// a dense graph: verify_drawn_samples); 0 otherwise.
+  std::uint64_t invariant_drawn = 0;
 
   [[nodiscard]] bool geometry_ok() const {
     return invalid_vertices == 0 && invalid_edges == 0 && wrong_costs == 0 && sparse_not_dense == 0;
@@ -56,5 +59,12 @@ struct VerificationStopped : std::runtime_error {
 /// these counts estimate.
 [[nodiscard]] VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& sparse, std::size_t samples,
                                                       std::uint64_t seed, const VerifyKeepGoing& keep_going = {});
+
+/// Invariant 1, exactly, on the samples a build from `seed` drew: its stream's first `samples`
+/// draws again (three uniforms each, as the builders draw them), the valid ones checked as
+/// verify_sparse_pair checks dense vertices (they are the dense vertices ispars would hold).
+/// What Claim 1 promises for ispars2, also after an inspection task.
+[[nodiscard]] VerificationReport verify_drawn_samples(const Scene& scene, const Roadmap& sparse, std::uint64_t seed,
+                                                      std::size_t samples, const VerifyKeepGoing& keep_going = {});
 
 }  // namespace ispars

@@ -5,6 +5,7 @@
 // the path through q between two members of a sample's W(q). They bound no farther pair, which
 // Theorem 1's proof would also need (docs/sparse-stretch.md; measured in docs/results/stretch.md).
 
+#include <functional>
 #include <cstdint>
 #include <map>
 #include <span>
@@ -111,7 +112,7 @@ class SparsBuilder final : public RoadmapBuilder {
   /// without): a sample seeing a new POI that no sparse vertex within Delta in view sees becomes a
   /// guard, joined by the stretch rules (vertex join). Invariant 1 then holds for the new POIs as
   /// for the old. Samples given to step(Vec3) are not in the stream and are not replayed.
-  std::size_t add_pois(const Scene& widened) override;
+  std::size_t add_pois(const Scene& widened, const std::function<bool()>& keep_going = {}) override;
   [[nodiscard]] const Roadmap& roadmap() const override { return sparse_; }
   [[nodiscard]] const Roadmap* dense() const override { return rules_.dense_graph ? &dense_.graph() : nullptr; }
   [[nodiscard]] std::span<const VertexId> dense_ids() const override {
@@ -170,8 +171,9 @@ class SparsBuilder final : public RoadmapBuilder {
   bool new_pois_covered(const Vec3& q, PoiBits seen, const PoiSetTable& fresh);
   /// The task's replay over the dense vertices (`dense_fresh`: their new POIs), or over the
   /// seed's stream; each guard's new POIs join `sparse_fresh`. Return the guards added.
-  std::size_t replay_dense(const PoiSetTable& dense_fresh, PoiSetTable& sparse_fresh);
-  std::size_t replay_stream(PoiSetTable& sparse_fresh, PoiId first);
+  std::size_t replay_dense(const PoiSetTable& dense_fresh, PoiSetTable& sparse_fresh,
+                           const std::function<bool()>& keep_going);
+  std::size_t replay_stream(PoiSetTable& sparse_fresh, PoiId first, const std::function<bool()>& keep_going);
 
   /// AddGuard: dense vertex x becomes a sparse vertex (no edges); representatives and supports
   /// follow.

@@ -1,0 +1,31 @@
+#pragma once
+// chi for POIs added to a built roadmap (an inspection task): which of the new POIs each vertex
+// sees, found as a build in the widened scene finds them.
+
+#include <functional>
+
+#include "ispars/roadmap/poi_set.hpp"
+#include "ispars/roadmap/roadmap.hpp"
+#include "ispars/scene/scene.hpp"
+
+namespace ispars {
+
+/// Thrown by a task addition stopped by its `keep_going` (a cancel, the daemon's stop): the
+/// builder's roadmaps are then part way and must be discarded.
+struct AdditionStopped : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// For each vertex of `roadmap`, the POIs of `widened` from `first` on that it sees, as ids
+/// relative to `first`: the candidates within sensor range, each with its own ray. The same rows
+/// a build in `widened` gives its vertices for those POIs (SparsTask tests). Asks `keep_going`
+/// every 256 vertices, throwing AdditionStopped when it says no.
+[[nodiscard]] PoiSetTable new_poi_visibility(const Scene& widened, const Roadmap& roadmap, PoiId first,
+                                             const std::function<bool()>& keep_going = {});
+
+/// Widens `roadmap` to `widened`'s POIs (when narrower) and adds each vertex's POIs from `first`
+/// on (new_poi_visibility). Adding what a vertex sees already changes nothing, so it is safe on
+/// vertices that were built seeing them; version() does not move.
+void see_new_pois(Roadmap& roadmap, const Scene& widened, PoiId first);
+
+}  // namespace ispars
