@@ -26,6 +26,7 @@ nlohmann::json status_json(const client::SceneStatus& s) {
           {"dense_vertices", s.dense_vertices},
           {"dense_edges", s.dense_edges},
           {"poi_count", s.poi_count},
+          {"tasks", s.tasks},
           {"pois_covered", s.pois_covered},
           {"pois_covered_root", s.pois_covered_root},
           {"dense_delta", s.dense_delta},
@@ -52,8 +53,10 @@ void print_status(const client::SceneStatus& s) {
     if (s.dense_vertices > 0) {
       std::cout << fmt::format("  dense:   {} vertices, {} edges\n", s.dense_vertices, s.dense_edges);
     }
-    std::cout << fmt::format("  POIs:    {} of {} seen, {} from the root's component\n", s.pois_covered,
-                             s.poi_count, s.pois_covered_root);
+    std::cout << fmt::format("  POIs:    {} of {} seen, {} from the root's component{}\n", s.pois_covered,
+                             s.poi_count, s.pois_covered_root,
+                             s.tasks == 0 ? std::string() : fmt::format(" (with {} task{}: ispars task list)", s.tasks,
+                                                                        s.tasks == 1 ? "" : "s"));
   } else {
     std::cout << ", no roadmap\n";
   }

@@ -39,6 +39,7 @@ std::unique_ptr<Command> make_path_command();      // path
 std::unique_ptr<Command> make_watch_command();     // watch
 std::unique_ptr<Command> make_tour_command();      // tour
 std::unique_ptr<Command> make_snapshot_command();  // snapshot
+std::unique_ptr<Command> make_task_command();      // task add | list
 std::unique_ptr<Command> make_render_command();    // render, in ispars-render
 std::unique_ptr<Command> make_render_delegate();   // render in ispars: runs ispars-render
 

@@ -66,18 +66,22 @@ class TourCommand final : public Command {
     cmd->add_option("--seed", seed_, "search seed");
     cmd->add_option("--targets", targets_, "POI ids to see (default: every POI seen from the root's component)")
         ->delimiter(',');
+    cmd->add_option("--task", task_, "the POIs of this inspection task (ispars task list) seen from the root's component")
+        ->excludes("--targets");
     cmd->add_flag("--json", json_, "one JSON object");
     cmd->add_option("--out", out_, "write the tour (walk, positions, trace) as JSON");
     return cmd;
   }
   int run(client::Client& client) override {
     const bool tty = ::isatty(STDERR_FILENO) != 0;
-    const auto reply = client.tour(scene_, budget_, seed_, targets_, [&](double t, double cost, double bound) {
+    const auto progress = [&](double t, double cost, double bound) {
       if (json_) return;
       std::cerr << fmt::format("{}{:8.2f} s  best tour {:.6g}  proven bound {:.6g}{}", tty ? "\r" : "", t, cost,
                                bound, tty ? "   " : "\n")
                 << std::flush;
-    });
+    };
+    const auto reply = task_.empty() ? client.tour(scene_, budget_, seed_, targets_, progress)
+                                     : client.task_tour(scene_, task_, budget_, seed_, progress);
     if (tty && !json_) std::cerr << "\n";
     const client::Tour& r = reply.tour;
     const nlohmann::json result = tour_json(r);
@@ -97,7 +101,7 @@ class TourCommand final : public Command {
   }
 
  private:
-  std::string scene_, out_;
+  std::string scene_, out_, task_;
   double budget_ = 10;
   std::uint64_t seed_ = 1;
   std::vector<std::uint32_t> targets_;

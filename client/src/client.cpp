@@ -205,6 +205,30 @@ Reply Client::extend(const std::string& scene, std::uint64_t samples) {
   return to_reply(call(*this, r));
 }
 
+Reply Client::add_task(const std::string& scene, const std::string& name, const std::vector<Vec3>& pois) {
+  msg::ChangeRequest r = make_change(msg::TASK_ADD, scene);
+  r.args().task_add().name(name);
+  r.args().task_add().pois().reserve(pois.size());
+  for (const Vec3& p : pois) r.args().task_add().pois().push_back(wire::to_message(p));
+  return to_reply(call(*this, r));
+}
+
+Reply Client::add_sampled_task(const std::string& scene, const std::string& name, std::uint32_t count,
+                               std::uint64_t seed) {
+  msg::ChangeRequest r = make_change(msg::TASK_ADD, scene);
+  r.args().task_add().name(name);
+  r.args().task_add().sample(count);
+  r.args().task_add().sample_seed(seed);
+  return to_reply(call(*this, r));
+}
+
+std::vector<TaskEntry> Client::tasks(const std::string& scene) {
+  const msg::Reply reply = call(*this, make_query(msg::TASK_LIST, scene));
+  std::vector<TaskEntry> out;
+  for (const msg::TaskEntry& t : reply.body().task_list().tasks()) out.push_back(from_message(t));
+  return out;
+}
+
 PathReply Client::path(const std::string& scene, const Vec3& from, const Vec3& to) {
   msg::QueryRequest r = make_query(msg::PATH, scene);
   r.args().path().from(wire::to_message(from));

@@ -26,6 +26,7 @@ Snapshot Client::snapshot(const std::string& scene) {
       r.args().snapshot().generation(s.generation);
       r.args().snapshot().version(s.version);
       r.args().snapshot().chunk_index(i);
+      r.args().snapshot().poi_count(static_cast<std::uint32_t>(s.pois.size()));
       const msg::Reply part = call_raw(*this, r, server);
       if (!part.ok()) {  // the roadmap was rebuilt meanwhile: start again
         restarted = true;
@@ -49,6 +50,17 @@ Snapshot Client::snapshot(const std::string& scene) {
 TourReply Client::tour(const std::string& scene, double budget, std::uint64_t seed,
                        const std::vector<std::uint32_t>& targets,
                        const std::function<void(double seconds, double cost, double bound)>& progress) {
+  return tour(scene, budget, seed, targets, {}, progress);
+}
+
+TourReply Client::task_tour(const std::string& scene, const std::string& task, double budget, std::uint64_t seed,
+                            const std::function<void(double seconds, double cost, double bound)>& progress) {
+  return tour(scene, budget, seed, {}, task, progress);
+}
+
+TourReply Client::tour(const std::string& scene, double budget, std::uint64_t seed,
+                       const std::vector<std::uint32_t>& targets, const std::string& task,
+                       const std::function<void(double seconds, double cost, double bound)>& progress) {
   impl_->ensure_progress_reader();
   {
     std::lock_guard lock(impl_->progress_.mutex);
@@ -58,6 +70,7 @@ TourReply Client::tour(const std::string& scene, double budget, std::uint64_t se
   r.args().tour().budget(budget);
   r.args().tour().seed(seed);
   r.args().tour().targets(targets);
+  r.args().tour().task(task);
   // The daemon answers when the search ends: wait for the budget on top of the usual timeout.
   const auto timeout = options_.timeout + std::chrono::milliseconds(static_cast<long>(std::max(0.0, budget) * 1000));
   msg::Reply reply;

@@ -91,7 +91,12 @@ SceneStatus from_message(const msg::SceneStatus& s) {
   out.last_error = s.last_error();
   out.scene_fingerprint = s.scene_fingerprint().to_string();
   out.builder_version = s.builder_version();
+  out.tasks = s.tasks();
   return out;
+}
+
+TaskEntry from_message(const msg::TaskEntry& t) {
+  return {t.name().to_string(), t.first_poi(), t.poi_count(), t.pois_covered(), t.pois_covered_root()};
 }
 
 SceneEntry from_message(const msg::SceneEntry& e) {

@@ -304,6 +304,8 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
       if (retired_.count(b.generation()) > 0) return true;  // a late batch of a replaced roadmap
       // Another roadmap (a rebuild) or another publisher (the scene moved): resync from the owner.
       if (b.generation() != generation_ || b.server_id() != owner_) return false;
+      // A task added POIs, which the vertices held here may see too: only a snapshot tells.
+      if (b.poi_count() > roadmap_.poi_count()) return false;
       const std::uint64_t version = roadmap_.version();
       if (b.to_version() <= version) return true;  // already in the snapshot: a duplicate
       if (b.from_version() != version) return false;  // a gap

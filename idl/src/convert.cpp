@@ -110,6 +110,8 @@ std::string to_string(msg::Operation operation) {
     case msg::DROP: return "drop";
     case msg::VERIFY: return "verify";
     case msg::TOUR: return "tour";
+    case msg::TASK_ADD: return "task add";
+    case msg::TASK_LIST: return "task list";
   }
   return "unknown";
 }
@@ -129,6 +131,8 @@ msg::ReplyBody empty_reply_body(msg::Operation operation) {
     case msg::DROP: body.drop(msg::NoArgs{}); break;
     case msg::VERIFY: body.verify(msg::VerifyResult{}); break;
     case msg::TOUR: body.tour(msg::TourResult{}); break;
+    case msg::TASK_ADD: body.task_add(msg::NoArgs{}); break;
+    case msg::TASK_LIST: body.task_list(msg::TaskList{}); break;
   }
   return body;
 }
@@ -142,6 +146,7 @@ msg::QueryArgs query_args(msg::Operation operation) {
     case msg::SNAPSHOT: args.snapshot(msg::SnapshotArgs{}); break;
     case msg::VERIFY: args.verify(msg::NoArgs{}); break;
     case msg::TOUR: args.tour(msg::TourArgs{}); break;
+    case msg::TASK_LIST: args.task_list(msg::NoArgs{}); break;
     default: throw std::invalid_argument(to_string(operation) + " is not a query");
   }
   return args;
@@ -156,6 +161,7 @@ msg::ChangeArgs change_args(msg::Operation operation) {
     case msg::EXTEND: args.extend(msg::ExtendArgs{}); break;
     case msg::CANCEL: args.cancel(msg::NoArgs{}); break;
     case msg::DROP: args.drop(msg::NoArgs{}); break;
+    case msg::TASK_ADD: args.task_add(msg::TaskAddArgs{}); break;
     default: throw std::invalid_argument(to_string(operation) + " is not a change");
   }
   return args;

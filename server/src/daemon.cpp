@@ -35,7 +35,9 @@ bool slow_operation(msg::Operation operation) {
     case msg::LOAD_SCENE:
     case msg::PATH:
     case msg::SNAPSHOT:
-    case msg::VERIFY: return true;
+    case msg::VERIFY:
+    case msg::TASK_ADD:    // checks each POI against the surface
+    case msg::TASK_LIST: return true;  // coverage over the roadmap
     default: return false;
   }
 }

@@ -43,14 +43,15 @@ bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
     }
     case msg::SNAPSHOT: {
       const msg::SnapshotArgs& a = args.snapshot();
-      const SnapshotSlice slice = service_->snapshot(scene, a.version(), a.generation(), a.chunk_index());
+      const SnapshotSlice slice = service_->snapshot(scene, a.version(), a.generation(), a.chunk_index(), a.poi_count());
       if (slice.chunk_index != 0) {
         reply.body().snapshot(to_message(slice, nullptr));
         return true;
       }
       const auto session = service_->session(scene);
       reply.status(status_message(*session));
-      reply.body().snapshot(to_message(slice, &session->scene()));
+      // POIs only append: the scene with tasks read after the roadmap holds at least its POIs.
+      reply.body().snapshot(to_message(slice, session->scene_with_tasks().get()));
       return true;
     }
     case msg::VERIFY: {
@@ -63,9 +64,17 @@ bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
     case msg::TOUR:
       start_tour(request, reply);
       return false;
+    case msg::TASK_LIST: {
+      const auto session = service_->session(scene);
+      const std::vector<InspectionTask> tasks = session->tasks();  // before the roadmap: it has their POIs
+      const PublishedRoadmap published = session->published();
+      reply.body().task_list(to_message(task_coverage(*published.roadmap, session->scene().pois().size(), tasks)));
+      reply.status(status_message(*session));
+      return true;
+    }
     default:
       throw InputError("request", "operation",
-                       fmt::format("{} is not a query (list, stats, path, snapshot, verify, tour); changes go on the "
+                       fmt::format("{} is not a query (list, stats, path, snapshot, verify, tour, task list); changes go on the "
                                    "change topic",
                                    operation_name(args._d())));
   }
@@ -106,6 +115,15 @@ bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
                                 c.tours_stopped, c.tours_stopped == 1 ? "" : "s"));
       break;
     }
+    case msg::TASK_ADD: {
+      InspectionTask task = task_from(args.task_add(), service_->session(scene)->scene());
+      const std::string name = task.name;
+      const std::size_t pois = task.pois.size();
+      const std::size_t count = service_->add_task(scene, std::move(task));
+      reply.message(fmt::format("adding task '{}' ({} POIs) to the roadmap of '{}'; the scene will have {} task{}", name,
+                                pois, scene, count, count == 1 ? "" : "s"));
+      break;
+    }
     case msg::DROP:
       service_->drop(scene);
       with_dds([&](DdsEndpoints& d) { d.retire_updates(scene); });  // replicas drop their copy; the kept batches are released
@@ -113,7 +131,7 @@ bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
       break;
     default:
       throw InputError("request", "operation",
-                       fmt::format("{} is not a change (load, unload, build, extend, cancel, drop); queries go on "
+                       fmt::format("{} is not a change (load, unload, build, extend, cancel, drop, task add); queries go on "
                                    "the query topic",
                                    operation_name(args._d())));
   }
@@ -130,6 +148,7 @@ void Daemon::start_tour(const msg::QueryRequest& request, const msg::Reply& head
   tour.targets.assign(a.targets().begin(), a.targets().end());
   tour.budget_seconds = a.budget();
   tour.seed = a.seed();
+  tour.task = a.task().to_string();
   const std::string scene = request.scene().to_string();
   const auto taken = std::chrono::steady_clock::now();
   TourCallbacks callbacks;

@@ -17,8 +17,9 @@ namespace ispars::server {
 ServiceEvents Daemon::service_events() {
   ServiceEvents events;
   events.on_commit = [this](const std::string& scene, const RoadmapBatch& batch, std::uint64_t generation,
-                            std::uint64_t samples) {
-    const msg::UpdateBatch update = wire::to_message(batch, scene, config_.server_id, generation, samples);
+                            std::uint64_t samples, std::size_t poi_count) {
+    msg::UpdateBatch update = wire::to_message(batch, scene, config_.server_id, generation, samples);
+    update.poi_count(static_cast<std::uint32_t>(poi_count));
     with_dds([&](DdsEndpoints& d) { d.publish_update(update); });
   };
   events.on_status = [this](const RoadmapSession& session) { publish_status(session); };

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "ispars/input_error.hpp"
 #include "ispars/wire/convert.hpp"
 
@@ -88,7 +90,9 @@ msg::TourResult to_message(const TourOutcome& o) {
 std::string verify_summary(const VerifyOutcome& v, std::size_t dense_vertices) {
   const VerificationReport& r = v.report;
   const std::string checked_on =
-      r.invariant_samples > 0
+      r.invariant_drawn > 0
+          ? fmt::format("{} of the {} samples the build drew, drawn again", r.invariant_vertices, r.invariant_drawn)
+      : r.invariant_samples > 0
           ? fmt::format("{} of {} fresh samples, drawn for this check: an estimate, not counted; every sample "
                         "the build drew keeps it",
                         r.invariant_vertices, r.invariant_samples)
@@ -106,6 +110,42 @@ msg::PathResult to_message(const RoadmapPath& path) {
   return result;
 }
 
+InspectionTask task_from(const msg::TaskAddArgs& args, const Scene& scene) {
+  InspectionTask task;
+  task.name = args.name().to_string();
+  if (args.pois().size() > msg::MAX_TASK_POIS) {
+    throw InputError("request", "task.pois",
+                     fmt::format("{} POIs; a task has at most {}", args.pois().size(), msg::MAX_TASK_POIS));
+  }
+  if (!args.pois().empty() && args.sample() != 0) {
+    throw InputError("request", "task.sample", "give the task's POIs or a count to sample, not both");
+  }
+  if (args.pois().empty() && args.sample() == 0) {
+    throw InputError("request", "task.pois", "a task has at least one POI: give them, or a count to sample");
+  }
+  if (args.sample() != 0) {
+    task.pois = sample_task_pois(scene, args.sample(), args.sample_seed());
+  } else {
+    task.pois.reserve(args.pois().size());
+    for (const msg::Point& p : args.pois()) task.pois.push_back(wire::from_message(p));
+  }
+  return task;
+}
+
+msg::TaskList to_message(std::span<const TaskCoverage> tasks) {
+  msg::TaskList list;
+  for (const TaskCoverage& t : tasks) {
+    msg::TaskEntry e;
+    e.name(t.name);
+    e.first_poi(static_cast<std::uint32_t>(t.first_poi));
+    e.poi_count(static_cast<std::uint32_t>(t.poi_count));
+    e.pois_covered(static_cast<std::uint32_t>(t.covered));
+    e.pois_covered_root(static_cast<std::uint32_t>(t.covered_root));
+    list.tasks().push_back(std::move(e));
+  }
+  return list;
+}
+
 msg::SnapshotChunk to_message(const SnapshotSlice& slice, const Scene* first) {
   msg::SnapshotChunk chunk;
   chunk.generation(slice.generation);
@@ -116,7 +156,9 @@ msg::SnapshotChunk to_message(const SnapshotSlice& slice, const Scene* first) {
                        slice.encoded->begin() + static_cast<std::ptrdiff_t>(slice.end));
   if (slice.chunk_index == 0 && first != nullptr) {
     chunk.root(wire::to_message(first->config().root));
-    for (const Vec3& p : first->pois()) chunk.pois().push_back(wire::to_message(p));
+    const auto& pois = first->pois();
+    const std::size_t count = std::min(pois.size(), slice.poi_count);
+    for (std::size_t i = 0; i < count; ++i) chunk.pois().push_back(wire::to_message(pois[i]));
   }
   return chunk;
 }

@@ -4,6 +4,7 @@
 // only what the typed form cannot hold (a known method and variant, overrides named once and no
 // more than the IDL bound); the values are the service's to check.
 
+#include <span>
 #include <string>
 
 #include "ispars.h"
@@ -18,6 +19,15 @@ namespace ispars::server {
 /// method or variant, a variant given to a method without variants, more than MAX_OVERRIDES
 /// overrides, or one named twice. An empty variant is the default (stretch).
 [[nodiscard]] BuildRequest build_request_from(const msg::BuildArgs& args);
+
+/// TASK_ADD's arguments as a task on `scene`: its POIs as given, or `sample` drawn on the
+/// surface (sample_task_pois). Throws InputError ("request", task.pois / task.sample) for more
+/// than MAX_TASK_POIS POIs, both POIs and a sample count, or neither. The POIs are the
+/// service's to check (check_task).
+[[nodiscard]] InspectionTask task_from(const msg::TaskAddArgs& args, const Scene& scene);
+
+/// TASK_LIST's reply: each task's POI ids and coverage.
+[[nodiscard]] msg::TaskList to_message(std::span<const TaskCoverage> tasks);
 
 /// A verify's reply: its report and the violations the method promises to avoid.
 [[nodiscard]] msg::VerifyResult to_message(const VerifyOutcome& v);

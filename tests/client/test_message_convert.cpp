@@ -40,6 +40,7 @@ msg::SceneStatus full_status() {
   s.last_error("note");
   s.scene_fingerprint("abc");
   s.builder_version(19);
+  s.tasks(20);
   return s;
 }
 
@@ -73,6 +74,22 @@ TEST(MessageConvert, AStatusKeepsEveryField) {
   EXPECT_EQ(s.last_error, "note");
   EXPECT_EQ(s.scene_fingerprint, "abc");
   EXPECT_EQ(s.builder_version, 19u);
+  EXPECT_EQ(s.tasks, 20u);
+}
+
+TEST(MessageConvert, ATaskEntryKeepsEveryField) {
+  msg::TaskEntry t;
+  t.name("welds");
+  t.first_poi(300);
+  t.poi_count(40);
+  t.pois_covered(39);
+  t.pois_covered_root(38);
+  const TaskEntry e = from_message(t);
+  EXPECT_EQ(e.name, "welds");
+  EXPECT_EQ(e.first_poi, 300u);
+  EXPECT_EQ(e.poi_count, 40u);
+  EXPECT_EQ(e.pois_covered, 39u);
+  EXPECT_EQ(e.pois_covered_root, 38u);
 }
 
 TEST(MessageConvert, EveryStateHasItsOwnValueAndTheWiresName) {

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "ispars/client/client.hpp"
+#include "ispars/client/wire_calls.hpp"
 #include "ispars/wire/convert.hpp"
 #include "ispars/local/local_daemon.hpp"
 #include "support/raw_peer.hpp"
@@ -19,6 +20,7 @@ namespace {
 
 using client::Client;
 using client::ClientError;
+using client::SceneStatus;
 
 class ProtocolTest : public ::testing::Test {
  protected:

@@ -20,8 +20,8 @@ TEST(PendingJobs, ARecordRoundTripsAndIsForgottenOnlyByItsOwnJob) {
   build.seed = 77;
   build.overrides = {{"dense_delta", 1.5}, {"stretch", 2.0}};
   build.replace = true;
-  save_pending_job(dir.path(), PendingJob{"tower", 41, build, 9001, 12345, 2});
-  save_pending_job(dir.path(), PendingJob{"bridge", 42, std::nullopt, 0, 800});
+  save_pending_job(dir.path(), PendingJob{"tower", 41, build, 9001, 12345, 2, std::nullopt});
+  save_pending_job(dir.path(), PendingJob{"bridge", 42, std::nullopt, 0, 800, 0, std::nullopt});
 
   auto jobs = pending_jobs(dir.path());
   ASSERT_EQ(jobs.size(), 2u);
@@ -47,9 +47,21 @@ TEST(PendingJobs, ARecordRoundTripsAndIsForgottenOnlyByItsOwnJob) {
   EXPECT_TRUE(pending_jobs(dir.path()).empty());
 }
 
+TEST(PendingJobs, ATasksRecordKeepsItsNameAndEveryPoiExactly) {
+  test::TempDir dir;
+  InspectionTask task{"welds", {Vec3(0.1, -2.0 / 3.0, 1e-17), Vec3(123456.789, 0, -0.0)}};
+  save_pending_job(dir.path(), PendingJob{"tower", 5, std::nullopt, 0, 0, 1, task});
+  const auto jobs = pending_jobs(dir.path());
+  ASSERT_EQ(jobs.size(), 1u);
+  ASSERT_TRUE(jobs[0].task.has_value());
+  EXPECT_FALSE(jobs[0].build.has_value());
+  EXPECT_EQ(jobs[0].task->name, "welds");
+  EXPECT_EQ(jobs[0].task->pois, task.pois) << "doubles written in JSON come back bit for bit";
+}
+
 TEST(PendingJobs, AnUnreadableRecordIsLeftAsItIsAndNotResumed) {
   test::TempDir dir;
-  save_pending_job(dir.path(), PendingJob{"tower", 1, std::nullopt, 0, 10});
+  save_pending_job(dir.path(), PendingJob{"tower", 1, std::nullopt, 0, 10, 0, std::nullopt});
   std::filesystem::create_directories(dir.path() / ".jobs");
   std::ofstream(dir.path() / ".jobs" / "bridge.json") << "{\"scene\": \"bridge\", \"id\": ";  // torn
   std::ofstream(dir.path() / ".jobs" / "other.json") << R"({"scene": "tower", "id": 2, "target": 5})";  // misnamed

@@ -65,7 +65,7 @@ TEST_F(RoadmapServiceTest, OperationsRunWithoutDdsAndReportThroughEvents) {
   std::vector<std::string> unloaded;
   std::mutex unloaded_mutex;
   ServiceEvents events;
-  events.on_commit = [&](const std::string& scene, const RoadmapBatch&, std::uint64_t, std::uint64_t) {
+  events.on_commit = [&](const std::string& scene, const RoadmapBatch&, std::uint64_t, std::uint64_t, std::size_t) {
     EXPECT_EQ(scene, "s0");
     ++commits;
   };
@@ -393,7 +393,7 @@ TEST_F(RoadmapServiceTest, AJobIsResumedWithItsAttemptCountedAndGivenUpAfterThre
     ASSERT_EQ(wait_idle(service, "s0").samples_done, 1500u);
   }
   const auto data = dir_.path() / "data";
-  save_pending_job(data, PendingJob{"s0", 7, std::nullopt, 0, 2500, 3});
+  save_pending_job(data, PendingJob{"s0", 7, std::nullopt, 0, 2500, 3, std::nullopt});
   {
     RoadmapService service(settings(), {});
     service.load_stored_roadmaps();
@@ -401,7 +401,7 @@ TEST_F(RoadmapServiceTest, AJobIsResumedWithItsAttemptCountedAndGivenUpAfterThre
     EXPECT_EQ(wait_idle(service, "s0").samples_done, 1500u) << "a job resumed three times was resumed again";
     EXPECT_TRUE(pending_jobs(data).empty()) << "a job given up stays recorded";
   }
-  save_pending_job(data, PendingJob{"s0", 8, std::nullopt, 0, 2500, 2});
+  save_pending_job(data, PendingJob{"s0", 8, std::nullopt, 0, 2500, 2, std::nullopt});
   {
     RoadmapService service(settings(), {});
     service.load_stored_roadmaps();

@@ -26,7 +26,7 @@ TEST_F(RoadmapSessionTest, AJobCommitsBatchesThatReplayToThePublishedRoadmap) {
   std::uint64_t generation = 0;
   std::size_t statuses = 0;
   SessionCallbacks callbacks;
-  callbacks.on_commit = [&](const RoadmapBatch& batch, std::uint64_t g, std::uint64_t) {
+  callbacks.on_commit = [&](const RoadmapBatch& batch, std::uint64_t g, std::uint64_t, std::size_t) {
     generation = g;
     apply_batch(replica, batch);
   };
@@ -166,7 +166,7 @@ TEST_F(RoadmapSessionTest, ARoadmapOfAnotherVersionOfTheSceneLoadsFailedUntilReb
 TEST_F(RoadmapSessionTest, CancelStopsAfterTheCurrentChunk) {
   RoadmapSession* raw = nullptr;
   SessionCallbacks callbacks;
-  callbacks.on_commit = [&](const RoadmapBatch&, std::uint64_t, std::uint64_t samples) {
+  callbacks.on_commit = [&](const RoadmapBatch&, std::uint64_t, std::uint64_t samples, std::size_t) {
     if (samples > 0) raw->cancel();
   };
   auto session = open(callbacks);

@@ -26,7 +26,7 @@ TEST(RoadmapSessionJob, ACancelRightAfterACommitLeavesReadersThatCommitNotAnOlde
     std::unique_ptr<RoadmapSession> session;
     int commits = 0;
     SessionCallbacks callbacks;
-    callbacks.on_commit = [&](const RoadmapBatch&, std::uint64_t, std::uint64_t) {
+    callbacks.on_commit = [&](const RoadmapBatch&, std::uint64_t, std::uint64_t, std::size_t) {
       if (++commits == 3) {
         EXPECT_TRUE(session->cancel());  // after the first chunk's copy, within a second
       }
@@ -78,7 +78,7 @@ TEST(RoadmapSessionJob, AStoppedBuildGoesOnExactlyResumedOrForIrisCReplayed) {
     {
       std::atomic<bool> stopping{false};
       SessionCallbacks callbacks;
-      callbacks.on_commit = [&](const RoadmapBatch&, std::uint64_t, std::uint64_t samples) {
+      callbacks.on_commit = [&](const RoadmapBatch&, std::uint64_t, std::uint64_t samples, std::size_t) {
         if (samples >= 1000) stopping = true;  // as SIGTERM would, mid-build
       };
       auto session = open(callbacks, store);

@@ -26,6 +26,7 @@ std::string status_message(const client::SceneStatus& s, bool daemon_gone) {
                         {"version", s.version},
                         {"pois_covered", s.pois_covered},
                         {"poi_count", s.poi_count},
+                        {"tasks", s.tasks},
                         {"last_error", s.last_error}}
       .dump();
 }

@@ -33,6 +33,11 @@ nlohmann::json to_json(const PendingJob& job) {
                   {"lineage", b.generation}};
     j["generation"] = job.generation;
   }
+  if (job.task) {
+    nlohmann::json pois = nlohmann::json::array();
+    for (const Vec3& p : job.task->pois) pois.push_back({p.x(), p.y(), p.z()});
+    j["task"] = {{"name", job.task->name}, {"pois", std::move(pois)}};
+  }
   return j;
 }
 
@@ -57,6 +62,17 @@ PendingJob from_json(const nlohmann::json& j) {
     r.generation = b.value("lineage", std::uint64_t{0});  // absent in records before takeovers kept lineages
     job.build = r;
     job.generation = j.at("generation").get<std::uint64_t>();
+  }
+  if (j.contains("task")) {
+    const nlohmann::json& t = j.at("task");
+    InspectionTask task;
+    task.name = t.at("name").get<std::string>();
+    for (const auto& p : t.at("pois")) {
+      const auto xyz = p.get<std::vector<double>>();
+      if (xyz.size() != 3) throw std::runtime_error("a task POI is not three numbers");
+      task.pois.emplace_back(xyz[0], xyz[1], xyz[2]);
+    }
+    job.task = std::move(task);
   }
   return job;
 }

@@ -141,8 +141,9 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
   } unclaim{events_, name};
   Scene scene = Scene::build(load_scene_config(settings_.scene_dir, name));
   SessionCallbacks callbacks;
-  callbacks.on_commit = [this, name](const RoadmapBatch& batch, std::uint64_t generation, std::uint64_t samples) {
-    if (events_.on_commit) events_.on_commit(name, batch, generation, samples);
+  callbacks.on_commit = [this, name](const RoadmapBatch& batch, std::uint64_t generation, std::uint64_t samples,
+                                     std::size_t poi_count) {
+    if (events_.on_commit) events_.on_commit(name, batch, generation, samples, poi_count);
   };
   callbacks.on_status = [this, name](const SessionStatus&) {
     if (!events_.on_status) return;

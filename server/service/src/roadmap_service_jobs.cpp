@@ -4,6 +4,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 #include "ispars/input_error.hpp"
 #include "ispars/service/pending_jobs.hpp"
 #include "ispars/service/roadmap_service.hpp"
@@ -27,7 +29,7 @@ void RoadmapService::extend(const std::string& scene, std::uint64_t samples) {
 void RoadmapService::accept(const std::string& scene, const std::optional<BuildRequest>& build,
                             std::uint64_t samples, std::uint32_t attempts) {
   const auto s = session(scene);
-  PendingJob job{scene, next_job_id_++, build, 0, 0, attempts};
+  PendingJob job{scene, next_job_id_++, build, 0, 0, attempts, std::nullopt};
   {
     // One step: a cancel's or an ended job's removal of the record comes before or after it.
     std::lock_guard lock(jobs_mutex_);
@@ -37,15 +39,36 @@ void RoadmapService::accept(const std::string& scene, const std::optional<BuildR
     } else {
       job.target = s->request_extend(samples);
     }
-    try {
-      save_pending_job(settings_.data_dir, job);
-    } catch (const std::exception& e) {
-      (void)s->cancel();  // queued, so cancelled at once: nothing touched
-      throw InputError(kRequest, "scene",
-                       fmt::format("the job on scene '{}' could not be recorded: {}", scene, e.what()));
-    }
+    record(s, job);
   }
   schedule(s, job.id);
+}
+
+std::size_t RoadmapService::add_task(const std::string& scene, InspectionTask task) {
+  return accept_task(scene, std::move(task), 0);
+}
+
+std::size_t RoadmapService::accept_task(const std::string& scene, InspectionTask task, std::uint32_t attempts) {
+  const auto s = session(scene);
+  PendingJob job{scene, next_job_id_++, std::nullopt, 0, 0, attempts, task};
+  std::size_t after = 0;
+  {
+    std::lock_guard lock(jobs_mutex_);
+    after = s->request_task(std::move(task));
+    record(s, job);
+  }
+  schedule(s, job.id);
+  return after;
+}
+
+void RoadmapService::record(const std::shared_ptr<RoadmapSession>& session, const PendingJob& job) {
+  try {
+    save_pending_job(settings_.data_dir, job);
+  } catch (const std::exception& e) {
+    (void)session->cancel();  // queued, so cancelled at once: nothing touched
+    throw InputError(kRequest, "scene",
+                     fmt::format("the job on scene '{}' could not be recorded: {}", job.scene, e.what()));
+  }
 }
 
 void RoadmapService::forget_job(const std::string& scene, std::uint64_t job_id) {
@@ -81,6 +104,18 @@ void RoadmapService::resume_pending_jobs() {
         s = load(job.scene).first;  // a first build that never committed: its scene is loaded for it
       }
       if (!s) throw std::runtime_error("its scene is not loaded here (unloaded, or held by another daemon)");
+      if (job.task) {
+        const auto tasks = s->tasks();
+        const bool added = std::any_of(tasks.begin(), tasks.end(),
+                                       [&](const InspectionTask& t) { return t.name == job.task->name; });
+        if (added) {
+          forget_job(job.scene, job.id);
+        } else {
+          spdlog::info("scene '{}': resuming the addition of task '{}'", job.scene, job.task->name);
+          (void)accept_task(job.scene, *job.task, job.attempts + 1);
+        }
+        continue;
+      }
       const SessionStatus st = s->status();
       const bool committed = !job.build || (st.recipe && st.recipe->generation == job.generation);
       if (!committed) {

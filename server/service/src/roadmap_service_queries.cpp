@@ -60,13 +60,17 @@ VerifyOutcome RoadmapService::verify(const std::string& scene) const {
 }
 
 SnapshotSlice RoadmapService::snapshot(const std::string& scene, std::uint64_t version, std::uint64_t generation,
-                                       std::uint32_t chunk_index) {
+                                       std::uint32_t chunk_index, std::size_t poi_count) {
   const auto s = session(scene);
   std::shared_ptr<const std::string> bytes;
   if (version != 0) {
     std::lock_guard lock(snapshots_mutex_);
     for (const auto& e : snapshots_) {
-      if (e.scene == scene && e.generation == generation && e.version == version) bytes = e.bytes;
+      if (e.scene == scene && e.generation == generation && e.version == version &&
+          (poi_count == 0 || e.poi_count == poi_count)) {
+        bytes = e.bytes;
+        poi_count = e.poi_count;
+      }
     }
   }
   if (!bytes) {
@@ -74,7 +78,9 @@ SnapshotSlice RoadmapService::snapshot(const std::string& scene, std::uint64_t v
     if (version == 0) {
       generation = published.generation;
       version = published.roadmap->version();
-    } else if (published.generation != generation || published.roadmap->version() < version) {
+      poi_count = published.roadmap->poi_count();
+    } else if (published.generation != generation || published.roadmap->version() < version ||
+               (poi_count != 0 && published.roadmap->poi_count() != poi_count)) {
       throw InputError(kRequest, "snapshot_version",
                        fmt::format("version {} of roadmap generation {} is no longer available; start the snapshot again",
                                    version, generation));
@@ -85,7 +91,8 @@ SnapshotSlice RoadmapService::snapshot(const std::string& scene, std::uint64_t v
     lease->shrink_to(static_cast<double>(encoded->size()));
     bytes = std::shared_ptr<const std::string>(encoded.release(), [lease](const std::string* p) { delete p; });
     std::lock_guard lock(snapshots_mutex_);
-    snapshots_.push_back({scene, generation, version, bytes});
+    poi_count = published.roadmap->poi_count();
+    snapshots_.push_back({scene, generation, version, poi_count, bytes});
     if (snapshots_.size() > kSnapshotsKept) snapshots_.erase(snapshots_.begin());
   }
   const std::size_t count = std::max<std::size_t>(1, (bytes->size() + kSnapshotChunkBytes - 1) / kSnapshotChunkBytes);
@@ -97,6 +104,7 @@ SnapshotSlice RoadmapService::snapshot(const std::string& scene, std::uint64_t v
   slice.version = version;
   slice.chunk_index = chunk_index;
   slice.chunk_count = static_cast<std::uint32_t>(count);
+  slice.poi_count = poi_count;
   slice.begin = std::size_t{chunk_index} * kSnapshotChunkBytes;
   slice.end = std::min(bytes->size(), slice.begin + kSnapshotChunkBytes);
   slice.encoded = std::move(bytes);
@@ -115,6 +123,13 @@ void RoadmapService::start_tour(const std::string& scene, TourRequest request, T
   }
   if (!s->status().recipe || s->published().roadmap->vertex_count() == 0) {
     throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap yet", scene));
+  }
+  if (!request.task.empty()) {
+    if (!request.targets.empty()) throw InputError(kRequest, "task", "give a task or targets, not both");
+    // Coverage only grows (vertices and edges are only added): the later roadmap the tour runs
+    // on sees them from the root's component too.
+    const std::vector<InspectionTask> tasks = s->tasks();
+    request.targets = task_targets(*s->published().roadmap, s->scene().pois().size(), tasks, request.task);
   }
   // Its worst case is leased from admission to its end (queued or running).
   const auto lease = budget_->lease(tour_cost(*s->published().roadmap), fmt::format("a tour of scene '{}'", scene));

@@ -53,7 +53,8 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
       limits_(limits),
       callbacks_(std::move(callbacks)) {
   published_.roadmap = std::make_shared<const Roadmap>(scene_.pois().size());
-  fingerprint_ = scene_fingerprint(scene_);
+  scene_with_tasks_ = std::make_shared<const Scene>(scene_);
+  fingerprint_ = scene_fingerprint(scene_);  // of the scene file's POIs: a task is not an edit of the scene
   if (!std::filesystem::exists(store_dir_)) {
     // Dropped here before: the empty roadmap keeps the drop's generation, which the fleet weighs.
     if (const auto dropped = dropped_generation(store_dir_)) published_.generation = *dropped;
@@ -75,6 +76,8 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
     refuse_store(std::move(why));
     return;
   }
+  scene_with_tasks_ = complete_tasks(recovery);
+  tasks_ = std::move(recovery.tasks);
   recipe_ = recovery.recipe;
   samples_done_ = samples_target_ = recovery.roadmaps.samples;
   // A method that resumes from its roadmap needs no other copy: the published one is moved in,
@@ -87,9 +90,9 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
     dense_vertices_ = recovery.roadmaps.dense->vertex_count();
     dense_edges_ = recovery.roadmaps.dense->edge_count();
   }
-  recovery_note_ = fmt::format("recovered {} roadmap at version {} ({} samples, {} vertices; {} journal commits)",
+  recovery_note_ = fmt::format("recovered {} roadmap at version {} ({} samples, {} vertices, {} tasks; {} journal commits)",
                                to_string(recipe_->method), published_.roadmap->version(), samples_done_,
-                               published_.roadmap->vertex_count(), recovery.journal_commits);
+                               published_.roadmap->vertex_count(), tasks_.size(), recovery.journal_commits);
   if (recovery.torn_tail) {
     torn_tail_note_ = fmt::format("cut a torn journal tail ({}) after commit {}; the cut bytes are kept in {}",
                                   recovery.tail_problem, recovery.journal_commits,
@@ -122,7 +125,7 @@ void RoadmapSession::check_can_start(const char* field) const {
 
 std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
   RoadmapRecipe recipe = requested_recipe(name_, scene_, request, limits_);
-  const BuildCost cost = estimate(recipe, request.samples);
+  const BuildCost cost = estimate(*scene_with_tasks(), recipe, request.samples);
   {
     std::lock_guard lock(mutex_);
     check_can_start("scene");
@@ -161,7 +164,7 @@ std::uint64_t RoadmapSession::request_extend(std::uint64_t samples) {
     check_can_start("scene");
     if (!damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
     if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap to extend", name_));
-    if (callbacks_.admit_cost) callbacks_.admit_cost(estimate(*recipe_, samples_done_ + samples));
+    if (callbacks_.admit_cost) callbacks_.admit_cost(estimate(*scene_with_tasks_, *recipe_, samples_done_ + samples));
     pending_recipe_.reset();
     pending_samples_ = samples;
     last_error_.clear();
@@ -182,6 +185,7 @@ bool RoadmapSession::cancel() {
       // no longer queued and returns).
       pending_recipe_.reset();
       pending_samples_ = 0;
+      pending_task_.reset();
       state_ = recipe_ ? SessionState::idle : SessionState::empty;
       last_error_ = "cancelled before it started";
     } else {
@@ -215,15 +219,16 @@ Lock RoadmapSession::lock_idle_job(std::string_view what) const {
   }
 }
 
-BuildCost RoadmapSession::estimate(const RoadmapRecipe& recipe, std::uint64_t total_samples) const {
+BuildCost RoadmapSession::estimate(const Scene& scene, const RoadmapRecipe& recipe,
+                                   std::uint64_t total_samples) const {
   std::call_once(free_fraction_once_, [&] { free_fraction_ = free_fraction(scene_); });
-  return estimate_build_cost(scene_, recipe, total_samples, free_fraction_);
+  return estimate_build_cost(scene, recipe, total_samples, free_fraction_);
 }
 
 BuildCost RoadmapSession::expected_cost() const {
   std::lock_guard lock(mutex_);
   if (!recipe_) return {};
-  return estimate(*recipe_, std::max(samples_target_, samples_done_));
+  return estimate(*scene_with_tasks_, *recipe_, std::max(samples_target_, samples_done_));
 }
 
 SessionStatus RoadmapSession::status_locked() const {
@@ -241,7 +246,8 @@ SessionStatus RoadmapSession::status_locked() const {
   s.components = g.component_count();
   s.dense_vertices = dense_vertices_;
   s.dense_edges = dense_edges_;
-  s.poi_count = scene_.pois().size();
+  s.poi_count = scene_with_tasks_->pois().size();
+  s.tasks = tasks_.size();
   s.pois_covered = published_.pois_covered;
   s.pois_covered_root = published_.pois_covered_root;
   s.generation = published_.generation;
@@ -260,6 +266,16 @@ void RoadmapSession::notify_status() {
 PublishedRoadmap RoadmapSession::published() const {
   std::lock_guard lock(mutex_);
   return published_;
+}
+
+std::vector<InspectionTask> RoadmapSession::tasks() const {
+  std::lock_guard lock(mutex_);
+  return tasks_;
+}
+
+std::shared_ptr<const Scene> RoadmapSession::scene_with_tasks() const {
+  std::lock_guard lock(mutex_);
+  return scene_with_tasks_;
 }
 
 RoadmapPath RoadmapSession::path(const Vec3& from, const Vec3& to) const {

@@ -66,6 +66,8 @@ std::filesystem::path RoadmapSession::discard_store(const std::string& aside_why
     damage_.clear();  // an explicit drop discards a damaged store too
     last_error_.clear();
     recipe_.reset();
+    tasks_.clear();  // the tasks were the roadmap's: a drop forgets them with it
+    scene_with_tasks_ = std::make_shared<const Scene>(scene_);
     samples_done_ = samples_target_ = 0;
     dense_vertices_ = dense_edges_ = 0;
     published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), empty_generation, 0);

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "ispars/service/roadmap_session.hpp"
+#include "ispars/builders/poi_visibility.hpp"
 #include "roadmap_session_detail.hpp"
 
 namespace ispars {
@@ -66,7 +67,7 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
     std::lock_guard lock(mutex_);
     recipe = *recipe_;
   }
-  build_scene_ = std::make_unique<Scene>(session_detail::scene_for(scene_, recipe));
+  build_scene_ = std::make_unique<Scene>(session_detail::scene_for(*scene_with_tasks(), recipe));
   if (resumes_from_roadmap(recipe.method) || (resumes_without_replay(recipe.method) && recovered_)) {
     // Its stored roadmaps are its whole state: it goes on from them (as recovered after a restart
     // or a failure; for a method whose roadmap alone is its state, else the published copy of the
@@ -133,6 +134,17 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
   if (!job) return;
   try {
     prepare_job(*job, stopping);
+    if (job->task) {
+      {
+        std::lock_guard lock(mutex_);
+        state_ = SessionState::building;
+      }
+      notify_status();
+      add_task(*job, stopping);
+      end_job(*job, stopping);
+      notify_status();
+      return;
+    }
     const std::uint64_t target = builder_->samples() + job->samples;
     {
       std::lock_guard lock(mutex_);
@@ -153,8 +165,16 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
     samples_target_ = samples_done_;
     state_ = SessionState::idle;
     cancel_ = false;
+  } catch (const AdditionStopped& e) {
+    // Stopped part way through a task: the builder's roadmaps are not the store's. The store is
+    // reopened (as after a failure), and the scene is idle, without the task.
+    const std::string why = fmt::format("task '{}' not added: {} ({})", job->task->name,
+                                        cancel_ ? "cancelled" : "the daemon is stopping", e.what());
+    fail_job(why);
+    std::lock_guard lock(mutex_);
+    if (state_ == SessionState::failed && last_error_ == why) state_ = recipe_ ? SessionState::idle : SessionState::empty;
   } catch (const std::exception& e) {
-    fail_job(e.what());
+    fail_job(job->task ? fmt::format("task '{}' not added: {}", job->task->name, e.what()) : e.what());
   }
   notify_status();
 }
@@ -166,8 +186,10 @@ std::optional<RoadmapSession::Job> RoadmapSession::take_job(const std::atomic<bo
     if (state_ != SessionState::queued) return std::nullopt;
     job.build = pending_recipe_;
     job.samples = pending_samples_;
+    job.task = std::move(pending_task_);
     pending_recipe_.reset();
     pending_samples_ = 0;
+    pending_task_.reset();
     if (!cancel_ && !stopping) {
       job.recipe = job.build ? *job.build : *recipe_;
       // Taken from the queue: a cancel from now on reaches the job (cancel_), not the queue. While
@@ -191,7 +213,7 @@ void RoadmapSession::prepare_job(Job& job, const std::atomic<bool>& stopping) {
     store_.reset();
     builder_.reset();
     recovered_.reset();
-    build_scene_ = std::make_unique<Scene>(session_detail::scene_for(scene_, job.recipe));
+    build_scene_ = std::make_unique<Scene>(session_detail::scene_for(*scene_with_tasks(), job.recipe));
     builder_ = builder_for(*build_scene_, job.recipe, limits_.build_threads);
     store_ = RoadmapStore::create(store_dir_, job.recipe);
     store_->set_compact_every(limits_.compact_every);
@@ -221,6 +243,13 @@ void RoadmapSession::grow(Job& job, std::uint64_t target, const std::atomic<bool
     builder_->extend(std::min(chunk, target - builder_->samples()));
     const RoadmapsView view = live_view();
     BuildCommit commit = commit_since(view, job.roadmap_version, job.dense_version);
+    if (job.build && first) {
+      // A new roadmap keeps the scene's tasks: it is built with their POIs, and its first commit
+      // records them.
+      std::lock_guard lock(mutex_);
+      commit.tasks = tasks_;
+      commit.task_count = tasks_.size();
+    }
     store_->commit(commit);
     job.roadmap_version = view.roadmap->version();
     job.dense_version = view.dense ? view.dense->version() : 0;
@@ -247,7 +276,9 @@ void RoadmapSession::grow(Job& job, std::uint64_t target, const std::atomic<bool
       dense_vertices_ = view.dense ? view.dense->vertex_count() : 0;
       dense_edges_ = view.dense ? view.dense->edge_count() : 0;
     }
-    if (callbacks_.on_commit) callbacks_.on_commit(commit.roadmap, job.recipe.generation, commit.samples);
+    if (callbacks_.on_commit) {
+      callbacks_.on_commit(commit.roadmap, job.recipe.generation, commit.samples, view.roadmap->poi_count());
+    }
     notify_status();
     const double took = seconds_since(t0);
     if (took < 0.1) chunk = std::min<std::uint64_t>(chunk * 2, 100'000);
@@ -290,6 +321,7 @@ void RoadmapSession::fail_job(std::string error) {
   store_.reset();
   recovered_.reset();
   std::optional<StoreRecovery> recovery;
+  std::shared_ptr<const Scene> with_tasks = std::make_shared<const Scene>(scene_);
   try {
     if (std::filesystem::exists(store_dir_)) {
       recovery.emplace();
@@ -307,10 +339,21 @@ void RoadmapSession::fail_job(std::string error) {
       recovery.reset();
     }
   }
+  if (recovery) {
+    try {
+      with_tasks = complete_tasks(*recovery);
+    } catch (const std::exception& e) {
+      error += std::string("; the stored tasks' POIs could not be seen: ") + e.what();
+      recovery.reset();
+      store_.reset();
+    }
+  }
   // What the store holds now is the truth: make everything the session shows agree with it.
   std::lock_guard lock(mutex_);
   last_error_ = std::move(error);
+  scene_with_tasks_ = with_tasks;
   if (recovery) {
+    tasks_ = std::move(recovery->tasks);
     recipe_ = recovery->recipe;
     samples_done_ = recovery->roadmaps.samples;
     published_ = make_published(std::make_shared<const Roadmap>(recovery->roadmaps.roadmap), recipe_->generation,
@@ -320,6 +363,7 @@ void RoadmapSession::fail_job(std::string error) {
     recovered_ = std::move(recovery->roadmaps);
   } else {
     recipe_.reset();
+    tasks_.clear();
     published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0);
     samples_done_ = 0;
     dense_vertices_ = dense_edges_ = 0;

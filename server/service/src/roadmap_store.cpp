@@ -25,6 +25,49 @@ std::string_view get_blob(ByteReader& in) {
 }
 
 
+// A commit's tasks follow its batches, after this marker ("TASKS\0\0\0"): a commit without tasks
+// is encoded exactly as before tasks existed, so older stores read as they were.
+constexpr std::uint64_t kTasksMarker = 0x0000'0053'4b53'4154ULL;
+
+void append_tasks(std::string& out, const BuildCommit& commit) {
+  if (commit.tasks.empty()) return;
+  put_bytes(out, kTasksMarker);
+  put_bytes(out, commit.task_count);
+  put_bytes(out, static_cast<std::uint64_t>(commit.tasks.size()));
+  for (const InspectionTask& task : commit.tasks) {
+    put_bytes(out, static_cast<std::uint64_t>(task.name.size()));
+    out += task.name;
+    put_bytes(out, static_cast<std::uint64_t>(task.pois.size()));
+    for (const Vec3& p : task.pois) {
+      put_bytes(out, p.x());
+      put_bytes(out, p.y());
+      put_bytes(out, p.z());
+    }
+  }
+}
+
+void read_tasks(ByteReader& in, BuildCommit& commit) {
+  if (in.done()) return;
+  if (in.get<std::uint64_t>() != kTasksMarker) throw std::runtime_error("commit payload has trailing bytes");
+  commit.task_count = in.get<std::uint64_t>();
+  const auto count = in.get<std::uint64_t>();
+  if (count == 0 || count > commit.task_count || count > kMaxTasks) throw std::runtime_error("commit task count is impossible");
+  commit.tasks.resize(count);
+  for (InspectionTask& task : commit.tasks) {
+    const auto name_size = in.get<std::uint64_t>();
+    if (name_size > 64) throw std::runtime_error("commit task name is too long");
+    task.name = std::string(in.bytes(name_size));
+    const auto pois = in.get<std::uint64_t>();
+    if (pois == 0 || pois > kMaxTaskPois) throw std::runtime_error("commit task POI count is impossible");
+    task.pois.resize(pois);
+    for (Vec3& p : task.pois) {
+      const auto x = in.get<double>();
+      const auto y = in.get<double>();
+      p = Vec3(x, y, in.get<double>());
+    }
+  }
+}
+
 BuiltRoadmaps empty_roadmaps(const RoadmapRecipe& recipe, std::size_t poi_count) {
   BuiltRoadmaps r{0, Roadmap(poi_count), std::nullopt, {}};
   if (has_dense_pair(recipe.method)) r.dense.emplace(poi_count);
@@ -47,6 +90,7 @@ std::string encode_commit(const BuildCommit& commit) {
   append_encoded_batch(out, commit.roadmap);
   put_bytes(out, static_cast<std::uint64_t>(dense_size));
   append_encoded_batch(out, commit.dense);
+  append_tasks(out, commit);
   return out;
 }
 
@@ -60,8 +104,16 @@ BuildCommit decode_commit(const std::string& payload) {
   for (auto& id : commit.new_dense_ids) id = in.get<VertexId>();
   commit.roadmap = decode_batch(get_blob(in));
   commit.dense = decode_batch(get_blob(in));
+  read_tasks(in, commit);
   if (!in.done()) throw std::runtime_error("commit payload has trailing bytes");
   return commit;
+}
+
+bool snapshot_holds(const BuildCommit& commit, std::uint64_t snapshot_samples, std::uint64_t snapshot_tasks) {
+  // Every commit but a task's draws at least one sample, so the sample count orders them; a
+  // task's commit is ordered after the others of its sample count by the task count.
+  if (commit.tasks.empty()) return commit.samples <= snapshot_samples;
+  return commit.samples < snapshot_samples || (commit.samples == snapshot_samples && commit.task_count <= snapshot_tasks);
 }
 
 RoadmapsView view_of(const BuiltRoadmaps& r) {
@@ -95,6 +147,13 @@ void apply_commit(BuiltRoadmaps& r, const BuildCommit& commit) {
       (dense_present && r.dense->version() != commit.dense.from_version)) {
     throw std::runtime_error("commit does not continue the stored roadmaps");
   }
+  std::size_t task_pois = 0;
+  for (const InspectionTask& task : commit.tasks) task_pois += task.pois.size();
+  if (task_pois > 0) {
+    // Widening changes no vertex, edge or version: a commit refused below leaves only wider rows.
+    r.roadmap.widen_pois(r.roadmap.poi_count() + task_pois);
+    if (dense_present) r.dense->widen_pois(r.dense->poi_count() + task_pois);
+  }
   check_batch(r.roadmap, commit.roadmap);
   if (dense_present) {
     check_batch(*r.dense, commit.dense);
@@ -103,7 +162,7 @@ void apply_commit(BuiltRoadmaps& r, const BuildCommit& commit) {
       if (id >= dense_after) throw std::runtime_error("commit dense id out of range");
     }
   }
-  // Every part fits: applied in place (a copy of the dense roadmap per commit made a restart's
+  // Every part fits: applied in place, the task's POIs first (its guards see them) (a copy of the dense roadmap per commit made a restart's
   // recovery cost its size times its journal's length).
   apply_checked_batch(r.roadmap, commit.roadmap);
   if (dense_present) {
@@ -190,20 +249,27 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
     }
     const BuildCommit whole = decode_commit(snapshot.payloads.front());
     apply_commit(r, whole);
+    recovered.tasks = whole.tasks;
   }
   // Journal commits the snapshot already holds are left from a compaction that crashed between
   // writing the snapshot and removing journal.old (or, in stores of older versions, resetting the
   // journal): skip them. Every commit draws at least one sample, so the sample count (not a
   // roadmap version, which a chunk may leave unchanged) tells them apart.
   const std::uint64_t snapshot_samples = r.samples;
+  const std::uint64_t snapshot_tasks = recovered.tasks.size();
   std::size_t commits = 0;
   const auto replay = [&](const std::filesystem::path& path) {
     commits = 0;
     return read_record_file(path, kJournal, [&](const std::string& payload) {
       try {
         const BuildCommit commit = decode_commit(payload);
-        if (has_snapshot && commit.samples <= snapshot_samples) return std::string();
+        if (has_snapshot && snapshot_holds(commit, snapshot_samples, snapshot_tasks)) return std::string();
+        if (!commit.tasks.empty() && commit.task_count != recovered.tasks.size() + commit.tasks.size()) {
+          throw std::runtime_error(fmt::format("a task commit says {} tasks after {} and {} more", commit.task_count,
+                                               recovered.tasks.size(), commit.tasks.size()));
+        }
         apply_commit(r, commit);
+        recovered.tasks.insert(recovered.tasks.end(), commit.tasks.begin(), commit.tasks.end());
         ++commits;
         return std::string();
       } catch (const std::runtime_error& e) {

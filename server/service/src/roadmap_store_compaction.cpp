@@ -59,17 +59,23 @@ BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::func
   }
   stop_if_asked();
   const std::uint64_t snapshot_samples = whole.samples;
+  const std::uint64_t snapshot_tasks = whole.tasks.size();
   const std::filesystem::path old = old_journal_path(dir);
   const RecordReplay journal = read_record_file(old, kJournal, [&](const std::string& payload) -> std::string {
     stop_if_asked();
     try {
       BuildCommit commit = decode_commit(payload);
       // Commits the snapshot holds already (an earlier fold wrote it, then stopped): skip them.
-      if (has_snapshot && commit.samples <= snapshot_samples) return {};
+      if (has_snapshot && snapshot_holds(commit, snapshot_samples, snapshot_tasks)) return {};
       if (commit.samples < whole.samples) throw std::runtime_error("it goes back in samples");
+      if (!commit.tasks.empty() && commit.task_count != whole.tasks.size() + commit.tasks.size()) {
+        throw std::runtime_error("its task count does not follow the snapshot's");
+      }
       append_batch(whole.roadmap, std::move(commit.roadmap));
       append_batch(whole.dense, std::move(commit.dense));
       append_all(whole.new_dense_ids, std::move(commit.new_dense_ids));
+      append_all(whole.tasks, std::move(commit.tasks));
+      whole.task_count = whole.tasks.size();
       whole.samples = commit.samples;
       return {};
     } catch (const RecordWriteStopped&) {

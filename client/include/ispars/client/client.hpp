@@ -105,6 +105,13 @@ class Client {
   PathReply path(const std::string& scene, const Vec3& from, const Vec3& to);
   Reply drop(const std::string& scene);
   VerifyReply verify(const std::string& scene);
+  /// Adds an inspection task of these POIs (on the structure's surface) to the scene's built
+  /// roadmap. Queued like an extend: wait_idle() waits for it, and tasks() lists it once added.
+  Reply add_task(const std::string& scene, const std::string& name, const std::vector<Vec3>& pois);
+  /// The same with `count` POIs the daemon samples on the surface from `seed`.
+  Reply add_sampled_task(const std::string& scene, const std::string& name, std::uint32_t count, std::uint64_t seed);
+  /// The roadmap's tasks, in the order they were added, with their coverage.
+  std::vector<TaskEntry> tasks(const std::string& scene);
   /// The whole roadmap, fetched in chunks at one version.
   Snapshot snapshot(const std::string& scene);
   /// An inspection tour on the scene's roadmap, searched for `budget` seconds; `progress` is
@@ -112,6 +119,10 @@ class Client {
   /// Empty targets: every POI seen from the root's component.
   TourReply tour(const std::string& scene, double budget, std::uint64_t seed, const std::vector<std::uint32_t>& targets,
                  const std::function<void(double seconds, double cost, double bound)>& progress = {});
+  /// The same for the POIs of inspection task `task` that the roadmap sees from the root's
+  /// component.
+  TourReply task_tour(const std::string& scene, const std::string& task, double budget, std::uint64_t seed,
+                      const std::function<void(double seconds, double cost, double bound)>& progress = {});
 
   /// Waits until the scene has no job (idle, empty or failed), calling `progress` on each status
   /// change seen meanwhile. Throws ClientError(timeout) after `timeout`.
@@ -145,6 +156,8 @@ class Client {
   [[nodiscard]] bool written_by_daemon(const std::string& server_id, const std::string& sender) const;
 
  private:
+  TourReply tour(const std::string& scene, double budget, std::uint64_t seed, const std::vector<std::uint32_t>& targets,
+                 const std::string& task, const std::function<void(double seconds, double cost, double bound)>& progress);
   class Impl;
   /// Sends requests as messages (wire_calls.hpp), for this class and the seam's free functions.
   friend struct WireAccess;

@@ -59,6 +59,16 @@ struct SceneStatus {
   std::string last_error;
   std::string scene_fingerprint;    ///< of the scene file the roadmap was built on (empty: no roadmap)
   std::uint32_t builder_version = 0;
+  std::uint32_t tasks = 0;          ///< inspection tasks added to the roadmap (poi_count includes theirs)
+};
+
+/// An inspection task of a scene's roadmap: its POIs' ids and how many of them the roadmap sees.
+struct TaskEntry {
+  std::string name;
+  std::uint32_t first_poi = 0;  ///< its POIs are ids first_poi .. first_poi + poi_count - 1
+  std::uint32_t poi_count = 0;
+  std::uint32_t pois_covered = 0;       ///< seen by some vertex
+  std::uint32_t pois_covered_root = 0;  ///< seen by some vertex in the root's component
 };
 
 /// One scene of one daemon, as listed by `ispars scenes`.

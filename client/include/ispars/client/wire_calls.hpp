@@ -39,6 +39,7 @@ msg::Reply call_raw(Client& client, msg::ChangeRequest request, const std::strin
 [[nodiscard]] SceneState from_message(msg::SceneState state);
 [[nodiscard]] SceneStatus from_message(const msg::SceneStatus& status);
 [[nodiscard]] SceneEntry from_message(const msg::SceneEntry& entry);
+[[nodiscard]] TaskEntry from_message(const msg::TaskEntry& task);
 [[nodiscard]] DaemonInfo from_message(const msg::DaemonInfo& info);
 [[nodiscard]] Reply to_reply(const msg::Reply& reply);
 [[nodiscard]] PathReply to_path_reply(const msg::Reply& reply);

@@ -1,5 +1,5 @@
 #pragma once
-// Builds and extends a daemon accepted and has not finished, kept on disk (DATA_DIR/.jobs/SCENE.json)
+// Builds, extends and task additions a daemon accepted and has not finished, kept on disk (DATA_DIR/.jobs/SCENE.json)
 // so that a restart resumes them: one running when the daemon stopped or was killed, and one that
 // was still queued. A job that ends (its target reached, cancelled, failed) is forgotten.
 
@@ -17,10 +17,11 @@ namespace ispars {
 struct PendingJob {
   std::string scene;
   std::uint64_t id = 0;               ///< Tells this job from a later one of the same scene.
-  std::optional<BuildRequest> build;  ///< A build (its request as accepted); empty: an extend.
+  std::optional<BuildRequest> build;  ///< A build (its request as accepted); empty: an extend or a task.
   std::uint64_t generation = 0;       ///< A build: the generation of the roadmap it makes.
   std::uint64_t target = 0;           ///< Samples the roadmap reaches when the job is done.
   std::uint32_t attempts = 0;         ///< Times it was resumed (a job that kills the daemon stops being resumed).
+  std::optional<InspectionTask> task;  ///< A task to add (then no build, and target is 0).
 };
 
 /// Writes `job` atomically and durably, replacing the scene's earlier record. Throws on a write

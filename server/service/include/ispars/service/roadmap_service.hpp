@@ -29,6 +29,8 @@
 
 namespace ispars {
 
+struct PendingJob;  // pending_jobs.hpp
+
 /// Where a service finds scenes and keeps roadmaps, and what it allows.
 struct ServiceSettings {
   std::string server_id;              ///< This service's name in messages ("daemon X").
@@ -82,7 +84,7 @@ struct StoredListing {
 struct ServiceEvents {
   /// A committed batch of a scene's roadmap (on the job's thread, in order).
   std::function<void(const std::string& scene, const RoadmapBatch& batch, std::uint64_t generation,
-                     std::uint64_t samples)>
+                     std::uint64_t samples, std::size_t poi_count)>
       on_commit;
   /// A loaded scene's status changed.
   std::function<void(const RoadmapSession& session)> on_status;
@@ -104,6 +106,7 @@ struct TourRequest {
   std::vector<PoiId> targets;   ///< Empty: every POI seen from the root's component.
   double budget_seconds = 1.0;  ///< In (0, kMaxTourBudget].
   std::uint64_t seed = 1;
+  std::string task;  ///< Not empty: the targets are this task's POIs seen from the root's component.
 };
 inline constexpr double kMaxTourBudget = 3600.0;
 inline constexpr std::size_t kMaxTourTargets = 1'000'000;
@@ -132,6 +135,7 @@ struct SnapshotSlice {
   std::uint64_t version = 0;
   std::uint32_t chunk_index = 0;
   std::uint32_t chunk_count = 0;
+  std::size_t poi_count = 0;  ///< The roadmap's POIs (the scene's, then its tasks').
   std::shared_ptr<const std::string> encoded;  ///< The whole encoding; this slice is [begin, end).
   std::size_t begin = 0;
   std::size_t end = 0;
@@ -174,9 +178,10 @@ class RoadmapService {
   [[nodiscard]] std::vector<std::string> loaded_scenes() const;
   [[nodiscard]] SessionStatus stats(const std::string& scene) const;
   [[nodiscard]] RoadmapPath path(const std::string& scene, const Vec3& from, const Vec3& to) const;
-  /// Chunk `chunk_index` of the roadmap at `version` of `generation` (version 0: the latest).
+  /// Chunk `chunk_index` of the roadmap at `version` of `generation` with `poi_count` POIs
+  /// (version 0: the latest; a task adds POIs without a new version).
   [[nodiscard]] SnapshotSlice snapshot(const std::string& scene, std::uint64_t version, std::uint64_t generation,
-                                       std::uint32_t chunk_index);
+                                       std::uint32_t chunk_index, std::size_t poi_count = 0);
   [[nodiscard]] VerifyOutcome verify(const std::string& scene) const;
   /// Admits a tour and runs it on a tour worker. Throws InputError for bad arguments, a scene
   /// without a roadmap, or when the tour queue is full ("busy").
@@ -208,6 +213,9 @@ class RoadmapService {
   /// restart resumes it. Throws InputError naming the field when the session refuses it.
   void build(const std::string& scene, const BuildRequest& request);
   void extend(const std::string& scene, std::uint64_t samples);
+  /// Queues the addition of an inspection task (RoadmapSession::request_task), recorded as a
+  /// build is; returns the scene's task count after it.
+  std::size_t add_task(const std::string& scene, InspectionTask task);
   /// Resumes the jobs recorded and not finished when the daemon last stopped (called once, after
   /// load_stored_roadmaps): an extend, or a build that committed, goes on to its target; a build
   /// that never committed starts again. A job whose scene is not this daemon's, or that is
@@ -229,6 +237,8 @@ class RoadmapService {
   // Jobs (roadmap_service_jobs.cpp): accepted and recorded as one step, under jobs_mutex_.
   void accept(const std::string& scene, const std::optional<BuildRequest>& build, std::uint64_t samples,
               std::uint32_t attempts);
+  std::size_t accept_task(const std::string& scene, InspectionTask task, std::uint32_t attempts);
+  void record(const std::shared_ptr<RoadmapSession>& session, const PendingJob& job);  // jobs_mutex_ held
   void schedule(const std::shared_ptr<RoadmapSession>& session, std::uint64_t job_id);
   void forget_job(const std::string& scene, std::uint64_t job_id);  // 0: whichever
   void run_tour(const std::shared_ptr<RoadmapSession>& session, const TourRequest& request,
@@ -250,6 +260,7 @@ class RoadmapService {
     std::string scene;
     std::uint64_t generation = 0;
     std::uint64_t version = 0;
+    std::size_t poi_count = 0;
     std::shared_ptr<const std::string> bytes;
   };
   std::mutex snapshots_mutex_;

@@ -25,6 +25,7 @@
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/service/build_request.hpp"
+#include "ispars/service/inspection_task.hpp"
 #include "ispars/service/reader_gate.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
@@ -56,7 +57,8 @@ struct SessionStatus {
   std::size_t components = 0;
   std::size_t dense_vertices = 0;
   std::size_t dense_edges = 0;
-  std::size_t poi_count = 0;
+  std::size_t poi_count = 0;  ///< The scene's POIs and its tasks'.
+  std::size_t tasks = 0;      ///< Inspection tasks added to the roadmap.
   std::size_t pois_covered = 0;
   std::size_t pois_covered_root = 0;
   std::string last_error;
@@ -85,8 +87,10 @@ inline constexpr std::chrono::milliseconds kVerifyBudget{300'000};
 
 /// What the session tells its owner.
 struct SessionCallbacks {
-  /// A committed batch of the roadmap (called on the job's thread, in order).
-  std::function<void(const RoadmapBatch& batch, std::uint64_t generation, std::uint64_t samples)> on_commit;
+  /// A committed batch of the roadmap (called on the job's thread, in order), and the roadmap's
+  /// POI count after it (a task's commit widens it).
+  std::function<void(const RoadmapBatch& batch, std::uint64_t generation, std::uint64_t samples, std::size_t poi_count)>
+      on_commit;
   /// The status changed (state, progress or counts).
   std::function<void(const SessionStatus& status)> on_status;
   /// Called with the estimate of the roadmap a build or extend would make, as the last check
@@ -113,6 +117,12 @@ class RoadmapSession {
   /// Records an extend by `samples` more samples (same errors; needs a roadmap); returns the
   /// sample count the roadmap will have.
   std::uint64_t request_extend(std::uint64_t samples);
+  /// Records the addition of an inspection task to the roadmap (run by run_job, committed as one
+  /// step: a crash leaves the roadmap before or after it); returns the scene's task count after
+  /// it. Throws InputError (file "request") naming the field when the task is bad (check_task),
+  /// a job is queued or running, the scene has no roadmap, or its method cannot take a task
+  /// without a rebuild (dense, irisc).
+  std::size_t request_task(InspectionTask task);
   /// Asks the running job to stop after its current chunk; false when there is none.
   bool cancel();
   /// Deletes the roadmap and its store (throws InputError while a job runs or without a roadmap).
@@ -132,6 +142,11 @@ class RoadmapSession {
   /// Queries: safe from any thread, consistent, and never wait for the job.
   [[nodiscard]] SessionStatus status() const;
   [[nodiscard]] PublishedRoadmap published() const;
+  /// The roadmap's inspection tasks, in order: task k's POIs have the ids after the scene's own
+  /// and tasks 0..k-1's.
+  [[nodiscard]] std::vector<InspectionTask> tasks() const;
+  /// The scene with every task's POIs: what the roadmap is planned and verified in.
+  [[nodiscard]] std::shared_ptr<const Scene> scene_with_tasks() const;
   /// A path on the published roadmap (InputError on bad points, see plan_path).
   [[nodiscard]] RoadmapPath path(const Vec3& from, const Vec3& to) const;
   /// Checks the roadmap (validity, costs, Invariant 1 for spars/ispars). Waits for no job: throws
@@ -164,6 +179,7 @@ class RoadmapSession {
   // The phases of run_job (roadmap_session_job.cpp).
   struct Job {
     std::optional<RoadmapRecipe> build;  // a new roadmap's recipe; none for an extend
+    std::optional<InspectionTask> task;  // a task to add (samples is then 0)
     std::uint64_t samples = 0;           // samples to add
     RoadmapRecipe recipe;                // the recipe the job grows
     std::uint64_t roadmap_version = 0;   // the last commit's versions
@@ -172,6 +188,10 @@ class RoadmapSession {
   std::optional<Job> take_job(const std::atomic<bool>& stopping);
   void prepare_job(Job& job, const std::atomic<bool>& stopping);
   void grow(Job& job, std::uint64_t target, const std::atomic<bool>& stopping);
+  void add_task(Job& job, const std::atomic<bool>& stopping);  // roadmap_session_task.cpp
+  // Takes the store's recovered roadmaps with their tasks: every vertex then sees the tasks'
+  // POIs it sees (the store has no scene). Called without mutex_; returns the scene with tasks.
+  [[nodiscard]] std::shared_ptr<const Scene> complete_tasks(StoreRecovery& recovery) const;
   void end_job(const Job& job, const std::atomic<bool>& stopping);
   void fail_job(std::string error);
   // Whether the published roadmap is the builder's, of `generation` (the job's last copy).
@@ -181,7 +201,8 @@ class RoadmapSession {
   // Marks the stored roadmap unusable (`why`): FAILED, nothing served, files untouched.
   void refuse_store(std::string why);
   std::filesystem::path discard_store(const std::string& aside_why);  // drop (empty why) or set aside
-  BuildCost estimate(const RoadmapRecipe& recipe, std::uint64_t total_samples) const;
+  // `scene`: the scene with the tasks the roadmap will have.
+  BuildCost estimate(const Scene& scene, const RoadmapRecipe& recipe, std::uint64_t total_samples) const;
   // Takes job_mutex_ (shared or alone) once no job is queued or running; a job that has just
   // turned idle still holds it while it publishes its last status, so this waits for it briefly.
   // Throws InputError, naming `what`, when a job is queued or running.
@@ -214,6 +235,9 @@ class RoadmapSession {
   std::uint64_t samples_target_ = 0;
   std::uint64_t pending_samples_ = 0;
   std::optional<RoadmapRecipe> pending_recipe_;  // a queued build's recipe
+  std::optional<InspectionTask> pending_task_;   // a queued task
+  std::vector<InspectionTask> tasks_;            // the roadmap's tasks, as stored
+  std::shared_ptr<const Scene> scene_with_tasks_;  // scene_ with tasks_' POIs (immutable, swapped)
   bool closed_ = false;
   bool discarding_ = false;  // a drop or set aside is removing the store
   std::string last_error_;

@@ -11,7 +11,9 @@
 // own folds snapshot.bin and journal.old into a new snapshot.bin from their bytes on disk, then
 // removes journal.old. A crash anywhere in that leaves files that recover the last commit, and
 // the next open() finishes the fold. No record size is a wall (record_file.hpp).
-// A commit carries the samples drawn so far and what the roadmap and its dense pair gained.
+// A commit carries the samples drawn so far and what the roadmap and its dense pair gained; a
+// task's commit also carries the task (its POIs widen the roadmaps first, then its guards are
+// added), so a crash leaves a store before or after the task, never between.
 // The recovered roadmaps (BuiltRoadmaps) and the recipe are the whole builder state of every
 // method but IRIS-C (resume_roadmap_builder). Builds are deterministic, so IRIS-C's is recipe +
 // samples: replaying the recipe to that many samples rebuilds it exactly, and the recovered
@@ -34,6 +36,7 @@
 #include "ispars/roadmap/roadmap.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
+#include "ispars/service/inspection_task.hpp"
 
 namespace ispars {
 
@@ -43,7 +46,18 @@ struct BuildCommit {
   RoadmapBatch roadmap;                 ///< What the method's roadmap gained.
   RoadmapBatch dense;                   ///< What the dense pair gained (empty without one).
   std::vector<VertexId> new_dense_ids;  ///< dense_ids() of the roadmap's new vertices.
+  /// Inspection tasks added by this commit (a build's first commit carries the scene's tasks):
+  /// their POIs take the next ids, before the batches are applied.
+  std::vector<InspectionTask> tasks;
+  /// With tasks: the store's task count after this commit (it orders a task's commit, which
+  /// draws no sample, after the commits of the same sample count).
+  std::uint64_t task_count = 0;
 };
+
+/// Whether `commit`, found in a journal after a snapshot of `snapshot_samples` samples and
+/// `snapshot_tasks` tasks, is one the snapshot holds already.
+[[nodiscard]] bool snapshot_holds(const BuildCommit& commit, std::uint64_t snapshot_samples,
+                                  std::uint64_t snapshot_tasks);
 
 [[nodiscard]] std::string encode_commit(const BuildCommit& commit);
 /// Throws std::runtime_error on a payload that does not parse exactly.
@@ -72,6 +86,10 @@ struct StoreRecovery {
   bool torn_tail = false;           ///< A torn journal tail (an incomplete last record) was cut off.
   std::string tail_problem;
   std::filesystem::path tail_set_aside;  ///< Where the cut bytes were copied (open() only).
+  /// The store's inspection tasks, in order. The recovered roadmaps are widened to their POIs,
+  /// and the vertices built after each task see its POIs; the ones built before do not yet
+  /// (the store has no scene): see_new_pois (poi_visibility.hpp) adds what they see.
+  std::vector<InspectionTask> tasks;
 };
 
 /// Appends commits to one scene's store and compacts it. One writer: the store directory is
@@ -152,7 +170,8 @@ class RoadmapStore {
 /// A view of stored roadmaps.
 [[nodiscard]] RoadmapsView view_of(const BuiltRoadmaps& roadmaps);
 
-/// Applies a commit to recovered roadmaps (throws std::runtime_error when it does not continue them).
+/// Applies a commit to recovered roadmaps (throws std::runtime_error when it does not continue
+/// them). A commit with tasks widens the roadmaps to their POIs first.
 void apply_commit(BuiltRoadmaps& roadmaps, const BuildCommit& commit);
 
 /// What a store's last commit holds, as its `head` file says: a hint written after each commit

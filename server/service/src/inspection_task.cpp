@@ -1,0 +1,155 @@
+#include "ispars/service/inspection_task.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "ispars/input_error.hpp"
+#include "ispars/scene/poi_sampling.hpp"
+#include "request_input.hpp"
+
+namespace ispars {
+
+bool valid_task_name(std::string_view name) {
+  if (name.empty() || name.size() > 64 || name.front() == '.') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
+           c == '.';
+  });
+}
+
+namespace {
+
+std::string shown_name(std::string_view name) {
+  std::string shown(name.substr(0, 80));
+  for (char& c : shown) {
+    if (c < 0x20 || c > 0x7e) c = '?';
+  }
+  return shown + (name.size() > 80 ? "..." : "");
+}
+
+void check_poi(const Scene& scene, const Aabb& box, const Vec3& p, std::size_t i) {
+  const std::string field = fmt::format("task.pois[{}]", i);
+  if (!p.allFinite()) throw InputError(kRequest, field, "is not a finite point");
+  if (!box.contains(p)) {
+    throw InputError(kRequest, field,
+                     fmt::format("({:.3f}, {:.3f}, {:.3f}) is outside the structure's box ({:.3f}, {:.3f}, {:.3f}) to "
+                                 "({:.3f}, {:.3f}, {:.3f})",
+                                 p.x(), p.y(), p.z(), box.min.x(), box.min.y(), box.min.z(), box.max.x(),
+                                 box.max.y(), box.max.z()));
+  }
+  const double d = scene.collision().distance_to_surface(p);
+  if (d > kTaskPoiSurfaceTolerance) {
+    throw InputError(kRequest, field,
+                     fmt::format("({:.3f}, {:.3f}, {:.3f}) is {:.3f} m from the structure's surface; a POI lies on "
+                                 "it (within {} m)",
+                                 p.x(), p.y(), p.z(), d, kTaskPoiSurfaceTolerance));
+  }
+}
+
+}  // namespace
+
+void check_task(const Scene& scene, std::span<const InspectionTask> tasks, const InspectionTask& task) {
+  if (!valid_task_name(task.name)) {
+    throw InputError(kRequest, "task.name",
+                     fmt::format("'{}' is not a task name (1-64 of A-Z a-z 0-9 _ - ., not starting with '.')",
+                                 shown_name(task.name)));
+  }
+  for (const InspectionTask& t : tasks) {
+    if (t.name == task.name) throw InputError(kRequest, "task.name", fmt::format("a task '{}' exists already", t.name));
+  }
+  if (tasks.size() >= kMaxTasks) {
+    throw InputError(kRequest, "task", fmt::format("the scene holds {} tasks, the most it may", tasks.size()));
+  }
+  if (task.pois.empty()) throw InputError(kRequest, "task.pois", "a task has at least one POI");
+  if (task.pois.size() > kMaxTaskPois) {
+    throw InputError(kRequest, "task.pois",
+                     fmt::format("{} POIs; a task has at most {}", task.pois.size(), kMaxTaskPois));
+  }
+  // The mesh's box grown by the tolerance: a point sampled on a top face may lie a rounding above it.
+  Aabb box = scene.mesh().bounds();
+  box.min.array() -= kTaskPoiSurfaceTolerance;
+  box.max.array() += kTaskPoiSurfaceTolerance;
+  for (std::size_t i = 0; i < task.pois.size(); ++i) check_poi(scene, box, task.pois[i], i);
+}
+
+std::vector<Vec3> sample_task_pois(const Scene& scene, std::size_t count, std::uint64_t seed) {
+  if (count == 0 || count > kMaxTaskPois) {
+    throw InputError(kRequest, "task.sample", fmt::format("{} POIs; sample 1 to {}", count, kMaxTaskPois));
+  }
+  return sample_pois_on_surface(scene.mesh(), count, seed, scene.config().pois.skip_ground);
+}
+
+std::vector<TaskCoverage> task_coverage(const Roadmap& roadmap, std::size_t scene_pois,
+                                        std::span<const InspectionTask> tasks) {
+  const std::size_t words = (roadmap.poi_count() + 63) / 64;
+  std::vector<std::uint64_t> all(words, 0), root(words, 0);
+  const VertexId root_component = roadmap.vertex_count() > 0 ? roadmap.component(0) : 0;
+  for (VertexId v = 0; v < roadmap.vertex_count(); ++v) {
+    const PoiBits bits = roadmap.visible(v);
+    const bool in_root = roadmap.component(v) == root_component;
+    for (std::size_t w = 0; w < words; ++w) {
+      all[w] |= bits[w];
+      if (in_root) root[w] |= bits[w];
+    }
+  }
+  const auto seen = [](const std::vector<std::uint64_t>& bits, std::size_t id) {
+    return (bits[id / 64] >> (id % 64) & 1U) != 0;
+  };
+  std::vector<TaskCoverage> out;
+  std::size_t first = scene_pois;
+  for (const InspectionTask& t : tasks) {
+    TaskCoverage c{t.name, first, t.pois.size(), 0, 0};
+    for (std::size_t id = first; id < first + t.pois.size() && id < roadmap.poi_count(); ++id) {
+      c.covered += seen(all, id) ? 1 : 0;
+      c.covered_root += seen(root, id) ? 1 : 0;
+    }
+    out.push_back(std::move(c));
+    first += t.pois.size();
+  }
+  return out;
+}
+
+std::vector<PoiId> task_targets(const Roadmap& roadmap, std::size_t scene_pois, std::span<const InspectionTask> tasks,
+                                const std::string& name) {
+  std::size_t first = scene_pois;
+  const InspectionTask* task = nullptr;
+  for (const InspectionTask& t : tasks) {
+    if (t.name == name) {
+      task = &t;
+      break;
+    }
+    first += t.pois.size();
+  }
+  if (task == nullptr) {
+    throw InputError(kRequest, "task", fmt::format("the roadmap has no task '{}' (ispars task list)", shown_name(name)));
+  }
+  const std::size_t end = std::min(first + task->pois.size(), roadmap.poi_count());
+  std::vector<std::uint64_t> seen((roadmap.poi_count() + 63) / 64, 0);
+  if (roadmap.vertex_count() > 0) {
+    const VertexId root = roadmap.component(0);
+    for (VertexId v = 0; v < roadmap.vertex_count(); ++v) {
+      if (roadmap.component(v) != root) continue;
+      const PoiBits bits = roadmap.visible(v);
+      for (std::size_t w = first / 64; w < (end + 63) / 64; ++w) seen[w] |= bits[w];
+    }
+  }
+  std::vector<PoiId> targets;
+  for (std::size_t id = first; id < end; ++id) {
+    if ((seen[id / 64] >> (id % 64) & 1U) != 0) targets.push_back(static_cast<PoiId>(id));
+  }
+  if (targets.empty()) {
+    throw InputError(kRequest, "task",
+                     fmt::format("no POI of task '{}' is seen from the root's component of the roadmap", name));
+  }
+  return targets;
+}
+
+std::vector<Vec3> task_pois(std::span<const InspectionTask> tasks) {
+  std::vector<Vec3> all;
+  for (const InspectionTask& t : tasks) all.insert(all.end(), t.pois.begin(), t.pois.end());
+  return all;
+}
+
+}  // namespace ispars

@@ -1,0 +1,101 @@
+// Inspection tasks on a session's roadmap: the request (checked and queued like an extend), the
+// job that adds the task's POIs (RoadmapBuilder::add_pois, then one commit holding the task and
+// its guards), and what recovery adds to a stored roadmap's vertices for its tasks.
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "ispars/builders/poi_visibility.hpp"
+#include "ispars/input_error.hpp"
+#include "ispars/service/roadmap_session.hpp"
+#include "request_input.hpp"
+
+namespace ispars {
+namespace {
+
+bool takes_tasks(BuildMethod method) {
+  return method == BuildMethod::spars || method == BuildMethod::ispars || method == BuildMethod::ispars2;
+}
+
+}  // namespace
+
+std::size_t RoadmapSession::request_task(InspectionTask task) {
+  std::size_t after = 0;
+  {
+    std::lock_guard lock(mutex_);
+    check_can_start("scene");
+    if (!damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
+    if (!recipe_) {
+      throw InputError(kRequest, "scene",
+                       fmt::format("scene '{}' has no roadmap: build one, then add tasks to it", name_));
+    }
+    if (!takes_tasks(recipe_->method)) {
+      throw InputError(kRequest, "scene",
+                       fmt::format("scene '{}' has a {} roadmap, which cannot take a task without a rebuild (spars, "
+                                   "ispars and ispars2 can): add the POIs to the scene file and build again",
+                                   name_, to_string(recipe_->method)));
+    }
+    check_task(*scene_with_tasks_, tasks_, task);
+    if (callbacks_.admit_cost) {
+      callbacks_.admit_cost(estimate(scene_with_tasks_->with_more_pois(task.pois), *recipe_, samples_done_));
+    }
+    pending_recipe_.reset();
+    pending_samples_ = 0;
+    pending_task_ = std::move(task);
+    last_error_.clear();
+    state_ = SessionState::queued;
+    after = tasks_.size() + 1;
+  }
+  notify_status();
+  return after;
+}
+
+void RoadmapSession::add_task(Job& job, const std::atomic<bool>& stopping) {
+  const InspectionTask& task = *job.task;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::shared_ptr<const Scene> with_tasks;
+  std::size_t task_count = 0;
+  {
+    std::lock_guard lock(mutex_);
+    with_tasks = scene_with_tasks_;
+    task_count = tasks_.size() + 1;
+  }
+  auto widened = std::make_unique<Scene>(build_scene_->with_more_pois(task.pois));
+  auto next = std::make_shared<const Scene>(with_tasks->with_more_pois(task.pois));
+  const std::size_t guards = builder_->add_pois(*widened, [&] { return !stopping && !cancel_; });
+  build_scene_ = std::move(widened);  // the builder plans in it from now on
+  const RoadmapsView view = live_view();
+  BuildCommit commit = commit_since(view, job.roadmap_version, job.dense_version);
+  commit.tasks = {task};
+  commit.task_count = task_count;
+  store_->commit(commit);  // durable: from here on the task is the roadmap's
+  job.roadmap_version = view.roadmap->version();
+  job.dense_version = view.dense ? view.dense->version() : 0;
+  auto copy = make_published(std::make_shared<const Roadmap>(*view.roadmap), job.recipe.generation, builder_->samples());
+  {
+    std::lock_guard lock(mutex_);
+    tasks_.push_back(task);
+    scene_with_tasks_ = std::move(next);
+    published_ = std::move(copy);
+    dense_vertices_ = view.dense ? view.dense->vertex_count() : 0;
+    dense_edges_ = view.dense ? view.dense->edge_count() : 0;
+  }
+  if (callbacks_.on_commit) {
+    callbacks_.on_commit(commit.roadmap, job.recipe.generation, commit.samples, view.roadmap->poi_count());
+  }
+  spdlog::info("scene '{}': task '{}' added ({} POIs, {} guards) in {:.3f} s", name_, task.name, task.pois.size(),
+               guards, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
+std::shared_ptr<const Scene> RoadmapSession::complete_tasks(StoreRecovery& recovery) const {
+  if (recovery.tasks.empty()) return std::make_shared<const Scene>(scene_);
+  auto with_tasks = std::make_shared<const Scene>(scene_.with_more_pois(task_pois(recovery.tasks)));
+  const auto first = static_cast<PoiId>(scene_.pois().size());
+  see_new_pois(recovery.roadmaps.roadmap, *with_tasks, first);
+  if (recovery.roadmaps.dense) see_new_pois(*recovery.roadmaps.dense, *with_tasks, first);
+  return with_tasks;
+}
+
+}  // namespace ispars

@@ -1,0 +1,194 @@
+// Inspection tasks on a session's roadmap: the addition as a job, what verify finds after it,
+// recovery of the task from the store, and the requests refused.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+
+#include "ispars/input_error.hpp"
+#include "ispars/service/roadmap_session.hpp"
+#include "roadmap_session_fixture.hpp"
+
+namespace ispars {
+namespace {
+
+InspectionTask sampled_task(const std::string& name, std::size_t count, std::uint64_t seed) {
+  return {name, sample_task_pois(test::shared_scene("demo_tank_tower"), count, seed)};
+}
+
+std::string refusal(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(not refused)";
+}
+
+class SessionTaskTest : public RoadmapSessionTest, public ::testing::WithParamInterface<BuildMethod> {
+ protected:
+  BuildRequest request(std::uint64_t samples) const {
+    BuildRequest r = ispars(samples, 4);
+    r.method = GetParam();
+    return r;
+  }
+  // The same build and the same task in-process, without the service: the roadmap a session
+  // must hold byte for byte.
+  std::unique_ptr<RoadmapBuilder> reference(std::uint64_t samples, const std::vector<InspectionTask>& tasks,
+                                            std::vector<std::unique_ptr<Scene>>& scenes) const {
+    BuildOptions options;
+    options.seed = 4;
+    scenes.push_back(std::make_unique<Scene>(scene()));
+    auto b = make_roadmap_builder(GetParam(), *scenes.back(), options);
+    b->extend(samples);
+    for (const InspectionTask& t : tasks) {
+      scenes.push_back(std::make_unique<Scene>(scenes.back()->with_more_pois(t.pois)));
+      b->add_pois(*scenes.back());
+    }
+    return b;
+  }
+};
+
+TEST_P(SessionTaskTest, ATaskKeepsInvariantOneOverEveryPoiAndARestartRecoversItByteForByte) {
+  const InspectionTask task = sampled_task("welds", 60, 11);
+  std::uint64_t live = 0;
+  {
+    auto session = open();
+    session->request_build(request(5000));
+    session->run_job(never_);
+    const std::size_t base_pois = session->status().poi_count;
+    EXPECT_EQ(session->request_task(task), 1u);
+    EXPECT_EQ(session->status().state, SessionState::queued);
+    session->run_job(never_);
+    const SessionStatus s = session->status();
+    ASSERT_EQ(s.state, SessionState::idle) << s.last_error;
+    EXPECT_EQ(s.tasks, 1u);
+    EXPECT_EQ(s.poi_count, base_pois + task.pois.size());
+    EXPECT_EQ(s.samples_done, 5000u) << "a task draws no samples";
+    const VerificationReport report = session->verify(kVerifyBudget);
+    EXPECT_TRUE(report.geometry_ok());
+    EXPECT_EQ(report.invariant_violations, 0u) << "Invariant 1 over the scene's and the task's POIs";
+    live = roadmap_digest(*session->published().roadmap);
+    std::vector<std::unique_ptr<Scene>> scenes;
+    EXPECT_EQ(live, roadmap_digest(reference(5000, {task}, scenes)->roadmap()))
+        << "the session's roadmap is the builder's with the task, byte for byte";
+  }
+  // A restart: the store holds the task's commit; the vertices built before it see its POIs again.
+  auto session = open();
+  EXPECT_EQ(session->status().tasks, 1u);
+  ASSERT_EQ(session->tasks().size(), 1u);
+  EXPECT_EQ(session->tasks()[0].name, "welds");
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), live) << session->recovery_note();
+  EXPECT_EQ(session->verify(kVerifyBudget).invariant_violations, 0u);
+  // Later samples treat the task's POIs as the scene's: the extended roadmap is the reference's.
+  session->request_extend(1500);
+  session->run_job(never_);
+  std::vector<std::unique_ptr<Scene>> scenes;
+  auto b = reference(5000, {task}, scenes);
+  b->extend(1500);
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), roadmap_digest(b->roadmap()));
+  EXPECT_EQ(session->verify(kVerifyBudget).invariant_violations, 0u);
+}
+
+TEST_P(SessionTaskTest, ARebuildKeepsTheTasksAndADropForgetsThem) {
+  auto session = open();
+  session->request_build(request(3000));
+  session->run_job(never_);
+  session->request_task(sampled_task("a", 30, 1));
+  session->run_job(never_);
+  BuildRequest again = request(3000);
+  again.replace = true;
+  again.seed = 9;
+  session->request_build(again);
+  session->run_job(never_);
+  EXPECT_EQ(session->status().tasks, 1u) << "a replacing build is built with the tasks' POIs";
+  EXPECT_EQ(session->verify(kVerifyBudget).invariant_violations, 0u);
+  const std::uint64_t rebuilt = roadmap_digest(*session->published().roadmap);
+  session.reset();
+  session = open();
+  EXPECT_EQ(session->status().tasks, 1u);
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), rebuilt);
+  session->drop();
+  EXPECT_EQ(session->status().tasks, 0u);
+  EXPECT_EQ(session->status().poi_count, scene().pois().size());
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, SessionTaskTest, ::testing::Values(BuildMethod::ispars, BuildMethod::ispars2),
+                         [](const auto& param_info) { return std::string(to_string(param_info.param)); });
+
+TEST_F(RoadmapSessionTest, AnAdditionStoppedPartWayLeavesTheRoadmapAsCommitted) {
+  std::atomic<bool> stopping{false};
+  SessionCallbacks callbacks;
+  bool adding = false;
+  callbacks.on_status = [&](const SessionStatus& s) {
+    // The daemon stops as the addition starts (its first keep_going check sees it).
+    if (adding && s.state == SessionState::building) stopping = true;
+  };
+  auto session = open(callbacks);
+  session->request_build(ispars(4000));
+  session->run_job(never_);
+  const std::uint64_t before = roadmap_digest(*session->published().roadmap);
+  adding = true;
+  session->request_task(sampled_task("late", 40, 3));
+  session->run_job(stopping);
+  const SessionStatus s = session->status();
+  EXPECT_EQ(s.state, SessionState::idle);
+  EXPECT_NE(s.last_error.find("task 'late' not added"), std::string::npos) << s.last_error;
+  EXPECT_EQ(s.tasks, 0u);
+  EXPECT_EQ(s.poi_count, scene().pois().size());
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), before);
+  // Asked again, it is added.
+  adding = false;
+  session->request_task(sampled_task("late", 40, 3));
+  session->run_job(never_);
+  EXPECT_EQ(session->status().tasks, 1u);
+  session.reset();
+  EXPECT_EQ(open()->status().tasks, 1u);
+}
+
+TEST_F(RoadmapSessionTest, BadTasksAreRefusedByNameAndChangeNothing) {
+  auto session = open();
+  EXPECT_NE(refusal([&] { session->request_task(sampled_task("t", 5, 1)); }).find("has no roadmap"), std::string::npos);
+  session->request_build(ispars(3000));
+  EXPECT_NE(refusal([&] { session->request_task(sampled_task("t", 5, 1)); }).find("a build is already running"),
+            std::string::npos);
+  session->run_job(never_);
+  session->request_task(sampled_task("t", 5, 1));
+  session->run_job(never_);
+  const std::uint64_t digest = roadmap_digest(*session->published().roadmap);
+  const std::uint64_t version = session->status().version;
+  EXPECT_NE(refusal([&] { session->request_task(sampled_task("t", 5, 2)); }).find("task.name: a task 't' exists"),
+            std::string::npos);
+  EXPECT_NE(refusal([&] { session->request_task(sampled_task("../x", 5, 2)); }).find("task.name"), std::string::npos);
+  EXPECT_NE(refusal([&] { session->request_task({"empty", {}}); }).find("task.pois: a task has at least one POI"),
+            std::string::npos);
+  InspectionTask far = sampled_task("far", 5, 2);
+  far.pois[3] += Vec3(0, 0, 0.5);
+  EXPECT_NE(refusal([&] { session->request_task(far); }).find("task.pois[3]"), std::string::npos);
+  InspectionTask outside = sampled_task("outside", 5, 2);
+  outside.pois[0] = Vec3(1e6, 0, 0);
+  EXPECT_NE(refusal([&] { session->request_task(outside); }).find("outside the structure's box"), std::string::npos);
+  InspectionTask nan = sampled_task("nan", 5, 2);
+  nan.pois[1].x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(refusal([&] { session->request_task(nan); }).find("task.pois[1]: is not a finite point"),
+            std::string::npos);
+  const SessionStatus s = session->status();
+  EXPECT_EQ(s.state, SessionState::idle);
+  EXPECT_EQ(s.tasks, 1u);
+  EXPECT_EQ(s.version, version);
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), digest);
+}
+
+TEST_F(RoadmapSessionTest, ADenseRoadmapRefusesATaskNamingTheMethodsThatTakeOne) {
+  auto session = open();
+  BuildRequest r = ispars(2000);
+  r.method = BuildMethod::dense;
+  session->request_build(r);
+  session->run_job(never_);
+  const std::string why = refusal([&] { session->request_task(sampled_task("t", 5, 1)); });
+  EXPECT_NE(why.find("cannot take a task without a rebuild (spars, ispars and ispars2 can)"), std::string::npos) << why;
+  EXPECT_EQ(session->status().tasks, 0u);
+}
+
+}  // namespace
+}  // namespace ispars
