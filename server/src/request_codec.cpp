@@ -91,7 +91,7 @@ std::string verify_summary(const VerifyOutcome& v, std::size_t dense_vertices) {
   const VerificationReport& r = v.report;
   const std::string checked_on =
       r.invariant_drawn > 0
-          ? fmt::format("{} of the {} samples the build drew, drawn again", r.invariant_vertices, r.invariant_drawn)
+          ? fmt::format("{} of the {} samples the build drew (drawn again)", r.invariant_vertices, r.invariant_drawn)
       : r.invariant_samples > 0
           ? fmt::format("{} of {} fresh samples, drawn for this check: an estimate, not counted; every sample "
                         "the build drew keeps it",

@@ -60,6 +60,19 @@ TEST_F(ServiceTest, AReplicaFollowingATaskResyncsToTheSnapshot) {
   const auto tasks = client.tasks("s0");
   ASSERT_EQ(tasks.size(), 1u);
   EXPECT_EQ(tasks[0].first_poi + tasks[0].poi_count, added.poi_count);
+
+  // A task of POIs the roadmap already covers (copies of the scene's own) adds no guard: no new
+  // version, no new vertex in the update stream; only the POI count tells the replica.
+  const std::vector<Vec3> scene_pois = client.snapshot("s0").pois;
+  client.add_task("s0", "copies", std::vector<Vec3>(scene_pois.begin(), scene_pois.begin() + 5));
+  const SceneStatus copied = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(copied.tasks, 2u) << copied.last_error;
+  EXPECT_EQ(copied.version, added.version) << "copies of covered POIs need no guard";
+  for (int i = 0; i < 400 && replica.roadmap().poi_count() != copied.poi_count; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_EQ(replica.roadmap().poi_count(), copied.poi_count) << "the replica never learnt of the task";
+  EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(client.snapshot("s0").roadmap));
   EXPECT_EQ(daemon->terminate(), 0);
 }
 

@@ -168,6 +168,13 @@ TEST(RequestCodec, AVerifySummaryNamesEachCountAndWhatInvariantOneWasCheckedOn) 
   const std::string sampled = verify_summary(v, 40);
   EXPECT_NE(sampled.find("6 of 1000 fresh samples, drawn for this check"), std::string::npos) << sampled;
   EXPECT_NE(sampled.find("; Invariant 1 is not promised by this method"), std::string::npos) << sampled;
+  v.report.invariant_samples = 0;
+  v.report.invariant_drawn = 3000;
+  v.invariant_promised = true;
+  EXPECT_EQ(verify_summary(v, 0),
+            "invalid vertices 0, invalid edges 2, wrong costs 0, sparse not dense 0, Invariant 1 violations 5 (6 of "
+            "the 3000 samples the build drew (drawn again) have one)");
+  EXPECT_EQ(v.violations(), 7u) << "on the samples drawn, Invariant 1 is promised: counted";
 }
 
 TEST(RequestCodec, APathAndSnapshotChunksAreEncodedWhole) {
