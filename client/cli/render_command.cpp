@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
@@ -27,6 +28,7 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& args) {
   cmd->add_option("--target", args.target, "camera target X Y Z (with --eye)")->expected(3);
   cmd->add_option("--max-edges", args.max_edges, "edges drawn at most (an evenly spread subset)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
+  cmd->add_option("--task", args.task, "draw this inspection task's POIs (ispars task list), and its tour with --tour");
   return cmd;
 }
 
@@ -39,9 +41,10 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
     }
   }();
   const client::Snapshot snapshot = client.snapshot(args.scene);
-  // The mesh is the user's copy: it must be the daemon's scene, which its POIs tell.
-  bool same = snapshot.pois.size() == scene.pois().size();
-  for (std::size_t i = 0; same && i < snapshot.pois.size(); ++i) same = (snapshot.pois[i] - scene.pois()[i]).norm() < 1e-6;
+  // The mesh is the user's copy: it must be the daemon's scene, which its POIs tell (the
+  // daemon's begin with the scene file's; its inspection tasks' follow).
+  bool same = snapshot.pois.size() >= scene.pois().size();
+  for (std::size_t i = 0; same && i < scene.pois().size(); ++i) same = (snapshot.pois[i] - scene.pois()[i]).norm() < 1e-6;
   if (!same) {
     throw CLI::ValidationError("--scene-file", fmt::format("{} is not the daemon's scene '{}': its {} POIs differ from the "
                                                            "daemon's {}",
@@ -51,7 +54,8 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
   std::vector<Vec3> tour;
   double tour_cost = 0.0;
   if (args.tour_budget > 0) {
-    const auto reply = client.tour(args.scene, args.tour_budget, 1, {}, {});
+    const auto reply = args.task.empty() ? client.tour(args.scene, args.tour_budget, 1, {}, {})
+                                         : client.task_tour(args.scene, args.task, args.tour_budget, 1, {});
     // The shortcut tour: the path a robot flies (the roadmap walk when the daemon sent none).
     const client::Tour& r = reply.tour;
     const auto& drawn = r.shortcut_path.empty() ? r.waypoints : r.shortcut_path;
@@ -71,10 +75,23 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
   }
   const Roadmap& g = snapshot.roadmap;
   request.roadmap = DrawnGraph{g.positions(), g.edge_ends()};
-  request.pois = scene.pois();
-  request.poi_seen.assign(scene.pois().size(), false);
+  // The POIs drawn: every POI the roadmap knows, or one task's (ids first .. first + count - 1).
+  std::size_t first = 0, count = std::min(snapshot.pois.size(), g.poi_count());
+  if (!args.task.empty()) {
+    const std::vector<client::TaskEntry> tasks = client.tasks(args.scene);
+    const auto task = std::find_if(tasks.begin(), tasks.end(), [&](const auto& t) { return t.name == args.task; });
+    if (task == tasks.end()) {
+      throw CLI::ValidationError("--task", fmt::format("scene '{}' has no task '{}' (ispars task list)", args.scene, args.task));
+    }
+    first = std::min<std::size_t>(task->first_poi, count);
+    count = std::min<std::size_t>(task->poi_count, count - first);
+  }
+  request.pois = std::span<const Vec3>(snapshot.pois).subspan(first, count);
+  request.poi_seen.assign(count, false);
   for (VertexId v = 0; v < g.vertex_count(); ++v) {
-    for (const PoiId p : g.visibility_table().ids(v)) request.poi_seen[p] = true;
+    for (const PoiId p : g.visibility_table().ids(v)) {
+      if (p >= first && p < first + count) request.poi_seen[p - first] = true;
+    }
   }
   request.tour = tour;
   RenderResult result;

@@ -1,6 +1,7 @@
 #pragma once
 // `ispars render`: a PNG of a scene's roadmap as the daemon serves it (its snapshot), over the
-// scene's mesh loaded from the user's copy of the scene file, with a tour the daemon searches.
+// scene's mesh loaded from the user's copy of the scene file, with a tour the daemon searches;
+// with --task, an inspection task's POIs and its tour.
 
 #include <CLI/CLI.hpp>
 
@@ -21,6 +22,7 @@ struct RenderArgs {
   int height = 1200;
   std::vector<double> eye, target;
   std::size_t max_edges = 2'000'000;
+  std::string task;            ///< Not empty: draw this inspection task's POIs (and tour) only.
 };
 
 /// Declares `render` on `app`, parsing into `args`.

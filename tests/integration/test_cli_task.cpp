@@ -103,6 +103,19 @@ TEST_F(CliTaskTest, TasksAreAddedListedVerifiedTouredFollowedAndKeptAcrossAResta
   ASSERT_EQ(cli("snapshot tower --out " + unchanged.string()).code, 0);
   EXPECT_EQ(test::read_text(unchanged), test::read_text(after));
 
+  // Renders over the user's scene file, whose POIs the daemon's begin with: every POI, or a task's.
+  const std::string scene_file = (dir_.path() / "scenes" / "tower.yaml").string();
+  const std::string small = " --width 160 --height 120 --scene-file " + scene_file;
+  r = cli("render tower" + small + " --out " + (dir_.path() / "all.png").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  r = cli("render tower" + small + " --task cracks --tour 1 --out " + (dir_.path() / "cracks.png").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("a tour of"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir_.path() / "cracks.png"));
+  r = cli("render tower" + small + " --task nope --out " + (dir_.path() / "nope.png").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("has no task 'nope'"), std::string::npos) << r.err;
+
   // A restart recovers both tasks and the same roadmap.
   ASSERT_EQ(daemon_->terminate(), 0) << daemon_->log();
   start();

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <memory>
 
@@ -17,6 +18,9 @@ class RoadmapSessionTest : public ::testing::Test {
     return std::make_unique<RoadmapSession>("tower", scene(), dir_.path() / "tower", limits, std::move(callbacks));
   }
   static const Scene& scene() { return test::shared_scene("demo_tank_tower"); }
+  // A roadmap whose verify runs long enough to be caught running: 20,000 samples, and 5,000 in
+  // the sanitizer pass (ISPARS_TEST_QUERY_SCALE), where builds and verifies run about 10x slower.
+  static std::uint64_t busy_samples() { return std::max<std::size_t>(5000, test::scaled(20000)); }
   static BuildRequest ispars(std::uint64_t samples, std::uint64_t seed = 1) {
     BuildRequest r;
     r.method = BuildMethod::ispars;

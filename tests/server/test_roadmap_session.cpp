@@ -71,7 +71,7 @@ TEST_F(RoadmapSessionTest, BuildThreadsAndTheVariantReachTheBuilder) {
 
 TEST_F(RoadmapSessionTest, ReadersOnOtherThreadsSeeConsistentVersionsWhileAJobRuns) {
   auto session = open();
-  session->request_build(ispars(20000, 2));
+  session->request_build(ispars(busy_samples(), 2));
   std::atomic<bool> done{false};
   std::atomic<std::size_t> reads{0};
   std::vector<std::thread> readers;
@@ -95,7 +95,7 @@ TEST_F(RoadmapSessionTest, ReadersOnOtherThreadsSeeConsistentVersionsWhileAJobRu
   done = true;
   for (auto& t : readers) t.join();
   EXPECT_GT(reads.load(), 0u);
-  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), 20000, 2));
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), busy_samples(), 2));
 }
 
 // A store damaged beyond a torn tail: the scene loads FAILED with the damage as its last error,

@@ -23,7 +23,7 @@ namespace {
 // the job lock shared, and the drop failed as busy after 2 s.)
 TEST_F(RoadmapSessionTest, LoopingVerifiesNeverHoldOffADropOrAnUnload) {
   auto session = open();
-  session->request_build(ispars(20000));
+  session->request_build(ispars(busy_samples()));
   session->run_job(never_);
   try {
     (void)session->verify(std::chrono::milliseconds(1));
@@ -69,7 +69,7 @@ TEST_F(RoadmapSessionTest, LoopingVerifiesNeverHoldOffADropOrAnUnload) {
   session->drop();
   EXPECT_LT(std::chrono::steady_clock::now() - drop_at, std::chrono::seconds(5)) << "the drop waited for the verifies";
   EXPECT_EQ(session->status().state, SessionState::empty);
-  session->request_build(ispars(20000));
+  session->request_build(ispars(busy_samples()));
   session->run_job(never_);
   const int before = verified;
   wait_for_verifies(before + 8);
@@ -98,7 +98,7 @@ TEST_F(RoadmapSessionTest, LoopingVerifiesNeverHoldOffADropOrAnUnload) {
 // A cancel request and a build starting on the scene stop a running verify too, each naming why.
 TEST_F(RoadmapSessionTest, ACancelOrAStartingBuildStopsARunningVerify) {
   auto session = open();
-  session->request_build(ispars(20000));
+  session->request_build(ispars(busy_samples()));
   session->run_job(never_);
   // Runs `writer` while a verify runs (tried until one was caught running); the verify's error.
   const auto stopped_by = [&](const std::function<void()>& writer) {

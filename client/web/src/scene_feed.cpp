@@ -176,8 +176,9 @@ std::shared_ptr<const std::string> SceneFeed::load_mesh(const std::filesystem::p
   }
   const SceneFile scene = read_scene_file(file);  // no collision or visibility checks: only shown here
   const std::vector<Vec3> pois = replica.pois();
-  bool same = pois.size() == scene.pois.size();
-  for (std::size_t i = 0; same && i < pois.size(); ++i) same = (pois[i] - scene.pois[i]).norm() < 1e-6;
+  // The daemon's POIs begin with the scene file's; its inspection tasks' follow.
+  bool same = pois.size() >= scene.pois.size();
+  for (std::size_t i = 0; same && i < scene.pois.size(); ++i) same = (pois[i] - scene.pois[i]).norm() < 1e-6;
   if (!same) {
     throw std::runtime_error(fmt::format("no mesh: {} in the gateway's scene directory is not the daemon's scene "
                                          "(its POIs differ)",
