@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <optional>
 #include <vector>
 
 #include "ispars/geometry/point_grid.hpp"
@@ -94,23 +95,37 @@ VerificationReport verify_sparse_pair(const Scene& scene, const Roadmap& sparse,
   return report;
 }
 
-VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& sparse, std::size_t samples,
-                                        std::uint64_t seed, const VerifyKeepGoing& keep_going) {
-  VerificationReport report;
+namespace {
+
+// Invariant 1 at `samples` samples, each from next() (nothing: an invalid one, skipped), into
+// report's invariant counts.
+template <class Next>
+void check_samples(const Scene& scene, const Roadmap& sparse, std::size_t samples, const VerifyKeepGoing& keep_going,
+                   Next next, VerificationReport& report) {
   InvariantCheck check(scene, sparse);
-  Rng rng(seed);
   std::vector<PoiId> visible;
   std::vector<std::uint64_t> seen(poi_words(scene.pois().size()));
   for (std::size_t i = 0; i < samples; ++i) {
     check_in(i, keep_going);
-    const Vec3 q = scene.sample_valid_configuration(rng);
-    scene.visible_pois(q, visible);
+    const std::optional<Vec3> q = next();
+    if (!q) continue;
+    scene.visible_pois(*q, visible);
     std::fill(seen.begin(), seen.end(), 0);
     for (const PoiId p : visible) seen[p / 64] |= std::uint64_t{1} << (p % 64);
-    const std::uint64_t missing = check.missing(q, seen);
+    const std::uint64_t missing = check.missing(*q, seen);
     report.invariant_violations += missing;
     report.invariant_vertices += missing > 0;
   }
+}
+
+}  // namespace
+
+VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& sparse, std::size_t samples,
+                                        std::uint64_t seed, const VerifyKeepGoing& keep_going) {
+  VerificationReport report;
+  Rng rng(seed);
+  check_samples(scene, sparse, samples, keep_going,
+                [&]() -> std::optional<Vec3> { return scene.sample_valid_configuration(rng); }, report);
   report.invariant_samples = samples;
   return report;
 }
@@ -118,21 +133,12 @@ VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& spars
 VerificationReport verify_drawn_samples(const Scene& scene, const Roadmap& sparse, std::uint64_t seed,
                                         std::size_t samples, const VerifyKeepGoing& keep_going) {
   VerificationReport report;
-  InvariantCheck check(scene, sparse);
   Rng stream(seed);
-  std::vector<PoiId> visible;
-  std::vector<std::uint64_t> seen(poi_words(scene.pois().size()));
-  for (std::size_t i = 0; i < samples; ++i) {
-    check_in(i, keep_going);
+  check_samples(scene, sparse, samples, keep_going, [&]() -> std::optional<Vec3> {
     const Vec3 q = stream.uniform_in(scene.config().bounds);
-    if (!scene.point_valid(q)) continue;
-    scene.visible_pois(q, visible);
-    std::fill(seen.begin(), seen.end(), 0);
-    for (const PoiId p : visible) seen[p / 64] |= std::uint64_t{1} << (p % 64);
-    const std::uint64_t missing = check.missing(q, seen);
-    report.invariant_violations += missing;
-    report.invariant_vertices += missing > 0;
-  }
+    if (!scene.point_valid(q)) return std::nullopt;
+    return q;
+  }, report);
   report.invariant_drawn = samples;
   return report;
 }
