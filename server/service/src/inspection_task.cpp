@@ -7,19 +7,34 @@
 
 #include "ispars/input_error.hpp"
 #include "ispars/scene/poi_sampling.hpp"
+#include "ispars/service/scene_catalog.hpp"
 #include "request_input.hpp"
 
 namespace ispars {
 
-bool valid_task_name(std::string_view name) {
-  if (name.empty() || name.size() > 64 || name.front() == '.') return false;
-  return std::all_of(name.begin(), name.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
-           c == '.';
-  });
-}
+bool valid_task_name(std::string_view name) { return valid_scene_name(name); }  // the same rule
 
 namespace {
+
+// The POIs some vertex of a roadmap sees (all), and some vertex in the root's component (root).
+struct Cover {
+  std::vector<std::uint64_t> all, root;
+
+  explicit Cover(const Roadmap& roadmap) : all(poi_words(roadmap.poi_count())), root(all.size()) {
+    const VertexId root_component = roadmap.vertex_count() > 0 ? roadmap.component(0) : 0;
+    for (VertexId v = 0; v < roadmap.vertex_count(); ++v) {
+      const PoiBits bits = roadmap.visible(v);
+      const bool in_root = roadmap.component(v) == root_component;
+      for (std::size_t w = 0; w < all.size(); ++w) {
+        all[w] |= bits[w];
+        if (in_root) root[w] |= bits[w];
+      }
+    }
+  }
+  static bool has(const std::vector<std::uint64_t>& bits, std::size_t id) {
+    return (bits[id / 64] >> (id % 64) & 1U) != 0;
+  }
+};
 
 std::string shown_name(std::string_view name) {
   std::string shown(name.substr(0, 80));
@@ -83,27 +98,14 @@ std::vector<Vec3> sample_task_pois(const Scene& scene, std::size_t count, std::u
 
 std::vector<TaskCoverage> task_coverage(const Roadmap& roadmap, std::size_t scene_pois,
                                         std::span<const InspectionTask> tasks) {
-  const std::size_t words = (roadmap.poi_count() + 63) / 64;
-  std::vector<std::uint64_t> all(words, 0), root(words, 0);
-  const VertexId root_component = roadmap.vertex_count() > 0 ? roadmap.component(0) : 0;
-  for (VertexId v = 0; v < roadmap.vertex_count(); ++v) {
-    const PoiBits bits = roadmap.visible(v);
-    const bool in_root = roadmap.component(v) == root_component;
-    for (std::size_t w = 0; w < words; ++w) {
-      all[w] |= bits[w];
-      if (in_root) root[w] |= bits[w];
-    }
-  }
-  const auto seen = [](const std::vector<std::uint64_t>& bits, std::size_t id) {
-    return (bits[id / 64] >> (id % 64) & 1U) != 0;
-  };
+  const Cover cover(roadmap);
   std::vector<TaskCoverage> out;
   std::size_t first = scene_pois;
   for (const InspectionTask& t : tasks) {
     TaskCoverage c{t.name, first, t.pois.size(), 0, 0};
     for (std::size_t id = first; id < first + t.pois.size() && id < roadmap.poi_count(); ++id) {
-      c.covered += seen(all, id) ? 1 : 0;
-      c.covered_root += seen(root, id) ? 1 : 0;
+      c.covered += Cover::has(cover.all, id) ? 1 : 0;
+      c.covered_root += Cover::has(cover.root, id) ? 1 : 0;
     }
     out.push_back(std::move(c));
     first += t.pois.size();
@@ -126,18 +128,10 @@ std::vector<PoiId> task_targets(const Roadmap& roadmap, std::size_t scene_pois, 
     throw InputError(kRequest, "task", fmt::format("the roadmap has no task '{}' (ispars task list)", shown_name(name)));
   }
   const std::size_t end = std::min(first + task->pois.size(), roadmap.poi_count());
-  std::vector<std::uint64_t> seen((roadmap.poi_count() + 63) / 64, 0);
-  if (roadmap.vertex_count() > 0) {
-    const VertexId root = roadmap.component(0);
-    for (VertexId v = 0; v < roadmap.vertex_count(); ++v) {
-      if (roadmap.component(v) != root) continue;
-      const PoiBits bits = roadmap.visible(v);
-      for (std::size_t w = first / 64; w < (end + 63) / 64; ++w) seen[w] |= bits[w];
-    }
-  }
+  const Cover cover(roadmap);
   std::vector<PoiId> targets;
   for (std::size_t id = first; id < end; ++id) {
-    if ((seen[id / 64] >> (id % 64) & 1U) != 0) targets.push_back(static_cast<PoiId>(id));
+    if (Cover::has(cover.root, id)) targets.push_back(static_cast<PoiId>(id));
   }
   if (targets.empty()) {
     throw InputError(kRequest, "task",
