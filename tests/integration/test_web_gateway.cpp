@@ -69,7 +69,7 @@ TEST_F(WebGatewayTest, APageOfAnotherOriginCannotOpenTheWebSocket) {
   const std::string page_origin = "http://127.0.0.1:" + std::to_string(page_port);
   const auto try_page = [&](int gateway_port) {
     const auto out = dir_.path() / "origin.txt";
-    const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' node '" +
+    const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' timeout -k 5 300 node '" +
                                 ISPARS_SOURCE_DIR + "/tests/web/origin_check.mjs' " + std::to_string(gateway_port) + " " +
                                 std::to_string(page_port) + " s0 60 > '" + out.string() + "' 2>&1";
     EXPECT_EQ(std::system(command.c_str()), 0) << read_text(out);

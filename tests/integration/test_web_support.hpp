@@ -60,10 +60,22 @@ class Gateway {
   }
   Gateway(const Gateway&) = delete;
   Gateway& operator=(const Gateway&) = delete;
+  // SIGTERM, then its exit code; a gateway still running 10 s later is killed and counts as a
+  // failed stop (-2), so a hung stop is a named failure instead of a hung test.
   int stop() {
     ::kill(pid_, SIGTERM);
     int status = 0;
-    ::waitpid(pid_, &status, 0);
+    pid_t done = 0;
+    for (int i = 0; i < 1000 && done == 0; ++i) {
+      done = ::waitpid(pid_, &status, WNOHANG);
+      if (done == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (done == 0) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, &status, 0);
+      pid_ = -1;
+      return -2;
+    }
     pid_ = -1;
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }

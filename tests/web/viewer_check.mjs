@@ -16,6 +16,7 @@ const pageCount = Number(pagesArg);
 const deadline = Date.now() + Number(timeoutArg) * 1000;
 const closeOneEarly = flags.includes('--close-one-early');
 // --wait-text=ID:TEXT: one page, until its element ID contains TEXT; prints that element's text.
+// TEXT 'drawn' waits instead until the page has drawn all the daemon's roadmap.
 const waitText = (flags.find((f) => f.startsWith('--wait-text=')) || '').slice('--wait-text='.length);
 const readyFile = (flags.find((f) => f.startsWith('--ready-file=')) || '').slice('--ready-file='.length);
 
@@ -25,8 +26,10 @@ const browser = await chromium.launch({
          '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
 });
 const result = { pages: [], console_errors: [] };
+let context = null;
 try {
-  const context = await browser.newContext({ viewport: { width: 1000, height: 700 } });
+  context = await browser.newContext({ viewport: { width: 1000, height: 700 } });
+  context.setDefaultNavigationTimeout(120000);  // a loaded CI machine: four pages draw in software
   const open = async () => {
     const page = await context.newPage();
     page.on('pageerror', (e) => result.console_errors.push(String(e)));
@@ -36,12 +39,19 @@ try {
   if (waitText) {
     const [id, text] = [waitText.slice(0, waitText.indexOf(':')), waitText.slice(waitText.indexOf(':') + 1)];
     const page = await open();
-    await page.waitForFunction(([i, t]) => document.getElementById(i).textContent.includes(t), [id, text],
-                               { timeout: Number(timeoutArg) * 1000, polling: 100 });
+    // The element's text, and with 'drawn' the page's whole roadmap too (the daemon idle, and
+    // every vertex and edge of its status drawn).
+    await page.waitForFunction(([i, t]) => {
+      const v = window.viewer;
+      const drawn = t !== 'drawn' || (v.status && v.status.state === 'idle' && v.vertices === v.status.vertices &&
+                                      v.edges === v.status.edges && v.vertices > 0);
+      return t === 'drawn' ? drawn : document.getElementById(i).textContent.includes(t);
+    }, [id, text], { timeout: Number(timeoutArg) * 1000, polling: 100 });
     await page.waitForTimeout(1000);  // anything more that would arrive
     result.text = await page.evaluate((i) => document.getElementById(i).textContent, id);
     result.vertices = await page.evaluate(() => window.viewer.vertices);
     result.edges = await page.evaluate(() => window.viewer.edges);
+    result.errors = await page.evaluate(() => window.viewer.errors);
     await browser.close();
     console.log(JSON.stringify(result));
     process.exit(0);
@@ -104,6 +114,16 @@ try {
   result.unknown_scene_error = await unknown.evaluate(() => window.viewer.errors[0]);
 } catch (e) {
   result.failure = String(e);
+  // What the pages showed when it failed: the viewer's state and its note.
+  result.seen = [];
+  for (const page of context ? context.pages() : []) {
+    result.seen.push(await page.evaluate(() => ({
+      url: location.href, note: (document.getElementById('note') || {}).textContent,
+      daemon_note: (document.getElementById('daemon_note') || {}).textContent,
+      viewer: window.viewer ? { vertices: window.viewer.vertices, edges: window.viewer.edges, batches: window.viewer.batches,
+                                status: window.viewer.status, errors: window.viewer.errors, mesh: window.viewer.mesh } : null,
+    })).catch((err) => String(err)));
+  }
 } finally {
   await browser.close();
 }

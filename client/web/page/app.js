@@ -197,6 +197,7 @@ function connect(name) {
     const m = JSON.parse(event.data);
     if (m.type === 'status') onStatus(m);
     else if (m.type === 'reset') {
+      $('error').textContent = '';  // the scene is followed now, whatever kept it from being so
       points.clear(); lines.clear();
       viewer.vertices = 0; viewer.edges = 0; viewer.generation = m.generation;
     } else if (m.type === 'batch') onBatch(m);

@@ -33,6 +33,14 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       send(error_message("scene: '" + scene_ + "' is not a scene name (1-64 of A-Za-z0-9_-.)"));
       return;
     }
+    follow();
+  }
+
+  // Follows the scene. When that fails (no daemon holds it yet, or the gateway has not yet
+  // discovered one) the page is told why, once per reason, and the gateway asks again every 2 s
+  // while the page stays open: a page opened before its scene is loaded draws it once it is.
+  void follow() {
+    if (closed_) return;
     net::post(server_->workers, [self = shared_from_this()] {
       try {
         auto feed = self->server_->feeds.get(self->scene_);
@@ -41,8 +49,15 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
           self->tick();
         });
       } catch (const std::exception& e) {
-        const std::string m = error_message(e.what());
-        net::post(self->ws_.get_executor(), [self, m] { self->send(m); });
+        std::string m = error_message(e.what());
+        net::post(self->ws_.get_executor(), [self, m = std::move(m)]() mutable {
+          if (m != self->follow_error_) self->send(m);
+          self->follow_error_ = std::move(m);
+          self->timer_.expires_after(std::chrono::seconds(2));
+          self->timer_.async_wait([self](beast::error_code ec) {
+            if (!ec) self->follow();
+          });
+        });
       }
     });
   }
@@ -172,6 +187,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   bool closed_ = false;
   bool counted_ = false;
   bool tour_running_ = false;
+  std::string follow_error_;  // the last reason the scene could not be followed, sent once
 };
 
 }  // namespace
