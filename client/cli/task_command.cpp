@@ -1,4 +1,4 @@
-// `ispars task add | list`: inspection tasks, named POI sets added to a scene's built roadmap.
+// `ispars task add | list | remove`: inspection tasks, named POI sets added to a scene's built roadmap.
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -64,6 +64,10 @@ class TaskCommand final : public Command {
     list_ = task_->add_subcommand("list", "the roadmap's tasks and how many of their POIs it sees");
     list_->add_option("scene", scene_, "scene name")->required();
     list_->add_flag("--json", json_, "one JSON object");
+    remove_ = task_->add_subcommand("remove", "take a task's POIs out of every target set (the roadmap keeps its "
+                                              "vertices); its name is free again");
+    remove_->add_option("scene", scene_, "scene name")->required();
+    remove_->add_option("name", name_, "task name")->required();
     return task_;
   }
   void check() override {
@@ -73,6 +77,10 @@ class TaskCommand final : public Command {
   int run(client::Client& client) override {
     if (*list_) {
       print_tasks(client.tasks(scene_));
+      return 0;
+    }
+    if (*remove_) {
+      std::cout << client.remove_task(scene_, name_).message << "\n";
       return 0;
     }
     const client::Reply reply = pois_.empty() ? client.add_sampled_task(scene_, name_, sample_, seed_)
@@ -101,6 +109,7 @@ class TaskCommand final : public Command {
   CLI::App* task_ = nullptr;
   CLI::App* add_ = nullptr;
   CLI::App* list_ = nullptr;
+  CLI::App* remove_ = nullptr;
   std::string scene_, name_, file_;
   std::uint32_t sample_ = 0;
   std::uint64_t seed_ = 1;

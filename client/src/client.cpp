@@ -222,6 +222,12 @@ Reply Client::add_sampled_task(const std::string& scene, const std::string& name
   return to_reply(call(*this, r));
 }
 
+Reply Client::remove_task(const std::string& scene, const std::string& name) {
+  msg::ChangeRequest r = make_change(msg::TASK_REMOVE, scene);
+  r.args().task_remove().name(name);
+  return to_reply(call(*this, r));
+}
+
 std::vector<TaskEntry> Client::tasks(const std::string& scene) {
   const msg::Reply reply = call(*this, make_query(msg::TASK_LIST, scene));
   std::vector<TaskEntry> out;

@@ -112,6 +112,7 @@ std::string to_string(msg::Operation operation) {
     case msg::TOUR: return "tour";
     case msg::TASK_ADD: return "task add";
     case msg::TASK_LIST: return "task list";
+    case msg::TASK_REMOVE: return "task remove";
   }
   return "unknown";
 }
@@ -133,6 +134,7 @@ msg::ReplyBody empty_reply_body(msg::Operation operation) {
     case msg::TOUR: body.tour(msg::TourResult{}); break;
     case msg::TASK_ADD: body.task_add(msg::NoArgs{}); break;
     case msg::TASK_LIST: body.task_list(msg::TaskList{}); break;
+    case msg::TASK_REMOVE: body.task_remove(msg::NoArgs{}); break;
   }
   return body;
 }
@@ -162,6 +164,7 @@ msg::ChangeArgs change_args(msg::Operation operation) {
     case msg::CANCEL: args.cancel(msg::NoArgs{}); break;
     case msg::DROP: args.drop(msg::NoArgs{}); break;
     case msg::TASK_ADD: args.task_add(msg::TaskAddArgs{}); break;
+    case msg::TASK_REMOVE: args.task_remove(msg::TaskRemoveArgs{}); break;
     default: throw std::invalid_argument(to_string(operation) + " is not a change");
   }
   return args;

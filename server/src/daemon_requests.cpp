@@ -124,6 +124,13 @@ bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
                                 pois, scene, count, count == 1 ? "" : "s"));
       break;
     }
+    case msg::TASK_REMOVE: {
+      const std::string name = args.task_remove().name().to_string();
+      const std::size_t left = service_->remove_task(scene, name);
+      reply.message(fmt::format("removed task '{}' from the roadmap of '{}'; {} task{} left", name, scene, left,
+                                left == 1 ? "" : "s"));
+      break;
+    }
     case msg::DROP:
       service_->drop(scene);
       with_dds([&](DdsEndpoints& d) { d.retire_updates(scene); });  // replicas drop their copy; the kept batches are released
@@ -131,7 +138,7 @@ bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
       break;
     default:
       throw InputError("request", "operation",
-                       fmt::format("{} is not a change (load, unload, build, extend, cancel, drop, task add); queries go on "
+                       fmt::format("{} is not a change (load, unload, build, extend, cancel, drop, task add, task remove); queries go on "
                                    "the query topic",
                                    operation_name(args._d())));
   }

@@ -1,6 +1,7 @@
 // `ispars task` against a real isparsd: tasks added to a built roadmap (sampled, or from a file),
 // listed with their coverage, verified, toured, followed by a live replica, kept across a
-// restart; and the bad input a user can give, each refused by name.
+// restart, removed (durably, the roadmap unchanged); and the bad input a user can give, each
+// refused by name.
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -124,6 +125,37 @@ TEST_F(CliTaskTest, TasksAreAddedListedVerifiedTouredFollowedAndKeptAcrossAResta
   const auto restarted = dir_.path() / "restarted.json";
   ASSERT_EQ(cli("snapshot tower --out " + restarted.string()).code, 0);
   EXPECT_EQ(test::read_text(restarted), test::read_text(after));
+
+  // A removal: at once and durable; the roadmap is unchanged, the POIs leave every target set.
+  r = cli("tour tower --budget 1 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const int all_targets = json_of(r)["targets"];
+  r = cli("task remove tower welds");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("removed task 'welds' from the roadmap of 'tower'; 1 task left"), std::string::npos) << r.out;
+  r = cli("tour tower --budget 1 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(json_of(r)["targets"], all_targets - tasks[1]["pois_covered_root"].get<int>())
+      << "a default tour leaves the removed task's POIs out";
+  r = cli("task remove tower welds");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("task: task 'welds' was removed already"), std::string::npos) << r.err;
+  r = cli("task remove tower nope");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("the roadmap has no task 'nope'"), std::string::npos) << r.err;
+  r = cli("tour tower --task welds --budget 1");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("was removed already"), std::string::npos) << r.err;
+  const auto removed = dir_.path() / "removed.json";
+  ASSERT_EQ(cli("snapshot tower --out " + removed.string()).code, 0);
+  EXPECT_EQ(test::read_text(removed), test::read_text(after)) << "a removal changes no vertex, edge or POI id";
+  ASSERT_EQ(daemon_->terminate(), 0) << daemon_->log();
+  start();
+  ASSERT_EQ(cli("scenes load tower").code, 0);
+  const auto left = json_of(cli("task list tower --json"))["tasks"];
+  ASSERT_EQ(left.size(), 1u) << left;
+  EXPECT_EQ(left[0], tasks[0]);
+  EXPECT_EQ(json_of(cli("stats tower --json"))["tasks"], 1);
   EXPECT_EQ(daemon_->terminate(), 0) << daemon_->log();
 }
 

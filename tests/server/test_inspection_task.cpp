@@ -1,4 +1,5 @@
-// Inspection tasks' rules: names, POIs on the structure, sampling, and coverage per task.
+// Inspection tasks' rules: names, POIs on the structure, sampling, coverage per task, and what a
+// removed task leaves.
 
 #include <gtest/gtest.h>
 
@@ -84,6 +85,50 @@ TEST(InspectionTask, CoverageAndTargetsCountOnlyTheTasksOwnPois) {
   EXPECT_EQ(task_targets(roadmap, scene_pois, tasks, "a"), (std::vector<PoiId>{3, 4}));
   EXPECT_THROW((void)task_targets(roadmap, scene_pois, tasks, "b"), InputError) << "none seen from the root";
   EXPECT_THROW((void)task_targets(roadmap, scene_pois, tasks, "c"), InputError) << "no such task";
+}
+
+// Vertex 0 (the root) sees scene POI 0 and POIs 3-4 (task a); vertex 1, in its component, sees
+// POI 5 (task b) and 1; vertex 2, alone, sees 2.
+Roadmap two_task_roadmap() {
+  Roadmap roadmap(3 + 4);
+  roadmap.add_vertex(Vec3::Zero(), std::vector<PoiId>{0, 3, 4});
+  roadmap.add_vertex(Vec3(1, 0, 0), std::vector<PoiId>{1, 5});
+  roadmap.add_vertex(Vec3(9, 0, 0), std::vector<PoiId>{2});
+  roadmap.add_edge(0, 1);
+  return roadmap;
+}
+
+TEST(InspectionTask, ARemovedTaskLeavesEveryTargetSetAndFreesItsName) {
+  const Roadmap roadmap = two_task_roadmap();
+  std::vector<InspectionTask> tasks{{"a", {Vec3::Zero(), Vec3::Zero()}}, {"b", {Vec3::Zero(), Vec3::Zero()}}};
+  EXPECT_TRUE(live_targets(roadmap, 3, tasks).empty()) << "no task removed: every POI seen is a target";
+  tasks[0].removed = true;
+  EXPECT_EQ(live_targets(roadmap, 3, tasks), (std::vector<PoiId>{0, 1, 5})) << "task a's 3 and 4 left out";
+  const std::vector<TaskCoverage> c = task_coverage(roadmap, 3, tasks);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_EQ(c[0].name, "b");
+  EXPECT_EQ(c[0].first_poi, 5u) << "a removed task's POIs keep their ids";
+  EXPECT_EQ(task_targets(roadmap, 3, tasks, "b"), (std::vector<PoiId>{5}));
+  try {
+    (void)task_targets(roadmap, 3, tasks, "a");
+    ADD_FAILURE() << "a removed task's targets";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "task");
+    EXPECT_NE(std::string(e.what()).find("task 'a' was removed already"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(live_task(tasks, "b"), 1u);
+  EXPECT_THROW((void)live_task(tasks, "a"), InputError);
+  EXPECT_THROW((void)live_task(tasks, "nope"), InputError);
+  // The name is free again; the new task is the live one of that name.
+  const InspectionTask again{"a", sample_task_pois(tank_tower(), 3, 1)};
+  EXPECT_EQ(field_of(tank_tower(), tasks, again), "(accepted)");
+  tasks.push_back(again);
+  EXPECT_EQ(live_task(tasks, "a"), 2u);
+  // Only removed tasks' POIs seen: no target is left, and the tour is refused by name.
+  Roadmap only_a(3 + 2);
+  only_a.add_vertex(Vec3::Zero(), std::vector<PoiId>{3});
+  std::vector<InspectionTask> one{{"a", {Vec3::Zero(), Vec3::Zero()}, true}};
+  EXPECT_THROW((void)live_targets(only_a, 3, one), InputError);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // Inspection tasks on a session's roadmap: the addition as a job, what verify finds after it,
-// recovery of the task from the store, and the requests refused.
+// recovery of the task from the store, a task's removal, and the requests refused.
 
 #include <gtest/gtest.h>
 
@@ -111,6 +111,62 @@ TEST_P(SessionTaskTest, ARebuildKeepsTheTasksAndADropForgetsThem) {
   session->drop();
   EXPECT_EQ(session->status().tasks, 0u);
   EXPECT_EQ(session->status().poi_count, scene().pois().size());
+}
+
+TEST_P(SessionTaskTest, ARemovalChangesNoVertexIsDurableAndFreesTheName) {
+  const InspectionTask a = sampled_task("a", 30, 1), b = sampled_task("b", 20, 2), again = sampled_task("a", 25, 3);
+  std::uint64_t digest = 0;
+  {
+    auto session = open();
+    session->request_build(request(3000));
+    session->run_job(never_);
+    for (const InspectionTask& t : {a, b}) {
+      session->request_task(t);
+      session->run_job(never_);
+    }
+    digest = roadmap_digest(*session->published().roadmap);
+    const std::size_t pois = session->status().poi_count;
+    EXPECT_EQ(session->remove_task("a"), 1u);
+    EXPECT_EQ(session->status().tasks, 1u);
+    EXPECT_EQ(session->status().poi_count, pois) << "a removed task's POIs keep their ids";
+    EXPECT_EQ(roadmap_digest(*session->published().roadmap), digest) << "a removal changes no vertex or edge";
+    ASSERT_EQ(session->tasks().size(), 2u);
+    EXPECT_TRUE(session->tasks()[0].removed);
+    EXPECT_NE(refusal([&] { session->remove_task("a"); }).find("task 'a' was removed already"), std::string::npos);
+    EXPECT_NE(refusal([&] { session->remove_task("zz"); }).find("no task 'zz'"), std::string::npos);
+    session->request_task(again);  // the name is free again
+    EXPECT_NE(refusal([&] { session->remove_task("b"); }).find("a build is already running"), std::string::npos)
+        << "refused while an addition is queued";
+    session->run_job(never_);
+    EXPECT_EQ(session->status().tasks, 2u);
+    digest = roadmap_digest(*session->published().roadmap);
+  }
+  // A restart recovers the removal (the store's commit, acknowledged when remove_task returned).
+  auto session = open();
+  ASSERT_EQ(session->tasks().size(), 3u);
+  EXPECT_TRUE(session->tasks()[0].removed);
+  EXPECT_FALSE(session->tasks()[1].removed);
+  EXPECT_FALSE(session->tasks()[2].removed);
+  EXPECT_EQ(session->status().tasks, 2u);
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), digest) << session->recovery_note();
+  EXPECT_EQ(session->verify(kVerifyBudget).invariant_violations, 0u);
+  // Later samples: the same roadmap as every addition made in-process (a removal changes none).
+  session->request_extend(1000);
+  session->run_job(never_);
+  std::vector<std::unique_ptr<Scene>> scenes;
+  auto reference_builder = reference(3000, {a, b, again}, scenes);
+  reference_builder->extend(1000);
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), roadmap_digest(reference_builder->roadmap()));
+  // A replacing build keeps the removal too, across a restart.
+  BuildRequest rebuild = request(2000);
+  rebuild.replace = true;
+  session->request_build(rebuild);
+  session->run_job(never_);
+  session.reset();
+  session = open();
+  ASSERT_EQ(session->tasks().size(), 3u);
+  EXPECT_TRUE(session->tasks()[0].removed);
+  EXPECT_EQ(session->status().tasks, 2u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, SessionTaskTest, ::testing::Values(BuildMethod::ispars, BuildMethod::ispars2),

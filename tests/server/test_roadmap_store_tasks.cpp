@@ -1,5 +1,6 @@
 // Inspection tasks in the roadmap store: a task's commit (the task, then its guards) survives
-// reopening and compaction, also when it draws no sample past the snapshot's.
+// reopening and compaction, also when it draws no sample past the snapshot's; so does a task's
+// removal, which changes no vertex.
 
 #include <gtest/gtest.h>
 
@@ -20,6 +21,16 @@ class RoadmapStoreTaskTest : public RoadmapStoreTest {
     builder_->add_pois(*scenes_.back());
     BuildCommit commit = commit_since(view(*builder_), v, dv);
     commit.tasks = {task};
+    commit.task_count = ++tasks_;
+    store.commit(commit);
+  }
+  // Removes task `index`: a commit of no vertex, edge or sample, as a session makes it.
+  void remove_task(RoadmapStore& store, std::uint64_t index) {
+    BuildCommit commit;
+    commit.samples = builder_->samples();
+    commit.roadmap.from_version = commit.roadmap.to_version = builder_->roadmap().version();
+    commit.dense.from_version = commit.dense.to_version = builder_->dense()->version();
+    commit.removed_tasks = {index};
     commit.task_count = ++tasks_;
     store.commit(commit);
   }
@@ -87,6 +98,69 @@ TEST_F(RoadmapStoreTaskTest, TwoTasksBetweenBuildCommitsReplayInOrder) {
   EXPECT_EQ(r.tasks[0].name, "one");
   EXPECT_EQ(r.tasks[1].name, "two");
   expect_builders_state(r);
+}
+
+TEST_F(RoadmapStoreTaskTest, ARemovalAfterASnapshotIsRecoveredFoldedAndChangesNoVertex) {
+  const auto path = dir_.path() / "bridge";
+  {
+    auto store = RoadmapStore::create(path, recipe_);
+    store->set_compact_every(1000);
+    (void)build_and_commit(*store, 2, 300);
+    add_task(*store, "one", 10, 1);
+    add_task(*store, "two", 15, 2);
+    store->compact();   // the snapshot holds both tasks at this sample count
+    remove_task(*store, 0);  // in the journal after it, of the same sample count
+  }
+  for (const int reopening : {0, 1}) {
+    StoreRecovery r;
+    auto store = RoadmapStore::open(path, scene_->pois().size(), r);
+    ASSERT_EQ(r.tasks.size(), 2u) << reopening;
+    EXPECT_TRUE(r.tasks[0].removed) << "the removal's commit was taken for one the snapshot holds (" << reopening << ")";
+    EXPECT_FALSE(r.tasks[1].removed);
+    EXPECT_EQ(r.journal_commits, reopening == 0 ? 1u : 0u);
+    EXPECT_EQ(r.roadmaps.roadmap.poi_count(), scene_->pois().size() + 25) << "a removed task's POIs keep their ids";
+    expect_builders_state(r);
+    store->compact();  // the snapshot now holds the removal
+  }
+}
+
+TEST(RoadmapStoreTaskFold, ARemovalOfNoTaskOrOfARemovedOneOrOutOfOrderChangesNothing) {
+  std::vector<InspectionTask> tasks;
+  BuildCommit add;
+  add.tasks = {{"a", {Vec3(0, 0, 0)}}, {"b", {Vec3(1, 1, 1)}}};
+  add.task_count = 2;
+  fold_tasks(tasks, add);
+  ASSERT_EQ(tasks.size(), 2u);
+  BuildCommit remove;
+  remove.removed_tasks = {1};
+  remove.task_count = 3;
+  fold_tasks(tasks, remove);
+  EXPECT_TRUE(tasks[1].removed);
+  EXPECT_EQ(task_events(tasks), 3u);
+  const auto before = tasks;
+  remove.task_count = 4;
+  EXPECT_THROW(fold_tasks(tasks, remove), std::runtime_error) << "removed twice";
+  remove.removed_tasks = {2};
+  EXPECT_THROW(fold_tasks(tasks, remove), std::runtime_error) << "no task 2";
+  remove.removed_tasks = {0};
+  remove.task_count = 3;
+  EXPECT_THROW(fold_tasks(tasks, remove), std::runtime_error) << "a task count that does not follow";
+  ASSERT_EQ(tasks.size(), before.size());
+  EXPECT_FALSE(tasks[0].removed);
+  EXPECT_TRUE(tasks[1].removed);
+  // A removal's commit is ordered by its task events, not its samples.
+  remove.task_count = 4;
+  EXPECT_FALSE(snapshot_holds(remove, 0, 3));
+  EXPECT_TRUE(snapshot_holds(remove, 0, 4));
+  // A whole list (a snapshot, a new roadmap's first commit) records its removals.
+  BuildCommit whole;
+  set_tasks(whole, tasks);
+  std::vector<InspectionTask> again;
+  fold_tasks(again, decode_commit(encode_commit(whole)));
+  ASSERT_EQ(again.size(), 2u);
+  EXPECT_FALSE(again[0].removed);
+  EXPECT_TRUE(again[1].removed);
+  EXPECT_EQ(again[1].pois, tasks[1].pois);
 }
 
 TEST(RoadmapStoreTaskCodec, ACommitWithoutTasksEncodesAsBeforeAndATaskRoundTrips) {

@@ -36,6 +36,16 @@ struct Cover {
   }
 };
 
+// The first POI id of each task.
+std::vector<std::size_t> first_ids(std::size_t scene_pois, std::span<const InspectionTask> tasks) {
+  std::vector<std::size_t> first;
+  for (const InspectionTask& t : tasks) {
+    first.push_back(scene_pois);
+    scene_pois += t.pois.size();
+  }
+  return first;
+}
+
 std::string shown_name(std::string_view name) {
   std::string shown(name.substr(0, 80));
   for (char& c : shown) {
@@ -72,10 +82,15 @@ void check_task(const Scene& scene, std::span<const InspectionTask> tasks, const
                                  shown_name(task.name)));
   }
   for (const InspectionTask& t : tasks) {
-    if (t.name == task.name) throw InputError(kRequest, "task.name", fmt::format("a task '{}' exists already", t.name));
+    if (t.name == task.name && !t.removed) {
+      throw InputError(kRequest, "task.name", fmt::format("a task '{}' exists already", t.name));
+    }
   }
   if (tasks.size() >= kMaxTasks) {
-    throw InputError(kRequest, "task", fmt::format("the scene holds {} tasks, the most it may", tasks.size()));
+    throw InputError(kRequest, "task",
+                     fmt::format("the scene holds {} tasks, the most it may (removed tasks count: their POIs keep "
+                                 "their ids until the roadmap is dropped)",
+                                 tasks.size()));
   }
   if (task.pois.empty()) throw InputError(kRequest, "task.pois", "a task has at least one POI");
   if (task.pois.size() > kMaxTaskPois) {
@@ -102,6 +117,10 @@ std::vector<TaskCoverage> task_coverage(const Roadmap& roadmap, std::size_t scen
   std::vector<TaskCoverage> out;
   std::size_t first = scene_pois;
   for (const InspectionTask& t : tasks) {
+    if (t.removed) {
+      first += t.pois.size();
+      continue;
+    }
     TaskCoverage c{t.name, first, t.pois.size(), 0, 0};
     for (std::size_t id = first; id < first + t.pois.size() && id < roadmap.poi_count(); ++id) {
       c.covered += Cover::has(cover.all, id) ? 1 : 0;
@@ -113,21 +132,22 @@ std::vector<TaskCoverage> task_coverage(const Roadmap& roadmap, std::size_t scen
   return out;
 }
 
+std::size_t live_task(std::span<const InspectionTask> tasks, const std::string& name) {
+  bool was_removed = false;
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    if (tasks[i].name == name && !tasks[i].removed) return i;
+    was_removed = was_removed || tasks[i].name == name;
+  }
+  throw InputError(kRequest, "task",
+                   was_removed ? fmt::format("task '{}' was removed already", shown_name(name))
+                               : fmt::format("the roadmap has no task '{}' (ispars task list)", shown_name(name)));
+}
+
 std::vector<PoiId> task_targets(const Roadmap& roadmap, std::size_t scene_pois, std::span<const InspectionTask> tasks,
                                 const std::string& name) {
-  std::size_t first = scene_pois;
-  const InspectionTask* task = nullptr;
-  for (const InspectionTask& t : tasks) {
-    if (t.name == name) {
-      task = &t;
-      break;
-    }
-    first += t.pois.size();
-  }
-  if (task == nullptr) {
-    throw InputError(kRequest, "task", fmt::format("the roadmap has no task '{}' (ispars task list)", shown_name(name)));
-  }
-  const std::size_t end = std::min(first + task->pois.size(), roadmap.poi_count());
+  const std::size_t index = live_task(tasks, name);
+  const std::size_t first = first_ids(scene_pois, tasks)[index];
+  const std::size_t end = std::min(first + tasks[index].pois.size(), roadmap.poi_count());
   const Cover cover(roadmap);
   std::vector<PoiId> targets;
   for (std::size_t id = first; id < end; ++id) {
@@ -136,6 +156,26 @@ std::vector<PoiId> task_targets(const Roadmap& roadmap, std::size_t scene_pois, 
   if (targets.empty()) {
     throw InputError(kRequest, "task",
                      fmt::format("no POI of task '{}' is seen from the root's component of the roadmap", name));
+  }
+  return targets;
+}
+
+std::vector<PoiId> live_targets(const Roadmap& roadmap, std::size_t scene_pois, std::span<const InspectionTask> tasks) {
+  if (std::none_of(tasks.begin(), tasks.end(), [](const InspectionTask& t) { return t.removed; })) return {};
+  std::vector<bool> out(roadmap.poi_count(), false);
+  const std::vector<std::size_t> first = first_ids(scene_pois, tasks);
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    if (!tasks[i].removed) continue;
+    for (std::size_t id = first[i]; id < first[i] + tasks[i].pois.size() && id < out.size(); ++id) out[id] = true;
+  }
+  const Cover cover(roadmap);
+  std::vector<PoiId> targets;
+  for (std::size_t id = 0; id < out.size(); ++id) {
+    if (!out[id] && Cover::has(cover.root, id)) targets.push_back(static_cast<PoiId>(id));
+  }
+  if (targets.empty()) {
+    throw InputError(kRequest, "targets",
+                     "no POI but removed tasks' is seen from the root's component of the roadmap");
   }
   return targets;
 }

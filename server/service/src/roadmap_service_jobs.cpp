@@ -48,6 +48,10 @@ std::size_t RoadmapService::add_task(const std::string& scene, InspectionTask ta
   return accept_task(scene, std::move(task), 0);
 }
 
+std::size_t RoadmapService::remove_task(const std::string& scene, const std::string& name) {
+  return session(scene)->remove_task(name);
+}
+
 std::size_t RoadmapService::accept_task(const std::string& scene, InspectionTask task, std::uint32_t attempts) {
   const auto s = session(scene);
   PendingJob job{scene, next_job_id_++, std::nullopt, 0, 0, attempts, task};

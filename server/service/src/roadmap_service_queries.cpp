@@ -130,6 +130,9 @@ void RoadmapService::start_tour(const std::string& scene, TourRequest request, T
     // on sees them from the root's component too.
     const std::vector<InspectionTask> tasks = s->tasks();
     request.targets = task_targets(*s->published().roadmap, s->scene().pois().size(), tasks, request.task);
+  } else if (request.targets.empty()) {
+    // Every POI seen from the root's component, but removed tasks' (empty: every one).
+    request.targets = live_targets(*s->published().roadmap, s->scene().pois().size(), s->tasks());
   }
   // Its worst case is leased from admission to its end (queued or running).
   const auto lease = budget_->lease(tour_cost(*s->published().roadmap), fmt::format("a tour of scene '{}'", scene));

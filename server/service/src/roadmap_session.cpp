@@ -247,7 +247,7 @@ SessionStatus RoadmapSession::status_locked() const {
   s.dense_vertices = dense_vertices_;
   s.dense_edges = dense_edges_;
   s.poi_count = scene_with_tasks_->pois().size();
-  s.tasks = tasks_.size();
+  s.tasks = live_tasks();
   s.pois_covered = published_.pois_covered;
   s.pois_covered_root = published_.pois_covered_root;
   s.generation = published_.generation;

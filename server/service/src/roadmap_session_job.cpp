@@ -247,8 +247,7 @@ void RoadmapSession::grow(Job& job, std::uint64_t target, const std::atomic<bool
       // A new roadmap keeps the scene's tasks: it is built with their POIs, and its first commit
       // records them.
       std::lock_guard lock(mutex_);
-      commit.tasks = tasks_;
-      commit.task_count = tasks_.size();
+      set_tasks(commit, tasks_);
     }
     store_->commit(commit);
     job.roadmap_version = view.roadmap->version();

@@ -1,10 +1,12 @@
 // Inspection tasks on a session's roadmap: the request (checked and queued like an extend), the
 // job that adds the task's POIs (RoadmapBuilder::add_pois, then one commit holding the task and
-// its guards), and what recovery adds to a stored roadmap's vertices for its tasks.
+// its guards), a task's removal (one commit, made at once), and what recovery adds to a stored
+// roadmap's vertices for its tasks.
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "ispars/builders/poi_visibility.hpp"
@@ -46,7 +48,7 @@ std::size_t RoadmapSession::request_task(InspectionTask task) {
     pending_task_ = std::move(task);
     last_error_.clear();
     state_ = SessionState::queued;
-    after = tasks_.size() + 1;
+    after = live_tasks() + 1;
   }
   notify_status();
   return after;
@@ -60,7 +62,7 @@ void RoadmapSession::add_task(Job& job, const std::atomic<bool>& stopping) {
   {
     std::lock_guard lock(mutex_);
     with_tasks = scene_with_tasks_;
-    task_count = tasks_.size() + 1;
+    task_count = task_events(tasks_) + 1;
   }
   auto widened = std::make_unique<Scene>(build_scene_->with_more_pois(task.pois));
   auto next = std::make_shared<const Scene>(with_tasks->with_more_pois(task.pois));
@@ -87,6 +89,46 @@ void RoadmapSession::add_task(Job& job, const std::atomic<bool>& stopping) {
   }
   spdlog::info("scene '{}': task '{}' added ({} POIs, {} guards) in {:.3f} s", name_, task.name, task.pois.size(),
                guards, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
+std::size_t RoadmapSession::remove_task(const std::string& name) {
+  // The store has one writer: a job holds job_mutex_ from its start to its end.
+  std::unique_lock job_lock(job_mutex_, std::try_to_lock);
+  std::size_t after = 0;
+  {
+    std::lock_guard lock(mutex_);
+    check_can_start("scene");
+    if (!job_lock.owns_lock()) {
+      throw InputError(kRequest, "scene", fmt::format("a build is already running on scene '{}'", name_));
+    }
+    if (!damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
+    if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap, and so no task", name_));
+    const std::size_t index = live_task(tasks_, name);
+    if (!store_) {
+      throw InputError(kRequest, "scene",
+                       fmt::format("scene '{}': its store is not open for writing since an earlier failure; extend "
+                                   "the roadmap (which reopens it), then remove the task",
+                                   name_));
+    }
+    // A commit that changes no vertex or edge: the roadmaps' versions stay; it marks the task.
+    BuildCommit commit;
+    commit.samples = samples_done_;
+    commit.roadmap.from_version = commit.roadmap.to_version = published_.roadmap->version();
+    commit.dense.from_version = commit.dense.to_version = dense_vertices_ + dense_edges_;
+    commit.removed_tasks = {index};
+    commit.task_count = task_events(tasks_) + 1;
+    store_->commit(commit);  // durable before the reply: a removal acknowledged is never lost
+    tasks_[index].removed = true;
+    last_error_.clear();
+    after = live_tasks();
+  }
+  notify_status();
+  spdlog::info("scene '{}': task '{}' removed", name_, name);
+  return after;
+}
+
+std::size_t RoadmapSession::live_tasks() const {
+  return static_cast<std::size_t>(std::count_if(tasks_.begin(), tasks_.end(), [](const InspectionTask& t) { return !t.removed; }));
 }
 
 std::shared_ptr<const Scene> RoadmapSession::complete_tasks(StoreRecovery& recovery) const {

@@ -160,14 +160,14 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
     }
     const BuildCommit whole = decode_commit(snapshot.payloads.front());
     apply_commit(r, whole);
-    recovered.tasks = whole.tasks;
+    fold_tasks(recovered.tasks, whole);
   }
   // Journal commits the snapshot already holds are left from a compaction that crashed between
   // writing the snapshot and removing journal.old (or, in stores of older versions, resetting the
   // journal): skip them. Every commit draws at least one sample, so the sample count (not a
   // roadmap version, which a chunk may leave unchanged) tells them apart.
   const std::uint64_t snapshot_samples = r.samples;
-  const std::uint64_t snapshot_tasks = recovered.tasks.size();
+  const std::uint64_t snapshot_tasks = task_events(recovered.tasks);
   std::size_t commits = 0;
   const auto replay = [&](const std::filesystem::path& path) {
     commits = 0;
@@ -175,12 +175,10 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
       try {
         const BuildCommit commit = decode_commit(payload);
         if (has_snapshot && snapshot_holds(commit, snapshot_samples, snapshot_tasks)) return std::string();
-        if (!commit.tasks.empty() && commit.task_count != recovered.tasks.size() + commit.tasks.size()) {
-          throw std::runtime_error(fmt::format("a task commit says {} tasks after {} and {} more", commit.task_count,
-                                               recovered.tasks.size(), commit.tasks.size()));
-        }
+        std::vector<InspectionTask> tasks = recovered.tasks;
+        fold_tasks(tasks, commit);  // checked before the roadmaps change
         apply_commit(r, commit);
-        recovered.tasks.insert(recovered.tasks.end(), commit.tasks.begin(), commit.tasks.end());
+        recovered.tasks = std::move(tasks);
         ++commits;
         return std::string();
       } catch (const std::runtime_error& e) {

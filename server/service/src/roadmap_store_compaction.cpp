@@ -59,7 +59,14 @@ BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::func
   }
   stop_if_asked();
   const std::uint64_t snapshot_samples = whole.samples;
-  const std::uint64_t snapshot_tasks = whole.tasks.size();
+  std::vector<InspectionTask> tasks;
+  try {
+    fold_tasks(tasks, whole);
+  } catch (const std::runtime_error& e) {
+    throw StoreDamage(fmt::format("{} is damaged: {}; left untouched for inspection", snapshot_path(dir).string(),
+                                  e.what()));
+  }
+  const std::uint64_t snapshot_tasks = task_events(tasks);
   const std::filesystem::path old = old_journal_path(dir);
   const RecordReplay journal = read_record_file(old, kJournal, [&](const std::string& payload) -> std::string {
     stop_if_asked();
@@ -68,14 +75,10 @@ BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::func
       // Commits the snapshot holds already (an earlier fold wrote it, then stopped): skip them.
       if (has_snapshot && snapshot_holds(commit, snapshot_samples, snapshot_tasks)) return {};
       if (commit.samples < whole.samples) throw std::runtime_error("it goes back in samples");
-      if (!commit.tasks.empty() && commit.task_count != whole.tasks.size() + commit.tasks.size()) {
-        throw std::runtime_error("its task count does not follow the snapshot's");
-      }
+      fold_tasks(tasks, commit);  // throws, changing nothing, when its task events do not follow
       append_batch(whole.roadmap, std::move(commit.roadmap));
       append_batch(whole.dense, std::move(commit.dense));
       append_all(whole.new_dense_ids, std::move(commit.new_dense_ids));
-      append_all(whole.tasks, std::move(commit.tasks));
-      whole.task_count = whole.tasks.size();
       whole.samples = commit.samples;
       return {};
     } catch (const RecordWriteStopped&) {
@@ -90,6 +93,7 @@ BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::func
     throw StoreDamage(fmt::format("{} is damaged at byte {} (commit {}): {}; left untouched for inspection", old.string(),
                                   journal.valid_bytes, journal.records + 1, journal.tail_problem));
   }
+  set_tasks(whole, tasks);
   return whole;
 }
 

@@ -110,7 +110,11 @@ class Client {
   Reply add_task(const std::string& scene, const std::string& name, const std::vector<Vec3>& pois);
   /// The same with `count` POIs the daemon samples on the surface from `seed`.
   Reply add_sampled_task(const std::string& scene, const std::string& name, std::uint32_t count, std::uint64_t seed);
-  /// The roadmap's tasks, in the order they were added, with their coverage.
+  /// Removes the task `name`, at once: its POIs leave every target set (the roadmap keeps its
+  /// vertices) and the name is free again. ClientError (request) when no task has that name, or
+  /// it was removed already.
+  Reply remove_task(const std::string& scene, const std::string& name);
+  /// The roadmap's tasks (not removed), in the order they were added, with their coverage.
   std::vector<TaskEntry> tasks(const std::string& scene);
   /// The whole roadmap, fetched in chunks at one version.
   Snapshot snapshot(const std::string& scene);

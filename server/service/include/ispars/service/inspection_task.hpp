@@ -14,10 +14,13 @@
 namespace ispars {
 
 /// A named set of POIs added to a built roadmap. POI ids only append: a task's POIs take the ids
-/// after the scene's own and the earlier tasks', in order, and keep them.
+/// after the scene's own and the earlier tasks', in order, and keep them. A removed task keeps
+/// its POIs' ids (and the roadmap keeps seeing them), but they leave every target set, and its
+/// name is free again.
 struct InspectionTask {
   std::string name;
   std::vector<Vec3> pois;
+  bool removed = false;
 };
 
 /// At most this many POIs in one task.
@@ -32,8 +35,8 @@ inline constexpr double kTaskPoiSurfaceTolerance = 0.01;
 
 /// Checks `task` before it is added to `scene` (the scene with `tasks`' POIs). Throws InputError
 /// (file "request") naming the field at fault: task.name (its form, or a task of that name
-/// exists), task.pois (none, more than kMaxTaskPois, or the scene would have more than kMaxTasks
-/// tasks), or task.pois[i] (not finite, outside the mesh's bounding box grown by
+/// exists and is not removed), task.pois (none, more than kMaxTaskPois), task (the scene holds
+/// kMaxTasks tasks, removed ones included: their POIs keep their ids), or task.pois[i] (not finite, outside the mesh's bounding box grown by
 /// kTaskPoiSurfaceTolerance, or farther than that from its surface).
 void check_task(const Scene& scene, std::span<const InspectionTask> tasks, const InspectionTask& task);
 
@@ -51,17 +54,28 @@ struct TaskCoverage {
   std::size_t covered_root = 0;  ///< Seen by some vertex in the root's (vertex 0's) component.
 };
 
-/// Each task's coverage on `roadmap`, whose first `scene_pois` POIs are the scene's own.
+/// Each task's coverage on `roadmap`, whose first `scene_pois` POIs are the scene's own; removed
+/// tasks are left out.
 [[nodiscard]] std::vector<TaskCoverage> task_coverage(const Roadmap& roadmap, std::size_t scene_pois,
                                                       std::span<const InspectionTask> tasks);
 
 /// The POIs of task `name` that a vertex in the root's component of `roadmap` sees: a tour's
-/// targets for that task. Throws InputError (file "request", field "task") when no task has that
-/// name, or the roadmap sees none of its POIs from the root's component.
+/// targets for that task. Throws InputError (file "request", field "task") when no task (not
+/// removed) has that name, or the roadmap sees none of its POIs from the root's component.
 [[nodiscard]] std::vector<PoiId> task_targets(const Roadmap& roadmap, std::size_t scene_pois,
                                               std::span<const InspectionTask> tasks, const std::string& name);
 
-/// All tasks' POIs, in id order (the ids after the scene's own).
+/// The POIs a vertex in the root's component of `roadmap` sees, but those of removed tasks: a
+/// tour's targets when none are named. Empty when no task is removed (every such POI is a
+/// target); throws InputError (field "targets") when removed tasks' POIs are the only ones seen.
+[[nodiscard]] std::vector<PoiId> live_targets(const Roadmap& roadmap, std::size_t scene_pois,
+                                              std::span<const InspectionTask> tasks);
+
+/// The index in `tasks` of the task named `name` that is not removed. Throws InputError (file
+/// "request", field "task") when there is none, saying so when it was removed already.
+[[nodiscard]] std::size_t live_task(std::span<const InspectionTask> tasks, const std::string& name);
+
+/// All tasks' POIs (removed tasks' too), in id order (the ids after the scene's own).
 [[nodiscard]] std::vector<Vec3> task_pois(std::span<const InspectionTask> tasks);
 
 }  // namespace ispars

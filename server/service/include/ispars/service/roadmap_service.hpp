@@ -216,6 +216,8 @@ class RoadmapService {
   /// Queues the addition of an inspection task (RoadmapSession::request_task), recorded as a
   /// build is; returns the scene's task count after it.
   std::size_t add_task(const std::string& scene, InspectionTask task);
+  /// Removes an inspection task at once (RoadmapSession::remove_task); returns the tasks left.
+  std::size_t remove_task(const std::string& scene, const std::string& name);
   /// Resumes the jobs recorded and not finished when the daemon last stopped (called once, after
   /// load_stored_roadmaps): an extend, or a build that committed, goes on to its target; a build
   /// that never committed starts again. A job whose scene is not this daemon's, or that is

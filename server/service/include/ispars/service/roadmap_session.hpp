@@ -123,6 +123,12 @@ class RoadmapSession {
   /// a job is queued or running, the scene has no roadmap, or its method cannot take a task
   /// without a rebuild (dense, irisc).
   std::size_t request_task(InspectionTask task);
+  /// Removes the task `name`: one commit, durable when this returns. The roadmap is unchanged
+  /// (its vertices keep seeing the task's POIs, whose ids stay), but the POIs leave every target
+  /// set (tours, coverage) and the name is free again. Returns the tasks left. Throws InputError
+  /// (file "request") naming the field: task (none of that name, or removed already), or scene
+  /// (no roadmap, a job queued or running, damage, or a store not open for writing).
+  std::size_t remove_task(const std::string& name);
   /// Asks the running job to stop after its current chunk; false when there is none.
   bool cancel();
   /// Deletes the roadmap and its store (throws InputError while a job runs or without a roadmap).
@@ -192,6 +198,7 @@ class RoadmapSession {
   // Takes the store's recovered roadmaps with their tasks: every vertex then sees the tasks'
   // POIs it sees (the store has no scene). Called without mutex_; returns the scene with tasks.
   [[nodiscard]] std::shared_ptr<const Scene> complete_tasks(StoreRecovery& recovery) const;
+  [[nodiscard]] std::size_t live_tasks() const;  // tasks_ not removed; with mutex_ held
   void end_job(const Job& job, const std::atomic<bool>& stopping);
   void fail_job(std::string error);
   // Whether the published roadmap is the builder's, of `generation` (the job's last copy).

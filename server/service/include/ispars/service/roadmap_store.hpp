@@ -49,15 +49,31 @@ struct BuildCommit {
   /// Inspection tasks added by this commit (a build's first commit carries the scene's tasks):
   /// their POIs take the next ids, before the batches are applied.
   std::vector<InspectionTask> tasks;
-  /// With tasks: the store's task count after this commit (it orders a task's commit, which
-  /// draws no sample, after the commits of the same sample count).
+  /// Tasks this commit removes, by index in the store's task list (this commit's tasks
+  /// included): their POIs keep their ids and leave every target set.
+  std::vector<std::uint64_t> removed_tasks;
+  /// With tasks added or removed: the store's task events after this commit (task_events; it
+  /// orders a task's commit, which draws no sample, after the commits of the same sample count).
   std::uint64_t task_count = 0;
 };
 
 /// Whether `commit`, found in a journal after a snapshot of `snapshot_samples` samples and
-/// `snapshot_tasks` tasks, is one the snapshot holds already.
+/// `snapshot_task_events` task events, is one the snapshot holds already.
 [[nodiscard]] bool snapshot_holds(const BuildCommit& commit, std::uint64_t snapshot_samples,
-                                  std::uint64_t snapshot_tasks);
+                                  std::uint64_t snapshot_task_events);
+
+/// A store's task events: one per task added, and one more per task removed.
+[[nodiscard]] std::uint64_t task_events(std::span<const InspectionTask> tasks);
+
+/// Folds `commit`'s task changes into `tasks`, the store's tasks before it: its tasks are
+/// appended, then those it removes are marked removed. Throws std::runtime_error, changing
+/// nothing, when its task count does not follow `tasks`' events, or it removes a task that does
+/// not exist or was removed already.
+void fold_tasks(std::vector<InspectionTask>& tasks, const BuildCommit& commit);
+
+/// Makes `commit` record `tasks` whole, removed ones marked (a new roadmap's first commit, a
+/// compacted snapshot): fold_tasks of it onto no tasks gives `tasks`.
+void set_tasks(BuildCommit& commit, std::span<const InspectionTask> tasks);
 
 [[nodiscard]] std::string encode_commit(const BuildCommit& commit);
 /// Throws std::runtime_error on a payload that does not parse exactly.
