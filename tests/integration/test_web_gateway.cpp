@@ -184,6 +184,14 @@ TEST_F(WebGatewayTest, ToursAreBoundedPerGatewayAndAnUnwatchedSceneIsDropped) {
     b.send_text(R"({"type":"tour","budget":0.5})");
     const auto second = next_of(b, {"tour", "error"});
     EXPECT_EQ(second["type"], "tour") << second;
+    // A task's tour: a bad name is refused by the gateway, an unknown one by the daemon; the scene
+    // has no tasks to list.
+    b.send_text(R"({"type":"tour","budget":0.5,"task":7})");
+    EXPECT_EQ(next_of(b, {"tour", "error"}).value("message", ""), "tour: task: not a task name (1-64 of A-Za-z0-9_-.)");
+    b.send_text(R"({"type":"tour","budget":0.5,"task":"nope"})");
+    EXPECT_NE(next_of(b, {"tour", "error"}).value("message", "").find("the roadmap has no task 'nope'"), std::string::npos);
+    b.send_text(R"({"type":"tasks"})");
+    EXPECT_EQ(next_of(b, {"tasks", "error"}), (nlohmann::json{{"type", "tasks"}, {"tasks", nlohmann::json::array()}}));
   }
   // Both pages gone: the feed goes after --feed-linger (1 s), checked each second.
   const std::string dropped = "stopped following scene s0: no browser watched it for 1 s";

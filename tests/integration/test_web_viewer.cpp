@@ -22,11 +22,13 @@ class WebViewerTest : public ServiceTest {
  protected:
   // One page of scene s0 on the gateway at `port`, once its element ID contains TEXT ("ID:TEXT"):
   // that element's text and the page's vertex and edge counts.
-  nlohmann::json page_text(int port, const std::string& wait) {
+  nlohmann::json page_text(int port, const std::string& wait) { return one_page(port, "'--wait-text=" + wait + "'"); }
+  // One page of scene s0 driven by viewer_check.mjs's `flag`: what it printed.
+  nlohmann::json one_page(int port, const std::string& flag) {
     const auto out = dir_.path() / "page_text.txt";
     const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' timeout -k 5 300 node '" +
                                 ISPARS_SOURCE_DIR + "/tests/web/viewer_check.mjs' 'http://127.0.0.1:" +
-                                std::to_string(port) + "/' s0 1 unused.png 60 '--wait-text=" + wait + "' > '" +
+                                std::to_string(port) + "/' s0 1 unused.png 60 " + flag + " > '" +
                                 out.string() + "' 2>&1";
     EXPECT_EQ(std::system(command.c_str()), 0) << read_text(out);
     const auto json = nlohmann::json::parse(read_text(out), nullptr, false);
@@ -177,6 +179,42 @@ TEST_F(WebViewerTest, APageOpenedBeforeItsSceneIsLoadedDrawsItOnceItIs) {
   ASSERT_TRUE(seen["errors"].is_array()) << seen;
   ASSERT_FALSE(seen["errors"].empty()) << seen;
   EXPECT_NE(text_of(seen["errors"][0]).find("scene 's0' is not loaded"), std::string::npos) << seen;
+  EXPECT_EQ(gateway.stop(), 0) << gateway.log();
+}
+
+// A page lists the scene's inspection tasks; the one chosen has its POIs drawn and the tour aimed
+// at those of them seen from the root's component, as `ispars tour --task` is.
+TEST_F(WebViewerTest, APageDrawsTheChosenTasksPoisAndToursThem) {
+  ASSERT_TRUE(std::filesystem::exists("/usr/bin/chromium")) << "Debian's chromium (deploy/install-deps.sh installs it)";
+  auto daemon = start("d");
+  Client client(client_options(domain_));
+  client.load("s0");
+  BuildArgs args;
+  args.method = "ispars";
+  args.samples = scaled(5'000);
+  args.seed = 1;
+  client.build("s0", args);
+  (void)client.wait_idle("s0", {}, kLong);
+  for (const auto& [name, seed] : {std::pair<std::string, int>{"cracks", 5}, {"welds", 6}}) {
+    client.add_sampled_task("s0", name, 40 - seed, seed);  // one at a time: an addition is refused while one runs
+    (void)client.wait_idle("s0", {}, kLong);
+  }
+  const std::vector<client::TaskEntry> tasks = client.tasks("s0");
+  ASSERT_EQ(tasks.size(), 2u);
+  client.remove_task("s0", "welds");  // a removed task is not listed
+  Gateway gateway(domain_, scene_dir_, dir_.path() / "web.log");
+  ASSERT_GT(gateway.port(), 0) << gateway.log();
+  const nlohmann::json seen = one_page(gateway.port(), "--task=cracks");
+  ASSERT_FALSE(seen.contains("failure")) << seen << "\n" << gateway.log();
+  EXPECT_EQ(seen["task_pois"], 35) << seen;
+  ASSERT_EQ(seen["tasks"].size(), 1u) << seen;
+  EXPECT_EQ(seen["tasks"][0]["name"], "cracks");
+  EXPECT_EQ(seen["tour"]["task"], "cracks") << seen;
+  EXPECT_EQ(seen["tour"]["targets"], tasks[0].pois_covered_root) << seen;
+  EXPECT_EQ(seen["tour"]["covered"], seen["tour"]["targets"]) << seen;
+  EXPECT_TRUE(seen["tour"]["valid"].get<bool>()) << seen;
+  EXPECT_NE(text_of(seen["tour"]["text"]).find("POIs of task cracks"), std::string::npos) << seen;
+  EXPECT_TRUE(seen["errors"].empty()) << seen;
   EXPECT_EQ(gateway.stop(), 0) << gateway.log();
 }
 

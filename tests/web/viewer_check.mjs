@@ -18,6 +18,9 @@ const closeOneEarly = flags.includes('--close-one-early');
 // --wait-text=ID:TEXT: one page, until its element ID contains TEXT; prints that element's text.
 // TEXT 'drawn' waits instead until the page has drawn all the daemon's roadmap.
 const waitText = (flags.find((f) => f.startsWith('--wait-text=')) || '').slice('--wait-text='.length);
+// --task=NAME: one page, until it lists task NAME; chooses it, then asks for a tour; prints what
+// the page drew of the task and the tour.
+const taskName = (flags.find((f) => f.startsWith('--task=')) || '').slice('--task='.length);
 const readyFile = (flags.find((f) => f.startsWith('--ready-file=')) || '').slice('--ready-file='.length);
 
 const browser = await chromium.launch({
@@ -52,6 +55,26 @@ try {
     result.vertices = await page.evaluate(() => window.viewer.vertices);
     result.edges = await page.evaluate(() => window.viewer.edges);
     result.errors = await page.evaluate(() => window.viewer.errors);
+    await browser.close();
+    console.log(JSON.stringify(result));
+    process.exit(0);
+  }
+  if (taskName) {
+    const page = await open();
+    const timeout = Number(timeoutArg) * 1000;
+    await page.waitForFunction((t) => [...document.querySelectorAll('#task option')].some((o) => o.value === t),
+                               taskName, { timeout, polling: 100 });
+    await page.selectOption('#task', taskName);
+    await page.waitForFunction(() => window.viewer.task_pois > 0, null, { timeout, polling: 100 });
+    await page.click('#tour_button');
+    await page.waitForFunction(() => window.viewer.tour !== null, null, { timeout, polling: 100 });
+    Object.assign(result, await page.evaluate(() => ({
+      task_pois: window.viewer.task_pois, task_info: document.getElementById('task_info').textContent,
+      tasks: window.viewer.tasks.map((t) => ({ name: t.name, poi_count: t.poi_count, root: t.pois_covered_root })),
+      tour: { task: window.viewer.tour.task, targets: window.viewer.tour.targets, covered: window.viewer.tour.covered,
+              valid: window.viewer.tour.valid, text: document.getElementById('tour').textContent },
+      errors: window.viewer.errors,
+    })));
     await browser.close();
     console.log(JSON.stringify(result));
     process.exit(0);

@@ -8,7 +8,8 @@ const params = new URLSearchParams(location.search);
 const sceneName = params.get('scene');
 
 // What the page has drawn, for people and for tests.
-const viewer = { vertices: 0, edges: 0, generation: null, batches: 0, frames: 0, tour: null, mesh: false, errors: [] };
+const viewer = { vertices: 0, edges: 0, generation: null, batches: 0, frames: 0, tour: null, mesh: false, errors: [],
+                 tasks: [], task_pois: 0 };
 window.viewer = viewer;
 
 async function listScenes() {
@@ -88,6 +89,7 @@ const points = new Growing(3, (g) => new THREE.Points(g, new THREE.PointsMateria
 const lines = new Growing(6, (g) => new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color: 0x1f55d9, transparent: true, opacity: 0.55 })));
 let positions = new Float32Array(0);  // every vertex's xyz, for edge ends
 let tourLine = null;
+let taskPoints = null;  // the chosen task's POIs
 let framed = false;
 
 function frame(box) {
@@ -176,8 +178,45 @@ function onStatus(m) {
   $('daemon_vertices').textContent = m.vertices;
   $('daemon_edges').textContent = m.edges;
   $('pois').textContent = `${m.pois_covered} of ${m.poi_count}`;
+  // A task added or removed (or the first status): ask for the task list again.
+  if (!viewer.status || viewer.status.tasks !== m.tasks || viewer.status.poi_count !== m.poi_count) askTasks();
   viewer.status = m;
 }
+
+// The scene's inspection tasks: the choice of a task draws its POIs and aims the tour at them.
+let askTasks = () => {};
+function onTasks(m) {
+  viewer.tasks = m.tasks;
+  const select = $('task');
+  const chosen = select.value;
+  select.innerHTML = '<option value="">every POI</option>';
+  for (const t of m.tasks) {
+    const o = document.createElement('option');
+    o.value = t.name;
+    o.textContent = `${t.name} (${t.poi_count} POIs)`;
+    select.append(o);
+  }
+  select.value = m.tasks.some((t) => t.name === chosen) ? chosen : '';
+  showTask();
+}
+
+function showTask() {
+  if (taskPoints) scene3.remove(taskPoints);
+  taskPoints = null;
+  viewer.task_pois = 0;
+  const t = viewer.tasks.find((x) => x.name === $('task').value);
+  $('task_info').textContent = t ? `task ${t.name}: ${t.poi_count} POIs (ids ${t.first_poi}..` +
+      `${t.first_poi + t.poi_count - 1}), ${t.pois_covered_root} seen from the root's component` +
+      (t.positions ? '' : `; not drawn: ${t.not_drawn}`) : '';
+  if (t && !t.positions && t.not_drawn.startsWith('not yet')) setTimeout(askTasks, 1000);
+  if (!t || !t.positions) return;
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(t.positions), 3));
+  taskPoints = new THREE.Points(g, new THREE.PointsMaterial({ color: 0x17a34a, size: 6, sizeAttenuation: false }));
+  scene3.add(taskPoints);
+  viewer.task_pois = t.positions.length / 3;
+}
+$('task').onchange = showTask;
 
 function onTour(m) {
   if (tourLine) scene3.remove(tourLine);
@@ -187,7 +226,7 @@ function onTour(m) {
   viewer.tour = m;
   $('tour').textContent = `tour of ${m.cost.toFixed(1)} m (on the roadmap ${m.roadmap_cost.toFixed(1)} m) ` +
       `through ${m.positions.length} waypoints, ` +
-      `${m.covered} of ${m.targets} POIs${m.valid ? '' : ' (NOT valid)'}`;
+      `${m.covered} of ${m.targets} POIs${m.task ? ` of task ${m.task}` : ''}${m.valid ? '' : ' (NOT valid)'}`;
   $('tour_button').disabled = false;
 }
 
@@ -202,9 +241,11 @@ function connect(name) {
       viewer.vertices = 0; viewer.edges = 0; viewer.generation = m.generation;
     } else if (m.type === 'batch') onBatch(m);
     else if (m.type === 'tour') onTour(m);
+    else if (m.type === 'tasks') onTasks(m);
     else if (m.type === 'error') { showError(m.message); $('tour_button').disabled = false; }
   };
   ws.onopen = () => { $('error').textContent = ''; };
+  askTasks = () => { if (ws.readyState === WebSocket.OPEN) ws.send(JSON.stringify({ type: 'tasks' })); };
   ws.onclose = () => {
     showError('disconnected from ispars-web; reconnecting in 2 s');
     setTimeout(() => connect(name), 2000);
@@ -212,7 +253,8 @@ function connect(name) {
   $('tour_button').onclick = () => {
     $('tour_button').disabled = true;
     $('tour').textContent = 'searching...';
-    ws.send(JSON.stringify({ type: 'tour', budget: 2 }));
+    const task = $('task').value;
+    ws.send(JSON.stringify(task ? { type: 'tour', budget: 2, task } : { type: 'tour', budget: 2 }));
   };
 }
 

@@ -132,6 +132,38 @@ std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
   return out;
 }
 
+std::string SceneFeed::tasks_message() {
+  const std::vector<client::TaskEntry> tasks = client_.tasks(scene_);
+  client::RoadmapReplica* replica = replica_ready_;
+  const std::vector<Vec3> pois = replica != nullptr ? replica->pois() : std::vector<Vec3>{};
+  nlohmann::json list = nlohmann::json::array();
+  std::size_t shown = 0;
+  for (const client::TaskEntry& t : tasks) {
+    nlohmann::json entry{{"name", t.name},
+                         {"first_poi", t.first_poi},
+                         {"poi_count", t.poi_count},
+                         {"pois_covered", t.pois_covered},
+                         {"pois_covered_root", t.pois_covered_root}};
+    // The replica may not hold a task added a moment ago: its positions come with the next ask.
+    const bool held = std::size_t{t.first_poi} + t.poi_count <= pois.size();
+    if (held && shown + t.poi_count <= kMaxTaskPoisShown) {
+      nlohmann::json xyz = nlohmann::json::array();
+      for (std::size_t i = t.first_poi; i < std::size_t{t.first_poi} + t.poi_count; ++i) {
+        xyz.push_back(pois[i].x());
+        xyz.push_back(pois[i].y());
+        xyz.push_back(pois[i].z());
+      }
+      entry["positions"] = std::move(xyz);
+      shown += t.poi_count;
+    } else {
+      entry["not_drawn"] = held ? fmt::format("past the viewer's {} task POIs", kMaxTaskPoisShown)
+                                : std::string("not yet: the gateway's replica does not hold its POIs yet");
+    }
+    list.push_back(std::move(entry));
+  }
+  return nlohmann::json{{"type", "tasks"}, {"tasks", std::move(list)}}.dump();
+}
+
 std::shared_ptr<const std::string> SceneFeed::mesh(const std::filesystem::path& scene_dir, std::string& why) {
   // The daemon's POIs come with the replica's first snapshot: wait for it (bounded), so that a
   // mesh asked for at once is not judged against no POIs.

@@ -55,6 +55,12 @@ class SceneFeed {
   /// differ).
   std::shared_ptr<const std::string> mesh(const std::filesystem::path& scene_dir, std::string& why);
 
+  /// The scene's inspection tasks as a JSON message: each task's name, POI ids and coverage
+  /// (asked of the daemon), with its POIs' positions (from the replica) while the tasks' POIs
+  /// sent stay within kMaxTaskPoisShown.
+  std::string tasks_message();
+  static constexpr std::size_t kMaxTaskPoisShown = 50'000;
+
   [[nodiscard]] const std::string& scene() const { return scene_; }
 
  private:

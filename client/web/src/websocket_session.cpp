@@ -77,7 +77,17 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     if (m.is_discarded() || !m.is_object() || !m.contains("type") || !m["type"].is_string()) {
       return send(error_message("request: not a JSON object with a type"));
     }
-    if (m["type"] != "tour") return send(error_message("request: type: '" + m["type"].dump() + "' is not tour"));
+    if (m["type"] == "tasks") return send_tasks();
+    if (m["type"] != "tour") {
+      return send(error_message("request: type: '" + m["type"].dump() + "' is not tour or tasks"));
+    }
+    std::string task;  // a task's tour: its POIs seen from the root's component
+    if (m.contains("task")) {
+      if (!m["task"].is_string() || !valid_scene_name(m["task"].get<std::string>())) {
+        return send(error_message("tour: task: not a task name (1-64 of A-Za-z0-9_-.)"));
+      }
+      task = m["task"].get<std::string>();
+    }
     if (m.contains("budget") && !m["budget"].is_number()) return send(error_message("tour: budget: not a number"));
     const double budget = m.value("budget", 2.0);
     if (!(budget >= 0.1 && budget <= server_->options.tour_budget_max)) {
@@ -94,10 +104,11 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     }
     ++server_->tours;
     tour_running_ = true;
-    net::post(server_->workers, [self = shared_from_this(), budget] {
+    net::post(server_->workers, [self = shared_from_this(), budget, task] {
       std::string reply;
       try {
-        const auto r = self->server_->client.tour(self->scene_, budget, 1, {});
+        const auto r = task.empty() ? self->server_->client.tour(self->scene_, budget, 1, {})
+                                    : self->server_->client.task_tour(self->scene_, task, budget, 1);
         // The viewer draws the shortcut tour, the path as flown; both lengths go with it.
         const client::Tour& t = r.tour;
         const auto& drawn = t.shortcut_path.empty() ? t.waypoints : t.shortcut_path;
@@ -108,6 +119,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
                                {"roadmap_cost", t.cost},
                                {"covered", r.tour.covered},
                                {"targets", r.tour.target_count},
+                               {"task", task},
                                {"valid", r.tour.valid},
                                {"positions", positions}}
                     .dump();
@@ -118,6 +130,25 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
         --self->server_->tours;
         self->tour_running_ = false;
         self->send(reply);
+      });
+    });
+  }
+
+  // The scene's tasks, asked of the daemon on a worker.
+  void send_tasks() {
+    if (!feed_) return send(error_message("tasks: the scene is not followed yet"));
+    if (tasks_running_) return;  // one ask at a time: its answer is the newest there is
+    tasks_running_ = true;
+    net::post(server_->workers, [self = shared_from_this()] {
+      std::string reply;
+      try {
+        reply = self->feed_->tasks_message();
+      } catch (const std::exception& e) {
+        reply = error_message(std::string("tasks: ") + e.what());
+      }
+      net::post(self->ws_.get_executor(), [self, reply = std::move(reply)]() mutable {
+        self->tasks_running_ = false;
+        self->send(std::move(reply));
       });
     });
   }
@@ -187,6 +218,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   bool closed_ = false;
   bool counted_ = false;
   bool tour_running_ = false;
+  bool tasks_running_ = false;
   std::string follow_error_;  // the last reason the scene could not be followed, sent once
 };
 
