@@ -181,5 +181,37 @@ TEST(SparsTask, AnAdditionStopsWhenAskedAndSaysSo) {
   }
 }
 
+// Stopped while it still finds what the vertices see (most of an addition's time on a dense
+// pair), the builder is unchanged: the session keeps it and reopens nothing, so a stop is quick.
+// Stopped once the inspection test has begun, it says the builder changed.
+TEST(SparsTask, AnAdditionStoppedBeforeTheInspectionTestLeavesTheBuilderAsItWas) {
+  const Scene& scene = test::shared_scene("truss_bridge");
+  const Scene widened = scene.with_more_pois(task_pois(scene, 20));
+  for (const BuildMethod method : {BuildMethod::ispars, BuildMethod::ispars2}) {
+    auto reference = make_roadmap_builder(method, scene, options_with(1));
+    reference->extend(kSamples);
+    const std::uint64_t before = roadmap_digest(reference->roadmap());
+    (void)reference->add_pois(widened);
+    // The visibility pass asks once per 256 rows: the dense pair's, or the roadmap's.
+    const std::size_t rows = reference->dense() ? reference->dense()->vertex_count() : reference->roadmap().vertex_count();
+    const auto visibility_asks = static_cast<int>((rows + 255) / 256);
+    for (const int stop_at : {visibility_asks, visibility_asks + 1}) {
+      auto built = make_roadmap_builder(method, scene, options_with(1));
+      built->extend(kSamples);
+      int asked = 0;
+      try {
+        (void)built->add_pois(widened, [&] { return ++asked < stop_at; });
+        ADD_FAILURE() << "not stopped";
+      } catch (const AdditionStopped& e) {
+        EXPECT_EQ(e.builder_changed, stop_at > visibility_asks) << to_string(method) << " stopped at ask " << stop_at;
+      }
+      if (stop_at > visibility_asks) continue;
+      EXPECT_EQ(roadmap_digest(built->roadmap()), before) << to_string(method);
+      (void)built->add_pois(widened);  // the same builder, asked again: the reference's roadmap
+      EXPECT_EQ(roadmap_digest(built->roadmap()), roadmap_digest(reference->roadmap())) << to_string(method);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ispars

@@ -166,13 +166,25 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
     state_ = SessionState::idle;
     cancel_ = false;
   } catch (const AdditionStopped& e) {
-    // Stopped part way through a task: the builder's roadmaps are not the store's. The store is
-    // reopened (as after a failure), and the scene is idle, without the task.
+    // Nothing of the task was committed: what the session serves is as before, and the scene is
+    // idle without the task.
     const std::string why = fmt::format("task '{}' not added: {} ({})", job->task->name,
                                         cancel_ ? "cancelled" : "the daemon is stopping", e.what());
-    fail_job(why);
+    if (e.builder_changed && !stopping) {
+      // The builder's roadmaps are part way: the store is reopened (as after a failure), so the
+      // next job resumes from what it holds.
+      fail_job(why);
+    } else {
+      // Unchanged, it goes on serving; changed, with the daemon stopping, it is dropped (the
+      // store is whole, and nothing is reopened on the way out).
+      if (e.builder_changed) builder_.reset();
+      std::lock_guard lock(mutex_);
+      last_error_ = why;
+      state_ = SessionState::failed;
+    }
     std::lock_guard lock(mutex_);
     if (state_ == SessionState::failed && last_error_ == why) state_ = recipe_ ? SessionState::idle : SessionState::empty;
+    cancel_ = false;
   } catch (const std::exception& e) {
     fail_job(job->task ? fmt::format("task '{}' not added: {}", job->task->name, e.what()) : e.what());
   }

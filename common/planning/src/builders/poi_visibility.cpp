@@ -9,7 +9,9 @@ PoiSetTable new_poi_visibility(const Scene& widened, const Roadmap& roadmap, Poi
   PoiSetTable fresh(widened.pois().size() - first);
   std::vector<PoiId> in_range, ids;
   for (VertexId x = 0; x < roadmap.vertex_count(); ++x) {
-    if (x % 256 == 0 && keep_going && !keep_going()) throw AdditionStopped("adding the task's POIs was stopped");
+    if (x % 256 == 0 && keep_going && !keep_going()) {
+      throw AdditionStopped("adding the task's POIs was stopped before it changed the roadmap", false);
+    }
     const Vec3& q = roadmap.position(x);
     widened.visibility().pois_in_range(q, in_range);
     ids.clear();

@@ -70,7 +70,7 @@ std::vector<PoiId> shifted(std::vector<PoiId> ids, PoiId by) {
 // Every 256 steps, asks whether to go on; throws AdditionStopped when not.
 void stop_if_asked(const std::function<bool()>& keep_going, std::size_t step) {
   if (step % 256 == 0 && keep_going && !keep_going()) {
-    throw AdditionStopped("adding the task's POIs was stopped");
+    throw AdditionStopped("adding the task's POIs was stopped part way", true);
   }
 }
 

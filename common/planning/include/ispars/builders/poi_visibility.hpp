@@ -10,16 +10,18 @@
 
 namespace ispars {
 
-/// Thrown by a task addition stopped by its `keep_going` (a cancel, the daemon's stop): the
-/// builder's roadmaps are then part way and must be discarded.
+/// Thrown by a task addition stopped by its `keep_going` (a cancel, the daemon's stop). With
+/// `builder_changed` the builder's roadmaps are part way and must be discarded; without it the
+/// addition stopped while it was still finding what the vertices see, and changed nothing.
 struct AdditionStopped : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  AdditionStopped(const std::string& what, bool changed) : std::runtime_error(what), builder_changed(changed) {}
+  bool builder_changed;
 };
 
 /// For each vertex of `roadmap`, the POIs of `widened` from `first` on that it sees, as ids
 /// relative to `first`: the candidates within sensor range, each with its own ray. The same rows
 /// a build in `widened` gives its vertices for those POIs (SparsTask tests). Asks `keep_going`
-/// every 256 vertices, throwing AdditionStopped when it says no.
+/// every 256 vertices, throwing AdditionStopped (nothing changed) when it says no.
 [[nodiscard]] PoiSetTable new_poi_visibility(const Scene& widened, const Roadmap& roadmap, PoiId first,
                                              const std::function<bool()>& keep_going = {});
 
