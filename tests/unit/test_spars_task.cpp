@@ -192,6 +192,11 @@ TEST(SparsTask, AnAdditionStoppedBeforeTheInspectionTestLeavesTheBuilderAsItWas)
     reference->extend(kSamples);
     const std::uint64_t before = roadmap_digest(reference->roadmap());
     (void)reference->add_pois(widened);
+    // The rows do not depend on the threads that find them.
+    const Roadmap& rows_of = reference->dense() ? *reference->dense() : reference->roadmap();
+    const auto first = static_cast<PoiId>(scene.pois().size());
+    EXPECT_TRUE(new_poi_visibility(widened, rows_of, first, {}, 1) == new_poi_visibility(widened, rows_of, first, {}, 3))
+        << to_string(method);
     // The visibility pass asks once per 256 rows: the dense pair's, or the roadmap's.
     const std::size_t rows = reference->dense() ? reference->dense()->vertex_count() : reference->roadmap().vertex_count();
     const auto visibility_asks = static_cast<int>((rows + 255) / 256);

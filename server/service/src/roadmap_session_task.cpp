@@ -135,8 +135,8 @@ std::shared_ptr<const Scene> RoadmapSession::complete_tasks(StoreRecovery& recov
   if (recovery.tasks.empty()) return std::make_shared<const Scene>(scene_);
   auto with_tasks = std::make_shared<const Scene>(scene_.with_more_pois(task_pois(recovery.tasks)));
   const auto first = static_cast<PoiId>(scene_.pois().size());
-  see_new_pois(recovery.roadmaps.roadmap, *with_tasks, first);
-  if (recovery.roadmaps.dense) see_new_pois(*recovery.roadmaps.dense, *with_tasks, first);
+  see_new_pois(recovery.roadmaps.roadmap, *with_tasks, first, limits_.build_threads);
+  if (recovery.roadmaps.dense) see_new_pois(*recovery.roadmaps.dense, *with_tasks, first, limits_.build_threads);
   return with_tasks;
 }
 

@@ -91,10 +91,10 @@ std::size_t SparsBuilder::add_pois(const Scene& widened, const std::function<boo
   PoiSetTable dense_fresh;
   PoiSetTable sparse_fresh(widened.pois().size() - first);
   if (rules_.dense_graph) {
-    dense_fresh = new_poi_visibility(widened, dense_.graph(), first, keep_going);
+    dense_fresh = new_poi_visibility(widened, dense_.graph(), first, keep_going, options_.threads);
     for (const VertexId x : dense_of_sparse_) sparse_fresh.append(dense_fresh.ids(x));
   } else {
-    sparse_fresh = new_poi_visibility(widened, sparse_, first, keep_going);
+    sparse_fresh = new_poi_visibility(widened, sparse_, first, keep_going, options_.threads);
   }
   // From here on the builder plans in the widened scene; every vertex sees what it sees there.
   scene_ = &widened;

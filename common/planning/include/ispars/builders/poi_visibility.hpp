@@ -20,14 +20,15 @@ struct AdditionStopped : std::runtime_error {
 
 /// For each vertex of `roadmap`, the POIs of `widened` from `first` on that it sees, as ids
 /// relative to `first`: the candidates within sensor range, each with its own ray. The same rows
-/// a build in `widened` gives its vertices for those POIs (SparsTask tests). Asks `keep_going`
-/// every 256 vertices, throwing AdditionStopped (nothing changed) when it says no.
+/// a build in `widened` gives its vertices for those POIs (SparsTask tests). Runs on `threads`
+/// threads (the rows do not depend on it), 256 vertices each between two asks of `keep_going`;
+/// throws AdditionStopped (nothing changed) when it says no.
 [[nodiscard]] PoiSetTable new_poi_visibility(const Scene& widened, const Roadmap& roadmap, PoiId first,
-                                             const std::function<bool()>& keep_going = {});
+                                             const std::function<bool()>& keep_going = {}, unsigned threads = 1);
 
 /// Widens `roadmap` to `widened`'s POIs (when narrower) and adds each vertex's POIs from `first`
-/// on (new_poi_visibility). Adding what a vertex sees already changes nothing, so it is safe on
-/// vertices that were built seeing them; version() does not move.
-void see_new_pois(Roadmap& roadmap, const Scene& widened, PoiId first);
+/// on (new_poi_visibility, on `threads` threads). Adding what a vertex sees already changes
+/// nothing, so it is safe on vertices that were built seeing them; version() does not move.
+void see_new_pois(Roadmap& roadmap, const Scene& widened, PoiId first, unsigned threads = 1);
 
 }  // namespace ispars
