@@ -181,6 +181,26 @@ TEST(SparsTask, AnAdditionStopsWhenAskedAndSaysSo) {
   }
 }
 
+// takes_pois says which builders add_pois: the others refuse, changing nothing.
+TEST(SparsTask, TakesPoisNamesTheBuildersThatAddThem) {
+  const Scene& scene = test::shared_scene("truss_bridge");
+  const Scene widened = scene.with_more_pois(task_pois(scene, 5));
+  for (const BuildMethod method : {BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars, BuildMethod::irisc,
+                                   BuildMethod::ispars2}) {
+    auto built = make_roadmap_builder(method, scene, options_with(1));
+    built->extend(300);
+    const std::uint64_t before = roadmap_digest(built->roadmap());
+    bool took = true;
+    try {
+      (void)built->add_pois(widened);
+    } catch (const std::exception&) {
+      took = false;
+      EXPECT_EQ(roadmap_digest(built->roadmap()), before) << to_string(method);
+    }
+    EXPECT_EQ(took, takes_pois(method)) << to_string(method);
+  }
+}
+
 // Stopped while it still finds what the vertices see (most of an addition's time on a dense
 // pair), the builder is unchanged: the session keeps it and reopens nothing, so a stop is quick.
 // Stopped once the inspection test has begun, it says the builder changed.

@@ -15,13 +15,6 @@
 #include "request_input.hpp"
 
 namespace ispars {
-namespace {
-
-bool takes_tasks(BuildMethod method) {
-  return method == BuildMethod::spars || method == BuildMethod::ispars || method == BuildMethod::ispars2;
-}
-
-}  // namespace
 
 std::size_t RoadmapSession::request_task(InspectionTask task) {
   std::size_t after = 0;
@@ -33,7 +26,7 @@ std::size_t RoadmapSession::request_task(InspectionTask task) {
       throw InputError(kRequest, "scene",
                        fmt::format("scene '{}' has no roadmap: build one, then add tasks to it", name_));
     }
-    if (!takes_tasks(recipe_->method)) {
+    if (!takes_pois(recipe_->method)) {
       throw InputError(kRequest, "scene",
                        fmt::format("scene '{}' has a {} roadmap, which cannot take a task without a rebuild (spars, "
                                    "ispars and ispars2 can): add the POIs to the scene file and build again",

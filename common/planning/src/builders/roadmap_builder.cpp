@@ -28,6 +28,10 @@ std::unique_ptr<RoadmapBuilder> make_roadmap_builder(BuildMethod method, const S
   return nullptr;
 }
 
+bool takes_pois(BuildMethod method) {
+  return method == BuildMethod::spars || method == BuildMethod::ispars || method == BuildMethod::ispars2;
+}
+
 bool resumes_from_roadmap(BuildMethod method) {
   return method == BuildMethod::ispars2 || method == BuildMethod::dense;
 }

@@ -86,6 +86,10 @@ struct BuiltRoadmaps {
   std::vector<VertexId> dense_ids;  ///< For each vertex of `roadmap`, its vertex in `dense`.
 };
 
+/// Whether a builder of `method` takes new POIs into its built roadmap (add_pois): spars, ispars
+/// and ispars2. The others need a rebuild with the POIs in the scene.
+[[nodiscard]] bool takes_pois(BuildMethod method);
+
 /// Whether a builder of `method` can go on from its roadmap alone: dense and ispars2.
 [[nodiscard]] bool resumes_from_roadmap(BuildMethod method);
 
