@@ -137,7 +137,10 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   // The scene's tasks, asked of the daemon on a worker.
   void send_tasks() {
     if (!feed_) return send(error_message("tasks: the scene is not followed yet"));
-    if (tasks_running_) return;  // one ask at a time: its answer is the newest there is
+    if (tasks_running_) {
+      tasks_again_ = true;  // one ask at a time; one more after it, which sees any change since
+      return;
+    }
     tasks_running_ = true;
     net::post(server_->workers, [self = shared_from_this()] {
       std::string reply;
@@ -149,6 +152,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       net::post(self->ws_.get_executor(), [self, reply = std::move(reply)]() mutable {
         self->tasks_running_ = false;
         self->send(std::move(reply));
+        if (std::exchange(self->tasks_again_, false)) self->send_tasks();
       });
     });
   }
@@ -219,6 +223,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   bool counted_ = false;
   bool tour_running_ = false;
   bool tasks_running_ = false;
+  bool tasks_again_ = false;
   std::string follow_error_;  // the last reason the scene could not be followed, sent once
 };
 

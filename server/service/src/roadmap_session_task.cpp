@@ -121,7 +121,8 @@ std::size_t RoadmapSession::remove_task(const std::string& name) {
 }
 
 std::size_t RoadmapSession::live_tasks() const {
-  return static_cast<std::size_t>(std::count_if(tasks_.begin(), tasks_.end(), [](const InspectionTask& t) { return !t.removed; }));
+  const auto live = std::count_if(tasks_.begin(), tasks_.end(), [](const InspectionTask& t) { return !t.removed; });
+  return static_cast<std::size_t>(live);
 }
 
 std::shared_ptr<const Scene> RoadmapSession::complete_tasks(StoreRecovery& recovery) const {
