@@ -167,11 +167,7 @@ TEST_F(WebViewerTest, APageOpenedBeforeItsSceneIsLoadedDrawsItOnceItIs) {
   }
   EXPECT_NE(daemon->log().find(refused), std::string::npos);
   client.load("s0");
-  BuildArgs args;
-  args.method = "ispars";
-  args.samples = scaled(5'000);
-  args.seed = 1;
-  client.build("s0", args);
+  client.build("s0", ispars_build(scaled(5'000)));
   page.join();
   const SceneStatus stats = client.stats("s0");
   EXPECT_EQ(seen["vertices"], stats.vertices) << seen << "\n" << gateway.log();
@@ -189,11 +185,7 @@ TEST_F(WebViewerTest, APageDrawsTheChosenTasksPoisAndToursThem) {
   auto daemon = start("d");
   Client client(client_options(domain_));
   client.load("s0");
-  BuildArgs args;
-  args.method = "ispars";
-  args.samples = scaled(5'000);
-  args.seed = 1;
-  client.build("s0", args);
+  client.build("s0", ispars_build(scaled(5'000)));
   (void)client.wait_idle("s0", {}, kLong);
   for (const auto& [name, seed] : {std::pair<std::string, int>{"cracks", 5}, {"welds", 6}}) {
     client.add_sampled_task("s0", name, 40 - seed, seed);  // one at a time: an addition is refused while one runs
