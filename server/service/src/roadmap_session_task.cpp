@@ -85,15 +85,14 @@ void RoadmapSession::add_task(Job& job, const std::atomic<bool>& stopping) {
 }
 
 std::size_t RoadmapSession::remove_task(const std::string& name) {
-  // The store has one writer: a job holds job_mutex_ from its start to its end.
-  std::unique_lock job_lock(job_mutex_, std::try_to_lock);
+  // The store has one writer: a job holds job_mutex_ alone from its start to its end (and for a
+  // moment after its status turns idle). Shared with verifies, which only read; two removals are
+  // kept apart by mutex_.
+  const auto job_lock = lock_idle_job<std::shared_lock<std::shared_mutex>>("remove the task");
   std::size_t after = 0;
   {
     std::lock_guard lock(mutex_);
     check_can_start("scene");
-    if (!job_lock.owns_lock()) {
-      throw InputError(kRequest, "scene", fmt::format("a build is already running on scene '{}'", name_));
-    }
     if (!damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
     if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap, and so no task", name_));
     const std::size_t index = live_task(tasks_, name);

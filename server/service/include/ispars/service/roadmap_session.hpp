@@ -127,7 +127,8 @@ class RoadmapSession {
   /// (its vertices keep seeing the task's POIs, whose ids stay), but the POIs leave every target
   /// set (tours, coverage) and the name is free again. Returns the tasks left. Throws InputError
   /// (file "request") naming the field: task (none of that name, or removed already), or scene
-  /// (no roadmap, a job queued or running, damage, or a store not open for writing).
+  /// (no roadmap, a job queued or running, damage, or a store not open for writing). A job that
+  /// has just turned idle is waited for (lock_idle_job).
   std::size_t remove_task(const std::string& name);
   /// Asks the running job to stop after its current chunk; false when there is none.
   bool cancel();
