@@ -23,10 +23,8 @@ constexpr std::uint64_t kTasksMarker = 0x0000'0053'4b53'4154ULL;
 // The tasks a commit removes follow its added tasks, after this marker ("REMOVED\0").
 constexpr std::uint64_t kRemovedMarker = 0x0044'4556'4f4d'4552ULL;
 
-bool changes_tasks(const BuildCommit& commit) { return !commit.tasks.empty() || !commit.removed_tasks.empty(); }
-
 void append_tasks(std::string& out, const BuildCommit& commit) {
-  if (!changes_tasks(commit)) return;
+  if (!commit.changes_tasks()) return;
   put_bytes(out, kTasksMarker);
   put_bytes(out, commit.task_count);
   put_bytes(out, static_cast<std::uint64_t>(commit.tasks.size()));
@@ -74,7 +72,7 @@ void read_tasks(ByteReader& in, BuildCommit& commit) {
   } else if (!in.done()) {
     throw std::runtime_error("commit payload has trailing bytes");
   }
-  if (!changes_tasks(commit)) throw std::runtime_error("commit has a task section that changes no task");
+  if (!commit.changes_tasks()) throw std::runtime_error("commit has a task section that changes no task");
 }
 
 }  // namespace
@@ -116,7 +114,7 @@ bool snapshot_holds(const BuildCommit& commit, std::uint64_t snapshot_samples, s
   // Every commit but a task's draws at least one sample, so the sample count orders them; a
   // task's commit (an addition or a removal) is ordered after the others of its sample count by
   // the task events after it.
-  if (!changes_tasks(commit)) return commit.samples <= snapshot_samples;
+  if (!commit.changes_tasks()) return commit.samples <= snapshot_samples;
   return commit.samples < snapshot_samples ||
          (commit.samples == snapshot_samples && commit.task_count <= snapshot_task_events);
 }
@@ -128,7 +126,7 @@ std::uint64_t task_events(std::span<const InspectionTask> tasks) {
 }
 
 void fold_tasks(std::vector<InspectionTask>& tasks, const BuildCommit& commit) {
-  if (!changes_tasks(commit)) return;
+  if (!commit.changes_tasks()) return;
   const std::uint64_t events = task_events(tasks) + commit.tasks.size() + commit.removed_tasks.size();
   if (commit.task_count != events) {
     throw std::runtime_error(fmt::format("a task commit says {} task events after {} and {} more", commit.task_count,

@@ -175,10 +175,15 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
       try {
         const BuildCommit commit = decode_commit(payload);
         if (has_snapshot && snapshot_holds(commit, snapshot_samples, snapshot_tasks)) return std::string();
-        std::vector<InspectionTask> tasks = recovered.tasks;
-        fold_tasks(tasks, commit);  // checked before the roadmaps change
+        // A task's commit is checked before the roadmaps change (the others leave the tasks be:
+        // no copy of every task's POIs per commit).
+        std::vector<InspectionTask> tasks;
+        if (commit.changes_tasks()) {
+          tasks = recovered.tasks;
+          fold_tasks(tasks, commit);
+        }
         apply_commit(r, commit);
-        recovered.tasks = std::move(tasks);
+        if (commit.changes_tasks()) recovered.tasks = std::move(tasks);
         ++commits;
         return std::string();
       } catch (const std::runtime_error& e) {

@@ -55,6 +55,9 @@ struct BuildCommit {
   /// With tasks added or removed: the store's task events after this commit (task_events; it
   /// orders a task's commit, which draws no sample, after the commits of the same sample count).
   std::uint64_t task_count = 0;
+
+  /// Whether it adds or removes a task (most commits do neither).
+  [[nodiscard]] bool changes_tasks() const { return !tasks.empty() || !removed_tasks.empty(); }
 };
 
 /// Whether `commit`, found in a journal after a snapshot of `snapshot_samples` samples and
