@@ -15,6 +15,7 @@ PACKAGES=(
   gnuplot-nox
   nodejs chromium
   gdb python3
+  python3-dev pybind11-dev python3-numpy python3-pytest
   iproute2 nftables
 )
 

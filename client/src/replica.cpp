@@ -383,6 +383,10 @@ Roadmap RoadmapReplica::roadmap() const {
   std::lock_guard lock(impl_->state_mutex_);
   return impl_->roadmap_;
 }
+void RoadmapReplica::read(const std::function<void(const Roadmap&, std::uint64_t, std::uint64_t)>& read) const {
+  std::lock_guard lock(impl_->state_mutex_);
+  read(impl_->roadmap_, impl_->generation_, impl_->samples_);
+}
 std::uint64_t RoadmapReplica::version() const {
   std::lock_guard lock(impl_->state_mutex_);
   return impl_->roadmap_.version();

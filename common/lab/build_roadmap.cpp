@@ -10,6 +10,7 @@
 #include "flags.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/builders/spars_builder.hpp"
@@ -26,7 +27,8 @@ nlohmann::json summary(const Roadmap& g) {
           {"edges", g.edge_count()},
           {"components", g.component_count()},
           {"pois_covered", g.covered_pois()},
-          {"pois_covered_root", g.covered_pois_in_component_of(0)}};
+          {"pois_covered_root", g.covered_pois_in_component_of(0)},
+          {"digest", roadmap_digest(g)}};
 }
 
 void write_file(const std::string& path, const std::string& field, const std::string& text) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "ispars/builders/recipe_builder.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/wire/convert.hpp"
 
@@ -15,28 +16,15 @@ std::string operation_name(msg::Operation operation) {
 }
 
 BuildRequest build_request_from(const msg::BuildArgs& args) {
-  const std::string method_name = args.method().to_string();
-  const auto method = parse_build_method(method_name);
-  if (!method) {
-    throw InputError("request", "method", fmt::format("'{}' is not one of {}", method_name, build_method_names()));
-  }
-  const std::string variant_name = args.variant().to_string();
-  const auto variant = variant_name.empty() ? SparsVariant::stretch : parse_spars_variant(variant_name);
-  if (!variant) {
-    throw InputError("request", "variant", fmt::format("'{}' is not one of {}", variant_name, spars_variant_names()));
-  }
-  if (!variant_name.empty() && !has_variants(*method)) {
-    throw InputError("request", "variant",
-                     fmt::format("'{}' given, but {} has no rule-set variants (spars and ispars have)", variant_name,
-                                 method_name));
-  }
+  const RecipeChoices choices =
+      parse_recipe_choices(args.method().to_string(), args.variant().to_string(), "request");
   if (args.overrides().size() > msg::MAX_OVERRIDES) {
     throw InputError("request", "overrides",
                      fmt::format("{} given; at most {} allowed", args.overrides().size(), msg::MAX_OVERRIDES));
   }
   BuildRequest build;
-  build.method = *method;
-  build.variant = *variant;
+  build.method = choices.method;
+  build.variant = choices.variant;
   build.samples = args.samples();
   build.seed = args.seed();
   build.replace = args.replace();

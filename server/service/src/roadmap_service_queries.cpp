@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "ispars/builders/build_cost.hpp"
+#include "ispars/builders/recipe_builder.hpp"
 #include "ispars/roadmap/inspection_graph.hpp"
 #include "ispars/tour/tour_closure.hpp"
 #include "ispars/input_error.hpp"
@@ -40,22 +41,15 @@ double tour_cost(const Roadmap& roadmap) {
 
 }  // namespace
 
-std::uint64_t VerifyOutcome::violations() const {
-  // Invariant 1 on fresh samples (ispars2) is an estimate of what the roadmap misses between the
-  // samples it drew, not a broken promise: reported, not counted.
-  const bool promised = invariant_promised && report.invariant_samples == 0;
-  return report.invalid_vertices + report.invalid_edges + report.wrong_costs + report.sparse_not_dense +
-         (promised ? report.invariant_violations : 0);
-}
+std::uint64_t VerifyOutcome::violations() const { return broken_promises(report, invariant_promised); }
 
 VerifyOutcome RoadmapService::verify(const std::string& scene) const {
   const auto s = session(scene);
   if (stopping_) throw InputError("request", "scene", "the daemon is stopping");
   VerifyOutcome out;
   out.report = s->verify(kVerifyBudget);
-  // Invariant 1 is Inspection-SPARS's promise; SPARS and the others do not make it.
   const auto recipe = s->status().recipe;
-  out.invariant_promised = recipe && (recipe->method == BuildMethod::ispars || recipe->method == BuildMethod::ispars2);
+  out.invariant_promised = recipe && promises_invariant(recipe->method);
   return out;
 }
 

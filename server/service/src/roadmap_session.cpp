@@ -11,6 +11,7 @@
 
 #include "ispars/input_error.hpp"
 #include "ispars/service/drop_mark.hpp"
+#include "ispars/builders/recipe_builder.hpp"
 #include "roadmap_session_detail.hpp"
 #include "request_input.hpp"
 
@@ -22,7 +23,7 @@ std::uint64_t session_detail::new_generation() {
 }
 
 Scene session_detail::scene_for(const Scene& scene, const RoadmapRecipe& recipe) {
-  return scene.with_roadmap_parameters(recipe.dense_delta, recipe.sparse_delta, recipe.stretch, kRequest);
+  return recipe_scene(scene, recipe, kRequest);
 }
 
 PublishedRoadmap make_published(std::shared_ptr<const Roadmap> roadmap, std::uint64_t generation,

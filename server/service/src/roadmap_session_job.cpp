@@ -13,6 +13,7 @@
 
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/builders/poi_visibility.hpp"
+#include "ispars/builders/recipe_builder.hpp"
 #include "roadmap_session_detail.hpp"
 
 namespace ispars {
@@ -22,19 +23,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-BuildOptions build_options(const RoadmapRecipe& recipe, unsigned threads) {
-  BuildOptions options;
-  options.seed = recipe.seed;
-  options.threads = threads;
-  options.p_accept = recipe.p_accept;
-  options.stretch_slack = recipe.stretch_slack;
-  options.stretch_slack_after = recipe.stretch_slack_after;
-  options.variant = recipe.variant;
-  return options;
-}
-
 std::unique_ptr<RoadmapBuilder> builder_for(const Scene& scene, const RoadmapRecipe& recipe, unsigned threads) {
-  return make_roadmap_builder(recipe.method, scene, build_options(recipe, threads));
+  return make_roadmap_builder(recipe.method, scene, recipe_build_options(recipe, threads));
 }
 
 // A replay stopped by a cancel or by the daemon stopping: nothing stored is touched, and the
@@ -89,7 +79,7 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
       built.samples = p.samples;
     }
     recovered_.reset();
-    builder_ = resume_roadmap_builder(recipe.method, *build_scene_, build_options(recipe, limits_.build_threads),
+    builder_ = resume_roadmap_builder(recipe.method, *build_scene_, recipe_build_options(recipe, limits_.build_threads),
                                       std::move(built));
     spdlog::info("scene '{}': the {} builder resumed from its stored roadmaps at {} samples in {:.3f} s, nothing replayed",
                  name_, to_string(recipe.method), builder_->samples(),

@@ -6,6 +6,7 @@
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_session.hpp"
+#include "ispars/builders/recipe_builder.hpp"
 #include "roadmap_session_detail.hpp"
 #include "request_input.hpp"
 
@@ -47,17 +48,7 @@ VerificationReport RoadmapSession::verify_locked(const VerifyKeepGoing& keep_goi
   if (!recipe) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
   const Scene scene = session_detail::scene_for(*with_tasks, *recipe);
   const auto check = [&](const Roadmap& roadmap, const Roadmap* dense, std::span<const VertexId> dense_ids) {
-    if (dense) return verify_sparse_pair(scene, roadmap, *dense, dense_ids, keep_going);
-    VerificationReport report = verify_roadmap(scene, roadmap, keep_going);
-    if (recipe->method == BuildMethod::ispars2) {
-      // No dense graph keeps the samples drawn: they are drawn again from the seed, and checked
-      // exactly as ispars's dense vertices are (Claim 1's promise, tasks' POIs included).
-      const VerificationReport drawn = verify_drawn_samples(scene, roadmap, recipe->seed, samples, keep_going);
-      report.invariant_violations = drawn.invariant_violations;
-      report.invariant_vertices = drawn.invariant_vertices;
-      report.invariant_drawn = drawn.invariant_drawn;
-    }
-    return report;
+    return verify_recipe_roadmaps(scene, *recipe, samples, roadmap, dense, dense_ids, keep_going);
   };
   if (builder_) return check(builder_->roadmap(), builder_->dense(), builder_->dense_ids());
   if (recovered_) {

@@ -46,6 +46,9 @@ class RoadmapReplica {
   /// A copy of the replica as it is now.
   [[nodiscard]] Roadmap roadmap() const;
   [[nodiscard]] std::uint64_t version() const;
+  /// Calls `read(roadmap, generation, samples_done)` with the replica as it is now, under its
+  /// lock: what a reader takes of it without copying the whole (keep it short; updates wait).
+  void read(const std::function<void(const Roadmap&, std::uint64_t, std::uint64_t)>& read) const;
   [[nodiscard]] std::uint64_t generation() const;
   /// Snapshots taken (1 after the first sync; more after resyncs).
   [[nodiscard]] std::size_t snapshots_taken() const;

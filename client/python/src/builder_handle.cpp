@@ -1,0 +1,188 @@
+#include "builder_handle.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "arrays.hpp"
+#include "ispars/input_error.hpp"
+
+namespace ispars::python {
+namespace {
+
+constexpr const char* kBuild = "build";  // the InputError file of a Builder's arguments
+constexpr std::int64_t kMaxSamples = 100'000'000;  // per extend, as ispars-lab build allows
+constexpr std::int64_t kMaxThreads = 64;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+/// Marks the handle busy for one call; refuses a second call meanwhile.
+class BuilderHandle::Busy {
+ public:
+  explicit Busy(std::atomic<bool>& busy) : busy_(busy) {
+    if (busy_.exchange(true)) {
+      throw std::runtime_error("the builder is in another call (extend or verify) on another thread; wait for it");
+    }
+  }
+  ~Busy() { busy_ = false; }
+  Busy(const Busy&) = delete;
+  Busy& operator=(const Busy&) = delete;
+
+ private:
+  std::atomic<bool>& busy_;
+};
+
+BuilderHandle::BuilderHandle(std::shared_ptr<Scene> scene, const std::string& method, std::uint64_t seed,
+                             const std::string& variant, std::int64_t threads,
+                             const std::map<std::string, double>& overrides)
+    : base_(std::move(scene)) {
+  if (!base_) throw InputError(kBuild, "scene", "a Scene is required (Scene.load(path))");
+  if (threads < 1 || threads > kMaxThreads) {
+    throw InputError(kBuild, "threads", fmt::format("must be 1 .. {}, got {}", kMaxThreads, threads));
+  }
+  threads_ = static_cast<unsigned>(threads);
+  RecipeChoices choices = parse_recipe_choices(method, variant, kBuild);
+  choices.seed = seed;
+  choices.overrides = overrides;
+  recipe_ = recipe_for(base_->config().name, *base_, choices, kBuild);
+  scene_ = std::make_unique<Scene>(recipe_scene(*base_, recipe_, kBuild));
+  builder_ = make_roadmap_builder(recipe_.method, *scene_, recipe_build_options(recipe_, threads_));
+}
+
+std::uint64_t BuilderHandle::extend(std::int64_t samples, const std::shared_ptr<StopFlag>& stop,
+                                    const py::object& progress) {
+  if (samples < 1 || samples > kMaxSamples) {
+    throw InputError(kBuild, "samples", fmt::format("must be 1 .. {}, got {}", kMaxSamples, samples));
+  }
+  const Busy busy(busy_);
+  roadmap_copy_.reset();
+  dense_copy_.reset();
+  auto halt = std::make_shared<Halt>();
+  const Callback report(progress, halt);
+  const auto total = static_cast<std::uint64_t>(samples);
+  const auto work = [this, total, halt, report] {
+    // Chunks of about a tenth of a second: a stop ends the call within one chunk. extend(a) then
+    // extend(b) is extend(a + b), so chunking changes nothing in the roadmap.
+    std::uint64_t chunk = 64;
+    std::uint64_t done = 0;
+    auto last_report = std::chrono::steady_clock::now();
+    while (done < total && !halt->halted()) {
+      const std::uint64_t n = std::min(chunk, total - done);
+      const auto t0 = std::chrono::steady_clock::now();
+      builder_->extend(n);
+      done += n;
+      const double took = seconds_since(t0);
+      if (took < 0.05) chunk = std::min<std::uint64_t>(chunk * 2, 100'000);
+      if (took > 0.2) chunk = std::max<std::uint64_t>(chunk / 2, 1);
+      if (report && (done == total || seconds_since(last_report) >= 0.2)) {
+        last_report = std::chrono::steady_clock::now();
+        report(done, total, builder_->roadmap().vertex_count(), builder_->roadmap().edge_count());
+      }
+    }
+    return done;
+  };
+  return run_stoppable(work, *halt, stop.get());
+}
+
+std::shared_ptr<Roadmap> BuilderHandle::roadmap() {
+  const Busy busy(busy_);
+  if (!roadmap_copy_) {
+    py::gil_scoped_release release;
+    roadmap_copy_ = std::make_shared<Roadmap>(builder_->roadmap());
+  }
+  return roadmap_copy_;
+}
+
+std::shared_ptr<Roadmap> BuilderHandle::dense() {
+  const Busy busy(busy_);
+  if (builder_->dense() == nullptr) return nullptr;
+  if (!dense_copy_) {
+    py::gil_scoped_release release;
+    dense_copy_ = std::make_shared<Roadmap>(*builder_->dense());
+  }
+  return dense_copy_;
+}
+
+py::array_t<std::uint32_t> BuilderHandle::dense_ids() {
+  const Busy busy(busy_);
+  const std::span<const VertexId> ids = builder_->dense_ids();
+  std::vector<std::uint32_t> out(ids.begin(), ids.end());
+  const auto n = static_cast<py::ssize_t>(out.size());
+  return take(std::move(out), {n});
+}
+
+py::dict BuilderHandle::verify(const std::shared_ptr<StopFlag>& stop) {
+  const Busy busy(busy_);
+  auto halt = std::make_shared<Halt>();
+  const auto work = [this, halt] {
+    return verify_recipe_roadmaps(*scene_, recipe_, builder_->samples(), builder_->roadmap(), builder_->dense(),
+                                  builder_->dense_ids(), [halt] { return !halt->halted(); });
+  };
+  const VerificationReport r = run_stoppable(work, *halt, stop.get());
+  const bool promised = promises_invariant(recipe_.method);
+  py::dict out;
+  out["violations"] = broken_promises(r, promised);
+  out["invalid_vertices"] = r.invalid_vertices;
+  out["invalid_edges"] = r.invalid_edges;
+  out["wrong_costs"] = r.wrong_costs;
+  out["sparse_not_dense"] = r.sparse_not_dense;
+  out["invariant_violations"] = r.invariant_violations;
+  out["invariant_vertices"] = r.invariant_vertices;
+  out["invariant_drawn"] = r.invariant_drawn;
+  out["invariant_promised"] = promised;
+  return out;
+}
+
+py::dict BuilderHandle::recipe() const {
+  py::dict out;
+  out["scene"] = recipe_.scene;
+  out["method"] = std::string(to_string(recipe_.method));
+  out["variant"] = std::string(to_string(recipe_.variant));
+  out["seed"] = recipe_.seed;
+  for (const RecipeParameter& p : recipe_overrides()) {
+    if (p.whole()) {
+      out[py::str(std::string(p.name))] = static_cast<std::uint64_t>(p.get(recipe_));
+    } else {
+      out[py::str(std::string(p.name))] = p.get(recipe_);
+    }
+  }
+  return out;
+}
+
+void bind_builder(py::module_& m) {
+  py::class_<BuilderHandle, std::shared_ptr<BuilderHandle>>(
+      m, "Builder",
+      "A roadmap under construction, from a recipe: the method, its rule set, the seed and scene parameters "
+      "overridden by name (dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after, p_accept), "
+      "checked as the daemon checks a build request. The same recipe gives the same roadmap as isparsd and "
+      "ispars-lab, byte for byte, for any thread count.")
+      .def(py::init<std::shared_ptr<Scene>, const std::string&, std::uint64_t, const std::string&, std::int64_t,
+                    const std::map<std::string, double>&>(),
+           py::arg("scene"), py::arg("method") = "ispars", py::arg("seed") = 1, py::arg("variant") = "",
+           py::arg("threads") = 1, py::arg("overrides") = std::map<std::string, double>{},
+           "Raises InputError (file 'build') naming a bad method, variant, thread count or override.")
+      .def("extend", &BuilderHandle::extend, py::arg("samples"), py::arg("stop") = nullptr,
+           py::arg("progress") = py::none(),
+           "Draws `samples` more samples of the seeded stream (1 .. 100,000,000), without the GIL. "
+           "`progress(done, samples, vertices, edges)` is called about every 0.2 s. Stopped by `stop` or Ctrl-C, "
+           "it keeps the samples drawn (extend again goes on with the same stream) and returns how many it drew "
+           "(Ctrl-C raises KeyboardInterrupt once stopped).")
+      .def_property_readonly("roadmap", &BuilderHandle::roadmap,
+                             "A copy of the roadmap as built so far (the sparse one for spars, ispars, ispars2).")
+      .def_property_readonly("dense", &BuilderHandle::dense, "A copy of the dense pair (spars, ispars), else None.")
+      .def_property_readonly("dense_ids", &BuilderHandle::dense_ids,
+                             "(V,) uint32: each roadmap vertex's vertex in the dense pair (empty without one).")
+      .def_property_readonly("samples", &BuilderHandle::samples, "Samples drawn so far.")
+      .def_property_readonly("scene", &BuilderHandle::base_scene, "The scene it was made on.")
+      .def_property_readonly("recipe", &BuilderHandle::recipe, "The recipe: what makes this roadmap again.")
+      .def("verify", &BuilderHandle::verify, py::arg("stop") = nullptr,
+           "Checks exactly what the method promises (every vertex and edge; Invariant 1 for ispars over the dense "
+           "pair, for ispars2 over its own samples drawn again). A dict of counts; 'violations' is 0 when verified.");
+}
+
+}  // namespace ispars::python

@@ -1,0 +1,51 @@
+#pragma once
+// ispars.Builder: a roadmap under construction from Python, grown by extend() off the GIL.
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "ispars/builders/recipe_builder.hpp"
+#include "python_module.hpp"
+#include "stoppable.hpp"
+
+namespace ispars::python {
+
+/// A builder with its recipe and scenes. One call at a time: a second call while extend() or
+/// verify() runs (from another thread) raises RuntimeError rather than wait.
+class BuilderHandle {
+ public:
+  BuilderHandle(std::shared_ptr<Scene> scene, const std::string& method, std::uint64_t seed,
+                const std::string& variant, std::int64_t threads, const std::map<std::string, double>& overrides);
+
+  /// Draws `samples` more samples; returns how many it drew (fewer when stopped).
+  std::uint64_t extend(std::int64_t samples, const std::shared_ptr<StopFlag>& stop, const py::object& progress);
+  /// A copy of the roadmap as it is (made once per state, then shared).
+  std::shared_ptr<Roadmap> roadmap();
+  /// A copy of the dense pair, or nullptr.
+  std::shared_ptr<Roadmap> dense();
+  /// For each roadmap vertex its dense vertex (empty without a dense pair).
+  py::array_t<std::uint32_t> dense_ids();
+  /// verify_recipe_roadmaps, as a dict of counts.
+  py::dict verify(const std::shared_ptr<StopFlag>& stop);
+  [[nodiscard]] py::dict recipe() const;
+  [[nodiscard]] std::uint64_t samples() const { return builder_->samples(); }
+  [[nodiscard]] const Scene& scene() const { return *scene_; }
+  [[nodiscard]] const std::shared_ptr<Scene>& base_scene() const { return base_; }
+
+ private:
+  class Busy;
+  std::shared_ptr<Scene> base_;
+  RoadmapRecipe recipe_;
+  std::unique_ptr<Scene> scene_;  // base_ with the recipe's parameters; outlives builder_
+  unsigned threads_ = 1;
+  std::unique_ptr<RoadmapBuilder> builder_;
+  std::atomic<bool> busy_{false};
+  std::shared_ptr<Roadmap> roadmap_copy_, dense_copy_;  // of the current state; reset by extend
+};
+
+/// Binds Builder and the build() shortcut.
+void bind_builder(py::module_& m);
+
+}  // namespace ispars::python

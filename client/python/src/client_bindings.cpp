@@ -1,0 +1,262 @@
+// ispars.Client: every request of the C++ client, each off the GIL; Ctrl-C returns at once.
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+
+#include "arrays.hpp"
+#include "client_handle.hpp"
+#include "ispars/input_error.hpp"
+#include "stoppable.hpp"
+
+namespace ispars::python {
+namespace {
+
+using client::Client;
+
+constexpr const char* kClient = "client";
+
+std::string env_or(const char* name, const std::string& fallback) {
+  const char* value = std::getenv(name);
+  return value != nullptr && *value != '\0' ? value : fallback;
+}
+
+ClientHandle connect(const py::object& domain, const std::string& profile_file, const std::string& profile_name,
+                  const std::string& security, double timeout, const std::string& server) {
+  client::ClientOptions o;
+  const std::string domain_text = env_or("ISPARS_DOMAIN", "0");
+  long d = 0;
+  if (domain.is_none()) {
+    char* end = nullptr;
+    d = std::strtol(domain_text.c_str(), &end, 10);
+    if (*end != '\0') throw InputError("ISPARS_DOMAIN", "domain", fmt::format("'{}' is not a number", domain_text));
+  } else {
+    d = domain.cast<long>();
+  }
+  if (d < 0 || d > 232) throw InputError(kClient, "domain", fmt::format("must be 0 .. 232, got {}", d));
+  if (!(timeout > 0 && timeout <= 3600)) throw InputError(kClient, "timeout", fmt::format("must be in (0, 3600] s, got {}", timeout));
+  o.participant.domain = static_cast<int>(d);
+  o.participant.profile_file = profile_file.empty() ? env_or("ISPARS_PROFILE_FILE", "") : profile_file;
+  o.participant.profile_name = profile_name;
+  o.participant.security = security.empty() ? env_or("ISPARS_SECURITY", "") : security;
+  o.participant.name = "ispars python";
+  o.timeout = std::chrono::milliseconds(static_cast<long>(timeout * 1000));
+  o.server = server;
+  py::gil_scoped_release release;
+  return ClientHandle{std::make_shared<Client>(std::move(o))};
+}
+
+py::dict scene_entry(const client::SceneEntry& e) {
+  py::dict out;
+  out["scene"] = e.scene;
+  out["loaded"] = e.loaded;
+  out["has_roadmap"] = e.has_roadmap;
+  out["server_id"] = e.server_id;
+  out["note"] = e.note;
+  return out;
+}
+
+py::dict tour_dict(client::TourReply&& r) {
+  py::dict out = reply_dict(r);
+  client::Tour& t = r.tour;
+  const auto n = [](const auto& v) { return static_cast<py::ssize_t>(v.size()); };
+  out["cost"] = t.cost;
+  out["walk"] = take(std::move(t.walk), {n(t.walk)});
+  out["waypoints"] = take_points(std::move(t.waypoints));
+  out["covered"] = t.covered;
+  out["target_count"] = t.target_count;
+  out["lower_bound"] = t.lower_bound;
+  out["valid"] = t.valid;
+  out["trace"] = take(std::move(t.trace), {n(t.trace) / 2, 2});
+  out["bound_trace"] = take(std::move(t.bound_trace), {n(t.bound_trace) / 2, 2});
+  out["bound_complete"] = t.bound_complete;
+  out["version"] = t.version;
+  out["shortcut_path"] = take_points(std::move(t.shortcut_path));
+  out["shortcut_cost"] = t.shortcut_cost;
+  return out;
+}
+
+py::dict verify_dict(const client::VerifyReply& r) {
+  py::dict out = reply_dict(r);
+  const client::Verification& v = r.verify;
+  out["violations"] = v.violations;
+  out["invalid_vertices"] = v.invalid_vertices;
+  out["invalid_edges"] = v.invalid_edges;
+  out["wrong_costs"] = v.wrong_costs;
+  out["sparse_not_dense"] = v.sparse_not_dense;
+  out["invariant_violations"] = v.invariant_violations;
+  out["invariant_vertices"] = v.invariant_vertices;
+  out["invariant_promised"] = v.invariant_promised;
+  return out;
+}
+
+py::dict snapshot_dict(client::Snapshot&& s) {
+  py::dict out;
+  out["scene"] = s.scene;
+  out["generation"] = s.generation;
+  out["version"] = s.version;
+  out["roadmap"] = std::make_shared<Roadmap>(std::move(s.roadmap));
+  out["root"] = take_points({s.root}).attr("reshape")(3);
+  out["pois"] = take_points(std::move(s.pois));
+  out["status"] = s.status;
+  return out;
+}
+
+std::map<std::string, double> overrides_of(const py::dict& overrides) {
+  std::map<std::string, double> out;
+  for (const auto& [k, v] : overrides) out[py::str(k)] = v.cast<double>();
+  return out;
+}
+
+void bind_status(py::module_& m) {
+  using client::SceneStatus;
+  py::class_<SceneStatus>(m, "SceneStatus", "A scene's status as its owning daemon published it.")
+      .def_property_readonly("state", [](const SceneStatus& s) { return std::string(client::to_string(s.state)); },
+                             "empty, idle, queued, replaying, building, failed or unloaded.")
+      .def_readonly("scene", &SceneStatus::scene)
+      .def_readonly("server_id", &SceneStatus::server_id)
+      .def_readonly("method", &SceneStatus::method)
+      .def_readonly("variant", &SceneStatus::variant)
+      .def_readonly("seed", &SceneStatus::seed)
+      .def_readonly("generation", &SceneStatus::generation)
+      .def_readonly("samples_done", &SceneStatus::samples_done)
+      .def_readonly("samples_target", &SceneStatus::samples_target)
+      .def_readonly("version", &SceneStatus::version)
+      .def_readonly("vertices", &SceneStatus::vertices)
+      .def_readonly("edges", &SceneStatus::edges)
+      .def_readonly("components", &SceneStatus::components)
+      .def_readonly("dense_vertices", &SceneStatus::dense_vertices)
+      .def_readonly("dense_edges", &SceneStatus::dense_edges)
+      .def_readonly("poi_count", &SceneStatus::poi_count)
+      .def_readonly("pois_covered", &SceneStatus::pois_covered)
+      .def_readonly("pois_covered_root", &SceneStatus::pois_covered_root)
+      .def_readonly("dense_delta", &SceneStatus::dense_delta)
+      .def_readonly("sparse_delta", &SceneStatus::sparse_delta)
+      .def_readonly("stretch", &SceneStatus::stretch)
+      .def_readonly("p_accept", &SceneStatus::p_accept)
+      .def_readonly("last_error", &SceneStatus::last_error)
+      .def_readonly("scene_fingerprint", &SceneStatus::scene_fingerprint)
+      .def_readonly("tasks", &SceneStatus::tasks)
+      .def("__repr__", [](const SceneStatus& s) {
+        return fmt::format("<ispars.SceneStatus '{}' {} on {}: {} vertices, {} edges, {}/{} samples>", s.scene,
+                           client::to_string(s.state), s.server_id, s.vertices, s.edges, s.samples_done,
+                           s.samples_target);
+      });
+}
+
+void bind_requests(py::class_<ClientHandle>& c) {
+  c.def("scenes", [](const ClientHandle& self) {
+     const auto entries = run_detached([self] { return self->list_scenes(); });
+     py::list out;
+     for (const auto& e : entries) out.append(scene_entry(e));
+     return out;
+   }, "Every scene of every daemon on the domain: dicts of scene, loaded, has_roadmap, server_id, note.");
+  const auto change = [&c](const char* name, client::Reply (Client::*call)(const std::string&), const char* doc) {
+    c.def(name, [call](const ClientHandle& self, const std::string& scene) {
+      return reply_dict(run_detached([self, call, scene] { return ((*self).*call)(scene); }));
+    }, py::arg("scene"), doc);
+  };
+  change("load", &Client::load, "Loads a scene of a daemon's scene directory (and its stored roadmap).");
+  change("unload", &Client::unload, "Unloads a scene (its stored roadmap stays on disk).");
+  change("cancel", &Client::cancel, "Cancels the scene's build or extend, keeping what it committed.");
+  change("drop", &Client::drop, "Drops the scene's roadmap, stored copy included.");
+  c.def("build", [](const ClientHandle& self, const std::string& scene, std::uint64_t samples, const std::string& method,
+                    std::uint64_t seed, const std::string& variant, const py::dict& overrides, bool replace) {
+     client::BuildArgs args;
+     args.method = method;
+     args.samples = samples;
+     args.seed = seed;
+     args.variant = variant;
+     args.overrides = overrides_of(overrides);
+     args.replace = replace;
+     return reply_dict(run_detached([self, scene, args] { return self->build(scene, args); }));
+   }, py::arg("scene"), py::arg("samples"), py::arg("method") = "ispars", py::arg("seed") = 1,
+   py::arg("variant") = "", py::arg("overrides") = py::dict(), py::arg("replace") = false,
+   "Queues a build (the daemon checks every field; a refusal raises ClientError 'rejected' naming it). "
+   "wait_idle() waits for it.");
+  c.def("extend", [](const ClientHandle& self, const std::string& scene, std::uint64_t samples) {
+     return reply_dict(run_detached([self, scene, samples] { return self->extend(scene, samples); }));
+   }, py::arg("scene"), py::arg("samples"), "Queues `samples` more samples of the roadmap's stream.");
+  c.def("stats", [](const ClientHandle& self, const std::string& scene) {
+     return run_detached([self, scene] { return self->stats(scene); });
+   }, py::arg("scene"), "The scene's status (a SceneStatus).");
+  c.def("path", [](const ClientHandle& self, const std::string& scene, const py::object& from, const py::object& to) {
+     const Vec3 a = to_vec3(from, "from");
+     const Vec3 b = to_vec3(to, "to");
+     client::PathReply r = run_detached([self, scene, a, b] { return self->path(scene, a, b); });
+     py::dict out = reply_dict(r);
+     out["length"] = r.path.length;
+     out["waypoints"] = take_points(std::move(r.path.waypoints));
+     return out;
+   }, py::arg("scene"), py::arg("start"), py::arg("goal"), "A collision-free path on the roadmap: length, waypoints.");
+  c.def("verify", [](const ClientHandle& self, const std::string& scene) {
+     return verify_dict(run_detached([self, scene] { return self->verify(scene); }));
+   }, py::arg("scene"), "Checks the roadmap on the daemon; 'violations' is 0 when verified.");
+  c.def("snapshot", [](const ClientHandle& self, const std::string& scene) {
+     return snapshot_dict(run_detached([self, scene] { return self->snapshot(scene); }));
+   }, py::arg("scene"),
+   "The whole roadmap at one version: a dict of scene, generation, version, roadmap (a Roadmap), root, pois, status.");
+}
+
+void bind_tours_and_waits(py::class_<ClientHandle>& c) {
+  c.def("tour", [](const ClientHandle& self, const std::string& scene, double budget, std::uint64_t seed,
+                   std::vector<std::uint32_t> targets, const std::string& task, const py::object& progress) {
+     auto halt = std::make_shared<Halt>();
+     const Callback report(progress, halt);
+     const auto call = [self, scene, budget, seed, targets, task, report] {
+       const auto on_progress = [report](double t, double cost, double bound) { report(t, cost, bound); };
+       return task.empty() ? self->tour(scene, budget, seed, targets, on_progress)
+                           : self->task_tour(scene, task, budget, seed, on_progress);
+     };
+     client::TourReply r = run_detached(call);
+     halt->rethrow();
+     return tour_dict(std::move(r));
+   }, py::arg("scene"), py::arg("budget") = 5.0, py::arg("seed") = 1,
+   py::arg("targets") = std::vector<std::uint32_t>{}, py::arg("task") = "", py::arg("progress") = py::none(),
+   "An inspection tour searched on the daemon for `budget` seconds; progress(seconds, cost, bound) as it "
+   "improves. Targets default to every POI seen from the root's component; `task` aims at one inspection task.");
+  c.def("wait_idle", [](const ClientHandle& self, const std::string& scene, double timeout, const py::object& progress) {
+     if (!(timeout > 0)) throw InputError(kClient, "timeout", fmt::format("must be positive, got {}", timeout));
+     auto halt = std::make_shared<Halt>();
+     const Callback report(progress, halt);
+     const auto call = [self, scene, timeout, report] {
+       return self->wait_idle(scene, [report](const client::SceneStatus& s) { report(s); },
+                              std::chrono::milliseconds(static_cast<long>(timeout * 1000)));
+     };
+     client::SceneStatus s = run_detached(call);
+     halt->rethrow();
+     return s;
+   }, py::arg("scene"), py::arg("timeout") = 600.0, py::arg("progress") = py::none(),
+   "Waits until the scene has no job; progress(status) on each status seen. Raises ClientError 'timeout'.");
+  c.def_property_readonly("id", [](const ClientHandle& self) { return self->id(); },
+                          "This client's identity: its participant's GUID prefix, as daemons read it.");
+}
+
+}  // namespace
+
+py::dict reply_dict(const client::Reply& reply) {
+  py::dict out;
+  out["server_id"] = reply.server_id;
+  out["message"] = reply.message;
+  out["status"] = reply.status;
+  return out;
+}
+
+void bind_client(py::module_& m) {
+  bind_status(m);
+  py::class_<ClientHandle> c(
+      m, "Client",
+      "A connection to every isparsd on a DDS domain. Calls go to each scene's owner, with retries and a "
+      "timeout, without the GIL; Ctrl-C returns at once (a request already sent ends by itself). Refusals "
+      "raise ClientError with the daemon's named message.");
+  c.def(py::init(&connect), py::arg("domain") = py::none(), py::arg("profile_file") = "",
+        py::arg("profile_name") = "ispars", py::arg("security") = "", py::arg("timeout") = 15.0,
+        py::arg("server") = "",
+        "Joins `domain` (default: $ISPARS_DOMAIN, else 0). `profile_file` a Fast DDS XML profiles file (default: "
+        "$ISPARS_PROFILE_FILE, else localhost only); `security` a DDS Security identity directory (default: "
+        "$ISPARS_SECURITY, else none).");
+  bind_requests(c);
+  bind_tours_and_waits(c);
+}
+
+}  // namespace ispars::python

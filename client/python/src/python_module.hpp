@@ -1,0 +1,25 @@
+#pragma once
+// What the files of the Python module share: the pybind11 names and each file's bind function.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+namespace ispars::python {
+
+namespace py = pybind11;
+
+/// InputError and ClientError as Python exceptions carrying their fields (errors.cpp).
+void bind_errors(py::module_& m);
+/// Roadmap: counts, digest, and its arrays as numpy views (roadmap_bindings.cpp).
+void bind_roadmap(py::module_& m);
+/// Scene, Builder, verify, Stop (planning_bindings.cpp).
+void bind_planning(py::module_& m);
+/// tour, render, load_roadmap (tour_bindings.cpp).
+void bind_tour(py::module_& m);
+/// Client and its replies (client_bindings.cpp).
+void bind_client(py::module_& m);
+/// Client.watch's live replica (watch_bindings.cpp).
+void bind_watch(py::module_& m);
+
+}  // namespace ispars::python

@@ -1,0 +1,124 @@
+"""The client against real isparsd processes: build, watch, snapshot, tour, the same roadmap as the
+offline builder, refusals named by the daemon, and a viewer's change refused."""
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+from conftest import SCENES, SOURCE_DIR, wait_for_daemon
+
+SCENE = "truss_bridge"
+
+
+@pytest.fixture
+def served(ispars, domain, daemon_factory):
+    daemon = daemon_factory(domain)
+    client = ispars.Client(domain=domain, timeout=30)
+    wait_for_daemon(client, "py")
+    client.load(SCENE)
+    return client, daemon
+
+
+def test_a_watched_build_equals_its_snapshot_stats_and_the_offline_build(ispars, served):
+    client, _ = served
+    watch = client.watch(SCENE)
+    reply = client.build(SCENE, 6000, method="ispars", seed=4)
+    assert reply["server_id"] == "py"
+    seen = {"positions": [], "edges": []}
+    vertices = edges = 0
+    for batch in watch:
+        if batch["resynced"]:
+            seen = {"positions": [], "edges": []}
+        assert batch["first_vertex"] == sum(len(p) for p in seen["positions"])
+        seen["positions"].append(batch["positions"])
+        seen["edges"].append(batch["edges"])
+        vertices, edges = batch["vertex_count"], batch["edge_count"]
+        if batch["samples_done"] >= 6000:
+            break
+    status = client.wait_idle(SCENE, timeout=120)
+    snapshot = client.snapshot(SCENE)
+    roadmap = snapshot["roadmap"]
+    assert (status.vertices, status.edges, status.version) == (roadmap.vertex_count, roadmap.edge_count,
+                                                              snapshot["version"])
+    assert (vertices, edges) == (roadmap.vertex_count, roadmap.edge_count)
+    assert np.array_equal(np.concatenate(seen["positions"]), roadmap.positions)
+    assert np.array_equal(np.concatenate(seen["edges"]), roadmap.edges)
+    assert watch.roadmap().digest == roadmap.digest
+    watch.close()
+    assert list(watch) == []
+    offline = ispars.build(str(SCENES / f"{SCENE}.yaml"), 6000, method="ispars", seed=4)
+    assert offline.roadmap.digest == roadmap.digest
+    assert np.array_equal(snapshot["pois"], offline.scene.pois)
+
+
+def test_a_tour_reports_progress_and_a_valid_walk(ispars, served):
+    client, _ = served
+    client.build(SCENE, 4000, method="ispars2", seed=2)
+    client.wait_idle(SCENE, timeout=120)
+    seen = []
+    tour = client.tour(SCENE, budget=1.0, progress=lambda t, cost, bound: seen.append((t, cost, bound)))
+    assert tour["valid"] and tour["cost"] > 0
+    assert seen and seen[-1][1] == pytest.approx(tour["cost"])
+    assert tour["walk"][0] == 0 and tour["walk"][-1] == 0
+    assert tour["waypoints"].shape == (len(tour["walk"]), 3)
+    path = client.path(SCENE, [0, -12, 1.5], tour["waypoints"][len(tour["walk"]) // 2])
+    assert path["length"] > 0 and path["waypoints"].shape[1] == 3
+    assert client.verify(SCENE)["violations"] == 0
+
+
+def test_the_daemon_refusals_are_named_and_change_nothing(ispars, served):
+    client, _ = served
+    client.build(SCENE, 2000, seed=1)
+    before = client.wait_idle(SCENE, timeout=120)
+    with pytest.raises(ispars.ClientError) as e:
+        client.build(SCENE, 100, method="prm", replace=True)
+    assert e.value.kind == "rejected"
+    assert "method: 'prm' is not one of dense, spars, ispars, irisc, ispars2" in str(e.value)
+    with pytest.raises(ispars.ClientError, match="overrides.dense_delta"):
+        client.build(SCENE, 100, overrides={"dense_delta": -1}, replace=True)
+    with pytest.raises(ispars.ClientError) as e:
+        client.stats("no_such_scene")
+    assert e.value.kind in ("rejected", "no_daemon")
+    after = client.stats(SCENE)
+    assert (after.generation, after.version) == (before.generation, before.version)
+
+
+def test_a_dead_daemon_raises_a_client_error(ispars, served):
+    client, daemon = served
+    assert daemon.stop() == 0
+    quick = ispars.Client(domain=daemon.domain, timeout=2)
+    with pytest.raises(ispars.ClientError) as e:
+        quick.stats(SCENE)
+    assert e.value.kind in ("no_daemon", "timeout"), str(e.value)
+
+
+def test_a_viewer_may_look_but_its_changes_raise_forbidden(ispars, domain, daemon_factory, tmp_path):
+    keystore = tmp_path / "keystore"
+    subprocess.run([str(SOURCE_DIR / "deploy/security/make-keystore.sh"), str(keystore), "daemon:d",
+                    "viewer:view"], check=True, capture_output=True)
+    daemon_factory(domain, server_id="d", extra=("--security", str(keystore / "identities/d")))
+    viewer = ispars.Client(domain=domain, security=str(keystore / "identities/view"), timeout=30)
+    wait_for_daemon(viewer, "d", seconds=60)
+    with pytest.raises(ispars.ClientError) as e:
+        viewer.load(SCENE)
+    assert e.value.kind == "forbidden"
+    assert "permissions do not allow load" in str(e.value)
+    assert not any(s["loaded"] for s in viewer.scenes() if s["scene"] == SCENE)
+
+
+def test_ctrl_c_during_a_wait_returns_at_once(ispars, served):
+    import os
+    import signal
+    import time
+    client, _ = served
+    client.build(SCENE, 2000, seed=1)
+    client.wait_idle(SCENE, timeout=120)
+    watch = client.watch(SCENE)
+    watch.next(timeout=30)  # the first batch: the whole roadmap
+    threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+    started = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        next(watch)  # no build runs: no batch would come
+    assert time.monotonic() - started < 5
+    assert watch.next(timeout=0.2) is None

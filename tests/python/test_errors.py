@@ -1,0 +1,97 @@
+"""Bad input raises the named exceptions, with the CLI's messages, and changes nothing."""
+import numpy as np
+import pytest
+
+from conftest import SCENES
+
+SCENE = SCENES / "truss_bridge.yaml"
+
+
+@pytest.fixture(scope="module")
+def scene(ispars):
+    return ispars.Scene.load(str(SCENE))
+
+
+def test_an_unknown_method_or_variant_names_the_field(ispars, scene):
+    with pytest.raises(ispars.InputError) as e:
+        ispars.Builder(scene, method="prm")
+    assert (e.value.file, e.value.field) == ("build", "method")
+    assert str(e.value) == "build: method: 'prm' is not one of dense, spars, ispars, irisc, ispars2"
+    with pytest.raises(ispars.InputError, match="variant: 'alg1' given, but dense has no rule-set variants"):
+        ispars.Builder(scene, method="dense", variant="alg1")
+    assert isinstance(e.value, ValueError)
+
+
+@pytest.mark.parametrize("overrides, field", [
+    ({"dense_delta": -1.0}, "overrides.dense_delta"),
+    ({"p_accept": 2.0}, "overrides.p_accept"),
+    ({"stretch": float("nan")}, "overrides.stretch"),
+    ({"sparse_delta": 1e5}, "overrides.sparse_delta"),
+    ({"stretch_slack_after": 1.5}, "overrides.stretch_slack_after"),
+    ({"warp": 1.0}, "overrides.warp"),
+])
+def test_an_out_of_range_parameter_names_it(ispars, scene, overrides, field):
+    with pytest.raises(ispars.InputError) as e:
+        ispars.Builder(scene, overrides=overrides)
+    assert e.value.field == field, str(e.value)
+
+
+def test_counts_out_of_range_are_refused(ispars, scene):
+    with pytest.raises(ispars.InputError, match="threads: must be 1 .. 64, got 0"):
+        ispars.Builder(scene, threads=0)
+    builder = ispars.Builder(scene)
+    for samples in (0, -5, 100_000_001):
+        with pytest.raises(ispars.InputError, match="samples: must be 1 .. 100000000"):
+            builder.extend(samples)
+    assert builder.samples == 0 and builder.roadmap.vertex_count == 1  # the root alone: nothing changed
+    with pytest.raises(ispars.InputError, match="tour: budget: give a budget or iterations"):
+        ispars.tour(builder.roadmap, budget=0)
+    with pytest.raises(ispars.InputError, match="tour: threads"):
+        ispars.tour(builder.roadmap, threads=65)
+    with pytest.raises(ispars.InputError, match="tour: targets: -1 is not a POI id"):
+        ispars.tour(builder.roadmap, targets=[-1])
+    with pytest.raises(ispars.InputError, match="render: width"):
+        ispars.render(scene, width=3)
+
+
+def test_a_missing_or_broken_file_names_it(ispars, tmp_path):
+    with pytest.raises(ispars.InputError) as e:
+        ispars.Scene.load(str(tmp_path / "none.yaml"))
+    assert e.value.file == str(tmp_path / "none.yaml")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("mesh: [unclosed\n")
+    with pytest.raises(ispars.InputError, match="bad.yaml"):
+        ispars.Scene.load(str(bad))
+    with pytest.raises(ispars.InputError, match="cannot be read"):
+        ispars.load_roadmap(str(tmp_path / "none.json"))
+    broken = tmp_path / "broken.json"
+    broken.write_text('{"graphs": {"roadmap": {"vertices": [[0, 0, 0]], "visible": [], "edges": []}}}')
+    with pytest.raises(ispars.InputError, match="visible"):
+        ispars.load_roadmap(str(broken))
+    with pytest.raises(ispars.InputError, match="graph: 'sparse' is not one of roadmap, dense"):
+        ispars.load_roadmap(str(broken), "sparse")
+
+
+def test_a_tour_for_pois_not_seen_names_the_targets(ispars, scene):
+    builder = ispars.Builder(scene)
+    builder.extend(2000)
+    with pytest.raises(ispars.InputError) as e:
+        ispars.tour(builder.roadmap, iterations=10, targets=[10**6])
+    assert (e.value.file, e.value.field) == ("tour", "targets")
+
+
+def test_points_must_be_three_numbers(ispars, scene):
+    with pytest.raises(ValueError, match="point: expected three numbers"):
+        scene.point_valid([1, 2])
+    assert isinstance(scene.point_valid(np.array([0.0, -12.0, 1.5])), bool)
+
+
+def test_a_client_with_no_daemon_raises_no_daemon(ispars, domain):
+    client = ispars.Client(domain=domain, timeout=1.0)
+    with pytest.raises(ispars.ClientError) as e:
+        client.stats("truss_bridge")
+    assert e.value.kind == "no_daemon", str(e.value)
+    with pytest.raises(ispars.InputError, match="client: domain: must be 0 .. 232, got 300"):
+        ispars.Client(domain=300)
+    with pytest.raises(ispars.InputError, match="client: timeout"):
+        ispars.Client(domain=domain, timeout=0)
