@@ -15,7 +15,8 @@ import pytest
 
 SOURCE_DIR = pathlib.Path(os.environ.get("ISPARS_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
 BIN = pathlib.Path(os.environ.get("ISPARS_BIN", SOURCE_DIR / "build" / "bin"))
-sys.path.insert(0, os.environ.get("ISPARS_PYTHON_PATH", str(SOURCE_DIR / "build" / "python")))
+PACKAGE_DIR = os.environ.get("ISPARS_PYTHON_PATH", str(SOURCE_DIR / "build" / "python"))
+sys.path.insert(0, PACKAGE_DIR)
 SCENES = SOURCE_DIR / "deploy" / "scenes"
 
 _held_domains = []  # open lock files: each domain stays ours until this process exits

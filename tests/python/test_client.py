@@ -6,7 +6,7 @@ import threading
 import numpy as np
 import pytest
 
-from conftest import SCENES, SOURCE_DIR, wait_for_daemon
+from conftest import PACKAGE_DIR, SCENES, SOURCE_DIR, wait_for_daemon
 
 SCENE = "truss_bridge"
 
@@ -122,3 +122,15 @@ def test_ctrl_c_during_a_wait_returns_at_once(ispars, served):
         next(watch)  # no build runs: no batch would come
     assert time.monotonic() - started < 5
     assert watch.next(timeout=0.2) is None
+
+
+def test_the_documented_example_runs_against_a_daemon(domain, daemon_factory, tmp_path):
+    import os
+    import sys
+    daemon_factory(domain)
+    env = dict(os.environ, PYTHONPATH=PACKAGE_DIR)
+    out = subprocess.run([sys.executable, str(SOURCE_DIR / "docs/python_example.py"), "--domain", str(domain),
+                          "--samples", "3000", "--budget", "0.3", "--out", str(tmp_path / "tour.png")],
+                         env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert "tour: cost" in out.stdout and (tmp_path / "tour.png").exists()

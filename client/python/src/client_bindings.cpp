@@ -228,6 +228,17 @@ void bind_tours_and_waits(py::class_<ClientHandle>& c) {
      return s;
    }, py::arg("scene"), py::arg("timeout") = 600.0, py::arg("progress") = py::none(),
    "Waits until the scene has no job; progress(status) on each status seen. Raises ClientError 'timeout'.");
+  c.def("_bench_stats", [](const ClientHandle& self, const std::string& scene, std::int64_t count) {
+     // The benchmark's C++ side: `count` stats calls from C++ alone, each timed (seconds).
+     py::gil_scoped_release release;
+     std::vector<double> seconds;
+     for (std::int64_t i = 0; i < count; ++i) {
+       const auto t0 = std::chrono::steady_clock::now();
+       (void)self->stats(scene);
+       seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+     }
+     return seconds;
+   }, py::arg("scene"), py::arg("count"), "For bench_python.py: `count` STATS round trips timed in C++ alone.");
   c.def_property_readonly("id", [](const ClientHandle& self) { return self->id(); },
                           "This client's identity: its participant's GUID prefix, as daemons read it.");
 }
