@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs a Release build as a system service (run as root after deploy/build.sh release):
-# binaries to /usr/local/bin, scenes to /usr/local/share/ispars/scenes, the config and Fast DDS
+# binaries to /usr/local/bin, the Python package to /usr/local/lib/python3.11/dist-packages/ispars,
+# scenes to /usr/local/share/ispars/scenes, the config and Fast DDS
 # profiles to /etc/ispars (kept when already there), the systemd unit, and an `ispars` user.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -7,7 +7,8 @@
           (the roadmap file, json.load, numpy.array);
   stats   the STATS round trip to a real isparsd from Python (Client.stats) against the C++
           client's in the same process on the same connection, alternating blocks of 100;
-  import  `import ispars` in a fresh interpreter, the median of 10.
+  import  `import ispars` in a fresh interpreter, the median of 10;
+  stops   how long after Stop.set() an extend, a verify and a tour return (water_tower, ispars).
 
 Usage: bench_python.py [--samples N] [--calls N] [--skip-arrays] [--skip-stats]; run from the
 source tree after a build (PYTHONPATH=build/python), with build/bin/isparsd for `stats`.
@@ -70,6 +71,34 @@ def bench_arrays(samples):
     return out
 
 
+def bench_stops():
+    """How long after Stop.set() each long call returns: extend, verify and tour on water_tower."""
+    import threading
+    scene = ispars.Scene.load(str(ROOT / "deploy/scenes/water_tower.yaml"))
+    builder = ispars.Builder(scene, method="ispars", seed=1)
+    out = {}
+
+    def latency(call, after):
+        stop = ispars.Stop()
+        stamp = {}
+
+        def set_stop():
+            stamp["set"] = time.perf_counter()
+            stop.set()
+        threading.Timer(after, set_stop).start()
+        try:
+            call(stop)
+        except RuntimeError as e:  # a stopped verification raises
+            assert "stopped" in str(e)
+        return time.perf_counter() - stamp["set"]
+    out["extend_seconds"] = latency(lambda stop: builder.extend(100_000_000, stop=stop), 3.0)
+    out["extend_samples_when_stopped"] = builder.samples
+    out["verify_seconds"] = latency(lambda stop: builder.verify(stop=stop), 0.5)
+    roadmap = builder.roadmap
+    out["tour_seconds"] = latency(lambda stop: ispars.tour(roadmap, budget=600, stop=stop), 2.0)
+    return out
+
+
 def bench_stats(calls):
     from conftest import BIN, SCENES, _take_domain, wait_for_daemon
     domain = _take_domain()
@@ -123,6 +152,7 @@ def main():
         out["arrays"] = bench_arrays(args.samples)
     if not args.skip_stats:
         out["stats"] = bench_stats(args.calls)
+    out["stops"] = bench_stops()
     print(json.dumps(out))
 
 
