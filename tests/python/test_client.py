@@ -134,3 +134,25 @@ def test_the_documented_example_runs_against_a_daemon(domain, daemon_factory, tm
                          env=env, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr
     assert "tour: cost" in out.stdout and (tmp_path / "tour.png").exists()
+
+
+def test_extend_cancel_and_unload(ispars, served):
+    client, _ = served
+    client.build(SCENE, 3000, method="ispars2", seed=5)
+    client.wait_idle(SCENE, timeout=120)
+    client.extend(SCENE, 2000)
+    status = client.wait_idle(SCENE, timeout=120)
+    assert status.samples_done == 5000 and status.state == "idle"
+    offline = ispars.build(str(SCENES / f"{SCENE}.yaml"), 5000, method="ispars2", seed=5)
+    assert client.snapshot(SCENE)["roadmap"].digest == offline.roadmap.digest
+    with pytest.raises(ispars.ClientError, match="samples: the roadmap would hold about .* memory budget"):
+        client.extend(SCENE, 50_000_000)  # refused before it starts: the memory budget
+    client.extend(SCENE, 1_000_000)  # far more than the test waits for
+    reply = client.cancel(SCENE)
+    assert reply["server_id"] == "py"
+    cancelled = client.wait_idle(SCENE, timeout=60)
+    assert 5000 <= cancelled.samples_done < 1_005_000 and cancelled.state == "idle"
+    client.unload(SCENE)
+    with pytest.raises(ispars.ClientError) as e:
+        client.stats(SCENE)
+    assert "not loaded" in str(e.value), str(e.value)
