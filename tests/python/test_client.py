@@ -156,3 +156,19 @@ def test_extend_cancel_and_unload(ispars, served):
     with pytest.raises(ispars.ClientError) as e:
         client.stats(SCENE)
     assert "not loaded" in str(e.value), str(e.value)
+
+
+def test_closing_a_watch_from_another_thread_ends_its_iteration(ispars, served):
+    client, _ = served
+    client.build(SCENE, 1000, seed=1)
+    client.wait_idle(SCENE, timeout=120)
+    watch = client.watch(SCENE)
+    assert watch.next(timeout=30)["vertex_count"] > 0
+    rest = []
+    follower = threading.Thread(target=lambda: rest.extend(watch))  # blocks: no build runs
+    follower.start()
+    threading.Timer(0.3, watch.close).start()
+    follower.join(timeout=10)
+    assert not follower.is_alive() and rest == []
+    with pytest.raises(RuntimeError, match="the watch is closed"):
+        watch.roadmap()

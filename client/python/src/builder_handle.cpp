@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "arrays.hpp"
+#include "verification_dict.hpp"
 #include "ispars/input_error.hpp"
 
 namespace ispars::python {
@@ -125,16 +126,8 @@ py::dict BuilderHandle::verify(const std::shared_ptr<StopFlag>& stop) {
   };
   const VerificationReport r = run_stoppable(work, *halt, stop.get());
   const bool promised = promises_invariant(recipe_.method);
-  py::dict out;
-  out["violations"] = broken_promises(r, promised);
-  out["invalid_vertices"] = r.invalid_vertices;
-  out["invalid_edges"] = r.invalid_edges;
-  out["wrong_costs"] = r.wrong_costs;
-  out["sparse_not_dense"] = r.sparse_not_dense;
-  out["invariant_violations"] = r.invariant_violations;
-  out["invariant_vertices"] = r.invariant_vertices;
+  py::dict out = verification_dict(r, broken_promises(r, promised), promised);
   out["invariant_drawn"] = r.invariant_drawn;
-  out["invariant_promised"] = promised;
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include "client_handle.hpp"
 #include "ispars/input_error.hpp"
 #include "stoppable.hpp"
+#include "verification_dict.hpp"
 
 namespace ispars::python {
 namespace {
@@ -77,16 +78,8 @@ py::dict tour_dict(client::TourReply&& r) {
 }
 
 py::dict verify_dict(const client::VerifyReply& r) {
-  py::dict out = reply_dict(r);
-  const client::Verification& v = r.verify;
-  out["violations"] = v.violations;
-  out["invalid_vertices"] = v.invalid_vertices;
-  out["invalid_edges"] = v.invalid_edges;
-  out["wrong_costs"] = v.wrong_costs;
-  out["sparse_not_dense"] = v.sparse_not_dense;
-  out["invariant_violations"] = v.invariant_violations;
-  out["invariant_vertices"] = v.invariant_vertices;
-  out["invariant_promised"] = v.invariant_promised;
+  py::dict out = verification_dict(r.verify, r.verify.violations, r.verify.invariant_promised);
+  for (const auto& [key, value] : reply_dict(r)) out[key] = value;
   return out;
 }
 

@@ -20,7 +20,7 @@ class WatchHandle {
  public:
   WatchHandle(ClientHandle client, const std::string& scene) : client_(std::move(client)) {
     py::gil_scoped_release release;
-    replica_ = std::make_unique<client::RoadmapReplica>(*client_, scene, [this](const client::ReplicaEvent& e) {
+    replica_ = std::make_shared<client::RoadmapReplica>(*client_, scene, [this](const client::ReplicaEvent& e) {
       std::lock_guard lock(mutex_);
       ++changes_;
       resynced_ = resynced_ || e.resynced;
@@ -60,13 +60,15 @@ class WatchHandle {
   }
 
   /// The replica as it is now, copied.
-  std::shared_ptr<Roadmap> roadmap() const {
+  std::shared_ptr<Roadmap> roadmap() {
+    const auto held = replica();
     py::gil_scoped_release release;
-    return std::make_shared<Roadmap>(replica().roadmap());
+    return std::make_shared<Roadmap>(held->roadmap());
   }
 
+  /// Stops following. A call still reading the replica on another thread keeps it until done.
   void close() {
-    std::unique_ptr<client::RoadmapReplica> replica;
+    std::shared_ptr<client::RoadmapReplica> replica;
     {
       std::lock_guard lock(mutex_);
       closed_ = true;
@@ -78,9 +80,11 @@ class WatchHandle {
   }
 
  private:
-  const client::RoadmapReplica& replica() const {
+  // The replica, held by the caller: close() on another thread cannot destroy it under a read.
+  std::shared_ptr<const client::RoadmapReplica> replica() {
+    std::lock_guard lock(mutex_);
     if (!replica_) throw std::runtime_error("the watch is closed");
-    return *replica_;
+    return replica_;
   }
 
   // What is new since the last batch, as a dict; the whole roadmap when its generation changed
@@ -90,9 +94,10 @@ class WatchHandle {
     std::vector<std::uint32_t> edges;
     std::uint64_t generation = 0, samples = 0, version = 0, vertices = 0, edge_count = 0;
     std::size_t first_vertex = 0, first_edge = 0;
+    const auto held = replica();
     {
       py::gil_scoped_release release;
-      replica().read([&](const Roadmap& r, std::uint64_t g, std::uint64_t s) {
+      held->read([&](const Roadmap& r, std::uint64_t g, std::uint64_t s) {
         resynced = resynced || g != generation_ || r.vertex_count() < vertices_ || r.edge_count() < edges_;
         first_vertex = resynced ? 0 : vertices_;
         first_edge = resynced ? 0 : edges_;
@@ -127,7 +132,7 @@ class WatchHandle {
   }
 
   ClientHandle client_;  // outlives replica_
-  std::unique_ptr<client::RoadmapReplica> replica_;
+  std::shared_ptr<client::RoadmapReplica> replica_;  // guarded by mutex_
   std::mutex mutex_;
   std::condition_variable changed_;
   std::uint64_t changes_ = 0, taken_ = 0;
