@@ -232,7 +232,10 @@ void bind_tours_and_waits(py::class_<ClientHandle>& c) {
      }
      return seconds;
    }, py::arg("scene"), py::arg("count"), "For bench_python.py: `count` STATS round trips timed in C++ alone.");
-  c.def_property_readonly("id", [](const ClientHandle& self) { return self->id(); },
+  c.def_property_readonly("id", [](const ClientHandle& self) {
+     py::gil_scoped_release release;  // a callback on a client thread may be waiting for the GIL
+     return self->id();
+   },
                           "This client's identity: its participant's GUID prefix, as daemons read it.");
 }
 

@@ -110,11 +110,11 @@ void bind_roadmap(py::module_& m) {
           "save",
           [](const Roadmap& r, const std::string& path, const std::string& scene, const py::object& root,
              const py::object& pois, const std::shared_ptr<Roadmap>& dense) {
-            const std::string text =
-                roadmap_file_json(scene, to_vec3(root, "root"), to_points(pois, "pois"), r, dense.get());
+            const Vec3 at = to_vec3(root, "root");
+            const std::vector<Vec3> points = to_points(pois, "pois");
             try {
-              py::gil_scoped_release release;
-              write_file_atomically(path, text);
+              py::gil_scoped_release release;  // seconds for millions of edges
+              write_file_atomically(path, roadmap_file_json(scene, at, points, r, dense.get()));
             } catch (const std::exception& e) {
               throw InputError(path, "path", e.what());
             }
