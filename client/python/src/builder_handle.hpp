@@ -31,7 +31,6 @@ class BuilderHandle {
   py::dict verify(const std::shared_ptr<StopFlag>& stop);
   [[nodiscard]] py::dict recipe() const;
   [[nodiscard]] std::uint64_t samples() const { return builder_->samples(); }
-  [[nodiscard]] const Scene& scene() const { return *scene_; }
   [[nodiscard]] const std::shared_ptr<Scene>& base_scene() const { return base_; }
 
  private:

@@ -28,14 +28,8 @@ py::tuple visibility(const Roadmap& r) {
   std::vector<std::int64_t> offsets{0};
   offsets.reserve(r.vertex_count() + 1);
   std::vector<std::uint32_t> ids;
-  const PoiSetTable& table = r.visibility_table();
   for (VertexId v = 0; v < r.vertex_count(); ++v) {
-    const PoiBits row = table.row(v);
-    for (std::size_t w = 0; w < row.size(); ++w) {
-      for (std::uint64_t bits = row[w]; bits != 0; bits &= bits - 1) {
-        ids.push_back(static_cast<std::uint32_t>(64 * w + static_cast<unsigned>(__builtin_ctzll(bits))));
-      }
-    }
+    r.visibility_table().append_ids(v, ids);
     offsets.push_back(static_cast<std::int64_t>(ids.size()));
   }
   const auto rows = static_cast<py::ssize_t>(offsets.size());

@@ -49,6 +49,11 @@ void PoiSetTable::add(std::size_t i, std::span<const PoiId> ids) {
 
 std::vector<PoiId> PoiSetTable::ids(std::size_t i) const {
   std::vector<PoiId> out;
+  append_ids(i, out);
+  return out;
+}
+
+void PoiSetTable::append_ids(std::size_t i, std::vector<PoiId>& out) const {
   const PoiBits r = row(i);
   for (std::size_t w = 0; w < r.size(); ++w) {
     std::uint64_t word = r[w];
@@ -58,7 +63,6 @@ std::vector<PoiId> PoiSetTable::ids(std::size_t i) const {
       word &= word - 1;
     }
   }
-  return out;
 }
 
 std::size_t count(PoiBits set) {

@@ -36,6 +36,8 @@ class PoiSetTable {
   [[nodiscard]] std::size_t words() const { return words_; }
   /// The ids in row i, ascending.
   [[nodiscard]] std::vector<PoiId> ids(std::size_t i) const;
+  /// Appends the ids in row i, ascending, to `out`: ids() without a vector per row.
+  void append_ids(std::size_t i, std::vector<PoiId>& out) const;
   /// The same POI count and the same rows.
   friend bool operator==(const PoiSetTable&, const PoiSetTable&) = default;
 
