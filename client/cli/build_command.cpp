@@ -7,6 +7,7 @@
 #include "cli_output.hpp"
 #include "commands.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
+#include "whole_number.hpp"
 
 namespace ispars::cli {
 namespace {
@@ -19,8 +20,10 @@ class BuildCommand final : public Command {
     cmd->add_option("--method", args_.method, build_method_names())->required();
     cmd->add_option("--variant", args_.variant,
                      "spars, ispars: the rule set, " + spars_variant_names() + " (default stretch)");
-    cmd->add_option("--samples", args_.samples, "samples to draw")->required()->check(CLI::PositiveNumber);
-    cmd->add_option("--seed", args_.seed, "random seed");
+    cmd->add_option("--samples", args_.samples, "samples to draw")
+        ->required()
+        ->check(whole_number(1, kMaxRequestSamples, "samples"));
+    cmd->add_option("--seed", args_.seed, "random seed")->check(whole_number(0, kMaxSeed, ""));
     cmd->add_flag("--replace", args_.replace, "replace an existing roadmap");
     std::string set_help = "parameter override NAME=VALUE, one of:";
     for (const RecipeParameter& p : recipe_overrides()) set_help += fmt::format("\n    {}: {}; {}", p.name, p.doc, p.range);

@@ -2,6 +2,8 @@
 
 #include "cli_output.hpp"
 #include "commands.hpp"
+#include "ispars/roadmap/build_recipe.hpp"
+#include "whole_number.hpp"
 
 namespace ispars::cli {
 namespace {
@@ -11,7 +13,9 @@ class ExtendCommand final : public Command {
   CLI::App* add(CLI::App& app) override {
     auto* cmd = app.add_subcommand("extend", "add samples to a roadmap");
     cmd->add_option("scene", scene_, "scene name")->required();
-    cmd->add_option("--samples", samples_, "more samples")->required()->check(CLI::PositiveNumber);
+    cmd->add_option("--samples", samples_, "more samples")
+        ->required()
+        ->check(whole_number(1, kMaxRequestSamples, "samples"));
     cmd->add_flag("--wait", wait_, "follow progress until the extension ends");
     cmd->add_flag("--json", json_, "print the final status as JSON");
     return cmd;

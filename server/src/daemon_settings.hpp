@@ -17,6 +17,7 @@
 
 #include "daemon_config.hpp"
 #include "ispars/input_error.hpp"
+#include "ispars/roadmap/build_recipe.hpp"
 
 namespace ispars::server {
 
@@ -91,7 +92,7 @@ void visit_settings(Visitor&& visit) {
   visit(TextSetting<std::string>{&C::server_id, "server_id", "this daemon's unique id on the domain (default HOST-PID)",
                                  64});
   visit(IntegerSetting<std::uint64_t>{&C::max_samples, "max_samples", "largest build or extend a request may ask for",
-                                      1, std::int64_t{1} << 53});
+                                      1, static_cast<std::int64_t>(kMaxRequestSamples)});
   visit(IntegerSetting<std::size_t>{&C::snapshot_compact_every, "snapshot_compact_every",
                                     "journal commits between compacted snapshots", 1, 1'000'000'000, nullptr,
                                     "compact-every"});

@@ -79,6 +79,11 @@ struct RoadmapRecipe {
 /// that would be stored and ignored.
 void check_stretch_slack(const RoadmapRecipe& recipe, std::string_view file);
 
+/// The most samples one build or extend request may ask for, whoever sends it: the upper bound of
+/// a daemon's `max_samples` setting (default 50,000,000, which it enforces per request). 2^53, so
+/// that a count survives every JSON reader's double.
+inline constexpr std::uint64_t kMaxRequestSamples = std::uint64_t{1} << 53;
+
 /// Bumped whenever a builder's output for the same recipe changes: a stored roadmap of another
 /// builder version is not replayed or extended (it would not match), only rebuilt or dropped.
 inline constexpr std::uint32_t kBuilderVersion = 1;
