@@ -2,14 +2,17 @@
 # A fresh Debian 12 machine to a running service: installs dependencies, builds Release, starts
 # isparsd with the bundled demo scenes on the localhost-only Fast DDS profile, builds an
 # Inspection-SPARS roadmap with live progress through the `ispars` client, prints its stats,
-# verifies it, fetches it, and stops the daemon cleanly (SIGTERM, exit 0).
+# verifies it (exit 1 on an Invariant 1 violation), fetches it, and stops the daemon cleanly
+# (SIGTERM, exit 0). Any step that fails fails the script, with the daemon's log. CI runs it first
+# (.ci/run), on a clean clone, as a newcomer does.
 #
 #   deploy/quickstart.sh [SCENE] [SAMPLES]     (default: demo_truss_bridge 60000)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 deploy/install-deps.sh
-deploy/build.sh release
+# The programs and the Python package; deploy/test.sh builds the tests into the same folder.
+ISPARS_BUILD_TARGET=ispars_programs deploy/build.sh release
 
 scene="${1:-demo_truss_bridge}"
 samples="${2:-60000}"
@@ -25,12 +28,27 @@ echo "== isparsd on DDS domain $ISPARS_DOMAIN (localhost only), data in $work/da
   --server-id quickstart --log-level warn > "$work/isparsd.log" 2>&1 &
 daemon=$!
 stop_daemon() {
-  if kill -0 "$daemon" 2>/dev/null; then
-    kill -TERM "$daemon"
-    wait "$daemon" && echo "== isparsd stopped cleanly (exit 0)" || echo "== isparsd exited with $?" >&2
+  kill -0 "$daemon" 2>/dev/null || { wait "$daemon"; return; }
+  kill -TERM "$daemon"
+  local code=0
+  wait "$daemon" || code=$?
+  if [ "$code" -eq 0 ]; then
+    echo "== isparsd stopped cleanly (exit 0)"
+  else
+    echo "== isparsd exited with $code; its log, $work/isparsd.log:" >&2
+    tail -n 40 "$work/isparsd.log" >&2
   fi
+  return "$code"
 }
-trap stop_daemon EXIT
+on_exit() {
+  local code=$?
+  if [ "$code" -ne 0 ]; then
+    echo "== quickstart failed (exit $code); the daemon's log, $work/isparsd.log:" >&2
+    tail -n 40 "$work/isparsd.log" >&2 || true
+  fi
+  stop_daemon || true
+}
+trap on_exit EXIT
 
 echo "== ispars scenes list"
 "$bin/ispars" scenes list

@@ -20,6 +20,7 @@
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/wire/convert.hpp"
 #include "ispars/wire/identity.hpp"
+#include "ispars/wire/participant.hpp"
 #include "ispars/wire/scene_filter.hpp"
 #include "ispars/wire/topics.hpp"
 #include "ispars/wire/safe_type.hpp"
