@@ -3,12 +3,31 @@
 # which includes that header and nothing else, compiled with TARGET's own include directories,
 # definitions and options and everything TARGET links (so with TARGET's dependencies' usage
 # requirements, and ispars_build_flags' warnings as errors). A header that compiles only after
-# another include fails it, naming the header. Call it once TARGET is complete.
+# another include fails it, naming the header. A header that one of TARGET's sources includes
+# first is left out: compiling that source (never in a unity build in deploy/test.sh's Release
+# pass) compiles the header on its own already. Call it once TARGET is complete.
 #
 # Not part of `all`: `cmake --build build --target ispars_headers_check` builds every check
 # (deploy/test.sh does). Never a unity build: each header is its own translation unit. Each is
 # parsed, not compiled (cmake/parse_only.sh): what a header lacks is a parse error.
 add_custom_target(ispars_headers_check)
+
+# The headers TARGET's own sources include first: compiling such a source compiles its first
+# header on its own already, so the check leaves those out (to `out`, as include paths).
+function(ispars_first_includes target out)
+  get_target_property(sources ${target} SOURCES)
+  set(first_includes)
+  foreach(source IN LISTS sources)
+    get_filename_component(path ${source} ABSOLUTE BASE_DIR ${CMAKE_CURRENT_SOURCE_DIR})
+    if(path MATCHES "\\.cpp$" AND EXISTS ${path})
+      file(STRINGS ${path} first REGEX "^#include" LIMIT_COUNT 1)
+      if(first MATCHES "^#include [\"<]([^\">]+)[\">]")
+        list(APPEND first_includes ${CMAKE_MATCH_1})
+      endif()
+    endif()
+  endforeach()
+  set(${out} ${first_includes} PARENT_SCOPE)
+endfunction()
 
 function(ispars_check_headers target)
   set(headers)
@@ -19,6 +38,28 @@ function(ispars_check_headers target)
   list(SORT headers)
   if(NOT headers)
     message(FATAL_ERROR "ispars_check_headers(${target}): no header under ${ARGN}")
+  endif()
+  ispars_first_includes(${target} first_includes)
+  set(unchecked)
+  foreach(header IN LISTS headers)
+    foreach(included IN LISTS first_includes)
+      string(LENGTH "/${included}" tail)
+      string(LENGTH "${header}" length)
+      if(length GREATER tail)
+        math(EXPR at "${length} - ${tail}")
+        string(SUBSTRING "${header}" ${at} ${tail} ending)
+        if(ending STREQUAL "/${included}")
+          list(APPEND unchecked ${header})
+          break()
+        endif()
+      endif()
+    endforeach()
+  endforeach()
+  if(unchecked)
+    list(REMOVE_ITEM headers ${unchecked})
+  endif()
+  if(NOT headers)
+    return()  # every header is some source's first include
   endif()
   set(sources)
   foreach(header IN LISTS headers)
