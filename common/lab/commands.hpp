@@ -123,6 +123,9 @@ struct ExperimentOptions {
   double bound_seconds = 20.0;        ///< anytime: seconds of LP bound per roadmap (0: none)
   double stretch_slack = 0.0;             ///< ablation: the stretch rules' slack (a fraction of Delta)
   std::uint64_t stretch_slack_after = 0;  ///< ablation: the slack applies from this sample on
+  // flown
+  std::vector<std::string> only_scenes;  ///< The scenes to run (default: the paper's three).
+  std::vector<double> budgets{0.1, 1.0, 10.0};  ///< The equal-time panel's wall-clock budgets.
   std::vector<std::string> rule_sets{"alg1", "alg1+join", "alg1+witness", "alg1-shortcut", "stretch+shortcut",
                                      "stretch"};
 };
@@ -169,6 +172,8 @@ CLI::App* add_experiment_spanner_command(CLI::App& parent, ExperimentOptions& op
 int run_experiment_spanner(const ExperimentOptions& options);
 CLI::App* add_experiment_anytime_command(CLI::App& parent, ExperimentOptions& options);
 int run_experiment_anytime(const ExperimentOptions& options);
+CLI::App* add_experiment_flown_command(CLI::App& parent, ExperimentOptions& options);
+int run_experiment_flown(const ExperimentOptions& options);
 CLI::App* add_experiment_ablation_command(CLI::App& parent, ExperimentOptions& options);
 int run_experiment_ablation(const ExperimentOptions& options);
 

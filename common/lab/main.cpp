@@ -23,7 +23,7 @@ struct Lab {
   BenchTourOptions bench_tour;
   BenchTaskOptions bench_task;
   BuildCommandOptions build;
-  ExperimentOptions table, scaling, spanner, anytime, ablation;
+  ExperimentOptions table, scaling, spanner, anytime, ablation, flown;
   TourCommandOptions tour;
   RenderCommandOptions render;
   std::vector<std::pair<CLI::App*, std::function<int()>>> commands;
@@ -44,6 +44,7 @@ struct Lab {
     on(add_experiment_spanner_command(*experiment, spanner), [this] { return run_experiment_spanner(spanner); });
     on(add_experiment_anytime_command(*experiment, anytime), [this] { return run_experiment_anytime(anytime); });
     on(add_experiment_ablation_command(*experiment, ablation), [this] { return run_experiment_ablation(ablation); });
+    on(add_experiment_flown_command(*experiment, flown), [this] { return run_experiment_flown(flown); });
     on(add_tour_command(app, tour), [this] { return run_tour(tour); });
     on(add_render_command(app, render), [this] { return run_render(render); });
   }

@@ -44,43 +44,11 @@ InspectionGraph with_viewpoints(const Roadmap& dense, std::span<const VertexId> 
                                      dense.visibility_table().poi_count());
 }
 
-namespace {
-
-// Runs job(i) for i in [0, count) on `jobs` threads (the caller's included), each taking the next
-// index; after a job throws, no new one starts and the first error is rethrown.
-template <class Job>
-void run_each(std::size_t count, unsigned jobs, Job&& job) {
-  std::atomic<std::size_t> next{0};
-  std::mutex mutex;
-  std::string failure;
-  const auto worker = [&] {
-    for (std::size_t i; (i = next++) < count;) {
-      {
-        std::lock_guard lock(mutex);
-        if (!failure.empty()) return;
-      }
-      try {
-        job(i);
-      } catch (const std::exception& e) {
-        std::lock_guard lock(mutex);
-        if (failure.empty()) failure = e.what();
-        return;
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned j = 1; j < std::max(1u, jobs); ++j) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (!failure.empty()) throw std::runtime_error(failure);
-}
-
-}  // namespace
 
 std::vector<GipResult> solve_each(std::span<const InspectionGraph* const> graphs, const std::vector<PoiId>& targets,
                                   std::uint64_t seed, const SolverWork& work) {
   std::vector<GipResult> results(graphs.size());
-  run_each(graphs.size(), work.jobs, [&](std::size_t i) {
+  run_jobs(graphs.size(), work.jobs, [&](std::size_t i) {
     GipOptions solve;
     solve.targets = targets;
     solve.budget_seconds = work.cap_seconds;
@@ -97,7 +65,7 @@ std::vector<GipResult> solve_each(std::span<const InspectionGraph* const> graphs
 std::vector<TourBoundResult> bound_each(std::span<const InspectionGraph* const> graphs,
                                        const std::vector<PoiId>& targets, double seconds, unsigned jobs) {
   std::vector<TourBoundResult> results(graphs.size());
-  run_each(graphs.size(), jobs, [&](std::size_t i) {
+  run_jobs(graphs.size(), jobs, [&](std::size_t i) {
     TourBoundOptions options;
     options.targets = targets;
     options.budget_seconds = seconds;

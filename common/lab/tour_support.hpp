@@ -2,9 +2,15 @@
 // Shared pieces of the lab's tour experiments: the common target set, the Dense graph seen only
 // from chosen viewpoints, and solving several graphs with the same solver work.
 
+#include <algorithm>
+#include <atomic>
 #include <cstdint>
+#include <exception>
+#include <mutex>
 #include <span>
+#include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "ispars/tour/gip_solver.hpp"
@@ -23,6 +29,35 @@ namespace ispars::lab {
 /// The dense roadmap as a tour graph in which only `viewpoints` (dense ids) see POIs: Dense
 /// routing with a sparse roadmap's viewpoints. Separates "viewpoints lost" from "routing lost".
 [[nodiscard]] InspectionGraph with_viewpoints(const Roadmap& dense, std::span<const VertexId> viewpoints);
+
+/// Runs job(i) for i in [0, count) on `jobs` threads (the caller's included), each taking the
+/// next index; after a job throws, no new one starts and the first error is rethrown.
+template <class Job>
+void run_jobs(std::size_t count, unsigned jobs, Job&& job) {
+  std::atomic<std::size_t> next{0};
+  std::mutex mutex;
+  std::string failure;
+  const auto worker = [&] {
+    for (std::size_t i; (i = next++) < count;) {
+      {
+        std::lock_guard lock(mutex);
+        if (!failure.empty()) return;
+      }
+      try {
+        job(i);
+      } catch (const std::exception& e) {
+        std::lock_guard lock(mutex);
+        if (failure.empty()) failure = e.what();
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned j = 1; j < std::max(1u, jobs); ++j) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (!failure.empty()) throw std::runtime_error(failure);
+}
 
 /// The same solver work for every graph: an iteration cap (deterministic, the same on any
 /// machine) with a wall-clock cap as a safety net, one solver thread per graph, `jobs` graphs

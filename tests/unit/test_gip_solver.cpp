@@ -81,6 +81,31 @@ TEST(GipSolver, ValidationCatchesBrokenTours) {
   EXPECT_FALSE(validate_tour(g, 0, r.targets, t).covers_targets);
 }
 
+// A warm start: the first chain begins from a given walk, so the result is never costlier, even
+// after one iteration; a cold start with the same work is costlier on some instance.
+TEST(GipSolver, AWarmStartIsNeverBeatenByTheResult) {
+  std::size_t helped = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    const InspectionGraph g = random_instance(seed + 200, 150, 14);
+    GipOptions long_run;
+    long_run.seed = seed;
+    long_run.max_iterations = 3000;
+    long_run.budget_seconds = 60;
+    long_run.lp_bound = false;
+    const GipResult good = solve_gip(g, long_run);
+    GipOptions short_run = long_run;
+    short_run.seed = seed + 1000;
+    short_run.max_iterations = 1;
+    const GipResult cold = solve_gip(g, short_run);
+    short_run.initial_walk = good.tour.walk;
+    const GipResult warm = solve_gip(g, short_run);
+    EXPECT_TRUE(warm.validation.valid()) << warm.validation.problem;
+    EXPECT_LE(warm.tour.cost, good.tour.cost + 1e-9) << "instance " << seed;
+    helped += cold.tour.cost > warm.tour.cost + 1e-9;
+  }
+  EXPECT_GT(helped, 0u) << "one iteration from scratch never did worse: the test shows nothing";
+}
+
 TEST(GipSolver, BadInputIsNamed) {
   const auto expect = [](const InspectionGraph& g, const GipOptions& o, const std::string& needle) {
     try {
@@ -108,6 +133,9 @@ TEST(GipSolver, BadInputIsNamed) {
   expect(g, o, "tour: targets: the target set is empty");
   o.targets = std::vector<PoiId>{0, 9};
   expect(g, o, "unknown POI ids (the first: 9");
+  GipOptions warm;
+  warm.initial_walk = {0, 1, 7, 0};
+  expect(g, warm, "tour: initial_walk: vertex 7 is not in the graph (4 vertices)");
   o.targets = std::vector<PoiId>{0, 1};
   expect(g, o, "1 targets are seen by no vertex reachable from the root (the first: POI 1)");
   o.targets = std::vector<PoiId>{0};

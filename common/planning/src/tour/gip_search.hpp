@@ -71,6 +71,19 @@ class Chain {
     return s;
   }
 
+  // The tour through `candidates` in their order (the root first, each once), not yet searched:
+  // a warm start. Its cost is the closure's, never above the walk's it came from.
+  Solution through(const std::vector<std::uint32_t>& candidates) const {
+    Solution s = empty();
+    for (const std::uint32_t v : candidates) {
+      if (s.in_tour[v]) continue;
+      const std::size_t last = s.seq.size() - 1;
+      insert(s, v, last, c_.d(s.seq[last], v) + c_.d(v, s.seq[0]) - c_.d(s.seq[last], s.seq[0]));
+    }
+    s.cost = tour_cost(s.seq);
+    return s;
+  }
+
   void add_coverage(Solution& s, std::uint32_t v) const {
     for (const auto t : c_.sees[v]) {
       if (s.count[t]++ == 0) --s.uncovered;

@@ -32,6 +32,7 @@ using gip_search::Solution;
 constexpr std::size_t kQuickTourAbove = 20'000;
 // With rows on first use, the first tour is built from each target's this many richest viewers.
 constexpr std::size_t kFirstTourViewers = 1;
+constexpr std::uint32_t kNotCandidate = std::numeric_limits<std::uint32_t>::max();
 
 // Dijkstra from `source` (graph_search.hpp), ending once `stop_at` is settled.
 void dijkstra_to(const InspectionGraph& g, VertexId source, std::vector<double>& dist, std::vector<VertexId>* parent,
@@ -107,6 +108,11 @@ void check_options(const InspectionGraph& g, const GipOptions& o) {
   }
   if (!(o.budget_seconds >= 0.0) || !std::isfinite(o.budget_seconds)) {
     throw InputError("tour", "budget", fmt::format("must be a finite number of seconds >= 0, got {}", o.budget_seconds));
+  }
+  for (const VertexId v : o.initial_walk) {
+    if (v >= g.vertex_count()) {
+      throw InputError("tour", "initial_walk", fmt::format("vertex {} is not in the graph ({} vertices)", v, g.vertex_count()));
+    }
   }
   if (!g.neighbors(o.root).empty()) return;
   const auto sees = g.visible(o.root);
@@ -234,7 +240,7 @@ class GipRun {
   // One chain: a greedy first tour, local search, then destroy/repair with annealing.
   void search_chain(const Closure& c, std::size_t index, const std::vector<char>* first_pool) {
     Chain chain(c, o_.seed * 0x9E3779B97F4A7C15ull + index + 1);
-    Solution current = chain.empty();
+    Solution current = index == 0 && !o_.initial_walk.empty() ? chain.through(initial_candidates(c)) : chain.empty();
     chain.repair(current, index == 0 ? 0.0 : 0.3, first_pool);
     chain.local_search(current);
     offer(current, index);
@@ -264,6 +270,17 @@ class GipRun {
       }
       temperature *= 0.9995;
     }
+  }
+
+  // The candidates the initial walk passes, in walk order (the root's candidate is 0).
+  std::vector<std::uint32_t> initial_candidates(const Closure& c) const {
+    std::vector<std::uint32_t> of_vertex(g_.vertex_count(), kNotCandidate);
+    for (std::uint32_t i = 0; i < c.n; ++i) of_vertex[c.vertex[i]] = i;
+    std::vector<std::uint32_t> out;
+    for (const VertexId v : o_.initial_walk) {
+      if (v < of_vertex.size() && of_vertex[v] != kNotCandidate && of_vertex[v] != 0) out.push_back(of_vertex[v]);
+    }
+    return out;
   }
 
   void search(const Closure& c) {

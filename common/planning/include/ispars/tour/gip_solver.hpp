@@ -32,6 +32,10 @@ struct GipOptions {
   std::uint64_t max_iterations = 0;
   std::uint64_t seed = 1;
   unsigned threads = 1;
+  /// A closed walk from the root to start from (a warm start): the first chain begins with the
+  /// tour through its vertices that see targets, in walk order, so the result is never costlier
+  /// than the walk (when the walk sees every target). Empty: every chain builds its own.
+  std::vector<VertexId> initial_walk;
   /// Called (under a lock, from any solver thread) when the best tour improves.
   std::function<void(double seconds, double cost)> on_improvement;
   /// When set and true, the search stops early and returns the best tour so far.
