@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds, and runs the tests with ctest.
 #
-#   deploy/test.sh            what CI runs, about 30 minutes on 2 cores (29 min on 2026-11-27, a
-#                             clean clone: build 9, tests 12, sanitizer pass 8):
-#                             1. the Release build with warnings as errors, every test;
+#   deploy/test.sh            what CI runs after deploy/quickstart.sh (.ci/run), on its build:
+#                             1. the rest of the Release build (the tests), file by file, warnings
+#                                as errors; every header on its own; every test;
 #                             2. AddressSanitizer + UBSan + LeakSanitizer on the service core's
 #                                unit tests (storage, record decoding, sessions, claims, wire).
+#                             A clean clone's .ci/run took 50.4 min on 2 cores on 2026-11-28
+#                             (quickstart 15, tests' build 9, headers 4, tests 14, sanitizers 8).
 #   deploy/test.sh --full     the whole matrix, about an hour on 2 cores: Release, then every
 #                             test under ASan+UBSan+LSan (real daemons included), then the unit
 #                             tests under ThreadSanitizer. Run it before a release.
