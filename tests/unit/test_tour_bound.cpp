@@ -101,6 +101,34 @@ TEST(TourBound, StopsWhenAskedAndWhenTheGraphIsTooLarge) {
   EXPECT_EQ(skipped.bound, 0.0);
 }
 
+TEST(TourBound, TheSizeCapHoldsDropsIdleCutsAndNeverClaimsMore) {
+  // Under a cap a few cuts wide the LP drops the cuts that do not bind and finds them again; its
+  // nonzeros never pass the cap and its bound stays proven (<= the optimum, <= the uncapped bound).
+  int dropped_somewhere = 0, solved_after_drops = 0;
+  for (std::uint64_t seed = 1; seed <= 24; ++seed) {
+    const std::size_t pois = 6 + seed % 7;
+    const InspectionGraph g = test::random_instance(seed, 20 + seed % 20, pois, 3);
+    const double optimum = test::exact_optimum(g, pois);
+    TourBoundOptions options;
+    options.targets = all_pois(pois);
+    options.budget_seconds = 30;
+    const TourBoundResult free = lp_tour_bound(g, options);
+    options.max_cut_nonzeros = 4 * g.edge_count();
+    const TourBoundResult capped = lp_tour_bound(g, options);
+    EXPECT_LE(capped.peak_nonzeros, options.max_cut_nonzeros) << "instance " << seed;
+    EXPECT_LE(capped.bound, optimum * (1.0 + 1e-9)) << "instance " << seed;
+    EXPECT_LE(capped.bound, free.bound * (1.0 + 1e-6)) << "instance " << seed;
+    EXPECT_FALSE(capped.complete && capped.capped) << "instance " << seed;
+    if (capped.complete) {
+      EXPECT_NEAR(capped.bound, free.bound, 1e-6 * free.bound) << "instance " << seed << ": the same LP optimum";
+    }
+    dropped_somewhere += capped.dropped > 0 ? 1 : 0;
+    solved_after_drops += capped.dropped > 0 && capped.complete ? 1 : 0;
+  }
+  EXPECT_GT(dropped_somewhere, 0) << "no instance reached the cap: the test does not test it";
+  EXPECT_GT(solved_after_drops, 0) << "no capped LP reached its optimum over all cuts";
+}
+
 TEST(CutSeparation, MaxFlowAndBothCutsOnAPath) {
   // root 0 - 1 - 2 - 3, capacities 1.5, 0.5, 2; the group is {3}.
   const std::vector<RoadmapEdge> edges{{0, 1, 1.0}, {1, 2, 1.0}, {2, 3, 1.0}};

@@ -212,6 +212,8 @@ class GipRun {
     result_.bound_complete = bounded_.complete;
     result_.bound_rounds = bounded_.rounds;
     result_.bound_cuts = bounded_.cuts;
+    result_.bound_dropped = bounded_.dropped;
+    result_.bound_peak_nonzeros = bounded_.peak_nonzeros;
     result_.bound_note = bounded_.skipped;
   }
 

@@ -74,6 +74,26 @@ double proven_bound(const ClpSimplex& lp, const std::vector<double>& costs) {
   return std::max(0.0, lambda * value * (1.0 - 1e-9));
 }
 
+// Drops the rows whose dual is 0 (the LP's optimum stays: its dual stays feasible with the same
+// objective) and forgets their signatures, so that a cut violated again later is added again.
+std::size_t drop_idle_cuts(ClpSimplex& lp, std::vector<std::uint64_t>& row_signature,
+                           std::unordered_set<std::uint64_t>& known) {
+  const double* dual = lp.dualRowSolution();
+  std::vector<int> idle;
+  std::vector<std::uint64_t> kept;
+  for (int r = 0; r < lp.numberRows(); ++r) {
+    if (std::abs(dual[r]) <= 1e-12) {
+      idle.push_back(r);
+      known.erase(row_signature[static_cast<std::size_t>(r)]);
+    } else {
+      kept.push_back(row_signature[static_cast<std::size_t>(r)]);
+    }
+  }
+  if (!idle.empty()) lp.deleteRows(static_cast<int>(idle.size()), idle.data());
+  row_signature = std::move(kept);
+  return idle.size();
+}
+
 }  // namespace
 
 TourBoundResult lp_tour_bound(const InspectionGraph& graph, const TourBoundOptions& o) {
@@ -105,10 +125,19 @@ TourBoundResult lp_tour_bound(const InspectionGraph& graph, const TourBoundOptio
   lp.addColumns(static_cast<int>(costs.size()), lower.data(), upper.data(), costs.data(), nullptr, nullptr, nullptr);
 
   std::unordered_set<std::uint64_t> known;
+  std::vector<std::uint64_t> row_signature;  // of each LP row, in row order
   std::vector<int> row_starts{0}, row_columns;
+  bool full = false;  // this round's cuts reached the cap
   const auto queue_cut = [&](const std::vector<char>& in_s) {
     std::vector<int> columns = cut_columns(g, in_s);
-    if (columns.empty() || !known.insert(signature(columns)).second) return;
+    if (columns.empty()) return;
+    if (static_cast<std::size_t>(lp.getNumElements()) + row_columns.size() + columns.size() > o.max_cut_nonzeros) {
+      full = true;
+      return;
+    }
+    const std::uint64_t sig = signature(columns);
+    if (!known.insert(sig).second) return;
+    row_signature.push_back(sig);
     row_columns.insert(row_columns.end(), columns.begin(), columns.end());
     row_starts.push_back(static_cast<int>(row_columns.size()));
   };
@@ -120,6 +149,7 @@ TourBoundResult lp_tour_bound(const InspectionGraph& graph, const TourBoundOptio
       const std::vector<double> ones(row_columns.size(), 1.0);
       lp.addRows(added, row_lower.data(), row_upper.data(), row_starts.data(), row_columns.data(), ones.data());
       result.cuts += static_cast<std::size_t>(added);
+      result.peak_nonzeros = std::max(result.peak_nonzeros, static_cast<std::size_t>(lp.getNumElements()));
     }
     row_starts.assign(1, 0);
     row_columns.clear();
@@ -148,6 +178,11 @@ TourBoundResult lp_tour_bound(const InspectionGraph& graph, const TourBoundOptio
       result.trace.emplace_back(elapsed(), bound);
       if (o.on_improvement) o.on_improvement(elapsed(), bound);
     }
+    // Past half the cap, the cuts that do not bind make room for new ones.
+    if (static_cast<std::size_t>(lp.getNumElements()) > o.max_cut_nonzeros / 2) {
+      result.dropped += drop_idle_cuts(lp, row_signature, known);
+    }
+    full = false;
     // Separation: a group the root sends less than 2 units of flow to, on capacities x.
     flow.set_capacities(lp.primalColumnSolution());
     for (const auto& group : g.groups) {
@@ -158,7 +193,8 @@ TourBoundResult lp_tour_bound(const InspectionGraph& graph, const TourBoundOptio
     }
     if (stopped()) break;
     if (flush_cuts() == 0) {
-      result.complete = true;
+      result.complete = !full;
+      result.capped = full;  // the cuts that bind fill the cap: the bound stands as proven
       break;
     }
   }

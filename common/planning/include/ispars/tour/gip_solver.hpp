@@ -59,7 +59,9 @@ struct GipResult {
   std::vector<std::pair<double, double>> bound_trace;  ///< (seconds, proven bound) at each rise.
   bool bound_complete = false;                   ///< The LP was solved over all its cuts.
   std::size_t bound_rounds = 0;                  ///< LP solves.
-  std::size_t bound_cuts = 0;                    ///< LP rows.
+  std::size_t bound_cuts = 0;                    ///< LP rows added.
+  std::size_t bound_dropped = 0;                 ///< LP rows dropped at its size cap (tour_bound.hpp).
+  std::size_t bound_peak_nonzeros = 0;           ///< The LP's constraint nonzeros at their most.
   std::string bound_note;                        ///< Why no LP bound was computed, when none was.
   double seconds = 0.0;
   std::uint64_t iterations = 0;                  ///< Large-neighbourhood iterations, all threads.

@@ -22,6 +22,11 @@
 
 namespace ispars {
 
+/// Bytes the LP holds per constraint nonzero at its cap, for memory leases. Measured, not proven:
+/// bridge_n1000 (all edges, 60 s) peaked at 180 MB with 3,000,000 nonzeros beside a 25 MB search
+/// (about 52 bytes each); rounded up.
+inline constexpr double kLpBytesPerNonzero = 64.0;
+
 struct TourBoundOptions {
   VertexId root = 0;
   /// Targets, each seen by some vertex of the root's component (solve_gip checks this).
@@ -32,6 +37,11 @@ struct TourBoundOptions {
   std::function<bool()> should_stop;
   /// Above this many edges in the graph the LP is not attempted (one column per edge).
   std::size_t max_edges = 500'000;
+  /// The LP's size cap, in constraint nonzeros (kLpBytesPerNonzero each). Past half of
+  /// it, every cut whose dual is 0 is dropped (the LP's optimum is unchanged: its dual stays
+  /// feasible with the same objective) and may be found again later; a round adds cuts only while
+  /// they fit, and when none fits the rounds stop (`capped`) with the bound proven so far.
+  std::size_t max_cut_nonzeros = 3'000'000;
   /// Called (from the bounding thread) whenever the proven bound rises.
   std::function<void(double seconds, double bound)> on_improvement;
 };
@@ -41,6 +51,9 @@ struct TourBoundResult {
   bool complete = false;    ///< No violated cut is left: the LP optimum over all cuts.
   std::size_t rounds = 0;   ///< LP solves.
   std::size_t cuts = 0;     ///< Rows added.
+  std::size_t dropped = 0;  ///< Rows dropped at the size cap (their dual was 0).
+  std::size_t peak_nonzeros = 0;  ///< The LP's constraint nonzeros at their most.
+  bool capped = false;      ///< The cap stopped the rounds: the cuts that bind fill it.
   double seconds = 0.0;     ///< Wall time of the rounds (the bound depends on it: a budget stops them).
   std::vector<std::pair<double, double>> trace;  ///< (seconds, bound) at each rise.
   std::string skipped;      ///< Non-empty when no LP was solved, and why.
