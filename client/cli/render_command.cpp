@@ -57,11 +57,11 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
   if (args.tour_budget > 0) {
     const auto reply = args.task.empty() ? client.tour(args.scene, args.tour_budget, 1, {}, {})
                                          : client.task_tour(args.scene, args.task, args.tour_budget, 1, {});
-    // The shortcut tour: the path a robot flies (the roadmap walk when the daemon sent none).
+    // The flown tour: the path a robot flies (the roadmap walk when the daemon sent none).
     const client::Tour& r = reply.tour;
-    const auto& drawn = r.shortcut_path.empty() ? r.waypoints : r.shortcut_path;
+    const auto& drawn = r.flown_path.empty() ? r.waypoints : r.flown_path;
     for (const auto& p : drawn) tour.emplace_back(p.x(), p.y(), p.z());
-    tour_cost = r.shortcut_path.empty() ? r.cost : r.shortcut_cost;
+    tour_cost = r.flown_path.empty() ? r.cost : r.flown_cost;
   }
   RenderRequest request;
   request.width = args.width;

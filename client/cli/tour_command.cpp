@@ -33,6 +33,12 @@ nlohmann::json points_json(const Points& points) {
 
 std::size_t steps(std::size_t stops) { return stops == 0 ? 0 : stops - 1; }
 
+nlohmann::json stages_json(const std::vector<client::TourStage>& stages) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const client::TourStage& s : stages) out.push_back({{"stage", s.name}, {"cost", s.cost}, {"seconds", s.seconds}});
+  return out;
+}
+
 nlohmann::json tour_json(const client::Tour& r) {
   return {{"cost", r.cost},
           {"covered", r.covered},
@@ -46,14 +52,23 @@ nlohmann::json tour_json(const client::Tour& r) {
           {"walk_steps", steps(r.walk.size())},
           {"shortcut_cost", r.shortcut_cost},
           {"shortcut_steps", steps(r.shortcut_stops.size())},
+          {"flown_cost", r.flown_cost},
+          {"flown_steps", steps(r.flown_path.size())},
+          {"stages", stages_json(r.stages)},
+          {"graph_vertices", r.graph_vertices},
+          {"graph_edges", r.graph_edges},
           {"version", r.version}};
 }
 
 void print_tour(const client::TourReply& reply) {
   const client::Tour& r = reply.tour;
   std::cout << reply.message << "\n";
-  std::cout << fmt::format("  shortcut: {:.6g} in {} straight steps (the path as flown)\n", r.shortcut_cost,
-                           steps(r.shortcut_stops.size()));
+  std::cout << fmt::format("  flown: {:.6g} in {} straight steps (the roadmap walk {:.6g}, shortcut {:.6g})\n",
+                           r.flown_cost, steps(r.flown_path.size()), r.cost, r.shortcut_cost);
+  std::string stages;
+  for (const client::TourStage& s : r.stages) stages += fmt::format("{}{} {:.6g} at {:.2f} s", stages.empty() ? "" : ", ", s.name, s.cost, s.seconds);
+  std::cout << "  stages: " << stages << "\n";
+  std::cout << fmt::format("  searched last on {} vertices and {} edges\n", r.graph_vertices, r.graph_edges);
   std::cout << fmt::format("  {} roadmap steps, proven lower bound {:.6g} (gap {:.1f}%{}), {}\n",
                            steps(r.walk.size()), r.lower_bound,
                            r.cost > 0 ? 100.0 * (r.cost - r.lower_bound) / r.cost : 0.0,
@@ -93,7 +108,8 @@ class TourCommand final : public Command {
       nlohmann::json file = result;
       file["walk"] = r.walk;
       file["positions"] = points_json(r.waypoints);
-      file["path"] = points_json(r.shortcut_path);  // the shortcut tour: what render draws
+      file["path"] = points_json(r.flown_path);  // the flown tour: what render draws
+      file["flown_sees"] = r.flown_sees;
       write_text(out_, file.dump() + "\n");
     }
     if (json_) {

@@ -3,6 +3,8 @@
 #include "ispars/client/wire_calls.hpp"
 #include "ispars/wire/convert.hpp"
 
+#include <algorithm>
+
 namespace ispars::client {
 namespace {
 
@@ -155,6 +157,17 @@ TourReply to_tour_reply(const msg::Reply& reply) {
   tour.shortcut_stops = t.shortcut_stops();
   tour.shortcut_path = positions(t.shortcut_path());
   tour.shortcut_cost = t.shortcut_cost();
+  tour.flown_path = positions(t.flown_path());
+  const auto& offsets = t.flown_sees_offsets();
+  for (std::size_t i = 0; i + 1 < offsets.size(); ++i) {
+    const std::uint32_t from = std::min<std::uint32_t>(offsets[i], static_cast<std::uint32_t>(t.flown_sees().size()));
+    const std::uint32_t to = std::clamp<std::uint32_t>(offsets[i + 1], from, static_cast<std::uint32_t>(t.flown_sees().size()));
+    tour.flown_sees.emplace_back(t.flown_sees().begin() + from, t.flown_sees().begin() + to);
+  }
+  tour.flown_cost = t.flown_cost();
+  for (const msg::TourStage& s : t.stages()) tour.stages.push_back({s.name().to_string(), s.cost(), s.seconds()});
+  tour.graph_vertices = t.graph_vertices();
+  tour.graph_edges = t.graph_edges();
   return out;
 }
 

@@ -140,7 +140,8 @@ struct TourCommandOptions {
   std::uint64_t iterations = 0;
   std::string targets;         ///< A file of POI ids (default: every POI seen from the root's component).
   std::string bound = "lp";    ///< "lp" or "simple".
-  std::string scene;           ///< The roadmap's scene YAML: shortcut the tour with its collision checker.
+  std::string scene;           ///< The roadmap's scene YAML: fly the tour (flown_tour.hpp) with its checks.
+  std::uint64_t build_samples = 0;  ///< With scene: N of the roadmap's build, for the corridor's density.
   bool json = false;
   std::string out;
 };

@@ -17,6 +17,7 @@
 #include "ispars/input_error.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "ispars/scene/scene.hpp"
+#include "ispars/tour/flown_tour.hpp"
 #include "ispars/tour/tour_shortcut.hpp"
 #include "json_output.hpp"
 
@@ -50,19 +51,26 @@ std::vector<PoiId> read_targets(const std::string& path) {
   return targets;
 }
 
-// The tour shortcut by the scene's collision checker (tour_shortcut.hpp), when a scene is given.
-std::optional<ShortcutTour> shortcut_with_scene(const TourCommandOptions& options, const RoadmapFileGraph& input,
-                                                const GipResult& r) {
+// The daemon's pipeline (flown_tour.hpp) on the roadmap, when its scene is given.
+std::optional<FlownTour> fly_with_scene(const TourCommandOptions& options, const RoadmapFileGraph& input,
+                                        const GipOptions& search) {
   if (options.scene.empty()) return std::nullopt;
   const Scene scene = Scene::build(parse_scene_config(options.scene));
   if (input.positions.empty() || (input.positions[0] - scene.config().root).norm() > 1e-6) {
     throw InputError(options.scene, "--scene", "its root is not the roadmap's root (vertex 0): not the roadmap's scene");
   }
-  const SegmentValid valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
-  ShortcutTour t = shortcut_tour(input.graph, input.positions, r.targets, r.tour, valid);
-  const ShortcutValidation check = check_shortcut_tour(input.graph, input.positions, 0, r.targets, t, valid);
-  if (!check.valid()) throw std::runtime_error("tour: the shortcut tour failed its check: " + check.problem);
+  FlownTourOptions flown;
+  flown.search = search;
+  flown.build_samples = options.build_samples;
+  FlownTour t = fly_tour(scene, input.graph, input.positions, flown);
+  if (!t.check.valid()) throw std::runtime_error("tour: the flown tour failed its check: " + t.check.problem);
   return t;
+}
+
+nlohmann::json stages_json(const std::vector<FlownStage>& stages) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const FlownStage& s : stages) out.push_back({{"stage", s.name}, {"cost", s.cost}, {"seconds", s.seconds}});
+  return out;
 }
 
 }  // namespace
@@ -102,9 +110,11 @@ int run_tour(const TourCommandOptions& options) {
     solve.on_improvement = [show](double t, double cost) { show(t, cost, -1.0); };
     solve.on_bound = [show](double t, double bound) { show(t, -1.0, bound); };
   }
-  const GipResult r = solve_gip(input.graph, solve);
+  std::optional<FlownTour> flown = fly_with_scene(options, input, solve);
+  const GipResult r = flown ? flown->search : solve_gip(input.graph, solve);
   if (live) std::cerr << '\n';
-  const std::optional<ShortcutTour> shortcut = shortcut_with_scene(options, input, r);
+  const std::optional<ShortcutTour> shortcut =
+      flown ? std::optional<ShortcutTour>(flown->roadmap_shortcut) : std::nullopt;
 
   nlohmann::json trace = nlohmann::json::array();
   for (const auto& [t, c] : r.trace) trace.push_back({t, c});
@@ -122,12 +132,19 @@ int run_tour(const TourCommandOptions& options) {
                               {"bound_complete", r.bound_complete},
                               {"bound_rounds", r.bound_rounds},
                               {"bound_cuts", r.bound_cuts},
+                              {"bound_dropped", r.bound_dropped},
+                              {"bound_peak_nonzeros", r.bound_peak_nonzeros},
                               {"bound_note", r.bound_note},
                               {"gap", r.lower_bound && r.tour.cost > 0 ? (r.tour.cost - *r.lower_bound) / r.tour.cost : 0.0},
                               {"walk_steps", r.tour.walk.size() - 1},
                               {"shortcut_cost", shortcut ? nlohmann::json(shortcut->cost) : nlohmann::json()},
                               {"shortcut_steps", shortcut ? shortcut->stops.size() - 1 : 0},
                               {"shortcut_segments_checked", shortcut ? shortcut->segments_checked : 0},
+                              {"flown_cost", flown ? nlohmann::json(flown->cost) : nlohmann::json()},
+                              {"flown_steps", flown ? flown->stops.size() - 1 : 0},
+                              {"stages", flown ? stages_json(flown->stages) : nlohmann::json::array()},
+                              {"graph_vertices", flown ? flown->graph_vertices : input.graph.vertex_count()},
+                              {"graph_edges", flown ? flown->graph_edges : input.graph.edge_count()},
                               {"candidates", r.candidates},
                               {"iterations", r.iterations},
                               {"vertices", input.graph.vertex_count()},
@@ -139,9 +156,9 @@ int run_tour(const TourCommandOptions& options) {
       nlohmann::json positions = nlohmann::json::array();
       for (const VertexId v : r.tour.walk) positions.push_back(to_json(input.positions[v]));
       file["positions"] = std::move(positions);
-      nlohmann::json path = nlohmann::json::array();  // what render draws: the shortcut tour, or the walk
-      if (shortcut) {
-        for (const Vec3& p : shortcut->path) path.push_back(to_json(p));
+      nlohmann::json path = nlohmann::json::array();  // what render draws: the flown tour, or the walk
+      if (flown) {
+        for (const Vec3& p : flown->stops) path.push_back(to_json(p));
       } else {
         path = file["positions"];
       }
@@ -160,10 +177,13 @@ int run_tour(const TourCommandOptions& options) {
     std::cout << fmt::format("tour: cost {:.6g}, {} steps, covers {}/{} targets, {}\n", r.tour.cost,
                              r.tour.walk.size() - 1, r.tour.covered.size(), r.targets.size(),
                              r.validation.valid() ? "valid" : "INVALID: " + r.validation.problem);
-    if (shortcut) {
-      std::cout << fmt::format("shortcut tour: cost {:.6g} ({:.1f}% shorter), {} straight steps, {} segments checked\n",
-                               shortcut->cost, 100.0 * (1.0 - shortcut->cost / r.tour.cost), shortcut->stops.size() - 1,
-                               shortcut->segments_checked);
+    if (flown) {
+      std::cout << fmt::format("shortcut tour: cost {:.6g} ({:.1f}% shorter), {} straight steps\n", shortcut->cost,
+                               100.0 * (1.0 - shortcut->cost / r.tour.cost), shortcut->stops.size() - 1);
+      std::cout << fmt::format("flown tour: cost {:.6g} ({:.1f}% shorter than the walk), {} straight steps, searched "
+                               "last on {} vertices and {} edges, {} segments checked\n",
+                               flown->cost, 100.0 * (1.0 - flown->cost / r.tour.cost), flown->stops.size() - 1,
+                               flown->graph_vertices, flown->graph_edges, flown->segments_checked);
     }
     if (r.lower_bound) {
       std::cout << fmt::format("proven lower bound {:.6g} (gap {:.1f}%){}\n", *r.lower_bound,
@@ -194,8 +214,12 @@ CLI::App* add_tour_command(CLI::App& parent, TourCommandOptions& options) {
       ->check(CLI::IsMember({"lp", "simple"}));
   cmd->add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
   cmd->add_option("--out", options.out, "Write the tour (walk, positions, trace, path: what render draws) as JSON");
-  cmd->add_option("--scene", options.scene, "The roadmap's scene YAML: also shortcut the tour (straight checked segments)")
+  cmd->add_option("--scene", options.scene,
+                  "The roadmap's scene YAML: fly the tour as the daemon does (shortcut, corridor, refinement, "
+                  "checked; the budget is the whole pipeline's)")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--build-samples", options.build_samples,
+                  "With --scene: the samples the roadmap was built from, for the corridor's density (0: no corridor)");
   return cmd;
 }
 

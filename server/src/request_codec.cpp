@@ -61,7 +61,24 @@ msg::TourResult to_message(const TourOutcome& o) {
   m.covered(static_cast<std::uint32_t>(r.tour.covered.size()));
   m.target_count(static_cast<std::uint32_t>(r.targets.size()));
   m.lower_bound(r.lower_bound.value_or(0.0));
-  m.valid(r.validation.valid() && o.shortcut_validation.valid());  // the walk and the shortcut path both
+  // The walk, its shortcut and the flown tour: each passed its independent check.
+  m.valid(r.validation.valid() && o.shortcut_validation.valid() && o.flown_valid);
+  for (const Vec3& p : o.flown_path) m.flown_path().push_back(wire::to_message(p));
+  m.flown_sees_offsets().push_back(0);
+  for (const std::vector<PoiId>& seen : o.flown_sees) {
+    m.flown_sees().insert(m.flown_sees().end(), seen.begin(), seen.end());
+    m.flown_sees_offsets().push_back(static_cast<std::uint32_t>(m.flown_sees().size()));
+  }
+  m.flown_cost(o.flown_cost);
+  for (const FlownStage& s : o.stages) {
+    msg::TourStage stage;
+    stage.name(s.name);
+    stage.cost(s.cost);
+    stage.seconds(s.seconds);
+    m.stages().push_back(std::move(stage));
+  }
+  m.graph_vertices(o.graph_vertices);
+  m.graph_edges(o.graph_edges);
   for (const auto& [t, c] : r.trace) {
     m.trace().push_back(t);
     m.trace().push_back(c);

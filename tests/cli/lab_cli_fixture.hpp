@@ -28,6 +28,15 @@ inline std::string slurp(const std::filesystem::path& p) {
   return s.str();
 }
 
+// The last line of a command's output: where --json puts its one object.
+inline std::string last_line(const std::string& text) {
+  const auto end = text.find_last_not_of('\n');
+  if (end == std::string::npos) return {};
+  const auto start = text.rfind('\n', end);
+  const auto first = start == std::string::npos ? 0 : start + 1;
+  return text.substr(first, end - first + 1);
+}
+
 class LabCli : public ::testing::Test {
  protected:
   void SetUp() override {

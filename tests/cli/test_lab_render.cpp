@@ -11,6 +11,7 @@ namespace {
 
 using ispars::test::LabCli;
 using ispars::test::LabRun;
+using ispars::test::last_line;
 using ispars::test::slurp;
 
 class LabRender : public LabCli {
@@ -39,7 +40,7 @@ TEST_F(LabRender, DrawsTheRoadmapItsDensePairAndTheTourWithTheFilesCounts) {
   const LabRun run = lab("render " + scene_ + " --roadmap " + roadmap_ + " --dense --tour " + tour_ +
                          " --width 320 --height 240 --json --out " + png.string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const auto json = nlohmann::json::parse(run.out.substr(run.out.rfind('{')));
+  const auto json = nlohmann::json::parse(last_line(run.out));
   const auto file = nlohmann::json::parse(slurp(roadmap_));
   EXPECT_EQ(json["roadmap_edges"], file["graphs"]["roadmap"]["edges"].size());
   EXPECT_EQ(json["roadmap_edges_drawn"], json["roadmap_edges"]);

@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <limits>
+#include <set>
 #include <thread>
 
 #include "integration/service_fixture.hpp"
@@ -67,6 +68,32 @@ TEST_F(ServiceTest, ToursAreSearchedByTheDaemonWithProgressAndValidated) {
   EXPECT_NEAR(flown, r.shortcut_cost, 1e-9 * flown);
   EXPECT_LE(r.shortcut_cost, r.cost * (1 + 1e-12));
   EXPECT_EQ(count(seen_from_stops), r.covered);  // every target (here: every POI seen from the root's component)
+  // The flown tour, checked the same way: closed at the root, every stop valid, every segment
+  // collision-free, every target seen from some stop by rays the test casts, no longer than the
+  // shortcut; and the roadmap it came from unchanged (the corridor lives in the tour's graph).
+  ASSERT_GE(r.flown_path.size(), 2u);
+  EXPECT_EQ(r.flown_path.front(), scene.config().root);
+  EXPECT_EQ(r.flown_path.back(), scene.config().root);
+  ASSERT_EQ(r.flown_sees.size(), r.flown_path.size());
+  std::set<PoiId> seen_flown;
+  double flown_length = 0;
+  for (std::size_t i = 0; i < r.flown_path.size(); ++i) {
+    EXPECT_TRUE(scene.point_valid(r.flown_path[i])) << "stop " << i;
+    const std::vector<PoiId> sees = scene.visibility().visible_pois(r.flown_path[i]);
+    seen_flown.insert(sees.begin(), sees.end());
+    for (const std::uint32_t p : r.flown_sees[i]) EXPECT_TRUE(std::binary_search(sees.begin(), sees.end(), p));
+    if (i == 0) continue;
+    EXPECT_TRUE(scene.segment_valid(r.flown_path[i - 1], r.flown_path[i])) << "flown step " << i;
+    flown_length += (r.flown_path[i] - r.flown_path[i - 1]).norm();
+  }
+  EXPECT_NEAR(flown_length, r.flown_cost, 1e-9 * flown_length);
+  EXPECT_LE(r.flown_cost, r.shortcut_cost * (1 + 1e-12));
+  EXPECT_GE(seen_flown.size(), r.covered);
+  ASSERT_GE(r.stages.size(), 2u);
+  EXPECT_EQ(r.stages.front().name, "walk");
+  EXPECT_DOUBLE_EQ(r.stages.back().cost, r.flown_cost);
+  EXPECT_GE(r.graph_edges, snapshot.roadmap.edge_count());
+  EXPECT_EQ(snapshot.version, built.version) << "the tour changed the roadmap";
   // A subset of targets, and bad tour requests.
   const Tour two = client.tour("s0", 0.3, 1, {0u}).tour;
   EXPECT_TRUE(two.valid);

@@ -62,6 +62,12 @@ def test_a_tour_reports_progress_and_a_valid_walk(ispars, served):
     assert seen and seen[-1][1] == pytest.approx(tour["cost"])
     assert tour["walk"][0] == 0 and tour["walk"][-1] == 0
     assert tour["waypoints"].shape == (len(tour["walk"]), 3)
+    # The flown tour: closed at the root, no longer than the shortcut or the walk, each stop's targets.
+    assert 0 < tour["flown_cost"] <= tour["shortcut_cost"] <= tour["cost"]
+    assert np.array_equal(tour["flown_path"][0], tour["flown_path"][-1])
+    assert len(tour["flown_sees"]) == len(tour["flown_path"])
+    assert [s["stage"] for s in tour["stages"]][:2] == ["walk", "shortcut"]
+    assert tour["stages"][-1]["cost"] == pytest.approx(tour["flown_cost"])
     path = client.path(SCENE, [0, -12, 1.5], tour["waypoints"][len(tour["walk"]) // 2])
     assert path["length"] > 0 and path["waypoints"].shape[1] == 3
     assert client.verify(SCENE)["violations"] == 0

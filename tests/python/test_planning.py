@@ -66,6 +66,26 @@ def test_a_tour_costs_what_ispars_lab_finds_on_the_saved_file(ispars, built, tmp
     assert ispars.load_roadmap(str(path), "dense").vertex_count == built.dense.vertex_count
 
 
+def test_a_flown_tour_is_ispars_labs_and_never_longer_than_the_walk(ispars, built, tmp_path):
+    scene = built.scene
+    path = tmp_path / "roadmap.json"
+    built.roadmap.save(str(path), scene.name, scene.root, scene.pois, dense=built.dense)
+    lab = run_json("ispars-lab", "tour", path, "--budget", 1000, "--iterations", 300, "--seed", 2,
+                   "--bound", "simple", "--scene", SCENE, "--build-samples", 5000, "--json")
+    mine = ispars.tour(built.roadmap, budget=1000, iterations=300, seed=2, bound=False, scene=scene, samples=5000)
+    assert mine["valid"] and lab["valid"]
+    assert mine["flown_cost"] == lab["flown_cost"]
+    assert mine["flown_cost"] <= mine["shortcut_cost"] <= mine["cost"]
+    assert [s["stage"] for s in mine["stages"]][:3] == ["walk", "shortcut", "corridor"]
+    stops = mine["flown_path"]
+    assert stops.shape[1] == 3 and np.array_equal(stops[0], stops[-1])
+    assert np.isclose(np.linalg.norm(np.diff(stops, axis=0), axis=1).sum(), mine["flown_cost"])
+    assert len(mine["flown_sees"]) == len(stops)
+    seen = np.unique(np.concatenate(mine["flown_sees"]))
+    assert np.array_equal(seen, mine["targets"]), "every target seen from some stop"
+    assert mine["graph_edges"] > built.roadmap.edge_count, "searched last on the roadmap with its corridor"
+
+
 def test_arrays_are_read_only_views_of_the_roadmap(built):
     r = built.roadmap
     positions = r.positions

@@ -104,6 +104,13 @@ TEST(RequestCodec, ATourReplyCarriesTheWalkTheShortcutTheBoundAndTheTraces) {
   o.shortcut.stops = {0, 3};
   o.shortcut.path = {Vec3(0, 0, 0), Vec3(1, 2, 3)};
   o.shortcut.cost = 7.25;
+  o.flown_path = {Vec3(0, 0, 0), Vec3(1, 1, 3), Vec3(0, 0, 0)};
+  o.flown_sees = {{}, {1, 2, 4}, {}};
+  o.flown_cost = 6.5;
+  o.flown_valid = true;
+  o.stages = {{"walk", 8.5, 1.0}, {"shortcut", 7.25, 1.0}, {"refine", 6.5, 1.5}};
+  o.graph_vertices = 40;
+  o.graph_edges = 300;
   o.version = 12;
   msg::TourResult m = to_message(o);
   EXPECT_EQ(m.walk(), (std::vector<std::uint32_t>{0, 3, 0}));
@@ -121,8 +128,22 @@ TEST(RequestCodec, ATourReplyCarriesTheWalkTheShortcutTheBoundAndTheTraces) {
   EXPECT_EQ(m.trace(), (std::vector<double>{0.5, 9.0, 1.25, 8.5}));
   EXPECT_EQ(m.bound_trace(), (std::vector<double>{0.75, 6.0}));
   EXPECT_EQ(m.version(), 12u);
+  ASSERT_EQ(m.flown_path().size(), 3u);
+  EXPECT_EQ(m.flown_path()[1].y(), 1.0);
+  EXPECT_EQ(m.flown_sees_offsets(), (std::vector<std::uint32_t>{0, 0, 3, 3}));
+  EXPECT_EQ(m.flown_sees(), (std::vector<std::uint32_t>{1, 2, 4}));
+  EXPECT_EQ(m.flown_cost(), 6.5);
+  ASSERT_EQ(m.stages().size(), 3u);
+  EXPECT_EQ(m.stages()[2].name(), "refine");
+  EXPECT_EQ(m.stages()[2].seconds(), 1.5);
+  EXPECT_EQ(m.graph_vertices(), 40u);
+  EXPECT_EQ(m.graph_edges(), 300u);
   EXPECT_TRUE(m.valid());
-  // Valid only when both checks passed: a bad shortcut spoils it, and so does a bad walk.
+  // Valid only when every check passed: a flown tour that failed its check spoils it, and so do a
+  // bad shortcut and a bad walk.
+  o.flown_valid = false;
+  EXPECT_FALSE(to_message(o).valid());
+  o.flown_valid = true;
   o.shortcut_validation.problem = "a step crosses the mesh";
   EXPECT_FALSE(to_message(o).valid());
   o.shortcut_validation.problem.clear();

@@ -1,5 +1,5 @@
 # Type stubs of the ispars package (the extension module ispars._ispars and build()).
-from typing import Any, Callable, Iterator, Optional, TypedDict
+from typing import Any, Callable, Iterator, NotRequired, Optional, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -114,6 +114,14 @@ class Tour(TypedDict):
     candidates: int
     valid: bool
     problem: str
+    # With a scene: the flown tour (the daemon's pipeline).
+    flown_path: NotRequired[F64]  # (n, 3): stops, closed at the root
+    flown_sees: NotRequired[list[U32]]  # per stop: target POI ids it sees
+    flown_cost: NotRequired[float]
+    shortcut_cost: NotRequired[float]
+    stages: NotRequired[list[dict[str, Any]]]  # stage, cost, seconds
+    graph_vertices: NotRequired[int]
+    graph_edges: NotRequired[int]
 
 def build(scene: Scene | str, samples: int, method: str = "ispars", seed: int = 1, variant: str = "",
           threads: int = 1, overrides: Optional[dict[str, float]] = None, stop: Optional[Stop] = None,
@@ -121,7 +129,8 @@ def build(scene: Scene | str, samples: int, method: str = "ispars", seed: int = 
 def tour(roadmap: Roadmap, budget: float = 10.0, iterations: int = 0, seed: int = 1, threads: int = 1,
          targets: Optional[npt.ArrayLike] = None, bound: bool = True, stop: Optional[Stop] = None,
          on_improvement: Optional[Callable[[float, float], Any]] = None,
-         on_bound: Optional[Callable[[float, float], Any]] = None) -> Tour: ...
+         on_bound: Optional[Callable[[float, float], Any]] = None, scene: Optional[Scene] = None,
+         samples: int = 0) -> Tour: ...
 def render(scene: Scene, roadmap: Optional[Roadmap] = None, dense: Optional[Roadmap] = None,
            tour: Optional[npt.ArrayLike] = None, width: int = 800, height: int = 600,
            path: str = "") -> npt.NDArray[np.uint8]: ...

@@ -74,6 +74,25 @@ py::dict tour_dict(client::TourReply&& r) {
   out["version"] = t.version;
   out["shortcut_path"] = take_points(std::move(t.shortcut_path));
   out["shortcut_cost"] = t.shortcut_cost;
+  py::list sees;
+  for (auto& seen : t.flown_sees) {
+    const py::ssize_t count = n(seen);
+    sees.append(take(std::move(seen), {count}));
+  }
+  out["flown_path"] = take_points(std::move(t.flown_path));
+  out["flown_sees"] = sees;
+  out["flown_cost"] = t.flown_cost;
+  py::list stages;
+  for (const client::TourStage& s : t.stages) {
+    py::dict stage;
+    stage["stage"] = s.name;
+    stage["cost"] = s.cost;
+    stage["seconds"] = s.seconds;
+    stages.append(stage);
+  }
+  out["stages"] = stages;
+  out["graph_vertices"] = t.graph_vertices;
+  out["graph_edges"] = t.graph_edges;
   return out;
 }
 

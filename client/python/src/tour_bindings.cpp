@@ -10,6 +10,7 @@
 #include "ispars/render/scene_render.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "ispars/scene/scene.hpp"
+#include "ispars/tour/flown_tour.hpp"
 #include "ispars/tour/gip_solver.hpp"
 #include "python_module.hpp"
 #include "stoppable.hpp"
@@ -82,10 +83,34 @@ py::dict tour_result(const GipResult& r) {
   return out;
 }
 
+// The flown tour's keys beside the search's (flown_tour.hpp).
+py::dict flown_result(FlownTour&& t) {
+  py::dict out = tour_result(t.search);
+  std::vector<double> path;
+  for (const Vec3& p : t.stops) path.insert(path.end(), {p.x(), p.y(), p.z()});
+  out["flown_path"] = take(std::move(path), {static_cast<py::ssize_t>(t.stops.size()), 3});
+  py::list sees;
+  for (std::vector<PoiId>& seen : t.check.sees) sees.append(array_of(std::move(seen)));
+  out["flown_sees"] = sees;
+  out["flown_cost"] = t.cost;
+  out["shortcut_cost"] = t.roadmap_shortcut.cost;
+  py::list stages;
+  for (const FlownStage& s : t.stages) stages.append(py::dict(py::arg("stage") = s.name, py::arg("cost") = s.cost,
+                                                              py::arg("seconds") = s.seconds));
+  out["stages"] = stages;
+  out["graph_vertices"] = t.graph_vertices;
+  out["graph_edges"] = t.graph_edges;
+  out["valid"] = t.search.validation.valid() && t.check.valid();
+  if (!t.check.valid()) out["problem"] = t.check.problem;
+  return out;
+}
+
 py::dict tour(const std::shared_ptr<Roadmap>& roadmap, double budget, std::int64_t iterations, std::uint64_t seed,
               std::int64_t threads, const py::object& targets, bool bound, const std::shared_ptr<StopFlag>& stop,
-              const py::object& on_improvement, const py::object& on_bound) {
+              const py::object& on_improvement, const py::object& on_bound, const std::shared_ptr<Scene>& scene,
+              std::int64_t samples) {
   if (!roadmap) throw InputError(kTour, "roadmap", "a Roadmap is required");
+  if (samples < 0) throw InputError(kTour, "samples", fmt::format("must be 0 or more, got {}", samples));
   GipOptions options = tour_options(budget, iterations, seed, threads, targets, bound);
   auto halt = std::make_shared<Halt>();
   options.stop = &halt->flag();
@@ -93,8 +118,21 @@ py::dict tour(const std::shared_ptr<Roadmap>& roadmap, double budget, std::int64
   const Callback raised(on_bound, halt);
   if (improved) options.on_improvement = [improved](double t, double cost) { improved(t, cost); };
   if (raised) options.on_bound = [raised](double t, double b) { raised(t, b); };
-  const auto work = [roadmap, options] { return solve_gip(InspectionGraph::from_roadmap(*roadmap), options); };
-  return tour_result(run_stoppable(work, *halt, stop.get()));
+  if (!scene) {
+    const auto work = [roadmap, options] { return solve_gip(InspectionGraph::from_roadmap(*roadmap), options); };
+    return tour_result(run_stoppable(work, *halt, stop.get()));
+  }
+  FlownTourOptions flown;  // the daemon's pipeline
+  flown.search = options;
+  flown.build_samples = static_cast<std::uint64_t>(samples);
+  const auto work = [roadmap, scene, flown] {
+    return fly_tour(*scene, InspectionGraph::from_roadmap(*roadmap), roadmap->positions(), flown);
+  };
+  try {
+    return flown_result(run_stoppable(work, *halt, stop.get()));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(kTour, "scene", e.what());
+  }
 }
 
 std::shared_ptr<Roadmap> load_roadmap(const std::string& path, const std::string& graph) {
@@ -152,12 +190,17 @@ py::array_t<std::uint8_t> render(const std::shared_ptr<Scene>& scene, const std:
 void bind_tour(py::module_& m) {
   m.def("tour", &tour, py::arg("roadmap"), py::arg("budget") = 10.0, py::arg("iterations") = 0, py::arg("seed") = 1,
         py::arg("threads") = 1, py::arg("targets") = py::none(), py::arg("bound") = true, py::arg("stop") = nullptr,
-        py::arg("on_improvement") = py::none(), py::arg("on_bound") = py::none(),
+        py::arg("on_improvement") = py::none(), py::arg("on_bound") = py::none(), py::arg("scene") = nullptr,
+        py::arg("samples") = 0,
         "An inspection tour from vertex 0 seeing every target (default: every POI seen from the root's component), "
         "searched for `budget` seconds or `iterations` iterations per thread (deterministic), without the GIL. "
         "`bound` proves a lower bound by LP beside the search. Stopped by `stop` or Ctrl-C it returns the best "
         "tour so far (Ctrl-C raises KeyboardInterrupt). A dict: cost, walk, covered, targets, lower_bound, "
-        "trace, bound_trace, seconds, iterations, valid. Raises InputError (file 'tour') on bad arguments.");
+        "trace, bound_trace, seconds, iterations, valid. With the roadmap's `scene` it runs the daemon's whole "
+        "pipeline (the budget is then the pipeline's): the walk's shortcut, corridor densification at 4x the "
+        "density of a `samples`-sample build (none when 0), viewpoint refinement and the independent check, and "
+        "adds flown_path, flown_sees, flown_cost, shortcut_cost, stages, graph_vertices and graph_edges. Raises "
+        "InputError (file 'tour') on bad arguments.");
   m.def("render", &render, py::arg("scene"), py::arg("roadmap") = nullptr, py::arg("dense") = nullptr,
         py::arg("tour") = py::none(), py::arg("width") = 800, py::arg("height") = 600, py::arg("path") = "",
         "A picture of the scene's mesh, its POIs (green seen by the roadmap, red not), the roadmap, its dense pair "

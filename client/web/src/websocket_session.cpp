@@ -109,13 +109,13 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       try {
         const auto r = task.empty() ? self->server_->client.tour(self->scene_, budget, 1, {})
                                     : self->server_->client.task_tour(self->scene_, task, budget, 1);
-        // The viewer draws the shortcut tour, the path as flown; both lengths go with it.
+        // The viewer draws the flown tour, the path a drone flies; the walk's length goes with it.
         const client::Tour& t = r.tour;
-        const auto& drawn = t.shortcut_path.empty() ? t.waypoints : t.shortcut_path;
+        const auto& drawn = t.flown_path.empty() ? t.waypoints : t.flown_path;
         nlohmann::json positions = nlohmann::json::array();
         for (const auto& p : drawn) positions.push_back({p.x(), p.y(), p.z()});
         reply = nlohmann::json{{"type", "tour"},
-                               {"cost", t.shortcut_path.empty() ? t.cost : t.shortcut_cost},
+                               {"cost", t.flown_path.empty() ? t.cost : t.flown_cost},
                                {"roadmap_cost", t.cost},
                                {"covered", r.tour.covered},
                                {"targets", r.tour.target_count},

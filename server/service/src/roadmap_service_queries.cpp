@@ -10,19 +10,17 @@
 #include "ispars/builders/build_cost.hpp"
 #include "ispars/builders/recipe_builder.hpp"
 #include "ispars/roadmap/inspection_graph.hpp"
+#include "ispars/tour/tour_bound.hpp"
 #include "ispars/tour/tour_closure.hpp"
 #include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_service.hpp"
 #include "request_input.hpp"
+#include "roadmap_session_detail.hpp"
 
 namespace ispars {
 namespace {
 
 constexpr std::size_t kSnapshotsKept = 4;
-// After the search, the tour's shortcut gets at most this long (a TOUR returns within its budget
-// plus this, and a stop ends it at once); measured: 1 ms on a 100,000-sample Dense tour.
-constexpr double kShortcutSeconds = 0.25;
-
 // A snapshot's encoding at its worst: the batch copied out of the roadmap and its encoding, a
 // compaction fold's work over the same vertices and edges (build_cost.hpp).
 double snapshot_cost(const Roadmap& roadmap) {
@@ -30,13 +28,48 @@ double snapshot_cost(const Roadmap& roadmap) {
          static_cast<double>(roadmap.edge_count()) * kFoldBytesPerEdge;
 }
 
-// A tour at its worst: the search graph (the roadmap's size again) and a full distance matrix over
-// its candidate viewpoints (at most TourClosureOptions::max_candidates; tour_closure.hpp).
+// The tour's corridor draws at most this many samples a round: it bounds the tour's memory
+// (below) whatever the roadmap's build density asks for.
+constexpr std::size_t kCorridorSamples = 4000;
+
+// A tour at its worst (flown_tour.hpp): the roadmap's search graph, and a corridor's graph (the
+// roadmap's again, the tube's samples and their joins) beside it; and the larger of the two
+// searches' distance matrices over their candidate viewpoints (at most
+// TourClosureOptions::max_candidates; tour_closure.hpp); and the LP bound at its size cap
+// (tour_bound.hpp), unless the roadmap is past the LP's edge limit.
 double tour_cost(const Roadmap& roadmap) {
+  const FlownTourOptions pipeline;
+  const auto tube = static_cast<double>(kCorridorSamples);
+  const auto vertices = static_cast<double>(roadmap.vertex_count());
+  const auto edges = static_cast<double>(roadmap.edge_count());
   const double candidates =
-      static_cast<double>(std::min<std::size_t>(roadmap.vertex_count(), TourClosureOptions{}.max_candidates));
-  return static_cast<double>(roadmap.vertex_count()) * kBytesPerVertex +
-         static_cast<double>(roadmap.edge_count()) * kBytesPerEdge + candidates * candidates * sizeof(double);
+      std::min(vertices + tube, static_cast<double>(TourClosureOptions{}.max_candidates));
+  const TourBoundOptions lp;
+  const double lp_bytes =
+      roadmap.edge_count() > lp.max_edges ? 0.0 : static_cast<double>(lp.max_cut_nonzeros) * kLpBytesPerNonzero;
+  return lp_bytes + (2.0 * vertices + tube) * kBytesPerVertex +
+         (2.0 * edges + tube * static_cast<double>(pipeline.corridor_max_joins)) * kBytesPerEdge +
+         candidates * candidates * sizeof(double);
+}
+
+// A finished pipeline as the service reports it, with the walk's shortcut checked on its own.
+TourOutcome tour_outcome(FlownTour flown, const InspectionGraph& graph, const Roadmap& roadmap, const Scene& scene) {
+  TourOutcome o;
+  for (const VertexId v : flown.search.tour.walk) o.waypoints.push_back(roadmap.position(v));
+  const SegmentValid segment_valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
+  o.shortcut_validation = check_shortcut_tour(graph, roadmap.positions(), 0, flown.search.targets,
+                                              flown.roadmap_shortcut, segment_valid);
+  o.flown_path = std::move(flown.stops);
+  o.flown_sees = std::move(flown.check.sees);
+  o.flown_cost = flown.cost;
+  o.flown_valid = flown.check.valid();
+  o.stages = std::move(flown.stages);
+  o.graph_vertices = flown.graph_vertices;
+  o.graph_edges = flown.graph_edges;
+  o.shortcut = std::move(flown.roadmap_shortcut);
+  o.result = std::move(flown.search);
+  o.version = roadmap.version();
+  return o;
 }
 
 }  // namespace
@@ -180,38 +213,34 @@ void RoadmapService::run_tour(const std::shared_ptr<RoadmapSession>& session, co
   try {
     const PublishedRoadmap published = session->published();
     const InspectionGraph graph = InspectionGraph::from_roadmap(*published.roadmap);
-    GipOptions options;
-    options.budget_seconds = request.budget_seconds;
-    options.seed = request.seed;
-    options.stop = stop.get();
-    if (!request.targets.empty()) options.targets = request.targets;
+    FlownTourOptions options;  // the pipeline's defaults: one tour model with the lab and Python
+    options.search.budget_seconds = request.budget_seconds;
+    options.search.seed = request.seed;
+    options.search.stop = stop.get();
+    if (!request.targets.empty()) options.search.targets = request.targets;
+    options.build_samples = session->status().samples_done;
+    options.corridor_max_samples = kCorridorSamples;
     // Progress carries the best tour and the best bound so far; the two callbacks come from
     // different threads.
     std::mutex progress_mutex;
     double best_cost = 0.0, best_bound = 0.0;
-    options.on_improvement = [&](double seconds, double cost) {
+    options.search.on_improvement = [&](double seconds, double cost) {
       std::lock_guard lock(progress_mutex);
       best_cost = cost;
       if (callbacks.progress) callbacks.progress(seconds, best_cost, best_bound);
     };
-    options.on_bound = [&](double seconds, double bound) {
+    options.search.on_bound = [&](double seconds, double bound) {
       std::lock_guard lock(progress_mutex);
       best_bound = bound;
       if (callbacks.progress) callbacks.progress(seconds, best_cost, best_bound);
     };
-    TourOutcome outcome;
-    outcome.result = solve_gip(graph, options);
-    for (const VertexId v : outcome.result.tour.walk) outcome.waypoints.push_back(published.roadmap->position(v));
-    const Scene& scene = session->scene();
-    ShortcutOptions shortcut;
-    shortcut.stop = stop.get();  // a stop leaves the path shortened in part, still valid
-    shortcut.budget_seconds = kShortcutSeconds;
-    const SegmentValid segment_valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
-    outcome.shortcut = shortcut_tour(graph, published.roadmap->positions(), outcome.result.targets,
-                                     outcome.result.tour, segment_valid, shortcut);
-    outcome.shortcut_validation = check_shortcut_tour(graph, published.roadmap->positions(), options.root,
-                                                      outcome.result.targets, outcome.shortcut, segment_valid);
-    outcome.version = published.roadmap->version();
+    // The scene as the roadmap was built in (its recipe's deltas, its tasks' POIs), taken after
+    // the roadmap: never older than it.
+    const std::shared_ptr<const Scene> with_tasks = session->scene_with_tasks();
+    const std::optional<RoadmapRecipe> recipe = session->status().recipe;
+    const Scene scene = recipe ? session_detail::scene_for(*with_tasks, *recipe) : *with_tasks;
+    TourOutcome outcome = tour_outcome(fly_tour(scene, graph, published.roadmap->positions(), options), graph,
+                                       *published.roadmap, scene);
     if (callbacks.done) callbacks.done(std::move(outcome));
   } catch (const InputError& e) {
     if (callbacks.failed) callbacks.failed(e.what());

@@ -132,6 +132,14 @@ struct Verification {
   bool invariant_promised = false;       ///< Inspection-SPARS promises Invariant 1; the others do not
 };
 
+/// One stage of the tour pipeline: "walk", "shortcut", "corridor" or "refine"; the flown length
+/// after it and the seconds since the tour began at its end.
+struct TourStage {
+  std::string name;
+  double cost = 0;
+  double seconds = 0;
+};
+
 /// An inspection tour found on a roadmap, with its proven lower bound.
 struct Tour {
   std::vector<std::uint32_t> walk;  ///< roadmap vertex ids of the closed walk
@@ -148,6 +156,14 @@ struct Tour {
   std::vector<std::uint32_t> shortcut_stops;  ///< the walk's vertices the shortcut tour keeps, in order
   std::vector<Vec3> shortcut_path;  ///< their positions: the tour as flown
   double shortcut_cost = 0;         ///< its length (<= cost; every target still seen from a stop)
+  /// The flown tour: the shortcut improved by corridor densification and viewpoint refinement (its
+  /// stops need not be roadmap vertices), closed at the root, straight checked segments between.
+  std::vector<Vec3> flown_path;
+  std::vector<std::vector<std::uint32_t>> flown_sees;  ///< per stop: the target POI ids it sees
+  double flown_cost = 0;            ///< its length (<= shortcut_cost)
+  std::vector<TourStage> stages;    ///< the pipeline's stages, in order
+  std::uint64_t graph_vertices = 0;  ///< the graph the flown tour was last searched on
+  std::uint64_t graph_edges = 0;
 };
 
 /// The answers that carry more than a status.

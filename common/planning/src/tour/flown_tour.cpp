@@ -72,8 +72,8 @@ class FlownRun {
     ShortcutOptions so;
     so.stop = o_.search.stop;
     so.budget_seconds = std::max(0.25, allowance(1.0));
-    const ShortcutTour sc =
-        shortcut_tour(graph_, positions_, out_.search.targets, out_.search.tour, valid_, so);
+    out_.roadmap_shortcut = shortcut_tour(graph_, positions_, out_.search.targets, out_.search.tour, valid_, so);
+    const ShortcutTour& sc = out_.roadmap_shortcut;
     out_.segments_checked += sc.segments_checked;
     out_.stops = sc.path;
     vertices_ = sc.stops;
@@ -185,6 +185,10 @@ FlownTour fly_tour(const Scene& scene, const InspectionGraph& graph, std::span<c
   if (options.search.root != 0) throw std::invalid_argument("fly_tour: the root must be vertex 0");
   if ((positions[0] - scene.config().root).norm() > 1e-6) {
     throw std::invalid_argument("fly_tour: vertex 0 is not the scene's root: not the roadmap's scene");
+  }
+  if (graph.poi_count() > scene.pois().size()) {  // a task's POIs, say, that the scene does not hold
+    throw std::invalid_argument(fmt::format("fly_tour: the graph has {} POIs, its scene {}: not the roadmap's scene",
+                                            graph.poi_count(), scene.pois().size()));
   }
   FlownRun run(scene, graph, positions, options);
   return run.run();

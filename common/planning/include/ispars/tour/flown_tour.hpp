@@ -24,6 +24,7 @@
 #include "ispars/scene/scene.hpp"
 #include "ispars/tour/flown_tour_check.hpp"
 #include "ispars/tour/gip_solver.hpp"
+#include "ispars/tour/tour_shortcut.hpp"
 #include "ispars/tour/viewpoint_refinement.hpp"
 
 namespace ispars {
@@ -71,6 +72,7 @@ struct FlownTour {
   double walk_cost = 0.0;           ///< The roadmap walk's (stage 1's search).
   std::vector<FlownStage> stages;
   GipResult search;                 ///< Stage 1: the walk, its targets, trace and proven bound (on roadmap walks).
+  ShortcutTour roadmap_shortcut;    ///< Stage 1's shortcut of the walk (its stops are roadmap vertices).
   std::size_t graph_vertices = 0;   ///< Of the graph the flown tour was last searched on.
   std::size_t graph_edges = 0;
   std::size_t corridor_samples = 0;  ///< Tube samples of the corridor rounds that shortened the tour.

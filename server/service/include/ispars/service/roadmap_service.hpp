@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "ispars/tour/flown_tour.hpp"
 #include "ispars/tour/gip_solver.hpp"
 #include "ispars/tour/tour_shortcut.hpp"
 #include "ispars/service/memory_budget.hpp"
@@ -114,10 +115,18 @@ inline constexpr std::size_t kMaxTourTargets = 1'000'000;
 /// A finished tour: the search's result on the roadmap version it searched, and that tour
 /// shortcut by the scene's collision checker (tour_shortcut.hpp): the path a robot would fly.
 struct TourOutcome {
-  GipResult result;
+  GipResult result;             ///< The roadmap search: its walk, trace and proven bound.
   std::vector<Vec3> waypoints;  ///< The walk's positions.
-  ShortcutTour shortcut;
+  ShortcutTour shortcut;        ///< The walk shortcut (its stops are roadmap vertices).
   ShortcutValidation shortcut_validation;  ///< check_shortcut_tour's independent check of it.
+  /// The flown tour (flown_tour.hpp): stops, what each sees (from its independent check), length.
+  std::vector<Vec3> flown_path;
+  std::vector<std::vector<PoiId>> flown_sees;
+  double flown_cost = 0.0;
+  bool flown_valid = false;     ///< check_flown_tour passed.
+  std::vector<FlownStage> stages;
+  std::size_t graph_vertices = 0;  ///< The graph the flown tour was last searched on.
+  std::size_t graph_edges = 0;
   std::uint64_t version = 0;
 };
 
