@@ -11,6 +11,7 @@
 #include "ispars/builders/poi_visibility.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/builders/spars_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/scene/poi_sampling.hpp"
 #include "support/test_support.hpp"
@@ -124,6 +125,42 @@ TEST(SparsTask, Ispars2DrawsItsSamplesAgainAndStaysTheRoadmapIsparsGrows) {
   for (RoadmapBuilder* b : {ispars.get(), ispars2.get()}) b->extend(700);
   EXPECT_TRUE(ispars2->roadmap().same_changes_as(ispars->roadmap()));
   EXPECT_EQ(verify(widened, *ispars).invariant_violations, 0u);
+}
+
+// A task's guards take part in the stretch rules as a rebuild's would: the samples near them
+// witness their routes again (the default rules), and under Alg. 1, which has no vertex join,
+// each guard is bridged to the components in view of it instead of standing alone.
+TEST(SparsTask, TheWitnessRuleRunsThroughTheTasksGuardsAndAlg1GuardsAreJoined) {
+  const Scene& scene = test::shared_scene("truss_bridge");
+  const Scene widened = scene.with_more_pois(task_pois(scene, 60));
+  auto builder = make_roadmap_builder(BuildMethod::ispars, scene, options_with(2));
+  builder->extend(kSamples);
+  const auto& spars = dynamic_cast<const SparsBuilder&>(*builder);
+  const SparsAdmissions before = spars.admissions();
+  const std::size_t first_guard = builder->roadmap().vertex_count();
+  ASSERT_GT(builder->add_pois(widened), 0u);
+  const SparsAdmissions after = spars.admissions();
+  EXPECT_GT(after.witness_edges, before.witness_edges) << "no witnessed route through the task's guards";
+  EXPECT_EQ(builder->roadmap().vertex_count(),
+            first_guard + (after.inspection - before.inspection) + (after.witness_vertex - before.witness_vertex));
+  EXPECT_EQ(verify(widened, *builder).invariant_violations, 0u);
+
+  BuildOptions alg1 = options_with(2);
+  alg1.variant = SparsVariant::alg1;
+  auto literal = make_roadmap_builder(BuildMethod::ispars, scene, alg1);
+  literal->extend(kSamples);
+  const std::size_t first = literal->roadmap().vertex_count();
+  ASSERT_GT(literal->add_pois(widened), 0u);
+  const Roadmap& g = literal->roadmap();
+  std::size_t joined = 0;
+  for (VertexId s = static_cast<VertexId>(first); s < g.vertex_count(); ++s) {
+    joined += g.neighbor_ids(s).empty() ? 0 : 1;
+    if (!g.neighbor_ids(s).empty()) {
+      EXPECT_EQ(g.component(s), g.component(g.neighbor_ids(s).front()));
+    }
+  }
+  EXPECT_GT(joined, 0u) << "every Alg. 1 task guard stands alone";
+  EXPECT_EQ(verify(widened, *literal).invariant_violations, 0u);
 }
 
 TEST(SparsTask, ATaskTheBuilderCannotTakeChangesNothing) {

@@ -86,7 +86,7 @@ void SparsBuilder::vertex_join(VertexId s, const std::vector<VertexId>& reachabl
   }
 }
 
-bool SparsBuilder::witnessed_pairs() {
+bool SparsBuilder::witnessed_pairs(VertexId through) {
   const Vec3 pq = current_.sample->q;
   const std::vector<VertexId> w = reachable_;  // W(q), nearest first
   if (w.size() < 2) return false;
@@ -123,6 +123,7 @@ bool SparsBuilder::witnessed_pairs() {
     todo_index.clear();
     bounds.clear();
     for (std::size_t j = i + 1; j < w.size(); ++j) {
+      if (w[i] < through && w[j] < through) continue;  // a pair the build witnessed already
       const double bound = stretch_ * (to_q[i] + to_q[j]) + slack_now_;
       if (among_w_[i * m + j] <= bound || through_a_third(i, j, bound)) continue;
       todo.push_back(w[j]);

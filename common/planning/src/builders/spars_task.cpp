@@ -106,8 +106,11 @@ std::size_t SparsBuilder::add_pois(const Scene& widened, const std::function<boo
   }
   if (!rules_.inspection_test) return 0;
   slack_now_ = slack_at(samples_);
-  return rules_.dense_graph ? replay_dense(dense_fresh, sparse_fresh, keep_going)
-                            : replay_stream(sparse_fresh, first, keep_going);
+  const auto first_guard = static_cast<VertexId>(sparse_.vertex_count());
+  std::size_t added = rules_.dense_graph ? replay_dense(dense_fresh, sparse_fresh, keep_going)
+                                         : replay_stream(sparse_fresh, first, keep_going);
+  if (rules_.witnessed_pairs && added > 0) added += replay_witnesses(first_guard, keep_going);
+  return added;
 }
 
 std::size_t SparsBuilder::replay_dense(const PoiSetTable& dense_fresh, PoiSetTable& sparse_fresh,
@@ -123,7 +126,7 @@ std::size_t SparsBuilder::replay_dense(const PoiSetTable& dense_fresh, PoiSetTab
     sparse_fresh.append(dense_fresh.ids(x));
     ++admissions_.inspection;
     ++added;
-    if (rules_.vertex_join) vertex_join(s, reachable_);
+    join_task_guard(s);
   }
   return added;
 }
@@ -151,10 +154,67 @@ std::size_t SparsBuilder::replay_stream(PoiSetTable& sparse_fresh, PoiId first,
       sparse_fresh.append(sample.ids);
       ++admissions_.inspection;
       ++added;
-      if (rules_.vertex_join) vertex_join(s, reachable_);
+      join_task_guard(s);
     }
   }
   return added;
+}
+
+void SparsBuilder::join_task_guard(VertexId s) {
+  if (rules_.vertex_join) {
+    vertex_join(s, reachable_);
+    return;
+  }
+  std::vector<VertexId> components;  // taken before any edge: an edge merges them
+  std::vector<VertexId> links;
+  for (const VertexId w : reachable_) {
+    const VertexId c = sparse_.component(w);
+    if (std::find(components.begin(), components.end(), c) != components.end()) continue;
+    components.push_back(c);
+    links.push_back(w);
+  }
+  for (const VertexId w : links) connect(s, w, admissions_.bridge_edges);
+}
+
+std::size_t SparsBuilder::replay_witnesses(VertexId first_guard, const std::function<bool()>& keep_going) {
+  std::size_t admitted = 0;
+  if (rules_.dense_graph) {
+    const std::size_t dense_count = dense_.graph().vertex_count();
+    for (VertexId x = 0; x < dense_count; ++x) {
+      stop_if_asked(keep_going, x);
+      if (sparse_of_dense_[x] != kNoVertex) continue;
+      admitted += witness_again(dense_.graph().position(x), x, first_guard) ? 1 : 0;
+    }
+    return admitted;
+  }
+  Rng stream(options_.seed);  // the build's samples drawn again, in its order (prepare_samples)
+  for (std::size_t i = 0; i < samples_; ++i) {
+    stop_if_asked(keep_going, i);
+    admitted += witness_again(stream.uniform_in(scene_->config().bounds), kNoVertex, first_guard) ? 1 : 0;
+  }
+  return admitted;
+}
+
+bool SparsBuilder::witness_again(const Vec3& q, VertexId dense, VertexId first_guard) {
+  // Cheap filters first: a new guard within Delta, and q not a sparse vertex itself (without G_d
+  // an admitted sample is one); then the sample's validity and W(q) with its segments.
+  sparse_grid_.within(q, sparse_delta_, sparse_.positions(), nearby_);
+  bool near_guard = false;
+  for (const auto& [distance, s] : nearby_) {
+    if (distance == 0.0) return false;
+    near_guard = near_guard || s >= first_guard;
+  }
+  if (!near_guard || (dense == kNoVertex && !scene_->point_valid(q))) return false;
+  reachable_guards(q);
+  if (std::none_of(reachable_.begin(), reachable_.end(), [&](VertexId w) { return w >= first_guard; })) return false;
+  PreparedSample sample{q, true, {}};
+  if (dense == kNoVertex) scene_->visible_pois(q, sample.visible);  // what admit() gives a vertex
+  current_.sample = &sample;
+  current_.dense = dense;
+  current_.sparse = kNoVertex;
+  const bool admitted = witnessed_pairs(first_guard);
+  current_.sample = nullptr;
+  return admitted;
 }
 
 bool SparsBuilder::new_pois_covered(const Vec3& q, PoiBits seen, const PoiSetTable& fresh) {

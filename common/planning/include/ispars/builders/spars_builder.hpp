@@ -110,8 +110,10 @@ class SparsBuilder final : public RoadmapBuilder {
   /// the inspection test, Alg. 1's lines 18-23 run again for the new POIs over every sample drawn
   /// so far, in the build's order (the dense vertices with G_d; the seed's stream drawn again
   /// without): a sample seeing a new POI that no sparse vertex within Delta in view sees becomes a
-  /// guard, joined by the stretch rules (vertex join). Invariant 1 then holds for the new POIs as
-  /// for the old. Samples given to step(Vec3) are not in the stream and are not replayed.
+  /// guard, joined by the stretch rules (vertex join; Alg. 1: the bridge test's edges), and then
+  /// the witness rule runs again for the samples near the new guards (replay_witnesses).
+  /// Invariant 1 then holds for the new POIs as for the old. Samples given to step(Vec3) are not
+  /// in the stream and are not replayed. Returns the vertices added.
   std::size_t add_pois(const Scene& widened, const std::function<bool()>& keep_going = {}) override;
   [[nodiscard]] const Roadmap& roadmap() const override { return sparse_; }
   [[nodiscard]] const Roadmap* dense() const override { return rules_.dense_graph ? &dense_.graph() : nullptr; }
@@ -150,7 +152,8 @@ class SparsBuilder final : public RoadmapBuilder {
   void vertex_join(VertexId s, const std::vector<VertexId>& reachable);
   /// Repairs every pair of W(q) whose sparse route exceeds t times the route through q; returns
   /// whether q was admitted.
-  bool witnessed_pairs();
+  /// `through`: only pairs with a member from this id on (a task's guards); 0 for every pair.
+  bool witnessed_pairs(VertexId through = 0);
   /// The first k whose sparse route from `from` exceeds bounds[k] (targets.size() when none does).
   std::size_t first_long_route(VertexId from, std::span<const VertexId> targets, std::span<const double> bounds);
   /// The shortest route between sparse vertices a and b known so far (an edge, or a route a
@@ -174,6 +177,16 @@ class SparsBuilder final : public RoadmapBuilder {
   std::size_t replay_dense(const PoiSetTable& dense_fresh, PoiSetTable& sparse_fresh,
                            const std::function<bool()>& keep_going);
   std::size_t replay_stream(PoiSetTable& sparse_fresh, PoiId first, const std::function<bool()>& keep_going);
+  /// A task guard's edges, for W = reachable_ (its reachable guards before it): the vertex join
+  /// with the stretch rules; without them (Alg. 1, whose later samples would have bridged it),
+  /// the bridge test's edge to the nearest member of each component W touches.
+  void join_task_guard(VertexId s);
+  /// The witness rule replayed through the task's guards (ids from `first_guard`): every build
+  /// sample that is not a sparse vertex and has one of them within Delta witnesses its reachable
+  /// guards' routes again, in the build's order. Returns the vertices it admitted.
+  std::size_t replay_witnesses(VertexId first_guard, const std::function<bool()>& keep_going);
+  /// One sample of that replay: `dense` is its dense vertex, or kNoVertex without G_d.
+  bool witness_again(const Vec3& q, VertexId dense, VertexId first_guard);
 
   /// AddGuard: dense vertex x becomes a sparse vertex (no edges); representatives and supports
   /// follow.
