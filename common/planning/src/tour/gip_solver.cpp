@@ -28,10 +28,6 @@ using gip_search::Closure;
 using gip_search::kEps;
 using gip_search::kInf;
 using gip_search::Solution;
-// A quick first tour (a walk to the nearest unseen viewpoints) comes before the search on every
-// graph: on roadmaps of a few thousand vertices it is in hand within milliseconds, where the
-// closure's rows take tenths of a second (the search's tours replace it as soon as they beat it).
-constexpr std::size_t kQuickTourAbove = 0;
 // With rows on first use, the first tour is built from each target's this many richest viewers.
 constexpr std::size_t kFirstTourViewers = 1;
 constexpr std::uint32_t kNotCandidate = std::numeric_limits<std::uint32_t>::max();
@@ -145,12 +141,11 @@ class GipRun {
     result_.targets = choose_targets(g_, o_, component);
     if (root_sees_every_target()) return staying_at_the_root();
     start_bound();
-    // A large instance first gets a walk to the nearest unseen viewpoints (quick_tour.hpp), so a
-    // tour is in hand within the budget even before the closure rows for a search tour exist.
-    if (component.size() > kQuickTourAbove) {
-      quick_ = nearest_viewpoint_tour(g_, o_.root, result_.targets, o_.stop);
-      if (quick_) improved(quick_->cost);
-    }
+    // A quick first tour (a walk to the nearest unseen viewpoints) before the search, on every
+    // graph: it is in hand within milliseconds, where the closure's rows take tenths of a second;
+    // the search's tours replace it as soon as they beat it.
+    quick_ = nearest_viewpoint_tour(g_, o_.root, result_.targets, o_.stop);
+    if (quick_) improved(quick_->cost);
     const Closure c(g_, o_.root, result_.targets, component, closure_options());
     result_.thinned = c.thinned;
     result_.candidates = c.n;
