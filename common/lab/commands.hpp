@@ -123,9 +123,14 @@ struct ExperimentOptions {
   double bound_seconds = 20.0;        ///< anytime: seconds of LP bound per roadmap (0: none)
   double stretch_slack = 0.0;             ///< ablation: the stretch rules' slack (a fraction of Delta)
   std::uint64_t stretch_slack_after = 0;  ///< ablation: the slack applies from this sample on
+  bool wide = false;                      ///< ablation: tour Dense-wide too
   // flown
   std::vector<std::string> only_scenes;  ///< The scenes to run (default: the paper's three).
   std::vector<double> budgets{0.1, 1.0, 10.0};  ///< The equal-time panel's wall-clock budgets.
+  std::vector<std::string> rows;  ///< The rows to run (default: every one).
+  /// An earlier run's --json output: Dense-wide's flown tours per scene and seed, when the
+  /// dense-wide row is not run (equal work makes them deterministic; its iterations must match).
+  std::string wide_from;
   std::vector<std::string> rule_sets{"alg1", "alg1+join", "alg1+witness", "alg1-shortcut", "stretch+shortcut",
                                      "stretch"};
 };

@@ -1,7 +1,9 @@
 // `ispars-lab experiment ablation`: which sparse-roadmap rule does what. For one scene in the
 // paper's calibrated setting, each rule set (alg1, stretch, and single rules on and off) is built
 // on the same samples; reported: |V|, |E|, components, route stretch between sparse viewpoints,
-// Invariant 1, and tours with the same targets and the same solver work, against Dense and IRIS-C.
+// Invariant 1, and tours with the same targets and the same solver work, against Dense, IRIS-C and
+// (with --wide) Dense-wide (Dense joined within 2 Delta): each tour as searched (the roadmap walk) and as flown
+// (the walk shortcut in the scene, checked independently: tour_shortcut.hpp, flown_tour_check.hpp).
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -12,8 +14,11 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "experiment_support.hpp"
+#include "ispars/builders/dense_builder.hpp"
 #include "ispars/builders/irisc_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/tour/flown_tour_check.hpp"
+#include "ispars/tour/tour_shortcut.hpp"
 #include "tour_support.hpp"
 
 namespace ispars::lab {
@@ -21,6 +26,7 @@ namespace {
 
 struct Row {
   std::vector<double> vertices, edges, components, violations, tour, tour_ratio;
+  std::vector<double> flown, flown_ratio, flown_wide_ratio;  // shortcut tours: length, / Dense's, / Dense-wide's
   std::vector<double> median3, p95_3, over3;        // within 3 Delta, against dense routes
   std::vector<double> median_bin[4];                 // per bin, against dense routes
   std::vector<double> segment_median3, segment_p95_3;  // within 3 Delta, against segments
@@ -28,6 +34,24 @@ struct Row {
 
 std::string mean_cell(const std::vector<double>& v, int decimals) {
   return v.empty() ? "-" : fmt::format("{:.{}f}", mean_sd(v).mean, decimals);
+}
+
+// The flown length of each tour: its walk shortcut in `scene` (deterministic), checked by
+// re-deriving what each stop sees; a tour that fails the check stops the experiment.
+std::vector<double> flown_costs(const Scene& scene, std::span<const InspectionGraph* const> graphs,
+                                const std::vector<std::vector<Vec3>>& positions, std::span<const PoiId> targets,
+                                const std::vector<GipResult>& tours, const std::vector<std::string>& names) {
+  const SegmentValid valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
+  std::vector<double> costs;
+  for (std::size_t i = 0; i < tours.size(); ++i) {
+    const ShortcutTour sc = shortcut_tour(*graphs[i], positions[i], targets, tours[i].tour, valid);
+    const FlownTourCheck check = check_flown_tour(scene, positions[i][0], targets, sc.path, sc.cost);
+    if (!check.valid()) {
+      throw std::runtime_error(fmt::format("{}: the flown tour failed its check: {}", names[i], check.problem));
+    }
+    costs.push_back(sc.cost);
+  }
+  return costs;
 }
 
 }  // namespace
@@ -42,7 +66,8 @@ int run_experiment_ablation(const ExperimentOptions& options) {
   const SolverWork work{options.iterations, options.cap, options.jobs};
   std::cout << fmt::format(
       "# Ablation on {} (calibrated: delta {:.3f}, Delta {:.3f}; N = {}, K = {}; {} seeds); tours: the same targets "
-      "I_t for every roadmap of a seed, {} solver iterations each (one thread, {} at a time, {:.0f} s cap); "
+      "I_t for every roadmap of a seed, {} solver iterations each (one thread, {} at a time, {:.0f} s cap), "
+      "each walk flown: shortcut in the scene and checked; "
       "stretch_slack {} from sample {}\n\n",
       options.scene, delta, 1.5 * delta, samples, paper.pois, options.seeds, work.iterations, work.jobs,
       work.cap_seconds, options.stretch_slack, options.stretch_slack_after);
@@ -63,17 +88,32 @@ int run_experiment_ablation(const ExperimentOptions& options) {
     build.threads = options.threads;
     build.stretch_slack = options.stretch_slack;  // read by the stretch rules only
     build.stretch_slack_after = options.stretch_slack_after;
-    std::vector<InspectionGraph> graphs;  // dense, irisc, then each rule set
+    std::vector<InspectionGraph> graphs;  // dense, irisc, dense-wide (with --wide), then each rule set
+    std::vector<std::vector<Vec3>> positions;
     std::vector<std::string> names{"dense", "irisc"};
-    graphs.reserve(rule_sets.size() + 2);
+    if (options.wide) names.emplace_back("dense-wide");
+    const std::size_t baselines = names.size();
+    graphs.reserve(rule_sets.size() + baselines);
     graphs.push_back({});  // dense: filled from the first sparse build (same samples, same G_d)
+    positions.push_back({});
     IriscBuilder irisc(scene, build);
     irisc.extend(samples);
     graphs.push_back(InspectionGraph::from_roadmap(irisc.roadmap()));
+    positions.emplace_back(irisc.roadmap().positions().begin(), irisc.roadmap().positions().end());
+    if (options.wide) {
+      const Scene wide = Scene::build(scene_variant(base, paper.pois, seed, 3.0 * delta));
+      DenseBuilder dense_wide(wide, build);
+      dense_wide.extend(samples);
+      graphs.push_back(InspectionGraph::from_roadmap(dense_wide.roadmap()));
+      positions.emplace_back(dense_wide.roadmap().positions().begin(), dense_wide.roadmap().positions().end());
+    }
     for (std::size_t i = 0; i < rule_sets.size(); ++i) {
       SparsBuilder b(scene, build, rule_sets[i]);
       b.extend(samples);
-      if (i == 0) graphs[0] = InspectionGraph::from_roadmap(*b.dense());
+      if (i == 0) {
+        graphs[0] = InspectionGraph::from_roadmap(*b.dense());
+        positions[0].assign(b.dense()->positions().begin(), b.dense()->positions().end());
+      }
       RouteStretchOptions ro;
       ro.big_delta = scene.config().sparse_delta;
       ro.stretch = scene.config().stretch;
@@ -92,6 +132,7 @@ int run_experiment_ablation(const ExperimentOptions& options) {
       for (std::size_t k = 0; k < 3; ++k) row.median_bin[k].push_back(s.bins[k].vs_dense.median);
       row.median_bin[3].push_back(s.beyond_3_delta.vs_dense.median);
       graphs.push_back(InspectionGraph::from_roadmap(b.roadmap()));
+      positions.emplace_back(b.roadmap().positions().begin(), b.roadmap().positions().end());
       names.push_back(options.rule_sets[i]);
       nlohmann::json run = to_json(b.admissions());
       run["seed"] = seed;
@@ -129,18 +170,25 @@ int run_experiment_ablation(const ExperimentOptions& options) {
     for (auto& run : seed_runs) runs.push_back(std::move(run));
     targets.push_back(static_cast<double>(common.size()));
     const std::vector<GipResult> tours = solve_each(pointers, common, seed, work);
+    const std::vector<double> flown = flown_costs(scene, pointers, positions, common, tours, names);
     for (std::size_t i = 0; i < tours.size(); ++i) {
       capped += hit_time_cap(tours[i], work);
       Row& row = rows[names[i]];
       row.tour.push_back(tours[i].tour.cost);
       row.tour_ratio.push_back(tours[i].tour.cost / tours[0].tour.cost);
-      if (i < 2) {
+      row.flown.push_back(flown[i]);
+      row.flown_ratio.push_back(flown[i] / flown[0]);
+      if (options.wide) row.flown_wide_ratio.push_back(flown[i] / flown[2]);
+      if (i < baselines) {
         row.vertices.push_back(static_cast<double>(graphs[i].vertex_count()));
         row.edges.push_back(static_cast<double>(graphs[i].edge_count()));
       }
     }
-    std::cerr << fmt::format("seed {}: I_t = {}; dense {:.1f}", seed, common.size(), tours[0].tour.cost);
-    for (std::size_t i = 1; i < tours.size(); ++i) std::cerr << fmt::format(", {} {:.1f}", names[i], tours[i].tour.cost);
+    std::cerr << fmt::format("seed {}: I_t = {}; walk / flown: dense {:.1f} / {:.1f}", seed, common.size(),
+                             tours[0].tour.cost, flown[0]);
+    for (std::size_t i = 1; i < tours.size(); ++i) {
+      std::cerr << fmt::format(", {} {:.1f} / {:.1f}", names[i], tours[i].tour.cost, flown[i]);
+    }
     std::cerr << '\n';
   }
 
@@ -151,15 +199,17 @@ int run_experiment_ablation(const ExperimentOptions& options) {
       mean_cell(targets, 1), capped);
   std::cout << "| roadmap | \\|V\\| | \\|E\\| | components | Inv. 1 violations | stretch vs dense within 3 Delta: "
                "median / p95 / share > t | median by bin [0,1) [1,2) [2,3) [3,inf) Delta | vs segment: median / p95 "
-               "| tour | tour / Dense |\n|---|---|---|---|---|---|---|---|---|---|\n";
+               "| walk | walk / Dense | flown | flown / Dense | flown / Dense-wide |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::vector<std::string> order{"dense", "irisc"};
+  if (options.wide) order.emplace_back("dense-wide");
   order.insert(order.end(), options.rule_sets.begin(), options.rule_sets.end());
   nlohmann::json summary = nlohmann::json::array();
   for (const std::string& name : order) {
     const Row& r = rows[name];
     const bool sparse = !r.median3.empty();
     std::cout << fmt::format(
-        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", name, mean_sd_cell(r.vertices, 0), mean_sd_cell(r.edges, 0),
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", name, mean_sd_cell(r.vertices, 0), mean_sd_cell(r.edges, 0),
         sparse ? mean_cell(r.components, 1) : "-", sparse ? mean_cell(r.violations, 0) : "-",
         sparse ? fmt::format("{} / {} / {:.1f}%", mean_cell(r.median3, 3), mean_cell(r.p95_3, 3),
                              100.0 * mean_sd(r.over3).mean)
@@ -168,9 +218,13 @@ int run_experiment_ablation(const ExperimentOptions& options) {
                              mean_cell(r.median_bin[2], 3), mean_cell(r.median_bin[3], 3))
                : "-",
         sparse ? fmt::format("{} / {}", mean_cell(r.segment_median3, 3), mean_cell(r.segment_p95_3, 3)) : "-",
-        mean_sd_cell(r.tour, 1), mean_cell(r.tour_ratio, 3));
+        mean_sd_cell(r.tour, 1), mean_cell(r.tour_ratio, 3), mean_sd_cell(r.flown, 1), mean_cell(r.flown_ratio, 3),
+        mean_cell(r.flown_wide_ratio, 3));
     summary.push_back({{"roadmap", name}, {"vertices", mean_sd(r.vertices).mean}, {"edges", mean_sd(r.edges).mean},
                        {"tour", mean_sd(r.tour).mean}, {"tour_over_dense", mean_sd(r.tour_ratio).mean},
+                       {"flown", mean_sd(r.flown).mean}, {"flown_over_dense", mean_sd(r.flown_ratio).mean},
+                       {"flown_over_dense_wide", options.wide ? nlohmann::json(mean_sd(r.flown_wide_ratio).mean) : nlohmann::json()},
+                       {"flown_per_seed", r.flown},
                        {"median_within_3_Delta", sparse ? mean_sd(r.median3).mean : 0.0},
                        {"p95_within_3_Delta", sparse ? mean_sd(r.p95_3).mean : 0.0},
                        {"violations", sparse ? mean_sd(r.violations).mean : 0.0}});
@@ -202,6 +256,7 @@ CLI::App* add_experiment_ablation_command(CLI::App& parent, ExperimentOptions& o
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
   cmd->add_option("--cap", options.cap, "Wall-clock cap per tour, seconds")->check(CLI::Range(0.1, 1e5));
   add_stretch_slack_options(*cmd, options.stretch_slack, options.stretch_slack_after);
+  cmd->add_flag("--wide", options.wide, "Tour Dense-wide too (Dense joined within 2 Delta: the strongest baseline, and the slowest)");
   cmd->add_option("--jobs", options.jobs, "Tours solved at once (one solver thread each)")->check(CLI::Range(1u, 64u));
   return cmd;
 }

@@ -6,8 +6,11 @@
 // budgets).
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
+#include <fstream>
 #include <iostream>
 #include <map>
 
@@ -34,10 +37,60 @@ std::string summary_row(const std::string& scene, const std::string& name, const
                      r.checks_failed == 0 ? std::string("all") : fmt::format("{} FAILED", r.checks_failed));
 }
 
+// Dense-wide's flown tour per (scene, seed) from an earlier run's --json output, checked to have
+// had `iterations` solver iterations (equal work makes it deterministic).
+std::map<std::pair<std::string, std::uint64_t>, double> wide_tours_from(const std::string& path,
+                                                                        std::uint64_t iterations) {
+  std::map<std::pair<std::string, std::uint64_t>, double> out;
+  if (path.empty()) return out;
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "--wide-from", "cannot read it");
+  nlohmann::json runs;
+  std::string line;
+  while (std::getline(in, line)) {  // the JSON is the output's last line
+    if (!line.empty() && line.front() == '{') runs = nlohmann::json::parse(line, nullptr, false);
+  }
+  if (!runs.is_object() || !runs.contains("runs")) {
+    throw InputError(path, "--wide-from", "holds no experiment flown --json output");
+  }
+  for (const auto& r : runs["runs"]) {
+    if (r.value("row", "") != "dense-wide") continue;
+    if (r.value("iterations", std::uint64_t{0}) != iterations) {
+      throw InputError(path, "--wide-from",
+                       fmt::format("{} seed {}: dense-wide ran {} iterations, not {}", r.value("scene", ""),
+                                   r.value("seed", 0), r.value("iterations", 0), iterations));
+    }
+    out[{r.at("scene").get<std::string>(), r.at("seed").get<std::uint64_t>()}] = r.at("shortcut_cost").get<double>();
+  }
+  return out;
+}
+
+const FlownRow* find_row(const std::vector<FlownRow>& rows, const std::string& name) {
+  for (const FlownRow& row : rows) {
+    if (row.name == name) return &row;
+  }
+  return nullptr;
+}
+
+// The equal-time panel pits ispars-flown against Dense-wide: it runs when both rows do.
+bool equal_time_panel(const ExperimentOptions& options) {
+  const auto runs = [&](const char* name) {
+    return options.rows.empty() || std::find(options.rows.begin(), options.rows.end(), name) != options.rows.end();
+  };
+  return runs("ispars-flown") && runs("dense-wide");
+}
+
 }  // namespace
 
 int run_experiment_flown(const ExperimentOptions& options) {
   const SolverWork work{options.iterations, options.cap, options.jobs};
+  for (const std::string& name : options.rows) {
+    const auto& names = flown_row_names();
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      throw InputError("experiment flown", "--rows", fmt::format("no row '{}' (rows: {})", name, fmt::join(names, ", ")));
+    }
+  }
+  const auto earlier_wide = wide_tours_from(options.wide_from, options.iterations);
   std::cout << fmt::format("# Flown tours: {} seeds, {} solver iterations per search, one solver thread each, {} rows "
                            "at a time, {:.0f} s cap\n\n",
                            options.seeds, work.iterations, work.jobs, work.cap_seconds);
@@ -58,8 +111,12 @@ int run_experiment_flown(const ExperimentOptions& options) {
     std::vector<std::string> order;
     for (std::uint64_t seed = 1; seed <= options.seeds; ++seed) {
       const SeedRoadmaps roadmaps = build_seed_roadmaps(base, ps, seed, delta, options.threads);
-      const std::vector<FlownRow> rows = flown_rows(roadmaps, work, seed);
-      const double wide = rows[kDenseWideRow].tour.cost;
+      const std::vector<FlownRow> rows = flown_rows(roadmaps, work, seed, options.rows);
+      const FlownRow* wide_row = find_row(rows, "dense-wide");
+      const auto earlier = earlier_wide.find({ps.scene, seed});
+      const double wide = wide_row != nullptr          ? wide_row->tour.cost
+                          : earlier != earlier_wide.end() ? earlier->second
+                                                          : std::nan("");
       for (const FlownRow& row : rows) {
         if (runs.find(row.name) == runs.end()) order.push_back(row.name);
         RowRuns& r = runs[row.name];
@@ -68,14 +125,15 @@ int run_experiment_flown(const ExperimentOptions& options) {
         r.walk.push_back(row.tour.walk_cost);
         r.flown.push_back(row.tour.cost);
         r.seconds.push_back(row.seconds);
-        r.over_wide.push_back(row.tour.cost / wide);
+        if (!std::isnan(wide)) r.over_wide.push_back(row.tour.cost / wide);
         r.targets_lost.push_back(static_cast<double>(row.targets_lost));
         r.checks_failed += row.tour.check.valid() ? 0 : 1;
         results.push_back(row_json(ps.scene, seed, row));
       }
-      std::cerr << fmt::format("{} seed {}: ispars-flown {:.2f}, dense-wide {:.2f} ({:.3f}x)\n", ps.scene, seed,
-                               rows[kFlownRow].tour.cost, wide, rows[kFlownRow].tour.cost / wide);
-      for (const double budget : options.budgets) {
+      std::cerr << fmt::format("{} seed {}: dense-wide {:.2f}", ps.scene, seed, wide);
+      for (const FlownRow& row : rows) std::cerr << fmt::format(", {} {:.2f}", row.name, row.tour.cost);
+      std::cerr << '\n';
+      for (const double budget : equal_time_panel(options) ? options.budgets : std::vector<double>{}) {
         const auto [flown, dense_wide] = equal_time(roadmaps, budget, seed);
         timed[budget].first.push_back(flown);
         timed[budget].second.push_back(dense_wide);
@@ -84,8 +142,10 @@ int run_experiment_flown(const ExperimentOptions& options) {
     for (const std::string& name : order) summary << summary_row(ps.scene, name, runs[name]);
     for (const auto& [budget, pair] : timed) panel << equal_time_row(ps.scene, budget, pair.first, pair.second);
   }
-  std::cout << summary.str() << "\nEqual time (wall clock, one solver thread; '-': no tour by then):\n\n"
-            << panel.str();
+  std::cout << summary.str();
+  if (equal_time_panel(options) && !options.budgets.empty()) {
+    std::cout << "\nEqual time (wall clock, one solver thread; '-': no tour by then):\n\n" << panel.str();
+  }
   if (options.json) std::cout << nlohmann::json{{"runs", results}}.dump() << std::endl;
   return 0;
 }
@@ -101,6 +161,9 @@ CLI::App* add_experiment_flown_command(CLI::App& parent, ExperimentOptions& opti
   cmd->add_option("--jobs", options.jobs, "Rows at once (one solver thread each)")->check(CLI::Range(1u, 64u));
   cmd->add_option("--equal-time", options.budgets, "Wall-clock budgets of the equal-time panel, seconds")
       ->check(CLI::Range(0.01, 3600.0));
+  cmd->add_option("--rows", options.rows, "Only these rows (default: every one)")->delimiter(',');
+  cmd->add_option("--wide-from", options.wide_from,
+                  "An earlier run's --json output: Dense-wide's flown tours when the dense-wide row is not run");
   return cmd;
 }
 

@@ -17,6 +17,8 @@ struct RowInput {
   std::span<const Vec3> positions;
   bool corridor = false;
   bool refine = false;
+  CorridorSource source = CorridorSource::fresh;
+  std::span<const Vec3> samples = {};  // with CorridorSource::samples
 };
 
 FlownTourOptions row_options(const RowInput& in, const std::vector<PoiId>& targets, const SolverWork& work,
@@ -29,6 +31,9 @@ FlownTourOptions row_options(const RowInput& in, const std::vector<PoiId>& targe
   o.search.lp_bound = false;
   o.build_samples = samples;
   o.rounds = in.corridor ? o.rounds : 0;
+  o.corridor_source = in.source;
+  o.corridor_samples = in.samples;
+  o.build_seed = seed;  // build_seed_roadmaps builds with the row's seed
   o.refine = in.refine;
   return o;
 }
@@ -64,6 +69,12 @@ std::vector<RowInput> row_inputs(const SeedRoadmaps& r) {
   // The same stream: Dense-wide's vertex i is the dense pair's vertex i (dense_ids index both).
   rows.push_back({"dense-wide/ispars-viewpoints", with_viewpoints(wide, r.ispars->dense_ids()), wide.positions()});
   rows.push_back({"random@|V|", InspectionGraph::from_roadmap(random), random.positions()});
+  // The corridor from the build's own samples: the dense pair's vertices (ispars), or the seed's
+  // stream drawn again (ispars2, whose sparse roadmap is ispars's byte for byte).
+  rows.push_back({"ispars-flown/dense-samples", InspectionGraph::from_roadmap(ispars), ispars.positions(), true, true,
+                  CorridorSource::samples, r.ispars->dense()->positions()});
+  rows.push_back({"ispars-flown/stream", InspectionGraph::from_roadmap(ispars), ispars.positions(), true, true,
+                  CorridorSource::stream});
   return rows;
 }
 
@@ -86,12 +97,28 @@ SeedRoadmaps build_seed_roadmaps(const SceneConfig& base, const PaperSetting& ps
   return r;
 }
 
-std::vector<FlownRow> flown_rows(const SeedRoadmaps& roadmaps, const SolverWork& work, std::uint64_t seed) {
-  const std::vector<RowInput> inputs = row_inputs(roadmaps);
+const std::vector<std::string>& flown_row_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const char* name : {"ispars", "ispars-flown", "dense-wide", "dense-wide-refined", "dense-wide/ispars-viewpoints",
+                             "random@|V|", "ispars-flown/dense-samples", "ispars-flown/stream"}) {
+      out.emplace_back(name);
+    }
+    return out;
+  }();
+  return names;
+}
+
+std::vector<FlownRow> flown_rows(const SeedRoadmaps& roadmaps, const SolverWork& work, std::uint64_t seed,
+                                 std::span<const std::string> only) {
+  std::vector<RowInput> inputs = row_inputs(roadmaps);
   // I_t: the POIs seen from the root's component of ispars, Dense-wide and its viewpoint-restricted
   // graph (random@|V| tours what it reaches of them, and counts the rest as lost).
   const std::vector<const InspectionGraph*> graphs{&inputs[0].graph, &inputs[2].graph, &inputs[4].graph};
   const std::vector<PoiId> common = common_targets(graphs);
+  if (!only.empty()) {
+    std::erase_if(inputs, [&](const RowInput& in) { return std::find(only.begin(), only.end(), in.name) == only.end(); });
+  }
   std::vector<FlownRow> rows(inputs.size());
   run_jobs(inputs.size(), work.jobs, [&](std::size_t i) { rows[i] = run_row(roadmaps, inputs[i], common, work, seed); });
   return rows;

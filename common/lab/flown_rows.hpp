@@ -44,12 +44,19 @@ struct FlownRow {
   double seconds = 0.0;          ///< The pipeline's wall time.
 };
 
-/// The rows, in this order: ispars (the roadmap walk, shortcut), ispars-flown (the daemon's
-/// pipeline), dense-wide (walk, shortcut), dense-wide-refined (and viewpoint refinement),
-/// dense-wide/ispars-viewpoints (Dense-wide's graph, chi only on ispars's vertices), random@|V|.
-inline constexpr std::size_t kIsparsRow = 0, kFlownRow = 1, kDenseWideRow = 2;
+/// Row indices in flown_row_names().
+inline constexpr std::size_t kFlownRow = 1, kDenseWideRow = 2;
+
+/// The rows' names, in their order: ispars (the roadmap walk, shortcut), ispars-flown (the
+/// daemon's pipeline), dense-wide (walk, shortcut), dense-wide-refined (and viewpoint refinement),
+/// dense-wide/ispars-viewpoints (Dense-wide's graph, chi only on ispars's vertices), random@|V|,
+/// and ispars-flown with its corridor from the dense pair's vertices (/dense-samples) or the
+/// seed's stream drawn again (/stream).
+[[nodiscard]] const std::vector<std::string>& flown_row_names();
+
+/// The rows named in `only` (every row when empty), in flown_row_names()'s order.
 [[nodiscard]] std::vector<FlownRow> flown_rows(const SeedRoadmaps& roadmaps, const SolverWork& work,
-                                               std::uint64_t seed);
+                                               std::uint64_t seed, std::span<const std::string> only = {});
 
 /// The best flown tour of ispars-flown and of Dense-wide (shortcut) within `budget` seconds of
 /// wall clock on one thread each (NaN where no tour came by then).

@@ -1,9 +1,12 @@
-// ispars-lab's rule-set options and the experiments that measure them (spanner, ablation), run
+// ispars-lab's rule-set options and the experiments that measure them (spanner, ablation, flown), run
 // as a user runs them.
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
+
+#include <map>
 
 #include "lab_cli_fixture.hpp"
 
@@ -91,14 +94,21 @@ TEST_F(LabVariants, SpannerMeasuresShortPairsPerVariant) {
 
 TEST_F(LabVariants, AblationComparesRuleSetsOnTheSameTargetsAndWork) {
   const LabRun run = lab("experiment ablation --scene water_tower --delta 2.348 --seeds 1 --iterations 50 "
-                         "--rule-sets alg1,stretch,stretch+nearest-witness --json");
+                         "--rule-sets alg1,stretch,stretch+nearest-witness --wide --json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto json = last_json_line(run.out);
-  ASSERT_EQ(json["summary"].size(), 5u);  // dense, irisc and the three rule sets
+  ASSERT_EQ(json["summary"].size(), 6u);  // dense, irisc, dense-wide and the three rule sets
   for (const auto& row : json["summary"]) {
     EXPECT_GT(row["tour"].get<double>(), 0.0) << row["roadmap"];
+    // Flown: the walk shortcut (never longer), as a ratio to Dense's and Dense-wide's flown tours.
+    EXPECT_GT(row["flown"].get<double>(), 0.0) << row["roadmap"];
+    EXPECT_LE(row["flown"].get<double>(), row["tour"].get<double>() + 1e-9) << row["roadmap"];
     if (row["roadmap"] == "dense") {
       EXPECT_DOUBLE_EQ(row["tour_over_dense"].get<double>(), 1.0);
+      EXPECT_DOUBLE_EQ(row["flown_over_dense"].get<double>(), 1.0);
+    } else if (row["roadmap"] == "dense-wide") {
+      EXPECT_DOUBLE_EQ(row["flown_over_dense_wide"].get<double>(), 1.0);
+      EXPECT_GT(row["edges"].get<double>(), 10.0 * json["summary"][0]["edges"].get<double>());
     } else if (row["roadmap"] != "irisc") {
       EXPECT_EQ(row["violations"], 0.0) << row["roadmap"];
     }
@@ -131,6 +141,51 @@ TEST_F(LabVariants, AblationComparesRuleSetsOnTheSameTargetsAndWork) {
 }
 
 #ifdef ISPARS_OMPL_BENCH
+// experiment flown: every row's flown tour passes its check and is never longer than its walk;
+// the corridor from the dense pair's vertices and from the seed's stream drawn again are the same
+// samples, so the same tour; --rows and --wide-from reproduce a row (equal work is deterministic).
+TEST_F(LabVariants, FlownRowsPassTheirChecksAndTheCorridorSourcesAgree) {
+  const LabRun run = lab("experiment flown --scene water_tower --seeds 1 --iterations 200 --equal-time 0.1 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = last_json_line(run.out);
+  std::map<std::string, nlohmann::json> rows;
+  for (const auto& r : json["runs"]) rows[r["row"].get<std::string>()] = r;
+  ASSERT_EQ(rows.size(), 8u) << run.out;
+  for (const auto& [name, r] : rows) {
+    EXPECT_TRUE(r["check"].get<bool>()) << name;
+    EXPECT_LE(r["shortcut_cost"].get<double>(), r["walk_cost"].get<double>() * (1.0 + 1e-9)) << name;
+  }
+  for (const char* name : {"ispars-flown", "ispars-flown/dense-samples", "ispars-flown/stream"}) {
+    EXPECT_LE(rows[name]["shortcut_cost"].get<double>(), rows["ispars"]["shortcut_cost"].get<double>()) << name;
+  }
+  EXPECT_GT(rows["ispars-flown/dense-samples"]["corridor_samples"].get<std::size_t>(), 0u);
+  EXPECT_EQ(rows["ispars-flown/dense-samples"]["shortcut_cost"], rows["ispars-flown/stream"]["shortcut_cost"]);
+  EXPECT_EQ(rows["ispars-flown/dense-samples"]["edges"], rows["ispars-flown/stream"]["edges"]);
+  EXPECT_NE(run.out.find("| water_tower | 0.1 |"), std::string::npos) << "the equal-time panel";
+
+  const auto earlier = write("earlier.json", run.out);
+  const LabRun one = lab("experiment flown --scene water_tower --seeds 1 --iterations 200 --rows ispars-flown "
+                         "--wide-from " + earlier.string() + " --json");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const auto again = last_json_line(one.out);
+  ASSERT_EQ(again["runs"].size(), 1u);
+  EXPECT_EQ(again["runs"][0]["shortcut_cost"], rows["ispars-flown"]["shortcut_cost"]);
+  const double ratio = rows["ispars-flown"]["shortcut_cost"].get<double>() / rows["dense-wide"]["shortcut_cost"].get<double>();
+  EXPECT_NE(one.out.find(fmt::format("{:.3f} [", ratio)), std::string::npos) << one.out;
+  EXPECT_EQ(one.out.find("| water_tower | 0.1 |"), std::string::npos) << "no panel without dense-wide";
+
+  const LabRun other_work = lab("experiment flown --scene water_tower --seeds 1 --iterations 300 --rows ispars "
+                                "--wide-from " + earlier.string());
+  EXPECT_EQ(other_work.exit_code, 2);
+  EXPECT_NE(other_work.err.find("ran 200 iterations, not 300"), std::string::npos) << other_work.err;
+  const LabRun bad_row = lab("experiment flown --scene water_tower --seeds 1 --rows ispars,teleport");
+  EXPECT_EQ(bad_row.exit_code, 2);
+  EXPECT_NE(bad_row.err.find("--rows"), std::string::npos) << bad_row.err;
+  EXPECT_NE(bad_row.err.find("teleport"), std::string::npos) << bad_row.err;
+  EXPECT_EQ(lab("experiment flown --scene water_tower --seeds 1 --rows ispars --wide-from /nonexistent.json").exit_code,
+            2);
+}
+
 TEST_F(LabVariants, OmplBenchTimesBothBuildersOnTheSameScene) {
   const std::string command = std::string("'") + ISPARS_OMPL_BENCH + "' " + ISPARS_SCENES_DIR +
                               "/water_tower.yaml --samples 400 --json > '" + (dir_ / "ompl.txt").string() + "' 2>&1";

@@ -36,7 +36,7 @@ class FlownRun {
     for (std::size_t round = 0; round < rounds && out_.stops.size() > 2 && !stopping(); ++round) {
       const double before = out_.cost;
       const double share = 1.0 / static_cast<double>(rounds - round);  // of what is left
-      if (corridor_density() > 0.0 && o_.rounds > 0 && corridor_round(round, share)) stage("corridor");
+      if (has_corridor() && o_.rounds > 0 && corridor_round(round, share)) stage("corridor");
       if (o_.refine) refine(share);
       if (before - out_.cost < kRoundPays * before) break;
     }
@@ -89,12 +89,25 @@ class FlownRun {
     return volume > 0.0 ? o_.density_factor * static_cast<double>(o_.build_samples) / volume : 0.0;
   }
 
+  [[nodiscard]] bool has_corridor() const {
+    switch (o_.corridor_source) {
+      case CorridorSource::fresh: return corridor_density() > 0.0;
+      case CorridorSource::samples: return !o_.corridor_samples.empty();
+      case CorridorSource::stream: return o_.build_samples > 0;
+    }
+    return false;
+  }
+
   [[nodiscard]] CorridorOptions corridor_options(std::size_t round) const {
     const double delta = scene_.config().sparse_delta;
     CorridorOptions co;
     co.radius = o_.corridor_radius > 0.0 ? o_.corridor_radius : delta / 2.0;
     co.join_radius = o_.join_radius > 0.0 ? o_.join_radius : 2.0 * delta;
+    co.source = o_.corridor_source;
     co.density = corridor_density();
+    co.samples = o_.corridor_samples;
+    co.stream_seed = o_.build_seed;
+    co.stream_count = o_.build_samples;
     co.max_samples = o_.corridor_max_samples;
     co.max_joins = o_.corridor_max_joins;
     co.seed = o_.search.seed * 0x9E3779B97F4A7C15ull + round + 1;

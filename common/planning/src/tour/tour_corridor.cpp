@@ -8,6 +8,7 @@
 #include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <unordered_map>
 #include <utility>
 
 #include "ispars/geometry/point_grid.hpp"
@@ -69,6 +70,73 @@ class Tube {
   std::span<const Vec3> stops_;
   double r_;
   std::vector<double> cumulative_;
+};
+
+// Which points lie within r of the path: each segment is walked in steps of at most r, and each
+// step marks the grid cells (side 2r) meeting the box of half-side 1.5 r around it. A point within
+// r of a segment is within r / 2 + r of one of its steps, so its cell lists that segment; the
+// exact distance decides. A path too long for its radius (over kMaxMarks steps) is tested
+// against every segment instead.
+class TubeIndex {
+ public:
+  TubeIndex(std::span<const Vec3> stops, double radius) : stops_(stops), r_(radius), cell_(2.0 * radius) {
+    double steps = 0.0;
+    for (std::size_t i = 0; i + 1 < stops.size(); ++i) steps += std::ceil((stops[i + 1] - stops[i]).norm() / r_) + 1.0;
+    indexed_ = steps <= kMaxMarks;
+    if (!indexed_) return;
+    for (std::size_t i = 0; i + 1 < stops.size(); ++i) {
+      const Vec3& a = stops[i];
+      const Vec3& b = stops[i + 1];
+      const auto n = static_cast<std::size_t>(std::ceil((b - a).norm() / r_));
+      for (std::size_t k = 0; k <= n; ++k) {
+        mark(n == 0 ? a : Vec3(a + (b - a) * (static_cast<double>(k) / static_cast<double>(n))),
+             static_cast<std::uint32_t>(i));
+      }
+    }
+  }
+
+  [[nodiscard]] bool contains(const Vec3& q) const {
+    if (!indexed_) return near_segment(q, 0, stops_.size() - 1);
+    const auto it = cells_.find(key(cell(q.x()), cell(q.y()), cell(q.z())));
+    if (it == cells_.end()) return false;
+    for (const std::uint32_t i : it->second) {
+      if (distance_to_segment(q, stops_[i], stops_[i + 1]) <= r_) return true;
+    }
+    return false;
+  }
+
+ private:
+  static constexpr double kMaxMarks = 4e6;
+
+  [[nodiscard]] bool near_segment(const Vec3& q, std::size_t from, std::size_t to) const {
+    for (std::size_t i = from; i < to; ++i) {
+      if (distance_to_segment(q, stops_[i], stops_[i + 1]) <= r_) return true;
+    }
+    return false;
+  }
+  [[nodiscard]] std::int64_t cell(double x) const { return static_cast<std::int64_t>(std::floor(x / cell_)); }
+  [[nodiscard]] static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
+    const auto bits = [](std::int64_t c) { return static_cast<std::uint64_t>(c) & 0x1FFFFFu; };  // 21 bits each
+    return bits(x) << 42 | bits(y) << 21 | bits(z);
+  }
+  // Segments come in order, so a cell's list repeats a segment only at its back.
+  void mark(const Vec3& p, std::uint32_t segment) {
+    const double h = 1.5 * r_;
+    for (std::int64_t x = cell(p.x() - h); x <= cell(p.x() + h); ++x) {
+      for (std::int64_t y = cell(p.y() - h); y <= cell(p.y() + h); ++y) {
+        for (std::int64_t z = cell(p.z() - h); z <= cell(p.z() + h); ++z) {
+          std::vector<std::uint32_t>& list = cells_[key(x, y, z)];
+          if (list.empty() || list.back() != segment) list.push_back(segment);
+        }
+      }
+    }
+  }
+
+  std::span<const Vec3> stops_;
+  double r_;
+  double cell_;
+  bool indexed_ = false;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
 };
 
 void check_arguments(const InspectionGraph& base, std::span<const Vec3> base_positions, std::span<const Vec3> stops,
@@ -143,6 +211,57 @@ void join(const Scene& scene, const CorridorOptions& o, std::chrono::steady_cloc
   }
 }
 
+// Keeps a tube sample that is in the scene's box and valid.
+bool keep(const Scene& scene, const Vec3& q, Growing& g, CorridorGraph& out) {
+  if (!scene.config().bounds.contains(q) || !scene.point_valid(q)) return false;
+  g.add(scene, q);
+  ++out.samples;
+  return true;
+}
+
+// Fresh draws, uniform over the tube at the options' density.
+void add_fresh(const Scene& scene, std::span<const Vec3> stops, const CorridorOptions& o,
+               std::chrono::steady_clock::time_point start, Growing& g, CorridorGraph& out) {
+  const Tube tube(stops, o.radius);
+  const double wanted = std::ceil(o.density * tube.capsule_volume());
+  const auto draws = static_cast<std::size_t>(std::min(wanted, static_cast<double>(o.max_samples)));
+  Rng rng(o.seed);
+  for (std::size_t k = 0; k < draws; ++k) {
+    if (k % 64 == 0 && should_stop(o, start)) {
+      out.stopped = true;
+      return;
+    }
+    const std::optional<Vec3> q = tube.draw(rng);
+    if (!q) continue;
+    ++out.draws;
+    keep(scene, *q, g, out);
+  }
+}
+
+// The given samples, or the build's stream drawn again, that lie in the tube (the first
+// max_samples kept); a base vertex's own position is not added again.
+void add_found(const Scene& scene, std::span<const Vec3> stops, const CorridorOptions& o,
+               std::chrono::steady_clock::time_point start, Growing& g, CorridorGraph& out) {
+  const TubeIndex tube(stops, o.radius);
+  PointGrid base(o.radius);
+  const std::size_t n = g.positions.size();
+  for (std::size_t v = 0; v < n; ++v) base.insert(static_cast<std::uint32_t>(v), g.positions[v]);
+  std::vector<std::pair<double, std::uint32_t>> same;
+  const std::uint64_t count = o.source == CorridorSource::samples ? o.samples.size() : o.stream_count;
+  Rng stream(o.stream_seed);
+  for (std::uint64_t k = 0; k < count && out.samples < o.max_samples; ++k) {
+    if (k % 4096 == 0 && should_stop(o, start)) {
+      out.stopped = true;
+      return;
+    }
+    const Vec3 q = o.source == CorridorSource::samples ? o.samples[k] : stream.uniform_in(scene.config().bounds);
+    if (!tube.contains(q)) continue;
+    ++out.draws;
+    base.within(q, 0.0, std::span<const Vec3>(g.positions).first(n), same);
+    if (same.empty()) keep(scene, q, g, out);
+  }
+}
+
 }  // namespace
 
 CorridorGraph corridor_graph(const Scene& scene, const InspectionGraph& base, std::span<const Vec3> base_positions,
@@ -164,23 +283,10 @@ CorridorGraph corridor_graph(const Scene& scene, const InspectionGraph& base, st
   for (std::size_t i = 0; i + 1 < stops.size(); ++i) {
     if (out.walk[i] != out.walk[i + 1]) g.edges.push_back({out.walk[i], out.walk[i + 1], (stops[i + 1] - stops[i]).norm()});
   }
-  // The tube's samples.
-  const Tube tube(stops, o.radius);
-  const double wanted = std::ceil(o.density * tube.capsule_volume());
-  const auto draws = static_cast<std::size_t>(std::min(wanted, static_cast<double>(o.max_samples)));
-  Rng rng(o.seed);
-  const Aabb& box = scene.config().bounds;
-  for (std::size_t k = 0; k < draws; ++k) {
-    if (k % 64 == 0 && should_stop(o, start)) {
-      out.stopped = true;
-      break;
-    }
-    const std::optional<Vec3> q = tube.draw(rng);
-    if (!q) continue;
-    ++out.draws;
-    if (!box.contains(*q) || !scene.point_valid(*q)) continue;
-    g.add(scene, *q);
-    ++out.samples;
+  if (o.source == CorridorSource::fresh) {
+    add_fresh(scene, stops, o, start, g, out);
+  } else {
+    add_found(scene, stops, o, start, g, out);
   }
   join(scene, o, start, g, out);
   out.positions = g.positions;

@@ -24,6 +24,7 @@
 #include "ispars/scene/scene.hpp"
 #include "ispars/tour/flown_tour_check.hpp"
 #include "ispars/tour/gip_solver.hpp"
+#include "ispars/tour/tour_corridor.hpp"
 #include "ispars/tour/tour_shortcut.hpp"
 #include "ispars/tour/viewpoint_refinement.hpp"
 
@@ -39,13 +40,19 @@ struct FlownTourOptions {
   /// Rounds at most of a corridor then refinement (0: refinement alone, once); a round that gains
   /// under 0.1% ends them.
   std::size_t rounds = 3;
+  /// Where the tube's samples come from: fresh draws at the density below; the dense pair's
+  /// vertices (`corridor_samples`); or the build's stream drawn again (build_seed, build_samples).
+  CorridorSource corridor_source = CorridorSource::fresh;
+  std::span<const Vec3> corridor_samples;
+  std::uint64_t build_seed = 0;     ///< With CorridorSource::stream.
   double corridor_radius = 0.0;     ///< r: the tube's radius; 0: Delta / 2 (the scene's sparse_delta / 2).
   double join_radius = 0.0;         ///< 0: 2 Delta, a sparse edge's reach.
   /// Tube samples per cubic metre; 0: `density_factor` times the build's (build_samples over the
   /// sampling box's volume).
   double corridor_density = 0.0;
   double density_factor = 4.0;
-  std::uint64_t build_samples = 0;  ///< N of the roadmap's build (with corridor_density 0; 0: no corridor).
+  /// N of the roadmap's build (fresh with corridor_density 0, or the stream's length; 0: no corridor).
+  std::uint64_t build_samples = 0;
   std::size_t corridor_max_samples = 20'000;  ///< Tube samples per round at most.
   /// Each tube sample is joined to at most this many vertices, its nearest within join_radius
   /// (0: every one): bounds the corridor's edges and segment checks.

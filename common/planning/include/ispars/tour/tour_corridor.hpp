@@ -1,9 +1,9 @@
 #pragma once
 // Corridor densification: the graph a flown tour is searched again on. Where a small roadmap
 // loses to a dense one is where its viewpoints are, not how it routes between them; so around
-// the tour it already flies (a tube of radius r around its straight segments) the corridor draws
-// fresh samples at a chosen density and joins each, within a sparse edge's reach, to every
-// vertex by a checked segment. The roadmap itself is left untouched: the corridor lives in the
+// the tour it already flies (a tube of radius r around its straight segments) the corridor adds
+// samples (fresh draws at a chosen density, the dense pair's vertices, or the build's stream drawn
+// again) and joins each, within a sparse edge's reach, to its nearest vertices by checked segments. The roadmap itself is left untouched: the corridor lives in the
 // tour's own graph, a copy of the roadmap's graph with the tube's vertices after it.
 
 #include <atomic>
@@ -18,14 +18,30 @@
 
 namespace ispars {
 
+/// Where a corridor's samples come from.
+enum class CorridorSource : std::uint8_t {
+  fresh,    ///< Uniform draws over the tube at `density` per cubic metre, from Rng(seed).
+  samples,  ///< The given `samples` that lie in the tube, in their order (Inspection-SPARS's dense pair).
+  /// The build's samples drawn again: `stream_count` uniform draws in the scene's bounds from
+  /// Rng(stream_seed), as the builders draw them, kept when they lie in the tube (ispars2, which
+  /// keeps no dense graph).
+  stream,
+};
+
 /// How a corridor is drawn and joined.
 struct CorridorOptions {
+  CorridorSource source = CorridorSource::fresh;
   double radius = 0.0;       ///< r: the tube's radius around the flown path (> 0).
   double join_radius = 0.0;  ///< Vertices this close are joined by a checked segment (> 0).
   /// Samples per cubic metre of tube (>= 0), uniform over the tube (the union of the capsules
   /// around the segments); the valid ones are kept.
   double density = 0.0;
-  std::size_t max_samples = 20'000;  ///< At most this many draws (the density is lowered to fit).
+  /// At most this many fresh draws (the density is lowered to fit), or tube samples kept from
+  /// `samples` or the stream (the first ones, in their order).
+  std::size_t max_samples = 20'000;
+  std::span<const Vec3> samples;       ///< With CorridorSource::samples.
+  std::uint64_t stream_seed = 0;       ///< With CorridorSource::stream: the build's seed
+  std::uint64_t stream_count = 0;      ///< and its sample count.
   /// Each new vertex is joined to at most this many vertices, its nearest within join_radius
   /// (bounds the corridor's edges and checks to max_joins per vertex; 0: no bound).
   std::size_t max_joins = 0;
@@ -44,8 +60,8 @@ struct CorridorGraph {
   InspectionGraph graph;
   std::vector<Vec3> positions;   ///< Of every vertex of `graph`.
   std::vector<VertexId> walk;    ///< The flown path as a closed walk of `graph`, from vertex 0.
-  std::size_t samples = 0;       ///< Tube samples added (valid draws).
-  std::size_t draws = 0;         ///< Tube samples drawn.
+  std::size_t samples = 0;       ///< Tube samples added (valid, and not a base vertex's position).
+  std::size_t draws = 0;         ///< Tube samples drawn, or found in the tube.
   std::size_t segments_checked = 0;
   bool stopped = false;          ///< `stop` ended the joins early.
 };
