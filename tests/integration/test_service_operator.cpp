@@ -174,6 +174,35 @@ TEST_F(ServiceTest, AnInterruptedBuildAndAQueuedOneResumeAfterARestart) {
   EXPECT_EQ(resumed, 2u) << "a finished job was resumed again:\n" << log;
 }
 
+// A rolling upgrade restarts the daemon cleanly again and again: the build is resumed every time
+// (clean stops do not count against the cap of three resumes after deaths) and ends byte for byte
+// the roadmap an uninterrupted build gives.
+TEST_F(ServiceTest, ABuildSurvivesFiveCleanRestarts) {
+  {
+    auto daemon = start("d");
+    Client c(client_options(domain_));
+    c.load("s0");
+    c.build("s0", ispars_build(30'000));
+    EXPECT_EQ(daemon->terminate(), 0);
+  }
+  for (int restart = 1; restart <= 4; ++restart) {
+    auto daemon = start("d");
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (std::chrono::steady_clock::now() < deadline && daemon->log().find("scene 's0': resuming") == std::string::npos) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ASSERT_NE(daemon->log().find("scene 's0': resuming"), std::string::npos)
+        << "restart " << restart << ": the build was not resumed:\n" << daemon->log();
+    EXPECT_EQ(daemon->terminate(), 0);
+  }
+  auto daemon = start("d");
+  Client c(client_options(domain_));
+  const SceneStatus s0 = c.wait_idle("s0", {}, kLong);
+  EXPECT_EQ(s0.samples_done, 30'000u) << s0.last_error << "\n" << daemon->log();
+  EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 30'000, 1));
+  EXPECT_EQ(daemon->terminate(), 0);
+}
+
 TEST_F(ServiceTest, ALogFileOrMetricsAddressThatCannotBeUsedStopsTheStartWithItsName) {
   const auto run = [&](const std::vector<std::string>& extra) {
     std::string cmd = std::string(ISPARS_DAEMON) + " --domain " + std::to_string(domain_) + " --data-dir " +

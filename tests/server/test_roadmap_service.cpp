@@ -417,5 +417,54 @@ TEST_F(RoadmapServiceTest, AJobIsResumedWithItsAttemptCountedAndGivenUpAfterThre
   }
 }
 
+// Clean stops (SIGTERM, a rolling upgrade) do not count against the resume cap: a job the daemon
+// died under twice, then stopped cleanly under, is stopped cleanly four times more, and each start
+// resumes it, its attempts still 2; a death counts again, and the next one ends it.
+TEST_F(RoadmapServiceTest, CleanStopsDoNotCountAgainstTheResumeCap) {
+  {
+    RoadmapService service(settings(), {});
+    service.load("s0");
+    service.build("s0", ispars(1500));
+    ASSERT_EQ(wait_idle(service, "s0").samples_done, 1500u);
+  }
+  const auto data = dir_.path() / "data";
+  save_pending_job(data, PendingJob{"s0", 7, std::nullopt, 0, 400'000, 2, std::nullopt, /*stopped_cleanly=*/true});
+  for (int stop = 0; stop < 4; ++stop) {
+    {
+      RoadmapService service(settings(), {});
+      service.load_stored_roadmaps();
+      service.resume_pending_jobs();
+      ASSERT_EQ(pending_jobs(data).size(), 1u) << "stop " << stop << ": the job was not resumed";
+    }  // a clean stop, with the job running or queued
+    const auto jobs = pending_jobs(data);
+    ASSERT_EQ(jobs.size(), 1u) << "stop " << stop << ": a cleanly stopped job was forgotten";
+    EXPECT_EQ(jobs[0].attempts, 2u) << "stop " << stop << ": a clean stop was counted";
+    EXPECT_TRUE(jobs[0].stopped_cleanly);
+    EXPECT_EQ(jobs[0].target, 400'000u);
+  }
+  // The daemon dies under it (its record as the resume wrote it: not stopped cleanly).
+  PendingJob died = pending_jobs(data)[0];
+  died.stopped_cleanly = false;
+  save_pending_job(data, died);
+  {
+    RoadmapService service(settings(), {});
+    service.load_stored_roadmaps();
+    service.resume_pending_jobs();
+    const auto jobs = pending_jobs(data);
+    ASSERT_EQ(jobs.size(), 1u);
+    EXPECT_EQ(jobs[0].attempts, 3u) << "a death was not counted";
+    EXPECT_FALSE(jobs[0].stopped_cleanly);
+  }
+  died = pending_jobs(data)[0];  // and dies under it once more
+  died.stopped_cleanly = false;
+  save_pending_job(data, died);
+  {
+    RoadmapService service(settings(), {});
+    service.load_stored_roadmaps();
+    service.resume_pending_jobs();
+    EXPECT_TRUE(pending_jobs(data).empty()) << "a job the daemon died under three times was resumed again";
+  }
+}
+
 }  // namespace
 }  // namespace ispars

@@ -21,7 +21,8 @@ std::filesystem::path record_path(const std::filesystem::path& data_dir, const s
 }
 
 nlohmann::json to_json(const PendingJob& job) {
-  nlohmann::json j{{"scene", job.scene}, {"id", job.id}, {"target", job.target}, {"attempts", job.attempts}};
+  nlohmann::json j{{"scene", job.scene}, {"id", job.id}, {"target", job.target}, {"attempts", job.attempts},
+                   {"stopped_cleanly", job.stopped_cleanly}};
   if (job.build) {
     const BuildRequest& b = *job.build;
     j["build"] = {{"method", std::string(to_string(b.method))},
@@ -47,6 +48,7 @@ PendingJob from_json(const nlohmann::json& j) {
   job.id = j.at("id").get<std::uint64_t>();
   job.target = j.at("target").get<std::uint64_t>();
   job.attempts = j.value("attempts", 0u);
+  job.stopped_cleanly = j.value("stopped_cleanly", false);  // absent in records before clean stops were told apart
   if (j.contains("build")) {
     const nlohmann::json& b = j.at("build");
     BuildRequest r;
@@ -98,6 +100,14 @@ void forget_pending_job(const std::filesystem::path& data_dir, const std::string
   std::error_code ec;
   std::filesystem::remove(path, ec);
   if (!ec) fsync_directory_of(path);
+}
+
+void mark_pending_jobs_stopped_cleanly(const std::filesystem::path& data_dir) {
+  for (PendingJob job : pending_jobs(data_dir)) {
+    if (job.stopped_cleanly) continue;
+    job.stopped_cleanly = true;
+    save_pending_job(data_dir, job);
+  }
 }
 
 std::vector<PendingJob> pending_jobs(const std::filesystem::path& data_dir) {

@@ -41,6 +41,12 @@ void RoadmapService::stop() {
   stop_all_readers("the daemon is stopping");
   builds_.stop();  // running builds commit their current chunk and return
   tours_.stop();   // running tours stop early and report their best
+  try {  // the jobs left are resumed at the next start, and this stop does not count against them
+    std::lock_guard lock(jobs_mutex_);
+    mark_pending_jobs_stopped_cleanly(settings_.data_dir);
+  } catch (const std::exception& e) {
+    spdlog::error("the pending jobs could not be marked as stopped cleanly ({}): their next resume counts", e.what());
+  }
   std::vector<std::string> names;
   {
     std::lock_guard lock(sessions_mutex_);

@@ -1,6 +1,7 @@
 // The service's build jobs: each accepted build or extend is recorded as it is accepted, runs on
 // a build worker, and is forgotten when it ends, unless the daemon is stopping: then the record
-// stays, and the next start resumes it (at most kMaxResumes times).
+// stays, and the next start resumes it (at most kMaxResumes times after the daemon died under it;
+// resumes after clean stops are not counted).
 
 #include <spdlog/spdlog.h>
 
@@ -100,9 +101,11 @@ void RoadmapService::schedule(const std::shared_ptr<RoadmapSession>& session, st
 void RoadmapService::resume_pending_jobs() {
   for (const PendingJob& job : pending_jobs(settings_.data_dir)) {
     try {
-      if (job.attempts >= kMaxResumes) {
-        throw std::runtime_error(fmt::format("resumed {} times already, and the daemon stopped each time", job.attempts));
+      if (!job.stopped_cleanly && job.attempts >= kMaxResumes) {
+        throw std::runtime_error(fmt::format("resumed {} times already, and the daemon died under it each time",
+                                             job.attempts));
       }
+      const std::uint32_t attempts = job.stopped_cleanly ? job.attempts : job.attempts + 1;
       auto s = session_or_null(job.scene);
       if (!s && job.build && !std::filesystem::exists(settings_.data_dir / job.scene / "recipe.json")) {
         s = load(job.scene).first;  // a first build that never committed: its scene is loaded for it
@@ -116,7 +119,7 @@ void RoadmapService::resume_pending_jobs() {
           forget_job(job.scene, job.id);
         } else {
           spdlog::info("scene '{}': resuming the addition of task '{}'", job.scene, job.task->name);
-          (void)accept_task(job.scene, *job.task, job.attempts + 1);
+          (void)accept_task(job.scene, *job.task, attempts);
         }
         continue;
       }
@@ -127,11 +130,11 @@ void RoadmapService::resume_pending_jobs() {
         again.replace = again.replace || st.recipe.has_value();
         spdlog::info("scene '{}': resuming a build that had not committed: {} samples, seed {}", job.scene,
                      again.samples, again.seed);
-        accept(job.scene, again, again.samples, job.attempts + 1);
+        accept(job.scene, again, again.samples, attempts);
       } else if (st.samples_done < job.target) {
         spdlog::info("scene '{}': resuming an interrupted job at {} of {} samples", job.scene, st.samples_done,
                      job.target);
-        accept(job.scene, std::nullopt, job.target - st.samples_done, job.attempts + 1);
+        accept(job.scene, std::nullopt, job.target - st.samples_done, attempts);
       } else {
         forget_job(job.scene, job.id);
       }

@@ -20,8 +20,13 @@ struct PendingJob {
   std::optional<BuildRequest> build;  ///< A build (its request as accepted); empty: an extend or a task.
   std::uint64_t generation = 0;       ///< A build: the generation of the roadmap it makes.
   std::uint64_t target = 0;           ///< Samples the roadmap reaches when the job is done.
-  std::uint32_t attempts = 0;         ///< Times it was resumed (a job that kills the daemon stops being resumed).
+  /// Times it was resumed after the daemon died under it (a job that kills the daemon stops being
+  /// resumed); a clean stop does not count.
+  std::uint32_t attempts = 0;
   std::optional<InspectionTask> task;  ///< A task to add (then no build, and target is 0).
+  /// The daemon stopped cleanly (SIGTERM, a rolling upgrade) while the job ran or waited: its next
+  /// resume is not counted.
+  bool stopped_cleanly = false;
 };
 
 /// Writes `job` atomically and durably, replacing the scene's earlier record. Throws on a write
@@ -30,6 +35,9 @@ void save_pending_job(const std::filesystem::path& data_dir, const PendingJob& j
 
 /// Removes the scene's record if it is job `id`'s (0: whichever it is).
 void forget_pending_job(const std::filesystem::path& data_dir, const std::string& scene, std::uint64_t id = 0);
+
+/// Marks every record in `data_dir` stopped cleanly (a clean stop, once no worker runs).
+void mark_pending_jobs_stopped_cleanly(const std::filesystem::path& data_dir);
 
 /// Every record in `data_dir`. A record that cannot be read is logged and left as it is; the
 /// temporary file of a write a crash interrupted is removed.
