@@ -88,6 +88,35 @@ TEST_F(ServiceTest, AFlippedLengthInTheJournalsMiddleFailsTheSceneAndCutsNothing
   EXPECT_TRUE(daemon->alive());
 }
 
+// As a user reported it: one bit flipped in the last record (complete, fsync'ed, acknowledged).
+// Before head named the durable bytes, the restart cut it aside as a torn write and served the
+// roadmap a commit back, idle, with a warning only. Now the scene is FAILED and nothing is cut.
+TEST_F(ServiceTest, AFlippedBitInTheLastAcknowledgedCommitFailsTheSceneAndCutsNothing) {
+  std::uint64_t acknowledged = 0;
+  {
+    auto daemon = start("d", {"--compact-every", "100000"});
+    Client c(client_options(domain_));
+    c.load("s0");
+    c.build("s0", ispars_build(3000));
+    acknowledged = c.wait_idle("s0", {}, kLong).samples_done;
+    ASSERT_EQ(daemon->terminate(), 0);
+  }
+  const auto store = dir_.path() / "data-d" / "s0";
+  std::string damaged = read_text(store / "journal.log");
+  damaged[damaged.size() - 7] ^= 0x20;  // inside the last record's payload
+  std::ofstream(store / "journal.log", std::ios::binary | std::ios::trunc) << damaged;
+
+  auto daemon = start("d");
+  Client c(client_options(domain_));
+  const auto s0 = c.stats("s0");
+  EXPECT_EQ(s0.state, SceneState::failed) << "served at " << s0.samples_done << " of " << acknowledged << " samples";
+  EXPECT_NE(s0.last_error.find("record checksum mismatch in an acknowledged commit"), std::string::npos)
+      << s0.last_error;
+  EXPECT_EQ(read_text(store / "journal.log"), damaged) << "the damaged journal was changed";
+  EXPECT_FALSE(std::filesystem::exists(store / "journal.log.torn.1")) << "damage was handled as a torn tail";
+  EXPECT_TRUE(daemon->alive());
+}
+
 // The scene file was edited between two runs of the daemon (another procedural seed: another
 // mesh). The old roadmap is not served as idle, replayed or extended: the scene is FAILED naming
 // the change, its files stay, and a build with replace rebuilds it.

@@ -1,6 +1,7 @@
 // The roadmap store: commits survive reopening, a crash at any byte recovers a committed state,
 // compaction's crash window is harmless, and bad commits change nothing.
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -113,6 +114,53 @@ TEST_F(RoadmapStoreTest, ACorruptCommitInTheMiddleIsReportedAndNothingIsCut) {
   // A damaged snapshot is refused the same way.
   write_file_atomically(path / "snapshot.bin", "ISPSNP01 and then garbage");
   EXPECT_THROW((void)RoadmapStore::open(path, scene_->pois().size(), r), StoreDamage);
+}
+
+// A flipped bit in the last commit, acknowledged (head names the bytes durable after it), is
+// damage: opening refuses and nothing is cut (before, it was cut aside as a torn write and the
+// roadmap went back a commit). A record torn after it (a crash mid-append, before head moved)
+// is still a tear, and so is the same flip in a store whose head predates the field.
+TEST_F(RoadmapStoreTest, AFlippedBitInTheLastAcknowledgedCommitIsDamageNotATear) {
+  const auto path = dir_.path() / "bridge";
+  std::vector<Committed> states;
+  {
+    auto store = RoadmapStore::create(path, recipe_);
+    store->set_compact_every(1000);
+    states = build_and_commit(*store, 4, 150);
+  }
+  const std::string journal = slurp(path / "journal.log");
+  const auto head = read_store_head(path);
+  ASSERT_TRUE(head.has_value());
+  EXPECT_EQ(head->journal_bytes, journal.size());
+  std::string flipped = journal;
+  flipped[journal.size() - 5] ^= 0x04;  // inside the last record's payload
+  spit(path / "journal.log", flipped);
+  StoreRecovery r;
+  try {
+    (void)RoadmapStore::open(path, scene_->pois().size(), r);
+    FAIL() << "an acknowledged commit with a flipped bit was cut as a torn tail";
+  } catch (const StoreDamage& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("(commit 4): record checksum mismatch in an acknowledged commit"), std::string::npos) << what;
+  }
+  EXPECT_EQ(slurp(path / "journal.log"), flipped) << "the damaged journal was rewritten";
+  EXPECT_EQ(read_store_head(path)->journal_bytes, journal.size()) << "head was rewritten";
+  // A crash mid-append: the intact journal and half a record after it; head not moved yet.
+  spit(path / "journal.log", journal + flipped.substr(8, 40));
+  {
+    StoreRecovery torn;
+    auto store = RoadmapStore::open(path, scene_->pois().size(), torn);
+    EXPECT_TRUE(torn.torn_tail);
+    expect_state(torn, states.back());
+  }
+  EXPECT_EQ(slurp(path / "journal.log"), journal) << "the torn half record was not cut";
+  // A head without the field (written before it existed): the flip reads as a tear, as before.
+  spit(path / "journal.log", flipped);
+  spit(path / "head", fmt::format("{} {}\n", head->generation, head->samples));
+  StoreRecovery legacy;
+  (void)RoadmapStore::open(path, scene_->pois().size(), legacy);
+  EXPECT_TRUE(legacy.torn_tail);
+  expect_state(legacy, states[2]);
 }
 
 TEST_F(RoadmapStoreTest, ACrashBetweenSnapshotAndJournalResetLosesNothingAndDuplicatesNothing) {

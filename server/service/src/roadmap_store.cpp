@@ -204,7 +204,19 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
     if (old.torn_tail) throw damage(old_journal_path(dir), old);
   }
   const RecordReplay journal = replay(journal_path(dir));
-  // Not a crash's torn tail: stop before the writer would cut it, and say where.
+  // Not a crash's torn tail: stop before the writer would cut it, and say where. A bad record
+  // inside the bytes `head` says were durable (and the file still holds) was acknowledged: damage.
+  // (A head older than the journal, as after a compaction's rotation, names more bytes than the
+  // new file holds, and says nothing.)
+  const std::optional<StoreHead> head = read_store_head(dir, fs);
+  const std::uint64_t file_bytes = fs.file_size(journal_path(dir)).value_or(0);
+  const bool acknowledged = head && journal.torn_tail && journal.valid_bytes < head->journal_bytes &&
+                            head->journal_bytes <= file_bytes;
+  if (acknowledged) {
+    RecordReplay named = journal;
+    named.tail_problem += fmt::format(" in an acknowledged commit (head: durable to byte {})", head->journal_bytes);
+    throw damage(journal_path(dir), named);
+  }
   if (journal.damaged) throw damage(journal_path(dir), journal);
   recovered.journal_commits = commits;
   recovered.torn_tail = journal.torn_tail;
@@ -222,7 +234,8 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
   store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournal, valid_bytes, fs);
   recovered.tail_set_aside = store->journal_->set_aside();
   store->journal_commits_ = recovered.journal_commits;
-  write_store_head(dir, {recovered.recipe.generation, recovered.roadmaps.samples}, fs);  // mends a stale hint
+  store->samples_ = recovered.roadmaps.samples;
+  write_store_head(dir, {recovered.recipe.generation, recovered.roadmaps.samples, valid_bytes}, fs);  // mends a stale hint
   // A compaction that did not finish (a crash, a stop, a failure): finish it now.
   if (fs.exists(old_journal_path(dir))) store->fold_in_background();
   return store;
@@ -239,19 +252,25 @@ void RoadmapStore::commit(const BuildCommit& commit) {
   journal_->append(encode_commit(commit));
   ++journal_commits_;
   if (!replaces_.empty()) take_place();
-  write_store_head(dir_, {recipe_.generation, commit.samples}, fs_);  // after the commit is durable
+  samples_ = commit.samples;
+  write_store_head(dir_, {recipe_.generation, samples_, journal_->size()}, fs_);  // after the commit is durable
   if (!compacting_) wait_for_compaction();  // joins a finished fold; throws its failure
   if (journal_commits_ >= compact_every_) start_compaction();
 }
 
-void write_store_head(const std::filesystem::path& dir, const StoreHead& head, FileSystem& fs) {
-  // Renamed into place, not fsync'ed: a hint that may lag the journal after a power cut, never
-  // lead it (it is written after the commit it names is durable).
+void write_store_head(const std::filesystem::path& dir, const StoreHead& head, FileSystem& fs, bool durable) {
+  // Renamed into place, not fsync'ed after commits: a hint that may lag the journal after a power
+  // cut, never lead it (it is written after the commit it names is durable).
   const std::filesystem::path tmp = dir / "head.tmp";
   try {
-    fs.open(tmp, FileSystem::Open::truncated)->append(fmt::format("{} {}\n", head.generation, head.samples));
+    auto file = fs.open(tmp, FileSystem::Open::truncated);
+    file->append(fmt::format("{} {} {}\n", head.generation, head.samples, head.journal_bytes));
+    if (durable) file->sync();
+    file.reset();
     fs.rename(tmp, dir / "head");
+    if (durable) fsync_directory_of(dir / "head", fs);
   } catch (const std::runtime_error&) {
+    if (durable) throw;
     // A hint: the commit stands without it.
   }
 }
@@ -262,6 +281,7 @@ std::optional<StoreHead> read_store_head(const std::filesystem::path& dir, const
   std::istringstream in(*text);
   StoreHead head;
   if (!(in >> head.generation >> head.samples)) return std::nullopt;
+  if (!(in >> head.journal_bytes)) head.journal_bytes = 0;  // a head older than the field
   return head;
 }
 

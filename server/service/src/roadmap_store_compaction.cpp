@@ -114,6 +114,17 @@ void RoadmapStore::start_compaction() {
     }
     journal_ = std::make_unique<RecordFileWriter>(journal_path(dir_), kJournal, 0, fs_);
     journal_commits_ = 0;
+    // Before the new journal's first append: head names its bytes, durably, so an older head
+    // (whose journal_bytes were journal.old's) can never make a torn first append read as damage.
+    try {
+      write_store_head(dir_, {recipe_.generation, samples_, journal_->size()}, fs_, /*durable=*/true);
+    } catch (const std::runtime_error&) {
+      try {
+        (void)fs_.remove(dir_ / "head");  // no head rather than a stale one: the next commit writes it
+      } catch (const std::exception&) {
+      }
+      throw;  // a disk error, told by name (the commit before is durable; the next one mends head)
+    }
   }
   fold_in_background();
 }

@@ -174,6 +174,7 @@ class RoadmapStore {
   RoadmapRecipe recipe_;
   std::unique_ptr<RecordFileWriter> journal_;
   std::size_t journal_commits_ = 0;
+  std::uint64_t samples_ = 0;  // of the last commit (for head)
   std::size_t compact_every_ = 64;
   std::unique_ptr<FileSystem::Lock> lock_;
   std::thread compactor_;
@@ -199,8 +200,15 @@ void apply_commit(BuiltRoadmaps& roadmaps, const BuildCommit& commit);
 struct StoreHead {
   std::uint64_t generation = 0;
   std::uint64_t samples = 0;
+  /// journal.log's length once that commit was durable (0: unknown, as in heads older than it).
+  /// Every byte before it was acknowledged: a record that fails its checksum there is damage,
+  /// never a crash's torn tail.
+  std::uint64_t journal_bytes = 0;
 };
-void write_store_head(const std::filesystem::path& dir, const StoreHead& head, FileSystem& fs = disk());
+/// Writes `head` by a rename; with `durable`, fsync'ed (file and directory) before it returns, and
+/// throws on failure; otherwise a failure is ignored (a hint).
+void write_store_head(const std::filesystem::path& dir, const StoreHead& head, FileSystem& fs = disk(),
+                      bool durable = false);
 /// The store's head; nothing when it has none (a store older than the file) or it is unreadable.
 [[nodiscard]] std::optional<StoreHead> read_store_head(const std::filesystem::path& dir, const FileSystem& fs = disk());
 
