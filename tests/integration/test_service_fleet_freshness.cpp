@@ -12,6 +12,7 @@
 
 #include "integration/service_fixture.hpp"
 #include "ispars/client/replica.hpp"
+#include "ispars/roadmap/sealed_file.hpp"
 #include "ispars/wire/scene_owner.hpp"
 
 #include <httplib.h>  // after Eigen (service_fixture.hpp): it defines a macro Eigen's headers use
@@ -300,9 +301,10 @@ TEST_F(FleetFreshnessTest, AStoreOfAnotherBuilderVersionIsNotOfferedAndLeftUntou
     std::ifstream in(recipe_path);
     text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  const auto at = text.find("\"builder_version\": 1");
-  ASSERT_NE(at, std::string::npos) << text;
-  text.replace(at, std::string("\"builder_version\": 1").size(), "\"builder_version\": 99");
+  nlohmann::json recipe = nlohmann::json::parse(text);  // as a later builder writes it: sealed
+  ASSERT_EQ(recipe.at("builder_version"), 1) << text;
+  recipe["builder_version"] = 99;
+  text = seal_json(recipe).dump(2) + "\n";
   std::ofstream(recipe_path) << text;
   auto d = start("d");
   Client client(options());

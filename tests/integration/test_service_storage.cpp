@@ -8,6 +8,7 @@
 
 #include "integration/service_fixture.hpp"
 #include "ispars/roadmap/record_file.hpp"
+#include "ispars/roadmap/sealed_file.hpp"
 
 namespace ispars::test {
 namespace {
@@ -163,12 +164,13 @@ TEST_F(ServiceTest, AReplayThatDoesNotReproduceTheStoredRoadmapFailsByNameAndRew
     digest = roadmap_digest(c.snapshot("s0").roadmap);
     ASSERT_EQ(daemon->terminate(), 0);
   }
+  // A recipe that does not give its roadmap, yet passes its own checksum (as a builder's bug would
+  // leave it): the seed changed and the file sealed again.
   const auto store = dir_.path() / "data-d" / "s0";
-  std::string recipe = read_text(store / "recipe.json");
-  const auto at = recipe.find("\"seed\": 7");
-  ASSERT_NE(at, std::string::npos) << recipe;
-  recipe.replace(at, std::string("\"seed\": 7").size(), "\"seed\": 8");
-  std::ofstream(store / "recipe.json", std::ios::trunc) << recipe;
+  nlohmann::json recipe = nlohmann::json::parse(read_text(store / "recipe.json"));
+  ASSERT_EQ(recipe.at("seed"), 7) << recipe;
+  recipe["seed"] = 8;
+  std::ofstream(store / "recipe.json", std::ios::trunc) << seal_json(recipe).dump(2) << "\n";
   std::map<std::string, std::string> files;
   for (const auto& f : std::filesystem::directory_iterator(store)) files[f.path().filename()] = read_text(f.path());
 
@@ -184,6 +186,40 @@ TEST_F(ServiceTest, AReplayThatDoesNotReproduceTheStoredRoadmapFailsByNameAndRew
   EXPECT_EQ(failed.samples_done, 1500u);
   EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), digest) << "what is stored is still served";
   for (const auto& [name, bytes] : files) EXPECT_EQ(read_text(store / name), bytes) << name << " was rewritten";
+  EXPECT_TRUE(daemon->alive());
+}
+
+// As a user reported it: one bit of recipe.json flipped turned seed 3 into seed 2, with no
+// warning, a clean verify, and a next extend that diverged. Now the recipe's checksum fails: the
+// scene is FAILED naming the file, nothing is rewritten, and a build with replace recovers it.
+TEST_F(ServiceTest, AFlippedBitInTheRecipeFailsTheSceneByName) {
+  {
+    auto daemon = start("d");
+    Client c(client_options(domain_));
+    c.load("s0");
+    c.build("s0", ispars_build(1500, 3));
+    c.wait_idle("s0", {}, kLong);
+    ASSERT_EQ(daemon->terminate(), 0);
+  }
+  const auto store = dir_.path() / "data-d" / "s0";
+  std::string recipe = read_text(store / "recipe.json");
+  const auto at = recipe.find("\"seed\": 3");
+  ASSERT_NE(at, std::string::npos) << recipe;
+  recipe[at + std::string("\"seed\": ").size()] ^= 0x01;  // '3' -> '2'
+  std::ofstream(store / "recipe.json", std::ios::binary | std::ios::trunc) << recipe;
+  std::map<std::string, std::string> files;
+  for (const auto& f : std::filesystem::directory_iterator(store)) files[f.path().filename()] = read_text(f.path());
+
+  auto daemon = start("d");
+  Client c(client_options(domain_));
+  const auto s0 = c.stats("s0");
+  EXPECT_EQ(s0.state, SceneState::failed) << "served with seed " << s0.seed;
+  EXPECT_NE(s0.last_error.find("recipe.json fails its checksum"), std::string::npos) << s0.last_error;
+  EXPECT_THROW(c.extend("s0", 500), ClientError);
+  for (const auto& [name, bytes] : files) EXPECT_EQ(read_text(store / name), bytes) << name << " was rewritten";
+  c.build("s0", ispars_build(1500, 3, true));
+  EXPECT_EQ(c.wait_idle("s0", {}, kLong).state, SceneState::idle);
+  EXPECT_EQ(roadmap_digest(c.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 1500, 3));
   EXPECT_TRUE(daemon->alive());
 }
 

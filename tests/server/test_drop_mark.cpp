@@ -31,6 +31,15 @@ TEST(DropMark, AMarkNamesTheDropsGenerationAndTheListingSkipsWhatIsNotAMark) {
   EXPECT_EQ(marks[1].scene, "tower");
   EXPECT_EQ(marks[1].generation, 43u);
   EXPECT_FALSE(dropped_generation(kData / "junk", fs));
+  // A mark whose generation changed by one digit fails its seal and is not believed; an
+  // unsealed mark (written before seals) still is.
+  std::string text = *fs.read(kData / ".drops" / "bridge");
+  ASSERT_NE(text.find("generation 7\n"), std::string::npos) << text;
+  text[text.find("generation 7\n") + 11] = '8';
+  fs.open(kData / ".drops" / "bridge", FileSystem::Open::truncated)->append(text);
+  EXPECT_FALSE(dropped_generation(kData / "bridge", fs));
+  fs.open(kData / ".drops" / "bridge", FileSystem::Open::truncated)->append("generation 7\nold mark\n");
+  EXPECT_EQ(dropped_generation(kData / "bridge", fs), 7u);
 }
 
 // A power cut at any operation of a mark's write leaves the old mark or the new one, whole; once

@@ -75,5 +75,24 @@ TEST(PendingJobs, AnUnreadableRecordIsLeftAsItIsAndNotResumed) {
   EXPECT_EQ(test::read_text(dir.path() / ".jobs" / "bridge.json"), "{\"scene\": \"bridge\", \"id\": ");
 }
 
+// A record whose seal fails (one digit of its target changed: 2500 -> 3500) is not believed: not
+// resumed, and left as it is. A record without a seal (written before seals) is read as before.
+TEST(PendingJobs, ARecordThatFailsItsChecksumIsNotResumed) {
+  test::TempDir dir;
+  save_pending_job(dir.path(), PendingJob{"tower", 1, std::nullopt, 0, 2500, 0, std::nullopt});
+  const auto path = dir.path() / ".jobs" / "tower.json";
+  std::string text = test::read_text(path);
+  ASSERT_NE(text.find("\"crc32\""), std::string::npos) << text;
+  const auto at = text.find("2500");
+  ASSERT_NE(at, std::string::npos) << text;
+  text[at] = '3';
+  std::ofstream(path, std::ios::trunc) << text;
+  EXPECT_TRUE(pending_jobs(dir.path()).empty()) << "a record that fails its checksum was resumed";
+  EXPECT_EQ(test::read_text(path), text);
+  std::ofstream(path, std::ios::trunc) << R"({"scene": "tower", "id": 2, "target": 5})";
+  ASSERT_EQ(pending_jobs(dir.path()).size(), 1u);
+  EXPECT_EQ(pending_jobs(dir.path())[0].target, 5u);
+}
+
 }  // namespace
 }  // namespace ispars

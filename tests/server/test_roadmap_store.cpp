@@ -215,8 +215,20 @@ TEST_F(RoadmapStoreTest, RecipesRoundTripAndBadOnesAreNamed) {
   RoadmapRecipe paper = recipe_;
   paper.variant = SparsVariant::alg1;
   EXPECT_EQ(recipe_from_json(recipe_to_json(paper)).variant, SparsVariant::alg1);
-  // A recipe written before the variants existed was built with Alg. 1's rules.
+  // A sealed recipe with one value changed fails its checksum; re-indented, it does not.
+  nlohmann::json sealed = nlohmann::json::parse(recipe_to_json(recipe_));
+  ASSERT_TRUE(sealed.contains("crc32"));
+  EXPECT_EQ(recipe_from_json(sealed.dump()).seed, recipe_.seed) << "the seal depends on the indentation";
+  sealed["seed"] = recipe_.seed + 1;
+  try {
+    (void)recipe_from_json(sealed.dump(2));
+    FAIL() << "a changed seed passed the seal";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("recipe.json fails its checksum"), std::string::npos) << e.what();
+  }
+  // A recipe written before the variants (and the seal) existed was built with Alg. 1's rules.
   nlohmann::json old = nlohmann::json::parse(recipe_to_json(recipe_));
+  old.erase("crc32");
   old.erase("variant");
   EXPECT_EQ(recipe_from_json(old.dump()).variant, SparsVariant::alg1);
   old["variant"] = "greedy";

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "ispars/input_error.hpp"
+#include "ispars/roadmap/sealed_file.hpp"
 
 namespace ispars {
 namespace {
@@ -184,7 +185,7 @@ std::string recipe_to_json(const RoadmapRecipe& r) {
   for (const RecipeParameter& p : kOverrides) {  // each in its type: a count as an integer
     std::visit([&](auto field) { j[std::string(p.name)] = r.*field; }, p.field);
   }
-  return j.dump(2) + "\n";
+  return seal_json(std::move(j)).dump(2) + "\n";
 }
 
 namespace {
@@ -215,6 +216,9 @@ RoadmapRecipe recipe_from_json(const std::string& text) {
     j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(std::string("recipe.json does not parse: ") + e.what());
+  }
+  if (open_sealed_json(j) == Seal::broken) {
+    throw std::runtime_error("recipe.json fails its checksum: it was changed or damaged (left untouched)");
   }
   const auto field = [&](const char* name) -> const nlohmann::json& {
     if (!j.is_object() || !j.contains(name)) throw std::runtime_error(std::string("recipe.json lacks ") + name);

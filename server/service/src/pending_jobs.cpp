@@ -10,6 +10,7 @@
 
 #include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/roadmap/record_file.hpp"
+#include "ispars/roadmap/sealed_file.hpp"
 #include "ispars/service/scene_catalog.hpp"
 
 namespace ispars {
@@ -42,7 +43,8 @@ nlohmann::json to_json(const PendingJob& job) {
   return j;
 }
 
-PendingJob from_json(const nlohmann::json& j) {
+PendingJob from_json(nlohmann::json j) {
+  if (open_sealed_json(j) == Seal::broken) throw std::runtime_error("it fails its checksum (changed or damaged)");
   PendingJob job;
   job.scene = j.at("scene").get<std::string>();
   job.id = j.at("id").get<std::uint64_t>();
@@ -83,7 +85,7 @@ PendingJob from_json(const nlohmann::json& j) {
 
 void save_pending_job(const std::filesystem::path& data_dir, const PendingJob& job) {
   if (std::filesystem::create_directories(jobs_dir(data_dir))) fsync_directory_of(jobs_dir(data_dir));
-  write_file_atomically(record_path(data_dir, job.scene), to_json(job).dump(2) + "\n");
+  write_file_atomically(record_path(data_dir, job.scene), seal_json(to_json(job)).dump(2) + "\n");
 }
 
 void forget_pending_job(const std::filesystem::path& data_dir, const std::string& scene, std::uint64_t id) {

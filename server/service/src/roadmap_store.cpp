@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
 
 #include <cerrno>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "ispars/roadmap/sealed_file.hpp"
 #include "roadmap_store_files.hpp"
 
 namespace ispars {
@@ -137,7 +139,11 @@ void RoadmapStore::take_place() {
 RoadmapRecipe RoadmapStore::read_recipe(const std::filesystem::path& dir, const FileSystem& fs) {
   const std::optional<std::string> text = fs.read(recipe_path(dir));
   if (!text) throw std::runtime_error("store " + dir.string() + " has no recipe.json");
-  return recipe_from_json(*text);
+  try {
+    return recipe_from_json(*text);
+  } catch (const std::runtime_error& e) {  // damaged or edited: named, and nothing is touched
+    throw StoreDamage(fmt::format("{}: {}", recipe_path(dir).string(), e.what()));
+  }
 }
 
 namespace {
@@ -264,7 +270,7 @@ void write_store_head(const std::filesystem::path& dir, const StoreHead& head, F
   const std::filesystem::path tmp = dir / "head.tmp";
   try {
     auto file = fs.open(tmp, FileSystem::Open::truncated);
-    file->append(fmt::format("{} {} {}\n", head.generation, head.samples, head.journal_bytes));
+    file->append(seal_text(fmt::format("{} {} {}\n", head.generation, head.samples, head.journal_bytes)));
     if (durable) file->sync();
     file.reset();
     fs.rename(tmp, dir / "head");
@@ -278,7 +284,12 @@ void write_store_head(const std::filesystem::path& dir, const StoreHead& head, F
 std::optional<StoreHead> read_store_head(const std::filesystem::path& dir, const FileSystem& fs) {
   const std::optional<std::string> text = fs.read(dir / "head");
   if (!text) return std::nullopt;
-  std::istringstream in(*text);
+  const SealedText sealed = open_sealed_text(*text);
+  if (sealed.seal == Seal::broken) {
+    spdlog::error("{} fails its checksum (changed or damaged): read as no head", (dir / "head").string());
+    return std::nullopt;
+  }
+  std::istringstream in(sealed.body);
   StoreHead head;
   if (!(in >> head.generation >> head.samples)) return std::nullopt;
   if (!(in >> head.journal_bytes)) head.journal_bytes = 0;  // a head older than the field
