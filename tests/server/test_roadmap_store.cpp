@@ -163,6 +163,30 @@ TEST_F(RoadmapStoreTest, AFlippedBitInTheLastAcknowledgedCommitIsDamageNotATear)
   expect_state(legacy, states[2]);
 }
 
+// One bit flipped in the journal's magic: damage named with the file and byte 0, nothing touched
+// (before, a plain error that kept the scene from loading at all, and takeovers failed on it).
+TEST_F(RoadmapStoreTest, AFlippedBitInTheMagicIsDamageAtByteZero) {
+  const auto path = dir_.path() / "bridge";
+  {
+    auto store = RoadmapStore::create(path, recipe_);
+    (void)build_and_commit(*store, 2, 150);
+  }
+  std::string journal = slurp(path / "journal.log");
+  journal[3] ^= 0x02;
+  spit(path / "journal.log", journal);
+  StoreRecovery r;
+  try {
+    (void)RoadmapStore::open(path, scene_->pois().size(), r);
+    FAIL() << "a journal with a bad magic was opened";
+  } catch (const StoreDamage& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("is damaged at byte 0"), std::string::npos) << what;
+    EXPECT_NE(what.find("journal.log is not a ISPJRN03 file (bad magic)"), std::string::npos) << what;
+  }
+  EXPECT_THROW((void)RoadmapStore::read(path, scene_->pois().size()), StoreDamage);
+  EXPECT_EQ(slurp(path / "journal.log"), journal);
+}
+
 TEST_F(RoadmapStoreTest, ACrashBetweenSnapshotAndJournalResetLosesNothingAndDuplicatesNothing) {
   const auto path = dir_.path() / "bridge";
   std::vector<Committed> states;

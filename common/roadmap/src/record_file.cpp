@@ -155,7 +155,7 @@ RecordReplay read_record_file(const std::filesystem::path& path, const RecordFor
       replay.tail_problem = "incomplete file header";
       return replay;
     }
-    throw std::runtime_error(path.string() + " is not a " + std::string(magic) + " file (bad magic)");
+    throw RecordMagicMismatch(path.string() + " is not a " + std::string(magic) + " file (bad magic)");
   }
   replay.layout = found->layout;
   std::size_t at = found->magic.size();

@@ -230,13 +230,26 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
   return journal.valid_bytes;
 }
 
+// recover_into, with a file of unknown magic reported as damage at byte 0 (a flipped bit there
+// is not a file of another program: it is left as it is and named).
+std::uint64_t recover_checked(const std::filesystem::path& dir, std::size_t poi_count, StoreRecovery& recovered,
+                              const FileSystem& fs) {
+  try {
+    return recover_into(dir, poi_count, recovered, fs);
+  } catch (const RecordMagicMismatch& e) {
+    throw StoreDamage(fmt::format("{} is damaged at byte 0: {}; left untouched for inspection (drop the scene's "
+                                  "roadmap, or build with replace, to discard it)",
+                                  dir.string(), e.what()));
+  }
+}
+
 }  // namespace
 
 std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& dir, std::size_t poi_count,
                                                  StoreRecovery& recovered, FileSystem& fs) {
   auto store = std::unique_ptr<RoadmapStore>(new RoadmapStore(dir, read_recipe(dir, fs), fs));  // locks first
   recovered.recipe = store->recipe_;
-  const std::uint64_t valid_bytes = recover_into(dir, poi_count, recovered, fs);
+  const std::uint64_t valid_bytes = recover_checked(dir, poi_count, recovered, fs);
   store->journal_ = std::make_unique<RecordFileWriter>(journal_path(dir), kJournal, valid_bytes, fs);
   recovered.tail_set_aside = store->journal_->set_aside();
   store->journal_commits_ = recovered.journal_commits;
@@ -250,7 +263,7 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
 StoreRecovery RoadmapStore::read(const std::filesystem::path& dir, std::size_t poi_count, const FileSystem& fs) {
   StoreRecovery recovered;
   recovered.recipe = read_recipe(dir, fs);
-  (void)recover_into(dir, poi_count, recovered, fs);
+  (void)recover_checked(dir, poi_count, recovered, fs);
   return recovered;
 }
 

@@ -83,7 +83,12 @@ struct RecordReplay {
 /// a journal folded or replayed commit by commit need not hold them all at once).
 enum class RecordKeep { payloads, count };
 
-/// Reads a record file (a missing or empty file has no records). Throws std::runtime_error when
+/// Thrown by read_record_file when a file starts with none of its format's magics.
+struct RecordMagicMismatch : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Reads a record file (a missing or empty file has no records). Throws RecordMagicMismatch when
 /// the file exists but starts with none of the format's magics.
 [[nodiscard]] RecordReplay read_record_file(const std::filesystem::path& path, const RecordFormat& format,
                                             const RecordCheck& check, const FileSystem& fs = disk(),
