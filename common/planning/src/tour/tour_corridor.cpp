@@ -212,7 +212,7 @@ void join(const Scene& scene, const CorridorOptions& o, std::chrono::steady_cloc
 }
 
 // Keeps a tube sample that is in the scene's box and valid.
-bool keep(const Scene& scene, const Vec3& q, Growing& g, CorridorGraph& out) {
+bool keep_sample(const Scene& scene, const Vec3& q, Growing& g, CorridorGraph& out) {
   if (!scene.config().bounds.contains(q) || !scene.point_valid(q)) return false;
   g.add(scene, q);
   ++out.samples;
@@ -234,7 +234,7 @@ void add_fresh(const Scene& scene, std::span<const Vec3> stops, const CorridorOp
     const std::optional<Vec3> q = tube.draw(rng);
     if (!q) continue;
     ++out.draws;
-    keep(scene, *q, g, out);
+    keep_sample(scene, *q, g, out);
   }
 }
 
@@ -258,7 +258,7 @@ void add_found(const Scene& scene, std::span<const Vec3> stops, const CorridorOp
     if (!tube.contains(q)) continue;
     ++out.draws;
     base.within(q, 0.0, std::span<const Vec3>(g.positions).first(n), same);
-    if (same.empty()) keep(scene, q, g, out);
+    if (same.empty()) keep_sample(scene, q, g, out);
   }
 }
 
