@@ -40,6 +40,13 @@ class RoadmapServiceTest : public ::testing::Test {
     s.tours_per_worker = 1;
     return s;
   }
+  // A stored roadmap of scene s0 at 1,500 samples, its service stopped: the resume tests start there.
+  void store_s0() const {
+    RoadmapService service(settings(), {});
+    service.load("s0");
+    service.build("s0", ispars(1500));
+    ASSERT_EQ(wait_idle(service, "s0").samples_done, 1500u);
+  }
   static BuildRequest ispars(std::uint64_t samples) {
     BuildRequest r;
     r.samples = samples;
@@ -386,12 +393,7 @@ namespace {
 // already (each time the daemon stopped or died under it) is given up and forgotten, and the
 // roadmap stays at its last commit.
 TEST_F(RoadmapServiceTest, AJobIsResumedWithItsAttemptCountedAndGivenUpAfterThree) {
-  {
-    RoadmapService service(settings(), {});
-    service.load("s0");
-    service.build("s0", ispars(1500));
-    ASSERT_EQ(wait_idle(service, "s0").samples_done, 1500u);
-  }
+  store_s0();
   const auto data = dir_.path() / "data";
   save_pending_job(data, PendingJob{"s0", 7, std::nullopt, 0, 2500, 3, std::nullopt});
   {
@@ -421,12 +423,7 @@ TEST_F(RoadmapServiceTest, AJobIsResumedWithItsAttemptCountedAndGivenUpAfterThre
 // died under twice, then stopped cleanly under, is stopped cleanly four times more, and each start
 // resumes it, its attempts still 2; a death counts again, and the next one ends it.
 TEST_F(RoadmapServiceTest, CleanStopsDoNotCountAgainstTheResumeCap) {
-  {
-    RoadmapService service(settings(), {});
-    service.load("s0");
-    service.build("s0", ispars(1500));
-    ASSERT_EQ(wait_idle(service, "s0").samples_done, 1500u);
-  }
+  store_s0();
   const auto data = dir_.path() / "data";
   save_pending_job(data, PendingJob{"s0", 7, std::nullopt, 0, 400'000, 2, std::nullopt, /*stopped_cleanly=*/true});
   for (int stop = 0; stop < 4; ++stop) {
