@@ -129,6 +129,7 @@ class ParticipantEvents final : public fdds::DomainParticipantListener {
       peers_->authenticated(prefix_of(info.guid));
     } else {
       spdlog::warn("participant {} failed DDS Security authentication", who);
+      peers_->refused(prefix_of(info.guid));
     }
   }
 #endif
@@ -154,41 +155,50 @@ class ParticipantEvents final : public fdds::DomainParticipantListener {
 
 void PeerWatch::dropped(const std::string& prefix) {
   std::lock_guard lock(mutex_);
-  if (dropped_.size() >= kMaxDropped) dropped_.clear();
+  if (dropped_.size() >= kMaxPeers) dropped_.clear();
   dropped_.insert(prefix);
-  returned_.erase(prefix);
+  awaited_.erase(prefix);
 }
 
 void PeerWatch::discovered(const std::string& prefix, const std::string& name, Clock::time_point now) {
   std::lock_guard lock(mutex_);
-  if (dropped_.erase(prefix) > 0) returned_[prefix] = {{prefix, name}, now};
+  if (dropped_.erase(prefix) > 0) {
+    awaited_[prefix] = {{prefix, name, false}, now};
+  } else if (first_ && name.starts_with("isparsd ") && name != first_->self && !met_.contains(prefix) &&
+             awaited_.size() < 2 * kMaxPeers) {
+    awaited_.try_emplace(prefix, Awaited{{prefix, name, true}, now});
+  }
 }
 
 void PeerWatch::authenticated(const std::string& prefix) {
   std::lock_guard lock(mutex_);
-  returned_.erase(prefix);  // healed by itself: both sides had dropped each other
+  if (first_) {
+    if (met_.size() >= kMaxPeers) met_.clear();
+    met_.insert(prefix);
+  }
+  awaited_.erase(prefix);
 }
 
 void PeerWatch::left(const std::string& prefix) {
   std::lock_guard lock(mutex_);
   dropped_.erase(prefix);
-  returned_.erase(prefix);
+  awaited_.erase(prefix);
 }
 
 std::optional<PeerWatch::Peer> PeerWatch::unhealed(Clock::time_point now, Clock::duration grace) const {
   std::lock_guard lock(mutex_);
-  for (const auto& [prefix, r] : returned_) {
-    if (now - r.at >= grace) return r.peer;
+  for (const auto& [prefix, a] : awaited_) {
+    if (now - a.at >= grace) return a.peer;
   }
   return std::nullopt;
 }
 
 std::optional<PeerWatch::Peer> PeerWatch::take_unhealed(Clock::time_point now, Clock::duration grace) {
   std::lock_guard lock(mutex_);
-  for (auto it = returned_.begin(); it != returned_.end(); ++it) {
+  for (auto it = awaited_.begin(); it != awaited_.end(); ++it) {
     if (now - it->second.at < grace) continue;
     Peer peer = it->second.peer;
-    returned_.erase(it);
+    awaited_.erase(it);
     return peer;
   }
   return std::nullopt;
@@ -201,6 +211,7 @@ Participant::Participant(const ParticipantOptions& options, fdds::DomainParticip
   }
   // Without a listener of the caller's, this one logs participant events; discovery and
   // authentication callbacks come whatever the mask, and no entity status reaches it.
+  if (!options.security.empty()) peers_ = std::make_shared<PeerWatch>(PeerWatch::FirstMeetings{options.name});
   if (listener == nullptr) {
     events_ = std::make_unique<ParticipantEvents>(!options.security.empty(), peers_,
                                                   [slot = readers_](const RemoteReader& reader) {
@@ -220,6 +231,7 @@ Participant::Participant(const ParticipantOptions& options, fdds::DomainParticip
     if (factory->get_participant_qos_from_profile(options.profile_name, qos) != ReturnCode_t::RETCODE_OK) {
       throw std::runtime_error("no participant profile '" + options.profile_name + "' in " + options.profile_file);
     }
+    qos.name(options.name);  // who it is, whatever the profile calls it: peers' logs and PeerWatch read it
   }
   if (!options.security.empty()) {
     const fdds::PropertyPolicyQos secure = security_properties(options.security);

@@ -1,7 +1,8 @@
 // isparsd rejoining its DDS domain with a new participant, under DDS Security. A peer (daemon or
 // client) this one dropped (its lease ran out here), then discovered again under the same GUID,
 // and which has not authenticated again within a grace (wire::RejoinSchedule) kept running: it
-// stalled or the link was cut one way. The sessions between the two may never recover: Debian's
+// stalled or the link was cut one way. A daemon whose first handshake with this one never ended
+// (a Fast DDS 2.9.1 fault) makes one rejoin too. The sessions between the two may never recover: Debian's
 // Fast DDS 2.9.1 cannot authenticate a peer again while the other side keeps its DDS Security
 // session. A new participant (a new GUID) meets every peer afresh. The daemon keeps its scenes,
 // claims and jobs; it announces itself and publishes each scene's status again from the new
@@ -45,18 +46,19 @@ void Daemon::rejoin_if_a_peer_returned() {
   if (config_.security.empty()) return;
   wire::RejoinSchedule::Decision decision;
   with_dds([&](DdsEndpoints& d) { decision = rejoin_schedule_.poll(d.peers(), std::chrono::steady_clock::now()); });
+  if (decision.given_up) {
+    spdlog::warn("{} did not authenticate with this daemon's participant before the last rejoin either; no "
+                 "rejoin is made for it again (it may lack DDS Security)",
+                 decision.given_up->name);
+  }
   if (decision.deferred) {
-    spdlog::warn("{} ({}) came back after its lease ran out here and did not authenticate again; rejoined {:.0f} s "
-                 "ago, so again {:.0f} s after that unless it authenticates, leaves or rejoins itself meanwhile",
-                 decision.deferred->name, decision.deferred->prefix,
+    spdlog::warn("{}; rejoined {:.0f} s ago, so again {:.0f} s after that unless it authenticates, leaves or "
+                 "rejoins itself meanwhile",
+                 rejoin_schedule_.reason(*decision.deferred),
                  std::chrono::duration<double>(decision.since_last).count(),
                  std::chrono::duration<double>(rejoin_schedule_.period()).count());
   }
-  if (decision.now) {
-    rejoin(fmt::format("{} ({}) came back after its lease ran out here and did not authenticate again within {:.0f} s",
-                       decision.now->name, decision.now->prefix,
-                       std::chrono::duration<double>(rejoin_schedule_.grace()).count()));
-  }
+  if (decision.now) rejoin(rejoin_schedule_.reason(*decision.now));
 }
 
 void Daemon::mark_version(const std::string& scene, const RoadmapSession& session) {

@@ -15,26 +15,12 @@
 #include "ispars/roadmap/sealed_file.hpp"
 #include "ispars/wire/scene_owner.hpp"
 
-#include <httplib.h>  // after Eigen (service_fixture.hpp): it defines a macro Eigen's headers use
+#include "integration/metrics_probe.hpp"  // after service_fixture.hpp (httplib)
 
 namespace ispars::test {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// How many other live daemons the daemon serving metrics on `port` counts (the fleet view its
-// takeovers are decided on); -1 when unreadable.
-double other_daemons_counted_on(int port) {
-  httplib::Client http("127.0.0.1", port);
-  http.set_read_timeout(5, 0);
-  const auto res = http.Get("/metrics");
-  if (!res || res->status != 200) return -1;
-  const std::string text = "\n" + res->body;
-  const std::string series = "\nispars_other_daemons ";
-  const auto at = text.find(series);
-  if (at == std::string::npos) return -1;
-  return std::stod(text.substr(at + series.size()));
-}
 
 // Waits until exactly `id` holds `scene` and serves it idle; returns how long it took (-1: it
 // did not within `limit`), and in `announced` how long until the announcements said so.

@@ -19,6 +19,7 @@
 #include "integration/service_fixture.hpp"
 #include "ispars/client/replica.hpp"
 #include "support/netns_lab.hpp"
+#include "integration/metrics_probe.hpp"  // after service_fixture.hpp (httplib)
 
 namespace ispars::test {
 namespace {
@@ -28,6 +29,10 @@ using Clock = std::chrono::steady_clock;
 // in the lab's profile, 6.7 s), the grace a returned peer has to authenticate again (10 s), the
 // rejoin, and a handshake.
 constexpr std::chrono::seconds kHealBound{30};
+// How long two daemons' first handshake is kept from ending, and how soon after that they must
+// have met: a rejoin due at most once per period (30 s), the grace (10 s), a handshake.
+constexpr std::chrono::seconds kBlocked{25};
+constexpr std::chrono::seconds kFirstMeetingBound{60};
 
 class RejoinTest : public ServiceTest {};
 
@@ -163,7 +168,7 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
   // one left, so it never saw the owner gone. Broken (the old participant deleted first), the old
   // one leaves about 10 ms before the new one is even discovered; a peer whose handshake takes
   // longer than its fleet period (100 ms), as under load, takes the scene over.
-  const std::string left = "participant " + dotted(first_participant) + " (RTPSParticipant) left";
+  const std::string left = "participant " + dotted(first_participant) + " (isparsd " + owner + ") left";
   const std::string authenticated = "participant " + dotted(second_participant) + " authenticated";
   const auto seen = [&](const std::string& line) { return daemons[other]->log().find(line) != std::string::npos; };
   const auto since = Clock::now();
@@ -186,6 +191,62 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
       << "daemon " << other << " took the scene over:\n" << daemons[other]->log();
   EXPECT_EQ(daemons[owner]->log().find("handed over to"), std::string::npos) << daemons[owner]->log();
   std::printf("daemon %s rejoined %.1f s after the link came back and kept scene s0\n", owner.c_str(), rejoined_s);
+  for (auto& [id, d] : daemons) EXPECT_TRUE(d->alive()) << id;
+}
+
+// Two secured daemons whose first handshake does not end within the grace (each hears the other's
+// announcements, multicast, but none of its handshake messages, unicast, for `kBlocked`) rejoin
+// (PeerWatch's first meetings), and meet once the link is whole. This exercises the rule, not the
+// fault it is for: in CI (2026-11-29) two daemons started together never authenticated each other
+// (a Fast DDS 2.9.1 fault not reproduced on demand); a blocked link is not that fault, since Fast
+// DDS resends the handshake and, without the rule, the two met 0.8 s after the link was whole.
+TEST_F(RejoinTest, TwoSecuredDaemonsWhoseFirstHandshakeFailedMeetByRejoining) {
+  NetnsLab lab(dir_.path() / "netns", {"d1", "d2", "hc"}, kSecureLease);
+  const auto keystore =
+      client::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
+                            dir_.path() / "keystore", {"daemon:d1", "daemon:d2", "viewer:probe"});
+  const auto identity = [&](const std::string& name) { return (keystore / "identities" / name).string(); };
+  lab.deafen_unicast("d1", "d2");
+  lab.deafen_unicast("d2", "d1");
+  lab.enter("hc");
+  std::map<std::string, std::unique_ptr<DaemonProcess>> daemons;
+  for (const std::string id : {"d1", "d2"}) {
+    daemons[id] = std::make_unique<DaemonProcess>(
+        ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id,
+        std::vector<std::string>{"--profile-file", lab.profile(id).string(), "--security", identity(id), "--metrics",
+                                 lab.address(id) + ":0"},
+        identity("probe"), std::vector<std::string>{}, std::chrono::seconds(60), lab.prefix(id),
+        lab.profile("hc").string());
+  }
+  const auto blocked_at = Clock::now();
+  const auto discovered = [&](const std::string& id, const std::string& other) {
+    return daemons[id]->log().find("(isparsd " + other + ") discovered") != std::string::npos;
+  };
+  while (!(discovered("d1", "d2") && discovered("d2", "d1")) && Clock::now() - blocked_at < std::chrono::seconds(30)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  ASSERT_TRUE(discovered("d1", "d2") && discovered("d2", "d1")) << daemons["d1"]->log() << daemons["d2"]->log();
+  std::this_thread::sleep_for(kBlocked);
+  lab.undeafen_unicast("d1", "d2");
+  lab.undeafen_unicast("d2", "d1");
+  const auto whole_at = Clock::now();
+  std::map<std::string, int> ports;
+  for (auto& [id, d] : daemons) ports[id] = metrics_port(d->log(), lab.address(id));
+  const auto connected = [&] {
+    return other_daemons_counted_on(ports["d1"], lab.address("d1")) == 1 &&
+           other_daemons_counted_on(ports["d2"], lab.address("d2")) == 1;
+  };
+  while (!connected() && Clock::now() - whole_at < kFirstMeetingBound) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  ASSERT_TRUE(connected()) << "the daemons never met:\n" << daemons["d1"]->log() << daemons["d2"]->log();
+  const double met_s = std::chrono::duration<double>(Clock::now() - whole_at).count();
+  // The positive control: the handshake did fail, and a rejoin was what met them.
+  const std::string failed = "was discovered and did not authenticate within 10 s";
+  EXPECT_TRUE(daemons["d1"]->log().find(failed) != std::string::npos ||
+              daemons["d2"]->log().find(failed) != std::string::npos);
+  std::printf("first handshake blocked %lld s: the daemons met %.1f s after the link was whole (bound %lld s)\n",
+              static_cast<long long>(kBlocked.count()), met_s, static_cast<long long>(kFirstMeetingBound.count()));
   for (auto& [id, d] : daemons) EXPECT_TRUE(d->alive()) << id;
 }
 

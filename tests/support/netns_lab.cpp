@@ -130,20 +130,40 @@ void NetnsLab::heal(const std::string& host) {
   must(std::string(kIp) + " -n " + prefix_ + "hub link set vh" + std::to_string(index(host)) + " master br0");
 }
 
+namespace {
+
+// The lab's input filter in `host`'s namespace, with the drop rule for the set `set` once
+// (`match` narrows it); the set says whom it drops.
+void ensure_drop_set(const std::string& nft, const std::string& set, const std::string& match) {
+  must(nft + " add table inet ispars_lab");
+  must(nft + " add set inet ispars_lab " + set + " '{ type ipv4_addr; }'");
+  must(nft + " add chain inet ispars_lab in '{ type filter hook input priority 0; }'");
+  if (must(nft + " list chain inet ispars_lab in").find("@" + set + " ") == std::string::npos) {
+    must(nft + " add rule inet ispars_lab in ip saddr @" + set + " " + match + "drop");
+  }
+}
+
+}  // namespace
+
 void NetnsLab::deafen(const std::string& host, const std::string& from) {
   const std::string nft = std::string(kIp) + " netns exec " + ns(host) + " " + kNft;
-  must(nft + " add table inet ispars_lab");
-  must(nft + " add set inet ispars_lab deaf '{ type ipv4_addr; }'");
-  must(nft + " add chain inet ispars_lab in '{ type filter hook input priority 0; }'");
-  // The rule once; the set says whom it drops.
-  if (must(nft + " list chain inet ispars_lab in").find("@deaf") == std::string::npos) {
-    must(nft + " add rule inet ispars_lab in ip saddr @deaf drop");
-  }
+  ensure_drop_set(nft, "deaf", "");
   must(nft + " add element inet ispars_lab deaf '{ " + address(from) + " }'");
 }
 
 void NetnsLab::undeafen(const std::string& host, const std::string& from) {
   must(std::string(kIp) + " netns exec " + ns(host) + " " + kNft + " delete element inet ispars_lab deaf '{ " +
+       address(from) + " }'");
+}
+
+void NetnsLab::deafen_unicast(const std::string& host, const std::string& from) {
+  const std::string nft = std::string(kIp) + " netns exec " + ns(host) + " " + kNft;
+  ensure_drop_set(nft, "deaf_unicast", "meta pkttype unicast ");
+  must(nft + " add element inet ispars_lab deaf_unicast '{ " + address(from) + " }'");
+}
+
+void NetnsLab::undeafen_unicast(const std::string& host, const std::string& from) {
+  must(std::string(kIp) + " netns exec " + ns(host) + " " + kNft + " delete element inet ispars_lab deaf_unicast '{ " +
        address(from) + " }'");
 }
 

@@ -40,6 +40,10 @@ class NetnsLab {
   /// still hears `host`; and undoes it.
   void deafen(const std::string& host, const std::string& from);
   void undeafen(const std::string& host, const std::string& from);
+  /// Like deafen(), for unicast packets only: multicast from `from` (SPDP's announcements) still
+  /// arrives, so `host` discovers `from`, but their DDS Security handshake cannot end.
+  void deafen_unicast(const std::string& host, const std::string& from);
+  void undeafen_unicast(const std::string& host, const std::string& from);
 
   /// Moves the calling thread, and every thread it makes afterwards, onto the host. Call it
   /// before any DDS participant exists; the destructor moves the thread back.

@@ -1,6 +1,7 @@
 // PeerWatch: a peer dropped (its lease ran out) and discovered again under the same GUID is
 // "unhealed" until it authenticates again, leaves or is dropped again; a new peer, or one seen
-// again without being dropped, never is.
+// again without being dropped, never is, unless first meetings are watched (under security) and
+// it is a daemon whose first handshake never ends.
 
 #include <gtest/gtest.h>
 
@@ -47,6 +48,32 @@ TEST(PeerWatch, APeerThatLeftOrWasDroppedAgainIsNotUnhealed) {
   peers.discovered("03.04", "ispars client", t0);
   peers.dropped("03.04");  // dropped again before anyone looked
   EXPECT_FALSE(peers.unhealed(t0 + 60s, 1s));
+}
+
+// Under DDS Security a daemon's first handshake that never ends leaves it unhealed too; a client,
+// this participant's own name, a refused peer or one authenticated (whichever callback came
+// first) does not.
+TEST(PeerWatch, ADaemonWhoseFirstHandshakeNeverEndsIsUnhealed) {
+  PeerWatch peers(PeerWatch::FirstMeetings{"isparsd a"});
+  peers.discovered("0b", "isparsd b", t0);
+  peers.discovered("0c", "ispars client", t0);
+  peers.discovered("0a", "isparsd a", t0);  // this daemon's other participant, during its rejoin
+  peers.authenticated("0d");
+  peers.discovered("0d", "isparsd d", t0);
+  peers.discovered("0e", "isparsd e", t0);
+  peers.refused("0e");
+  peers.discovered("0f", "isparsd f", t0);
+  peers.authenticated("0f");
+  EXPECT_FALSE(peers.unhealed(t0 + 9s, 10s));  // within the grace
+  const auto stuck = peers.take_unhealed(t0 + 10s, 10s);
+  ASSERT_TRUE(stuck.has_value());
+  EXPECT_EQ(stuck->prefix, "0b");
+  EXPECT_TRUE(stuck->first_meeting);
+  EXPECT_FALSE(peers.unhealed(t0 + 60s, 10s));
+  // Without FirstMeetings (no security) a first meeting is never watched.
+  PeerWatch plain;
+  plain.discovered("0b", "isparsd b", t0);
+  EXPECT_FALSE(plain.unhealed(t0 + 60s, 10s));
 }
 
 TEST(PeerWatch, DroppedPeersAreBounded) {

@@ -68,5 +68,26 @@ TEST(RejoinSchedule, AFailedRejoinIsDueAgainAfterThePeriod) {
   EXPECT_EQ(again.now->prefix, "a");
 }
 
+// A daemon whose first handshake never ends makes one rejoin; if the new participant cannot meet
+// it either (say it has no security), it is given up, not rejoined for every period.
+TEST(RejoinSchedule, AFirstMeetingThatFailsTwiceIsGivenUp) {
+  RejoinSchedule schedule(30s, 10s);
+  PeerWatch first(PeerWatch::FirstMeetings{"isparsd a"});
+  first.discovered("0b", "isparsd b", epoch);
+  const auto rejoin = schedule.poll(first, epoch + 10s);
+  ASSERT_TRUE(rejoin.now);
+  EXPECT_TRUE(rejoin.now->first_meeting);
+  EXPECT_NE(schedule.reason(*rejoin.now).find("isparsd b (0b) was discovered and did not authenticate within 10 s"),
+            std::string::npos);
+  PeerWatch second(PeerWatch::FirstMeetings{"isparsd a"});  // the new participant's
+  second.discovered("0b", "isparsd b", epoch + 10s);
+  second.discovered("0c", "isparsd c", epoch + 10s);
+  const auto later = schedule.poll(second, epoch + 60s);
+  ASSERT_TRUE(later.given_up);
+  EXPECT_EQ(later.given_up->prefix, "0b");
+  ASSERT_TRUE(later.now);  // another daemon still counts
+  EXPECT_EQ(later.now->prefix, "0c");
+}
+
 }  // namespace
 }  // namespace ispars::wire

@@ -13,6 +13,8 @@ struct ParticipantOptions {
   std::string profile_file;
   /// The participant profile in profile_file to use.
   std::string profile_name = "ispars";
+  /// The participant's name, announced to peers (over a profile's own): "isparsd ID" for a
+  /// daemon, which is how peers tell a daemon in their logs and in wire::PeerWatch.
   std::string name = "ispars";
   /// An identity directory made by deploy/security/make-keystore.sh (cert.pem, key.pem,
   /// permissions.p7s, ca.pem, governance.p7s). Empty: no DDS Security, and a secured daemon

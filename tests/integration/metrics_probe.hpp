@@ -1,0 +1,25 @@
+#pragma once
+// Reading a daemon's metrics endpoint from an integration test. Include after
+// service_fixture.hpp: httplib defines a macro Eigen's headers use.
+
+#include <string>
+
+#include <httplib.h>
+
+namespace ispars::test {
+
+/// How many other live daemons the daemon serving metrics on `port` of `address` counts (the
+/// fleet view its takeovers are decided on); -1 when unreadable.
+inline double other_daemons_counted_on(int port, const std::string& address = "127.0.0.1") {
+  httplib::Client http(address, port);
+  http.set_read_timeout(5, 0);
+  const auto res = http.Get("/metrics");
+  if (!res || res->status != 200) return -1;
+  const std::string text = "\n" + res->body;
+  const std::string series = "\nispars_other_daemons ";
+  const auto at = text.find(series);
+  if (at == std::string::npos) return -1;
+  return std::stod(text.substr(at + series.size()));
+}
+
+}  // namespace ispars::test
