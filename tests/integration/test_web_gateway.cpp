@@ -1,6 +1,7 @@
 // Who may use the live viewer's gateway (client/web/README.md): a page of another origin cannot
 // open its WebSocket (in headless Chromium and as a raw upgrade), a DNS-rebinding Host is refused,
-// a peer off loopback needs the token (in a network namespace), tours are bounded per gateway,
+// with a token every peer needs it (off loopback in a network namespace, and on loopback, as
+// behind a TLS proxy), idle connections cannot lock users out, tours are bounded per gateway,
 // and a scene no browser watches stops being followed.
 
 #include <nlohmann/json.hpp>
@@ -94,9 +95,9 @@ TEST_F(WebGatewayTest, APageOfAnotherOriginCannotOpenTheWebSocket) {
 }
 
 // Off loopback, in network namespaces made by the test (nothing reaches the machine's own): a
-// gateway refuses to listen without a token; with one, every peer off loopback must present it
-// (header, query then cookie, or cookie), while a peer on loopback needs none.
-TEST_F(WebGatewayTest, APeerOffLoopbackNeedsTheToken) {
+// gateway refuses to listen without a token; with one, every peer must present it (header, query
+// then cookie, or cookie), a peer on loopback too (behind a proxy on the same host every user is).
+TEST_F(WebGatewayTest, AGatewayWithATokenNeedsItFromEveryPeer) {
   NetnsLab lab(dir_.path() / "netns", {"gw", "cl"}, std::chrono::seconds(3));
   const std::string address = lab.address("gw");
   const std::string web = std::string(ISPARS_WEB) + " --domain " + std::to_string(domain_) + " --profile-file " +
@@ -119,7 +120,7 @@ TEST_F(WebGatewayTest, APeerOffLoopbackNeedsTheToken) {
     return lab.run(host, "curl -s -o /dev/null -w \"%{http_code}\" " + args).output;
   };
   EXPECT_EQ(code("cl", url + "/"), "401");
-  EXPECT_NE(lab.run("cl", "curl -s " + url + "/app.js").output.find(lab.address("cl") + " is not loopback: a token is required"),
+  EXPECT_NE(lab.run("cl", "curl -s " + url + "/app.js").output.find("a token is required from " + lab.address("cl")),
             std::string::npos);
   EXPECT_EQ(code("cl", "-H \"Authorization: Bearer tok-0123456789abcdef-XYy\" " + url + "/"), "401");
   EXPECT_EQ(code("cl", "-H \"Cookie: ispars_token=" + token + "x\" " + url + "/"), "401");
@@ -137,10 +138,52 @@ TEST_F(WebGatewayTest, APeerOffLoopbackNeedsTheToken) {
   EXPECT_EQ(lab.run("cl", upgrade + url + "/ws?scene=s0 | head -1").output, "HTTP/1.1 401 Unauthorized\r\n");
   EXPECT_EQ(lab.run("cl", upgrade + "-H \"Cookie: ispars_token=" + token + "\" " + url + "/ws?scene=s0 | head -1").output,
             "HTTP/1.1 101 Switching Protocols\r\n");
-  // On the gateway's host: its own address is off loopback too; 127.0.0.1 is not.
+  // On the gateway's host: by its own address and by 127.0.0.1 alike.
+  const std::string local = "http://127.0.0.1:" + std::to_string(gateway.port()) + "/";
   EXPECT_EQ(code("gw", url + "/"), "401");
-  EXPECT_EQ(code("gw", "http://127.0.0.1:" + std::to_string(gateway.port()) + "/"), "200");
+  EXPECT_EQ(code("gw", local), "401");
+  EXPECT_EQ(code("gw", "-H \"Authorization: Bearer " + token + "\" " + local), "200");
   EXPECT_EQ(gateway.stop(), 0) << gateway.log();
+}
+
+// Behind a TLS proxy on the same host (as docs/service.md recommends): every user is a loopback
+// peer, the proxy keeps the public Host (no port under https), and the page is https. The token
+// is still required, the public Host is the gateway's, the token's cookie is Secure, and idle
+// connections cannot lock users out.
+TEST_F(WebGatewayTest, BehindATlsProxyTheTokenHoldsAndIdleConnectionsCannotLockUsersOut) {
+  const std::string token = "tok-0123456789abcdef-XYZ";
+  const auto token_file = dir_.path() / "token";
+  std::ofstream(token_file) << token << "\n";
+  Gateway gateway(domain_, scene_dir_, dir_.path() / "web.log",
+                  {"--token-file", token_file.string(), "--allow-origin", "https://viewer.example", "--max-browsers",
+                   "8"});
+  ASSERT_GT(gateway.port(), 0) << gateway.log();
+  const int port = gateway.port();
+  const std::string bearer = "Authorization: Bearer " + token + "\r\n";
+  const std::string from_proxy = origin_header("https://viewer.example") + "X-Forwarded-Proto: https\r\n";
+  EXPECT_EQ(http_get(port, "/", from_proxy, "viewer.example").first, "HTTP/1.1 401 Unauthorized");
+  EXPECT_EQ(http_get(port, "/", from_proxy + bearer, "viewer.example").first, "HTTP/1.1 200 OK");
+  EXPECT_EQ(http_get(port, "/", from_proxy + bearer, "viewer.example:443").first, "HTTP/1.1 200 OK");
+  EXPECT_EQ(http_get(port, "/", bearer, "other.example").first, "HTTP/1.1 421 Misdirected Request");
+  // The cookie that keeps the token is Secure when the page came by https, and only then.
+  const std::string cookie = "Set-Cookie: ispars_token=" + token + "; Path=/; HttpOnly; SameSite=Strict";
+  const std::string by_https = http_response(port, "/?token=" + token, "", "viewer.example");
+  EXPECT_NE(by_https.find(cookie + "; Secure\r\n"), std::string::npos) << by_https;
+  const std::string forwarded = http_response(port, "/?token=" + token, "X-Forwarded-Proto: https\r\n");
+  EXPECT_NE(forwarded.find(cookie + "; Secure\r\n"), std::string::npos) << forwarded;
+  const std::string plain = http_response(port, "/?token=" + token);
+  EXPECT_NE(plain.find(cookie + "\r\n"), std::string::npos) << plain;
+  // 8 connections that never send a request fill the gateway; users are still served (the
+  // oldest idle one makes room each time; the gateway accepts in order, so it is full each time).
+  std::vector<int> idle;
+  for (int i = 0; i < 7; ++i) idle.push_back(connect_local(port));
+  for (int i = 0; i < 3; ++i) {
+    idle.push_back(connect_local(port));
+    EXPECT_EQ(http_get(port, "/app.js", bearer).first, "HTTP/1.1 200 OK") << i;
+  }
+  for (const int fd : idle) ::close(fd);
+  EXPECT_EQ(gateway.stop(), 0);
+  EXPECT_NE(gateway.log().find(" 3 idle connections closed to make room"), std::string::npos) << gateway.log();
 }
 
 // Two pages ask for a tour at once through a gateway of --max-tours 1: the second is refused by

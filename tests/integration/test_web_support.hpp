@@ -117,11 +117,11 @@ inline int free_port() {
 }
 
 // One HTTP GET on localhost with the gateway's own Host and `headers` ("Name: value\r\n" each):
-// the status line and the body.
-inline std::pair<std::string, std::string> http_get(int port, const std::string& path, const std::string& headers = "",
-                                                    const std::string& host = "") {
+// the whole response, headers and body.
+inline std::string http_response(int port, const std::string& path, const std::string& headers = "",
+                                 const std::string& host = "") {
   const int fd = connect_local(port);
-  if (fd < 0) return {"no connection", ""};
+  if (fd < 0) return "no connection";
   const std::string request = "GET " + path + " HTTP/1.1\r\nHost: " +
                               (host.empty() ? "127.0.0.1:" + std::to_string(port) : host) + "\r\n" + headers +
                               "Connection: close\r\n\r\n";
@@ -130,6 +130,13 @@ inline std::pair<std::string, std::string> http_get(int port, const std::string&
   char buffer[4096];
   for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) response.append(buffer, static_cast<std::size_t>(n));
   ::close(fd);
+  return response;
+}
+
+// The same: the status line and the body.
+inline std::pair<std::string, std::string> http_get(int port, const std::string& path, const std::string& headers = "",
+                                                    const std::string& host = "") {
+  const std::string response = http_response(port, path, headers, host);
   const auto line_end = response.find("\r\n");
   const auto body = response.find("\r\n\r\n");
   return {response.substr(0, line_end), body == std::string::npos ? "" : response.substr(body + 4)};

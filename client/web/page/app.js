@@ -231,7 +231,9 @@ function onTour(m) {
 }
 
 function connect(name) {
-  const ws = new WebSocket(`ws://${location.host}/ws?scene=${encodeURIComponent(name)}`);
+  // wss under https (behind a TLS proxy): a browser blocks ws:// from an https page.
+  const scheme = location.protocol === 'https:' ? 'wss' : 'ws';
+  const ws = new WebSocket(`${scheme}://${location.host}/ws?scene=${encodeURIComponent(name)}`);
   ws.onmessage = (event) => {
     const m = JSON.parse(event.data);
     if (m.type === 'status') onStatus(m);

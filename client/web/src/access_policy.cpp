@@ -125,23 +125,40 @@ AccessPolicy::AccessPolicy(AccessOptions options, std::uint16_t port) : options_
     const std::string n = normalize_origin(o);
     if (n.empty()) continue;  // the command line refuses these
     origins_.insert(n);
-    hosts_.insert(n.substr(n.find("://") + 3));
+    const std::string host = n.substr(n.find("://") + 3);
+    hosts_.insert(host);
+    if (n.starts_with("https://")) https_hosts_.insert(host);
   }
+}
+
+std::vector<std::string> AccessPolicy::host_candidates(std::string_view host) {
+  // A Host without a port is the default port of whichever scheme the request came by: a TLS
+  // proxy that keeps the public name sends "viewer.example" for https://viewer.example.
+  if (host.find(':') != std::string_view::npos) return {normalize_host(host)};
+  return {normalize_host(host, 80), normalize_host(host, 443)};
 }
 
 std::string AccessPolicy::host_problem(const RequestFacts& request) const {
   if (!request.host || request.host->empty()) return "the request has no Host header";
-  const std::string host = normalize_host(*request.host);
   const std::string own = normalize_host(request.local + ":" + std::to_string(port_));
-  if (!host.empty() && (hosts_.count(host) != 0 || host == own)) return {};
+  for (const std::string& host : host_candidates(*request.host)) {
+    if (!host.empty() && (hosts_.count(host) != 0 || host == own)) return {};
+  }
   return fmt::format("host {} is not this gateway (name it by 127.0.0.1:{}, localhost:{}, its address, or an "
                      "--allow-origin)",
                      shown(*request.host), port_, port_);
 }
 
+bool AccessPolicy::came_by_https(const RequestFacts& request) const {
+  if (lower(trim(request.forwarded_proto)) == "https") return true;
+  if (!request.host) return false;
+  const auto candidates = host_candidates(*request.host);
+  return std::any_of(candidates.begin(), candidates.end(), [&](const std::string& h) { return https_hosts_.count(h) != 0; });
+}
+
 std::string AccessPolicy::token_problem_of(const RequestFacts& request, bool& from_query) const {
   from_query = false;
-  if (options_.token.empty() || is_loopback(request.peer)) return {};
+  if (options_.token.empty()) return {};
   std::optional<std::string> given;
   if (starts_with_nocase(request.authorization, "bearer ")) given = std::string(trim(request.authorization.substr(7)));
   if (!given) {
@@ -155,8 +172,9 @@ std::string AccessPolicy::token_problem_of(const RequestFacts& request, bool& fr
     if (auto in_cookie = cookie_value(request.cookie, kTokenCookie)) given = std::string(*in_cookie);
   }
   if (!given) {
-    return fmt::format("{} is not loopback: a token is required (an Authorization: Bearer header, or open the page "
-                       "once as /?token=TOKEN; see --token-file)",
+    // Loopback too: behind a proxy on the same host every user is a loopback peer.
+    return fmt::format("a token is required from {} (an Authorization: Bearer header, or open the page once as "
+                       "/?token=TOKEN; see --token-file)",
                        request.peer);
   }
   if (!same_secret(options_.token, *given)) return "the token is not this gateway's (see --token-file)";
@@ -164,21 +182,24 @@ std::string AccessPolicy::token_problem_of(const RequestFacts& request, bool& fr
 }
 
 AccessVerdict AccessPolicy::check(const RequestFacts& request) const {
-  if (std::string why = host_problem(request); !why.empty()) return {421, why, false};
+  if (std::string why = host_problem(request); !why.empty()) return {421, why, {}};
   if (request.origin) {
     const std::string origin = normalize_origin(*request.origin);
     const std::string own = "http://" + normalize_host(request.local + ":" + std::to_string(port_));
     if (origin.empty() || (origins_.count(origin) == 0 && origin != own)) {
-      return {403, fmt::format("origin {} is not allowed (see --allow-origin)", shown(*request.origin)), false};
+      return {403, fmt::format("origin {} is not allowed (see --allow-origin)", shown(*request.origin)), {}};
     }
   }
   bool from_query = false;
-  if (std::string why = token_problem_of(request, from_query); !why.empty()) return {401, why, false};
-  return {0, {}, from_query};
+  if (std::string why = token_problem_of(request, from_query); !why.empty()) return {401, why, {}};
+  AccessVerdict verdict;
+  if (from_query) verdict.set_cookie = token_cookie(came_by_https(request));
+  return verdict;
 }
 
-std::string AccessPolicy::token_cookie() const {
-  return fmt::format("{}={}; Path=/; HttpOnly; SameSite=Strict", kTokenCookie, options_.token);
+std::string AccessPolicy::token_cookie(bool secure) const {
+  return fmt::format("{}={}; Path=/; HttpOnly; SameSite=Strict{}", kTokenCookie, options_.token,
+                     secure ? "; Secure" : "");
 }
 
 }  // namespace ispars::web

@@ -1,8 +1,9 @@
 #pragma once
 // Who may use the gateway (client/web/README.md, "Who may use the gateway"): a request's Host must
 // name the gateway (against DNS rebinding), its Origin, when it has one, must be the gateway's own
-// or one allowed by --allow-origin (against other pages in the user's browser), and a peer off
-// loopback must present the token of --token-file. Knows nothing of sockets or Beast.
+// or one allowed by --allow-origin (against other pages in the user's browser), and, when the
+// gateway has a token (--token-file), every peer must present it, loopback included (behind a
+// proxy on the same host every user is loopback). Knows nothing of sockets or Beast.
 
 #include <cstdint>
 #include <optional>
@@ -31,13 +32,14 @@ struct RequestFacts {
   std::string_view target;                 ///< The request target, with its query.
   std::string peer;                        ///< The TCP peer's IPv4 address.
   std::string local;                       ///< The IPv4 address the connection came in on.
+  std::string_view forwarded_proto;        ///< X-Forwarded-Proto (a TLS proxy's "https"), may be empty.
 };
 
 /// A request let in (`status` 0), or refused: the HTTP status and a one-line reason.
 struct AccessVerdict {
   unsigned status = 0;
   std::string reason;
-  bool token_from_query = false;  ///< Let in by ?token=: the response sets the cookie.
+  std::string set_cookie;  ///< Let in by ?token=: the Set-Cookie that keeps the token (Secure over https).
 };
 
 /// "scheme://host[:port]" in lower case with its port made explicit (http 80, https 443); empty
@@ -64,16 +66,23 @@ class AccessPolicy {
 
   [[nodiscard]] AccessVerdict check(const RequestFacts& request) const;
   [[nodiscard]] bool has_token() const { return !options_.token.empty(); }
-  /// The Set-Cookie value that keeps the token for a page let in by ?token=.
-  [[nodiscard]] std::string token_cookie() const;
+  /// The Set-Cookie value that keeps the token for a page let in by ?token= (`secure`: it came by
+  /// https, through a TLS proxy, so the browser must send it back only over https).
+  [[nodiscard]] std::string token_cookie(bool secure) const;
 
  private:
+  /// The normalized forms a Host header may stand for (both default ports when it has none).
+  [[nodiscard]] static std::vector<std::string> host_candidates(std::string_view host);
   [[nodiscard]] std::string host_problem(const RequestFacts& request) const;
+  /// Whether the request came through TLS: X-Forwarded-Proto says so, or its Host names an
+  /// https --allow-origin.
+  [[nodiscard]] bool came_by_https(const RequestFacts& request) const;
   [[nodiscard]] std::string token_problem_of(const RequestFacts& request, bool& from_query) const;
   AccessOptions options_;
   std::uint16_t port_;
   std::set<std::string> hosts_;    // normalized Host values that name this gateway
   std::set<std::string> origins_;  // normalized origins let in
+  std::set<std::string> https_hosts_;  // hosts of the https origins let in
 };
 
 }  // namespace ispars::web

@@ -27,14 +27,15 @@ int main(int argc, char** argv) {
     ispars::web::WebServer server(client, options);
     std::cout << "ispars-web: serving http://" << options.address << ":" << server.port() << "/ (DDS domain "
               << command_line.domain << ", web root " << options.web_root.string() << ", "
-              << (options.access.token.empty() ? "no token" : "a token required off loopback") << ", "
+              << (options.access.token.empty() ? "no token" : "a token required") << ", "
               << options.access.allowed_origins.size() << " more origins allowed)" << std::endl;
     int signal = 0;
     sigwait(&stop_signals, &signal);
     const auto stats = server.stats();
     std::cout << "ispars-web: stopping (" << stats.browsers_total << " browsers served, " << stats.messages_sent
               << " messages sent, " << stats.refused_access << " requests refused by Host, Origin or token, "
-              << stats.tours_refused << " tours refused over --max-tours)" << std::endl;
+              << stats.tours_refused << " tours refused over --max-tours, " << stats.evicted
+              << " idle connections closed to make room)" << std::endl;
   } catch (const std::exception& e) {
     std::cerr << "ispars-web: " << e.what() << "\n";
     return 1;

@@ -18,17 +18,38 @@ namespace {
 
 using Server = WebServer::Impl;
 
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
+// How long a connection may take to send its request.
+constexpr std::chrono::seconds kRequestDeadline{10};
+
+class HttpSession : public WaitingConnection, public std::enable_shared_from_this<HttpSession> {
  public:
   HttpSession(tcp::socket socket, Server* server)
       : stream_(std::move(socket)), server_(server), slot_(std::make_shared<Server::Slot>(*server_)) {}
 
   void run() {
-    stream_.expires_after(std::chrono::seconds(30));
+    stream_.expires_after(kRequestDeadline);
     parser_.body_limit(16 * 1024);
+    if (server_->waiting.size() > 2 * server_->options.max_connections) {
+      std::erase_if(server_->waiting, [](const std::weak_ptr<WaitingConnection>& w) {
+        const auto c = w.lock();
+        return !c || !c->waiting();
+      });
+    }
+    server_->waiting.push_back(shared_from_this());
     http::async_read(stream_, buffer_, parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      self->waiting_ = false;
       if (!ec) self->handle();
     });
+  }
+
+  [[nodiscard]] bool waiting() const override { return waiting_; }
+
+  bool evict() override {
+    if (!waiting_) return false;
+    waiting_ = false;
+    beast::error_code ignored;
+    stream_.socket().close(ignored);
+    return true;
   }
 
  private:
@@ -42,7 +63,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       ++server_->refused_access;
       return respond(static_cast<http::status>(verdict.status), "text/plain", verdict.reason + "\n");
     }
-    if (verdict.token_from_query) set_cookie_ = server_->access->token_cookie();
+    set_cookie_ = verdict.set_cookie;
     if (websocket::is_upgrade(request)) {
       if (path != "/ws") return respond(http::status::not_found, "text/plain", "WebSockets are at /ws?scene=NAME\n");
       stream_.expires_never();
@@ -111,6 +132,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (const auto it = request.find(http::field::origin); it != request.end()) f.origin = sv(it->value());
     f.authorization = sv(request[http::field::authorization]);
     f.cookie = sv(request[http::field::cookie]);
+    f.forwarded_proto = sv(request["X-Forwarded-Proto"]);
     f.target = sv(request.target());
     beast::error_code ec;
     f.peer = stream_.socket().remote_endpoint(ec).address().to_string();
@@ -141,6 +163,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   std::shared_ptr<Server::Slot> slot_;
   unsigned version_ = 11;
   std::string set_cookie_;  // the token's cookie, for a request let in by ?token=
+  bool waiting_ = true;     // its request has not arrived
 };
 
 }  // namespace
@@ -185,7 +208,7 @@ void WebServer::Impl::accept() {
   acceptor.async_accept(net::make_strand(io), [self = this](beast::error_code ec, tcp::socket socket) {
     if (ec) {
       if (ec == net::error::operation_aborted) return;
-    } else if (self->connections >= self->options.max_connections) {
+    } else if (self->connections >= self->options.max_connections && !self->evict_a_waiting_connection()) {
       ++self->refused;  // closed at once: a browser retries
     } else {
       ++self->connections;
@@ -193,6 +216,18 @@ void WebServer::Impl::accept() {
     }
     self->accept();
   });
+}
+
+bool WebServer::Impl::evict_a_waiting_connection() {
+  while (!waiting.empty()) {
+    const auto oldest = waiting.front().lock();
+    waiting.pop_front();
+    if (oldest && oldest->evict()) {
+      ++evicted;
+      return true;
+    }
+  }
+  return false;
 }
 
 WebServer::WebServer(client::Client& client, WebServerOptions options)
@@ -225,7 +260,7 @@ std::uint16_t WebServer::port() const { return impl_->acceptor.local_endpoint().
 WebServerStats WebServer::stats() const {
   return {impl_->browsers,       impl_->browsers_total, impl_->messages,
           impl_->refused,        impl_->refused_access, impl_->tours_refused,
-          impl_->feeds.size()};
+          impl_->feeds.size(),   impl_->evicted};
 }
 
 }  // namespace ispars::web

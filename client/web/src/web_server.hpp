@@ -22,7 +22,8 @@ struct WebServerOptions {
   std::uint16_t port = 8080;               ///< 0: a free port (see WebServer::port()).
   std::filesystem::path web_root;          ///< index.html, app.js and the three.js modules.
   std::filesystem::path scene_dir;         ///< Scene YAML files, for the meshes (may be empty).
-  std::size_t max_connections = 64;        ///< Browsers and requests at once (1..10,000).
+  std::size_t max_connections = 64;        ///< Browsers and requests at once (1..10,000); when full, the
+                                           ///< oldest connection whose request has not arrived makes room.
   std::size_t max_scenes = 32;             ///< Scenes followed at once (1..1000).
   std::size_t max_queued_messages = 64;    ///< Per browser: past it, updates wait for the socket.
   double tour_budget_max = 60.0;           ///< Seconds a browser may ask a tour to search (0.1..3600).
@@ -41,6 +42,7 @@ struct WebServerStats {
   std::size_t refused_access = 0;  ///< Requests refused by Host, Origin or token.
   std::size_t tours_refused = 0;   ///< Tours refused over max_tours.
   std::size_t scenes = 0;          ///< Scenes followed now.
+  std::size_t evicted = 0;         ///< Connections closed, their request not yet sent, to make room.
 };
 
 class WebServer {

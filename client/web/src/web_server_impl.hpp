@@ -41,6 +41,17 @@ bool valid_scene_name(const std::string& name);
 /// The page's error message.
 std::string error_message(const std::string& what);
 
+/// A connection whose request has not arrived yet: the first to go when the gateway is full, so
+/// that idle connections cannot lock users out. Used on the I/O thread only.
+class WaitingConnection {
+ public:
+  virtual ~WaitingConnection() = default;
+  /// Closes the connection if its request has still not arrived; whether it did.
+  virtual bool evict() = 0;
+  /// Whether its request has still not arrived.
+  [[nodiscard]] virtual bool waiting() const = 0;
+};
+
 /// The server's state: its options, the scenes it follows, its I/O thread and its workers.
 class WebServer::Impl {
  public:
@@ -49,7 +60,7 @@ class WebServer::Impl {
   client::Client& client;
   const WebServerOptions options;
   std::atomic<std::size_t> connections{0}, browsers{0}, browsers_total{0}, messages{0}, refused{0};
-  std::atomic<std::size_t> refused_access{0}, tours{0}, tours_refused{0};
+  std::atomic<std::size_t> refused_access{0}, tours{0}, tours_refused{0}, evicted{0};
   FeedSet feeds{client, options.limits, options.max_scenes, options.feed_linger};
   std::unique_ptr<AccessPolicy> access;  // made once the port is bound
   net::thread_pool workers{8};
@@ -58,6 +69,7 @@ class WebServer::Impl {
   net::io_context io{1};
   tcp::acceptor acceptor{io};
   net::steady_timer sweep_timer{io};
+  std::deque<std::weak_ptr<WaitingConnection>> waiting;  // oldest first; I/O thread only
 
   /// A connection's place in max_connections, given back when the last holder goes.
   struct Slot {
@@ -70,6 +82,8 @@ class WebServer::Impl {
   void sweep();
   /// Listens for the next connection.
   void accept();
+  /// Closes the oldest connection still waiting for its request; whether there was one.
+  bool evict_a_waiting_connection();
   /// One of the page's files (a fixed list) from the web root, or 404.
   void serve_file(const std::string& name, std::string& type, std::string& body, http::status& status) const;
 };

@@ -16,7 +16,11 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   void run(http::request<http::string_body> request) {
     const std::string target(request.target());
     scene_ = query_value(target, "scene");
-    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    // A browser answers pings by itself: a peer silent for a minute, pings unanswered, is gone.
+    auto timeout = websocket::stream_base::timeout::suggested(beast::role_type::server);
+    timeout.idle_timeout = std::chrono::seconds(60);
+    timeout.keep_alive_pings = true;
+    ws_.set_option(timeout);
     ws_.read_message_max(64 * 1024);
     ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
       if (!ec) self->opened();
