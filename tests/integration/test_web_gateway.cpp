@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <csignal>
 #include <fstream>
 #include <set>
 #include <thread>
@@ -184,6 +185,41 @@ TEST_F(WebGatewayTest, BehindATlsProxyTheTokenHoldsAndIdleConnectionsCannotLockU
   for (const int fd : idle) ::close(fd);
   EXPECT_EQ(gateway.stop(), 0);
   EXPECT_NE(gateway.log().find(" 3 idle connections closed to make room"), std::string::npos) << gateway.log();
+}
+
+// The resident memory of process `pid` in MB (VmRSS), or -1.
+double resident_mb(pid_t pid) {
+  const std::string status = read_text("/proc/" + std::to_string(pid) + "/status");
+  const auto at = status.find("VmRSS:");
+  return at == std::string::npos ? -1.0 : std::stod(status.substr(at + 6)) / 1024.0;
+}
+
+// A page that sends and never reads: each request of about 60 kB draws an error reply that
+// echoes it. The gateway closes it once its replies pass twice the queue's bound (64 MB), and its
+// memory stays bounded; a page that reads is served throughout.
+TEST_F(WebGatewayTest, APageThatSendsAndNeverReadsIsClosedAndMemoryStaysBounded) {
+  std::signal(SIGPIPE, SIG_IGN);  // writes to the closed socket fail instead
+  Gateway gateway(domain_, scene_dir_, dir_.path() / "web.log");
+  ASSERT_GT(gateway.port(), 0) << gateway.log();
+  const double before = resident_mb(gateway.pid());
+  RawWebSocket flood(gateway.port(), "/ws?scene=s0", "");
+  ASSERT_EQ(flood.status(), "HTTP/1.1 101 Switching Protocols");
+  const std::string request = R"({"type":")" + std::string(60000, 'x') + R"("})";
+  for (int i = 0; i < 3000; ++i) flood.send_text(request);  // 180 MB of replies, were they all kept
+  const double after = resident_mb(gateway.pid());
+  RawWebSocket reader(gateway.port(), "/ws?scene=s0", "");
+  ASSERT_EQ(reader.status(), "HTTP/1.1 101 Switching Protocols");
+  reader.send_text(R"({"type":"nonsense"})");
+  bool answered = false;
+  for (auto m = reader.next(std::chrono::seconds(10)); m && !answered; m = reader.next(std::chrono::seconds(10))) {
+    answered = m->find("is not tour or tasks") != std::string::npos;
+  }
+  EXPECT_TRUE(answered);
+  std::printf("a page that never reads: ispars-web's resident memory %.0f MB before, %.0f MB after 180 MB of replies\n",
+              before, after);
+  EXPECT_LT(after - before, 120.0);
+  EXPECT_EQ(gateway.stop(), 0);
+  EXPECT_NE(gateway.log().find(" 1 browsers closed for not reading"), std::string::npos) << gateway.log();
 }
 
 // Two pages ask for a tour at once through a gateway of --max-tours 1: the second is refused by

@@ -260,7 +260,7 @@ std::uint16_t WebServer::port() const { return impl_->acceptor.local_endpoint().
 WebServerStats WebServer::stats() const {
   return {impl_->browsers,       impl_->browsers_total, impl_->messages,
           impl_->refused,        impl_->refused_access, impl_->tours_refused,
-          impl_->feeds.size(),   impl_->evicted};
+          impl_->feeds.size(),   impl_->evicted,        impl_->unread};
 }
 
 }  // namespace ispars::web

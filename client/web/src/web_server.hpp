@@ -26,6 +26,8 @@ struct WebServerOptions {
                                            ///< oldest connection whose request has not arrived makes room.
   std::size_t max_scenes = 32;             ///< Scenes followed at once (1..1000).
   std::size_t max_queued_messages = 64;    ///< Per browser: past it, updates wait for the socket.
+  std::size_t max_queued_bytes = 32u << 20;  ///< Per browser: past it, updates wait; past twice
+                                             ///< it, a browser that sends and does not read is closed.
   double tour_budget_max = 60.0;           ///< Seconds a browser may ask a tour to search (0.1..3600).
   std::size_t max_tours = 2;               ///< Tours searching at once, over every page (1..64).
   std::chrono::milliseconds feed_linger{30'000};  ///< A scene no browser watches is dropped after it (0..3600 s).
@@ -43,6 +45,7 @@ struct WebServerStats {
   std::size_t tours_refused = 0;   ///< Tours refused over max_tours.
   std::size_t scenes = 0;          ///< Scenes followed now.
   std::size_t evicted = 0;         ///< Connections closed, their request not yet sent, to make room.
+  std::size_t unread = 0;          ///< WebSockets closed: their browser sent and did not read.
 };
 
 class WebServer {

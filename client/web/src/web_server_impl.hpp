@@ -60,7 +60,7 @@ class WebServer::Impl {
   client::Client& client;
   const WebServerOptions options;
   std::atomic<std::size_t> connections{0}, browsers{0}, browsers_total{0}, messages{0}, refused{0};
-  std::atomic<std::size_t> refused_access{0}, tours{0}, tours_refused{0}, evicted{0};
+  std::atomic<std::size_t> refused_access{0}, tours{0}, tours_refused{0}, evicted{0}, unread{0};
   FeedSet feeds{client, options.limits, options.max_scenes, options.feed_linger};
   std::unique_ptr<AccessPolicy> access;  // made once the port is bound
   net::thread_pool workers{8};

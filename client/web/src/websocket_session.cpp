@@ -167,7 +167,9 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     if (closed_) return;
     // A slow browser: nothing more is queued until its socket drains; it then gets everything new
     // at once (the cursor only moves when messages are queued).
-    if (queue_.size() >= server_->options.max_queued_messages) return next_tick();
+    if (queue_.size() >= server_->options.max_queued_messages || queued_bytes_ >= server_->options.max_queued_bytes) {
+      return next_tick();
+    }
     net::post(server_->workers, [self = shared_from_this()] {
       std::vector<std::string> out;
       try {
@@ -192,15 +194,28 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 
   void send(std::string message) {
     if (closed_) return;
+    // Updates wait at max_queued_bytes (tick); only replies to what the browser sends grow the
+    // queue past it, so a browser that sends and does not read is closed at twice it.
+    if (!queue_.empty() && queued_bytes_ + message.size() > 2 * server_->options.max_queued_bytes) {
+      ++server_->unread;
+      beast::error_code ignored;
+      beast::get_lowest_layer(ws_).socket().close(ignored);
+      return close();
+    }
+    queued_bytes_ += message.size();
     queue_.push_back(std::make_shared<std::string>(std::move(message)));
     if (queue_.size() == 1) write();
   }
 
   void write() {
     ws_.text(true);
-    ws_.async_write(net::buffer(*queue_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) return self->close();  // the browser went away mid-stream: this session ends, the others go on
+    // The handler holds the message: close() may clear the queue while the write is in flight.
+    auto message = queue_.front();
+    ws_.async_write(net::buffer(*message), [self = shared_from_this(), message](beast::error_code ec, std::size_t) {
+      // The browser went away mid-stream (or was closed): this session ends, the others go on.
+      if (ec || self->closed_) return self->close();
       ++self->server_->messages;
+      self->queued_bytes_ -= self->queue_.front()->size();
       self->queue_.pop_front();
       if (!self->queue_.empty()) self->write();
     });
@@ -211,6 +226,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     closed_ = true;
     timer_.cancel();
     queue_.clear();
+    queued_bytes_ = 0;
     if (counted_) --server_->browsers;
   }
 
@@ -223,6 +239,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   std::shared_ptr<SceneFeed> feed_;
   ViewerCursor cursor_;
   std::deque<std::shared_ptr<std::string>> queue_;
+  std::size_t queued_bytes_ = 0;  // the bytes in queue_
   bool closed_ = false;
   bool counted_ = false;
   bool tour_running_ = false;
