@@ -107,6 +107,9 @@ class Daemon {
   void watch_fleet();
   void give_up(const ContestedScene& contest);  // hands a held scene to the daemon that outweighs this one
   void take_over(const OrphanScene& orphan);
+  /// A takeover that failed with `what`: an empty scene is released, the reason noted for the
+  /// scenes list, and the takeover is tried again (SceneClaims, with backoff).
+  void failed_takeover(const OrphanScene& orphan, const std::string& what);
   void announce_if_fresher();  // held roadmaps changed: at once for a new generation or target
   // Rejoining (daemon_rejoin.cpp): a peer this one dropped came back under the same GUID,
   // so the sessions between them may never recover (PeerWatch); this daemon then replaces its

@@ -150,9 +150,30 @@ void Daemon::take_over(const OrphanScene& orphan) {
       spdlog::info("{}", plan.outcome);
     }
   } catch (const std::exception& e) {
-    spdlog::error("taking over scene '{}' from {} failed: {}{}", orphan.scene, orphan.former_owner, e.what(),
-                  orphan.handed_over ? " (tried again in a few seconds while it is not held)" : "");
+    failed_takeover(orphan, e.what());
   }
+}
+
+void Daemon::failed_takeover(const OrphanScene& orphan, const std::string& what) {
+  // Not held empty: the claim is released (so no user starts a new lineage on an empty scene
+  // thinking it served), the reason is in the scenes list, and the takeover is tried again.
+  bool released = false;
+  try {
+    const SessionStatus st = service_->stats(orphan.scene);
+    if (!st.recipe) {
+      service_->unload(orphan.scene);
+      released = true;
+    }
+  } catch (const std::exception&) {
+    released = true;  // never loaded
+  }
+  const auto retry = claims_->takeover_retry_in(orphan.scene);
+  const std::string note =
+      fmt::format("taking over scene '{}' from daemon {} failed: {}; {}{}", orphan.scene, orphan.former_owner, what,
+                  released ? "released" : "kept as held",
+                  retry.count() > 0 ? fmt::format(", tried again in {} s while nobody holds it", retry.count()) : "");
+  listing_.set_note(orphan.scene, note);
+  spdlog::error("{}", note);
 }
 
 void Daemon::announce_if_fresher() {

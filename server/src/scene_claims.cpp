@@ -162,8 +162,9 @@ void SceneClaims::retry_takeovers(const std::vector<msg::DaemonInfo>& others,
       it = takeovers_.erase(it);  // taken over (here or elsewhere), or no longer this daemon's
       continue;
     }
-    if (now - pending.reported >= kRetryPeriod) {  // the takeover failed: once more
+    if (now - pending.reported >= retry_delay(pending.attempts)) {  // the takeover failed: once more
       pending.reported = now;
+      ++pending.attempts;
       out.push_back(pending.orphan);
     }
     ++it;
@@ -199,6 +200,12 @@ std::vector<OrphanScene> SceneClaims::orphans() {
   retry_takeovers(others, everyone, out);
   add_handovers(others, everyone.back(), out);
   return out;
+}
+
+std::chrono::seconds SceneClaims::takeover_retry_in(const std::string& scene) const {
+  std::lock_guard lock(mutex_);
+  const auto it = takeovers_.find(scene);
+  return it == takeovers_.end() ? std::chrono::seconds(0) : retry_delay(it->second.attempts);
 }
 
 void SceneClaims::observe(const msg::SceneStatus& status) {

@@ -10,6 +10,7 @@
 //
 // Knows nothing of DDS: the announcements and statuses it reasons about come in through Fleet.
 
+#include <algorithm>
 #include <chrono>
 #include <cstddef>
 #include <functional>
@@ -60,8 +61,12 @@ class SceneClaims {
   static constexpr std::chrono::milliseconds kClaimWindow{300};
   /// Former holders and last statuses remembered, at most (scene names are bounded anyway).
   static constexpr std::size_t kMaxRemembered = 4096;
-  /// How long a scene to take over that is still not held waits before it is reported again.
+  /// How long a scene to take over that is still not held waits before it is reported again
+  /// the first time; each later time twice as long, up to 16 times (80 s).
   static constexpr std::chrono::seconds kRetryPeriod{5};
+  [[nodiscard]] static std::chrono::seconds retry_delay(unsigned attempts) {
+    return kRetryPeriod * (1u << std::min(attempts, 4u));
+  }
 
   SceneClaims(std::string self_id, Fleet fleet);
 
@@ -79,6 +84,8 @@ class SceneClaims {
   /// holder handed to this daemon; each reported again every kRetryPeriod while nobody holds it
   /// and the rule still names this daemon (a takeover that failed is tried again).
   [[nodiscard]] std::vector<OrphanScene> orphans();
+  /// How long until a takeover of `scene` that failed now is tried again (0: none pending).
+  [[nodiscard]] std::chrono::seconds takeover_retry_in(const std::string& scene) const;
   /// Remembers a status another daemon published (the recipe a takeover rebuilds from).
   void observe(const msg::SceneStatus& status);
 
@@ -96,6 +103,7 @@ class SceneClaims {
   struct PendingTakeover {
     OrphanScene orphan;
     std::chrono::steady_clock::time_point reported;
+    unsigned attempts = 0;  // reported again so far
   };
   std::map<std::string, PendingTakeover> takeovers_;  // orphans reported and not yet held here
   void retry_takeovers(const std::vector<msg::DaemonInfo>& others, const std::vector<msg::DaemonInfo>& everyone,

@@ -61,6 +61,14 @@ class ServiceTest : public ::testing::Test {
 };
 
 // The daemons holding `scene`, as their announcements say.
+/// What daemon `server`'s entry in the scenes list notes about `scene` (empty when none).
+inline std::string note_of(Client& client, const std::string& scene, const std::string& server) {
+  for (const auto& e : client.list_scenes()) {
+    if (e.scene == scene && e.server_id == server) return e.note;
+  }
+  return "";
+}
+
 inline std::vector<std::string> holders(Client& client, const std::string& scene) {
   std::vector<std::string> out;
   for (const auto& d : client.daemons()) {

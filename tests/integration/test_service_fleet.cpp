@@ -316,5 +316,53 @@ TEST_F(FleetTest, WhenTheOwnerIsKilledAnotherTakesOverAndRebuildsTheSameRoadmap)
   EXPECT_EQ(roadmap_digest(replica.roadmap()), digest);
 }
 
+// A takeover the new owner cannot make (its memory budget refuses the rebuild) does not leave the
+// scene held empty: it is released, the reason is in the scenes list, and the takeover is tried
+// again with backoff while nobody holds it; once the former owner returns, it serves its copy.
+TEST_F(FleetTest, ATakeoverThatFailsReleasesTheSceneNamesWhyAndIsTriedAgain) {
+  auto a = start("a", {"--memory-budget-mb", kNoBudget});
+  auto b = start("b", {"--memory-budget-mb", "16"});
+  Client client(client_options(domain_));
+  for (const auto met = Clock::now(); client.daemons().size() < 2 && Clock::now() - met < std::chrono::seconds(30);) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(client.daemons().size(), 2u) << "the client did not hear both daemons";
+  std::string scene;
+  for (unsigned n = 0; n < 4 && scene.empty(); ++n) {
+    if (wire::assigned_daemon(scene_name(n), client::daemon_messages(client)) == "a") scene = scene_name(n);
+  }
+  ASSERT_FALSE(scene.empty()) << "the rule names b for every test scene";
+  const SceneStatus built = load_and_build(client, scene, ispars_build(20000, 3));
+  ASSERT_EQ(built.server_id, "a");
+  const std::uint64_t digest = roadmap_digest(client.snapshot(scene).roadmap);
+  a->kill9();
+  // b's takeover is refused by its budget: released, named, tried again.
+  const auto killed = Clock::now();
+  const auto failures = [&] {
+    const std::string log = b->log();
+    std::size_t count = 0;
+    for (auto at = log.find("taking over scene '" + scene + "' from daemon a failed"); at != std::string::npos;
+         at = log.find("taking over scene '" + scene + "' from daemon a failed", at + 1)) {
+      ++count;
+    }
+    return count;
+  };
+  while (failures() < 2 && Clock::now() - killed < std::chrono::seconds(60)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  ASSERT_GE(failures(), 2u) << b->log();
+  std::printf("b notes: %s\n", note_of(client, scene, "b").c_str());
+  const std::string note = note_of(client, scene, "b");
+  EXPECT_NE(note.find("memory budget"), std::string::npos) << note;
+  EXPECT_NE(note.find("released, tried again in"), std::string::npos) << note;
+  EXPECT_TRUE(holders(client, scene).empty()) << "held empty by " << holders(client, scene)[0];
+  // The former owner returns with its copy: it serves it, and b stops trying.
+  a = start("a", {"--memory-budget-mb", kNoBudget});
+  const SceneStatus served = client.wait_idle(scene, {}, kLong);
+  EXPECT_EQ(served.server_id, "a");
+  EXPECT_EQ(served.samples_done, built.samples_done);
+  EXPECT_EQ(roadmap_digest(client.snapshot(scene).roadmap), digest);
+}
+
 }  // namespace
 }  // namespace ispars::test

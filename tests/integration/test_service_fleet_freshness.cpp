@@ -45,13 +45,6 @@ double wait_held_idle_by(Client& client, const std::string& scene, const std::st
   return -1.0;
 }
 
-std::string note_of(Client& client, const std::string& scene, const std::string& server) {
-  for (const auto& e : client.list_scenes()) {
-    if (e.scene == scene && e.server_id == server) return e.note;
-  }
-  return "";
-}
-
 // Daemons here restart beside running peers. (Over Fast DDS 2.9.1's shared memory transport, once
 // part of the localhost profile, a daemon restarted that way on a loaded machine went deaf to its
 // peers in 3 tries of 3: the profile has no shared memory transport since.)
