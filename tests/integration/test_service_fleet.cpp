@@ -12,6 +12,7 @@
 #include "ispars/client/replica.hpp"
 #include "ispars/wire/scene_owner.hpp"
 #include "support/raw_peer.hpp"
+#include "integration/metrics_probe.hpp"  // after service_fixture.hpp (httplib)
 
 namespace ispars::test {
 namespace {
@@ -362,6 +363,36 @@ TEST_F(FleetTest, ATakeoverThatFailsReleasesTheSceneNamesWhyAndIsTriedAgain) {
   EXPECT_EQ(served.server_id, "a");
   EXPECT_EQ(served.samples_done, built.samples_done);
   EXPECT_EQ(roadmap_digest(client.snapshot(scene).roadmap), digest);
+}
+
+// An extend acknowledged while the owner's only worker builds another scene is queued; its target
+// is in the owner's status and announcement from the moment it is accepted, so when the owner
+// stops (SIGTERM) the daemon that takes the scene over continues to it. Before, the target showed
+// only once a worker started the job, and the takeover stopped at the samples done.
+TEST_F(FleetTest, AnExtendQueuedWhenTheOwnerStopsIsCarriedOutByTheDaemonThatTakesOver) {
+  auto a = start("a", {"--workers", "1", "--memory-budget-mb", kNoBudget});
+  Client client(client_options(domain_));
+  const SceneStatus x = load_and_build(client, "s0", ispars_build(3000, 3));
+  ASSERT_EQ(x.server_id, "a");
+  client.load("s1");
+  client.build("s1", ispars_build(1'000'000, 3));  // keeps a's only worker busy
+  client.extend("s0", 5000);
+  const SceneStatus queued = client.stats("s0");
+  EXPECT_EQ(queued.state, SceneState::queued);
+  EXPECT_EQ(queued.samples_target, 8000u) << "the accepted target is not in the status";
+  auto b = start("b", {"--memory-budget-mb", kNoBudget, "--metrics", "127.0.0.1:0"});
+  // b has a's announcement (which carries the target) once it counts a.
+  const int b_metrics = metrics_port(b->log());
+  for (const auto met = Clock::now();
+       other_daemons_counted_on(b_metrics) != 1 && Clock::now() - met < std::chrono::seconds(30);) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(other_daemons_counted_on(b_metrics), 1) << b->log();
+  EXPECT_EQ(a->terminate(), 0);
+  const SceneStatus carried = client.wait_idle("s0", {}, kLong);
+  EXPECT_EQ(carried.server_id, "b");
+  EXPECT_EQ(carried.samples_done, 8000u) << b->log();
+  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 8000, 3));
 }
 
 }  // namespace

@@ -164,5 +164,37 @@ TEST(RoadmapSessionJob, ACancelWhileTheBuilderResumesStopsTheJob) {
   EXPECT_NE(status.last_error.find("cancelled"), std::string::npos) << status.last_error;
 }
 
+// An extend is acknowledged with its target, and the status says so from then on, while it waits
+// for a worker (the fleet's announcement and a takeover continue to it: docs/fleet.md); a cancel
+// or a stop before it starts takes the target back.
+TEST(RoadmapSessionJob, AQueuedExtendsTargetIsInTheStatusUntilItIsCancelledOrStopped) {
+  const Scene& scene = test::shared_scene("demo_tank_tower");
+  test::TempDir dir;
+  std::atomic<bool> never{false};
+  RoadmapSession session("tower", scene, dir.path() / "tower", SessionLimits{}, {});
+  BuildRequest request;
+  request.method = BuildMethod::ispars;
+  request.samples = 300;
+  request.seed = 2;
+  session.request_build(request);
+  session.run_job(never);
+  EXPECT_EQ(session.request_extend(500), 800u);
+  SessionStatus queued = session.status();
+  EXPECT_EQ(queued.state, SessionState::queued);
+  EXPECT_EQ(queued.samples_done, 300u);
+  EXPECT_EQ(queued.samples_target, 800u);
+  EXPECT_TRUE(session.cancel());
+  EXPECT_EQ(session.status().samples_target, 300u);
+  session.request_extend(500);
+  std::atomic<bool> stopping{true};
+  session.run_job(stopping);  // the daemon stops before a worker starts it
+  EXPECT_EQ(session.status().samples_target, 300u);
+  EXPECT_EQ(session.status().last_error, "daemon stopped before the job started");
+  session.request_extend(500);
+  session.run_job(never);
+  EXPECT_EQ(session.status().samples_done, 800u);
+  EXPECT_EQ(session.status().samples_target, 800u);
+}
+
 }  // namespace
 }  // namespace ispars

@@ -171,6 +171,9 @@ std::uint64_t RoadmapSession::request_extend(std::uint64_t samples) {
     last_error_.clear();
     state_ = SessionState::queued;
     target = samples_done_ + samples;
+    // Accepted: the target is in the status (and so in the fleet's announcement, which a
+    // takeover or a handover continues to) from now on, not from when a worker starts the job.
+    samples_target_ = target;
   }
   notify_status();
   return target;
@@ -188,6 +191,7 @@ bool RoadmapSession::cancel() {
       pending_samples_ = 0;
       pending_task_.reset();
       state_ = recipe_ ? SessionState::idle : SessionState::empty;
+      samples_target_ = samples_done_;
       last_error_ = "cancelled before it started";
     } else {
       cancel_ = true;

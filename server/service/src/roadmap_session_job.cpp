@@ -201,6 +201,7 @@ std::optional<RoadmapSession::Job> RoadmapSession::take_job(const std::atomic<bo
     }
     // Cancelled while queued: nothing is touched.
     state_ = recipe_ ? SessionState::idle : SessionState::empty;
+    samples_target_ = samples_done_;
     last_error_ = cancel_ ? "cancelled before it started" : "daemon stopped before the job started";
     cancel_ = false;
   }
