@@ -300,5 +300,47 @@ TEST_F(FleetFreshnessTest, AStoreOfAnotherBuilderVersionIsNotOfferedAndLeftUntou
   EXPECT_EQ(after, text);
 }
 
+// A copy that cannot be served is not announced: a's copy of s2 is fresher (3,000 samples against
+// b's 800) but one bit of its journal's magic is flipped. Before, b handed s2 to a, whose store
+// then failed to open, and nobody served s2; now a notes the damage, b keeps serving, and a's
+// files are left as they are.
+TEST_F(FleetFreshnessTest, ADamagedFresherCopyIsNotOfferedAndTheHealthyHolderKeepsTheScene) {
+  build_alone_and_stop("a", "s2", 3000, 1);
+  auto b = start("b");
+  Client client(options());
+  const SceneStatus held = load_and_build(client, "s2", ispars_build(800, 1));
+  ASSERT_EQ(held.server_id, "b");
+  const auto journal_path = dir_.path() / "data-a" / "s2" / "journal.log";
+  std::string journal;
+  {
+    std::ifstream in(journal_path, std::ios::binary);
+    journal.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  journal[3] ^= 0x02;
+  std::ofstream(journal_path, std::ios::binary | std::ios::trunc) << journal;
+  auto a = start("a");
+  const std::string outcome = "its stored roadmap is damaged: " + journal_path.string() + " does not start as";
+  const auto deadline = Clock::now() + std::chrono::seconds(15);
+  while (Clock::now() < deadline && note_of(client, "s2", "a").find(outcome) == std::string::npos) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_NE(note_of(client, "s2", "a").find(outcome), std::string::npos) << a->log();
+  // For 3 s after a is heard with its listing: b keeps s2, and a offers no copy of it.
+  for (const auto until = Clock::now() + std::chrono::seconds(3); Clock::now() < until;) {
+    ASSERT_EQ(holders(client, "s2"), std::vector<std::string>{"b"}) << a->log() << b->log();
+    for (const auto& info : client::daemon_messages(client)) {
+      if (info.server_id() == "a") {
+        EXPECT_EQ(wire::roadmap_of(info, "s2"), nullptr);
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  const SceneStatus still = client.stats("s2");
+  EXPECT_EQ(still.server_id, "b");
+  EXPECT_EQ(still.samples_done, 800u);
+  std::ifstream in(journal_path, std::ios::binary);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), journal);
+}
+
 }  // namespace
 }  // namespace ispars::test

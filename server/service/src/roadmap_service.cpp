@@ -292,6 +292,12 @@ StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const 
         continue;
       }
       if (std::find(loaded.begin(), loaded.end(), name) != loaded.end()) continue;  // weighed live
+      if (std::string problem = store_quick_problem(entry.path()); !problem.empty()) {
+        out.unservable.push_back({name, fmt::format("its stored roadmap is damaged: {}; not offered to the fleet "
+                                                "(drop it, or build with replace)",
+                                                problem)});
+        continue;
+      }
       const auto head = read_store_head(entry.path());
       const std::uint64_t samples = head && head->generation == recipe.generation ? head->samples : 0;
       out.served.push_back({name, recipe.generation, samples, samples, recipe.scene_fingerprint, false});

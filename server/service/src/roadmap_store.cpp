@@ -1,13 +1,14 @@
 #include "ispars/service/roadmap_store.hpp"
 
 #include <fmt/format.h>
-
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <sstream>
 #include <iterator>
 #include <stdexcept>
@@ -307,6 +308,41 @@ std::optional<StoreHead> read_store_head(const std::filesystem::path& dir, const
   if (!(in >> head.generation >> head.samples)) return std::nullopt;
   if (!(in >> head.journal_bytes)) head.journal_bytes = 0;  // a head older than the field
   return head;
+}
+
+namespace {
+
+// Whether `path`, when it exists and is not empty, starts with one of `format`'s magics (or, with
+// `torn_header`, is a prefix of the current one: a crash while a journal's header was written; a
+// snapshot is written whole and renamed into place).
+bool starts_as(const std::filesystem::path& path, const RecordFormat& format, bool torn_header) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return true;  // absent: recovery decides
+  std::string prefix(format.magic().size(), '\0');
+  in.read(prefix.data(), static_cast<std::streamsize>(prefix.size()));
+  prefix.resize(static_cast<std::size_t>(in.gcount()));
+  if (prefix.empty() || (torn_header && format.magic().substr(0, prefix.size()) == prefix)) return true;
+  return std::any_of(format.versions.begin(), format.versions.end(),
+                     [&](const RecordMagic& m) { return prefix == m.magic; });
+}
+
+}  // namespace
+
+std::string store_quick_problem(const std::filesystem::path& dir) {
+  for (const auto& [path, format] : {std::pair{snapshot_path(dir), &kSnapshot}, std::pair{journal_path(dir), &kJournal},
+                                     std::pair{old_journal_path(dir), &kJournal}}) {
+    if (!starts_as(path, *format, format == &kJournal)) {
+      return fmt::format("{} does not start as a {} file (damaged at byte 0)", path.string(), format->magic());
+    }
+  }
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(journal_path(dir), ec);
+  const auto head = read_store_head(dir);
+  if (head && head->journal_bytes > 0 && (ec || size < head->journal_bytes)) {
+    return fmt::format("{} has {} bytes, and its head says {} were durable", journal_path(dir).string(),
+                       ec ? 0 : size, head->journal_bytes);
+  }
+  return {};
 }
 
 std::filesystem::path set_aside_store(const std::filesystem::path& dir, const std::string& why, FileSystem& fs) {

@@ -212,6 +212,12 @@ void write_store_head(const std::filesystem::path& dir, const StoreHead& head, F
 /// The store's head; nothing when it has none (a store older than the file) or it is unreadable.
 [[nodiscard]] std::optional<StoreHead> read_store_head(const std::filesystem::path& dir, const FileSystem& fs = disk());
 
+/// Why the store in `dir` cannot be served, found without reading it whole (for the fleet's
+/// announcement, which must not offer a copy that a takeover would fail to open): a file of it
+/// that does not start with its format's magic, or a journal shorter than its head says was
+/// durable. Empty when neither; recovery checks every record.
+[[nodiscard]] std::string store_quick_problem(const std::filesystem::path& dir);
+
 /// Keeps a store the fleet superseded: renames it, whole, to DATA_DIR/.aside/NAME-gGEN-SAMPLES
 /// (a further ".N" when taken) with `why` in its aside.txt, durably. Returns where it went.
 /// Nothing at start or later removes it: an operator reads it and deletes it.
