@@ -120,7 +120,13 @@ TEST_F(ServiceTest, LateJoinerReplicaEqualsTheServersSnapshot) {
   EXPECT_EQ(roadmap_digest(late.roadmap()), digest);
   EXPECT_EQ(roadmap_digest(early.roadmap()), digest);
   EXPECT_EQ(digest, reference_digest(scene_dir_ / "s0.yaml", 30000, 1));
+  // The late joiner follows batches after its snapshot: those of an extend, at least (the build
+  // may have ended before its snapshot on a loaded machine: CI, 2026-11-29).
+  client.extend("s0", 500);
+  const auto extended = client.wait_idle("s0", {}, kLong);
+  ASSERT_TRUE(late.wait_for(extended.generation, extended.version, std::chrono::seconds(30))) << late.last_error();
   EXPECT_GT(late.batches_applied(), 0u) << "the late joiner should follow batches after its snapshot";
+  EXPECT_EQ(roadmap_digest(late.roadmap()), roadmap_digest(client.snapshot("s0").roadmap));
 
   // A rebuild (new generation) resyncs both replicas from a snapshot.
   client.build("s0", ispars_build(3000, 7, /*replace=*/true));

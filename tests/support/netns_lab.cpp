@@ -132,39 +132,37 @@ void NetnsLab::heal(const std::string& host) {
 
 namespace {
 
-// The lab's input filter in `host`'s namespace, with the drop rule for the set `set` once
-// (`match` narrows it); the set says whom it drops.
-void ensure_drop_set(const std::string& nft, const std::string& set, const std::string& match) {
-  must(nft + " add table inet ispars_lab");
-  must(nft + " add set inet ispars_lab " + set + " '{ type ipv4_addr; }'");
-  must(nft + " add chain inet ispars_lab in '{ type filter hook input priority 0; }'");
-  if (must(nft + " list chain inet ispars_lab in").find("@" + set + " ") == std::string::npos) {
-    must(nft + " add rule inet ispars_lab in ip saddr @" + set + " " + match + "drop");
-  }
-}
+// The drop sets of the lab's input filter: every packet from an address in "deaf", unicast ones
+// from an address in "deaf_unicast".
+struct DropSet {
+  const char* name;
+  const char* match;  // what narrows the rule, before "drop"
+};
+constexpr DropSet kDeaf{"deaf", ""};
+constexpr DropSet kDeafUnicast{"deaf_unicast", "meta pkttype unicast "};
 
 }  // namespace
 
-void NetnsLab::deafen(const std::string& host, const std::string& from) {
+void NetnsLab::drop_from(const std::string& host, const std::string& from, bool unicast_only, bool drop) {
+  const DropSet& set = unicast_only ? kDeafUnicast : kDeaf;
   const std::string nft = std::string(kIp) + " netns exec " + ns(host) + " " + kNft;
-  ensure_drop_set(nft, "deaf", "");
-  must(nft + " add element inet ispars_lab deaf '{ " + address(from) + " }'");
+  const std::string name = set.name;
+  if (drop) {
+    must(nft + " add table inet ispars_lab");
+    must(nft + " add set inet ispars_lab " + name + " '{ type ipv4_addr; }'");
+    must(nft + " add chain inet ispars_lab in '{ type filter hook input priority 0; }'");
+    if (must(nft + " list chain inet ispars_lab in").find("@" + name + " ") == std::string::npos) {
+      must(nft + " add rule inet ispars_lab in ip saddr @" + name + " " + set.match + "drop");  // once per set
+    }
+  }
+  must(nft + (drop ? " add" : " delete") + " element inet ispars_lab " + name + " '{ " + address(from) + " }'");
 }
 
-void NetnsLab::undeafen(const std::string& host, const std::string& from) {
-  must(std::string(kIp) + " netns exec " + ns(host) + " " + kNft + " delete element inet ispars_lab deaf '{ " +
-       address(from) + " }'");
-}
-
-void NetnsLab::deafen_unicast(const std::string& host, const std::string& from) {
-  const std::string nft = std::string(kIp) + " netns exec " + ns(host) + " " + kNft;
-  ensure_drop_set(nft, "deaf_unicast", "meta pkttype unicast ");
-  must(nft + " add element inet ispars_lab deaf_unicast '{ " + address(from) + " }'");
-}
-
+void NetnsLab::deafen(const std::string& host, const std::string& from) { drop_from(host, from, false, true); }
+void NetnsLab::undeafen(const std::string& host, const std::string& from) { drop_from(host, from, false, false); }
+void NetnsLab::deafen_unicast(const std::string& host, const std::string& from) { drop_from(host, from, true, true); }
 void NetnsLab::undeafen_unicast(const std::string& host, const std::string& from) {
-  must(std::string(kIp) + " netns exec " + ns(host) + " " + kNft + " delete element inet ispars_lab deaf_unicast '{ " +
-       address(from) + " }'");
+  drop_from(host, from, true, false);
 }
 
 void NetnsLab::enter(const std::string& host) {

@@ -58,6 +58,8 @@ class NetnsLab {
 
  private:
   std::size_t index(const std::string& host) const;
+  // Adds (`drop`) or removes `from` in `host`'s drop set of every packet, or of unicast ones.
+  void drop_from(const std::string& host, const std::string& from, bool unicast_only, bool drop);
   std::string prefix_;  // namespace names start with it (unique per process)
   std::vector<std::string> hosts_;
   std::filesystem::path dir_;
