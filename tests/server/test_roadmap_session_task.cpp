@@ -4,6 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <condition_variable>
+#include <future>
+#include <mutex>
+#include <thread>
 
 #include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_session.hpp"
@@ -23,6 +27,100 @@ std::string refusal(const std::function<void()>& f) {
     return e.what();
   }
   return "(not refused)";
+}
+
+// The disk, with file syncs that wait while held (a slow fsync, on demand).
+class HeldSyncs final : public FileSystem {
+ public:
+  void hold() {
+    std::lock_guard lock(mutex_);
+    held_ = true;
+    entered_ = false;
+  }
+  void release() {
+    std::lock_guard lock(mutex_);
+    held_ = false;
+    changed_.notify_all();
+  }
+  // Whether a sync started waiting within `timeout`.
+  bool wait_entered(std::chrono::seconds timeout) {
+    std::unique_lock lock(mutex_);
+    return changed_.wait_for(lock, timeout, [&] { return entered_; });
+  }
+  std::unique_ptr<File> open(const std::filesystem::path& path, Open how) override {
+    auto inner = disk().open(path, how);
+    return inner ? std::make_unique<HeldFile>(std::move(inner), *this) : nullptr;
+  }
+  std::optional<std::string> read(const std::filesystem::path& p) const override { return disk().read(p); }
+  bool exists(const std::filesystem::path& p) const override { return disk().exists(p); }
+  std::optional<std::uint64_t> file_size(const std::filesystem::path& p) const override { return disk().file_size(p); }
+  std::vector<std::string> list(const std::filesystem::path& d) const override { return disk().list(d); }
+  void rename(const std::filesystem::path& a, const std::filesystem::path& b) override { disk().rename(a, b); }
+  bool exchange(const std::filesystem::path& a, const std::filesystem::path& b) override {
+    return disk().exchange(a, b);
+  }
+  bool remove(const std::filesystem::path& p) override { return disk().remove(p); }
+  void remove_all(const std::filesystem::path& p) override { disk().remove_all(p); }
+  bool create_directories(const std::filesystem::path& d) override { return disk().create_directories(d); }
+  void sync_directory(const std::filesystem::path& d) override { disk().sync_directory(d); }
+  std::unique_ptr<Lock> lock(const std::filesystem::path& d) override { return disk().lock(d); }
+
+ private:
+  class HeldFile final : public File {
+   public:
+    HeldFile(std::unique_ptr<File> inner, HeldSyncs& fs) : inner_(std::move(inner)), fs_(fs) {}
+    void append(std::string_view bytes) override { inner_->append(bytes); }
+    void truncate(std::uint64_t size) override { inner_->truncate(size); }
+    void sync() override {
+      {
+        std::unique_lock lock(fs_.mutex_);
+        fs_.entered_ = fs_.entered_ || fs_.held_;
+        fs_.changed_.notify_all();
+        fs_.changed_.wait(lock, [&] { return !fs_.held_; });
+      }
+      inner_->sync();
+    }
+    std::uint64_t size() const override { return inner_->size(); }
+    std::string read(std::uint64_t offset, std::size_t count) const override { return inner_->read(offset, count); }
+
+   private:
+    std::unique_ptr<File> inner_;
+    HeldSyncs& fs_;
+  };
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  bool held_ = false;
+  bool entered_ = false;
+};
+
+// A removal commits durably before it answers; while its fsync waits, the scene's status (what
+// STATS and every status message read) is answered. Before, the commit ran under the session's
+// mutex, and a slow disk held up every status read.
+TEST(SessionTaskRemoval, TheStatusIsReadWhileARemovalWaitsOnTheDisk) {
+  HeldSyncs fs;
+  test::TempDir dir;
+  std::atomic<bool> never{false};
+  RoadmapSession session("tower", test::shared_scene("demo_tank_tower"), dir.path() / "tower", SessionLimits{}, {},
+                         fs);
+  BuildRequest request;
+  request.samples = 300;
+  request.seed = 4;
+  session.request_build(request);
+  session.run_job(never);
+  session.request_task(sampled_task("a", 10, 1));
+  session.run_job(never);
+  ASSERT_EQ(session.status().tasks, 1u);
+  fs.hold();
+  std::thread removal([&] { EXPECT_EQ(session.remove_task("a"), 0u); });
+  const bool waiting = fs.wait_entered(std::chrono::seconds(10));
+  auto status = std::async(std::launch::async, [&] { return session.status(); });
+  const bool answered = status.wait_for(std::chrono::seconds(5)) == std::future_status::ready;
+  fs.release();
+  removal.join();
+  ASSERT_TRUE(waiting) << "the removal never synced";
+  EXPECT_TRUE(answered) << "the status waited on the removal's fsync";
+  EXPECT_EQ(status.get().tasks, 1u) << "read before the removal was durable";
+  EXPECT_EQ(session.status().tasks, 0u);
 }
 
 class SessionTaskTest : public RoadmapSessionTest, public ::testing::WithParamInterface<BuildMethod> {

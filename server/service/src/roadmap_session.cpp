@@ -47,12 +47,13 @@ std::string_view to_string(SessionState state) {
 }
 
 RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::path store_dir,
-                               SessionLimits limits, SessionCallbacks callbacks)
+                               SessionLimits limits, SessionCallbacks callbacks, FileSystem& fs)
     : name_(std::move(name)),
       scene_(std::move(scene)),
       store_dir_(std::move(store_dir)),
       limits_(limits),
-      callbacks_(std::move(callbacks)) {
+      callbacks_(std::move(callbacks)),
+      fs_(fs) {
   published_.roadmap = std::make_shared<const Roadmap>(scene_.pois().size());
   scene_with_tasks_ = std::make_shared<const Scene>(scene_);
   fingerprint_ = scene_fingerprint(scene_);  // of the scene file's POIs: a task is not an edit of the scene
@@ -63,7 +64,7 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
   }
   StoreRecovery recovery;
   try {
-    store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), recovery);
+    store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), recovery, fs_);
   } catch (const StoreDamage& e) {
     refuse_store(e.what());
     return;

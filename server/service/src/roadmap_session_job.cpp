@@ -218,7 +218,7 @@ void RoadmapSession::prepare_job(Job& job, const std::atomic<bool>& stopping) {
     recovered_.reset();
     build_scene_ = std::make_unique<Scene>(session_detail::scene_for(*scene_with_tasks(), job.recipe));
     builder_ = builder_for(*build_scene_, job.recipe, limits_.build_threads);
-    store_ = RoadmapStore::create(store_dir_, job.recipe);
+    store_ = RoadmapStore::create(store_dir_, job.recipe, fs_);
     store_->set_compact_every(limits_.compact_every);
     return;
   }
@@ -226,7 +226,7 @@ void RoadmapSession::prepare_job(Job& job, const std::atomic<bool>& stopping) {
     // It could not be reopened for writing after an earlier failure (a read-only filesystem,
     // say), and the last commit was served from a read: try again now, or fail saying why.
     StoreRecovery reopened;
-    store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), reopened);
+    store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), reopened, fs_);
     store_->set_compact_every(limits_.compact_every);
   }
   ensure_builder(stopping);
@@ -327,7 +327,7 @@ void RoadmapSession::fail_job(std::string error) {
   try {
     if (std::filesystem::exists(store_dir_)) {
       recovery.emplace();
-      store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), *recovery);
+      store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), *recovery, fs_);
       store_->set_compact_every(limits_.compact_every);
     }
   } catch (const std::exception& reopen) {
@@ -336,7 +336,7 @@ void RoadmapSession::fail_job(std::string error) {
     store_.reset();
     // Not writable (a read-only filesystem, say) but readable: serve its last commit.
     try {
-      if (std::filesystem::exists(store_dir_)) recovery = RoadmapStore::read(store_dir_, scene_.pois().size());
+      if (fs_.exists(store_dir_)) recovery = RoadmapStore::read(store_dir_, scene_.pois().size(), fs_);
     } catch (const std::exception&) {
       recovery.reset();
     }

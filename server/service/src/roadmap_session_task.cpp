@@ -87,15 +87,19 @@ void RoadmapSession::add_task(Job& job, const std::atomic<bool>& stopping) {
 std::size_t RoadmapSession::remove_task(const std::string& name) {
   // The store has one writer: a job holds job_mutex_ alone from its start to its end (and for a
   // moment after its status turns idle). Shared with verifies, which only read; two removals are
-  // kept apart by mutex_.
+  // kept apart by removal_mutex_. The commit waits on the disk outside mutex_, which every status
+  // read takes: what it reads under mutex_ cannot change meanwhile (no job runs, and removals are
+  // one at a time).
   const auto job_lock = lock_idle_job<std::shared_lock<std::shared_mutex>>("remove the task");
-  std::size_t after = 0;
+  std::lock_guard removal(removal_mutex_);
+  BuildCommit commit;
+  std::size_t index = 0;
   {
     std::lock_guard lock(mutex_);
     check_can_start("scene");
     if (!damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
     if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap, and so no task", name_));
-    const std::size_t index = live_task(tasks_, name);
+    index = live_task(tasks_, name);
     if (!store_) {
       throw InputError(kRequest, "scene",
                        fmt::format("scene '{}': its store is not open for writing since an earlier failure; extend "
@@ -103,13 +107,16 @@ std::size_t RoadmapSession::remove_task(const std::string& name) {
                                    name_));
     }
     // A commit that changes no vertex or edge: the roadmaps' versions stay; it marks the task.
-    BuildCommit commit;
     commit.samples = samples_done_;
     commit.roadmap.from_version = commit.roadmap.to_version = published_.roadmap->version();
     commit.dense.from_version = commit.dense.to_version = dense_vertices_ + dense_edges_;
     commit.removed_tasks = {index};
     commit.task_count = task_events(tasks_) + 1;
-    store_->commit(commit);  // durable before the reply: a removal acknowledged is never lost
+  }
+  store_->commit(commit);  // durable before the reply: a removal acknowledged is never lost
+  std::size_t after = 0;
+  {
+    std::lock_guard lock(mutex_);
     tasks_[index].removed = true;
     last_error_.clear();
     after = live_tasks();

@@ -102,10 +102,11 @@ struct SessionCallbacks {
 /// One loaded scene: its persistent roadmap, the job that grows it, and consistent reads of it.
 class RoadmapSession {
  public:
-  /// A session for `scene` named `name`, storing its roadmap in `store_dir`. When the directory
-  /// holds a store, its roadmap is recovered now (throws std::runtime_error when unreadable).
+  /// A session for `scene` named `name`, storing its roadmap in `store_dir` on `fs` (the disk;
+  /// tests give a file system of their own). When the directory holds a store, its roadmap is
+  /// recovered now (throws std::runtime_error when unreadable).
   RoadmapSession(std::string name, Scene scene, std::filesystem::path store_dir, SessionLimits limits,
-                 SessionCallbacks callbacks);
+                 SessionCallbacks callbacks, FileSystem& fs = disk());
   ~RoadmapSession();
   RoadmapSession(const RoadmapSession&) = delete;
   RoadmapSession& operator=(const RoadmapSession&) = delete;
@@ -223,6 +224,7 @@ class RoadmapSession {
   const std::filesystem::path store_dir_;
   const SessionLimits limits_;
   const SessionCallbacks callbacks_;
+  FileSystem& fs_;
   mutable std::once_flag free_fraction_once_;
   mutable double free_fraction_ = 1.0;  // of the scene's sampling box, measured on first need
 
@@ -235,6 +237,9 @@ class RoadmapSession {
   std::unique_ptr<RoadmapBuilder> builder_;
   std::unique_ptr<RoadmapStore> store_;
   std::optional<BuiltRoadmaps> recovered_;  // the stored roadmaps until a builder resumes from them
+  // Task removals, one at a time: each commits to the store outside mutex_ (a disk wait under
+  // the lock every status read takes would hold up STATS).
+  std::mutex removal_mutex_;
 
   mutable std::mutex mutex_;  // guards everything below
   SessionState state_ = SessionState::empty;
