@@ -164,7 +164,7 @@ void PeerWatch::discovered(const std::string& prefix, const std::string& name, C
   std::lock_guard lock(mutex_);
   if (dropped_.erase(prefix) > 0) {
     awaited_[prefix] = {{prefix, name, false}, now};
-  } else if (first_ && name.starts_with("isparsd ") && name != first_->self && !met_.contains(prefix) &&
+  } else if (first_ && name.starts_with(kDaemonNamePrefix) && name != first_->self && !met_.contains(prefix) &&
              awaited_.size() < 2 * kMaxPeers) {
     awaited_.try_emplace(prefix, Awaited{{prefix, name, true}, now});
   }

@@ -13,6 +13,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ispars/wire/participant_options.hpp"
@@ -95,6 +96,13 @@ using ReaderWatch = std::function<void(const RemoteReader&)>;
 inline constexpr int kLeaseSeconds = 3;
 /// The same under DDS Security, longer (participant.cpp says why).
 inline constexpr int kSecureLeaseSeconds = 20;
+
+/// What a daemon's participant name starts with ("isparsd ID"): peers tell a daemon by it.
+inline constexpr std::string_view kDaemonNamePrefix = "isparsd ";
+/// The participant name of daemon `server_id`.
+[[nodiscard]] inline std::string daemon_participant_name(const std::string& server_id) {
+  return std::string(kDaemonNamePrefix) + server_id;
+}
 
 /// Owns a participant and deletes it (with its entities) on destruction. Without a listener of
 /// the caller's, it logs (spdlog) which participants join, leave, are dropped (their lease ran
