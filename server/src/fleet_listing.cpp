@@ -10,23 +10,29 @@
 namespace ispars::server {
 
 FleetListing::FleetListing(std::filesystem::path scene_dir, std::filesystem::path data_dir)
-    : scene_dir_(std::move(scene_dir)), data_dir_(std::move(data_dir)) {}
+    : scene_dir_(std::move(scene_dir)), data_dir_(std::move(data_dir)), fingerprints_(scene_dir_) {}
 
 bool FleetListing::refresh(const std::optional<std::vector<std::string>>& loaded) {
   std::vector<std::string> available = list_scene_names(scene_dir_);
   StoredListing listing;
-  if (loaded) listing = list_stored_roadmaps(data_dir_, *loaded);
+  if (loaded) listing = list_stored_roadmaps(data_dir_, *loaded, &fingerprints_);
   const auto same = [](const std::vector<ServedRoadmap>& a, const std::vector<ServedRoadmap>& b) {
     return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const ServedRoadmap& x, const ServedRoadmap& y) {
       return x.scene == y.scene && x.generation == y.generation && x.samples == y.samples;
     });
   };
   std::lock_guard lock(mutex_);
+  std::map<std::string, std::string> unservable;
   for (const UnservableStore& u : listing.unservable) {
     auto& note = notes_[u.scene];
     if (note != u.why) spdlog::warn("scene '{}': {}", u.scene, u.why);
     note = u.why;
+    unservable[u.scene] = u.why;
   }
+  for (const auto& [scene, why] : unservable_) {  // servable again (a scene file restored): its note goes
+    if (!unservable.contains(scene) && notes_[scene] == why) notes_.erase(scene);
+  }
+  unservable_ = std::move(unservable);
   if (available == available_ && listing.scenes == stored_ && same(listing.served, stored_roadmaps_)) return false;
   available_ = std::move(available);
   stored_ = std::move(listing.scenes);

@@ -26,7 +26,7 @@ class FleetListing {
   /// Rescans both directories; `loaded` are the scenes held here (their stores are the
   /// service's, not listed as stored), none before the service has started (no store is listed
   /// then). True when what is announced changed. A store that cannot be served is noted (and
-  /// logged once per reason).
+  /// logged once per reason): one built on another version of its scene file included.
   bool refresh(const std::optional<std::vector<std::string>>& loaded);
   /// Fills `info`'s scene files, stored scenes and roadmaps: `held` (the roadmaps held now), then
   /// the stored ones not held; a scene handed over and not held again names its winner and the
@@ -49,12 +49,14 @@ class FleetListing {
   };
   const std::filesystem::path scene_dir_;
   const std::filesystem::path data_dir_;
+  SceneFingerprints fingerprints_;  // the scene files' as they are now: a stored copy built on another is not offered
   mutable std::mutex mutex_;
   std::vector<std::string> available_;
   std::vector<std::string> stored_;
   std::vector<ServedRoadmap> stored_roadmaps_;  // stored, not loaded
   std::map<std::string, Handover> handed_over_;
   std::map<std::string, std::string> notes_;
+  std::map<std::string, std::string> unservable_;  // as last listed, with why
 };
 
 }  // namespace ispars::server

@@ -342,5 +342,66 @@ TEST_F(FleetFreshnessTest, ADamagedFresherCopyIsNotOfferedAndTheHealthyHolderKee
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), journal);
 }
 
+// The edited scene file. Daemon a holds the fresher copy of s2's lineage (3,000 samples
+// against b's 800), but a's scene file was edited since: a cannot serve that copy, so it does not
+// offer it, names why in its scenes-list note, and b keeps serving its 800 (before, b handed s2 to
+// a, which then served "failed, no roadmap"). Restoring a's file offers the copy again.
+TEST_F(FleetFreshnessTest, ACopyBuiltOnAnotherVersionOfTheSceneFileIsNotOffered) {
+  const auto a_scenes = dir_.path() / "a-scenes";
+  client::write_tank_tower_scenes(a_scenes, {"s0", "s1", "s2", "s3"});
+  build_alone_and_stop("a", "s2", 800, 1);
+  std::filesystem::create_directories(dir_.path() / "data-b");
+  std::filesystem::copy(dir_.path() / "data-a" / "s2", dir_.path() / "data-b" / "s2",
+                        std::filesystem::copy_options::recursive);  // b's copy: the same lineage at 800
+  {
+    auto a = start("a", a_scenes);
+    Client client(options());
+    client.load("s2");
+    (void)client.extend("s2", 2200);
+    ASSERT_EQ(client.wait_idle("s2", {}, kLong).samples_done, 3000u);
+    ASSERT_EQ(a->terminate(), 0);
+  }
+  auto b = start("b");
+  Client client(options());
+  client.load("s2");
+  ASSERT_EQ(client.wait_idle("s2", {}, kLong).samples_done, 800u);
+  const std::string original = [&] {
+    std::ifstream in(a_scenes / "s2.yaml");
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }();
+  std::ofstream(a_scenes / "s2.yaml", std::ios::trunc) << "procedural: {kind: tank_tower, seed: 9}\n";
+  auto a = start("a", a_scenes);
+  const std::string outcome = "its stored roadmap was built on another version of the scene file";
+  const auto deadline = Clock::now() + std::chrono::seconds(15);
+  while (Clock::now() < deadline && note_of(client, "s2", "a").find(outcome) == std::string::npos) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_NE(note_of(client, "s2", "a").find(outcome), std::string::npos) << a->log();
+  for (const auto until = Clock::now() + std::chrono::seconds(3); Clock::now() < until;) {
+    ASSERT_EQ(holders(client, "s2"), std::vector<std::string>{"b"}) << a->log() << b->log();
+    for (const auto& info : client::daemon_messages(client)) {
+      if (info.server_id() == "a") {
+        EXPECT_EQ(wire::roadmap_of(info, "s2"), nullptr);
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  EXPECT_EQ(client.stats("s2").samples_done, 800u);
+  // The file restored: a's copy is offered again, outweighs b's, and a serves its 3,000 samples.
+  std::ofstream(a_scenes / "s2.yaml", std::ios::trunc) << original;
+  const auto back = Clock::now() + std::chrono::seconds(30);
+  SceneStatus served;
+  while (Clock::now() < back && !(served.server_id == "a" && served.samples_done == 3000u)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    try {
+      served = client.stats("s2");
+    } catch (const ClientError&) {  // asked while the scene moves
+    }
+  }
+  EXPECT_EQ(served.server_id, "a") << a->log() << b->log();
+  EXPECT_EQ(served.samples_done, 3000u);
+  EXPECT_EQ(note_of(client, "s2", "a").find(outcome), std::string::npos) << "the note goes with the cause";
+}
+
 }  // namespace
 }  // namespace ispars::test

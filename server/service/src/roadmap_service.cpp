@@ -274,7 +274,23 @@ std::filesystem::path RoadmapService::set_aside(const std::string& scene, const 
   return session(scene)->set_aside(why);
 }
 
-StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const std::vector<std::string>& loaded) {
+namespace {
+
+// Why a stored copy built on `recipe`'s scene file cannot be served from this daemon's scene file
+// as it is now; empty when it can (or when either fingerprint is unknown: a store older than them).
+std::string fingerprint_problem(const RoadmapRecipe& recipe, const CurrentFingerprint& now) {
+  if (recipe.scene_fingerprint.empty() || (now.fingerprint.empty() && now.problem.empty())) return "";
+  if (!now.problem.empty()) return fmt::format("{}; its stored roadmap is not offered to the fleet", now.problem);
+  if (now.fingerprint == recipe.scene_fingerprint) return "";
+  return fmt::format("its stored roadmap was built on another version of the scene file (fingerprint {} there, {} "
+                     "in this daemon's scene file): not offered to the fleet (restore the file, or build with replace)",
+                     recipe.scene_fingerprint, now.fingerprint);
+}
+
+}  // namespace
+
+StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const std::vector<std::string>& loaded,
+                                   SceneFingerprints* current) {
   StoredListing out;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(data_dir, ec)) {
@@ -296,6 +312,11 @@ StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const 
         out.unservable.push_back({name, fmt::format("its stored roadmap is damaged: {}; not offered to the fleet "
                                                 "(drop it, or build with replace)",
                                                 problem)});
+        continue;
+      }
+      if (std::string problem = fingerprint_problem(recipe, current ? current->of(name) : CurrentFingerprint{});
+          !problem.empty()) {
+        out.unservable.push_back({name, std::move(problem)});
         continue;
       }
       const auto head = read_store_head(entry.path());

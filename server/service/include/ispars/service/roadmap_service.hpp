@@ -26,6 +26,7 @@
 #include "ispars/tour/tour_shortcut.hpp"
 #include "ispars/service/memory_budget.hpp"
 #include "ispars/service/roadmap_session.hpp"
+#include "ispars/service/scene_fingerprints.hpp"
 #include "ispars/service/worker_pool.hpp"
 
 namespace ispars {
@@ -72,14 +73,17 @@ struct UnservableStore {
 
 /// The stores of a data directory, in one pass: every scene with a stored roadmap, sorted (loaded
 /// or not); those not loaded (`loaded` names those that are) as the fleet weighs them; and those
-/// that cannot be served. Reads each store's recipe.json and head (roadmap_store.hpp), nothing else.
+/// that cannot be served: another builder version, files that do not open (store_quick_problem),
+/// or, given `current`, a scene file whose fingerprint now differs from the one the copy was
+/// built on (or that no longer loads). Reads each store's recipe.json, head and first bytes.
 struct StoredListing {
   std::vector<std::string> scenes;
   std::vector<ServedRoadmap> served;
   std::vector<UnservableStore> unservable;
 };
 [[nodiscard]] StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir,
-                                                 const std::vector<std::string>& loaded);
+                                                 const std::vector<std::string>& loaded,
+                                                 SceneFingerprints* current = nullptr);
 
 /// What the service tells its owner (the transport). Called on the thread that caused the event.
 struct ServiceEvents {
