@@ -86,6 +86,7 @@ Daemon::Daemon(DaemonConfig config)
       config_.server_id, Fleet{[this] { return other_daemons(); }, [this] { return self_info(); },
                                [this] { announce(); }});
   try {
+    ledger_ = std::make_unique<RequestLedger>(config_.data_dir);
     open_metrics_endpoint();
     joined_ms_ = static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(
                                                 std::chrono::system_clock::now().time_since_epoch())
@@ -179,7 +180,20 @@ void Daemon::dispatch(Request request) {
     return;  // nowhere to send a reply
   }
   // Retries are settled here, before any queue: a retry of a request still waiting or running
-  // takes no place in a lane, and one already answered is answered again from the cache.
+  // takes no place in a lane, and one already answered is answered again from the cache (or,
+  // for a change begun before this daemon restarted, from its ledger).
+  if constexpr (std::is_same_v<Request, msg::ChangeRequest>) {
+    if (auto before = ledger_->from_before(request, reply_to(request, config_.server_id))) {
+      try {
+        before->status(status_message(*service_->session(request.scene().to_string())));
+      } catch (const std::exception&) {  // not loaded here: no status
+      }
+      spdlog::info("answering retry {} #{} of a change begun before this daemon started, from its ledger", client,
+                   request.request_seq());
+      with_dds([&](DdsEndpoints& d) { d.send_reply(*before); });
+      return;
+    }
+  }
   msg::Reply cached;
   switch (cache_.admit(client, request.request_seq(), cached)) {
     case ReplyCache::Admission::in_progress:
@@ -242,6 +256,9 @@ void Daemon::handle(const Request& request) {
     if (request.request_seq() == 0) {
       throw InputError("request", "request_seq", "0 is reserved (the route-open reply); start at 1");
     }
+    if constexpr (std::is_same_v<Request, msg::ChangeRequest>) {
+      if (RequestLedger::kept(operation)) ledger_->begin(request);  // durable before anything changes
+    }
     now = answer(request, reply);
   } catch (const InputError& e) {
     reply.ok(false);
@@ -258,6 +275,7 @@ void Daemon::handle(const Request& request) {
 }
 
 void Daemon::finish(const msg::Reply& reply) {
+  ledger_->answered(reply);
   cache_.complete(reply.client_id().to_string(), reply.request_seq(), reply);
   with_dds([&](DdsEndpoints& d) { d.send_reply(reply); });
 }

@@ -23,6 +23,7 @@
 #include "ispars/service/worker_pool.hpp"
 #include "ispars/wire/rejoin_schedule.hpp"
 #include "reply_cache.hpp"
+#include "request_ledger.hpp"
 #include "fleet_listing.hpp"
 #include "scene_claims.hpp"
 #include "takeover_gate.hpp"
@@ -142,6 +143,7 @@ class Daemon {
   DaemonConfig config_;
   int lock_fd_ = -1;
   ReplyCache cache_;
+  std::unique_ptr<RequestLedger> ledger_;  // change requests on disk: a retry after a restart is not run again
   mutable std::mutex status_mutex_;  // stamps statuses in order
   mutable std::uint64_t status_seq_ = 0;
   std::mutex publish_mutex_;  // writes statuses in stamp order

@@ -6,12 +6,14 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <thread>
 
 #include "ispars/client/client.hpp"
 #include "ispars/client/wire_calls.hpp"
 #include "ispars/wire/convert.hpp"
 #include "ispars/local/local_daemon.hpp"
+#include "ispars/roadmap/sealed_file.hpp"
 #include "support/raw_peer.hpp"
 #include "support/test_support.hpp"
 
@@ -159,6 +161,63 @@ TEST_F(ProtocolTest, AReplyIsHeldUntilTheClientsReaderMatchedAndNoLonger) {
   const auto again = late.send(stats, std::chrono::seconds(30));
   ASSERT_TRUE(again.has_value());
   EXPECT_TRUE(again->ok()) << again->error();
+}
+
+// A change is kept in the daemon's ledger from before it is made. A client that resends it to the
+// daemon after a restart (the same client, the same sequence number: its reply was lost) gets the
+// first answer and the roadmap is not extended twice (before, the cache was in memory, and the
+// resent EXTEND ran again: 2,000 samples). A change the daemon began and never answered is
+// refused as interrupted, naming how to check.
+TEST_F(ProtocolTest, AChangeResentAfterARestartIsAnsweredFromTheLedgerNotDoneTwice) {
+  const auto data = dir_.path() / "data";
+  auto daemon = std::make_unique<client::LocalDaemon>(ISPARS_DAEMON, domain_, data, dir_.path() / "scenes", "d");
+  RawPeer peer(domain_);
+  {
+    Client client(client::local_client_options(domain_));
+    client.load("s0");
+    client::BuildArgs build;
+    build.samples = 1000;
+    client.build("s0", build);
+    ASSERT_EQ(client.wait_idle("s0", {}, std::chrono::seconds(60)).samples_done, 1000u);
+  }
+  msg::ChangeRequest extend = client::make_change(msg::EXTEND, "s0");
+  extend.args().extend().samples(500);
+  extend.server_id("d");
+  extend.protocol(msg::PROTOCOL_VERSION);
+  extend.request_seq(11);
+  const auto first = peer.send(extend, std::chrono::seconds(30));
+  ASSERT_TRUE(first.has_value());
+  ASSERT_TRUE(first->ok()) << first->error();
+  ASSERT_EQ(daemon->terminate(), 0);
+  // A begun change never answered, as a kill between the two records leaves it.
+  {
+    std::ofstream ledger(data / ".changes.log", std::ios::app);
+    ledger << seal_json({{"begun", "EXTEND"}, {"client", peer.identity()}, {"seq", 12}, {"scene", "s0"}}).dump() << "\n";
+  }
+  daemon = std::make_unique<client::LocalDaemon>(ISPARS_DAEMON, domain_, data, dir_.path() / "scenes", "d");
+  Client client(client::local_client_options(domain_));
+  client.load("s0");
+  ASSERT_EQ(client.wait_idle("s0", {}, std::chrono::seconds(60)).samples_done, 1500u) << "the extend, done once";
+  extend.client_id(peer.identity());
+  ASSERT_TRUE(peer.post(extend));
+  for (int i = 0; i < 3000 && peer.replies_to(11) < 2; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_EQ(peer.replies_to(11), 2u) << daemon->log();
+  EXPECT_TRUE(peer.reply_to(11)->ok());
+  EXPECT_EQ(peer.reply_to(11)->message(), first->message());
+  EXPECT_EQ(client.wait_idle("s0", {}, std::chrono::seconds(60)).samples_done, 1500u) << "the resent extend ran again";
+  extend.request_seq(12);
+  const auto interrupted = peer.send(extend, std::chrono::seconds(30));
+  ASSERT_TRUE(interrupted.has_value());
+  EXPECT_FALSE(interrupted->ok());
+  EXPECT_NE(interrupted->error().find("interrupted: daemon d stopped while it was doing this EXTEND of scene 's0'"),
+            std::string::npos)
+      << interrupted->error();
+  // Nothing was done again: a new request after both is the only one that extends.
+  extend.request_seq(13);
+  const auto fresh = peer.send(extend, std::chrono::seconds(30));
+  ASSERT_TRUE(fresh.has_value());
+  ASSERT_TRUE(fresh->ok()) << fresh->error();
+  EXPECT_EQ(client.wait_idle("s0", {}, std::chrono::seconds(60)).samples_done, 2000u);
 }
 
 TEST_F(ProtocolTest, ARetryIsAnsweredFromTheCacheNotServedAgain) {

@@ -30,20 +30,25 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
       : participant_({domain, "", "ispars", "raw peer", security}) {
     fdds::DomainParticipant* p = participant_.get();
     auto* query = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
+    auto* change = wire::find_or_create_topic(p, change_type_, wire::kChangeTopic);
     reply_topic_ = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);
     id_ = wire::identity_of(participant_->guid().guidPrefix);
     auto* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     reply_subscriber_ = p->create_subscriber(wire::reply_subscriber_qos(id_));
     if (!pub || !reply_subscriber_) throw std::runtime_error("raw peer: no publisher or subscriber");
     queries_ = pub->create_datawriter(query, wire::request_reply_writer_qos());
+    changes_ = pub->create_datawriter(change, wire::request_reply_writer_qos());
     publisher_ = pub;
-    if (!queries_) throw std::runtime_error("raw peer: query writer not created");
+    if (!queries_ || !changes_) throw std::runtime_error("raw peer: request writers not created");
     if (read_replies) open_reply_reader();
   }
   ~Impl() override {
     if (replies_ != nullptr) replies_->set_listener(nullptr);
     participant_->delete_contained_entities();
   }
+
+  template <class Request>
+  std::optional<msg::Reply> send(fdds::DataWriter* writer, Request& request, std::chrono::milliseconds timeout);
 
   void open_reply_reader() {
     if (replies_ != nullptr) return;
@@ -74,6 +79,7 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
 
   wire::Participant participant_;
   fdds::TypeSupport query_type_{new wire::SafeType<msg::QueryRequestPubSubType>()};
+  fdds::TypeSupport change_type_{new wire::SafeType<msg::ChangeRequestPubSubType>()};
   fdds::TypeSupport reply_type_{new wire::SafeType<msg::ReplyPubSubType>()};
   fdds::TypeSupport daemon_type_{new wire::SafeType<msg::DaemonInfoPubSubType>()};
   fdds::TypeSupport update_type_{new wire::SafeType<msg::UpdateBatchPubSubType>()};
@@ -81,6 +87,7 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
   fdds::Subscriber* reply_subscriber_ = nullptr;
   fdds::DataReader* replies_ = nullptr;
   fdds::DataWriter* queries_ = nullptr;
+  fdds::DataWriter* changes_ = nullptr;
   fdds::Publisher* publisher_ = nullptr;
   fdds::DataWriter* announcements_ = nullptr;  // made by the first announce()
   std::string id_;
@@ -129,6 +136,11 @@ bool RawPeer::post(msg::QueryRequest request, std::chrono::milliseconds timeout)
   return impl_->queries_->write(&request);
 }
 
+bool RawPeer::post(msg::ChangeRequest request, std::chrono::milliseconds timeout) {
+  if (!wait_matched(impl_->changes_, std::chrono::steady_clock::now() + timeout)) return false;
+  return impl_->changes_->write(&request);
+}
+
 const std::string& RawPeer::identity() const { return impl_->id_; }
 
 std::size_t RawPeer::replies_received() const {
@@ -144,20 +156,28 @@ std::vector<msg::Reply> RawPeer::replies() const {
 }
 
 std::optional<msg::Reply> RawPeer::send(msg::QueryRequest request, std::chrono::milliseconds timeout) {
+  return impl_->send(impl_->queries_, request, timeout);
+}
+
+std::optional<msg::Reply> RawPeer::send(msg::ChangeRequest request, std::chrono::milliseconds timeout) {
+  return impl_->send(impl_->changes_, request, timeout);
+}
+
+template <class Request>
+std::optional<msg::Reply> RawPeer::Impl::send(fdds::DataWriter* writer, Request& request,
+                                              std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
-  if (!wait_matched(impl_->queries_, deadline)) return std::nullopt;
-  request.client_id(impl_->id_);
+  if (!wait_matched(writer, deadline)) return std::nullopt;
+  request.client_id(id_);
   const std::uint64_t seq = request.request_seq();
   // Resent every second until answered (the daemon de-duplicates), as a client does.
-  std::unique_lock lock(impl_->mutex_);
+  std::unique_lock lock(mutex_);
   while (std::chrono::steady_clock::now() < deadline) {
     lock.unlock();
-    impl_->queries_->write(&request);
+    writer->write(&request);
     lock.lock();
     const auto retry = std::min(deadline, std::chrono::steady_clock::now() + std::chrono::seconds(1));
-    if (impl_->arrived_.wait_until(lock, retry, [&] { return impl_->replies_by_seq_.count(seq) > 0; })) {
-      return impl_->replies_by_seq_[seq];
-    }
+    if (arrived_.wait_until(lock, retry, [&] { return replies_by_seq_.count(seq) > 0; })) return replies_by_seq_[seq];
   }
   return std::nullopt;
 }

@@ -30,6 +30,9 @@ class RawPeer {
   /// tests), without waiting for a reply (waits, up to `timeout`, for the daemon to match).
   /// False when nothing matched.
   bool post(msg::QueryRequest request, std::chrono::milliseconds timeout = std::chrono::seconds(30));
+  /// The same for a change request (on the change topic).
+  std::optional<msg::Reply> send(msg::ChangeRequest request, std::chrono::milliseconds timeout);
+  bool post(msg::ChangeRequest request, std::chrono::milliseconds timeout = std::chrono::seconds(30));
   /// Makes the reply reader (once; a no-op when it exists).
   void open_reply_reader();
   /// Replies that arrived addressed to another client (the daemon keeps them off this peer's
