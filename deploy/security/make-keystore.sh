@@ -134,9 +134,9 @@ for spec in "$@"; do
   own_partition="<partitions><partition>$own</partition></partitions>"
   case "$role" in
     daemon)
-      rules="<publish>$(topics ispars/status ispars/updates ispars/daemons)</publish>
+      rules="<publish>$(topics ispars/status ispars/updates ispars/daemons ispars/tasks)</publish>
         <publish>$(topics ispars/reply ispars/tour_progress)<partitions><partition>ispars.client.*</partition></partitions></publish>
-        <subscribe>$(topics ispars/query ispars/change ispars/status ispars/daemons)</subscribe>"
+        <subscribe>$(topics ispars/query ispars/change ispars/status ispars/daemons ispars/tasks)</subscribe>"
       ;;
     operator | viewer)
       writes="ispars/query"

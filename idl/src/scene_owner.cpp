@@ -83,7 +83,7 @@ Freshness claim_freshness(const msg::DaemonInfo& daemon, std::string_view scene,
     return {};  // handed over to a daemon that still lives: that one carries it now
   }
   const bool held = holds(daemon, scene);
-  return {r->generation(), held ? std::max(r->samples(), r->target()) : r->samples()};
+  return {r->generation(), held ? std::max(r->samples(), r->target()) : r->samples(), r->task_events()};
 }
 
 bool outweighs(std::string_view scene, const msg::DaemonInfo& a, const msg::DaemonInfo& b,

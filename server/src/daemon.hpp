@@ -27,6 +27,7 @@
 #include "fleet_listing.hpp"
 #include "scene_claims.hpp"
 #include "takeover_gate.hpp"
+#include "task_board.hpp"
 #include "systemd_notify.hpp"
 
 namespace ispars::server {
@@ -79,8 +80,10 @@ class Daemon {
   void receive(msg::ChangeRequest request);
   /// Called by the DDS layer (inside its callbacks: quick, no DDS calls) when an announcement
   /// changed, and for every status another daemon published.
-  void fleet_changed();
+  /// An announcement arrived (`announcement`, alive) or a daemon left: the fleet thread looks.
+  void fleet_changed(const msg::DaemonInfo* announcement = nullptr);
   void status_seen(const msg::SceneStatus& status);
+  void task_seen(const msg::SceneTask& task);
 
  private:
   template <class Request>
@@ -148,6 +151,7 @@ class Daemon {
   mutable std::uint64_t status_seq_ = 0;
   std::mutex publish_mutex_;  // writes statuses in stamp order
   std::unique_ptr<SceneClaims> claims_;  // made before dds_: DDS callbacks read it
+  TaskBoard task_board_;                 // other daemons' tasks, for a takeover's rebuild
   TakeoverGate takeover_gate_;           // requests for a scene wait while take_over() resumes it
   std::mutex announce_mutex_;  // announcements written in the order they were made
   FleetListing listing_;  // scene files, stored roadmaps, handovers and notes, as announced

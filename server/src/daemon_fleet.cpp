@@ -51,11 +51,16 @@ void Daemon::join_fleet() {
   }
 }
 
-void Daemon::fleet_changed() { fleet_wake_.notify_all(); }
+void Daemon::fleet_changed(const msg::DaemonInfo* announcement) {
+  if (announcement && claims_) claims_->observe(*announcement);
+  fleet_wake_.notify_all();
+}
 
 void Daemon::status_seen(const msg::SceneStatus& status) {
   if (claims_) claims_->observe(status);
 }
+
+void Daemon::task_seen(const msg::SceneTask& task) { task_board_.seen(task); }
 
 void Daemon::watch_fleet() {
   auto last_reannounce = std::chrono::steady_clock::now() - kReannouncePeriod;
@@ -135,6 +140,12 @@ void Daemon::take_over(const OrphanScene& orphan) {
       former.builder_version = orphan.last_status->builder_version();
       former.samples = std::max(former.samples, samples_to_rebuild(*orphan.last_status));
       former.generation = orphan.last_status->generation();
+      former.task_events = orphan.last_status->task_events();
+      const std::size_t scene_pois = session->scene().pois().size();
+      if (former.task_events > 0 && orphan.last_status->poi_count() >= scene_pois) {
+        former.tasks = task_board_.tasks_of(orphan.scene, former.generation, former.task_events,
+                                            orphan.last_status->poi_count() - scene_pois);
+      }
     }
     const TakeoverPlan plan = plan_takeover(orphan.scene, session->status(), session->fingerprint(), former);
     if (plan.set_aside) {
@@ -142,7 +153,10 @@ void Daemon::take_over(const OrphanScene& orphan) {
       spdlog::warn("scene '{}': this daemon's copy is kept aside in {}", orphan.scene, where.string());
     }
     if (plan.action == TakeoverPlan::Action::extend) service_->extend(orphan.scene, plan.extend_by);
-    if (plan.action == TakeoverPlan::Action::rebuild) service_->build(orphan.scene, plan.request);
+    if (plan.action == TakeoverPlan::Action::rebuild) {
+      if (!plan.tasks.empty()) service_->adopt_tasks(orphan.scene, plan.tasks);
+      service_->build(orphan.scene, plan.request);
+    }
     listing_.set_note(orphan.scene, plan.outcome);
     if (plan.refused) {
       spdlog::warn("{}", plan.outcome);
@@ -184,7 +198,8 @@ void Daemon::announce_if_fresher() {
   for (std::size_t i = 0; !at_once && i < held.size(); ++i) {
     const ServedRoadmap& a = held[i];
     const ServedRoadmap& b = last_held_[i];
-    at_once = a.scene != b.scene || a.generation != b.generation || a.target != b.target;
+    at_once = a.scene != b.scene || a.generation != b.generation || a.target != b.target ||
+              a.task_events != b.task_events;
     samples = samples || a.samples != b.samples;
   }
   // A new roadmap or a new job is announced at once (the fleet weighs it); committed samples at

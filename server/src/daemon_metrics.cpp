@@ -113,6 +113,9 @@ std::string DaemonMetrics::render(const DaemonGauges& g) const {
   line(fmt::format("ispars_reply_routes {}\n", g.reply_routes));
   family(out, "ispars_other_daemons", "gauge", "Other live daemons announced on the domain.");
   line(fmt::format("ispars_other_daemons {}\n", g.other_daemons));
+  family(out, "ispars_fleet_tasks_known", "gauge",
+         "Inspection tasks other daemons published that this daemon holds, should it take their scenes over.");
+  line(fmt::format("ispars_fleet_tasks_known {}\n", g.fleet_tasks_known));
   family(out, "ispars_memory_budget_bytes", "gauge", "Memory all loaded roadmaps may be expected to hold.");
   line(fmt::format("ispars_memory_budget_bytes {}\n", g.memory_budget_bytes));
   family(out, "ispars_memory_reserved_bytes", "gauge", "Of the budget: the loaded roadmaps' estimated peaks.");

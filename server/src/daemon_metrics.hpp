@@ -39,6 +39,7 @@ struct DaemonGauges {
   double memory_reserved_bytes = 0;  ///< the loaded scenes' roadmap peaks (memory_budget.hpp)
   double memory_leased_bytes = 0;    ///< held by snapshot encodings and tours now
   std::uint64_t other_daemons = 0;
+  std::uint64_t fleet_tasks_known = 0;  ///< Other daemons' tasks this daemon holds for a takeover.
 };
 
 /// Request counters and latency histograms, safe to update from many threads.

@@ -144,6 +144,7 @@ std::string Daemon::metrics_text() const {
       g.other_daemons = d.other_daemons().size();
     });
   }
+  g.fleet_tasks_known = task_board_.size();
   g.resident_bytes = resident_memory_bytes();
   g.memory_budget_bytes = memory_budget_bytes(config_);
   return metrics_.render(g);

@@ -13,6 +13,27 @@
 #include "status_message.hpp"
 
 namespace ispars::server {
+namespace {
+
+// The tasks of a scene as the fleet reads them (ispars/tasks), for its status's roadmap.
+std::vector<msg::SceneTask> task_messages(const std::vector<InspectionTask>& tasks, const msg::SceneStatus& status) {
+  std::vector<msg::SceneTask> out;
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    msg::SceneTask m;
+    m.scene(status.scene());
+    m.index(static_cast<std::uint32_t>(i));
+    m.server_id(status.server_id());
+    m.generation(status.generation());
+    m.name(tasks[i].name);
+    m.removed(tasks[i].removed);
+    for (const Vec3& p : tasks[i].pois) m.pois().push_back(wire::to_message(p));
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+}  // namespace
+
 
 ServiceEvents Daemon::service_events() {
   ServiceEvents events;
@@ -50,7 +71,12 @@ void Daemon::publish_status(const RoadmapSession& session) {
   std::lock_guard lock(publish_mutex_);
   const msg::SceneStatus status = status_message(session);
   metrics_.observe_samples(status.scene().to_string(), status.samples_done());
-  with_dds([&](DdsEndpoints& d) { d.publish_status(status); });
+  with_dds([&](DdsEndpoints& d) {
+    d.publish_status(status);
+    if (status.task_events() == 0) return;
+    d.publish_tasks(status.scene().to_string(), status.generation(), status.task_events(),
+                    [&] { return task_messages(session.tasks(), status); });
+  });
 }
 
 void Daemon::publish_unloaded(const std::string& scene, bool given_up) {

@@ -48,10 +48,12 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
       status_type_(new wire::SafeType<msg::SceneStatusPubSubType>()),
       daemon_type_(new wire::SafeType<msg::DaemonInfoPubSubType>()),
       progress_type_(new wire::SafeType<msg::TourProgressPubSubType>()),
+      task_type_(new wire::SafeType<msg::SceneTaskPubSubType>()),
       daemons_seen_([](const msg::DaemonInfo& d) { return d.server_id().to_string(); },
-                    [this](const msg::DaemonInfo&) {
+                    [this](const msg::DaemonInfo& d) {
                       statuses_.recheck();
-                      daemon_.fleet_changed();
+                      tasks_seen_.recheck();
+                      daemon_.fleet_changed(&d);
                     },
                     // Every announcement is accepted; one of this daemon's id by another
                     // participant is noted (judged per sample, with its own sender: DDS delivers
@@ -69,7 +71,11 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
       // one cannot plant a recipe for a takeover.
       statuses_([](const msg::SceneStatus& s) { return s.scene().to_string(); },
                 [this](const msg::SceneStatus& s) { daemon_.status_seen(s); },
-                wire::statuses_from_their_daemon(daemons_seen_)) {
+                wire::statuses_from_their_daemon(daemons_seen_)),
+      // So does a task: a forged one cannot plant POIs in a takeover.
+      tasks_seen_([](const msg::SceneTask& t) { return t.scene().to_string() + '/' + std::to_string(t.index()); },
+                  [this](const msg::SceneTask& t) { daemon_.task_seen(t); },
+                  wire::from_their_daemon<msg::SceneTask>(daemons_seen_)) {
   fdds::DomainParticipant* p = participant_.get();
   own_identity_ = wire::identity_of(p->guid().guidPrefix);
   joined_ms_ = joined_ms;
@@ -81,6 +87,7 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
   fdds::Topic* status_topic = wire::find_or_create_topic(p, status_type_, wire::kStatusTopic);
   fdds::Topic* daemon_topic = wire::find_or_create_topic(p, daemon_type_, wire::kDaemonsTopic);
   fdds::Topic* progress_topic = wire::find_or_create_topic(p, progress_type_, wire::kTourProgressTopic);
+  fdds::Topic* task_topic = wire::find_or_create_topic(p, task_type_, wire::kTasksTopic);
   fdds::Publisher* pub = wire::created(p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT), "publisher");
   fdds::Subscriber* sub = wire::created(p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT), "subscriber");
   routes_ = std::make_unique<ReplyRoutes>(p, reply_topic, progress_topic, this, server_id_);
@@ -93,6 +100,8 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
   daemons_reader_ = wire::created(sub->create_datareader(daemon_topic, wire::state_reader_qos(), &daemons_seen_),
                             "announcement reader");
   status_reader_ = wire::created(sub->create_datareader(status_topic, wire::state_reader_qos(), &statuses_), "status reader");
+  tasks_ = wire::created(pub->create_datawriter(task_topic, wire::state_writer_qos()), "task writer");
+  tasks_reader_ = wire::created(sub->create_datareader(task_topic, wire::state_reader_qos(), &tasks_seen_), "task reader");
   queries_ = wire::created(sub->create_datareader(query_topic, wire::request_reply_reader_qos(), this,
                                             fdds::StatusMask::data_available()),
                      "query reader");
@@ -131,6 +140,7 @@ DdsEndpoints::~DdsEndpoints() {
   if (queries_) queries_->set_listener(nullptr);
   if (changes_) changes_->set_listener(nullptr);
   if (status_reader_) status_reader_->set_listener(nullptr);
+  if (tasks_reader_) tasks_reader_->set_listener(nullptr);
   if (daemons_reader_) daemons_reader_->set_listener(nullptr);
   if (probe_) probe_->detach();
   participant_->delete_contained_entities();
@@ -262,6 +272,17 @@ void DdsEndpoints::retire_updates(const std::string& scene) {
 void DdsEndpoints::publish_status(const msg::SceneStatus& status) {
   msg::SceneStatus copy = status;
   if (!status_->write(&copy)) spdlog::error("status of {} could not be written", status.scene());
+}
+
+void DdsEndpoints::publish_tasks(const std::string& scene, std::uint64_t generation, std::uint64_t events,
+                                 const std::function<std::vector<msg::SceneTask>()>& tasks) {
+  std::lock_guard lock(tasks_mutex_);
+  auto& last = tasks_published_[scene];
+  if (last == std::pair(generation, events)) return;
+  for (msg::SceneTask& t : tasks()) {
+    if (!tasks_->write(&t)) spdlog::error("task {} of {} could not be written", t.index(), scene);
+  }
+  last = {generation, events};
 }
 
 void DdsEndpoints::announce(const msg::DaemonInfo& info) {

@@ -10,11 +10,14 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <list>
 #include <thread>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -44,6 +47,10 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   /// its kept batches are released and every replica is told.
   void retire_updates(const std::string& scene);
   void publish_status(const msg::SceneStatus& status);
+  /// Publishes `scene`'s tasks (ispars/tasks) when its roadmap's generation or task events
+  /// differ from what this participant published last; `tasks` makes them (called only then).
+  void publish_tasks(const std::string& scene, std::uint64_t generation, std::uint64_t events,
+                     const std::function<std::vector<msg::SceneTask>()>& tasks);
   void announce(const msg::DaemonInfo& info);
   /// The DDS probe (self_probe.hpp); null under DDS Security.
   [[nodiscard]] SelfProbe* probe() { return probe_.get(); }
@@ -81,7 +88,7 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   std::string server_id_;
   wire::Participant participant_;
   eprosima::fastdds::dds::TypeSupport query_type_, change_type_, reply_type_, update_type_, status_type_,
-      daemon_type_, progress_type_;
+      daemon_type_, progress_type_, task_type_;
   eprosima::fastdds::dds::DataReader* queries_ = nullptr;
   eprosima::fastdds::dds::DataReader* changes_ = nullptr;
   eprosima::fastdds::dds::DataWriter* updates_ = nullptr;
@@ -90,6 +97,11 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   eprosima::fastdds::dds::DataReader* status_reader_ = nullptr;
   wire::LatestSamples<msg::DaemonInfo> daemons_seen_;  // every daemon's announcement, with its sender
   wire::LatestSamples<msg::SceneStatus> statuses_;     // only from the participant announcing the daemon named
+  eprosima::fastdds::dds::DataWriter* tasks_ = nullptr;
+  eprosima::fastdds::dds::DataReader* tasks_reader_ = nullptr;
+  wire::LatestSamples<msg::SceneTask> tasks_seen_;  // only from the participant announcing the daemon named
+  std::mutex tasks_mutex_;
+  std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> tasks_published_;  // scene: generation, events
   eprosima::fastdds::dds::DataReader* daemons_reader_ = nullptr;
   std::unique_ptr<ReplyRoutes> routes_;  // each client's replies in its own partition
   std::atomic<bool> accepting_{true};

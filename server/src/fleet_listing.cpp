@@ -18,7 +18,8 @@ bool FleetListing::refresh(const std::optional<std::vector<std::string>>& loaded
   if (loaded) listing = list_stored_roadmaps(data_dir_, *loaded, &fingerprints_);
   const auto same = [](const std::vector<ServedRoadmap>& a, const std::vector<ServedRoadmap>& b) {
     return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const ServedRoadmap& x, const ServedRoadmap& y) {
-      return x.scene == y.scene && x.generation == y.generation && x.samples == y.samples;
+      return x.scene == y.scene && x.generation == y.generation && x.samples == y.samples &&
+             x.task_events == y.task_events;
     });
   };
   std::lock_guard lock(mutex_);
@@ -54,6 +55,7 @@ void FleetListing::describe(msg::DaemonInfo& info, std::vector<ServedRoadmap> he
     m.generation(r.generation);
     m.samples(r.samples);
     m.target(r.target);
+    m.task_events(r.task_events);
     m.builder_version(kBuilderVersion);
     m.fingerprint(r.fingerprint.substr(0, 64));
     if (const auto h = handed_over_.find(r.scene); h != handed_over_.end() && !r.held) {

@@ -208,6 +208,12 @@ std::chrono::seconds SceneClaims::takeover_retry_in(const std::string& scene) co
   return it == takeovers_.end() ? std::chrono::seconds(0) : retry_delay(it->second.attempts);
 }
 
+void SceneClaims::observe(const msg::DaemonInfo& announcement) {
+  if (announcement.server_id() == self_) return;
+  std::lock_guard lock(mutex_);
+  remember_holders({announcement});
+}
+
 void SceneClaims::observe(const msg::SceneStatus& status) {
   // An UNLOADED status (also sent by a daemon stopping) says nothing of the roadmap it held.
   if (status.server_id() == self_ || status.state() == msg::SCENE_UNLOADED) return;

@@ -88,6 +88,9 @@ class SceneClaims {
   [[nodiscard]] std::chrono::seconds takeover_retry_in(const std::string& scene) const;
   /// Remembers a status another daemon published (the recipe a takeover rebuilds from).
   void observe(const msg::SceneStatus& status);
+  /// Another daemon's announcement as it arrives: the scenes it holds are remembered at once, so
+  /// a holder that leaves before the next pass of the fleet thread is still taken over.
+  void observe(const msg::DaemonInfo& announcement);
 
  private:
   const std::string self_;

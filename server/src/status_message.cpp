@@ -45,6 +45,7 @@ msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id
   m.dense_edges(static_cast<std::uint32_t>(s.dense_edges));
   m.poi_count(static_cast<std::uint32_t>(s.poi_count));
   m.tasks(static_cast<std::uint32_t>(s.tasks));
+  m.task_events(s.task_events);
   m.pois_covered(static_cast<std::uint32_t>(s.pois_covered));
   m.pois_covered_root(static_cast<std::uint32_t>(s.pois_covered_root));
   m.last_error(s.last_error);

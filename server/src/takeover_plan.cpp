@@ -16,6 +16,31 @@ std::string copy_words(const SessionStatus& mine) {
   return fmt::format("generation {}, {} samples", mine.recipe->generation, mine.samples_done);
 }
 
+// A continued copy with fewer task events than the former owner's, whose tasks did not arrive.
+std::string missing_tasks(const SessionStatus& mine, const FormerRoadmap& former) {
+  if (mine.task_events >= former.task_events) return "";
+  return fmt::format("; daemon {}'s roadmap had {} task events to this copy's {}, whose tasks did not reach this "
+                     "daemon: continued without them (they stay in its store)",
+                     former.owner, former.task_events, mine.task_events);
+}
+
+// What a rebuild does with the former owner's tasks, as the end of its sentence.
+std::string task_words(const FormerRoadmap& former) {
+  if (former.task_events == 0) return "";
+  if (!former.tasks) {
+    return fmt::format("; its tasks ({} events) did not reach this daemon: rebuilt without them (they stay in daemon "
+                       "{}'s store, which outweighs this copy while it holds no more samples)",
+                       former.task_events, former.owner);
+  }
+  std::string names;
+  for (const InspectionTask& t : *former.tasks) {
+    if (t.removed) continue;
+    names += (names.empty() ? "" : ", ") + t.name;
+  }
+  return fmt::format(", with its {} task{} ({})", former.tasks->size(), former.tasks->size() == 1 ? "" : "s",
+                     names.empty() ? std::string("all removed") : names);
+}
+
 }  // namespace
 
 TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, const std::string& my_fingerprint,
@@ -52,20 +77,23 @@ TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, 
                             scene, former.owner, former.fingerprint, my_fingerprint),
                 true);
   }
-  if (mine.recipe && same_roadmap(*mine.recipe, theirs)) {
+  // The same roadmap, unless this copy lacks task events the former owner's had and this daemon
+  // has those tasks (then it is rebuilt with them); without them it is continued as it is.
+  const bool lacks_tasks = mine.task_events < former.task_events && former.tasks.has_value();
+  if (mine.recipe && same_roadmap(*mine.recipe, theirs) && !lacks_tasks) {
     if (mine.samples_done >= former.samples) {
       return keep(fmt::format("scene '{}' taken over from {}: this daemon's copy ({}) holds the {} samples it had "
-                              "reached or accepted",
-                              scene, former.owner, copy_words(mine), former.samples));
+                              "reached or accepted{}",
+                              scene, former.owner, copy_words(mine), former.samples, missing_tasks(mine, former)));
     }
     TakeoverPlan plan;
     plan.action = TakeoverPlan::Action::extend;
     plan.extend_by = former.samples - mine.samples_done;
-    plan.outcome = fmt::format("scene '{}' taken over from {}: continuing this daemon's copy ({}) to {} samples",
-                               scene, former.owner, copy_words(mine), former.samples);
+    plan.outcome = fmt::format("scene '{}' taken over from {}: continuing this daemon's copy ({}) to {} samples{}",
+                               scene, former.owner, copy_words(mine), former.samples, missing_tasks(mine, former));
     return plan;
   }
-  if (mine.recipe && mine.recipe->generation > theirs.generation) {
+  if (mine.recipe && mine.recipe->generation > theirs.generation) {  // (a later build: its tasks are its own)
     return keep(fmt::format("scene '{}' taken over from {}: this daemon's copy ({}) is of a later build than its "
                             "generation {}, and is kept",
                             scene, former.owner, copy_words(mine), theirs.generation));
@@ -75,12 +103,15 @@ TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, 
   plan.request = rebuild_request(theirs, former.samples);
   plan.set_aside = mine.recipe.has_value() || mine.state == SessionState::failed;
   plan.request.replace = plan.set_aside;
-  plan.outcome = fmt::format("scene '{}' taken over from {}: rebuilding its {} roadmap (generation {}, seed {}) to {} "
-                             "samples{}",
-                             scene, former.owner, to_string(theirs.method), theirs.generation, theirs.seed,
-                             former.samples,
-                             mine.recipe ? fmt::format("; this daemon's older copy ({}) is set aside", copy_words(mine))
-                                         : std::string());
+  if (former.tasks) plan.tasks = *former.tasks;
+  plan.outcome = fmt::format(
+      "scene '{}' taken over from {}: rebuilding its {} roadmap (generation {}, seed {}) to {} samples{}{}", scene,
+      former.owner, to_string(theirs.method), theirs.generation, theirs.seed, former.samples, task_words(former),
+      !mine.recipe ? std::string()
+      : lacks_tasks
+          ? fmt::format("; this daemon's copy ({}, {} task events of {}) is set aside", copy_words(mine),
+                        mine.task_events, former.task_events)
+          : fmt::format("; this daemon's older copy ({}) is set aside", copy_words(mine)));
   return plan;
 }
 

@@ -8,8 +8,10 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "ispars/roadmap/build_recipe.hpp"
+#include "ispars/service/inspection_task.hpp"
 #include "ispars/service/roadmap_session.hpp"
 
 namespace ispars::server {
@@ -24,6 +26,10 @@ struct FormerRoadmap {
   /// Its published roadmap's generation: with no recipe, that of the empty roadmap a DROP left
   /// (0: it never built or dropped the scene).
   std::uint64_t generation = 0;
+  /// Its inspection tasks' events (added, plus removed), from its last status.
+  std::uint64_t task_events = 0;
+  /// Those tasks, in order, when all of them reached this daemon (ispars/tasks); none otherwise.
+  std::optional<std::vector<InspectionTask>> tasks;
 };
 
 /// One takeover's decision.
@@ -36,6 +42,8 @@ struct TakeoverPlan {
   Action action = Action::keep;
   std::uint64_t extend_by = 0;
   BuildRequest request;
+  /// With `rebuild`: the former owner's tasks, given to the scene before it is built (adopt_tasks).
+  std::vector<InspectionTask> tasks;
   bool set_aside = false;  ///< This daemon's copy goes to DATA_DIR/.aside first (never deleted).
   bool refused = false;    ///< The former owner's roadmap cannot be continued here (named in `outcome`).
   std::string outcome;     ///< What was decided and why, in a sentence for the log and the scenes list.

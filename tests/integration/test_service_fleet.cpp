@@ -406,5 +406,55 @@ TEST_F(FleetTest, AnExtendQueuedWhenTheOwnerStopsIsCarriedOutByTheDaemonThatTake
   EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 8000, 3));
 }
 
+// The vanishing task. The owner's tasks travel on ispars/tasks; when it stops, the daemon
+// that takes the scene over rebuilds its roadmap with them (a task's POIs keep their ids), and
+// its note names them. The former owner returning with its copy (the same generation, samples and
+// task events) changes nothing. Before, the new owner served the roadmap without the task, and
+// kept doing so after the former owner returned.
+TEST_F(FleetTest, ATaskIsCarriedByTheDaemonThatTakesTheSceneOver) {
+  auto a = start("a", {"--memory-budget-mb", kNoBudget});
+  Client client(client_options(domain_));
+  ASSERT_EQ(load_and_build(client, "s0", ispars_build(1500, 3)).server_id, "a");
+  client.add_sampled_task("s0", "weld-seams", 48, 7);
+  const SceneStatus with_task = client.wait_idle("s0", {}, kLong);
+  ASSERT_EQ(with_task.tasks, 1u) << with_task.last_error;
+  auto b = start("b", {"--memory-budget-mb", kNoBudget, "--metrics", "127.0.0.1:0"});
+  const int b_metrics = metrics_port(b->log());
+  for (const auto met = Clock::now();
+       metric_on(b_metrics, "ispars_fleet_tasks_known") != 1 && Clock::now() - met < std::chrono::seconds(30);) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(metric_on(b_metrics, "ispars_fleet_tasks_known"), 1) << b->log();
+  EXPECT_EQ(a->terminate(), 0);
+  SceneStatus carried;
+  for (const auto stopped = Clock::now(); Clock::now() - stopped < std::chrono::seconds(60);) {
+    try {
+      carried = client.wait_idle("s0", {}, kLong);
+      if (carried.server_id == "b") break;
+    } catch (const ClientError& e) {  // b named the owner a moment before it claims s0
+      ASSERT_NE(std::string(e.what()).find("is not loaded on daemon b"), std::string::npos) << e.what();
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(carried.server_id, "b") << b->log();
+  EXPECT_EQ(carried.samples_done, 1500u);
+  EXPECT_EQ(carried.tasks, 1u) << "the task vanished in the takeover: " << b->log();
+  EXPECT_EQ(carried.poi_count, with_task.poi_count);
+  EXPECT_EQ(carried.generation, with_task.generation);
+  const auto tasks = client.tasks("s0");
+  ASSERT_EQ(tasks.size(), 1u);
+  EXPECT_EQ(tasks[0].name, "weld-seams");
+  EXPECT_EQ(tasks[0].poi_count, 48u);
+  EXPECT_NE(note_of(client, "s0", "b").find("with its 1 task (weld-seams)"), std::string::npos)
+      << note_of(client, "s0", "b");
+  // a returns with its copy: equally fresh (generation, samples, task events), so b keeps it.
+  a = start("a", {"--memory-budget-mb", kNoBudget});
+  for (const auto until = Clock::now() + std::chrono::seconds(4); Clock::now() < until;) {
+    ASSERT_EQ(holders(client, "s0"), std::vector<std::string>{"b"}) << a->log() << b->log();
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  EXPECT_EQ(client.tasks("s0").size(), 1u);
+}
+
 }  // namespace
 }  // namespace ispars::test

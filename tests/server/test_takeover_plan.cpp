@@ -132,5 +132,42 @@ TEST(TakeoverPlan, ALaterDropOnEitherSideWinsOverAnEarlierBuild) {
   EXPECT_EQ(plan_takeover("s", dropped_here, "f", former(recipe(11), 400)).action, TakeoverPlan::Action::rebuild);
 }
 
+// Tasks: a rebuild carries the former owner's tasks when they all reached this daemon, and says
+// which; a copy lacking some of them is set aside and rebuilt with them; tasks that did not
+// arrive are named by their count, and the copy is continued or rebuilt without them.
+TEST(TakeoverPlan, TheFormerOwnersTasksAreCarriedOrTheirAbsenceNamed) {
+  FormerRoadmap with_tasks = former(recipe(7), 3000);
+  with_tasks.task_events = 3;
+  with_tasks.tasks = std::vector<InspectionTask>{{"a", {Vec3(0, 0, 0)}, true}, {"b", {Vec3(1, 0, 0)}, false}};
+  const TakeoverPlan rebuild = plan_takeover("s", mine(std::nullopt, 0), "f", with_tasks);
+  EXPECT_EQ(rebuild.action, TakeoverPlan::Action::rebuild);
+  ASSERT_EQ(rebuild.tasks.size(), 2u);
+  EXPECT_TRUE(rebuild.tasks[0].removed);
+  EXPECT_NE(rebuild.outcome.find("with its 2 tasks (b)"), std::string::npos) << rebuild.outcome;
+
+  SessionStatus lacking = mine(recipe(7), 3000);
+  lacking.task_events = 1;
+  const TakeoverPlan aside = plan_takeover("s", lacking, "f", with_tasks);
+  EXPECT_EQ(aside.action, TakeoverPlan::Action::rebuild) << aside.outcome;
+  EXPECT_TRUE(aside.set_aside);
+  EXPECT_EQ(aside.tasks.size(), 2u);
+  EXPECT_NE(aside.outcome.find("1 task events of 3) is set aside"), std::string::npos) << aside.outcome;
+
+  lacking.task_events = 3;  // the same tasks here: continued as any copy of the same roadmap
+  EXPECT_EQ(plan_takeover("s", lacking, "f", with_tasks).action, TakeoverPlan::Action::keep);
+
+  FormerRoadmap unknown = with_tasks;
+  unknown.tasks.reset();
+  const TakeoverPlan without = plan_takeover("s", mine(std::nullopt, 0), "f", unknown);
+  EXPECT_EQ(without.action, TakeoverPlan::Action::rebuild);
+  EXPECT_TRUE(without.tasks.empty());
+  EXPECT_NE(without.outcome.find("its tasks (3 events) did not reach this daemon"), std::string::npos)
+      << without.outcome;
+  lacking.task_events = 0;
+  const TakeoverPlan continued = plan_takeover("s", lacking, "f", unknown);
+  EXPECT_EQ(continued.action, TakeoverPlan::Action::keep);
+  EXPECT_NE(continued.outcome.find("had 3 task events to this copy's 0"), std::string::npos) << continued.outcome;
+}
+
 }  // namespace
 }  // namespace ispars::server

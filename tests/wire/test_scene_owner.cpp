@@ -120,6 +120,23 @@ TEST(SceneOwner, TheLaterGenerationWinsOverMoreSamples) {
   EXPECT_EQ(assigned_daemon("s", live), "b");
 }
 
+// A task added or removed is a commit of no sample: of two copies of one lineage at the same
+// samples, the one with more task events is the fresher, and the holder without them hands over.
+TEST(SceneOwner, MoreTaskEventsWinAtEqualSamples) {
+  msg::DaemonInfo holder = daemon("h", {"s"}, {"s"});
+  msg::DaemonInfo store = daemon("k", {"s"});
+  with_copy(holder, 7, 5000);
+  with_copy(store, 7, 5000);
+  store.roadmaps()[0].task_events(2);
+  const std::vector<msg::DaemonInfo> live{holder, store};
+  EXPECT_EQ(claim_freshness(store, "s", live), (Freshness{7, 5000, 2}));
+  EXPECT_EQ(assigned_daemon("s", live), "k");
+  // More samples still win over more task events.
+  holder.roadmaps()[0].samples(5001);
+  holder.roadmaps()[0].target(5001);
+  EXPECT_EQ(assigned_daemon("s", std::vector<msg::DaemonInfo>{holder, store}), "h");
+}
+
 TEST(SceneOwner, AHolderCountsTheSamplesItAccepted) {
   msg::DaemonInfo holder = daemon("h", {"s"}, {"s"});
   msg::DaemonInfo store = daemon("k", {"s"});

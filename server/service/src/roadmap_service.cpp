@@ -264,6 +264,7 @@ std::vector<ServedRoadmap> RoadmapService::held_roadmaps() const {
       r.samples = st.samples_done;
       r.target = std::max(st.samples_done, st.samples_target);
       r.fingerprint = st.recipe->scene_fingerprint;
+      r.task_events = st.task_events;
     }
     out.push_back(std::move(r));
   }
@@ -272,6 +273,10 @@ std::vector<ServedRoadmap> RoadmapService::held_roadmaps() const {
 
 std::filesystem::path RoadmapService::set_aside(const std::string& scene, const std::string& why) {
   return session(scene)->set_aside(why);
+}
+
+void RoadmapService::adopt_tasks(const std::string& scene, std::vector<InspectionTask> tasks) {
+  session(scene)->adopt_tasks(std::move(tasks));
 }
 
 namespace {
@@ -320,8 +325,10 @@ StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const 
         continue;
       }
       const auto head = read_store_head(entry.path());
-      const std::uint64_t samples = head && head->generation == recipe.generation ? head->samples : 0;
-      out.served.push_back({name, recipe.generation, samples, samples, recipe.scene_fingerprint, false});
+      const bool head_current = head && head->generation == recipe.generation;
+      const std::uint64_t samples = head_current ? head->samples : 0;
+      out.served.push_back(
+          {name, recipe.generation, samples, samples, recipe.scene_fingerprint, false, head_current ? head->task_events : 0});
     } catch (const std::exception& e) {
       out.unservable.push_back({name, fmt::format("its stored roadmap cannot be read: {}", e.what())});
     }

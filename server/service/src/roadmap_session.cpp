@@ -254,6 +254,7 @@ SessionStatus RoadmapSession::status_locked() const {
   s.dense_edges = dense_edges_;
   s.poi_count = scene_with_tasks_->pois().size();
   s.tasks = live_tasks();
+  s.task_events = task_events(tasks_);
   s.pois_covered = published_.pois_covered;
   s.pois_covered_root = published_.pois_covered_root;
   s.generation = published_.generation;

@@ -126,6 +126,33 @@ std::size_t RoadmapSession::remove_task(const std::string& name) {
   return after;
 }
 
+void RoadmapSession::adopt_tasks(std::vector<InspectionTask> tasks) {
+  {
+    std::lock_guard lock(mutex_);
+    check_can_start("scene");
+    if (recipe_ || !tasks_.empty()) {
+      throw InputError(kRequest, "scene", fmt::format("scene '{}' has a roadmap or tasks: it adopts none", name_));
+    }
+  }
+  // Checked against the scene's own mesh (a task's POIs lie on it): no lock is held meanwhile,
+  // and the takeover that calls this is the only writer of an empty scene.
+  std::vector<InspectionTask> checked;
+  for (InspectionTask& t : tasks) {
+    const bool removed = t.removed;
+    t.removed = false;
+    check_task(scene_, checked, t);
+    t.removed = removed;
+    checked.push_back(std::move(t));
+  }
+  auto with_tasks = std::make_shared<const Scene>(scene_.with_more_pois(task_pois(checked)));
+  {
+    std::lock_guard lock(mutex_);
+    tasks_ = std::move(checked);
+    scene_with_tasks_ = std::move(with_tasks);
+  }
+  notify_status();
+}
+
 std::size_t RoadmapSession::live_tasks() const {
   const auto live = std::count_if(tasks_.begin(), tasks_.end(), [](const InspectionTask& t) { return !t.removed; });
   return static_cast<std::size_t>(live);

@@ -255,7 +255,9 @@ std::unique_ptr<RoadmapStore> RoadmapStore::open(const std::filesystem::path& di
   recovered.tail_set_aside = store->journal_->set_aside();
   store->journal_commits_ = recovered.journal_commits;
   store->samples_ = recovered.roadmaps.samples;
-  write_store_head(dir, {recovered.recipe.generation, recovered.roadmaps.samples, valid_bytes}, fs);  // mends a stale hint
+  store->task_events_ = task_events(recovered.tasks);
+  write_store_head(dir, {recovered.recipe.generation, recovered.roadmaps.samples, valid_bytes, store->task_events_},
+                   fs);  // mends a stale hint
   // A compaction that did not finish (a crash, a stop, a failure): finish it now.
   if (fs.exists(old_journal_path(dir))) store->fold_in_background();
   return store;
@@ -273,7 +275,8 @@ void RoadmapStore::commit(const BuildCommit& commit) {
   ++journal_commits_;
   if (!replaces_.empty()) take_place();
   samples_ = commit.samples;
-  write_store_head(dir_, {recipe_.generation, samples_, journal_->size()}, fs_);  // after the commit is durable
+  if (commit.changes_tasks()) task_events_ = commit.task_count;
+  write_store_head(dir_, {recipe_.generation, samples_, journal_->size(), task_events_}, fs_);  // after the commit is durable
   if (!compacting_) wait_for_compaction();  // joins a finished fold; throws its failure
   if (journal_commits_ >= compact_every_) start_compaction();
 }
@@ -284,7 +287,8 @@ void write_store_head(const std::filesystem::path& dir, const StoreHead& head, F
   const std::filesystem::path tmp = dir / "head.tmp";
   try {
     auto file = fs.open(tmp, FileSystem::Open::truncated);
-    file->append(seal_text(fmt::format("{} {} {}\n", head.generation, head.samples, head.journal_bytes)));
+    file->append(seal_text(
+        fmt::format("{} {} {} {}\n", head.generation, head.samples, head.journal_bytes, head.task_events)));
     if (durable) file->sync();
     file.reset();
     fs.rename(tmp, dir / "head");
@@ -307,6 +311,7 @@ std::optional<StoreHead> read_store_head(const std::filesystem::path& dir, const
   StoreHead head;
   if (!(in >> head.generation >> head.samples)) return std::nullopt;
   if (!(in >> head.journal_bytes)) head.journal_bytes = 0;  // a head older than the field
+  if (!(in >> head.task_events)) head.task_events = 0;      // older than this one
   return head;
 }
 

@@ -117,7 +117,7 @@ void RoadmapStore::start_compaction() {
     // Before the new journal's first append: head names its bytes, durably, so an older head
     // (whose journal_bytes were journal.old's) can never make a torn first append read as damage.
     try {
-      write_store_head(dir_, {recipe_.generation, samples_, journal_->size()}, fs_, /*durable=*/true);
+      write_store_head(dir_, {recipe_.generation, samples_, journal_->size(), task_events_}, fs_, /*durable=*/true);
     } catch (const std::runtime_error&) {
       try {
         (void)fs_.remove(dir_ / "head");  // no head rather than a stale one: the next commit writes it

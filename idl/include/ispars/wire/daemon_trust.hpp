@@ -16,13 +16,19 @@ namespace ispars::wire {
   return !sender.empty() && daemons.sender(server_id) == sender;
 }
 
-/// The accept rule of a LatestSamples<SceneStatus>: only from the daemon each status names.
-/// `daemons` must outlive the rule.
+/// The accept rule of a LatestSamples of a message naming its daemon (`server_id`, a status or a
+/// task): only from the daemon it names. `daemons` must outlive the rule.
+template <class Message>
+[[nodiscard]] typename LatestSamples<Message>::Accept from_their_daemon(const LatestSamples<msg::DaemonInfo>& daemons) {
+  return [&daemons](const Message& m, const std::string& sender) {
+    return written_by_daemon(daemons, m.server_id().to_string(), sender);
+  };
+}
+
+/// from_their_daemon for statuses.
 [[nodiscard]] inline LatestSamples<msg::SceneStatus>::Accept statuses_from_their_daemon(
     const LatestSamples<msg::DaemonInfo>& daemons) {
-  return [&daemons](const msg::SceneStatus& s, const std::string& sender) {
-    return written_by_daemon(daemons, s.server_id().to_string(), sender);
-  };
+  return from_their_daemon<msg::SceneStatus>(daemons);
 }
 
 }  // namespace ispars::wire

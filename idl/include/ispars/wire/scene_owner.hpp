@@ -4,11 +4,13 @@
 // docs/fleet.md states it with its argument that no acknowledged commit is lost.
 //
 // Each daemon announces, per scene, the roadmap it can serve (msg::StoredRoadmap): its
-// generation (set by the build that made it, kept by a takeover that continues it) and the
-// samples committed to its store. A daemon's claim on a scene is weighed by its key:
+// generation (set by the build that made it, kept by a takeover that continues it), the
+// samples committed to its store and its task events. A daemon's claim on a scene is weighed by
+// its key:
 //
 //   1. freshness: the later generation, then the more samples (a holder counts the samples it
-//      has accepted to reach, its target, since it will commit them);
+//      has accepted to reach, its target, since it will commit them), then the more task events
+//      (inspection tasks added, plus those removed);
 //   2. holding: of two equally fresh copies, the one already served;
 //   3. the rendezvous weight of (scene, server_id), then the lower id: a tie breaker every
 //      party computes alike.
@@ -28,11 +30,12 @@
 
 namespace ispars::wire {
 
-/// How fresh a copy of a scene's roadmap is: the later generation, then the more samples.
-/// {0, 0} is no copy.
+/// How fresh a copy of a scene's roadmap is: the later generation, then the more samples, then
+/// the more task events (a task added or removed is a commit of no sample). {0, 0, 0} is no copy.
 struct Freshness {
   std::uint64_t generation = 0;
   std::uint64_t samples = 0;
+  std::uint64_t task_events = 0;
   auto operator<=>(const Freshness&) const = default;
 };
 
@@ -51,9 +54,9 @@ struct Freshness {
 /// The roadmap of `scene` that `daemon` announces; nullptr when it announces none.
 [[nodiscard]] const msg::StoredRoadmap* roadmap_of(const msg::DaemonInfo& daemon, std::string_view scene);
 
-/// The freshness `daemon`'s claim on `scene` carries among `live`: its copy's generation and
-/// samples (a holder's target when larger), {0, 0} without a copy or when it handed the copy to a
-/// daemon in `live`.
+/// The freshness `daemon`'s claim on `scene` carries among `live`: its copy's generation, samples
+/// (a holder's target when larger) and task events; {0, 0, 0} without a copy or when it handed
+/// the copy to a daemon in `live`.
 [[nodiscard]] Freshness claim_freshness(const msg::DaemonInfo& daemon, std::string_view scene,
                                         std::span<const msg::DaemonInfo> live);
 

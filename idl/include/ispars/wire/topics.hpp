@@ -24,6 +24,8 @@ inline constexpr const char* kUpdatesTopic = "ispars/updates";
 inline constexpr const char* kStatusTopic = "ispars/status";
 inline constexpr const char* kDaemonsTopic = "ispars/daemons";
 inline constexpr const char* kTourProgressTopic = "ispars/tour_progress";
+/// Each scene's inspection tasks, as the daemon holding it publishes them for the fleet.
+inline constexpr const char* kTasksTopic = "ispars/tasks";
 
 /// The DDS partition a client's replies and tour progress travel in: "ispars.client." followed by
 /// the client's identity (its participant's GUID prefix, 24 hex digits). The daemon writes each

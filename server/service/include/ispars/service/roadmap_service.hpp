@@ -62,6 +62,7 @@ struct ServedRoadmap {
   std::uint64_t target = 0;      ///< Accepted: a queued or running job's target, else `samples`.
   std::string fingerprint;       ///< Of the scene file it was built on (empty when unknown).
   bool held = false;             ///< Loaded here; else stored only.
+  std::uint64_t task_events = 0; ///< Its tasks added and removed: weighed after the samples.
 };
 
 /// A stored roadmap this service cannot serve, and why (another builder version, an unreadable
@@ -222,6 +223,8 @@ class RoadmapService {
   [[nodiscard]] std::vector<ServedRoadmap> held_roadmaps() const;
   /// Sets the roadmap of a loaded scene aside (RoadmapSession::set_aside); returns where it went.
   std::filesystem::path set_aside(const std::string& scene, const std::string& why);
+  /// RoadmapSession::adopt_tasks of a loaded scene.
+  void adopt_tasks(const std::string& scene, std::vector<InspectionTask> tasks);
   /// Queues a build or an extend, first recorded in the data directory (pending_jobs.hpp): a
   /// restart resumes it. Throws InputError naming the field when the session refuses it.
   void build(const std::string& scene, const BuildRequest& request);

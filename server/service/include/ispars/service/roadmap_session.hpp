@@ -58,7 +58,8 @@ struct SessionStatus {
   std::size_t dense_vertices = 0;
   std::size_t dense_edges = 0;
   std::size_t poi_count = 0;  ///< The scene's POIs and its tasks'.
-  std::size_t tasks = 0;      ///< Inspection tasks added to the roadmap.
+  std::size_t tasks = 0;      ///< Inspection tasks added to the roadmap (not removed).
+  std::uint64_t task_events = 0;  ///< Tasks added, plus tasks removed (task_events).
   std::size_t pois_covered = 0;
   std::size_t pois_covered_root = 0;
   std::string last_error;
@@ -138,6 +139,11 @@ class RoadmapSession {
   /// Keeps the roadmap's store aside (set_aside_store, with `why`) and leaves the scene without a
   /// roadmap, as drop() does; returns where the store went. Same errors as drop().
   std::filesystem::path set_aside(const std::string& why);
+  /// Gives a scene with no roadmap the tasks of a roadmap it is about to rebuild (another
+  /// daemon's, in a takeover): the build that follows is made with their POIs, and its first
+  /// commit records them. Each is checked as a task request is (check_task). Throws InputError
+  /// when the scene has a roadmap or a job, or a task fails its check (nothing changed then).
+  void adopt_tasks(std::vector<InspectionTask> tasks);
   /// Refuses every later build and extend (the scene is being unloaded) and releases the store,
   /// so that the scene can be loaded again while this session still serves a running tour.
   /// Throws InputError while a job is queued or running.

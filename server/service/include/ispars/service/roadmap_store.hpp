@@ -174,7 +174,8 @@ class RoadmapStore {
   RoadmapRecipe recipe_;
   std::unique_ptr<RecordFileWriter> journal_;
   std::size_t journal_commits_ = 0;
-  std::uint64_t samples_ = 0;  // of the last commit (for head)
+  std::uint64_t samples_ = 0;      // of the last commit (for head)
+  std::uint64_t task_events_ = 0;  // after the last commit (for head)
   std::size_t compact_every_ = 64;
   std::unique_ptr<FileSystem::Lock> lock_;
   std::thread compactor_;
@@ -204,6 +205,9 @@ struct StoreHead {
   /// Every byte before it was acknowledged: a record that fails its checksum there is damage,
   /// never a crash's torn tail.
   std::uint64_t journal_bytes = 0;
+  /// The store's task events (task_events) after that commit: the fleet weighs a copy by them
+  /// after its samples (0 in heads older than the field).
+  std::uint64_t task_events = 0;
 };
 /// Writes `head` by a rename; with `durable`, fsync'ed (file and directory) before it returns, and
 /// throws on failure; otherwise a failure is ignored (a hint).

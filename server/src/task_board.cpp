@@ -1,0 +1,52 @@
+#include "task_board.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "ispars/service/roadmap_store.hpp"
+
+namespace ispars::server {
+
+void TaskBoard::seen(const msg::SceneTask& t) {
+  const std::string scene = t.scene().to_string();
+  const bool finite = std::all_of(t.pois().begin(), t.pois().end(), [](const msg::Point& p) {
+    return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
+  });
+  if (t.index() >= kMaxTasks || t.pois().size() > kMaxTaskPois || t.pois().empty() ||
+      !valid_task_name(t.name().to_string()) || !finite || scene.size() > 64) {
+    spdlog::warn("ignored task {} of scene '{}' from daemon {}: out of bounds", t.index(), scene.substr(0, 64),
+                 t.server_id().to_string().substr(0, 64));
+    return;
+  }
+  Entry e;
+  e.generation = t.generation();
+  e.task.name = t.name().to_string();
+  e.task.removed = t.removed();
+  e.task.pois.reserve(t.pois().size());
+  for (const msg::Point& p : t.pois()) e.task.pois.emplace_back(p.x(), p.y(), p.z());
+  std::lock_guard lock(mutex_);
+  tasks_[{scene, t.index()}] = std::move(e);
+}
+
+std::size_t TaskBoard::size() const {
+  std::lock_guard lock(mutex_);
+  return tasks_.size();
+}
+
+std::optional<std::vector<InspectionTask>> TaskBoard::tasks_of(const std::string& scene, std::uint64_t generation,
+                                                               std::uint64_t events, std::size_t task_pois) const {
+  std::vector<InspectionTask> out;
+  std::lock_guard lock(mutex_);
+  for (auto it = tasks_.lower_bound({scene, 0}); it != tasks_.end() && it->first.first == scene; ++it) {
+    if (it->first.second != out.size() || it->second.generation != generation) break;
+    out.push_back(it->second.task);
+  }
+  std::size_t pois = 0;
+  for (const InspectionTask& t : out) pois += t.pois.size();
+  if (task_events(out) != events || pois != task_pois) return std::nullopt;
+  return out;
+}
+
+}  // namespace ispars::server

@@ -1,0 +1,44 @@
+#pragma once
+// The inspection tasks other daemons published for the scenes they hold (ispars/tasks), kept
+// after their publisher leaves: a daemon that takes a scene over builds the roadmap with the
+// former owner's tasks (docs/fleet.md). Safe from many threads. Knows nothing of DDS entities.
+
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ispars.h"
+#include "ispars/service/inspection_task.hpp"
+
+namespace ispars::server {
+
+class TaskBoard {
+ public:
+  /// A task as a daemon published it (from the daemon it names: the reader checks). One that is
+  /// out of bounds (index >= kMaxTasks, more than kMaxTaskPois POIs, a bad name, a POI not
+  /// finite) is ignored and logged.
+  void seen(const msg::SceneTask& task);
+
+  /// The tasks of `scene`'s roadmap of `generation`, in order, when the board holds all of them:
+  /// indices 0 .. n-1 of that generation whose events (added, plus removed) are `events` and
+  /// whose POIs number `task_pois` in all. Nothing otherwise (some did not arrive).
+  /// Tasks held, every scene's and generation's.
+  [[nodiscard]] std::size_t size() const;
+
+  [[nodiscard]] std::optional<std::vector<InspectionTask>> tasks_of(const std::string& scene, std::uint64_t generation,
+                                                                    std::uint64_t events, std::size_t task_pois) const;
+
+ private:
+  struct Entry {
+    std::uint64_t generation = 0;
+    InspectionTask task;
+  };
+  mutable std::mutex mutex_;
+  std::map<std::pair<std::string, std::uint32_t>, Entry> tasks_;  // by (scene, index)
+};
+
+}  // namespace ispars::server
