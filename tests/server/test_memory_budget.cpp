@@ -73,6 +73,35 @@ TEST(MemoryBudget, LeasesFitBesideTheReservationsAndGiveBackWhenDropped) {
   EXPECT_EQ(budget->leased(), 0.0);
 }
 
+// A build does not take memory that running work holds: admitted beside the reservations, it is
+// refused as busy while leases fill the rest (before, leases were not counted, and a build could
+// start with the budget already spent by tours); a reclaimer (kept snapshot encodings) is asked
+// first, and what it gives back is counted.
+TEST(MemoryBudget, AnAdmissionCountsTheLeasesHeldAfterTheReclaimerGaveBackWhatItCould) {
+  const auto budget = MemoryBudget::make(1000.0);
+  budget->admit("a", cost_of(100.0, 400.0));
+  auto tour = budget->lease(300.0, "a tour of scene 'a'");
+  std::shared_ptr<MemoryLease> cached = budget->lease(200.0, "a snapshot of scene 'a'");
+  int reclaims = 0;
+  budget->set_reclaimer([&] {
+    ++reclaims;
+    cached.reset();
+  });
+  budget->admit("b", cost_of(100.0, 300.0));  // fits once the cached encoding gave its 200 back
+  EXPECT_EQ(reclaims, 1);
+  EXPECT_EQ(budget->reserved(), 700.0);
+  const std::string refused = refusal([&] { budget->admit("c", cost_of(10.0, 1.0)); });
+  EXPECT_NE(refused.find("request: kind: busy: the roadmap would hold"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("running tours and snapshot encodings hold"), std::string::npos) << refused;
+  EXPECT_EQ(reclaims, 2);
+  EXPECT_EQ(budget->reserved(), 700.0) << "a refusal reserves nothing";
+  tour.reset();
+  budget->admit("c", cost_of(10.0, 1.0));
+  // Beyond the budget whatever the leases: refused by its samples, as before.
+  const std::string too_big = refusal([&] { budget->admit("d", cost_of(10.0, 5000.0)); });
+  EXPECT_NE(too_big.find("request: samples:"), std::string::npos) << too_big;
+}
+
 TEST(MemoryBudget, ALeaseOutlivesItsBudgetsOwner) {
   auto budget = MemoryBudget::make(100.0);
   auto lease = budget->lease(10.0, "work");

@@ -40,25 +40,49 @@ double MemoryBudget::leased() const {
   return leased_;
 }
 
-void MemoryBudget::admit(const std::string& scene, const BuildCost& cost) {
-  std::lock_guard lock(mutex_);
+std::string MemoryBudget::admission_problem(const std::string& scene, const BuildCost& cost, bool count_leases) const {
   const auto own = reserved_.find(scene);
   const double others = reserved_locked() - (own == reserved_.end() ? 0.0 : own->second);
   // A scene reserves its peak (its roadmap and one compaction fold of it), not its steady state:
   // every scene may fold at once.
   if (others + cost.peak_bytes > total_) {
-    throw InputError(kRequest, "samples",
-                     fmt::format("the roadmap would hold about {:.2f} GiB ({:.3g} vertices, {:.3g} edges expected) and "
-                                 "{:.2f} GiB while its store compacts, more than this daemon's memory budget leaves: "
-                                 "{:.2f} of {:.2f} GiB (other scenes hold {:.2f}); ask for fewer samples or a smaller "
-                                 "dense_delta",
-                                 cost.bytes / kGiB, cost.vertices, cost.edges, cost.peak_bytes / kGiB,
-                                 std::max(0.0, total_ - others) / kGiB, total_ / kGiB, others / kGiB));
+    return fmt::format("the roadmap would hold about {:.2f} GiB ({:.3g} vertices, {:.3g} edges expected) and {:.2f} GiB "
+                       "while its store compacts, more than this daemon's memory budget leaves: {:.2f} of {:.2f} GiB "
+                       "(other scenes hold {:.2f}); ask for fewer samples or a smaller dense_delta",
+                       cost.bytes / kGiB, cost.vertices, cost.edges, cost.peak_bytes / kGiB,
+                       std::max(0.0, total_ - others) / kGiB, total_ / kGiB, others / kGiB);
   }
-  reserved_[scene] = cost.peak_bytes;
-  spdlog::info("scene '{}': admitted: about {:.1f} MiB held, {:.1f} MiB at its peak ({:.3g} vertices, {:.3g} edges "
-               "expected); other scenes reserve {:.1f} MiB of the budget's {:.1f}",
-               scene, cost.bytes / kMiB, cost.peak_bytes / kMiB, cost.vertices, cost.edges, others / kMiB, total_ / kMiB);
+  if (count_leases && others + leased_ + cost.peak_bytes > total_) {
+    return fmt::format("busy: the roadmap would hold {:.1f} MiB at its peak, and this daemon's memory budget leaves "
+                       "{:.1f} of {:.1f} MiB now (other scenes reserve {:.1f}, running tours and snapshot encodings "
+                       "hold {:.1f} until they end); retry later",
+                       cost.peak_bytes / kMiB, std::max(0.0, total_ - others - leased_) / kMiB, total_ / kMiB,
+                       others / kMiB, leased_ / kMiB);
+  }
+  return "";
+}
+
+void MemoryBudget::admit(const std::string& scene, const BuildCost& cost) {
+  for (int attempt = 0;; ++attempt) {
+    std::unique_lock lock(mutex_);
+    std::string problem = admission_problem(scene, cost, true);
+    if (!problem.empty()) {
+      const bool busy = problem.starts_with("busy:");
+      if (busy && attempt == 0 && reclaim_) {
+        lock.unlock();
+        reclaim_();  // caches give their leases back; then the check again
+        continue;
+      }
+      throw InputError(kRequest, busy ? "kind" : "samples", std::move(problem));
+    }
+    const double others = reserved_locked() - (reserved_.count(scene) ? reserved_.at(scene) : 0.0);
+    reserved_[scene] = cost.peak_bytes;
+    spdlog::info("scene '{}': admitted: about {:.1f} MiB held, {:.1f} MiB at its peak ({:.3g} vertices, {:.3g} edges "
+                 "expected); other scenes reserve {:.1f} MiB of the budget's {:.1f}, leases {:.1f}",
+                 scene, cost.bytes / kMiB, cost.peak_bytes / kMiB, cost.vertices, cost.edges, others / kMiB,
+                 total_ / kMiB, leased_ / kMiB);
+    return;
+  }
 }
 
 void MemoryBudget::set_reserved(const std::string& scene, double bytes) {
@@ -70,20 +94,29 @@ void MemoryBudget::set_reserved(const std::string& scene, double bytes) {
   }
 }
 
+std::string MemoryBudget::lease_problem(double bytes, const std::string& what) const {
+  const double reserved = reserved_locked();
+  if (reserved + leased_ + bytes <= total_) return "";
+  return fmt::format("busy: {} would need about {:.1f} MiB of memory, and this daemon's memory budget leaves {:.1f} of "
+                     "{:.1f} MiB now (the loaded roadmaps reserve {:.1f}, running work holds {:.1f}); retry later",
+                     what, bytes / kMiB, std::max(0.0, total_ - reserved - leased_) / kMiB, total_ / kMiB,
+                     reserved / kMiB, leased_ / kMiB);
+}
+
 std::shared_ptr<MemoryLease> MemoryBudget::lease(double bytes, const std::string& what) {
   bytes = std::max(0.0, bytes);
-  {
-    std::lock_guard lock(mutex_);
-    const double reserved = reserved_locked();
-    if (reserved + leased_ + bytes > total_) {
-      throw InputError(kRequest, "kind",
-                       fmt::format("busy: {} would need about {:.1f} MiB of memory, and this daemon's memory budget "
-                                   "leaves {:.1f} of {:.1f} MiB now (the loaded roadmaps reserve {:.1f}, running work "
-                                   "holds {:.1f}); retry later",
-                                   what, bytes / kMiB, std::max(0.0, total_ - reserved - leased_) / kMiB,
-                                   total_ / kMiB, reserved / kMiB, leased_ / kMiB));
+  for (int attempt = 0;; ++attempt) {
+    std::unique_lock lock(mutex_);
+    if (std::string problem = lease_problem(bytes, what); !problem.empty()) {
+      if (attempt == 0 && reclaim_) {
+        lock.unlock();
+        reclaim_();
+        continue;
+      }
+      throw InputError(kRequest, "kind", std::move(problem));
     }
     leased_ += bytes;
+    break;
   }
   return std::shared_ptr<MemoryLease>(new MemoryLease(shared_from_this(), bytes));
 }

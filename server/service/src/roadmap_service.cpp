@@ -31,6 +31,7 @@ RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events)
   std::filesystem::create_directories(settings_.data_dir);
   remove_dropped_stores(settings_.data_dir);
   next_job_id_ = static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
+  budget_->set_reclaimer([this] { drop_kept_snapshots(); });
 }
 
 RoadmapService::~RoadmapService() { stop(); }

@@ -3,6 +3,7 @@
 // workers, stopped by a cancel on their scene and by stop()).
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +22,9 @@ namespace ispars {
 namespace {
 
 constexpr std::size_t kSnapshotsKept = 4;
+// A kept encoding unused this long is dropped (its lease given back) at the next snapshot; any
+// is dropped at once when a build, tour or snapshot needs its memory (the budget's reclaimer).
+constexpr std::chrono::seconds kSnapshotKeptFor{60};
 // A snapshot's encoding at its worst: the batch copied out of the roadmap and its encoding, a
 // compaction fold's work over the same vertices and edges (build_cost.hpp).
 double snapshot_cost(const Roadmap& roadmap) {
@@ -86,18 +90,36 @@ VerifyOutcome RoadmapService::verify(const std::string& scene) const {
   return out;
 }
 
+void RoadmapService::drop_kept_snapshots() {
+  std::vector<EncodedSnapshot> dropped;
+  {
+    std::lock_guard lock(snapshots_mutex_);
+    dropped.swap(snapshots_);
+  }
+  if (!dropped.empty()) spdlog::info("dropped {} kept snapshot encodings: their memory is needed", dropped.size());
+}
+
 SnapshotSlice RoadmapService::snapshot(const std::string& scene, std::uint64_t version, std::uint64_t generation,
                                        std::uint32_t chunk_index, std::size_t poi_count) {
   const auto s = session(scene);
   std::shared_ptr<const std::string> bytes;
-  if (version != 0) {
+  std::vector<EncodedSnapshot> expired;  // released outside the lock
+  {
     std::lock_guard lock(snapshots_mutex_);
-    for (const auto& e : snapshots_) {
-      if (e.scene == scene && e.generation == generation && e.version == version &&
-          (poi_count == 0 || e.poi_count == poi_count)) {
-        bytes = e.bytes;
-        poi_count = e.poi_count;
+    const auto now = std::chrono::steady_clock::now();
+    for (auto it = snapshots_.begin(); it != snapshots_.end();) {
+      if (now - it->used > kSnapshotKeptFor) {
+        expired.push_back(std::move(*it));
+        it = snapshots_.erase(it);
+        continue;
       }
+      if (version != 0 && it->scene == scene && it->generation == generation && it->version == version &&
+          (poi_count == 0 || it->poi_count == poi_count)) {
+        bytes = it->bytes;
+        poi_count = it->poi_count;
+        it->used = now;
+      }
+      ++it;
     }
   }
   if (!bytes) {
@@ -119,7 +141,7 @@ SnapshotSlice RoadmapService::snapshot(const std::string& scene, std::uint64_t v
     bytes = std::shared_ptr<const std::string>(encoded.release(), [lease](const std::string* p) { delete p; });
     std::lock_guard lock(snapshots_mutex_);
     poi_count = published.roadmap->poi_count();
-    snapshots_.push_back({scene, generation, version, poi_count, bytes});
+    snapshots_.push_back({scene, generation, version, poi_count, bytes, std::chrono::steady_clock::now()});
     if (snapshots_.size() > kSnapshotsKept) snapshots_.erase(snapshots_.begin());
   }
   const std::size_t count = std::max<std::size_t>(1, (bytes->size() + kSnapshotChunkBytes - 1) / kSnapshotChunkBytes);

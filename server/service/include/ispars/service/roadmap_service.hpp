@@ -279,10 +279,12 @@ class RoadmapService {
     std::uint64_t generation = 0;
     std::uint64_t version = 0;
     std::size_t poi_count = 0;
-    std::shared_ptr<const std::string> bytes;
+    std::shared_ptr<const std::string> bytes;  // holds its lease of the budget
+    std::chrono::steady_clock::time_point used;
   };
   std::mutex snapshots_mutex_;
   std::vector<EncodedSnapshot> snapshots_;  // the few most recent, oldest first
+  void drop_kept_snapshots();               // the budget's reclaimer: kept encodings give their leases back
 
   const std::shared_ptr<MemoryBudget> budget_;
 
