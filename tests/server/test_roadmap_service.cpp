@@ -463,5 +463,24 @@ TEST_F(RoadmapServiceTest, CleanStopsDoNotCountAgainstTheResumeCap) {
   }
 }
 
+// Once the daemon stops its readers, a snapshot encoding is refused by name at its next slice
+// (before, an encoding ran to its end, and a large one could outlast the stop watchdog).
+TEST_F(RoadmapServiceTest, ASnapshotEncodingStopsWhenTheReadersAreStopped) {
+  RoadmapService service(settings(), {});
+  (void)service.load("s0");
+  service.build("s0", ispars(500));
+  wait_idle(service, "s0");
+  EXPECT_GT(service.snapshot("s0", 0, 0, 0, 0).encoded->size(), 0u);
+  service.stop_all_readers("the daemon is stopping");
+  try {
+    (void)service.snapshot("s0", 0, 0, 0, 0);
+    ADD_FAILURE() << "a snapshot was encoded after the stop";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the snapshot of scene 's0' was stopped: the daemon is stopping"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace ispars

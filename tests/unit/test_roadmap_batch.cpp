@@ -147,5 +147,25 @@ TEST_F(RoadmapBatchTest, AnEncodingIsItsPredictedSizeAppendsInPlaceAndDecodesFro
   EXPECT_THROW((void)decode_batch(huge), std::runtime_error);
 }
 
+// A snapshot's encoding, gathered a slice at a time: the same bytes as in one piece, across
+// several slices, and nothing once keep_going says stop (a stopping daemon does not wait it out).
+TEST(RoadmapBatch, AnEncodingGatheredBySlicesIsTheWholeOneAndStopsWhenAsked) {
+  Roadmap roadmap(4);
+  const std::vector<PoiId> seen{1, 3};
+  for (int i = 0; i < 70'000; ++i) {
+    const VertexId v = roadmap.add_vertex(Vec3(i, 0.5 * i, 0), seen);
+    if (v > 0) roadmap.add_edge(v - 1, v);
+  }
+  ASSERT_GT(roadmap.version(), 2u * 65536u) << "more than two slices";
+  for (const std::uint64_t to : {roadmap.version(), std::uint64_t{70'000}, std::uint64_t{1}}) {
+    const auto sliced = encode_prefix(roadmap, to, [] { return true; });
+    ASSERT_TRUE(sliced.has_value());
+    EXPECT_EQ(*sliced, encode_batch(batch_range(roadmap, 0, to))) << to;
+  }
+  int asked = 0;
+  EXPECT_EQ(encode_prefix(roadmap, roadmap.version(), [&] { return ++asked < 2; }), std::nullopt);
+  EXPECT_EQ(asked, 2) << "it stopped at the first slice after being told";
+}
+
 }  // namespace
 }  // namespace ispars

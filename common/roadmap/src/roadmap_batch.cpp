@@ -1,6 +1,7 @@
 #include "ispars/roadmap/roadmap_batch.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <utility>
 #include <stdexcept>
 
@@ -193,6 +194,27 @@ void append_encoded_batch(std::string& out, const RoadmapBatch& batch) {
     put_bytes(out, e.v);
     put_bytes(out, e.cost);
   }
+}
+
+std::optional<std::string> encode_prefix(const Roadmap& roadmap, std::uint64_t to,
+                                         const std::function<bool()>& keep_going) {
+  constexpr std::uint64_t kSlice = 1 << 16;  // changes per look at keep_going: milliseconds each
+  RoadmapBatch whole;
+  whole.to_version = std::min(to, roadmap.version());
+  whole.changes.reserve(whole.to_version);
+  whole.positions.reserve(roadmap.vertex_count());  // at most: the prefix may hold fewer
+  whole.visible.reserve(roadmap.vertex_count());
+  whole.edges.reserve(roadmap.edge_count());
+  for (std::uint64_t at = 0; at < whole.to_version; at += kSlice) {
+    if (!keep_going()) return std::nullopt;
+    RoadmapBatch part = batch_range(roadmap, at, std::min(at + kSlice, whole.to_version));
+    whole.changes.insert(whole.changes.end(), part.changes.begin(), part.changes.end());
+    std::move(part.positions.begin(), part.positions.end(), std::back_inserter(whole.positions));
+    std::move(part.visible.begin(), part.visible.end(), std::back_inserter(whole.visible));
+    whole.edges.insert(whole.edges.end(), part.edges.begin(), part.edges.end());
+  }
+  if (!keep_going()) return std::nullopt;
+  return encode_batch(whole);
 }
 
 std::string encode_batch(const RoadmapBatch& batch) {

@@ -202,6 +202,7 @@ void RoadmapService::stop_readers(const std::string& scene, const std::string& w
 }
 
 void RoadmapService::stop_all_readers(const std::string& why) {
+  readers_stopped_ = true;  // snapshot encodings stop too (at their next slice)
   std::lock_guard lock(sessions_mutex_);
   for (const auto& [name, s] : sessions_) s->stop_readers(why);
 }

@@ -136,7 +136,14 @@ SnapshotSlice RoadmapService::snapshot(const std::string& scene, std::uint64_t v
     }
     // The encoding's worst case is leased before it is made, then only its size while it is kept.
     const auto lease = budget_->lease(snapshot_cost(*published.roadmap), fmt::format("a snapshot of scene '{}'", scene));
-    auto encoded = std::make_unique<const std::string>(encode_batch(batch_range(*published.roadmap, 0, version)));
+    // Stoppable between slices: a daemon that stops does not wait out a large roadmap's encoding.
+    std::optional<std::string> made =
+        encode_prefix(*published.roadmap, version, [this] { return !readers_stopped_.load(); });
+    if (!made) {
+      throw InputError(kRequest, "scene", fmt::format("the snapshot of scene '{}' was stopped: the daemon is stopping",
+                                                      scene));
+    }
+    auto encoded = std::make_unique<const std::string>(std::move(*made));
     lease->shrink_to(static_cast<double>(encoded->size()));
     bytes = std::shared_ptr<const std::string>(encoded.release(), [lease](const std::string* p) { delete p; });
     std::lock_guard lock(snapshots_mutex_);

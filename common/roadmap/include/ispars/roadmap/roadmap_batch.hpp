@@ -5,6 +5,8 @@
 // a replica applies a batch only when it continues it exactly, and whole or not at all.
 
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,6 +51,11 @@ void apply_checked_batch(Roadmap& replica, const RoadmapBatch& batch);
 /// encode_batch's bytes appended to `out`, which grows once, by exactly encoded_batch_size().
 void append_encoded_batch(std::string& out, const RoadmapBatch& batch);
 [[nodiscard]] std::size_t encoded_batch_size(const RoadmapBatch& batch);
+/// encode_batch(batch_range(roadmap, 0, to)), gathered a slice of versions at a time and asking
+/// `keep_going` between slices (a large roadmap's encoding takes seconds): nothing when it says
+/// stop, and the bytes are dropped.
+[[nodiscard]] std::optional<std::string> encode_prefix(const Roadmap& roadmap, std::uint64_t to,
+                                                       const std::function<bool()>& keep_going);
 [[nodiscard]] RoadmapBatch decode_batch(std::string_view payload);
 
 }  // namespace ispars

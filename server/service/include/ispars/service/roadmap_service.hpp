@@ -214,7 +214,8 @@ class RoadmapService {
   void yield(const std::string& scene, const std::atomic<bool>& give_up);
   /// Stops the running verifies of `scene` (if loaded) with `why`.
   void stop_readers(const std::string& scene, const std::string& why);
-  /// Stops the running verifies of every scene with `why` (the daemon is stopping).
+  /// Stops the running verifies of every scene with `why`, and from now on every snapshot encoding
+  /// at its next slice (the daemon is stopping).
   void stop_all_readers(const std::string& why);
   /// How long yield() tries before it leaves the scene as it is (for the fleet's next pass).
   static constexpr std::chrono::seconds kYieldWait{10};
@@ -267,6 +268,7 @@ class RoadmapService {
   const ServiceSettings settings_;
   const ServiceEvents events_;
   std::atomic<bool> stopping_{false};
+  std::atomic<bool> readers_stopped_{false};  // stop_all_readers was called: the daemon is stopping
   std::atomic<std::uint64_t> next_job_id_;  // from the clock at start: unlike a previous run's ids
   std::mutex jobs_mutex_;  // a job's acceptance and its record; every read-compare-remove of one
 
