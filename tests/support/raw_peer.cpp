@@ -30,16 +30,14 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
       : participant_({domain, "", "ispars", "raw peer", security}) {
     fdds::DomainParticipant* p = participant_.get();
     auto* query = wire::find_or_create_topic(p, query_type_, wire::kQueryTopic);
-    auto* change = wire::find_or_create_topic(p, change_type_, wire::kChangeTopic);
     reply_topic_ = wire::find_or_create_topic(p, reply_type_, wire::kReplyTopic);
     id_ = wire::identity_of(participant_->guid().guidPrefix);
     auto* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     reply_subscriber_ = p->create_subscriber(wire::reply_subscriber_qos(id_));
     if (!pub || !reply_subscriber_) throw std::runtime_error("raw peer: no publisher or subscriber");
     queries_ = pub->create_datawriter(query, wire::request_reply_writer_qos());
-    changes_ = pub->create_datawriter(change, wire::request_reply_writer_qos());
     publisher_ = pub;
-    if (!queries_ || !changes_) throw std::runtime_error("raw peer: request writers not created");
+    if (!queries_) throw std::runtime_error("raw peer: query writer not created");
     if (read_replies) open_reply_reader();
   }
   ~Impl() override {
@@ -49,6 +47,16 @@ class RawPeer::Impl final : public fdds::DataReaderListener {
 
   template <class Request>
   std::optional<msg::Reply> send(fdds::DataWriter* writer, Request& request, std::chrono::milliseconds timeout);
+
+  // The change writer, made on first use (a viewer's permissions do not allow one).
+  fdds::DataWriter* change_writer() {
+    if (changes_ == nullptr) {
+      auto* topic = wire::find_or_create_topic(participant_.get(), change_type_, wire::kChangeTopic);
+      changes_ = publisher_->create_datawriter(topic, wire::request_reply_writer_qos());
+      if (changes_ == nullptr) throw std::runtime_error("raw peer: change writer not created");
+    }
+    return changes_;
+  }
 
   void open_reply_reader() {
     if (replies_ != nullptr) return;
@@ -137,8 +145,9 @@ bool RawPeer::post(msg::QueryRequest request, std::chrono::milliseconds timeout)
 }
 
 bool RawPeer::post(msg::ChangeRequest request, std::chrono::milliseconds timeout) {
-  if (!wait_matched(impl_->changes_, std::chrono::steady_clock::now() + timeout)) return false;
-  return impl_->changes_->write(&request);
+  fdds::DataWriter* writer = impl_->change_writer();
+  if (!wait_matched(writer, std::chrono::steady_clock::now() + timeout)) return false;
+  return writer->write(&request);
 }
 
 const std::string& RawPeer::identity() const { return impl_->id_; }
@@ -160,7 +169,7 @@ std::optional<msg::Reply> RawPeer::send(msg::QueryRequest request, std::chrono::
 }
 
 std::optional<msg::Reply> RawPeer::send(msg::ChangeRequest request, std::chrono::milliseconds timeout) {
-  return impl_->send(impl_->changes_, request, timeout);
+  return impl_->send(impl_->change_writer(), request, timeout);
 }
 
 template <class Request>
