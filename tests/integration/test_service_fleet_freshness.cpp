@@ -66,6 +66,25 @@ class FleetFreshnessTest : public ServiceTest {
     EXPECT_EQ(d->terminate(), 0);
   }
   client::ClientOptions options() const { return client_options(domain_); }
+  // Daemon a notes `outcome` about s2 in its scenes list (within 15 s); then for 3 s b keeps
+  // holding s2 and a offers no copy of it.
+  static void expect_noted_and_not_offered(Client& client, DaemonProcess& a, DaemonProcess& b,
+                                           const std::string& outcome) {
+    const auto deadline = Clock::now() + std::chrono::seconds(15);
+    while (Clock::now() < deadline && note_of(client, "s2", "a").find(outcome) == std::string::npos) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    ASSERT_NE(note_of(client, "s2", "a").find(outcome), std::string::npos) << a.log();
+    for (const auto until = Clock::now() + std::chrono::seconds(3); Clock::now() < until;) {
+      ASSERT_EQ(holders(client, "s2"), std::vector<std::string>{"b"}) << a.log() << b.log();
+      for (const auto& info : client::daemon_messages(client)) {
+        if (info.server_id() == "a") {
+          EXPECT_EQ(wire::roadmap_of(info, "s2"), nullptr);
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  }
 };
 
 // The a/b sequence. O builds 2,000 samples and is killed; P takes over, rebuilds to 2,000
@@ -319,22 +338,8 @@ TEST_F(FleetFreshnessTest, ADamagedFresherCopyIsNotOfferedAndTheHealthyHolderKee
   journal[3] ^= 0x02;
   std::ofstream(journal_path, std::ios::binary | std::ios::trunc) << journal;
   auto a = start("a");
-  const std::string outcome = "its stored roadmap is damaged: " + journal_path.string() + " does not start as";
-  const auto deadline = Clock::now() + std::chrono::seconds(15);
-  while (Clock::now() < deadline && note_of(client, "s2", "a").find(outcome) == std::string::npos) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  EXPECT_NE(note_of(client, "s2", "a").find(outcome), std::string::npos) << a->log();
-  // For 3 s after a is heard with its listing: b keeps s2, and a offers no copy of it.
-  for (const auto until = Clock::now() + std::chrono::seconds(3); Clock::now() < until;) {
-    ASSERT_EQ(holders(client, "s2"), std::vector<std::string>{"b"}) << a->log() << b->log();
-    for (const auto& info : client::daemon_messages(client)) {
-      if (info.server_id() == "a") {
-        EXPECT_EQ(wire::roadmap_of(info, "s2"), nullptr);
-      }
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
+  expect_noted_and_not_offered(client, *a, *b,
+                               "its stored roadmap is damaged: " + journal_path.string() + " does not start as");
   const SceneStatus still = client.stats("s2");
   EXPECT_EQ(still.server_id, "b");
   EXPECT_EQ(still.samples_done, 800u);
@@ -372,20 +377,7 @@ TEST_F(FleetFreshnessTest, ACopyBuiltOnAnotherVersionOfTheSceneFileIsNotOffered)
   std::ofstream(a_scenes / "s2.yaml", std::ios::trunc) << "procedural: {kind: tank_tower, seed: 9}\n";
   auto a = start("a", a_scenes);
   const std::string outcome = "its stored roadmap was built on another version of the scene file";
-  const auto deadline = Clock::now() + std::chrono::seconds(15);
-  while (Clock::now() < deadline && note_of(client, "s2", "a").find(outcome) == std::string::npos) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ASSERT_NE(note_of(client, "s2", "a").find(outcome), std::string::npos) << a->log();
-  for (const auto until = Clock::now() + std::chrono::seconds(3); Clock::now() < until;) {
-    ASSERT_EQ(holders(client, "s2"), std::vector<std::string>{"b"}) << a->log() << b->log();
-    for (const auto& info : client::daemon_messages(client)) {
-      if (info.server_id() == "a") {
-        EXPECT_EQ(wire::roadmap_of(info, "s2"), nullptr);
-      }
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
+  expect_noted_and_not_offered(client, *a, *b, outcome);
   EXPECT_EQ(client.stats("s2").samples_done, 800u);
   // The file restored: a's copy is offered again, outweighs b's, and a serves its 3,000 samples.
   std::ofstream(a_scenes / "s2.yaml", std::ios::trunc) << original;
