@@ -41,20 +41,24 @@ std::string task_words(const FormerRoadmap& former) {
                      names.empty() ? std::string("all removed") : names);
 }
 
+// The plan when the former owner held no roadmap: nothing to continue, but a drop it made after
+// this daemon's copy was built sets that copy aside.
+TakeoverPlan plan_without_roadmap(const std::string& scene, const SessionStatus& mine, const FormerRoadmap& former) {
+  if (former.generation > 0 && mine.recipe && mine.recipe->generation < former.generation) {
+    TakeoverPlan plan = keep(fmt::format("scene '{}' taken over from {}, which dropped its roadmap (generation {}) "
+                                         "after this daemon's copy ({}) was built: the copy is set aside",
+                                         scene, former.owner, former.generation, copy_words(mine)));
+    plan.set_aside = true;
+    return plan;
+  }
+  return keep(fmt::format("scene '{}' taken over from {}, which held no roadmap of it", scene, former.owner));
+}
+
 }  // namespace
 
 TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, const std::string& my_fingerprint,
                            const FormerRoadmap& former) {
-  if (!former.recipe) {
-    if (former.generation > 0 && mine.recipe && mine.recipe->generation < former.generation) {
-      TakeoverPlan plan = keep(fmt::format("scene '{}' taken over from {}, which dropped its roadmap (generation {}) "
-                                           "after this daemon's copy ({}) was built: the copy is set aside",
-                                           scene, former.owner, former.generation, copy_words(mine)));
-      plan.set_aside = true;
-      return plan;
-    }
-    return keep(fmt::format("scene '{}' taken over from {}, which held no roadmap of it", scene, former.owner));
-  }
+  if (!former.recipe) return plan_without_roadmap(scene, mine, former);
   if (!mine.recipe && mine.generation > former.recipe->generation) {
     return keep(fmt::format("scene '{}' taken over from {}: this daemon dropped the scene's roadmap (generation {}) "
                             "after daemon {}'s was built (generation {}): nothing is rebuilt, and its copy stays in "
