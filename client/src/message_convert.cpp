@@ -73,6 +73,7 @@ SceneStatus from_message(const msg::SceneStatus& s) {
   out.variant = s.variant().to_string();
   out.seed = s.seed();
   out.generation = s.generation();
+  out.accepted_generation = s.accepted_generation();
   out.samples_done = s.samples_done();
   out.samples_target = s.samples_target();
   out.version = s.version();

@@ -86,8 +86,15 @@ Freshness claim_freshness(const msg::DaemonInfo& daemon, std::string_view scene,
   return {r->generation(), held ? std::max(r->samples(), r->target()) : r->samples(), r->task_events()};
 }
 
+bool declines(const msg::DaemonInfo& daemon, std::string_view scene) {
+  return contains(daemon.declined(), scene) && !holds(daemon, scene);
+}
+
 bool outweighs(std::string_view scene, const msg::DaemonInfo& a, const msg::DaemonInfo& b,
                std::span<const msg::DaemonInfo> live) {
+  const bool da = declines(a, scene);
+  const bool db = declines(b, scene);
+  if (da != db) return db;
   const Freshness fa = claim_freshness(a, scene, live);
   const Freshness fb = claim_freshness(b, scene, live);
   if (fa != fb) return fa > fb;

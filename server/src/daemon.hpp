@@ -115,6 +115,9 @@ class Daemon {
   /// scenes list, and the takeover is tried again (SceneClaims, with backoff).
   void failed_takeover(const OrphanScene& orphan, const std::string& what);
   void announce_if_fresher();  // held roadmaps changed: at once for a new generation or target
+  /// Carries into each scene held here the task changes of a daemon that handed it here with the
+  /// same lineage (the losing side of a partition): merge_tasks, once per change of either list.
+  void merge_handed_tasks();
   // Rejoining (daemon_rejoin.cpp): a peer this one dropped came back under the same GUID,
   // so the sessions between them may never recover (PeerWatch); this daemon then replaces its
   // participant: the new one announces and publishes its statuses again while the old one still
@@ -152,6 +155,7 @@ class Daemon {
   std::mutex publish_mutex_;  // writes statuses in stamp order
   std::unique_ptr<SceneClaims> claims_;  // made before dds_: DDS callbacks read it
   TaskBoard task_board_;                 // other daemons' tasks, for a takeover's rebuild
+  std::map<std::string, std::string> tasks_merged_;  // scene -> the lists last merged (fleet thread)
   TakeoverGate takeover_gate_;           // requests for a scene wait while take_over() resumes it
   std::mutex announce_mutex_;  // announcements written in the order they were made
   FleetListing listing_;  // scene files, stored roadmaps, handovers and notes, as announced

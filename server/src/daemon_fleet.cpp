@@ -17,8 +17,10 @@
 #include "daemon.hpp"
 #include "dds_endpoints.hpp"
 #include "ispars/input_error.hpp"
+#include "ispars/wire/scene_owner.hpp"
 #include "status_message.hpp"
 #include "takeover_plan.hpp"
+#include "task_merge.hpp"
 
 namespace ispars::server {
 namespace {
@@ -28,11 +30,12 @@ constexpr std::chrono::seconds kReannouncePeriod{5};    // after another partici
 constexpr std::chrono::seconds kListingPeriod{2};  // how often scene files and stored roadmaps are rescanned
 constexpr std::chrono::seconds kSamplesAnnouncePeriod{1};  // held roadmaps' committed samples, at most this often
 
-// The samples of the roadmap `status` describes: its target while it was still building.
+// The samples of the roadmap `status` describes: its target while it was still building, and
+// the target a stopping daemon's job had accepted (idle, the job recorded to resume); a queued
+// build's samples (accepted_generation), of which nothing is done yet.
 std::uint64_t samples_to_rebuild(const msg::SceneStatus& status) {
-  const bool running = status.state() == msg::SCENE_BUILDING || status.state() == msg::SCENE_QUEUED ||
-                       status.state() == msg::SCENE_REPLAYING;
-  return running ? std::max(status.samples_target(), status.samples_done()) : status.samples_done();
+  if (status.accepted_generation() != 0) return status.samples_target();
+  return std::max(status.samples_target(), status.samples_done());
 }
 
 }  // namespace
@@ -100,6 +103,7 @@ void Daemon::watch_fleet() {
     rejoin_if_a_peer_returned();
     for (const ContestedScene& contest : claims_->contested()) give_up(contest);
     for (const OrphanScene& orphan : claims_->orphans()) take_over(orphan);
+    merge_handed_tasks();
     announce_if_fresher();
     lock.lock();
   }
@@ -134,17 +138,20 @@ void Daemon::take_over(const OrphanScene& orphan) {
     FormerRoadmap former;
     former.owner = orphan.former_owner;
     former.samples = orphan.accepted;
-    if (orphan.last_status) {
-      former.recipe = recipe_of(*orphan.last_status);
-      former.fingerprint = orphan.last_status->scene_fingerprint().to_string();
-      former.builder_version = orphan.last_status->builder_version();
-      former.samples = std::max(former.samples, samples_to_rebuild(*orphan.last_status));
-      former.generation = orphan.last_status->generation();
-      former.task_events = orphan.last_status->task_events();
+    if (const auto& st = orphan.last_status) {
+      former.recipe = recipe_of(*st);  // a queued build's (accepted_generation), else the roadmap's
+      former.fingerprint = st->scene_fingerprint().to_string();
+      former.builder_version = st->builder_version();
+      // The samples its announcement accepted count only for the lineage the status names.
+      const std::uint64_t lineage = former.recipe ? former.recipe->generation : st->generation();
+      if (orphan.accepted_generation != 0 && orphan.accepted_generation != lineage) former.samples = 0;
+      former.samples = std::max(former.samples, samples_to_rebuild(*st));
+      former.generation = st->generation();
+      former.task_events = st->task_events();
       const std::size_t scene_pois = session->scene().pois().size();
-      if (former.task_events > 0 && orphan.last_status->poi_count() >= scene_pois) {
-        former.tasks = task_board_.tasks_of(orphan.scene, former.generation, former.task_events,
-                                            orphan.last_status->poi_count() - scene_pois);
+      if (former.task_events > 0 && st->poi_count() >= scene_pois) {  // published under the roadmap's generation
+        former.tasks = task_board_.tasks_of(orphan.scene, orphan.former_owner, st->generation(), former.task_events,
+                                            st->poi_count() - scene_pois);
       }
     }
     const TakeoverPlan plan = plan_takeover(orphan.scene, session->status(), session->fingerprint(), former);
@@ -171,6 +178,10 @@ void Daemon::take_over(const OrphanScene& orphan) {
 void Daemon::failed_takeover(const OrphanScene& orphan, const std::string& what) {
   // Not held empty: the claim is released (so no user starts a new lineage on an empty scene
   // thinking it served), the reason is in the scenes list, and the takeover is tried again.
+  // Declined until the retry, and before the release is announced: the rule names the next
+  // daemon meanwhile (one with room, say), and no daemon takes the release for one on purpose.
+  const auto retry = claims_->takeover_retry_in(orphan.scene);
+  listing_.decline(orphan.scene, std::chrono::steady_clock::now() + retry);
   bool released = false;
   try {
     const SessionStatus st = service_->stats(orphan.scene);
@@ -181,13 +192,13 @@ void Daemon::failed_takeover(const OrphanScene& orphan, const std::string& what)
   } catch (const std::exception&) {
     released = true;  // never loaded
   }
-  const auto retry = claims_->takeover_retry_in(orphan.scene);
   const std::string note =
       fmt::format("taking over scene '{}' from daemon {} failed: {}; {}{}", orphan.scene, orphan.former_owner, what,
                   released ? "released" : "kept as held",
                   retry.count() > 0 ? fmt::format(", tried again in {} s while nobody holds it", retry.count()) : "");
   listing_.set_note(orphan.scene, note);
   spdlog::error("{}", note);
+  announce();
 }
 
 void Daemon::announce_if_fresher() {
@@ -208,6 +219,45 @@ void Daemon::announce_if_fresher() {
   last_held_ = std::move(held);
   last_held_announce_ = now;
   announce();
+}
+
+void Daemon::merge_handed_tasks() {
+  const std::vector<ServedRoadmap> held = service_->held_roadmaps();
+  for (const msg::DaemonInfo& d : other_daemons()) {
+    for (const msg::StoredRoadmap& r : d.roadmaps()) {
+      const std::string scene = r.scene().to_string();
+      const auto mine = std::find_if(held.begin(), held.end(), [&](const ServedRoadmap& h) { return h.scene == scene; });
+      if (r.yielded_to().to_string() != config_.server_id || r.task_events() == 0 || wire::holds(d, scene) ||
+          mine == held.end() || mine->generation != r.generation()) {
+        continue;
+      }
+      const std::string from = d.server_id().to_string();
+      const std::string key = fmt::format("{} {} {} {}", from, r.generation(), r.task_events(), mine->task_events);
+      if (tasks_merged_[scene] == key) continue;
+      const auto theirs = task_board_.tasks_of(scene, from, r.generation(), r.task_events(), std::nullopt);
+      if (!theirs) continue;  // not all arrived yet: looked at again on the next pass
+      // One change a pass: an addition is a job, and the scene takes one job at a time.
+      try {
+        const TaskMerge merge = merge_tasks(service_->session(scene)->tasks(), *theirs);
+        if (merge.empty()) {
+          tasks_merged_[scene] = key;
+        } else if (!merge.remove.empty()) {
+          (void)service_->remove_task(scene, merge.remove.front());
+          spdlog::warn("scene '{}': task '{}' removed, as daemon {}, which handed the scene here, had removed it",
+                       scene, merge.remove.front(), from);
+        } else {
+          (void)service_->add_task(scene, merge.add.front());
+          spdlog::warn("scene '{}': task '{}' added, as daemon {}, which handed the scene here, had added it", scene,
+                       merge.add.front().name, from);
+        }
+      } catch (const InputError& e) {
+        spdlog::debug("scene '{}': daemon {}'s task changes wait: {}", scene, from, e.what());  // a job runs
+      } catch (const std::exception& e) {
+        spdlog::error("scene '{}': carrying daemon {}'s task changes failed: {}", scene, from, e.what());
+        tasks_merged_[scene] = key;  // not tried again until either list changes
+      }
+    }
+  }
 }
 
 }  // namespace ispars::server

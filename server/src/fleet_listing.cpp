@@ -64,6 +64,10 @@ void FleetListing::describe(msg::DaemonInfo& info, std::vector<ServedRoadmap> he
     }
     info.roadmaps().push_back(std::move(m));
   }
+  const auto now = std::chrono::steady_clock::now();
+  for (const auto& [scene, until] : declined_) {
+    if (until > now) info.declined().push_back(scene);
+  }
 }
 
 void FleetListing::hand_over(const std::string& scene, const std::string& to, std::uint64_t accepted,
@@ -76,6 +80,12 @@ void FleetListing::hand_over(const std::string& scene, const std::string& to, st
 void FleetListing::held_again(const std::string& scene) {
   std::lock_guard lock(mutex_);
   handed_over_.erase(scene);
+  declined_.erase(scene);
+}
+
+void FleetListing::decline(const std::string& scene, std::chrono::steady_clock::time_point until) {
+  std::lock_guard lock(mutex_);
+  declined_[scene] = until;
 }
 
 void FleetListing::set_note(const std::string& scene, const std::string& note) {

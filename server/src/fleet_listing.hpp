@@ -6,6 +6,7 @@
 // a note per scene of what the fleet last decided about it here, for the scenes list.
 // Safe from many threads. Knows nothing of DDS: it fills the announcement's message.
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -35,8 +36,11 @@ class FleetListing {
 
   /// `scene` was handed to daemon `to` with `accepted` samples accepted here; `note` says so.
   void hand_over(const std::string& scene, const std::string& to, std::uint64_t accepted, const std::string& note);
-  /// `scene` is held here again: no longer announced as handed over.
+  /// `scene` is held here again: no longer announced as handed over, nor declined.
   void held_again(const std::string& scene);
+  /// This daemon's takeover of `scene` failed: announced as declined (wire::declines) until
+  /// `until`, when it is tried again, so that the rule names another daemon meanwhile.
+  void decline(const std::string& scene, std::chrono::steady_clock::time_point until);
 
   void set_note(const std::string& scene, const std::string& note);
   /// What the fleet last decided about `scene` here; empty if nothing.
@@ -57,6 +61,7 @@ class FleetListing {
   std::map<std::string, Handover> handed_over_;
   std::map<std::string, std::string> notes_;
   std::map<std::string, std::string> unservable_;  // as last listed, with why
+  std::map<std::string, std::chrono::steady_clock::time_point> declined_;  // until when
 };
 
 }  // namespace ispars::server

@@ -18,6 +18,18 @@ bool alive(const std::vector<msg::DaemonInfo>& live, const std::string& id) {
   return std::any_of(live.begin(), live.end(), [&](const msg::DaemonInfo& d) { return d.server_id() == id; });
 }
 
+// Whether a daemon among `everyone` holds `scene` with a copy at least as fresh as
+// (generation, samples): the former owner's work is served again.
+bool served_again(const std::string& scene, std::uint64_t generation, std::uint64_t samples,
+                  const std::vector<msg::DaemonInfo>& everyone) {
+  return std::any_of(everyone.begin(), everyone.end(), [&](const msg::DaemonInfo& d) {
+    if (!wire::holds(d, scene)) return false;
+    if (generation == 0 && samples == 0) return true;  // the former owner held no roadmap
+    const msg::StoredRoadmap* r = wire::roadmap_of(d, scene);
+    return r && std::pair(r->generation(), r->samples()) >= std::pair(generation, samples);
+  });
+}
+
 }  // namespace
 
 SceneClaims::SceneClaims(std::string self_id, Fleet fleet) : self_(std::move(self_id)), fleet_(std::move(fleet)) {}
@@ -32,7 +44,7 @@ void SceneClaims::claim(const std::string& scene) {
     // Remembered now, not only on the fleet thread's next look: a holder that leaves right after
     // refusing this claim (a daemon starting beside it) is then taken over.
     std::lock_guard lock(mutex_);
-    remember_holders(others);
+    remember_holders(others, &others);
   }
   if (const std::string holder = wire::holder_of(scene, others); !holder.empty()) {
     throw InputError(kRequest, "scene", fmt::format("scene '{}' is owned by daemon {}", scene, holder));
@@ -110,16 +122,38 @@ std::vector<ContestedScene> SceneClaims::contested() const {
   return out;
 }
 
-void SceneClaims::remember_holders(const std::vector<msg::DaemonInfo>& others) {
-  for (const msg::DaemonInfo& d : others) {
+void SceneClaims::remember_holders(const std::vector<msg::DaemonInfo>& announcements,
+                                   const std::vector<msg::DaemonInfo>* live) {
+  for (const msg::DaemonInfo& d : announcements) {
     for (const auto& name : d.loaded()) {
       const std::string scene = name.to_string();
-      if (held_by_.size() >= kMaxRemembered && !held_by_.count(scene)) continue;
-      held_by_[scene] = d.server_id().to_string();
-      const msg::StoredRoadmap* r = wire::roadmap_of(d, scene);
-      accepted_[scene] = r ? std::max(r->samples(), r->target()) : 0;
+      const auto seen = held_by_.find(scene);
+      if (seen == held_by_.end() && held_by_.size() >= kMaxRemembered) continue;
+      if (seen != held_by_.end() && seen->second.id != d.server_id().to_string()) {
+        // Another holder now: if the one before left the domain holding it, it is an orphan
+        // until a copy as fresh as its own is served (unknown on one announcement: kept).
+        if (!live) continue;
+        if (!alive(*live, seen->second.id)) orphan_of(scene, seen->second);
+      }
+      Holder h{d.server_id().to_string()};
+      if (const msg::StoredRoadmap* r = wire::roadmap_of(d, scene)) {
+        h = {h.id, r->generation(), r->samples(), std::max(r->samples(), r->target())};
+      }
+      held_by_[scene] = std::move(h);
     }
   }
+}
+
+void SceneClaims::orphan_of(const std::string& scene, const Holder& holder) {
+  if (takeovers_.size() >= kMaxRemembered && !takeovers_.count(scene)) return;
+  PendingTakeover pending;
+  pending.orphan = {scene, holder.id, false, std::nullopt, holder.accepted, holder.generation};
+  pending.generation = holder.generation;
+  pending.samples = holder.samples;
+  if (const auto s = last_status_.find({scene, holder.id}); s != last_status_.end()) {
+    pending.orphan.last_status = s->second;
+  }
+  takeovers_[scene] = std::move(pending);
 }
 
 void SceneClaims::add_handovers(const std::vector<msg::DaemonInfo>& others, const msg::DaemonInfo& me,
@@ -143,8 +177,8 @@ void SceneClaims::add_handovers(const std::vector<msg::DaemonInfo>& others, cons
       if (last != handover_reported_.end() && now - last->second < kRetryPeriod) continue;
       if (handover_reported_.size() >= kMaxRemembered && last == handover_reported_.end()) continue;
       handover_reported_[scene] = now;
-      OrphanScene orphan{scene, d.server_id().to_string(), true, std::nullopt, accepted};
-      if (const auto s = last_status_.find(scene); s != last_status_.end() && s->second.server_id() == d.server_id()) {
+      OrphanScene orphan{scene, d.server_id().to_string(), true, std::nullopt, accepted, r.generation()};
+      if (const auto s = last_status_.find({scene, orphan.former_owner}); s != last_status_.end()) {
         orphan.last_status = s->second;
       }
       out.push_back(std::move(orphan));
@@ -152,19 +186,19 @@ void SceneClaims::add_handovers(const std::vector<msg::DaemonInfo>& others, cons
   }
 }
 
-void SceneClaims::retry_takeovers(const std::vector<msg::DaemonInfo>& others,
-                                  const std::vector<msg::DaemonInfo>& everyone, std::vector<OrphanScene>& out) {
+void SceneClaims::report_takeovers(const std::vector<msg::DaemonInfo>& others,
+                                   const std::vector<msg::DaemonInfo>& everyone, std::vector<OrphanScene>& out) {
   const auto now = std::chrono::steady_clock::now();
   for (auto it = takeovers_.begin(); it != takeovers_.end();) {
     auto& [scene, pending] = *it;
-    if (claimed_.count(scene) || !wire::holder_of(scene, others).empty() ||
-        wire::assigned_daemon(scene, everyone) != self_) {
-      it = takeovers_.erase(it);  // taken over (here or elsewhere), or no longer this daemon's
+    if (claimed_.count(scene) || served_again(scene, pending.generation, pending.samples, everyone)) {
+      it = takeovers_.erase(it);  // taken over here (a failure is handled before the next pass), or served
       continue;
     }
-    if (now - pending.reported >= retry_delay(pending.attempts)) {  // the takeover failed: once more
+    const bool mine = wire::holder_of(scene, others).empty() && wire::assigned_daemon(scene, everyone) == self_;
+    if (mine && (!pending.reported || now - *pending.reported >= retry_delay(pending.attempts))) {
+      if (pending.reported) ++pending.attempts;  // the takeover failed here: once more
       pending.reported = now;
-      ++pending.attempts;
       out.push_back(pending.orphan);
     }
     ++it;
@@ -177,27 +211,27 @@ std::vector<OrphanScene> SceneClaims::orphans() {
   everyone.push_back(fleet_.self());
   std::vector<OrphanScene> out;
   std::lock_guard lock(mutex_);
-  remember_holders(others);
+  remember_holders(others, &others);
   for (auto it = held_by_.begin(); it != held_by_.end();) {
     const auto& [scene, holder] = *it;
     const std::string now_held = wire::holder_of(scene, others);
-    if (now_held == holder) {
+    if (now_held == holder.id) {
       ++it;  // still held by the daemon last seen holding it
-    } else if (!now_held.empty() || claimed_.count(scene) || alive(others, holder)) {
-      it = held_by_.erase(it);  // moved to another daemon, or here, or released (handed over: below)
-    } else if (wire::assigned_daemon(scene, everyone) == self_) {
-      OrphanScene orphan{scene, holder, false, std::nullopt, accepted_[scene]};
-      if (const auto s = last_status_.find(scene); s != last_status_.end() && s->second.server_id() == holder) {
-        orphan.last_status = s->second;
-      }
-      if (takeovers_.size() < kMaxRemembered) takeovers_[scene] = {orphan, std::chrono::steady_clock::now()};
-      out.push_back(std::move(orphan));
+    } else if (!now_held.empty() || claimed_.count(scene)) {
+      it = held_by_.erase(it);  // moved to another daemon, or here
+    } else if (const auto d = std::find_if(others.begin(), others.end(),
+                                           [&](const msg::DaemonInfo& o) { return o.server_id() == holder.id; });
+               d != others.end()) {
+      // Released while alive: on purpose (handed over: below), unless it declines the scene,
+      // its takeover having failed; then whichever daemon left before is still to be taken over.
+      if (!wire::declines(*d, scene)) takeovers_.erase(scene);
       it = held_by_.erase(it);
     } else {
-      ++it;  // another live daemon is to take it over; remembered in case it leaves too
+      orphan_of(scene, holder);  // left the domain while holding it
+      it = held_by_.erase(it);
     }
   }
-  retry_takeovers(others, everyone, out);
+  report_takeovers(others, everyone, out);
   add_handovers(others, everyone.back(), out);
   return out;
 }
@@ -205,23 +239,21 @@ std::vector<OrphanScene> SceneClaims::orphans() {
 std::chrono::seconds SceneClaims::takeover_retry_in(const std::string& scene) const {
   std::lock_guard lock(mutex_);
   const auto it = takeovers_.find(scene);
-  return it == takeovers_.end() ? std::chrono::seconds(0) : retry_delay(it->second.attempts);
+  return it == takeovers_.end() || !it->second.reported ? std::chrono::seconds(0) : retry_delay(it->second.attempts);
 }
 
 void SceneClaims::observe(const msg::DaemonInfo& announcement) {
   if (announcement.server_id() == self_) return;
   std::lock_guard lock(mutex_);
-  remember_holders({announcement});
+  remember_holders({announcement}, nullptr);
 }
 
 void SceneClaims::observe(const msg::SceneStatus& status) {
   // An UNLOADED status (also sent by a daemon stopping) says nothing of the roadmap it held.
   if (status.server_id() == self_ || status.state() == msg::SCENE_UNLOADED) return;
   std::lock_guard lock(mutex_);
-  const std::string scene = status.scene().to_string();
-  if (last_status_.size() < kMaxRemembered || last_status_.count(scene)) {
-    last_status_[scene] = status;
-  }
+  const std::pair key(status.scene().to_string(), status.server_id().to_string());
+  if (last_status_.size() < kMaxRemembered || last_status_.count(key)) last_status_[key] = status;
 }
 
 }  // namespace ispars::server

@@ -18,6 +18,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -42,8 +43,10 @@ struct OrphanScene {
   bool handed_over = false;  ///< The former owner lives and gave the scene to this daemon.
   /// The last status the former owner published while holding it (its recipe and size), if any.
   std::optional<msg::SceneStatus> last_status;
-  /// The samples the former owner had accepted to reach (its announced target), 0 if unknown.
+  /// The samples the former owner had accepted to reach (its announced target), 0 if unknown,
+  /// and the generation of the copy it announced them for.
   std::uint64_t accepted = 0;
+  std::uint64_t accepted_generation = 0;
 };
 
 /// A scene held here that another live daemon outweighs: to be given up to `winner`.
@@ -81,8 +84,11 @@ class SceneClaims {
   /// Scenes claimed here that another live daemon outweighs: to give up to it.
   [[nodiscard]] std::vector<ContestedScene> contested() const;
   /// Scenes whose holder left and that the rule now assigns to this daemon, and scenes a live
-  /// holder handed to this daemon; each reported again every kRetryPeriod while nobody holds it
-  /// and the rule still names this daemon (a takeover that failed is tried again).
+  /// holder handed to this daemon; each reported again after retry_delay while nobody holds it
+  /// and the rule still names this daemon (a takeover that failed is tried again). A scene whose
+  /// holder left is remembered until some daemon serves a copy at least as fresh as the former
+  /// owner's, so a takeover that fails elsewhere (that daemon declines the scene) comes here
+  /// with the former owner's recipe when the rule names this daemon next.
   [[nodiscard]] std::vector<OrphanScene> orphans();
   /// How long until a takeover of `scene` that failed now is tried again (0: none pending).
   [[nodiscard]] std::chrono::seconds takeover_retry_in(const std::string& scene) const;
@@ -93,25 +99,40 @@ class SceneClaims {
   void observe(const msg::DaemonInfo& announcement);
 
  private:
+  /// The other daemon last seen holding a scene, and the copy it announced.
+  struct Holder {
+    std::string id;
+    std::uint64_t generation = 0, samples = 0;  // its committed copy
+    std::uint64_t accepted = 0;                 // what it announced accepting to reach
+  };
+  /// A scene whose holder left the domain while holding it, remembered by every daemon until a
+  /// daemon serves a copy at least as fresh (a third daemon's takeover that fails and releases
+  /// the scene leaves it here, so the next daemon the rule names takes it over).
+  struct PendingTakeover {
+    OrphanScene orphan;
+    std::uint64_t generation = 0, samples = 0;  // the former owner's committed copy
+    std::optional<std::chrono::steady_clock::time_point> reported;  // here, last time
+    unsigned attempts = 0;                                           // reported again so far
+  };
+
   const std::string self_;
   const Fleet fleet_;
   mutable std::mutex mutex_;
   std::set<std::string> claimed_;
-  void remember_holders(const std::vector<msg::DaemonInfo>& others);  // with mutex_ held
-  void add_handovers(const std::vector<msg::DaemonInfo>& others, const msg::DaemonInfo& me,
-                     std::vector<OrphanScene>& out);  // mutex_ held
-  std::map<std::string, std::string> held_by_;                // scene -> the other daemon last seen holding it
-  std::map<std::string, std::uint64_t> accepted_;             // scene -> what its holder last announced accepting
+  std::map<std::string, Holder> held_by_;  // scene -> the other daemon last seen holding it
   std::map<std::string, std::chrono::steady_clock::time_point> handover_reported_;
-  struct PendingTakeover {
-    OrphanScene orphan;
-    std::chrono::steady_clock::time_point reported;
-    unsigned attempts = 0;  // reported again so far
-  };
-  std::map<std::string, PendingTakeover> takeovers_;  // orphans reported and not yet held here
-  void retry_takeovers(const std::vector<msg::DaemonInfo>& others, const std::vector<msg::DaemonInfo>& everyone,
-                       std::vector<OrphanScene>& out);  // mutex_ held
-  std::map<std::string, msg::SceneStatus> last_status_;  // scene -> its holder's last status but UNLOADED
+  std::map<std::string, PendingTakeover> takeovers_;  // scenes whose holder left, not yet served again
+  // (scene, daemon) -> that daemon's last status of the scene but UNLOADED: another daemon's
+  // status never hides the former owner's recipe.
+  std::map<std::pair<std::string, std::string>, msg::SceneStatus> last_status_;
+
+  // All with mutex_ held.
+  void remember_holders(const std::vector<msg::DaemonInfo>& announcements, const std::vector<msg::DaemonInfo>* live);
+  void orphan_of(const std::string& scene, const Holder& holder);
+  void add_handovers(const std::vector<msg::DaemonInfo>& others, const msg::DaemonInfo& me,
+                     std::vector<OrphanScene>& out);
+  void report_takeovers(const std::vector<msg::DaemonInfo>& others, const std::vector<msg::DaemonInfo>& everyone,
+                        std::vector<OrphanScene>& out);
 };
 
 }  // namespace ispars::server

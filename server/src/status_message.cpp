@@ -20,21 +20,23 @@ msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id
   m.server_id(server_id);
   m.state(to_message(s.state));
   m.generation(generation);
-  if (s.recipe) {
-    m.method(std::string(to_string(s.recipe->method)));
-    if (has_variants(s.recipe->method)) {
-      m.variant(std::string(to_string(s.recipe->variant)));
+  // The recipe accepted: a queued build's while it waits (with accepted_generation), else the roadmap's.
+  if (const auto& recipe = s.accepted ? s.accepted : s.recipe) {
+    m.method(std::string(to_string(recipe->method)));
+    if (has_variants(recipe->method)) {
+      m.variant(std::string(to_string(recipe->variant)));
     }
-    m.seed(s.recipe->seed);
-    m.dense_delta(s.recipe->dense_delta);
-    m.sparse_delta(s.recipe->sparse_delta);
-    m.stretch(s.recipe->stretch);
-    m.stretch_slack(s.recipe->stretch_slack);
-    m.stretch_slack_after(s.recipe->stretch_slack_after);
-    m.p_accept(s.recipe->p_accept);
-    m.scene_fingerprint(s.recipe->scene_fingerprint.substr(0, 64));
-    m.builder_version(s.recipe->builder_version);
+    m.seed(recipe->seed);
+    m.dense_delta(recipe->dense_delta);
+    m.sparse_delta(recipe->sparse_delta);
+    m.stretch(recipe->stretch);
+    m.stretch_slack(recipe->stretch_slack);
+    m.stretch_slack_after(recipe->stretch_slack_after);
+    m.p_accept(recipe->p_accept);
+    m.scene_fingerprint(recipe->scene_fingerprint.substr(0, 64));
+    m.builder_version(recipe->builder_version);
   }
+  if (s.accepted) m.accepted_generation(s.accepted->generation);
   m.samples_done(s.samples_done);
   m.samples_target(s.samples_target);
   m.version(s.version);
@@ -70,7 +72,7 @@ std::optional<RoadmapRecipe> recipe_of(const msg::SceneStatus& m) {
   recipe.stretch_slack = m.stretch_slack();
   recipe.stretch_slack_after = m.stretch_slack_after();
   recipe.p_accept = m.p_accept();
-  recipe.generation = m.generation();
+  recipe.generation = m.accepted_generation() != 0 ? m.accepted_generation() : m.generation();
   return recipe;
 }
 

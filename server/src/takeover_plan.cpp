@@ -82,9 +82,12 @@ TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, 
                 true);
   }
   // The same roadmap, unless this copy lacks task events the former owner's had and this daemon
-  // has those tasks (then it is rebuilt with them); without them it is continued as it is.
+  // has those tasks (then it is rebuilt with them); without them it is continued as it is. The
+  // same lineage only: an equal recipe built by another BUILD (another generation) is not it,
+  // and the later build is what was acknowledged last.
   const bool lacks_tasks = mine.task_events < former.task_events && former.tasks.has_value();
-  if (mine.recipe && same_roadmap(*mine.recipe, theirs) && !lacks_tasks) {
+  if (mine.recipe && same_roadmap(*mine.recipe, theirs) && mine.recipe->generation == theirs.generation &&
+      !lacks_tasks) {
     if (mine.samples_done >= former.samples) {
       return keep(fmt::format("scene '{}' taken over from {}: this daemon's copy ({}) holds the {} samples it had "
                               "reached or accepted{}",

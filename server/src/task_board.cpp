@@ -27,7 +27,7 @@ void TaskBoard::seen(const msg::SceneTask& t) {
   e.task.pois.reserve(t.pois().size());
   for (const msg::Point& p : t.pois()) e.task.pois.emplace_back(p.x(), p.y(), p.z());
   std::lock_guard lock(mutex_);
-  tasks_[{scene, t.index()}] = std::move(e);
+  tasks_[{scene, t.server_id().to_string(), t.index()}] = std::move(e);
 }
 
 std::size_t TaskBoard::size() const {
@@ -35,17 +35,19 @@ std::size_t TaskBoard::size() const {
   return tasks_.size();
 }
 
-std::optional<std::vector<InspectionTask>> TaskBoard::tasks_of(const std::string& scene, std::uint64_t generation,
-                                                               std::uint64_t events, std::size_t task_pois) const {
+std::optional<std::vector<InspectionTask>> TaskBoard::tasks_of(const std::string& scene, const std::string& server,
+                                                               std::uint64_t generation, std::uint64_t events,
+                                                               std::optional<std::size_t> task_pois) const {
   std::vector<InspectionTask> out;
   std::lock_guard lock(mutex_);
-  for (auto it = tasks_.lower_bound({scene, 0}); it != tasks_.end() && it->first.first == scene; ++it) {
-    if (it->first.second != out.size() || it->second.generation != generation) break;
+  for (auto it = tasks_.lower_bound({scene, server, 0});
+       it != tasks_.end() && std::get<0>(it->first) == scene && std::get<1>(it->first) == server; ++it) {
+    if (std::get<2>(it->first) != out.size() || it->second.generation != generation) break;
     out.push_back(it->second.task);
   }
   std::size_t pois = 0;
   for (const InspectionTask& t : out) pois += t.pois.size();
-  if (task_events(out) != events || pois != task_pois) return std::nullopt;
+  if (task_events(out) != events || (task_pois && pois != *task_pois)) return std::nullopt;
   return out;
 }
 

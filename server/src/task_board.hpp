@@ -8,6 +8,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -23,14 +24,17 @@ class TaskBoard {
   /// finite) is ignored and logged.
   void seen(const msg::SceneTask& task);
 
-  /// The tasks of `scene`'s roadmap of `generation`, in order, when the board holds all of them:
-  /// indices 0 .. n-1 of that generation whose events (added, plus removed) are `events` and
-  /// whose POIs number `task_pois` in all. Nothing otherwise (some did not arrive).
-  /// Tasks held, every scene's and generation's.
+  /// Tasks held, every scene's, daemon's and generation's.
   [[nodiscard]] std::size_t size() const;
 
-  [[nodiscard]] std::optional<std::vector<InspectionTask>> tasks_of(const std::string& scene, std::uint64_t generation,
-                                                                    std::uint64_t events, std::size_t task_pois) const;
+  /// The tasks of `scene`'s roadmap of `generation` as daemon `server` published them, in order,
+  /// when the board holds all of them: indices 0 .. n-1 of that generation whose events (added,
+  /// plus removed) are `events` and whose POIs number `task_pois` in all (if known). Nothing otherwise
+  /// (some did not arrive). Two daemons' lists are kept apart: the two sides of a partition
+  /// publish different tasks at one index.
+  [[nodiscard]] std::optional<std::vector<InspectionTask>> tasks_of(const std::string& scene, const std::string& server,
+                                                                    std::uint64_t generation, std::uint64_t events,
+                                                                    std::optional<std::size_t> task_pois) const;
 
  private:
   struct Entry {
@@ -38,7 +42,7 @@ class TaskBoard {
     InspectionTask task;
   };
   mutable std::mutex mutex_;
-  std::map<std::pair<std::string, std::uint32_t>, Entry> tasks_;  // by (scene, index)
+  std::map<std::tuple<std::string, std::string, std::uint32_t>, Entry> tasks_;  // by (scene, server, index)
 };
 
 }  // namespace ispars::server

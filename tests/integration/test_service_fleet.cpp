@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <barrier>
 #include <chrono>
 #include <thread>
@@ -454,6 +455,43 @@ TEST_F(FleetTest, ATaskIsCarriedByTheDaemonThatTakesTheSceneOver) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
   EXPECT_EQ(client.tasks("s0").size(), 1u);
+}
+
+// The held-empty scene, with a third daemon. The rule names b for the scene, but b's
+// budget refuses the rebuild: b declines the scene in its announcement until its retry, so the
+// rule names c, which takes the scene over and rebuilds it, byte for byte. Before, b kept
+// retrying alone and nobody served the scene.
+TEST_F(FleetTest, ATakeoverThatFailsPassesToTheNextDaemonTheRuleNames) {
+  // The roles by the rule's weights for s0 (no copies yet): the first holds it, the second (a
+  // small budget) is named next, the third after it.
+  std::vector<std::string> ids{"a", "b", "c"};
+  std::sort(ids.begin(), ids.end(), [](const std::string& x, const std::string& y) { return wire::outranks("s0", x, y); });
+  auto owner = start(ids[0], {"--memory-budget-mb", kNoBudget});
+  auto weak = start(ids[1], {"--memory-budget-mb", "16"});
+  auto rescuer = start(ids[2], {"--memory-budget-mb", kNoBudget});
+  Client client(client_options(domain_));
+  for (const auto met = Clock::now(); client.daemons().size() < 3 && Clock::now() - met < std::chrono::seconds(30);) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(client.daemons().size(), 3u) << "the client did not hear the three daemons";
+  const SceneStatus built = load_and_build(client, "s0", ispars_build(20000, 3));
+  ASSERT_EQ(built.server_id, ids[0]);
+  const std::uint64_t digest = roadmap_digest(client.snapshot("s0").roadmap);
+  owner->kill9();
+  SceneStatus served;
+  for (const auto killed = Clock::now(); Clock::now() - killed < std::chrono::seconds(90);) {
+    try {
+      served = client.wait_idle("s0", {}, kLong);
+      if (served.server_id == ids[2] && served.samples_done == built.samples_done) break;
+    } catch (const ClientError&) {  // the scene moves meanwhile
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  EXPECT_EQ(served.server_id, ids[2]) << weak->log() << rescuer->log();
+  EXPECT_EQ(served.samples_done, built.samples_done);
+  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), digest);
+  EXPECT_NE(weak->log().find("taking over scene 's0' from daemon " + ids[0] + " failed"), std::string::npos)
+      << weak->log();
 }
 
 }  // namespace

@@ -289,5 +289,65 @@ TEST(SceneClaims, ADroppedRoadmapIsNotRebuiltByTheTaker) {
   EXPECT_EQ(orphans[0].last_status->method(), "");
 }
 
+// The held-empty scene with a third daemon: the daemon the rule named first ("first"
+// outranks this one) holds the scene a moment, fails, releases it and declines it. The former
+// owner's orphan, with its recipe, comes here; a third daemon's recipe-less status does not hide
+// it. A daemon that releases the scene without declining it released it on purpose: no orphan.
+TEST(SceneClaims, ATakeoverThatFailsElsewhereComesHereWithTheFormerOwnersRecipe) {
+  for (const bool declined : {true, false}) {
+    const Ranked r;
+    Claims c(r.low);
+    msg::DaemonInfo gone = info("gone", {"s"});
+    test::add_copy(gone, 3, 1234);
+    c.fleet.others = {gone, info(r.high)};
+    EXPECT_TRUE(c.claims->orphans().empty());
+    c.claims->observe(status("gone", msg::SCENE_IDLE, "ispars"));
+    c.fleet.others = {info(r.high)};  // gone left: the rule names r.high
+    EXPECT_TRUE(c.claims->orphans().empty());
+    c.fleet.others = {info(r.high, {"s"})};  // r.high claims it, fails
+    c.claims->observe(status(r.high, msg::SCENE_FAILED, ""));
+    EXPECT_TRUE(c.claims->orphans().empty());
+    msg::DaemonInfo first = info(r.high);
+    if (declined) first.declined().push_back("s");
+    c.fleet.others = {first};
+    const auto orphans = c.claims->orphans();
+    if (!declined) {
+      EXPECT_TRUE(orphans.empty()) << "released on purpose: nothing to take over";
+      continue;
+    }
+    ASSERT_EQ(orphans.size(), 1u);
+    EXPECT_EQ(orphans[0].former_owner, "gone");
+    EXPECT_EQ(orphans[0].accepted, 1234u);
+    ASSERT_TRUE(orphans[0].last_status.has_value());
+    EXPECT_EQ(orphans[0].last_status->method(), "ispars");
+    EXPECT_TRUE(c.claims->orphans().empty());  // not again before the retry period
+  }
+}
+
+// Once some daemon serves a copy as fresh as the former owner's, the orphan is forgotten: a
+// later release by that daemon is not a takeover of the former owner's work.
+TEST(SceneClaims, AnOrphanServedAgainElsewhereIsForgotten) {
+  const Ranked r;
+  Claims c(r.low);
+  msg::DaemonInfo gone = info("gone", {"s"});
+  test::add_copy(gone, 3, 1234);
+  c.fleet.others = {gone, info(r.high)};
+  (void)c.claims->orphans();
+  c.fleet.others = {info(r.high)};
+  EXPECT_TRUE(c.claims->orphans().empty());
+  msg::DaemonInfo holder = info(r.high, {"s"});
+  test::add_copy(holder, 3, 1000, 1234);  // rebuilding: not yet as fresh
+  c.fleet.others = {holder};
+  EXPECT_TRUE(c.claims->orphans().empty());
+  msg::DaemonInfo served = info(r.high, {"s"});
+  test::add_copy(served, 3, 1234);
+  c.fleet.others = {served};
+  EXPECT_TRUE(c.claims->orphans().empty());
+  msg::DaemonInfo declining = info(r.high);
+  declining.declined().push_back("s");
+  c.fleet.others = {declining};
+  EXPECT_TRUE(c.claims->orphans().empty()) << "the former owner's work was served again";
+}
+
 }  // namespace
 }  // namespace ispars::server

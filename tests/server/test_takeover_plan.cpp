@@ -47,8 +47,15 @@ TEST(TakeoverPlan, AnOwnCopyHoldingAtLeastWhatWasAskedIsKept) {
   EXPECT_FALSE(plan.set_aside);
   EXPECT_FALSE(plan.refused);
   EXPECT_NE(plan.outcome.find("holds the 10000 samples"), std::string::npos) << plan.outcome;
-  // The same roadmap under another generation (built apart, same recipe) is the same roadmap.
-  EXPECT_EQ(plan_takeover("s", mine(recipe(3), 20000), "f", former(recipe(7), 10000)).action,
+  // An equal recipe under an older generation (another BUILD) is not the same lineage: the
+  // later build was acknowledged last, and is rebuilt (this copy set aside). Under a newer
+  // generation this copy is the later build, and is kept. (The history campaign found a daemon
+  // serving its older generation for a later acknowledged build of an equal recipe.)
+  const TakeoverPlan older = plan_takeover("s", mine(recipe(3), 20000), "f", former(recipe(7), 10000));
+  EXPECT_EQ(older.action, TakeoverPlan::Action::rebuild);
+  EXPECT_TRUE(older.set_aside);
+  EXPECT_EQ(older.request.generation, 7u);
+  EXPECT_EQ(plan_takeover("s", mine(recipe(9), 20000), "f", former(recipe(7), 10000)).action,
             TakeoverPlan::Action::keep);
 }
 

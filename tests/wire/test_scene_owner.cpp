@@ -137,6 +137,24 @@ TEST(SceneOwner, MoreTaskEventsWinAtEqualSamples) {
   EXPECT_EQ(assigned_daemon("s", std::vector<msg::DaemonInfo>{holder, store}), "h");
 }
 
+// A daemon whose takeover failed declines the scene for a while: the rule names the next one,
+// even one with no copy; a holder never declines; when all decline, the usual key decides.
+TEST(SceneOwner, ADecliningDaemonIsNamedOnlyWhenEveryOtherDeclinesToo) {
+  msg::DaemonInfo b = daemon("b", {"s"});
+  msg::DaemonInfo c = daemon("c", {"s"});
+  with_copy(b, 7, 5000);  // fresher than c, which has no copy
+  const std::vector<msg::DaemonInfo> both{b, c};
+  EXPECT_EQ(assigned_daemon("s", both), "b");
+  b.declined().push_back("s");
+  EXPECT_TRUE(declines(b, "s"));
+  EXPECT_EQ(assigned_daemon("s", std::vector<msg::DaemonInfo>{b, c}), "c");
+  c.declined().push_back("s");
+  EXPECT_EQ(assigned_daemon("s", std::vector<msg::DaemonInfo>{b, c}), "b");
+  msg::DaemonInfo holder = daemon("h", {"s"}, {"s"});
+  holder.declined().push_back("s");
+  EXPECT_FALSE(declines(holder, "s")) << "a holder serves the scene: it declines nothing";
+}
+
 TEST(SceneOwner, AHolderCountsTheSamplesItAccepted) {
   msg::DaemonInfo holder = daemon("h", {"s"}, {"s"});
   msg::DaemonInfo store = daemon("k", {"s"});

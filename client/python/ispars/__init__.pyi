@@ -147,6 +147,7 @@ class SceneStatus:
     generation: int
     samples_done: int
     samples_target: int
+    accepted_generation: int
     version: int
     vertices: int
     edges: int

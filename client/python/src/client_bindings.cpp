@@ -131,6 +131,7 @@ void bind_status(py::module_& m) {
       .def_readonly("variant", &SceneStatus::variant)
       .def_readonly("seed", &SceneStatus::seed)
       .def_readonly("generation", &SceneStatus::generation)
+      .def_readonly("accepted_generation", &SceneStatus::accepted_generation)
       .def_readonly("samples_done", &SceneStatus::samples_done)
       .def_readonly("samples_target", &SceneStatus::samples_target)
       .def_readonly("version", &SceneStatus::version)

@@ -168,6 +168,10 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
   unclaim.held = true;
   if (!session->recovery_note().empty()) spdlog::info("scene '{}': {}", name, session->recovery_note());
   if (!session->torn_tail_note().empty()) spdlog::warn("scene '{}': {}", name, session->torn_tail_note());
+  // A refused store is damage: said where operators look, not only in the scene's status.
+  if (const SessionStatus st = session->status(); st.state == SessionState::failed) {
+    spdlog::error("scene '{}': its stored roadmap is refused, and left as it is: {}", name, st.last_error);
+  }
   spdlog::info("loaded scene '{}' ({} triangles, {} POIs)", name, session->scene().mesh().triangle_count(),
                session->scene().pois().size());
   if (events_.on_status) events_.on_status(*session);
@@ -267,6 +271,12 @@ std::vector<ServedRoadmap> RoadmapService::held_roadmaps() const {
       r.target = std::max(st.samples_done, st.samples_target);
       r.fingerprint = st.recipe->scene_fingerprint;
       r.task_events = st.task_events;
+    }
+    if (st.accepted) {  // a queued build: its lineage, nothing of it committed yet
+      r.generation = st.accepted->generation;
+      r.samples = 0;
+      r.target = st.samples_target;
+      r.fingerprint = st.accepted->scene_fingerprint;
     }
     out.push_back(std::move(r));
   }

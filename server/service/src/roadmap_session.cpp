@@ -258,6 +258,15 @@ SessionStatus RoadmapSession::status_locked() const {
   s.pois_covered = published_.pois_covered;
   s.pois_covered_root = published_.pois_covered_root;
   s.generation = published_.generation;
+  // An acknowledged build shows as accepted from its acceptance to its first commit: queued,
+  // started, or stopped with the daemon (recorded, resumed at the restart).
+  if (pending_recipe_ && state_ == SessionState::queued) {
+    s.accepted = pending_recipe_;
+    s.samples_target = pending_samples_;
+  } else if (starting_build_ && (!recipe_ || recipe_->generation != starting_build_->generation)) {
+    s.accepted = starting_build_;
+    s.samples_target = starting_samples_;
+  }
   return s;
 }
 

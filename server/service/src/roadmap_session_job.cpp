@@ -122,6 +122,21 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
   std::lock_guard job_lock(job_mutex_);
   std::optional<Job> job = take_job(stopping);
   if (!job) return;
+  // A build is in the status as accepted until its first commit (status_locked); a stopping
+  // daemon's last status keeps it, since the job is recorded and resumed at the restart.
+  struct ForgetStartingBuild {
+    RoadmapSession& session;
+    const std::atomic<bool>& stopping;
+    ~ForgetStartingBuild() {
+      std::lock_guard lock(session.mutex_);
+      if (!stopping) session.starting_build_.reset();
+    }
+  } forget{*this, stopping};
+  if (job->build) {
+    std::lock_guard lock(mutex_);
+    starting_build_ = job->recipe;
+    starting_samples_ = job->samples;
+  }
   try {
     prepare_job(*job, stopping);
     if (job->task) {
@@ -311,7 +326,9 @@ void RoadmapSession::end_job(const Job& job, const std::atomic<bool>& stopping) 
   if (stopping && samples_done_ < samples_target_) {
     last_error_ = fmt::format("daemon stopped at {} of {} samples", samples_done_, samples_target_);
   }
-  samples_target_ = samples_done_;
+  // A stopping daemon's job stays accepted (recorded, resumed at its restart): its target stays
+  // in the last status and announcement, so the daemon that takes the scene over reaches it.
+  if (!stopping) samples_target_ = samples_done_;
   state_ = SessionState::idle;
   cancel_ = false;
 }

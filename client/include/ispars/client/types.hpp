@@ -60,6 +60,9 @@ struct SceneStatus {
   std::string scene_fingerprint;    ///< of the scene file the roadmap was built on (empty: no roadmap)
   std::uint32_t builder_version = 0;
   std::uint32_t tasks = 0;          ///< inspection tasks added to the roadmap (poi_count includes theirs)
+  /// A build accepted and not started (queued): the generation it makes (the recipe fields
+  /// above are its recipe, samples_target its samples); 0 when none waits.
+  std::uint64_t accepted_generation = 0;
 };
 
 /// An inspection task of a scene's roadmap: its POIs' ids and how many of them the roadmap sees.

@@ -8,6 +8,8 @@
 // samples committed to its store and its task events. A daemon's claim on a scene is weighed by
 // its key:
 //
+//   0. a daemon that declines the scene (its takeover failed lately, announced in `declined`)
+//      is weighed below every daemon that does not;
 //   1. freshness: the later generation, then the more samples (a holder counts the samples it
 //      has accepted to reach, its target, since it will commit them), then the more task events
 //      (inspection tasks added, plus those removed);
@@ -60,7 +62,12 @@ struct Freshness {
 [[nodiscard]] Freshness claim_freshness(const msg::DaemonInfo& daemon, std::string_view scene,
                                         std::span<const msg::DaemonInfo> live);
 
-/// Whether daemon `a`'s claim on `scene` outweighs `b`'s among `live` (freshness, holding, weight).
+/// Whether `daemon` declines `scene`: it announces that its takeover of it failed lately, and
+/// does not hold it. A declining daemon is weighed below every other, so the rule names the next.
+[[nodiscard]] bool declines(const msg::DaemonInfo& daemon, std::string_view scene);
+
+/// Whether daemon `a`'s claim on `scene` outweighs `b`'s among `live` (declining, freshness,
+/// holding, weight).
 [[nodiscard]] bool outweighs(std::string_view scene, const msg::DaemonInfo& a, const msg::DaemonInfo& b,
                              std::span<const msg::DaemonInfo> live);
 

@@ -66,6 +66,9 @@ struct SessionStatus {
   /// The published roadmap's generation: the recipe's, or the empty roadmap's after a drop
   /// (0: never built or dropped here).
   std::uint64_t generation = 0;
+  /// A build accepted and not started (queued): its recipe (with the generation it makes); its
+  /// samples are samples_target. The fleet's status and announcement carry it from acceptance.
+  std::optional<RoadmapRecipe> accepted;
 };
 
 /// A published roadmap: immutable, shared by every reader that holds it, with its coverage
@@ -254,6 +257,8 @@ class RoadmapSession {
   std::uint64_t samples_target_ = 0;
   std::uint64_t pending_samples_ = 0;
   std::optional<RoadmapRecipe> pending_recipe_;  // a queued build's recipe
+  std::optional<RoadmapRecipe> starting_build_;  // a started build's, until its first commit
+  std::uint64_t starting_samples_ = 0;
   std::optional<InspectionTask> pending_task_;   // a queued task
   std::vector<InspectionTask> tasks_;            // the roadmap's tasks, as stored
   std::shared_ptr<const Scene> scene_with_tasks_;  // scene_ with tasks_' POIs (immutable, swapped)
