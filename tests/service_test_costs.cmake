@@ -12,6 +12,7 @@ set_tests_properties(ServiceTest.LoopingViewersNeverHoldUpAnUnloadADropOrTheStop
 # tests. Not understood; see docs/results/service.md.
 set_tests_properties(WebViewerTest.FourBrowsersFollowABuildAndDrawWhatStatsSays PROPERTIES RUN_SERIAL TRUE)
 set_tests_properties(PartitionTest.CutAndHealTheOwnerPlain PartitionTest.CutAndHealTheOwnerSecured
+                     HistoryTest.RandomFaultsLoseNoAcknowledgedChange
                      StallTest.AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner PROPERTIES COST 500)
 # The secured stall campaign runs alone. On 2026-11-27 it and the secured partition campaign each
 # failed once in a full parallel run, beside the kill -9 campaign, and passed alone (88 s, 89 s).

@@ -148,10 +148,10 @@ void Daemon::take_over(const OrphanScene& orphan) {
       former.samples = std::max(former.samples, samples_to_rebuild(*st));
       former.generation = st->generation();
       former.task_events = st->task_events();
-      const std::size_t scene_pois = session->scene().pois().size();
-      if (former.task_events > 0 && st->poi_count() >= scene_pois) {  // published under the roadmap's generation
+      if (former.task_events > 0) {  // published under the roadmap's generation
+        // POIs not checked: an acknowledged task not yet committed counts in task_events, not in poi_count.
         former.tasks = task_board_.tasks_of(orphan.scene, orphan.former_owner, st->generation(), former.task_events,
-                                            st->poi_count() - scene_pois);
+                                            std::nullopt);
       }
     }
     const TakeoverPlan plan = plan_takeover(orphan.scene, session->status(), session->fingerprint(), former);

@@ -75,7 +75,7 @@ void Daemon::publish_status(const RoadmapSession& session) {
     d.publish_status(status);
     if (status.task_events() == 0) return;
     d.publish_tasks(status.scene().to_string(), status.generation(), status.task_events(),
-                    [&] { return task_messages(session.tasks(), status); });
+                    [&] { return task_messages(session.accepted_tasks(), status); });
   });
 }
 

@@ -42,6 +42,8 @@ std::optional<std::vector<InspectionTask>> TaskBoard::tasks_of(const std::string
   std::lock_guard lock(mutex_);
   for (auto it = tasks_.lower_bound({scene, server, 0});
        it != tasks_.end() && std::get<0>(it->first) == scene && std::get<1>(it->first) == server; ++it) {
+    // Up to the events asked for: an index past them is a task addition later cancelled.
+    if (task_events(out) >= events) break;
     if (std::get<2>(it->first) != out.size() || it->second.generation != generation) break;
     out.push_back(it->second.task);
   }

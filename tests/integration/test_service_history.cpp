@@ -21,6 +21,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <random>
 #include <thread>
 
@@ -101,7 +102,7 @@ class HistoryTest : public NetnsFleetTest {
   void inject(Fault fault, const std::string& owner);
   void check_flips();
   void flip_a_bit(const std::string& owner);
-  HistoryRead settle();
+  std::optional<HistoryRead> settle();  // nullopt (a failure added) when it never settled
 
   std::mt19937_64 rng_;
   std::map<std::string, std::unique_ptr<DaemonProcess>> daemons_;
@@ -237,7 +238,7 @@ void HistoryTest::check_flips() {
   }
 }
 
-HistoryRead HistoryTest::settle() {
+std::optional<HistoryRead> HistoryTest::settle() {
   // Settled: every daemon seen, one holder, idle, and the same status for two seconds running.
   const auto from = Clock::now();
   HistoryRead read;
@@ -275,7 +276,7 @@ HistoryRead HistoryTest::settle() {
     return read;
   }
   ADD_FAILURE() << "the fleet did not settle on one idle holder of s0 in 180 s: " << seen;
-  return read;
+  return std::nullopt;
 }
 
 void HistoryTest::run() {
@@ -305,8 +306,9 @@ void HistoryTest::run() {
     changes(1 + static_cast<int>(rng_() % 2));
     inject(fault, owner);
     if (HasFatalFailure()) return;
-    const HistoryRead read = settle();
-    if (HasFailure()) return;
+    const std::optional<HistoryRead> settled = settle();
+    if (!settled) return;
+    const HistoryRead& read = *settled;
     check_flips();
     const auto missing = missing_from(history_, read);
     for (const auto& m : missing) ADD_FAILURE() << "missing: " << m;

@@ -254,7 +254,7 @@ SessionStatus RoadmapSession::status_locked() const {
   s.dense_edges = dense_edges_;
   s.poi_count = scene_with_tasks_->pois().size();
   s.tasks = live_tasks();
-  s.task_events = task_events(tasks_);
+  s.task_events = task_events(tasks_) + (accepted_task() ? 1 : 0);
   s.pois_covered = published_.pois_covered;
   s.pois_covered_root = published_.pois_covered_root;
   s.generation = published_.generation;
@@ -287,6 +287,22 @@ PublishedRoadmap RoadmapSession::published() const {
 std::vector<InspectionTask> RoadmapSession::tasks() const {
   std::lock_guard lock(mutex_);
   return tasks_;
+}
+
+const InspectionTask* RoadmapSession::accepted_task() const {
+  if (pending_task_ && state_ == SessionState::queued) return &*pending_task_;
+  if (!starting_task_) return nullptr;
+  const bool committed = std::any_of(tasks_.begin(), tasks_.end(), [&](const InspectionTask& t) {
+    return t.name == starting_task_->name && !t.removed;
+  });
+  return committed ? nullptr : &*starting_task_;
+}
+
+std::vector<InspectionTask> RoadmapSession::accepted_tasks() const {
+  std::lock_guard lock(mutex_);
+  std::vector<InspectionTask> out = tasks_;
+  if (const InspectionTask* t = accepted_task()) out.push_back(*t);
+  return out;
 }
 
 std::shared_ptr<const Scene> RoadmapSession::scene_with_tasks() const {

@@ -122,20 +122,25 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
   std::lock_guard job_lock(job_mutex_);
   std::optional<Job> job = take_job(stopping);
   if (!job) return;
-  // A build is in the status as accepted until its first commit (status_locked); a stopping
+  // A build or a task is in the status as accepted until its first commit (status_locked); a stopping
   // daemon's last status keeps it, since the job is recorded and resumed at the restart.
   struct ForgetStartingBuild {
     RoadmapSession& session;
     const std::atomic<bool>& stopping;
     ~ForgetStartingBuild() {
       std::lock_guard lock(session.mutex_);
-      if (!stopping) session.starting_build_.reset();
+      if (stopping) return;
+      session.starting_build_.reset();
+      session.starting_task_.reset();
     }
   } forget{*this, stopping};
-  if (job->build) {
+  {
     std::lock_guard lock(mutex_);
-    starting_build_ = job->recipe;
-    starting_samples_ = job->samples;
+    if (job->build) {
+      starting_build_ = job->recipe;
+      starting_samples_ = job->samples;
+    }
+    if (job->task) starting_task_ = job->task;  // likewise a task, until it is committed
   }
   try {
     prepare_job(*job, stopping);

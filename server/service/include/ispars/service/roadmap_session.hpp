@@ -162,6 +162,10 @@ class RoadmapSession {
   /// The roadmap's inspection tasks, in order: task k's POIs have the ids after the scene's own
   /// and tasks 0..k-1's.
   [[nodiscard]] std::vector<InspectionTask> tasks() const;
+  /// tasks(), then a task addition acknowledged and not committed yet (queued, running, or
+  /// stopped with the daemon): what the fleet carries (ispars/tasks; counted in the status's
+  /// task_events from the acknowledgement, as an extend's target is in samples_target).
+  [[nodiscard]] std::vector<InspectionTask> accepted_tasks() const;
   /// The scene with every task's POIs: what the roadmap is planned and verified in.
   [[nodiscard]] std::shared_ptr<const Scene> scene_with_tasks() const;
   /// A path on the published roadmap (InputError on bad points, see plan_path).
@@ -260,6 +264,8 @@ class RoadmapSession {
   std::optional<RoadmapRecipe> starting_build_;  // a started build's, until its first commit
   std::uint64_t starting_samples_ = 0;
   std::optional<InspectionTask> pending_task_;   // a queued task
+  std::optional<InspectionTask> starting_task_;  // a started task's, until it is committed
+  [[nodiscard]] const InspectionTask* accepted_task() const;  // pending or starting, not committed; mutex_ held
   std::vector<InspectionTask> tasks_;            // the roadmap's tasks, as stored
   std::shared_ptr<const Scene> scene_with_tasks_;  // scene_ with tasks_' POIs (immutable, swapped)
   bool closed_ = false;
