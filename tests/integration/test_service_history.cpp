@@ -262,9 +262,11 @@ std::optional<HistoryRead> HistoryTest::settle() {
     seen = std::to_string(daemons) + " daemons seen, " + std::to_string(held.size()) + " holders, stats from " +
            st.server_id + " in state " + std::to_string(static_cast<int>(st.state)) + " at " +
            std::to_string(st.samples_done) + " samples";
-    // The roadmap's version, not the status's sequence: a status is issued again on events that
-    // change nothing of the roadmap.
-    const std::uint64_t look = ok ? (st.version ^ (st.generation << 1) ^ (std::hash<std::string>{}(st.server_id) << 2)) : 0;
+    // The roadmap's version and its tasks, not the status's sequence: a status is issued again on
+    // events that change neither (and a task changes no version).
+    const std::uint64_t look =
+        ok ? (st.version ^ (st.generation << 1) ^ (std::hash<std::string>{}(st.server_id) << 2) ^ (st.tasks << 3))
+           : 0;
     if (!ok || look != last_seq) {
       last_seq = look;
       stable_since = Clock::now();
