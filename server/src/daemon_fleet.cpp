@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <optional>
 #include <thread>
 
 #include "daemon.hpp"
@@ -222,18 +223,17 @@ void Daemon::announce_if_fresher() {
 }
 
 void Daemon::merge_handed_tasks() {
-  const std::vector<ServedRoadmap> held = service_->held_roadmaps();
+  std::optional<std::vector<ServedRoadmap>> held;  // read only when some copy with tasks was handed here
   for (const msg::DaemonInfo& d : other_daemons()) {
     for (const msg::StoredRoadmap& r : d.roadmaps()) {
       const std::string scene = r.scene().to_string();
-      const auto mine = std::find_if(held.begin(), held.end(), [&](const ServedRoadmap& h) { return h.scene == scene; });
-      if (r.yielded_to().to_string() != config_.server_id || r.task_events() == 0 || wire::holds(d, scene) ||
-          mine == held.end() || mine->generation != r.generation()) {
-        continue;
-      }
+      if (r.yielded_to().to_string() != config_.server_id || r.task_events() == 0 || wire::holds(d, scene)) continue;
+      if (!held) held = service_->held_roadmaps();
+      const auto mine = std::find_if(held->begin(), held->end(), [&](const ServedRoadmap& h) { return h.scene == scene; });
+      if (mine == held->end() || mine->generation != r.generation()) continue;
       const std::string from = d.server_id().to_string();
       const std::string key = fmt::format("{} {} {} {}", from, r.generation(), r.task_events(), mine->task_events);
-      if (tasks_merged_[scene] == key) continue;
+      if (const auto merged = tasks_merged_.find(scene); merged != tasks_merged_.end() && merged->second == key) continue;
       const auto theirs = task_board_.tasks_of(scene, from, r.generation(), r.task_events(), std::nullopt);
       if (!theirs) continue;  // not all arrived yet: looked at again on the next pass
       // One change a pass: an addition is a job, and the scene takes one job at a time.

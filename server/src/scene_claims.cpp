@@ -148,7 +148,6 @@ void SceneClaims::orphan_of(const std::string& scene, const Holder& holder) {
   if (takeovers_.size() >= kMaxRemembered && !takeovers_.count(scene)) return;
   PendingTakeover pending;
   pending.orphan = {scene, holder.id, false, std::nullopt, holder.accepted, holder.generation};
-  pending.generation = holder.generation;
   pending.samples = holder.samples;
   if (const auto s = last_status_.find({scene, holder.id}); s != last_status_.end()) {
     pending.orphan.last_status = s->second;
@@ -191,7 +190,7 @@ void SceneClaims::report_takeovers(const std::vector<msg::DaemonInfo>& others,
   const auto now = std::chrono::steady_clock::now();
   for (auto it = takeovers_.begin(); it != takeovers_.end();) {
     auto& [scene, pending] = *it;
-    if (claimed_.count(scene) || served_again(scene, pending.generation, pending.samples, everyone)) {
+    if (claimed_.count(scene) || served_again(scene, pending.orphan.accepted_generation, pending.samples, everyone)) {
       it = takeovers_.erase(it);  // taken over here (a failure is handled before the next pass), or served
       continue;
     }

@@ -109,8 +109,8 @@ class SceneClaims {
   /// daemon serves a copy at least as fresh (a third daemon's takeover that fails and releases
   /// the scene leaves it here, so the next daemon the rule names takes it over).
   struct PendingTakeover {
-    OrphanScene orphan;
-    std::uint64_t generation = 0, samples = 0;  // the former owner's committed copy
+    OrphanScene orphan;   // its accepted_generation is the former owner's copy's
+    std::uint64_t samples = 0;  // the former owner's committed samples
     std::optional<std::chrono::steady_clock::time_point> reported;  // here, last time
     unsigned attempts = 0;                                           // reported again so far
   };
