@@ -14,6 +14,7 @@ PACKAGES=(
   libsystemd-dev libcpp-httplib-dev libboost-dev
   gnuplot-nox
   nodejs chromium
+  nginx-core openssl
   gdb python3
   python3-dev pybind11-dev python3-numpy python3-pytest
   iproute2 nftables
@@ -40,5 +41,17 @@ if [ "$(id -u)" -ne 0 ]; then
   fi
 fi
 echo "install-deps: installing ${missing[*]}"
+# nginx is for the tests, which start their own on loopback: its package must not start the
+# system's nginx (listening on every address, port 80). A policy-rc.d saying 101 keeps
+# invoke-rc.d from starting services during this install; one already there is left as it is.
+policy=/usr/sbin/policy-rc.d
+own_policy=""
+if [ ! -e "$policy" ]; then
+  printf '#!/bin/sh\nexit 101\n' | $SUDO tee "$policy" >/dev/null
+  $SUDO chmod 755 "$policy"
+  own_policy=1
+fi
+remove_policy() { if [ -n "$own_policy" ]; then $SUDO rm -f "$policy"; fi; }
+trap remove_policy EXIT
 $SUDO apt-get update -qq
 DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${PACKAGES[@]}"

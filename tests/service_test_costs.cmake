@@ -30,3 +30,5 @@ set_tests_properties(VendorTest.AHundredFreshCycloneClientsLoseNoFirstReply PROP
 # A page of another origin in headless Chromium (one page, a few seconds) runs alone too, like
 # the four browsers above: a page's load is what timed out beside the rest.
 set_tests_properties(WebGatewayTest.APageOfAnotherOriginCannotOpenTheWebSocket PROPERTIES RUN_SERIAL TRUE)
+# So does the page behind nginx (one page and a 20,000-sample build, about 11 s).
+set_tests_properties(WebProxyTest.ChromiumFollowsABuildOverHttpsAndWssAndTheBoundsHoldThroughTheProxy PROPERTIES RUN_SERIAL TRUE)
