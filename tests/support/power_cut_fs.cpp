@@ -272,6 +272,7 @@ bool PowerCutFileSystem::exchange(const std::filesystem::path& a, const std::fil
 bool PowerCutFileSystem::remove(const std::filesystem::path& path) {
   std::lock_guard lock(mutex_);
   check_power();
+  if (find(path) == nullptr) return false;  // as the disk's remove(): nothing there, parent or not
   auto [dir, name] = parent_of(path);
   const auto it = dir->live.find(name);
   if (it == dir->live.end()) return false;

@@ -3,7 +3,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include <fstream>
+#include <optional>
 #include <iterator>
 #include <map>
 #include <stdexcept>
@@ -83,54 +83,57 @@ PendingJob from_json(nlohmann::json j) {
 
 }  // namespace
 
-void save_pending_job(const std::filesystem::path& data_dir, const PendingJob& job) {
-  if (std::filesystem::create_directories(jobs_dir(data_dir))) fsync_directory_of(jobs_dir(data_dir));
-  write_file_atomically(record_path(data_dir, job.scene), seal_json(to_json(job)).dump(2) + "\n");
+void save_pending_job(const std::filesystem::path& data_dir, const PendingJob& job, FileSystem& fs) {
+  if (fs.create_directories(jobs_dir(data_dir))) fsync_directory_of(jobs_dir(data_dir), fs);
+  write_file_atomically(record_path(data_dir, job.scene), seal_json(to_json(job)).dump(2) + "\n", fs);
 }
 
-void forget_pending_job(const std::filesystem::path& data_dir, const std::string& scene, std::uint64_t id) {
+void forget_pending_job(const std::filesystem::path& data_dir, const std::string& scene, std::uint64_t id,
+                        FileSystem& fs) {
   const auto path = record_path(data_dir, scene);
   if (id != 0) {
-    std::ifstream in(path);
-    if (!in) return;
+    const std::optional<std::string> bytes = fs.read(path);
+    if (!bytes) return;
     try {
-      if (from_json(nlohmann::json::parse(in)).id != id) return;  // a later job's record
+      if (from_json(nlohmann::json::parse(*bytes)).id != id) return;  // a later job's record
     } catch (const std::exception&) {
       return;  // unreadable: left for inspection
     }
   }
-  std::error_code ec;
-  std::filesystem::remove(path, ec);
-  if (!ec) fsync_directory_of(path);
+  if (fs.remove(path)) fsync_directory_of(path, fs);
 }
 
-void mark_pending_jobs_stopped_cleanly(const std::filesystem::path& data_dir) {
-  for (PendingJob job : pending_jobs(data_dir)) {
+void mark_pending_jobs_stopped_cleanly(const std::filesystem::path& data_dir, FileSystem& fs) {
+  for (PendingJob job : pending_jobs(data_dir, fs)) {
     if (job.stopped_cleanly) continue;
     job.stopped_cleanly = true;
-    save_pending_job(data_dir, job);
+    save_pending_job(data_dir, job, fs);
   }
 }
 
-std::vector<PendingJob> pending_jobs(const std::filesystem::path& data_dir) {
+std::vector<PendingJob> pending_jobs(const std::filesystem::path& data_dir, FileSystem& fs) {
   std::vector<PendingJob> out;
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(jobs_dir(data_dir), ec)) {
-    if (entry.path().extension() == ".tmp") {
-      std::filesystem::remove(entry.path(), ec);  // a write a crash interrupted; its record is whole or absent
+  for (const std::string& name : fs.list(jobs_dir(data_dir))) {
+    const std::filesystem::path path = jobs_dir(data_dir) / name;
+    if (path.extension() == ".tmp") {
+      try {
+        (void)fs.remove(path);  // a write a crash interrupted; its record is whole or absent
+      } catch (const std::exception& e) {
+        spdlog::warn("the interrupted pending job record {} could not be removed: {}", path.string(), e.what());
+      }
       continue;
     }
-    if (entry.path().extension() != ".json") continue;
+    if (path.extension() != ".json") continue;
     try {
-      std::ifstream in(entry.path());
-      PendingJob job = from_json(nlohmann::json::parse(in));
-      if (job.scene + ".json" != entry.path().filename().string() || !valid_scene_name(job.scene)) {
+      const std::optional<std::string> bytes = fs.read(path);
+      if (!bytes) continue;  // removed since the listing
+      PendingJob job = from_json(nlohmann::json::parse(*bytes));
+      if (job.scene + ".json" != name || !valid_scene_name(job.scene)) {
         throw std::runtime_error("its scene does not match its name");
       }
       out.push_back(std::move(job));
     } catch (const std::exception& e) {
-      spdlog::error("pending job record {} is unreadable ({}); left as it is, not resumed", entry.path().string(),
-                    e.what());
+      spdlog::error("pending job record {} is unreadable ({}); left as it is, not resumed", path.string(), e.what());
     }
   }
   return out;

@@ -13,23 +13,26 @@
 
 #include "ispars/input_error.hpp"
 #include "ispars/service/drop_mark.hpp"
+#include "ispars/roadmap/record_file.hpp"
 #include "ispars/service/pending_jobs.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/service/scene_catalog.hpp"
 #include "request_input.hpp"
 
 namespace ispars {
-RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events)
+RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events, FileSystem& fs)
     : settings_(std::move(settings)),
       events_(std::move(events)),
+      fs_(fs),
       budget_(MemoryBudget::make(settings_.memory_budget_bytes)),
       builds_(std::max(1u, settings_.build_workers)),
       tours_(std::max(1u, settings_.tour_workers)) {
   if (!std::filesystem::is_directory(settings_.scene_dir)) {
     throw std::runtime_error("scene directory " + settings_.scene_dir.string() + " does not exist");
   }
-  std::filesystem::create_directories(settings_.data_dir);
-  remove_dropped_stores(settings_.data_dir);
+  // A data directory made here is durable before anything in it is (its name is in its parent).
+  if (fs_.create_directories(settings_.data_dir)) fsync_directory_of(settings_.data_dir, fs_);
+  remove_dropped_stores(settings_.data_dir, fs_);
   next_job_id_ = static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
   budget_->set_reclaimer([this] { drop_kept_snapshots(); });
 }
@@ -44,7 +47,7 @@ void RoadmapService::stop() {
   tours_.stop();   // running tours stop early and report their best
   try {  // the jobs left are resumed at the next start, and this stop does not count against them
     std::lock_guard lock(jobs_mutex_);
-    mark_pending_jobs_stopped_cleanly(settings_.data_dir);
+    mark_pending_jobs_stopped_cleanly(settings_.data_dir, fs_);
   } catch (const std::exception& e) {
     spdlog::error("the pending jobs could not be marked as stopped cleanly ({}): their next resume counts", e.what());
   }
@@ -60,12 +63,10 @@ void RoadmapService::stop() {
 }
 
 void RoadmapService::load_stored_roadmaps() {
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(settings_.data_dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (!entry.is_directory() || !valid_scene_name(name)) continue;
-    if (!std::filesystem::exists(entry.path() / "recipe.json")) continue;
-    if (marked_unloaded(entry.path())) {
+  for (const std::string& name : fs_.list(settings_.data_dir)) {
+    const std::filesystem::path dir = settings_.data_dir / name;
+    if (!valid_scene_name(name) || !fs_.exists(dir / "recipe.json")) continue;
+    if (marked_unloaded(dir, fs_)) {
       spdlog::info("scene '{}' has a stored roadmap but was unloaded; a load request loads it", name);
       continue;
     }
@@ -87,7 +88,7 @@ std::vector<SceneListing> RoadmapService::list_scenes() const {
       e.loaded = true;
       e.has_roadmap = it->second->status().recipe.has_value();
     } else {
-      e.has_roadmap = std::filesystem::exists(settings_.data_dir / name / "recipe.json");
+      e.has_roadmap = fs_.exists(settings_.data_dir / name / "recipe.json");
     }
     out.push_back(std::move(e));
   }
@@ -158,8 +159,8 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
   };
   callbacks.admit_cost = [budget = budget_, name](const BuildCost& cost) { budget->admit(name, cost); };
   auto session = std::make_shared<RoadmapSession>(name, std::move(scene), settings_.data_dir / name,
-                                                  settings_.limits, std::move(callbacks));
-  mark_unloaded(settings_.data_dir / name, false);
+                                                  settings_.limits, std::move(callbacks), fs_);
+  mark_unloaded(settings_.data_dir / name, false, fs_);
   budget_->set_reserved(name, session->expected_cost().peak_bytes);  // a stored roadmap is held whatever the budget
   {
     std::lock_guard lock(sessions_mutex_);
@@ -191,11 +192,11 @@ void RoadmapService::unload(const std::string& scene) {
   }
   // Remembered across restarts: the stored roadmap stays, but is not reloaded until asked. Marked
   // first: a mark that cannot be written (a read-only disk) leaves the scene loaded as it was.
-  mark_unloaded(settings_.data_dir / scene, true);
+  mark_unloaded(settings_.data_dir / scene, true, fs_);
   try {
     s->close();  // atomically with the busy check inside: no job can start on it any more
   } catch (...) {
-    mark_unloaded(settings_.data_dir / scene, false);
+    mark_unloaded(settings_.data_dir / scene, false, fs_);
     throw;
   }
   forget(scene, /*given_up=*/false);

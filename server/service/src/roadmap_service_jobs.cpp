@@ -68,7 +68,7 @@ std::size_t RoadmapService::accept_task(const std::string& scene, InspectionTask
 
 void RoadmapService::record(const std::shared_ptr<RoadmapSession>& session, const PendingJob& job) {
   try {
-    save_pending_job(settings_.data_dir, job);
+    save_pending_job(settings_.data_dir, job, fs_);
   } catch (const std::exception& e) {
     (void)session->cancel();  // queued, so cancelled at once: nothing touched
     throw InputError(kRequest, "scene",
@@ -78,7 +78,11 @@ void RoadmapService::record(const std::shared_ptr<RoadmapSession>& session, cons
 
 void RoadmapService::forget_job(const std::string& scene, std::uint64_t job_id) {
   std::lock_guard lock(jobs_mutex_);
-  forget_pending_job(settings_.data_dir, scene, job_id);
+  try {
+    forget_pending_job(settings_.data_dir, scene, job_id, fs_);
+  } catch (const std::exception& e) {  // the record stays: the next start finds its job done
+    spdlog::error("scene '{}': the finished job's record could not be removed: {}", scene, e.what());
+  }
 }
 
 void RoadmapService::schedule(const std::shared_ptr<RoadmapSession>& session, std::uint64_t job_id) {
@@ -99,7 +103,7 @@ void RoadmapService::schedule(const std::shared_ptr<RoadmapSession>& session, st
 }
 
 void RoadmapService::resume_pending_jobs() {
-  for (const PendingJob& job : pending_jobs(settings_.data_dir)) {
+  for (const PendingJob& job : pending_jobs(settings_.data_dir, fs_)) {
     try {
       if (!job.stopped_cleanly && job.attempts >= kMaxResumes) {
         throw std::runtime_error(fmt::format("resumed {} times already, and the daemon died under it each time",
@@ -107,7 +111,7 @@ void RoadmapService::resume_pending_jobs() {
       }
       const std::uint32_t attempts = job.stopped_cleanly ? job.attempts : job.attempts + 1;
       auto s = session_or_null(job.scene);
-      if (!s && job.build && !std::filesystem::exists(settings_.data_dir / job.scene / "recipe.json")) {
+      if (!s && job.build && !fs_.exists(settings_.data_dir / job.scene / "recipe.json")) {
         s = load(job.scene).first;  // a first build that never committed: its scene is loaded for it
       }
       if (!s) throw std::runtime_error("its scene is not loaded here (unloaded, or held by another daemon)");
@@ -124,7 +128,10 @@ void RoadmapService::resume_pending_jobs() {
         continue;
       }
       const SessionStatus st = s->status();
-      const bool committed = !job.build || (st.recipe && st.recipe->generation == job.generation);
+      // A store of the build's lineage with no commit in it (a power cut after its recipe was
+      // durable and before its first commit was) is not a roadmap to extend: built again.
+      const bool committed =
+          !job.build || (st.recipe && st.recipe->generation == job.generation && st.samples_done > 0);
       if (!committed) {
         BuildRequest again = *job.build;
         again.replace = again.replace || st.recipe.has_value();

@@ -57,9 +57,9 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
   published_.roadmap = std::make_shared<const Roadmap>(scene_.pois().size());
   scene_with_tasks_ = std::make_shared<const Scene>(scene_);
   fingerprint_ = scene_fingerprint(scene_);  // of the scene file's POIs: a task is not an edit of the scene
-  if (!std::filesystem::exists(store_dir_)) {
+  if (!fs_.exists(store_dir_)) {
     // Dropped here before: the empty roadmap keeps the drop's generation, which the fleet weighs.
-    if (const auto dropped = dropped_generation(store_dir_)) published_.generation = *dropped;
+    if (const auto dropped = dropped_generation(store_dir_, fs_)) published_.generation = *dropped;
     return;
   }
   StoreRecovery recovery;

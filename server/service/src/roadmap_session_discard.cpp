@@ -38,7 +38,7 @@ std::filesystem::path RoadmapSession::discard_store(const std::string& aside_why
   // STATS takes. The job lock (held alone) keeps jobs and readers of the builder out.
   std::filesystem::path aside;
   try {
-    mark_dropped(store_dir_, empty_generation);  // first: a failure leaves the store as it was
+    mark_dropped(store_dir_, empty_generation, fs_);  // first: a failure leaves the store as it was
   } catch (...) {
     std::lock_guard lock(mutex_);
     store_ = std::move(store);
@@ -51,9 +51,9 @@ std::filesystem::path RoadmapSession::discard_store(const std::string& aside_why
     build_scene_.reset();
     recovered_.reset();
     if (aside_why.empty()) {
-      drop_store(store_dir_);
+      drop_store(store_dir_, fs_);
     } else {
-      aside = set_aside_store(store_dir_, aside_why);
+      aside = set_aside_store(store_dir_, aside_why, fs_);
     }
   } catch (...) {
     std::lock_guard lock(mutex_);

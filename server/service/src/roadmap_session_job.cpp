@@ -347,7 +347,7 @@ void RoadmapSession::fail_job(std::string error) {
   std::optional<StoreRecovery> recovery;
   std::shared_ptr<const Scene> with_tasks = std::make_shared<const Scene>(scene_);
   try {
-    if (std::filesystem::exists(store_dir_)) {
+    if (fs_.exists(store_dir_)) {
       recovery.emplace();
       store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), *recovery, fs_);
       store_->set_compact_every(limits_.compact_every);

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ispars/roadmap/file_system.hpp"
 #include "ispars/service/roadmap_session.hpp"
 
 namespace ispars {
@@ -31,16 +32,17 @@ struct PendingJob {
 
 /// Writes `job` atomically and durably, replacing the scene's earlier record. Throws on a write
 /// failure. Not safe for one scene from two threads at once (the caller serialises).
-void save_pending_job(const std::filesystem::path& data_dir, const PendingJob& job);
+void save_pending_job(const std::filesystem::path& data_dir, const PendingJob& job, FileSystem& fs = disk());
 
 /// Removes the scene's record if it is job `id`'s (0: whichever it is).
-void forget_pending_job(const std::filesystem::path& data_dir, const std::string& scene, std::uint64_t id = 0);
+void forget_pending_job(const std::filesystem::path& data_dir, const std::string& scene, std::uint64_t id = 0,
+                        FileSystem& fs = disk());
 
 /// Marks every record in `data_dir` stopped cleanly (a clean stop, once no worker runs).
-void mark_pending_jobs_stopped_cleanly(const std::filesystem::path& data_dir);
+void mark_pending_jobs_stopped_cleanly(const std::filesystem::path& data_dir, FileSystem& fs = disk());
 
 /// Every record in `data_dir`. A record that cannot be read is logged and left as it is; the
 /// temporary file of a write a crash interrupted is removed.
-[[nodiscard]] std::vector<PendingJob> pending_jobs(const std::filesystem::path& data_dir);
+[[nodiscard]] std::vector<PendingJob> pending_jobs(const std::filesystem::path& data_dir, FileSystem& fs = disk());
 
 }  // namespace ispars

@@ -174,8 +174,9 @@ struct CancelOutcome {
 class RoadmapService {
  public:
   /// A service over `settings` with no scene loaded. Throws std::runtime_error when the scene
-  /// directory does not exist. Removes leftovers of dropped stores.
-  RoadmapService(ServiceSettings settings, ServiceEvents events);
+  /// directory does not exist. Removes leftovers of dropped stores. Every file of the data
+  /// directory is written and read through `fs` (a test's PowerCutFileSystem stands in for the disk).
+  RoadmapService(ServiceSettings settings, ServiceEvents events, FileSystem& fs = disk());
   /// Same as stop().
   ~RoadmapService();
   RoadmapService(const RoadmapService&) = delete;
@@ -267,6 +268,7 @@ class RoadmapService {
 
   const ServiceSettings settings_;
   const ServiceEvents events_;
+  FileSystem& fs_;
   std::atomic<bool> stopping_{false};
   std::atomic<bool> readers_stopped_{false};  // stop_all_readers was called: the daemon is stopping
   std::atomic<std::uint64_t> next_job_id_;  // from the clock at start: unlike a previous run's ids
