@@ -19,6 +19,7 @@ nlohmann::json status_json(const client::SceneStatus& s) {
           {"generation", s.generation},
           {"samples_done", s.samples_done},
           {"samples_target", s.samples_target},
+          {"accepted_generation", s.accepted_generation},
           {"version", s.version},
           {"vertices", s.vertices},
           {"edges", s.edges},

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <shared_mutex>
 #include <stdexcept>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -117,7 +118,11 @@ class Daemon {
   void announce_if_fresher();  // held roadmaps changed: at once for a new generation or target
   /// Carries into each scene held here the task changes of a daemon that handed it here with the
   /// same lineage (the losing side of a partition): merge_tasks, once per change of either list.
+  /// Then those of a former owner whose copy a takeover continued (carried_tasks_).
   void merge_handed_tasks();
+  /// Applies the first change of merge_tasks(`scene`'s tasks, `theirs`) (an addition is a job:
+  /// one a pass); true when there was none left to apply (or it cannot be, logged).
+  bool apply_task_merge(const std::string& scene, const std::string& from, std::span<const InspectionTask> theirs);
   // Rejoining (daemon_rejoin.cpp): a peer this one dropped came back under the same GUID,
   // so the sessions between them may never recover (PeerWatch); this daemon then replaces its
   // participant: the new one announces and publishes its statuses again while the old one still
@@ -156,6 +161,13 @@ class Daemon {
   std::unique_ptr<SceneClaims> claims_;  // made before dds_: DDS callbacks read it
   TaskBoard task_board_;                 // other daemons' tasks, for a takeover's rebuild
   std::map<std::string, std::string> tasks_merged_;  // scene -> the lists last merged (fleet thread)
+  /// A takeover that continued this daemon's own copy: the former owner's tasks, merged in once
+  /// the scene is idle (merge_tasks; the counts of task events of two histories do not compare).
+  struct CarriedTasks {
+    std::string from;
+    std::vector<InspectionTask> tasks;
+  };
+  std::map<std::string, CarriedTasks> carried_tasks_;  // scene -> (fleet thread)
   TakeoverGate takeover_gate_;           // requests for a scene wait while take_over() resumes it
   std::mutex announce_mutex_;  // announcements written in the order they were made
   FleetListing listing_;  // scene files, stored roadmaps, handovers and notes, as announced

@@ -111,17 +111,18 @@ void Daemon::watch_fleet() {
 }
 
 void Daemon::give_up(const ContestedScene& contest) {
-  std::uint64_t accepted = 0;
+  std::uint64_t accepted = 0, task_events = 0;
   try {
     const SessionStatus st = service_->stats(contest.scene);
     accepted = std::max(st.samples_done, st.samples_target);
+    task_events = st.task_events;  // with a task addition acknowledged and not committed
   } catch (const std::exception&) {
     return;  // unloaded meanwhile
   }
   {
     // Announced with this daemon's copy from the moment the scene is released: the winner takes
     // it over, continuing to `accepted`, and no daemon weighs this copy while the winner lives.
-    listing_.hand_over(contest.scene, contest.winner, accepted,
+    listing_.hand_over(contest.scene, {contest.winner, accepted, task_events},
                        fmt::format("handed over to daemon {} ({}); this daemon's copy is kept", contest.winner,
                                    contest.why));
   }
@@ -161,6 +162,12 @@ void Daemon::take_over(const OrphanScene& orphan) {
       spdlog::warn("scene '{}': this daemon's copy is kept aside in {}", orphan.scene, where.string());
     }
     if (plan.action == TakeoverPlan::Action::extend) service_->extend(orphan.scene, plan.extend_by);
+    // A continued copy of the former owner's lineage: its task changes are merged in once idle.
+    if (const auto mine = session->status().recipe; plan.action != TakeoverPlan::Action::rebuild && !plan.refused &&
+                                                    former.tasks && !former.tasks->empty() && mine &&
+                                                    mine->generation == former.generation) {
+      carried_tasks_[orphan.scene] = {former.owner, *former.tasks};
+    }
     if (plan.action == TakeoverPlan::Action::rebuild) {
       if (!plan.tasks.empty()) service_->adopt_tasks(orphan.scene, plan.tasks);
       service_->build(orphan.scene, plan.request);
@@ -236,27 +243,39 @@ void Daemon::merge_handed_tasks() {
       if (const auto merged = tasks_merged_.find(scene); merged != tasks_merged_.end() && merged->second == key) continue;
       const auto theirs = task_board_.tasks_of(scene, from, r.generation(), r.task_events(), std::nullopt);
       if (!theirs) continue;  // not all arrived yet: looked at again on the next pass
-      // One change a pass: an addition is a job, and the scene takes one job at a time.
-      try {
-        const TaskMerge merge = merge_tasks(service_->session(scene)->tasks(), *theirs);
-        if (merge.empty()) {
-          tasks_merged_[scene] = key;
-        } else if (!merge.remove.empty()) {
-          (void)service_->remove_task(scene, merge.remove.front());
-          spdlog::warn("scene '{}': task '{}' removed, as daemon {}, which handed the scene here, had removed it",
-                       scene, merge.remove.front(), from);
-        } else {
-          (void)service_->add_task(scene, merge.add.front());
-          spdlog::warn("scene '{}': task '{}' added, as daemon {}, which handed the scene here, had added it", scene,
-                       merge.add.front().name, from);
-        }
-      } catch (const InputError& e) {
-        spdlog::debug("scene '{}': daemon {}'s task changes wait: {}", scene, from, e.what());  // a job runs
-      } catch (const std::exception& e) {
-        spdlog::error("scene '{}': carrying daemon {}'s task changes failed: {}", scene, from, e.what());
-        tasks_merged_[scene] = key;  // not tried again until either list changes
-      }
+      if (apply_task_merge(scene, from, *theirs)) tasks_merged_[scene] = key;
     }
+  }
+  const std::vector<std::string> loaded = carried_tasks_.empty() ? std::vector<std::string>{} : service_->loaded_scenes();
+  for (auto it = carried_tasks_.begin(); it != carried_tasks_.end();) {
+    const bool here = std::find(loaded.begin(), loaded.end(), it->first) != loaded.end();
+    const bool done = !here || apply_task_merge(it->first, it->second.from, it->second.tasks);
+    it = done ? carried_tasks_.erase(it) : std::next(it);
+  }
+}
+
+bool Daemon::apply_task_merge(const std::string& scene, const std::string& from,
+                              std::span<const InspectionTask> theirs) {
+  // One change a pass: an addition is a job, and the scene takes one job at a time.
+  try {
+    const TaskMerge merge = merge_tasks(service_->session(scene)->tasks(), theirs);
+    if (merge.empty()) return true;
+    if (!merge.remove.empty()) {
+      (void)service_->remove_task(scene, merge.remove.front());
+      spdlog::warn("scene '{}': task '{}' removed, as daemon {}, whose copy this daemon holds now, had removed it",
+                   scene, merge.remove.front(), from);
+    } else {
+      (void)service_->add_task(scene, merge.add.front());
+      spdlog::warn("scene '{}': task '{}' added, as daemon {}, whose copy this daemon holds now, had added it", scene,
+                   merge.add.front().name, from);
+    }
+    return false;
+  } catch (const InputError& e) {
+    spdlog::debug("scene '{}': daemon {}'s task changes wait: {}", scene, from, e.what());  // a job runs
+    return false;
+  } catch (const std::exception& e) {
+    spdlog::error("scene '{}': carrying daemon {}'s task changes failed: {}", scene, from, e.what());
+    return true;  // not tried again until either list changes
   }
 }
 

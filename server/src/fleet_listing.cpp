@@ -61,6 +61,7 @@ void FleetListing::describe(msg::DaemonInfo& info, std::vector<ServedRoadmap> he
     if (const auto h = handed_over_.find(r.scene); h != handed_over_.end() && !r.held) {
       m.yielded_to(h->second.to);
       m.target(std::max(r.samples, h->second.accepted));
+      m.task_events(std::max(r.task_events, h->second.task_events));
     }
     info.roadmaps().push_back(std::move(m));
   }
@@ -70,10 +71,9 @@ void FleetListing::describe(msg::DaemonInfo& info, std::vector<ServedRoadmap> he
   }
 }
 
-void FleetListing::hand_over(const std::string& scene, const std::string& to, std::uint64_t accepted,
-                             const std::string& note) {
+void FleetListing::hand_over(const std::string& scene, Handover handover, const std::string& note) {
   std::lock_guard lock(mutex_);
-  handed_over_[scene] = {to, accepted};
+  handed_over_[scene] = std::move(handover);
   notes_[scene] = note;
 }
 

@@ -34,8 +34,16 @@ class FleetListing {
   /// samples accepted here.
   void describe(msg::DaemonInfo& info, std::vector<ServedRoadmap> held) const;
 
-  /// `scene` was handed to daemon `to` with `accepted` samples accepted here; `note` says so.
-  void hand_over(const std::string& scene, const std::string& to, std::uint64_t accepted, const std::string& note);
+  /// What a daemon had accepted of a scene when it handed it over: the winner carries it.
+  struct Handover {
+    std::string to;                    ///< the winner
+    std::uint64_t accepted = 0;        ///< samples accepted here (an extend's target)
+    std::uint64_t task_events = 0;     ///< task events accepted here (a queued addition counted)
+  };
+  /// `scene` was handed over as `handover` says; `note` says so. Announced with the stored copy
+  /// (yielded_to, its target, and its task events: the winner carries the task additions
+  /// acknowledged here that the handover cancelled, from ispars/tasks).
+  void hand_over(const std::string& scene, Handover handover, const std::string& note);
   /// `scene` is held here again: no longer announced as handed over, nor declined.
   void held_again(const std::string& scene);
   /// This daemon's takeover of `scene` failed: announced as declined (wire::declines) until
@@ -47,10 +55,6 @@ class FleetListing {
   [[nodiscard]] std::string note(const std::string& scene) const;
 
  private:
-  struct Handover {
-    std::string to;
-    std::uint64_t accepted = 0;
-  };
   const std::filesystem::path scene_dir_;
   const std::filesystem::path data_dir_;
   SceneFingerprints fingerprints_;  // the scene files' as they are now: a stored copy built on another is not offered

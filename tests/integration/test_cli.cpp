@@ -80,6 +80,7 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   }
   EXPECT_EQ(status["state"], "idle");
   EXPECT_EQ(status["samples_done"], 30000);
+  EXPECT_EQ(status["accepted_generation"], 0) << "an idle scene waits for no build";
   const CliRun stats = run(common_ + " stats tower --json", dir_);
   ASSERT_EQ(stats.code, 0);
   EXPECT_EQ(nlohmann::json::parse(last_line(stats.out))["vertices"], status["vertices"]);

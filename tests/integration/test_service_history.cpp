@@ -10,7 +10,8 @@
 // of the stopped owner (the daemon must name the file once it reads it).
 //
 // ISPARS_HISTORY_ROUNDS sets the rounds (default 3; `deploy/fleet-campaign.sh` runs more),
-// ISPARS_HISTORY_SEED the random choices (default 1).
+// ISPARS_HISTORY_SEED the random choices (default 1), ISPARS_HISTORY_LOGS a folder that keeps the
+// daemons' logs of each round that misses a change.
 
 #include <gtest/gtest.h>
 
@@ -101,6 +102,16 @@ class HistoryTest : public NetnsFleetTest {
   }
   void inject(Fault fault, const std::string& owner);
   void check_flips();
+  // With ISPARS_HISTORY_LOGS set to a folder: every daemon's whole log, written there as
+  // <daemon>-round<N>.log when a round misses a change (the campaign's evidence).
+  void keep_logs() const {
+    const char* to = std::getenv("ISPARS_HISTORY_LOGS");
+    if (to == nullptr) return;
+    std::filesystem::create_directories(to);
+    for (const auto& [id, d] : daemons_) {
+      std::ofstream(std::filesystem::path(to) / (id + "-round" + std::to_string(round_) + ".log")) << d->log();
+    }
+  }
   void flip_a_bit(const std::string& owner);
   std::optional<HistoryRead> settle();  // nullopt (a failure added) when it never settled
 
@@ -314,6 +325,7 @@ void HistoryTest::run() {
     check_flips();
     const auto missing = missing_from(history_, read);
     for (const auto& m : missing) ADD_FAILURE() << "missing: " << m;
+    if (!missing.empty()) keep_logs();
     std::size_t acked = 0;
     for (std::size_t i = before; i < history_.size(); ++i) {
       const HistoryOp& op = history_[i];

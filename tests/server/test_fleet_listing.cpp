@@ -51,12 +51,15 @@ TEST(FleetListing, ASceneFileAddedOrRemovedChangesTheListingOnce) {
 TEST(FleetListing, AHandedOverSceneNamesItsWinnerUntilItIsHeldAgain) {
   test::TempDir dir;
   FleetListing listing(dir.path() / "scenes", dir.path() / "data");
-  listing.hand_over("s0", "d2", 5000, "handed over to daemon d2");
+  listing.hand_over("s0", {"d2", 5000, 3}, "handed over to daemon d2");
   msg::DaemonInfo info;
-  listing.describe(info, {served("s0", 3000, false)});
+  ServedRoadmap stored = served("s0", 3000, false);
+  stored.task_events = 2;  // a third, acknowledged and queued, was cancelled by the handover
+  listing.describe(info, {stored});
   ASSERT_EQ(info.roadmaps().size(), 1u);
   EXPECT_EQ(info.roadmaps()[0].yielded_to(), "d2");
   EXPECT_EQ(info.roadmaps()[0].target(), 5000u) << "the samples accepted here go with the scene";
+  EXPECT_EQ(info.roadmaps()[0].task_events(), 3u) << "so does the task addition accepted here";
   EXPECT_EQ(listing.note("s0"), "handed over to daemon d2");
   // Held here (loaded again): announced as this daemon's own copy.
   msg::DaemonInfo held;
