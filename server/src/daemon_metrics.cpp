@@ -116,6 +116,15 @@ std::string DaemonMetrics::render(const DaemonGauges& g) const {
   family(out, "ispars_fleet_tasks_known", "gauge",
          "Inspection tasks other daemons published that this daemon holds, should it take their scenes over.");
   line(fmt::format("ispars_fleet_tasks_known {}\n", g.fleet_tasks_known));
+  family(out, "ispars_fleet_handed_over", "gauge",
+         "Stored copies this daemon handed over to the daemon that outweighed it, by scene and winner: kept on "
+         "disk, not served here (what it had accepted goes with the scene).");
+  for (const auto& [scene, to] : g.handed_over) {
+    line(fmt::format("ispars_fleet_handed_over{{scene=\"{}\",to=\"{}\"}} 1\n", label(scene), label(to)));
+  }
+  family(out, "ispars_fleet_declined_scenes", "gauge",
+         "Scenes this daemon declines after its takeover of them failed, until it tries again.");
+  line(fmt::format("ispars_fleet_declined_scenes {}\n", g.declined));
   family(out, "ispars_memory_budget_bytes", "gauge", "Memory all loaded roadmaps may be expected to hold.");
   line(fmt::format("ispars_memory_budget_bytes {}\n", g.memory_budget_bytes));
   family(out, "ispars_memory_reserved_bytes", "gauge", "Of the budget: the loaded roadmaps' estimated peaks.");

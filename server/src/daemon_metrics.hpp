@@ -9,6 +9,7 @@
 #include <mutex>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace ispars::server {
@@ -40,6 +41,9 @@ struct DaemonGauges {
   double memory_leased_bytes = 0;    ///< held by snapshot encodings and tours now
   std::uint64_t other_daemons = 0;
   std::uint64_t fleet_tasks_known = 0;  ///< Other daemons' tasks this daemon holds for a takeover.
+  /// Copies this daemon handed over (scene, winner): kept on disk, served by the winner.
+  std::vector<std::pair<std::string, std::string>> handed_over;
+  std::uint64_t declined = 0;  ///< Scenes declined after a failed takeover, until its retry.
 };
 
 /// Request counters and latency histograms, safe to update from many threads.

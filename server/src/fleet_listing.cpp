@@ -85,7 +85,22 @@ void FleetListing::held_again(const std::string& scene) {
 
 void FleetListing::decline(const std::string& scene, std::chrono::steady_clock::time_point until) {
   std::lock_guard lock(mutex_);
+  std::erase_if(declined_, [now = std::chrono::steady_clock::now()](const auto& d) { return d.second <= now; });
   declined_[scene] = until;
+}
+
+std::vector<std::pair<std::string, std::string>> FleetListing::handed_over() const {
+  std::lock_guard lock(mutex_);
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& [scene, h] : handed_over_) out.emplace_back(scene, h.to);
+  return out;
+}
+
+std::size_t FleetListing::declined_now() const {
+  std::lock_guard lock(mutex_);
+  const auto now = std::chrono::steady_clock::now();
+  return static_cast<std::size_t>(
+      std::count_if(declined_.begin(), declined_.end(), [&](const auto& d) { return d.second > now; }));
 }
 
 void FleetListing::set_note(const std::string& scene, const std::string& note) {

@@ -13,6 +13,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ispars.h"
@@ -49,6 +50,11 @@ class FleetListing {
   /// This daemon's takeover of `scene` failed: announced as declined (wire::declines) until
   /// `until`, when it is tried again, so that the rule names another daemon meanwhile.
   void decline(const std::string& scene, std::chrono::steady_clock::time_point until);
+
+  /// The scenes handed over and not held again, each with its winner (for the metrics).
+  [[nodiscard]] std::vector<std::pair<std::string, std::string>> handed_over() const;
+  /// How many scenes this daemon declines now.
+  [[nodiscard]] std::size_t declined_now() const;
 
   void set_note(const std::string& scene, const std::string& note);
   /// What the fleet last decided about `scene` here; empty if nothing.

@@ -110,7 +110,8 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
   ASSERT_EQ(acked.samples_done, 4000u);  // the client's acknowledgement
 
   EXPECT_EQ(other->terminate(), 0);
-  owner = start(o);  // alone: it loads its own 2,000
+  owner = start(o, {}, {"--metrics", "127.0.0.1:0"});  // alone: it loads its own 2,000
+  const int o_metrics = metrics_port(owner->log());
   ASSERT_GE(wait_held_idle_by(client, "s0", o, std::chrono::seconds(30)), 0.0) << owner->log();
   const SceneStatus stale = client.stats("s0");
   EXPECT_EQ(stale.samples_done, 2000u);
@@ -131,6 +132,8 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
             std::string::npos)
       << owner->log();
   EXPECT_NE(note_of(client, "s0", o).find("handed over to daemon " + p), std::string::npos);
+  // In the metrics too, not only in a log line and the scenes list.
+  EXPECT_EQ(metric_on(o_metrics, "ispars_fleet_handed_over{scene=\"s0\",to=\"" + p + "\"}"), 1) << owner->log();
   const SceneStatus fresher = client.stats("s0");
   ASSERT_TRUE(replica.wait_for(fresher.generation, fresher.version, std::chrono::seconds(30)))
       << "the replica stayed on the stale copy: " << replica.version() << " of " << fresher.version;

@@ -60,6 +60,7 @@ TEST(FleetListing, AHandedOverSceneNamesItsWinnerUntilItIsHeldAgain) {
   EXPECT_EQ(info.roadmaps()[0].yielded_to(), "d2");
   EXPECT_EQ(info.roadmaps()[0].target(), 5000u) << "the samples accepted here go with the scene";
   EXPECT_EQ(info.roadmaps()[0].task_events(), 3u) << "so does the task addition accepted here";
+  EXPECT_EQ(listing.handed_over(), (std::vector<std::pair<std::string, std::string>>{{"s0", "d2"}}));
   EXPECT_EQ(listing.note("s0"), "handed over to daemon d2");
   // Held here (loaded again): announced as this daemon's own copy.
   msg::DaemonInfo held;
@@ -70,6 +71,7 @@ TEST(FleetListing, AHandedOverSceneNamesItsWinnerUntilItIsHeldAgain) {
   listing.describe(again, {served("s0", 3000, false)});
   EXPECT_EQ(again.roadmaps()[0].yielded_to(), "");
   EXPECT_EQ(again.roadmaps()[0].target(), 3000u);
+  EXPECT_TRUE(listing.handed_over().empty());
 }
 
 TEST(FleetListing, NotesAreKeptPerScene) {
