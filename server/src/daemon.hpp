@@ -192,6 +192,9 @@ class Daemon {
   std::atomic<bool> serving_{false};
   std::atomic<bool> probe_pending_{false};                          // a health probe waits on the quick lane
   std::atomic<std::chrono::steady_clock::rep> last_progress_{0};  // when the quick lane last finished a job
+  /// How long this process stood still past the built-in lease (SIGSTOP, a stalled machine), seen
+  /// by watch_health; the fleet thread takes it and rejoins (plain DDS too). 0: none.
+  std::atomic<std::int64_t> stood_still_ms_{0};
   std::thread watchdog_thread_;
   bool shut_down_ = false;
 };

@@ -73,10 +73,20 @@ void Daemon::watch_health() {
   std::uint64_t seen = quick_lane_->completed();
   auto last_ping = Clock::now() - std::chrono::hours(1);
   auto last_probe = Clock::now();
+  auto last_tick = Clock::now();
   std::unique_lock lock(fleet_mutex_);
   while (!fleet_stop_) {
     fleet_wake_.wait_for(lock, std::chrono::milliseconds(100));
     if (fleet_stop_) break;
+    // A 100 ms wait that took past the lease: the process was stopped (or its machine stalled),
+    // and its peers have dropped it.
+    // (Plain DDS: under DDS Security the lease is longer and the peers' rejoins handle it.)
+    if (const auto gap = Clock::now() - last_tick;
+        config_.security.empty() && gap > std::chrono::seconds(wire::kLeaseSeconds)) {
+      stood_still_ms_ = std::chrono::duration_cast<std::chrono::milliseconds>(gap).count();
+      fleet_wake_.notify_all();
+    }
+    last_tick = Clock::now();
     if (Clock::now() - last_probe >= kSelfProbePeriod) {
       // The DDS probe: a sample this daemon must hear back through its sockets.
       last_probe = Clock::now();

@@ -43,6 +43,16 @@ void Daemon::rejoin_if_a_peer_returned() {
   // (a plain 10-round partition run with rejoins left its replica behind in round 6). A client
   // counts too: a replica this daemon dropped can no more be authenticated again than a daemon,
   // and a new participant here gives it a fresh session.
+  if (const std::int64_t ms = stood_still_ms_.exchange(0); ms > 0) {
+    // Its peers dropped it, and it kept their sessions: a peer that dropped a participant and
+    // meets it again under the same GUID may never hear what it writes, nor it theirs (plain DDS
+    // too: HistoryTest, SIGSTOP past the lease, left two daemons holding one scene, each missing
+    // the other's announcement, for good). A new participant meets every peer afresh.
+    rejoin(fmt::format("this daemon stood still for {:.1f} s (stopped, or its machine stalled), past its peers' "
+                       "lease of {} s",
+                       static_cast<double>(ms) / 1000.0, wire::kLeaseSeconds));
+    return;
+  }
   if (config_.security.empty()) return;
   wire::RejoinSchedule::Decision decision;
   with_dds([&](DdsEndpoints& d) { decision = rejoin_schedule_.poll(d.peers(), std::chrono::steady_clock::now()); });
