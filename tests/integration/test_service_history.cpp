@@ -11,7 +11,7 @@
 //
 // ISPARS_HISTORY_ROUNDS sets the rounds (default 3; `deploy/fleet-campaign.sh` runs more),
 // ISPARS_HISTORY_SEED the random choices (default 1), ISPARS_HISTORY_LOGS a folder that keeps the
-// daemons' logs of each round that misses a change.
+// daemons' logs of each round that misses a change or whose replica differs.
 
 #include <gtest/gtest.h>
 
@@ -103,7 +103,7 @@ class HistoryTest : public NetnsFleetTest {
   void inject(Fault fault, const std::string& owner);
   void check_flips();
   // With ISPARS_HISTORY_LOGS set to a folder: every daemon's whole log, written there as
-  // <daemon>-round<N>.log when a round misses a change (the campaign's evidence).
+  // <daemon>-round<N>.log when a round misses a change or its replica differs (the evidence).
   void keep_logs() const {
     const char* to = std::getenv("ISPARS_HISTORY_LOGS");
     if (to == nullptr) return;
@@ -347,7 +347,14 @@ void HistoryTest::run() {
     while (roadmap_digest(replica.roadmap()) != owners && Clock::now() < until) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
-    EXPECT_EQ(roadmap_digest(replica.roadmap()), owners) << "the replica never equalled the owner's snapshot";
+    if (roadmap_digest(replica.roadmap()) != owners) {
+      const Roadmap mine = replica.roadmap(), theirs = client_->snapshot("s0").roadmap;
+      ADD_FAILURE() << "the replica never equalled the owner's snapshot: the replica at version " << replica.version()
+                    << " has " << mine.vertex_count() << " vertices, " << mine.edge_count() << " edges, "
+                    << mine.poi_count() << " POIs; the snapshot at version " << st.version << " "
+                    << theirs.vertex_count() << ", " << theirs.edge_count() << ", " << theirs.poi_count();
+      keep_logs();
+    }
     std::printf("history round %d: %s on %s; %zu changes, %zu acknowledged; read from %s: generation %llu, %llu "
                 "samples, %zu tasks; %zu acknowledged changes missing\n",
                 round_, kFaultNames[static_cast<int>(fault)], owner.c_str(), history_.size() - before, acked,
