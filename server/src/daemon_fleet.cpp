@@ -258,7 +258,9 @@ bool Daemon::apply_task_merge(const std::string& scene, const std::string& from,
                               std::span<const InspectionTask> theirs) {
   // One change a pass: an addition is a job, and the scene takes one job at a time.
   try {
-    const TaskMerge merge = merge_tasks(service_->session(scene)->tasks(), theirs);
+    const auto session = service_->session(scene);
+    if (session->busy()) return false;  // a job runs: the next pass
+    const TaskMerge merge = merge_tasks(session->tasks(), theirs);
     if (merge.empty()) return true;
     if (!merge.remove.empty()) {
       (void)service_->remove_task(scene, merge.remove.front());
@@ -270,10 +272,12 @@ bool Daemon::apply_task_merge(const std::string& scene, const std::string& from,
                    merge.add.front().name, from);
     }
     return false;
-  } catch (const InputError& e) {
-    spdlog::debug("scene '{}': daemon {}'s task changes wait: {}", scene, from, e.what());  // a job runs
-    return false;
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // refused: not loaded, a job started meanwhile, a task refused
+    try {
+      if (service_->session(scene)->busy()) return false;  // the next pass
+    } catch (const std::exception&) {
+      // not loaded any more: given up below
+    }
     spdlog::error("scene '{}': carrying daemon {}'s task changes failed: {}", scene, from, e.what());
     return true;  // not tried again until either list changes
   }
