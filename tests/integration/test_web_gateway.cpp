@@ -187,13 +187,6 @@ TEST_F(WebGatewayTest, BehindATlsProxyTheTokenHoldsAndIdleConnectionsCannotLockU
   EXPECT_NE(gateway.log().find(" 3 idle connections closed to make room"), std::string::npos) << gateway.log();
 }
 
-// The resident memory of process `pid` in MB (VmRSS), or -1.
-double resident_mb(pid_t pid) {
-  const std::string status = read_text("/proc/" + std::to_string(pid) + "/status");
-  const auto at = status.find("VmRSS:");
-  return at == std::string::npos ? -1.0 : std::stod(status.substr(at + 6)) / 1024.0;
-}
-
 // A page that sends and never reads: each request of about 60 kB draws an error reply that
 // echoes it. The gateway closes it once its replies pass twice the queue's bound (64 MB), and its
 // memory stays bounded; a page that reads is served throughout.

@@ -94,13 +94,6 @@ class WebProxyTest : public ServiceTest {
   const std::string token_ = "proxy-token-0123456789abcdef";
 };
 
-// The resident memory of process `pid` in MB (VmRSS), or -1.
-double resident_of(pid_t pid) {
-  const std::string status = read_text("/proc/" + std::to_string(pid) + "/status");
-  const auto at = status.find("VmRSS:");
-  return at == std::string::npos ? -1.0 : std::stod(status.substr(at + 6)) / 1024.0;
-}
-
 TEST_F(WebProxyTest, ChromiumFollowsABuildOverHttpsAndWssAndTheBoundsHoldThroughTheProxy) {
   ASSERT_TRUE(std::filesystem::exists("/usr/bin/chromium")) << "Debian's chromium (deploy/install-deps.sh installs it)";
   ASSERT_EQ(std::system("command -v nginx > /dev/null"), 0) << "Debian's nginx (deploy/install-deps.sh installs it)";
@@ -156,12 +149,12 @@ TEST_F(WebProxyTest, ChromiumFollowsABuildOverHttpsAndWssAndTheBoundsHoldThrough
 
   // A page that sends and never reads, and 64 connections that send nothing, at once: another
   // user is served, and the gateway closes the flood with its memory bounded.
-  const double before = resident_of(gateway.pid());
+  const double before = resident_mb(gateway.pid());
   nlohmann::json flood;
   std::thread flooder([&] { flood = check("flood", "3000"); });
   const nlohmann::json idle = check("idle", "64");
   flooder.join();
-  const double after = resident_of(gateway.pid());
+  const double after = resident_mb(gateway.pid());
   EXPECT_EQ(idle["held"], 64) << idle;
   EXPECT_EQ(idle["page"], 200) << idle;
   EXPECT_FALSE(idle["answered_ms"].is_null()) << idle;

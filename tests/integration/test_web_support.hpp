@@ -90,6 +90,13 @@ class Gateway {
   int port_ = 0;
 };
 
+// The resident memory of process `pid` in MB (VmRSS), or -1.
+inline double resident_mb(pid_t pid) {
+  const std::string status = read_text("/proc/" + std::to_string(pid) + "/status");
+  const auto at = status.find("VmRSS:");
+  return at == std::string::npos ? -1.0 : std::stod(status.substr(at + 6)) / 1024.0;
+}
+
 // A TCP connection to 127.0.0.1:`port` (-1 when refused).
 inline int connect_local(int port) {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
