@@ -55,10 +55,9 @@ class NetnsFleetTest : public ServiceTest {
   // A new client that hears `daemons` daemons within 10 s, or nullptr.
   std::unique_ptr<Client> fresh(std::size_t daemons) const {
     auto client = std::make_unique<Client>(options_on_hc());
-    const auto deadline = Clock::now() + std::chrono::seconds(10);
-    while (Clock::now() < deadline) {
-      if (client->daemons().size() >= daemons) return client;
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (eventually([&] { return client->daemons().size() >= daemons; }, std::chrono::seconds(10),
+                   "the client hears the daemons", std::chrono::milliseconds(100))) {
+      return client;
     }
     return nullptr;
   }

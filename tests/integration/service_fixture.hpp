@@ -16,6 +16,7 @@
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/scene/scene.hpp"
 #include "ispars/local/local_daemon.hpp"
+#include "support/eventually.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars::test {
@@ -118,6 +119,27 @@ inline SceneStatus load_and_build(Client& client, const std::string& scene, cons
   EXPECT_EQ(status.state, SceneState::idle) << scene << ": " << status.last_error;
   EXPECT_EQ(status.samples_done, args.samples) << scene;
   return status;
+}
+
+// The status of `scene` once daemon `server` serves it idle: asked again while the scene moves
+// between daemons (the new owner named a moment before it claims the scene: "not loaded on daemon
+// b"; another daemon still holding it). Each refusal's message goes to `refusals` if given. The
+// last status read (its server_id tells a test that it never came).
+inline SceneStatus idle_on(Client& client, const std::string& scene, const std::string& server,
+                           std::chrono::milliseconds timeout, std::vector<std::string>* refusals = nullptr) {
+  SceneStatus last;
+  (void)eventually(
+      [&] {
+        try {
+          last = client.wait_idle(scene, {}, kLong);
+          return last.server_id == server;
+        } catch (const ClientError& e) {
+          if (refusals) refusals->push_back(e.what());
+          return false;
+        }
+      },
+      timeout, "daemon " + server + " serves " + scene, std::chrono::milliseconds(100));
+  return last;
 }
 
 // The roadmap an uninterrupted in-process build of `samples` gives: the reference for the daemon.

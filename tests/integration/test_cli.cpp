@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "integration/cli_fixture.hpp"
+#include "support/eventually.hpp"
 #include "ispars/render/scene_render.hpp"
 
 namespace ispars::test {
@@ -71,14 +72,15 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
                             dump.string() + " > " + (dir_.path() / "watch.txt").string() + " 2>&1 &";
   ASSERT_EQ(std::system(watch.c_str()), 0);
   nlohmann::json status;
-  for (int i = 0; i < 600; ++i) {
-    const CliRun s = run(common_ + " stats tower --json", dir_);
-    ASSERT_EQ(s.code, 0) << s.err;
-    status = nlohmann::json::parse(last_line(s.out));
-    if (status["state"] == "idle") break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  EXPECT_EQ(status["state"], "idle");
+  EXPECT_TRUE(test::eventually(
+      [&] {
+        const CliRun s = run(common_ + " stats tower --json", dir_);
+        EXPECT_EQ(s.code, 0) << s.err;
+        if (s.code != 0) return false;
+        status = nlohmann::json::parse(last_line(s.out));
+        return status["state"] == "idle";
+      },
+      std::chrono::seconds(120), "`ispars stats` says idle", std::chrono::milliseconds(200)));
   EXPECT_EQ(status["samples_done"], 30000);
   EXPECT_EQ(status["accepted_generation"], 0) << "an idle scene waits for no build";
   const CliRun stats = run(common_ + " stats tower --json", dir_);
@@ -87,10 +89,12 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
 
   const auto snapshot = dir_.path() / "snapshot.json";
   ASSERT_EQ(run(common_ + " snapshot tower --out " + snapshot.string(), dir_).code, 0);
-  for (int i = 0; i < 300 && !std::filesystem::exists(dump); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  ASSERT_TRUE(std::filesystem::exists(dump)) << test::read_text(dir_.path() / "watch.txt");
-  EXPECT_EQ(test::read_text(dump), test::read_text(snapshot)) << "the live replica must equal the snapshot, byte for byte";
+  // The watch writes its dump as it exits (not atomically): read until it is whole.
+  const std::string expected = test::read_text(snapshot);
+  EXPECT_TRUE(test::eventually(
+      [&] { return std::filesystem::exists(dump) && test::read_text(dump) == expected; }, std::chrono::seconds(30),
+      "the live replica's dump equals the snapshot, byte for byte", std::chrono::milliseconds(100)))
+      << test::read_text(dir_.path() / "watch.txt");
   const auto file = nlohmann::json::parse(test::read_text(snapshot));
   EXPECT_EQ(file["graphs"]["roadmap"]["vertices"].size(), status["vertices"].get<std::size_t>());
   EXPECT_EQ(file["pois"].size(), status["poi_count"].get<std::size_t>());

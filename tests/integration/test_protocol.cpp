@@ -14,11 +14,14 @@
 #include "ispars/wire/convert.hpp"
 #include "ispars/local/local_daemon.hpp"
 #include "ispars/roadmap/sealed_file.hpp"
+#include "support/eventually.hpp"
 #include "support/raw_peer.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars::test {
 namespace {
+
+using namespace std::chrono_literals;
 
 using client::Client;
 using client::ClientError;
@@ -95,9 +98,7 @@ TEST_F(ProtocolTest, TheSenderIsWhoTheTransportSaysNotWhatTheRequestClaims) {
   forged.request_seq(7);
   forged.protocol(msg::PROTOCOL_VERSION);
   ASSERT_TRUE(impostor.post(forged));
-  for (int i = 0; i < 200 && impostor.replies_received() == 0; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  (void)eventually([&] { return impostor.replies_received() > 0; }, 10s, "the impostor is answered");  // checked below
   ASSERT_EQ(impostor.replies_received(), 1u) << "the reply went to the claimed id, not to its sender";
   EXPECT_EQ(impostor.replies()[0].client_id(), impostor.identity());
   // The victim's own request 7 is its own: answered afresh, not from the impostor's entry.
@@ -142,17 +143,16 @@ TEST_F(ProtocolTest, AReplyIsHeldUntilTheClientsReaderMatchedAndNoLonger) {
   EXPECT_EQ(client.stats("s0").scene, "s0");
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(1500));
 
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the reader comes late: 0.5 s
   slow.open_reply_reader();  // within the bound: the held reply reaches it
-  for (int i = 0; i < 300 && slow.replies_to(1) == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  ASSERT_EQ(slow.replies_to(1), 1u) << "the reply was written before the client's reader matched, and lost";
+  ASSERT_TRUE(eventually([&] { return slow.replies_to(1) == 1u; }, 3s, "the held reply reaches the late reader", 10ms))
+      << "the reply was written before the client's reader matched, and lost";
   ASSERT_TRUE(slow.reply_to(1)->ok()) << slow.reply_to(1)->error();
   EXPECT_EQ(slow.reply_to(1)->status().scene(), "s0");
 
-  std::this_thread::sleep_for(std::chrono::milliseconds(2300));  // past the 2 s bound
+  std::this_thread::sleep_for(std::chrono::milliseconds(2300));  // the reader comes later: past the 2 s bound
   late.open_reply_reader();
-  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
-  EXPECT_EQ(late.replies_to(1), 0u) << "a reply was held past its bound";
+  EXPECT_TRUE(throughout([&] { return late.replies_to(1) == 0u; }, 1s, "no reply held past its bound"));
   EXPECT_NE(daemon.log().find(fmt::format("client {}'s reply reader has not acknowledged its route", late.identity())),
             std::string::npos)
       << daemon.log();
@@ -200,7 +200,7 @@ TEST_F(ProtocolTest, AChangeResentAfterARestartIsAnsweredFromTheLedgerNotDoneTwi
   ASSERT_EQ(client.wait_idle("s0", {}, std::chrono::seconds(60)).samples_done, 1500u) << "the extend, done once";
   extend.client_id(peer.identity());
   ASSERT_TRUE(peer.post(extend));
-  for (int i = 0; i < 3000 && peer.replies_to(11) < 2; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_TRUE(eventually([&] { return peer.replies_to(11) >= 2; }, 30s, "the retry is answered", 10ms)) << daemon->log();
   ASSERT_EQ(peer.replies_to(11), 2u) << daemon->log();
   EXPECT_TRUE(peer.reply_to(11)->ok());
   EXPECT_EQ(peer.reply_to(11)->message(), first->message());
@@ -236,8 +236,7 @@ TEST_F(ProtocolTest, ARetryIsAnsweredFromTheCacheNotServedAgain) {
   // would carry a later status_seq).
   ASSERT_TRUE(peer.post(stats));
   ASSERT_TRUE(peer.post(stats));
-  for (int i = 0; i < 500 && peer.replies_to(7) < 3; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  EXPECT_EQ(peer.replies_to(7), 3u);
+  EXPECT_TRUE(eventually([&] { return peer.replies_to(7) == 3; }, 5s, "both retries are answered", 10ms));
   ASSERT_TRUE(peer.reply_to(7).has_value());
   EXPECT_EQ(peer.reply_to(7)->status().status_seq(), first->status().status_seq());
   stats.request_seq(8);  // a new request is served anew

@@ -106,9 +106,7 @@ TEST_F(ServiceTest, LateJoinerReplicaEqualsTheServersSnapshot) {
   client.build("s0", ispars_build(30000));
   // Join while the build runs.
   Client late_client(client_options(domain_));
-  for (int i = 0; i < 200 && client.stats("s0").samples_done == 0; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  (void)eventually([&] { return client.stats("s0").samples_done > 0; }, std::chrono::seconds(4), "the build commits");
   client::RoadmapReplica late(late_client, "s0");
   const auto done = client.wait_idle("s0", {}, kLong);
   ASSERT_EQ(done.state, SceneState::idle) << done.last_error;
@@ -142,10 +140,8 @@ TEST_F(ServiceTest, KillNineDuringABuildThenRestartRecoversAVerifiedRoadmap) {
     Client client(client_options(domain_));
     client.load("s1");
     client.build("s1", ispars_build(5'000'000, 3));
-    for (int i = 0; i < 1500 && client.stats("s1").samples_done < 20000; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    ASSERT_GE(client.stats("s1").samples_done, 20000u);
+    ASSERT_TRUE(eventually([&] { return client.stats("s1").samples_done >= 20000; }, std::chrono::seconds(30),
+                           "s1 reaches 20,000 samples"));
   }
   daemon->kill9();
   // A torn record at the tail, as a crash inside write() leaves it.
@@ -183,9 +179,8 @@ TEST_F(ServiceTest, SigtermFinishesTheBatchPersistsAndExitsZero) {
     Client client(client_options(domain_));
     client.load("s2");
     client.build("s2", ispars_build(5'000'000, 5));
-    for (int i = 0; i < 1500 && client.stats("s2").samples_done < 5000; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
+    (void)eventually([&] { return client.stats("s2").samples_done >= 5000; }, std::chrono::seconds(30),
+                     "s2 reaches 5,000 samples");
     before = client.stats("s2").samples_done;
   }
   const auto t0 = std::chrono::steady_clock::now();
@@ -339,9 +334,8 @@ TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
   client.build("s0", ispars_build(900'000));
   // Once its first chunk is committed, the scene has a roadmap that the cancel below keeps (a
   // build cancelled while still queued leaves none, and a loaded machine can be that slow).
-  for (int i = 0; i < 3000 && client.stats("s0").samples_done == 0; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  (void)eventually([&] { return client.stats("s0").samples_done > 0; }, std::chrono::seconds(30), "the build commits",
+                   std::chrono::milliseconds(10));
   expect_error(build("s0"), "already running");
   {
     msg::ChangeRequest r = make_change(msg::EXTEND, "s0");

@@ -66,9 +66,8 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
   {
     Client client(client_options(domain_));
     client.extend("s0", 400000);
-    for (int i = 0; i < 200 && client.stats("s0").samples_done < 6000; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
+    (void)eventually([&] { return client.stats("s0").samples_done >= 6000; }, std::chrono::seconds(4),
+                     "the extend passes 6,000 samples");
   }
   daemon->kill9();
   daemon = start("d");

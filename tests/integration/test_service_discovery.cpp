@@ -33,9 +33,9 @@ class DiscoveryServer {
   }
   ~DiscoveryServer() {
     ::kill(pid_, SIGINT);  // its documented way to stop
-    for (int i = 0; i < 100; ++i) {
-      if (::waitpid(pid_, nullptr, WNOHANG) == pid_) return;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (eventually([&] { return ::waitpid(pid_, nullptr, WNOHANG) == pid_; }, std::chrono::seconds(2),
+                   "the discovery server stops", std::chrono::milliseconds(20))) {
+      return;
     }
     ::kill(pid_, SIGKILL);
     ::waitpid(pid_, nullptr, 0);
@@ -69,12 +69,13 @@ TEST_F(ServiceTest, DaemonsAndClientsFindEachOtherThroughADiscoveryServer) {
   Client client(options);
   // Both daemons, found through the server only (no multicast, no initial peers in the profile).
   std::vector<std::string> ids;
-  const auto seen_by = std::chrono::steady_clock::now() + std::chrono::seconds(15);
-  while (std::chrono::steady_clock::now() < seen_by && ids.size() < 2) {
-    ids.clear();
-    for (const auto& d : client.daemons()) ids.push_back(d.server_id);
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  (void)eventually(
+      [&] {
+        ids.clear();
+        for (const auto& d : client.daemons()) ids.push_back(d.server_id);
+        return ids.size() >= 2;
+      },
+      std::chrono::seconds(15), "the client hears both daemons");  // checked below
   std::sort(ids.begin(), ids.end());
   EXPECT_EQ(ids, (std::vector<std::string>{"one", "two"}));
   // One owner for a scene, a build through it, and its updates followed by a replica.

@@ -19,6 +19,7 @@ namespace ispars::test {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
 
 class FleetTest : public ServiceTest {
  protected:
@@ -91,7 +92,6 @@ TEST_F(FleetTest, DaemonsStartedTogetherWithTheSameSceneToLoadLeaveOneOwner) {
     auto daemons = start_together(ids, {"--load", "s2"});
     Client observer(client_options(domain_));
     // Each daemon announces, then claims what it preloads: wait for the three claims to settle.
-    const auto deadline = Clock::now() + std::chrono::seconds(20);
     // Each of the two others was refused its preload, or (announcements slower than the claim
     // window) gave the scene up afterwards.
     const auto settled = [&](const std::unique_ptr<DaemonProcess>& d) {
@@ -99,15 +99,14 @@ TEST_F(FleetTest, DaemonsStartedTogetherWithTheSameSceneToLoadLeaveOneOwner) {
       return log.find("preload of scene 's2' failed") != std::string::npos ||
              log.find("scene 's2' given up to its owner") != std::string::npos;
     };
-    int refused = 0;
-    while (Clock::now() < deadline) {
-      refused = 0;
-      for (auto& d : daemons) refused += settled(d) ? 1 : 0;
-      if (refused == 2 && holders(observer, "s2").size() == 1) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    EXPECT_EQ(refused, 2) << "round " << round;
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));  // and stay settled
+    const auto refused = [&] {
+      return std::count_if(daemons.begin(), daemons.end(), [&](const auto& d) { return settled(d); });
+    };
+    EXPECT_TRUE(eventually([&] { return refused() == 2 && holders(observer, "s2").size() == 1; }, 20s,
+                           "two daemons refused s2 and one holds it"))
+        << "round " << round;
+    EXPECT_TRUE(throughout([&] { return holders(observer, "s2").size() == 1; }, 500ms, "one holder of s2"))
+        << "round " << round;
     const auto held = holders(observer, "s2");
     ASSERT_EQ(held.size(), 1u) << "round " << round;
     EXPECT_EQ(observer.stats("s2").server_id, held[0]);
@@ -120,11 +119,8 @@ TEST_F(FleetTest, DaemonsStartedTogetherWithTheSameSceneToLoadLeaveOneOwner) {
     // holders (the holder unloads s2), so the one holder it showed after that window was not a
     // view that had stopped changing.
     observer.unload("s2");
-    const auto unloaded_by = Clock::now() + std::chrono::seconds(10);
-    while (Clock::now() < unloaded_by && !holders(observer, "s2").empty()) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    EXPECT_EQ(holders(observer, "s2"), std::vector<std::string>{}) << "round " << round;
+    EXPECT_TRUE(eventually([&] { return holders(observer, "s2").empty(); }, 10s, "the observer sees s2 unloaded"))
+        << "round " << round;
     for (auto& d : daemons) EXPECT_EQ(d->terminate(), 0);
   }
 }
@@ -148,24 +144,17 @@ TEST_F(FleetTest, AnAddedSceneFileAndAStoredRoadmapAreAnnouncedWhileTheDaemonRun
   ASSERT_TRUE(announced(available, "s0"));
   ASSERT_FALSE(announced(available, "s9"));
   client::write_tank_tower_scenes(scene_dir_, {"s9"});
-  const auto deadline = Clock::now() + std::chrono::seconds(10);
-  while (Clock::now() < deadline && !announced(available, "s9")) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  EXPECT_TRUE(announced(available, "s9")) << "a scene file added while the daemon runs was never announced";
+  EXPECT_TRUE(eventually([&] { return announced(available, "s9"); }, 10s,
+                         "a scene file added while the daemon runs is announced"));
   std::filesystem::remove(scene_dir_ / "s9.yaml");
-  while (Clock::now() < deadline + std::chrono::seconds(5) && announced(available, "s9")) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  EXPECT_FALSE(announced(available, "s9")) << "a removed scene file is still announced";
+  EXPECT_TRUE(eventually([&] { return !announced(available, "s9"); }, 10s, "a removed scene file leaves"));
 
   client.load("s0");
   EXPECT_FALSE(announced(stored, "s0"));
   client.build("s0", ispars_build(800));
   ASSERT_EQ(client.wait_idle("s0", {}, kLong).state, SceneState::idle);
-  const auto built = Clock::now();
-  while (Clock::now() < built + std::chrono::seconds(10) && !announced(stored, "s0")) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  EXPECT_TRUE(announced(stored, "s0")) << "a roadmap stored while the daemon runs was never announced";
+  EXPECT_TRUE(eventually([&] { return announced(stored, "s0"); }, 10s,
+                         "a roadmap stored while the daemon runs is announced"));
 }
 
 TEST_F(FleetTest, ADaemonWhoseIdIsAlreadyAnnouncedRefusesToStartOrStopsOnceItSeesIt) {
@@ -210,10 +199,8 @@ TEST_F(FleetTest, OfTwoRunningDaemonsWithOneIdTheOneThatJoinedLaterStops) {
     RawPeer younger(domain_);  // joined after the daemon: the daemon stays and announces itself again
     namesake.joined_ms(now_ms + 60'000);
     younger.announce(namesake);
-    const auto deadline = Clock::now() + std::chrono::seconds(10);
-    while (Clock::now() < deadline && daemon->log().find("announcing again") == std::string::npos) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    EXPECT_TRUE(eventually([&] { return daemon->log().find("announcing again") != std::string::npos; }, 10s,
+                           "the daemon announces itself again"));
     EXPECT_NE(daemon->log().find("announces this daemon's server id 'same'; announcing again"), std::string::npos)
         << daemon->log();
     EXPECT_FALSE(daemon->exit_within(std::chrono::milliseconds(500)).has_value()) << daemon->log();
@@ -233,12 +220,13 @@ TEST_F(FleetTest, OfTwoRunningDaemonsWithOneIdTheOneThatJoinedLaterStops) {
       return n;
     };
     const std::size_t before = announced_again();
-    const auto deadline = Clock::now() + std::chrono::seconds(15);
-    while (Clock::now() < deadline && announced_again() == before) {
-      clockless.announce(namesake);
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    }
-    EXPECT_GT(announced_again(), before) << "the clockless namesake was never judged:\n" << daemon->log();
+    EXPECT_TRUE(eventually(
+        [&] {
+          clockless.announce(namesake);
+          return announced_again() > before;
+        },
+        15s, "the clockless namesake is judged", 200ms))
+        << daemon->log();
     EXPECT_FALSE(daemon->exit_within(std::chrono::milliseconds(1500)).has_value()) << daemon->log();
   }
   RawPeer older(domain_);  // joined a minute before it: the daemon stops
@@ -325,10 +313,7 @@ TEST_F(FleetTest, ATakeoverThatFailsReleasesTheSceneNamesWhyAndIsTriedAgain) {
   auto a = start("a", {"--memory-budget-mb", kNoBudget});
   auto b = start("b", {"--memory-budget-mb", "16"});
   Client client(client_options(domain_));
-  for (const auto met = Clock::now(); client.daemons().size() < 2 && Clock::now() - met < std::chrono::seconds(30);) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ASSERT_EQ(client.daemons().size(), 2u) << "the client did not hear both daemons";
+  ASSERT_TRUE(eventually([&] { return client.daemons().size() == 2; }, 30s, "the client hears both daemons"));
   std::string scene;
   for (unsigned n = 0; n < 4 && scene.empty(); ++n) {
     if (wire::assigned_daemon(scene_name(n), client::daemon_messages(client)) == "a") scene = scene_name(n);
@@ -339,7 +324,6 @@ TEST_F(FleetTest, ATakeoverThatFailsReleasesTheSceneNamesWhyAndIsTriedAgain) {
   const std::uint64_t digest = roadmap_digest(client.snapshot(scene).roadmap);
   a->kill9();
   // b's takeover is refused by its budget: released, named, tried again.
-  const auto killed = Clock::now();
   const auto failures = [&] {
     const std::string log = b->log();
     std::size_t count = 0;
@@ -349,10 +333,7 @@ TEST_F(FleetTest, ATakeoverThatFailsReleasesTheSceneNamesWhyAndIsTriedAgain) {
     }
     return count;
   };
-  while (failures() < 2 && Clock::now() - killed < std::chrono::seconds(60)) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  ASSERT_GE(failures(), 2u) << b->log();
+  ASSERT_TRUE(eventually([&] { return failures() >= 2; }, 60s, "b's takeover fails twice", 200ms)) << b->log();
   std::printf("b notes: %s\n", note_of(client, scene, "b").c_str());
   const std::string note = note_of(client, scene, "b");
   EXPECT_NE(note.find("memory budget"), std::string::npos) << note;
@@ -384,24 +365,13 @@ TEST_F(FleetTest, AnExtendQueuedWhenTheOwnerStopsIsCarriedOutByTheDaemonThatTake
   auto b = start("b", {"--memory-budget-mb", kNoBudget, "--metrics", "127.0.0.1:0"});
   // b has a's announcement (which carries the target) once it counts a.
   const int b_metrics = metrics_port(b->log());
-  for (const auto met = Clock::now();
-       other_daemons_counted_on(b_metrics) != 1 && Clock::now() - met < std::chrono::seconds(30);) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ASSERT_EQ(other_daemons_counted_on(b_metrics), 1) << b->log();
+  ASSERT_TRUE(eventually([&] { return other_daemons_counted_on(b_metrics) == 1; }, 30s, "b counts a")) << b->log();
   EXPECT_EQ(a->terminate(), 0);
   // b is named the owner a moment before it has claimed s0: a request in that moment is refused
   // ("not loaded on daemon b"), and the client asks again (bounded).
-  SceneStatus carried;
-  for (const auto stopped = Clock::now(); Clock::now() - stopped < std::chrono::seconds(60);) {
-    try {
-      carried = client.wait_idle("s0", {}, kLong);
-      break;
-    } catch (const ClientError& e) {
-      ASSERT_NE(std::string(e.what()).find("is not loaded on daemon b"), std::string::npos) << e.what();
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-  }
+  std::vector<std::string> refusals;
+  const SceneStatus carried = idle_on(client, "s0", "b", 60s, &refusals);
+  for (const std::string& refusal : refusals) EXPECT_NE(refusal.find("is not loaded on daemon b"), std::string::npos) << refusal;
   EXPECT_EQ(carried.server_id, "b");
   EXPECT_EQ(carried.samples_done, 8000u) << b->log();
   EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 8000, 3));
@@ -421,22 +391,13 @@ TEST_F(FleetTest, ATaskIsCarriedByTheDaemonThatTakesTheSceneOver) {
   ASSERT_EQ(with_task.tasks, 1u) << with_task.last_error;
   auto b = start("b", {"--memory-budget-mb", kNoBudget, "--metrics", "127.0.0.1:0"});
   const int b_metrics = metrics_port(b->log());
-  for (const auto met = Clock::now();
-       metric_on(b_metrics, "ispars_fleet_tasks_known") != 1 && Clock::now() - met < std::chrono::seconds(30);) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ASSERT_EQ(metric_on(b_metrics, "ispars_fleet_tasks_known"), 1) << b->log();
+  ASSERT_TRUE(eventually([&] { return metric_on(b_metrics, "ispars_fleet_tasks_known") == 1; }, 30s,
+                         "b knows a's task"))
+      << b->log();
   EXPECT_EQ(a->terminate(), 0);
-  SceneStatus carried;
-  for (const auto stopped = Clock::now(); Clock::now() - stopped < std::chrono::seconds(60);) {
-    try {
-      carried = client.wait_idle("s0", {}, kLong);
-      if (carried.server_id == "b") break;
-    } catch (const ClientError& e) {  // b named the owner a moment before it claims s0
-      ASSERT_NE(std::string(e.what()).find("is not loaded on daemon b"), std::string::npos) << e.what();
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  std::vector<std::string> refusals;  // b named the owner a moment before it claims s0
+  const SceneStatus carried = idle_on(client, "s0", "b", 60s, &refusals);
+  for (const std::string& refusal : refusals) EXPECT_NE(refusal.find("is not loaded on daemon b"), std::string::npos) << refusal;
   ASSERT_EQ(carried.server_id, "b") << b->log();
   EXPECT_EQ(carried.samples_done, 1500u);
   EXPECT_EQ(carried.tasks, 1u) << "the task vanished in the takeover: " << b->log();
@@ -450,10 +411,9 @@ TEST_F(FleetTest, ATaskIsCarriedByTheDaemonThatTakesTheSceneOver) {
       << note_of(client, "s0", "b");
   // a returns with its copy: equally fresh (generation, samples, task events), so b keeps it.
   a = start("a", {"--memory-budget-mb", kNoBudget});
-  for (const auto until = Clock::now() + std::chrono::seconds(4); Clock::now() < until;) {
-    ASSERT_EQ(holders(client, "s0"), std::vector<std::string>{"b"}) << a->log() << b->log();
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
+  EXPECT_TRUE(throughout([&] { return holders(client, "s0") == std::vector<std::string>{"b"}; }, 4s,
+                         "b alone holds s0", 200ms))
+      << a->log() << b->log();
   EXPECT_EQ(client.tasks("s0").size(), 1u);
 }
 
@@ -470,23 +430,18 @@ TEST_F(FleetTest, ATakeoverThatFailsPassesToTheNextDaemonTheRuleNames) {
   auto weak = start(ids[1], {"--memory-budget-mb", "16"});
   auto rescuer = start(ids[2], {"--memory-budget-mb", kNoBudget});
   Client client(client_options(domain_));
-  for (const auto met = Clock::now(); client.daemons().size() < 3 && Clock::now() - met < std::chrono::seconds(30);) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ASSERT_EQ(client.daemons().size(), 3u) << "the client did not hear the three daemons";
+  ASSERT_TRUE(eventually([&] { return client.daemons().size() == 3; }, 30s, "the client hears the three daemons"));
   const SceneStatus built = load_and_build(client, "s0", ispars_build(20000, 3));
   ASSERT_EQ(built.server_id, ids[0]);
   const std::uint64_t digest = roadmap_digest(client.snapshot("s0").roadmap);
   owner->kill9();
   SceneStatus served;
-  for (const auto killed = Clock::now(); Clock::now() - killed < std::chrono::seconds(90);) {
-    try {
-      served = client.wait_idle("s0", {}, kLong);
-      if (served.server_id == ids[2] && served.samples_done == built.samples_done) break;
-    } catch (const ClientError&) {  // the scene moves meanwhile
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
+  EXPECT_TRUE(eventually(
+      [&] {
+        served = idle_on(client, "s0", ids[2], 1s);  // the scene moves meanwhile
+        return served.server_id == ids[2] && served.samples_done == built.samples_done;
+      },
+      90s, "the third daemon serves every sample"));
   EXPECT_EQ(served.server_id, ids[2]) << weak->log() << rescuer->log();
   EXPECT_EQ(served.samples_done, built.samples_done);
   EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), digest);

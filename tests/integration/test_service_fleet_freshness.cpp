@@ -21,28 +21,28 @@ namespace ispars::test {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
 
 // Waits until exactly `id` holds `scene` and serves it idle; returns how long it took (-1: it
 // did not within `limit`), and in `announced` how long until the announcements said so.
 double wait_held_idle_by(Client& client, const std::string& scene, const std::string& id,
                          std::chrono::seconds limit, double* announced = nullptr) {
   const auto start = Clock::now();
-  while (Clock::now() - start < limit) {
-    if (holders(client, scene) == std::vector<std::string>{id}) {
-      if (announced != nullptr && *announced < 0.0) {
-        *announced = std::chrono::duration<double>(Clock::now() - start).count();
-      }
-      try {
-        const SceneStatus s = client.stats(scene);
-        if (s.server_id == id && s.state == SceneState::idle) {
-          return std::chrono::duration<double>(Clock::now() - start).count();
+  const auto since = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  double took = -1.0;
+  (void)eventually(
+      [&] {
+        if (holders(client, scene) != std::vector<std::string>{id}) return false;
+        if (announced != nullptr && *announced < 0.0) *announced = since();
+        try {
+          const SceneStatus s = client.stats(scene);
+          if (s.server_id == id && s.state == SceneState::idle) took = since();
+        } catch (const ClientError&) {  // asked while the scene moves
         }
-      } catch (const ClientError&) {
-      }
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return -1.0;
+        return took >= 0.0;
+      },
+      limit, id + " holds " + scene + " idle", std::chrono::milliseconds(100));
+  return took;
 }
 
 // Daemons here restart beside running peers. (Over Fast DDS 2.9.1's shared memory transport, once
@@ -70,20 +70,18 @@ class FleetFreshnessTest : public ServiceTest {
   // holding s2 and a offers no copy of it.
   static void expect_noted_and_not_offered(Client& client, DaemonProcess& a, DaemonProcess& b,
                                            const std::string& outcome) {
-    const auto deadline = Clock::now() + std::chrono::seconds(15);
-    while (Clock::now() < deadline && note_of(client, "s2", "a").find(outcome) == std::string::npos) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-    ASSERT_NE(note_of(client, "s2", "a").find(outcome), std::string::npos) << a.log();
-    for (const auto until = Clock::now() + std::chrono::seconds(3); Clock::now() < until;) {
-      ASSERT_EQ(holders(client, "s2"), std::vector<std::string>{"b"}) << a.log() << b.log();
-      for (const auto& info : client::daemon_messages(client)) {
-        if (info.server_id() == "a") {
-          EXPECT_EQ(wire::roadmap_of(info, "s2"), nullptr);
-        }
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    }
+    ASSERT_TRUE(eventually([&] { return note_of(client, "s2", "a").find(outcome) != std::string::npos; }, 15s,
+                           "a notes: " + outcome))
+        << a.log();
+    const auto b_holds_a_offers_none = [&] {
+      const auto messages = client::daemon_messages(client);
+      return holders(client, "s2") == std::vector<std::string>{"b"} &&
+             std::none_of(messages.begin(), messages.end(), [](const msg::DaemonInfo& info) {
+               return info.server_id() == "a" && wire::roadmap_of(info, "s2") != nullptr;
+             });
+    };
+    EXPECT_TRUE(throughout(b_holds_a_offers_none, 3s, "b holds s2 and a offers no copy of it", 200ms))
+        << a.log() << b.log();
   }
 };
 
@@ -141,14 +139,14 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
 
   EXPECT_EQ(other_daemons_counted_on(p_metrics), 1) << "P does not count O before O is killed";
   owner->kill9();
-  std::this_thread::sleep_for(std::chrono::seconds(5));  // past the lease: P must not rebuild anything
-  // The window was observed: P's fleet view, on which it decides takeovers, has lost O before the
-  // checks below (else they would show nothing about P's answer to O's leave).
-  const auto lost_by = Clock::now() + std::chrono::seconds(30);
-  while (Clock::now() < lost_by && other_daemons_counted_on(p_metrics) != 0) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ASSERT_EQ(other_daemons_counted_on(p_metrics), 0) << "P never noticed O's kill -9:\n" << other->log();
+  // Past the lease, P's fleet view, on which it decides takeovers, has lost O: the checks below
+  // then show P's answer to O's leave (it reacts within its fleet thread's 100 ms pass).
+  ASSERT_TRUE(eventually([&] { return other_daemons_counted_on(p_metrics) == 0; }, 30s, "P notices O's kill -9"))
+      << other->log();
+  const std::size_t run_start = other->log().rfind("isparsd " + p + " serving");
+  EXPECT_TRUE(throughout([&] { return other->log().find("rebuilding", run_start) == std::string::npos; }, 2s,
+                         "P rebuilds nothing"))
+      << other->log();
   const SceneStatus final_status = client.wait_idle("s0", {}, kLong);
   EXPECT_EQ(final_status.server_id, p);
   EXPECT_EQ(final_status.samples_done, 4000u);
@@ -168,10 +166,7 @@ TEST_F(FleetFreshnessTest, TwoEqualCopiesSettleByWeightAndTheOtherContinuesWitho
   auto first = start("first");
   auto second = start("second");
   Client client(options());
-  const auto deadline = Clock::now() + std::chrono::seconds(20);
-  while (Clock::now() < deadline && holders(client, "s1").size() != 1) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  EXPECT_TRUE(eventually([&] { return holders(client, "s1").size() == 1; }, 20s, "one daemon holds s1"));
   const auto held = holders(client, "s1");
   ASSERT_EQ(held.size(), 1u);
   auto& server = held[0] == "first" ? first : second;
@@ -206,11 +201,7 @@ TEST_F(FleetFreshnessTest, ADropOutlivesAnUnloadAndARestartAndSetsTheOlderCopyAs
   daemons["first"] = start("first");
   daemons["second"] = start("second");
   Client client(options());
-  const auto deadline = Clock::now() + std::chrono::seconds(20);
-  while (Clock::now() < deadline && holders(client, "s1").size() != 1) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ASSERT_EQ(holders(client, "s1").size(), 1u);
+  ASSERT_TRUE(eventually([&] { return holders(client, "s1").size() == 1; }, 20s, "one daemon holds s1"));
   const std::string h = holders(client, "s1")[0];
   const std::string x = h == "first" ? "second" : "first";
   const std::uint64_t built = client.stats("s1").generation;
@@ -221,7 +212,6 @@ TEST_F(FleetFreshnessTest, ADropOutlivesAnUnloadAndARestartAndSetsTheOlderCopyAs
   EXPECT_EQ(daemons[h]->terminate(), 0);
   daemons[h] = start(h);
   // Announced again with the drop's generation, though not loaded.
-  const auto announced_by = Clock::now() + std::chrono::seconds(20);
   const auto drop_announced = [&] {
     for (const auto& info : client::daemon_messages(client)) {
       const msg::StoredRoadmap* r = wire::roadmap_of(info, "s1");
@@ -229,8 +219,7 @@ TEST_F(FleetFreshnessTest, ADropOutlivesAnUnloadAndARestartAndSetsTheOlderCopyAs
     }
     return false;
   };
-  while (Clock::now() < announced_by && !drop_announced()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ASSERT_TRUE(drop_announced()) << daemons[h]->log();
+  ASSERT_TRUE(eventually(drop_announced, 20s, "the drop is announced")) << daemons[h]->log();
   client.load("s1");
   SceneStatus s = client.stats("s1");
   EXPECT_EQ(s.server_id, h);
@@ -241,11 +230,9 @@ TEST_F(FleetFreshnessTest, ADropOutlivesAnUnloadAndARestartAndSetsTheOlderCopyAs
   // and sets its own older copy aside instead of serving it.
   EXPECT_EQ(daemons[h]->terminate(), 0);
   const std::string outcome = "which dropped its roadmap (generation " + std::to_string(dropped) + ")";
-  const auto taken_by = Clock::now() + std::chrono::seconds(30);
-  while (Clock::now() < taken_by && daemons[x]->log().find(outcome) == std::string::npos) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ASSERT_NE(daemons[x]->log().find(outcome), std::string::npos) << daemons[x]->log();
+  ASSERT_TRUE(eventually([&] { return daemons[x]->log().find(outcome) != std::string::npos; }, 30s,
+                         "the other daemon logs: " + outcome))
+      << daemons[x]->log();
   s = client.stats("s1");
   EXPECT_EQ(s.server_id, x);
   EXPECT_EQ(s.state, SceneState::empty);
@@ -271,20 +258,19 @@ TEST_F(FleetFreshnessTest, ADaemonWithAnotherSceneFileRefusesToContinueTheOwners
   auto different = start("different", other_scenes);
   // Only a daemon that saw the owner hold the scene knows to take it over: wait until `different`
   // refuses the scene naming its owner.
-  const auto seen_by = Clock::now() + std::chrono::seconds(20);
   std::string refusal;
-  while (Clock::now() < seen_by && refusal.find("owned by daemon owner") == std::string::npos) {
-    refusal = call_raw(client, make_change(msg::LOAD_SCENE, "s0"), "different").error();
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ASSERT_NE(refusal.find("owned by daemon owner"), std::string::npos) << refusal;
+  ASSERT_TRUE(eventually(
+      [&] {
+        refusal = call_raw(client, make_change(msg::LOAD_SCENE, "s0"), "different").error();
+        return refusal.find("owned by daemon owner") != std::string::npos;
+      },
+      20s, "`different` refuses s0 naming its owner", 100ms))
+      << refusal;
   owner->kill9();
-  const auto deadline = Clock::now() + std::chrono::seconds(30);
   const std::string outcome = "this daemon's scene file differs from daemon owner's";
-  while (Clock::now() < deadline && different->log().find(outcome) == std::string::npos) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  EXPECT_NE(different->log().find(outcome), std::string::npos) << different->log();
+  EXPECT_TRUE(eventually([&] { return different->log().find(outcome) != std::string::npos; }, 30s,
+                         "`different` logs: " + outcome))
+      << different->log();
   EXPECT_NE(note_of(client, "s0", "different").find(outcome), std::string::npos);
   const SceneStatus s = client.stats("s0");
   EXPECT_EQ(s.server_id, "different");
@@ -310,11 +296,8 @@ TEST_F(FleetFreshnessTest, AStoreOfAnotherBuilderVersionIsNotOfferedAndLeftUntou
   auto d = start("d");
   Client client(options());
   const std::string outcome = "made by builder version 99, and this daemon has version 1: not offered to the fleet";
-  const auto deadline = Clock::now() + std::chrono::seconds(10);
-  while (Clock::now() < deadline && d->log().find(outcome) == std::string::npos) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  EXPECT_NE(d->log().find(outcome), std::string::npos) << d->log();
+  EXPECT_TRUE(eventually([&] { return d->log().find(outcome) != std::string::npos; }, 10s, "d logs: " + outcome))
+      << d->log();
   EXPECT_NE(note_of(client, "s2", "d").find(outcome), std::string::npos);
   for (const auto& info : client::daemon_messages(client)) EXPECT_EQ(wire::roadmap_of(info, "s2"), nullptr);
   std::ifstream in(recipe_path);
@@ -384,15 +367,16 @@ TEST_F(FleetFreshnessTest, ACopyBuiltOnAnotherVersionOfTheSceneFileIsNotOffered)
   EXPECT_EQ(client.stats("s2").samples_done, 800u);
   // The file restored: a's copy is offered again, outweighs b's, and a serves its 3,000 samples.
   std::ofstream(a_scenes / "s2.yaml", std::ios::trunc) << original;
-  const auto back = Clock::now() + std::chrono::seconds(30);
   SceneStatus served;
-  while (Clock::now() < back && !(served.server_id == "a" && served.samples_done == 3000u)) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    try {
-      served = client.stats("s2");
-    } catch (const ClientError&) {  // asked while the scene moves
-    }
-  }
+  EXPECT_TRUE(eventually(
+      [&] {
+        try {
+          served = client.stats("s2");
+        } catch (const ClientError&) {  // asked while the scene moves
+        }
+        return served.server_id == "a" && served.samples_done == 3000u;
+      },
+      30s, "a serves its 3,000 samples again", 200ms));
   EXPECT_EQ(served.server_id, "a") << a->log() << b->log();
   EXPECT_EQ(served.samples_done, 3000u);
   EXPECT_EQ(note_of(client, "s2", "a").find(outcome), std::string::npos) << "the note goes with the cause";

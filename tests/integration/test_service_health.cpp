@@ -30,13 +30,13 @@ class HealthTest : public ServiceTest {};
 // Polls /healthz until it answers `status`, for at most `limit`; the seconds it took, or -1.
 double seconds_until(httplib::Client& http, int status, std::chrono::seconds limit) {
   const auto t0 = Clock::now();
-  while (Clock::now() - t0 < limit) {
-    if (const auto res = http.Get("/healthz"); res && res->status == status) {
-      return std::chrono::duration<double>(Clock::now() - t0).count();
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(250));
-  }
-  return -1.0;
+  const bool answered = eventually(
+      [&] {
+        const auto res = http.Get("/healthz");
+        return res && res->status == status;
+      },
+      limit, "/healthz answers " + std::to_string(status), std::chrono::milliseconds(250));
+  return answered ? std::chrono::duration<double>(Clock::now() - t0).count() : -1.0;
 }
 
 TEST_F(HealthTest, ADaemonThatHearsNoDdsIsUnhealthyAndHealthyAgainWhenItDoes) {

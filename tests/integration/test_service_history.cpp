@@ -92,13 +92,15 @@ class HistoryTest : public NetnsFleetTest {
   }
   // Waits until one daemon other than `not_this` holds s0; its id, or empty after `limit`.
   std::string holder_other_than(const std::string& not_this, std::chrono::seconds limit) {
-    const auto until = Clock::now() + limit;
-    while (Clock::now() < until) {
-      const auto held = holders(*client_, "s0");
-      if (held.size() == 1 && held[0] != not_this) return held[0];
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    }
-    return "";
+    std::string holder;
+    (void)eventually(
+        [&] {
+          const auto held = holders(*client_, "s0");
+          if (held.size() == 1 && held[0] != not_this) holder = held[0];
+          return !holder.empty();
+        },
+        limit, "a holder other than " + not_this, std::chrono::milliseconds(200));
+    return holder;
   }
   void inject(Fault fault, const std::string& owner);
   void check_flips();
@@ -251,13 +253,11 @@ void HistoryTest::check_flips() {
 
 std::optional<HistoryRead> HistoryTest::settle() {
   // Settled: every daemon seen, one holder, idle, and the same status for two seconds running.
-  const auto from = Clock::now();
   HistoryRead read;
   std::uint64_t last_seq = 0;
   auto stable_since = Clock::now();
   std::string seen;  // the last look, for a failure's message
-  while (Clock::now() - from < std::chrono::seconds(180)) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const auto settled = [&] {
     const auto held = holders(*client_, "s0");
     SceneStatus st;
     try {
@@ -265,7 +265,7 @@ std::optional<HistoryRead> HistoryTest::settle() {
     } catch (const ClientError& e) {
       seen = std::string("stats refused: ") + e.what();
       last_seq = 0;
-      continue;
+      return false;
     }
     const std::size_t daemons = client_->daemons().size();
     const bool ok = daemons == kDaemons.size() && held.size() == 1 && st.server_id == held[0] &&
@@ -281,15 +281,18 @@ std::optional<HistoryRead> HistoryTest::settle() {
     if (!ok || look != last_seq) {
       last_seq = look;
       stable_since = Clock::now();
-      continue;
+      return false;
     }
-    if (Clock::now() - stable_since < std::chrono::seconds(2)) continue;
+    if (Clock::now() - stable_since < std::chrono::seconds(2)) return false;
     read = {st.server_id, st.generation, st.samples_done, {}};
-    for (const auto& t : client_->tasks("s0")) read.tasks.push_back(t.name);
-    return read;
+    return true;
+  };
+  if (!eventually(settled, std::chrono::seconds(180), "one idle holder of s0", std::chrono::milliseconds(200))) {
+    ADD_FAILURE() << "the fleet did not settle on one idle holder of s0 in 180 s: " << seen;
+    return std::nullopt;
   }
-  ADD_FAILURE() << "the fleet did not settle on one idle holder of s0 in 180 s: " << seen;
-  return std::nullopt;
+  for (const auto& t : client_->tasks("s0")) read.tasks.push_back(t.name);
+  return read;
 }
 
 void HistoryTest::run() {
@@ -343,11 +346,8 @@ void HistoryTest::run() {
     ASSERT_TRUE(replica.wait_for(st.generation, st.version, std::chrono::seconds(60))) << replica.last_error();
     // A task's POIs come without a new version: the replica may reach the version first.
     const std::uint64_t owners = roadmap_digest(client_->snapshot("s0").roadmap);
-    const auto until = Clock::now() + std::chrono::seconds(30);
-    while (roadmap_digest(replica.roadmap()) != owners && Clock::now() < until) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-    if (roadmap_digest(replica.roadmap()) != owners) {
+    if (!eventually([&] { return roadmap_digest(replica.roadmap()) == owners; }, std::chrono::seconds(30),
+                    "the replica equals the owner's snapshot", std::chrono::milliseconds(100))) {
       const Roadmap mine = replica.roadmap(), theirs = client_->snapshot("s0").roadmap;
       ADD_FAILURE() << "the replica never equalled the owner's snapshot: the replica at version " << replica.version()
                     << " has " << mine.vertex_count() << " vertices, " << mine.edge_count() << " edges, "

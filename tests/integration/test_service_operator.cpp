@@ -18,7 +18,7 @@ TEST_F(ServiceTest, SighupNeitherStopsTheDaemonNorDisturbsItsRequests) {
   c.load("s0");
   for (int i = 0; i < 3; ++i) {
     ASSERT_EQ(::kill(daemon->pid(), SIGHUP), 0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // SIGHUPs 0.1 s apart
     EXPECT_TRUE(daemon->alive());
     EXPECT_EQ(c.stats("s0").scene, "s0");
   }
@@ -89,10 +89,8 @@ TEST_F(ServiceTest, SighupReopensTheLogFileAndAppliesTheConfigsLogLevel) {
   std::filesystem::rename(log_file, log_file.string() + ".1");
   write_config("debug", 3);
   ASSERT_EQ(::kill(daemon.pid(), SIGHUP), 0);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (std::chrono::steady_clock::now() < deadline && read_text(log_file).find("SIGHUP") == std::string::npos) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  (void)eventually([&] { return read_text(log_file).find("SIGHUP") != std::string::npos; },
+                   std::chrono::seconds(10), "the reopened log names the SIGHUP");  // checked below
   EXPECT_NE(read_text(log_file).find("SIGHUP: log reopened (level debug); changed but applied only at a restart: "
                                      "workers"),
             std::string::npos)
@@ -111,10 +109,8 @@ TEST_F(ServiceTest, SighupReopensTheLogFileAndAppliesTheConfigsLogLevel) {
   std::ofstream(config) << "log_level: [not, a, level]\n";
   ASSERT_EQ(::kill(daemon.pid(), SIGHUP), 0);
   const std::string refused = "SIGHUP: the config was not reloaded: " + config.string() + ": log_level";
-  const auto refused_by = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (std::chrono::steady_clock::now() < refused_by && read_text(log_file).find(refused) == std::string::npos) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  (void)eventually([&] { return read_text(log_file).find(refused) != std::string::npos; },
+                   std::chrono::seconds(10), "the log names the refused reload");  // checked below
   EXPECT_NE(read_text(log_file).find(refused), std::string::npos)
       << read_text(log_file);
   EXPECT_TRUE(daemon.alive());
@@ -137,11 +133,8 @@ TEST_F(ServiceTest, AnInterruptedBuildAndAQueuedOneResumeAfterARestart) {
     c.build("s1", ispars_build(2000, 2));
     c.build("s2", ispars_build(1000, 3));
     c.cancel("s2");  // queued and cancelled: never resumed
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (std::chrono::steady_clock::now() < deadline && c.stats("s0").samples_done == 0) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    ASSERT_GT(c.stats("s0").samples_done, 0u);
+    ASSERT_TRUE(eventually([&] { return c.stats("s0").samples_done > 0; }, std::chrono::seconds(30),
+                           "s0's build commits"));
     ASSERT_LT(c.stats("s0").samples_done, 30'000u) << "the build ended before SIGTERM: make it longer";
     EXPECT_EQ(c.stats("s1").state, SceneState::queued);
     EXPECT_EQ(daemon->terminate(), 0);
@@ -187,10 +180,8 @@ TEST_F(ServiceTest, ABuildSurvivesFiveCleanRestarts) {
   }
   for (int restart = 1; restart <= 4; ++restart) {
     auto daemon = start("d");
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (std::chrono::steady_clock::now() < deadline && daemon->log().find("scene 's0': resuming") == std::string::npos) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
+    (void)eventually([&] { return daemon->log().find("scene 's0': resuming") != std::string::npos; },
+                     std::chrono::seconds(30), "the daemon resumes s0");  // checked below
     ASSERT_NE(daemon->log().find("scene 's0': resuming"), std::string::npos)
         << "restart " << restart << ": the build was not resumed:\n" << daemon->log();
     EXPECT_EQ(daemon->terminate(), 0);

@@ -73,17 +73,19 @@ void PartitionTest::run_campaign(bool secured) {
     // The side without the owner takes the scene over once the owner's lease runs out there.
     const auto cut_at = Clock::now();
     SceneStatus taken;
-    while (Clock::now() - cut_at < lease + std::chrono::seconds(60)) {
-      const auto held = holders(c, "s0");
-      if (held.size() == 1 && held[0] != cut) {
-        try {
-          taken = c.wait_idle("s0", {}, kLong);
-          if (taken.server_id == held[0]) break;
-        } catch (const ClientError&) {
-        }
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    }
+    (void)eventually(
+        [&] {
+          const auto held = holders(c, "s0");
+          if (held.size() != 1 || held[0] == cut) return false;
+          try {
+            taken = c.wait_idle("s0", {}, kLong);
+            return taken.server_id == held[0];
+          } catch (const ClientError&) {
+            return false;
+          }
+        },
+        std::chrono::duration_cast<std::chrono::milliseconds>(lease + std::chrono::seconds(60)),
+        "the side without " + cut + " takes the scene over", std::chrono::milliseconds(200));  // checked below
     ASSERT_FALSE(taken.server_id.empty()) << "the client never saw the side without " << cut << " take the scene over";
     ASSERT_NE(taken.server_id, cut) << "the side without " << cut << " never took the scene over";
     const double takeover_s = std::chrono::duration<double>(Clock::now() - cut_at).count();
@@ -102,7 +104,7 @@ void PartitionTest::run_campaign(bool secured) {
     bool settled = false;  // a flag beside the time: GCC 12 warns falsely on an optional time_point
     Clock::time_point settled_since = healed_at;
     std::uint64_t expected = std::max(acks[acks.size() - 1].samples, acks[acks.size() - 2].samples);
-    while (Clock::now() - healed_at < lease + std::chrono::seconds(60)) {
+    const auto one_owner_for_2s = [&] {
       // Every daemon seen again (the cut one too: until then the two sides have not met).
       Client& v = client;
       const auto seen = v.daemons();
@@ -121,10 +123,12 @@ void PartitionTest::run_campaign(bool secured) {
         settled = true;
         settled_since = Clock::now();
       }
-      if (settled && Clock::now() - settled_since > std::chrono::seconds(2)) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    }
-    ASSERT_TRUE(settled) << "no single owner with " << expected << " samples after the heal";
+      return settled && Clock::now() - settled_since > std::chrono::seconds(2);
+    };
+    ASSERT_TRUE(eventually(one_owner_for_2s,
+                           std::chrono::duration_cast<std::chrono::milliseconds>(lease + std::chrono::seconds(60)),
+                           "a single owner with the larger side's samples, for 2 s", std::chrono::milliseconds(200)))
+        << expected << " samples expected";
     const double heal_s = std::chrono::duration<double>(settled_since - healed_at).count();
     std::printf("partition round %d%s: %s cut; %s served the other side after %.2f s; healed to one owner (%s, %llu "
                 "samples) after %.2f s\n",

@@ -79,15 +79,12 @@ TEST_F(ServiceTest, LoopingViewersNeverHoldUpAnUnloadADropOrTheStop) {
   });
   // The viewers at work: they loop without pause, and a verify of this roadmap takes longer than
   // this (the daemon's log then shows each writer stopping the verifies it met, by name).
-  const auto wait_for_viewers = [] { std::this_thread::sleep_for(std::chrono::seconds(3)); };
+  const auto wait_for_viewers = [] { std::this_thread::sleep_for(std::chrono::seconds(3)); };  // work, not a wait
   wait_for_viewers();
   // The stopped verify's answer is logged as its request ends, a moment after the writer's.
   const auto log_has = [&](const std::string& text) {
-    for (int i = 0; i < 40; ++i) {
-      if (daemon->log().find(text) != std::string::npos) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    return false;
+    return eventually([&] { return daemon->log().find(text) != std::string::npos; }, std::chrono::seconds(2),
+                      "the log says: " + text);
   };
 
   // Unloaded until an unload meets a running verify (on a loaded machine the viewers' verifies

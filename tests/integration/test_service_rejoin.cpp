@@ -25,6 +25,7 @@ namespace ispars::test {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
 // How soon after the link is back the client answers again: a peer's next announcement (lease/3
 // in the lab's profile, 6.7 s), the grace a returned peer has to authenticate again (10 s), the
 // rejoin, and a handshake.
@@ -68,25 +69,21 @@ TEST_F(RejoinTest, ASecuredClientThatDroppedADaemonWhichKeptItRejoinsByItself) {
   lab.deafen("hc", "d1");
   // The client drops the daemon once its lease runs out here; the daemon keeps the client.
   const auto deaf_at = Clock::now();
-  while (Clock::now() - deaf_at < kSecureLease + std::chrono::seconds(30) && !client.daemon_identity("d1").empty()) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  ASSERT_TRUE(client.daemon_identity("d1").empty()) << "the client never dropped the daemon";
-  std::this_thread::sleep_for(std::chrono::seconds(2));
+  ASSERT_TRUE(eventually([&] { return client.daemon_identity("d1").empty(); }, kSecureLease + 30s,
+                         "the client drops the daemon", 200ms));
+  std::this_thread::sleep_for(std::chrono::seconds(2));  // the fault goes on a while (not a wait for a condition)
   lab.undeafen("hc", "d1");
   const auto heard_at = Clock::now();
-  double answered_s = -1.0;
-  while (Clock::now() - heard_at < kHealBound + std::chrono::seconds(40)) {
-    try {
-      if (client.stats("s0").server_id == "d1") {
-        answered_s = std::chrono::duration<double>(Clock::now() - heard_at).count();
-        break;
-      }
-    } catch (const ClientError&) {
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  ASSERT_GE(answered_s, 0.0) << "the client never heard the daemon again";
+  ASSERT_TRUE(eventually(
+      [&] {
+        try {
+          return client.stats("s0").server_id == "d1";
+        } catch (const ClientError&) {
+          return false;
+        }
+      },
+      kHealBound + 40s, "the client hears the daemon again", 200ms));
+  const double answered_s = std::chrono::duration<double>(Clock::now() - heard_at).count();
   // The same client, with a new participant (the daemon still holds the old one's session).
   EXPECT_NE(client.id(), first_id);
   EXPECT_EQ(client.rejoins(), 1u);
@@ -130,11 +127,7 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
   options.participant.profile_file = lab.profile("hc").string();
   options.participant.security = identity("op");
   Client client(options);
-  const auto met = Clock::now();
-  while (client.daemons().size() < 2 && Clock::now() - met < std::chrono::seconds(30)) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ASSERT_EQ(client.daemons().size(), 2u) << "the client did not hear both daemons";
+  ASSERT_TRUE(eventually([&] { return client.daemons().size() == 2; }, 30s, "the client hears both daemons"));
   const SceneStatus built = load_and_build(client, "s0", ispars_build(800, 3));
   const std::string owner = built.server_id;
   const std::string other = owner == "d1" ? "d2" : "d1";
@@ -143,25 +136,22 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
   ASSERT_FALSE(first_participant.empty());
 
   lab.deafen(owner, other);  // the owner drops the other once its lease runs out; the other keeps it
-  std::this_thread::sleep_for(kSecureLease + std::chrono::seconds(5));
+  std::this_thread::sleep_for(kSecureLease + std::chrono::seconds(5));  // the fault: past the lease
   lab.undeafen(owner, other);
   const auto healed = Clock::now();
   // The positive control: the owner did rejoin (else this test shows nothing).
   const auto rejoined = [&] { return daemons[owner]->log().find("rejoined DDS domain") != std::string::npos; };
-  while (!rejoined() && Clock::now() - healed < std::chrono::seconds(60)) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  ASSERT_TRUE(rejoined()) << "the owner never rejoined:\n" << daemons[owner]->log();
+  ASSERT_TRUE(eventually(rejoined, 60s, "the owner rejoins", 200ms)) << daemons[owner]->log();
   const double rejoined_s = std::chrono::duration<double>(Clock::now() - healed).count();
   // The client hears the new participant's announcement a moment after the owner logs its rejoin
   // (secured: once the client has authenticated it).
-  std::string second_participant = client.daemon_identity(owner);
-  for (const auto heard = Clock::now(); (second_participant.empty() || second_participant == first_participant) &&
-                                        Clock::now() - heard < std::chrono::seconds(30);) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    second_participant = client.daemon_identity(owner);
-  }
-  ASSERT_FALSE(second_participant.empty()) << "the client never heard the owner again";
+  std::string second_participant;
+  ASSERT_TRUE(eventually(
+      [&] {
+        second_participant = client.daemon_identity(owner);
+        return !second_participant.empty() && second_participant != first_participant;
+      },
+      30s, "the client hears the owner's new participant", 100ms));
   ASSERT_NE(second_participant, first_participant);
 
   // Made before break: the other daemon authenticated the owner's new participant before the old
@@ -171,10 +161,7 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
   const std::string left = "participant " + dotted(first_participant) + " (isparsd " + owner + ") left";
   const std::string authenticated = "participant " + dotted(second_participant) + " authenticated";
   const auto seen = [&](const std::string& line) { return daemons[other]->log().find(line) != std::string::npos; };
-  const auto since = Clock::now();
-  while (!(seen(left) && seen(authenticated)) && Clock::now() - since < std::chrono::seconds(10)) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  (void)eventually([&] { return seen(left) && seen(authenticated); }, 10s, "the other daemon logs both");  // checked below
   const std::string log = daemons[other]->log();
   ASSERT_NE(log.find(left), std::string::npos) << log;
   ASSERT_NE(log.find(authenticated), std::string::npos) << log;
@@ -218,15 +205,13 @@ TEST_F(RejoinTest, TwoSecuredDaemonsWhoseFirstHandshakeFailedMeetByRejoining) {
         identity("probe"), std::vector<std::string>{}, std::chrono::seconds(60), lab.prefix(id),
         lab.profile("hc").string());
   }
-  const auto blocked_at = Clock::now();
   const auto discovered = [&](const std::string& id, const std::string& other) {
     return daemons[id]->log().find("(isparsd " + other + ") discovered") != std::string::npos;
   };
-  while (!(discovered("d1", "d2") && discovered("d2", "d1")) && Clock::now() - blocked_at < std::chrono::seconds(30)) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  ASSERT_TRUE(discovered("d1", "d2") && discovered("d2", "d1")) << daemons["d1"]->log() << daemons["d2"]->log();
-  std::this_thread::sleep_for(kBlocked);
+  ASSERT_TRUE(eventually([&] { return discovered("d1", "d2") && discovered("d2", "d1"); }, 30s,
+                         "the daemons discover each other", 200ms))
+      << daemons["d1"]->log() << daemons["d2"]->log();
+  std::this_thread::sleep_for(kBlocked);  // the fault goes on
   lab.undeafen_unicast("d1", "d2");
   lab.undeafen_unicast("d2", "d1");
   const auto whole_at = Clock::now();
@@ -236,10 +221,9 @@ TEST_F(RejoinTest, TwoSecuredDaemonsWhoseFirstHandshakeFailedMeetByRejoining) {
     return other_daemons_counted_on(ports["d1"], lab.address("d1")) == 1 &&
            other_daemons_counted_on(ports["d2"], lab.address("d2")) == 1;
   };
-  while (!connected() && Clock::now() - whole_at < kFirstMeetingBound) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  ASSERT_TRUE(connected()) << "the daemons never met:\n" << daemons["d1"]->log() << daemons["d2"]->log();
+  ASSERT_TRUE(eventually(connected, kFirstMeetingBound,
+                         "the daemons meet", 200ms))
+      << daemons["d1"]->log() << daemons["d2"]->log();
   const double met_s = std::chrono::duration<double>(Clock::now() - whole_at).count();
   // The positive control: the handshake did fail, and a rejoin was what met them.
   const std::string failed = "was discovered and did not authenticate within 10 s";

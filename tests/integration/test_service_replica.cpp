@@ -21,15 +21,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-template <class Predicate>
-bool eventually(Predicate ready, std::chrono::seconds timeout = std::chrono::seconds(20)) {
-  const auto deadline = Clock::now() + timeout;
-  while (Clock::now() < deadline) {
-    if (ready()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return ready();
-}
+using namespace std::chrono_literals;
 
 class ReplicaTest : public ServiceTest {
  protected:
@@ -55,7 +47,7 @@ TEST_F(ReplicaTest, ADropEmptiesEveryReplicaAndReleasesTheKeptBatches) {
   RawPeer late(domain_);
   ASSERT_GT(late.kept_update_batches("s0", std::chrono::milliseconds(1500)), 0u);  // kept for late joiners
   client.drop("s0");
-  ASSERT_TRUE(eventually([&] { return replica.retirements() == 1; }));
+  ASSERT_TRUE(eventually([&] { return replica.retirements() == 1; }, 20s, "the replica retires its roadmap"));
   EXPECT_EQ(replica.roadmap().vertex_count(), 0u);
   EXPECT_EQ(other.retirements(), 0u);  // another scene's replica is untouched
   EXPECT_GT(other.roadmap().vertex_count(), 0u);
@@ -68,7 +60,7 @@ TEST_F(ReplicaTest, ADropEmptiesEveryReplicaAndReleasesTheKeptBatches) {
   // The positive control of `other`'s zero retirements above: a drop of s1 does reach s1's
   // replica, so that zero was not the count of a replica deaf to every drop.
   client.drop("s1");
-  EXPECT_TRUE(eventually([&] { return other.retirements() >= 1; })) << "a drop of s1 never reached s1's replica";
+  EXPECT_TRUE(eventually([&] { return other.retirements() >= 1; }, 20s, "s1's replica retires")) << "a drop of s1 never reached s1's replica";
   EXPECT_EQ(other.roadmap().vertex_count(), 0u);
 }
 
@@ -150,13 +142,13 @@ TEST_F(ReplicaTest, AnUnloadEmptiesTheReplicaAndALoadBringsItBack) {
   const SceneStatus built = build_followed(client, replica, "s2");
   const std::uint64_t digest = roadmap_digest(replica.roadmap());
   client.unload("s2");
-  ASSERT_TRUE(eventually([&] { return replica.retirements() == 1; }));
+  ASSERT_TRUE(eventually([&] { return replica.retirements() == 1; }, 20s, "the replica retires its roadmap"));
   EXPECT_EQ(replica.roadmap().vertex_count(), 0u);
   // Not checked here: the kept batches of an unload right after a build are not reliably
   // released (Fast DDS 2.9 keeps some batches through the unregister when they were just
   // written; seen under load). The drop test checks release after batches have settled.
   client.load("s2");  // its stored roadmap comes back, and so does the replica
-  ASSERT_TRUE(eventually([&] { return replica.roadmap().vertex_count() > 0; }, std::chrono::seconds(30)));
+  ASSERT_TRUE(eventually([&] { return replica.roadmap().vertex_count() > 0; }, 30s, "the replica holds a roadmap"));
   EXPECT_EQ(roadmap_digest(replica.roadmap()), digest);
   EXPECT_EQ(replica.version(), built.version);
 }
@@ -175,7 +167,8 @@ TEST_F(ReplicaTest, WatchStopsOnADropAndWritesNoStaleFile) {
   int status = -1;
   std::thread watcher([&] { status = std::system(command.c_str()); });
   // The watch shows progress once it follows the scene; then give its replica a moment to sync.
-  ASSERT_TRUE(eventually([&] { return std::filesystem::exists(out_file) && std::filesystem::file_size(out_file) > 0; }));
+  ASSERT_TRUE(eventually([&] { return std::filesystem::exists(out_file) && std::filesystem::file_size(out_file) > 0; }, 20s,
+                         "the watch shows progress"));
   std::this_thread::sleep_for(std::chrono::seconds(2));
   client.drop("s3");
   watcher.join();

@@ -31,12 +31,13 @@ double metric(int port, const std::string& series) {
 
 // Polls metric `series` until it equals `want` (at most `within`); returns the last value read.
 double await_metric(int port, const std::string& series, double want, std::chrono::milliseconds within) {
-  const auto deadline = std::chrono::steady_clock::now() + within;
-  double value = metric(port, series);
-  while (value != want && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    value = metric(port, series);
-  }
+  double value = 0.0;
+  (void)eventually(
+      [&] {
+        value = metric(port, series);
+        return value == want;
+      },
+      within, series, std::chrono::milliseconds(100));
   return value;
 }
 
@@ -51,12 +52,13 @@ msg::QueryRequest stats_request(std::uint64_t seq) {
 TEST_F(ServiceTest, ARouteOpensWhenTheReplyReaderIsDiscoveredBeforeAnyRequest) {
   auto daemon = start("d");
   RawPeer peer(domain_);
-  for (int i = 0; i < 1000 && peer.route_opens() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  EXPECT_EQ(peer.route_opens(), 1u) << "no route-open reply before any request";
+  EXPECT_TRUE(eventually([&] { return peer.route_opens() > 0; }, std::chrono::seconds(10),
+                         "a route-open reply before any request", std::chrono::milliseconds(10)));
+  EXPECT_EQ(peer.route_opens(), 1u);
   // request_seq 0 is the route-open reply's: a request with it is refused by name.
   ASSERT_TRUE(peer.post(stats_request(0)));
-  for (int i = 0; i < 500 && peer.route_opens() < 2; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  EXPECT_EQ(peer.route_opens(), 2u);
+  EXPECT_TRUE(eventually([&] { return peer.route_opens() == 2; }, std::chrono::seconds(5), "the refusal's route-open",
+                         std::chrono::milliseconds(10)));
   EXPECT_NE(daemon->log().find("request_seq: 0 is reserved"), std::string::npos) << daemon->log();
 }
 
@@ -78,7 +80,8 @@ TEST_F(ServiceTest, ThreeHundredClientsComeAndGoAndTheRoutesHeldAreThoseOfTheLiv
     RawPeer& peer = *live.back();
     ASSERT_TRUE(peer.post(stats_request(1))) << "client " << i << " never matched the daemon";
     const auto posted = std::chrono::steady_clock::now();
-    for (int w = 0; w < 400 && peer.replies_to(1) == 0; ++w) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    (void)eventually([&] { return peer.replies_to(1) > 0; }, std::chrono::seconds(2), "an answer",
+                     std::chrono::milliseconds(5));  // counted below
     if (peer.replies_to(1) == 0) {
       ++lost;
     } else {

@@ -28,6 +28,8 @@
 namespace ispars::test {
 namespace {
 
+using namespace std::chrono_literals;
+
 namespace fdds = eprosima::fastdds::dds;
 namespace fs = std::filesystem;
 
@@ -87,10 +89,8 @@ class SecureServiceTest : public ServiceTest {
   std::unique_ptr<Client> joined_as(const std::string& name) const {
     for (int attempt = 1;; ++attempt) {
       auto client = std::make_unique<Client>(options_as(name));
-      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-      while (std::chrono::steady_clock::now() < deadline) {
-        if (!client->daemon_identity("d").empty()) return client;
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      if (eventually([&] { return !client->daemon_identity("d").empty(); }, 10s, "heard daemon d", 20ms)) {
+        return client;
       }
       if (attempt == 3) throw std::runtime_error("a client as " + name + " heard no daemon in three tries of 10 s");
       std::fprintf(stderr, "a client as %s heard no daemon in 10 s (try %d); joining again\n", name.c_str(), attempt);
@@ -107,12 +107,8 @@ class SecureServiceTest : public ServiceTest {
   // this, a view that never showed any load would pass that check vacuously.
   static void expect_an_allowed_load_is_seen(Client& op, const std::string& scene) {
     EXPECT_NO_THROW(op.load(scene)) << "the operator may load " << scene;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    while (std::chrono::steady_clock::now() < deadline && !loaded_on(op, scene)) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    EXPECT_TRUE(loaded_on(op, scene)) << "the operator's view never showed its own load of " << scene
-                                      << ": it would not have shown a forbidden one either";
+    EXPECT_TRUE(eventually([&] { return loaded_on(op, scene); }, 10s, "the operator's view shows its own load", 20ms))
+        << scene << ": it would not have shown a forbidden one either";
   }
 
   static TempDir* keystore_;
@@ -139,12 +135,13 @@ void expect_the_daemons_extend_is_followed(Client& op, Client& viewer, client::R
   ASSERT_GT(extended.version, done.version);
   EXPECT_TRUE(replica.wait_for(extended.generation, extended.version, std::chrono::seconds(30)))
       << "the replica did not follow the daemon's extend: " << replica.version() << " of " << extended.version;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  std::optional<SceneStatus> seen = viewer.latest_status("s0");
-  while (std::chrono::steady_clock::now() < deadline && !(seen && seen->version == extended.version)) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    seen = viewer.latest_status("s0");
-  }
+  std::optional<SceneStatus> seen;
+  (void)eventually(
+      [&] {
+        seen = viewer.latest_status("s0");
+        return seen && seen->version == extended.version;
+      },
+      10s, "the viewer sees the status after the extend", 20ms);  // checked below
   ASSERT_TRUE(seen.has_value());
   EXPECT_EQ(seen->version, extended.version) << "the viewer never saw the daemon's status after the extend";
   EXPECT_EQ(seen->vertices, extended.vertices);
@@ -254,8 +251,7 @@ TEST_F(SecureServiceTest, AnUnauthenticatedParticipantSeesAndWritesNothing) {
   RawBytesWriter change(domain_, "", wire::kChangeTopic, "ispars::msg::ChangeRequest");
   EXPECT_FALSE(change.wait_matched(3));
   change.write(serialized_load("s1", "d"));
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  EXPECT_FALSE(loaded_on(op, "s1"));
+  EXPECT_TRUE(throughout([&] { return !loaded_on(op, "s1"); }, 500ms, "s1 is not loaded"));
   EXPECT_TRUE(daemon->alive());
   expect_an_allowed_load_is_seen(op, "s1");
 }
@@ -290,8 +286,7 @@ TEST_F(SecureServiceTest, AViewerQueriesAndFollowsUpdatesButItsChangesNeverReach
   RawBytesWriter rogue(domain_, identity("rogue"), wire::kChangeTopic, "ispars::msg::ChangeRequest");
   EXPECT_FALSE(rogue.wait_matched(5));
   rogue.write(serialized_load("s1", "d"));
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  EXPECT_FALSE(loaded_on(op, "s1"));
+  EXPECT_TRUE(throughout([&] { return !loaded_on(op, "s1"); }, 500ms, "s1 is not loaded"));
   EXPECT_EQ(op.stats("s0").vertices, done.vertices);
   expect_an_allowed_load_is_seen(op, "s1");
 }
@@ -303,7 +298,7 @@ TEST_F(SecureServiceTest, AReplicaFollowsOnAfterTheDaemonStalledForFiveSeconds) 
   BuiltAndFollowed world(*this);
   auto [op, viewer, replica, done] = world.parts();
   ASSERT_EQ(::kill(world.daemon->pid(), SIGSTOP), 0);
-  std::this_thread::sleep_for(std::chrono::seconds(5));
+  std::this_thread::sleep_for(std::chrono::seconds(5));  // the fault: a 5 s stall
   ASSERT_EQ(::kill(world.daemon->pid(), SIGCONT), 0);
   op.extend("s0", 1500);
   const auto extended = op.wait_idle("s0", {}, kLong);
@@ -340,12 +335,19 @@ TEST_F(SecureServiceTest, AForgedStatusOrUpdateFromANonDaemonIdentityChangesNoth
                std::runtime_error);
   // The rogue may, by its own signature; nobody matches it.
   Forger rogue(domain_, identity("rogue"));
-  std::this_thread::sleep_for(std::chrono::seconds(2));
-  fdds::PublicationMatchedStatus matched;
-  rogue.status->get_publication_matched_status(matched);
-  EXPECT_EQ(matched.current_count, 0);
+  EXPECT_TRUE(throughout(
+      [&] {
+        fdds::PublicationMatchedStatus matched;
+        rogue.status->get_publication_matched_status(matched);
+        return matched.current_count == 0;
+      },
+      2s, "nobody matches the rogue's writer"));
   rogue.forge(done);
-  std::this_thread::sleep_for(std::chrono::seconds(1));
+  EXPECT_TRUE(throughout([&] {
+                           const auto st = viewer.latest_status("s0");
+                           return st && st->state == done.state;
+                         }, 1s,
+                         "the viewer keeps the real status"));
   const auto seen = viewer.latest_status("s0");
   ASSERT_TRUE(seen.has_value());
   EXPECT_EQ(seen->state, done.state);
@@ -368,15 +370,21 @@ TEST_F(ServiceTest, AForgedStatusOrUpdateFromAnotherParticipantChangesNothing) {
   const auto digest = roadmap_digest(replica.roadmap());
   const std::size_t snapshots = replica.snapshots_taken();
   Forger forger(domain_, "");
-  fdds::PublicationMatchedStatus matched;
-  for (int i = 0; i < 300 && matched.current_count == 0; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    forger.status->get_publication_matched_status(matched);
-  }
-  ASSERT_GT(matched.current_count, 0) << "without security the forger's writer matches (the point of the test)";
+  ASSERT_TRUE(eventually(
+      [&] {
+        fdds::PublicationMatchedStatus matched;
+        forger.status->get_publication_matched_status(matched);
+        return matched.current_count > 0;
+      },
+      3s, "without security the forger's writer matches (the point of the test)", 10ms));
   forger.forge(done);
   forger.claim("s1", "ghost");
-  std::this_thread::sleep_for(std::chrono::seconds(1));
+  // The forgeries reach every reader within this window; none is believed.
+  EXPECT_TRUE(throughout([&] {
+                           const auto st = op.latest_status("s0");
+                           return st && st->state == done.state;
+                         }, 1s,
+                         "the operator keeps the real status"));
   EXPECT_NO_THROW(op.load("s1")) << "a forged claim made the daemon refuse a load";
   const auto seen = op.latest_status("s0");
   ASSERT_TRUE(seen.has_value());
@@ -400,8 +408,7 @@ void expect_replies_reach_only_their_requester(Client& requester, RawPeer& bysta
   requester.wait_idle("s0", {}, kLong);
   for (int i = 0; i < 20; ++i) (void)requester.stats("s0");
   (void)requester.snapshot("s0");
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  EXPECT_EQ(bystander.foreign_replies(), 0u);
+  EXPECT_TRUE(throughout([&] { return bystander.foreign_replies() == 0u; }, 500ms, "the bystander reads no reply of another"));
   EXPECT_EQ(bystander.replies_received(), 1u);
   // The positive control: the bystander's reader still hears its own replies after that window
   // (a reader that heard nothing would have counted no foreign reply either).

@@ -49,10 +49,8 @@ class StallTest : public ServiceTest {
     auto o = client_options(domain_);
     o.participant.security = identity("op");
     auto client = std::make_unique<Client>(o);
-    const auto deadline = Clock::now() + std::chrono::seconds(10);
-    while (Clock::now() < deadline) {
-      if (client->daemons().size() == 2) return client;
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (eventually([&] { return client->daemons().size() == 2; }, std::chrono::seconds(10), "the client hears both")) {
+      return client;
     }
     return nullptr;
   }
@@ -60,14 +58,13 @@ class StallTest : public ServiceTest {
   // handshake that never ends, a Fast DDS fault, is healed by a rejoin after 10 s: PeerWatch.)
   static bool fleet_connected(std::map<std::string, std::unique_ptr<DaemonProcess>>& daemons,
                               std::chrono::seconds limit) {
-    const auto deadline = Clock::now() + limit;
-    while (Clock::now() < deadline) {
-      bool all = true;
-      for (auto& [id, d] : daemons) all = all && other_daemons_counted_on(metrics_port(d->log())) == 1;
-      if (all) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    }
-    return false;
+    return eventually(
+        [&] {
+          return std::all_of(daemons.begin(), daemons.end(), [](const auto& entry) {
+            return other_daemons_counted_on(metrics_port(entry.second->log())) == 1;
+          });
+        },
+        limit, "each daemon counts the other", std::chrono::milliseconds(200));
   }
   std::filesystem::path keystore_;
 };
@@ -88,7 +85,7 @@ TEST_F(StallTest, AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner)
     const std::string other = owner == "a" ? "b" : "a";
     ASSERT_TRUE(fleet_connected(daemons, std::chrono::seconds(60))) << daemons["a"]->log() << daemons["b"]->log();
     ASSERT_EQ(::kill(daemons[owner]->pid(), SIGSTOP), 0);
-    std::this_thread::sleep_for(kSecureLease + std::chrono::seconds(5));
+    std::this_thread::sleep_for(kSecureLease + std::chrono::seconds(5));  // the fault: past the lease
     // The other daemon dropped the stalled one and took the scene over.
     const std::string log = daemons[other]->log();
     EXPECT_NE(log.rfind("daemon " + owner + " left while holding scene 's0'"), std::string::npos) << log;

@@ -49,10 +49,8 @@ TEST_F(ServiceTest, AReplicaFollowingATaskResyncsToTheSnapshot) {
   client.add_sampled_task("s0", "cracks", 50, 8);
   const SceneStatus added = client.wait_idle("s0", {}, kLong);
   ASSERT_EQ(added.tasks, 1u) << added.last_error;
-  for (int i = 0; i < 400 && replica.roadmap().poi_count() != added.poi_count; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  EXPECT_EQ(replica.roadmap().poi_count(), added.poi_count);
+  EXPECT_TRUE(eventually([&] { return replica.roadmap().poi_count() == added.poi_count; }, std::chrono::seconds(20),
+                         "the replica learns of the task"));
   EXPECT_GT(replica.snapshots_taken(), snapshots) << "a task's POIs come with a snapshot";
   EXPECT_EQ(replica.pois().size(), added.poi_count);
   EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(client.snapshot("s0").roadmap));
@@ -68,10 +66,8 @@ TEST_F(ServiceTest, AReplicaFollowingATaskResyncsToTheSnapshot) {
   const SceneStatus copied = client.wait_idle("s0", {}, kLong);
   ASSERT_EQ(copied.tasks, 2u) << copied.last_error;
   EXPECT_EQ(copied.version, added.version) << "copies of covered POIs need no guard";
-  for (int i = 0; i < 400 && replica.roadmap().poi_count() != copied.poi_count; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  EXPECT_EQ(replica.roadmap().poi_count(), copied.poi_count) << "the replica never learnt of the task";
+  EXPECT_TRUE(eventually([&] { return replica.roadmap().poi_count() == copied.poi_count; }, std::chrono::seconds(20),
+                         "the replica learns of the second task"));
   EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(client.snapshot("s0").roadmap));
   EXPECT_EQ(daemon->terminate(), 0);
 }
@@ -89,7 +85,7 @@ TEST_F(ServiceTest, KillNineDuringATaskAdditionLeavesBeforeOrAfterItAndTheRestar
       client.build("s0", build_of("ispars", 20000));
       ASSERT_EQ(client.wait_idle("s0", {}, kLong).state, SceneState::idle);
       client.add_sampled_task("s0", "welds", 300, 3);
-      std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+      std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));  // the kill's moment
       daemon->kill9();
     }
     daemon = std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, data.path(), scene_dir_, "d", quick);

@@ -33,12 +33,14 @@ class TlsProxy {
     FILE* pipe = ::popen(run.c_str(), "r");
     if (pipe == nullptr || std::fscanf(pipe, "%d", &pid_) != 1) pid_ = -1;
     if (pipe != nullptr) ::pclose(pipe);
-    for (int i = 0; i < 100 && !listening(port); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    (void)eventually([&] { return listening(port); }, std::chrono::seconds(10), "nginx listens",
+                     std::chrono::milliseconds(100));  // a test that needs it checks it
   }
   ~TlsProxy() {
     if (pid_ > 0) {
       ::kill(pid_, SIGTERM);  // nginx's fast stop; its workers go with the master
-      for (int i = 0; i < 100 && ::kill(pid_, 0) == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      (void)eventually([&] { return ::kill(pid_, 0) != 0; }, std::chrono::seconds(5), "nginx stops",
+                       std::chrono::milliseconds(50));
     }
   }
   TlsProxy(const TlsProxy&) = delete;
@@ -124,9 +126,8 @@ TEST_F(WebProxyTest, ChromiumFollowsABuildOverHttpsAndWssAndTheBoundsHoldThrough
     follow = check("follow", "s0 240 '" + ready.string() + "'");
     ended = true;
   });
-  for (int i = 0; i < 1200 && !std::filesystem::exists(ready) && !ended; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  (void)eventually([&] { return std::filesystem::exists(ready) || ended; }, std::chrono::seconds(120),
+                   "the page is ready", std::chrono::milliseconds(100));  // checked below
   const bool opened = std::filesystem::exists(ready);
   if (opened) client.build("s0", ispars_build(scaled(20'000), 1));
   follower.join();

@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "support/eventually.hpp"
 #include "support/test_support.hpp"
 
 extern char** environ;
@@ -49,11 +50,13 @@ class Gateway {
     if (posix_spawnp(&pid_, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
     posix_spawn_file_actions_destroy(&actions);
     const std::string said = "serving http://" + listen.substr(0, listen.rfind(':')) + ":";
-    for (int i = 0; i < 200 && port_ == 0 && alive(); ++i) {
-      const std::string text = read_text(log_);
-      if (const auto at = text.find(said); at != std::string::npos) port_ = std::stoi(text.substr(at + said.size()));
-      if (port_ == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
+    (void)eventually(
+        [&] {
+          const std::string text = read_text(log_);
+          if (const auto at = text.find(said); at != std::string::npos) port_ = std::stoi(text.substr(at + said.size()));
+          return port_ != 0 || !alive();
+        },
+        std::chrono::seconds(20), "the gateway says where it serves", std::chrono::milliseconds(100));  // port() 0 else
   }
   ~Gateway() {
     if (pid_ > 0 && alive()) stop();
@@ -66,10 +69,12 @@ class Gateway {
     ::kill(pid_, SIGTERM);
     int status = 0;
     pid_t done = 0;
-    for (int i = 0; i < 1000 && done == 0; ++i) {
-      done = ::waitpid(pid_, &status, WNOHANG);
-      if (done == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
+    (void)eventually(
+        [&] {
+          done = ::waitpid(pid_, &status, WNOHANG);
+          return done != 0;
+        },
+        std::chrono::seconds(10), "the gateway exits", std::chrono::milliseconds(10));
     if (done == 0) {
       ::kill(pid_, SIGKILL);
       ::waitpid(pid_, &status, 0);

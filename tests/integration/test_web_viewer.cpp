@@ -65,17 +65,17 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
                               "' 240 --close-one-early --ready-file='" + ready.string() + "' > '" + node_out.string() +
                               "' 2>&1; echo $? > '" + node_out.string() + ".exit'";
   ASSERT_EQ(std::system(("(" + command + ") &").c_str()), 0);
-  for (int i = 0; i < 600 && !std::filesystem::exists(ready); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ASSERT_TRUE(std::filesystem::exists(ready)) << read_text(node_out);
+  ASSERT_TRUE(eventually([&] { return std::filesystem::exists(ready); }, std::chrono::seconds(60), "the pages are ready",
+                         std::chrono::milliseconds(100)))
+      << read_text(node_out);
   const auto t0 = std::chrono::steady_clock::now();
   BuildArgs args;
   args.method = "ispars";
   args.samples = scaled(20'000);  // a twentieth in the sanitizer pass
   args.seed = 1;
   client.build("s0", args);
-  for (int i = 0; i < 3000 && !std::filesystem::exists(node_out.string() + ".exit"); ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  (void)eventually([&] { return std::filesystem::exists(node_out.string() + ".exit"); }, std::chrono::seconds(300),
+                   "the browser check ends", std::chrono::milliseconds(100));  // its exit status checked below
   ASSERT_EQ(read_text(node_out.string() + ".exit"), "0\n") << read_text(node_out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::string out = read_text(node_out);
@@ -136,11 +136,12 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   EXPECT_NE(text_of(gone["text"]).find("daemon d has left the DDS domain"), std::string::npos) << gone;
   EXPECT_EQ(gone["vertices"], stats.vertices) << "the last roadmap stays shown\n" << gateway.log();
   std::pair<std::string, std::string> scenes;
-  for (int i = 0; i < 15; ++i) {  // its announcement lasts until its lease (3 s) runs out
-    scenes = http_get(gateway.port(), "/api/scenes");
-    if (scenes.first == "HTTP/1.1 503 Service Unavailable") break;
-    std::this_thread::sleep_for(std::chrono::seconds(1));
-  }
+  (void)eventually(  // its announcement lasts until its lease (3 s) runs out
+      [&] {
+        scenes = http_get(gateway.port(), "/api/scenes");
+        return scenes.first == "HTTP/1.1 503 Service Unavailable";
+      },
+      std::chrono::seconds(15), "the gateway answers 503", std::chrono::seconds(1));  // checked below
   EXPECT_EQ(scenes.first, "HTTP/1.1 503 Service Unavailable") << scenes.second;
   EXPECT_NE(scenes.second.find("\"error\""), std::string::npos) << scenes.second;
   std::cout << "with the daemon gone, /api/scenes says: " << scenes.second << "\n";
@@ -162,10 +163,8 @@ TEST_F(WebViewerTest, APageOpenedBeforeItsSceneIsLoadedDrawsItOnceItIs) {
   std::thread page([&] { seen = page_text(gateway.port(), "state:drawn"); });
   // The gateway has asked the daemon for the scene and been told it is not loaded.
   const std::string refused = "stats 's0': request: scene: scene 's0' is not loaded";
-  for (int i = 0; i < 600 && daemon->log().find(refused) == std::string::npos; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  EXPECT_NE(daemon->log().find(refused), std::string::npos);
+  EXPECT_TRUE(eventually([&] { return daemon->log().find(refused) != std::string::npos; }, std::chrono::seconds(60),
+                         "the daemon refuses the gateway's stats", std::chrono::milliseconds(100)));
   client.load("s0");
   client.build("s0", ispars_build(scaled(5'000)));
   page.join();

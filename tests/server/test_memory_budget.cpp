@@ -10,6 +10,7 @@
 
 #include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_service.hpp"
+#include "server/service_waits.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
@@ -130,10 +131,7 @@ TEST(MemoryBudgetService, SnapshotsAndToursAreRefusedAsBusyWhenTheBudgetHasNoRoo
     BuildRequest build;
     build.samples = 1500;
     service.build("s0", build);
-    for (int i = 0; i < 6000 && service.stats("s0").samples_done < 1500; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    ASSERT_EQ(service.stats("s0").samples_done, 1500u);
+    ASSERT_EQ(test::wait_idle(service, "s0").samples_done, 1500u);
     reserved = service.session("s0")->expected_cost().peak_bytes;
     digest = roadmap_digest(*service.session("s0")->published().roadmap);
     (void)service.snapshot("s0", 0, 0, 0);  // fits in an unlimited budget

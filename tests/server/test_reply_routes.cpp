@@ -16,6 +16,7 @@
 #include "ispars/wire/participant.hpp"
 #include "ispars/wire/topics.hpp"
 #include "reply_routes.hpp"
+#include "support/eventually.hpp"
 #include "ispars/local/local_daemon.hpp"
 
 namespace ispars::server {
@@ -70,11 +71,12 @@ msg::Reply reply_to(const std::string& client, std::uint64_t seq) {
 
 // Services the routes until `client`'s is ready (at most 5 s).
 bool serve_until_ready(ReplyRoutes& routes, const std::string& client) {
-  for (int i = 0; i < 2500 && !routes.ready(client); ++i) {
-    routes.service();
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return routes.ready(client);
+  return test::eventually(
+      [&] {
+        routes.service();
+        return routes.ready(client);
+      },
+      std::chrono::seconds(5), "the route of " + client + " is ready", std::chrono::milliseconds(2));
 }
 
 TEST(ReplyRoutes, AReplyReachesTheReaderInItsClientsPartitionAndNoOther) {
@@ -85,10 +87,12 @@ TEST(ReplyRoutes, AReplyReachesTheReaderInItsClientsPartitionAndNoOther) {
   // Ready means acknowledged: every reply from now on arrives, the first included, with no retry.
   for (std::uint64_t seq = 1; seq <= 10; ++seq) ASSERT_TRUE(r.routes->write_reply(reply_to("aaaa", seq)));
   std::size_t got = 0;
-  for (int i = 0; i < 300 && got < 10; ++i) {
-    got += a.take_all(1);  // the route-open reply (0) aside
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  (void)test::eventually(
+      [&] {
+        got += a.take_all(1);  // the route-open reply (0) aside
+        return got >= 10;
+      },
+      std::chrono::seconds(3), "ten replies", std::chrono::milliseconds(10));
   EXPECT_EQ(got, 10u);
   fdds::SubscriptionMatchedStatus bs;
   b.reader->get_subscription_matched_status(bs);
@@ -109,10 +113,12 @@ TEST(ReplyRoutes, ARouteIsReadyOnlyOnceItsReaderHasAcknowledgedIt) {
   ASSERT_TRUE(serve_until_ready(*r.routes, "cccc"));
   // The reader got the route-open reply, request_seq 0, which no request has.
   std::size_t markers = 0;
-  for (int i = 0; i < 300 && markers == 0; ++i) {
-    markers += c.take_all(0, 0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  (void)test::eventually(
+      [&] {
+        markers += c.take_all(0, 0);
+        return markers > 0;
+      },
+      std::chrono::seconds(3), "the route-open reply", std::chrono::milliseconds(10));
   EXPECT_EQ(markers, 1u);
   EXPECT_EQ(r.routes->ready_count(), 1u);
 }

@@ -13,12 +13,15 @@
 #include "ispars/service/pending_jobs.hpp"
 #include "ispars/service/roadmap_service.hpp"
 #include "ispars/service/roadmap_store.hpp"
+#include "server/service_waits.hpp"
+#include "support/eventually.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
 namespace {
 
 using namespace std::chrono_literals;
+using test::eventually;
 
 class RoadmapServiceTest : public ::testing::Test {
  protected:
@@ -54,15 +57,7 @@ class RoadmapServiceTest : public ::testing::Test {
   }
   // Waits until the scene has no job queued or running.
   static SessionStatus wait_idle(const RoadmapService& service, const std::string& scene) {
-    for (int i = 0; i < 6000; ++i) {
-      const SessionStatus s = service.stats(scene);
-      if (s.state != SessionState::queued && s.state != SessionState::building && s.state != SessionState::replaying) {
-        return s;
-      }
-      std::this_thread::sleep_for(10ms);
-    }
-    ADD_FAILURE() << scene << " never became idle";
-    return service.stats(scene);
+    return test::wait_idle(service, scene);
   }
   test::TempDir dir_;
 };
@@ -247,10 +242,9 @@ TEST_F(RoadmapServiceTest, ToursAreAdmittedUpToTheBoundAndCancelAndStopEndThem) 
   // tour cancelled before its first one fails instead, which a loaded machine can make happen
   // after any fixed wait.
   const auto until_progress = [&](int above) {
-    for (int i = 0; i < 3000 && progress.load() <= above; ++i) std::this_thread::sleep_for(10ms);
-    return progress.load() > above;
+    return eventually([&] { return progress.load() > above; }, 30s, "the tour reports progress", 10ms);
   };
-  ASSERT_TRUE(until_progress(0)) << "the tour reported no progress within 30 s";
+  ASSERT_TRUE(until_progress(0));
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(service.cancel("s0").tours_stopped, 1u);
   {
@@ -260,16 +254,16 @@ TEST_F(RoadmapServiceTest, ToursAreAdmittedUpToTheBoundAndCancelAndStopEndThem) 
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10.0);
   EXPECT_GT(progress.load(), 0);
   // The slot is free again once the tour has returned; stop() ends a running tour with its best.
-  bool admitted = false;
-  for (int i = 0; i < 200 && !admitted; ++i) {
-    try {
-      service.start_tour("s0", tour, callbacks());
-      admitted = true;
-    } catch (const InputError&) {
-      std::this_thread::sleep_for(10ms);
-    }
-  }
-  ASSERT_TRUE(admitted) << "the finished tour's slot was never released";
+  ASSERT_TRUE(eventually(
+      [&] {
+        try {
+          service.start_tour("s0", tour, callbacks());
+          return true;
+        } catch (const InputError&) {
+          return false;
+        }
+      },
+      2s, "the finished tour's slot is released", 10ms));
   const int first_progress = progress.load();
   ASSERT_TRUE(until_progress(first_progress)) << "the second tour reported no progress within 30 s";
   service.stop();
@@ -310,8 +304,7 @@ TEST_F(RoadmapServiceTest, AYieldedSceneStopsItsBuildsAndLeavesWithoutAnUnloaded
   service.build("s0", ispars(2'000));
   wait_idle(service, "s0");
   service.build("s1", ispars(50'000'000));  // runs on the only build worker
-  for (int i = 0; i < 3000 && service.stats("s1").samples_done == 0; ++i) std::this_thread::sleep_for(10ms);
-  ASSERT_GT(service.stats("s1").samples_done, 0u);  // running, with a commit
+  ASSERT_TRUE(eventually([&] { return service.stats("s1").samples_done > 0; }, 30s, "s1 runs, with a commit", 10ms));
   service.extend("s0", 1'000);  // queued behind it: cancelled at once by the yield
   const std::atomic<bool> give_up{false};
   const auto t0 = std::chrono::steady_clock::now();
@@ -368,8 +361,7 @@ TEST_F(RoadmapServiceTest, AYieldIsNotHeldUpByLoopingVerifies) {
     });
   }
   // Up to 2 min: a verify of 30,000 samples takes tens of seconds under the sanitizers.
-  for (int i = 0; i < 12000 && verified < 4; ++i) std::this_thread::sleep_for(10ms);
-  ASSERT_GE(verified, 4);
+  ASSERT_TRUE(eventually([&] { return verified >= 4; }, 120s, "four verifies done", 10ms));
   const std::atomic<bool> give_up{false};
   yield_at = std::chrono::steady_clock::now();
   service.yield("s0", give_up);
@@ -414,8 +406,7 @@ TEST_F(RoadmapServiceTest, AJobIsResumedWithItsAttemptCountedAndGivenUpAfterThre
     }
     EXPECT_EQ(wait_idle(service, "s0").samples_done, 2500u);
     // The worker forgets the record just after the session turns idle, not in the same step.
-    for (int i = 0; i < 500 && !pending_jobs(data).empty(); ++i) std::this_thread::sleep_for(10ms);
-    EXPECT_TRUE(pending_jobs(data).empty()) << "a finished job stays recorded";
+    EXPECT_TRUE(eventually([&] { return pending_jobs(data).empty(); }, 5s, "a finished job's record is forgotten", 10ms));
   }
 }
 

@@ -24,6 +24,7 @@
 #include <thread>
 
 #include "ispars/service/inspection_task.hpp"
+#include "server/service_waits.hpp"
 #include "ispars/service/roadmap_service.hpp"
 #include "ispars/service/scene_catalog.hpp"
 #include "support/power_cut_fs.hpp"
@@ -122,14 +123,7 @@ class ServicePowerCutTest : public ::testing::Test {
     return r;
   }
   // Until s0 has no job queued or running (a job the power cut failed ends as failed).
-  static void wait_idle(const RoadmapService& service) {
-    for (int i = 0; i < 6000; ++i) {
-      const SessionState st = service.stats("s0").state;
-      if (st != SessionState::queued && st != SessionState::building && st != SessionState::replaying) return;
-      std::this_thread::sleep_for(5ms);
-    }
-    ADD_FAILURE() << "s0 never became idle";
-  }
+  static void wait_idle(const RoadmapService& service) { (void)test::wait_idle(service, "s0"); }
   static ReadState read(const RoadmapService& service) {
     const auto session = service.session("s0");
     const SessionStatus st = session->status();

@@ -9,6 +9,7 @@
 #include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "roadmap_session_fixture.hpp"
+#include "support/eventually.hpp"
 
 namespace ispars {
 namespace {
@@ -190,12 +191,13 @@ TEST_F(RoadmapSessionTest, VerifyAndDropRightAfterAJobTurnsIdleWaitForItsLastSta
   callbacks.on_status = [&](const SessionStatus& s) {
     if (s.state != SessionState::idle || s.samples_done == 0) return;
     idle_seen = true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // a slow status reader's work
   };
   auto session = open(callbacks);
   session->request_build(ispars(500));
   std::thread job([&] { session->run_job(never_); });
-  while (!idle_seen) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_TRUE(test::eventually([&] { return idle_seen.load(); }, std::chrono::seconds(30), "the idle status",
+                               std::chrono::milliseconds(1)));
   EXPECT_EQ(session->status().state, SessionState::idle);
   EXPECT_EQ(session->verify(kVerifyBudget).invariant_violations, 0u);
   job.join();
@@ -207,7 +209,8 @@ TEST_F(RoadmapSessionTest, VerifyAndDropRightAfterAJobTurnsIdleWaitForItsLastSta
   idle_seen = false;
   session->request_extend(100);
   std::thread again([&] { session->run_job(never_); });
-  while (!idle_seen) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_TRUE(test::eventually([&] { return idle_seen.load(); }, std::chrono::seconds(30), "the idle status again",
+                               std::chrono::milliseconds(1)));
   session->drop();
   again.join();
   EXPECT_EQ(session->status().state, SessionState::empty);

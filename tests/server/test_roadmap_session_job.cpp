@@ -154,7 +154,7 @@ TEST(RoadmapSessionJob, ACancelWhileTheBuilderResumesStopsTheJob) {
   std::thread job([&] { session.run_job(never); });
   // The worker takes the job within microseconds; resuming 30,000 samples' roadmaps takes far
   // longer than this wait, so the cancel lands while the builder comes back.
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the cancel's moment, not a wait
   const bool cancelled = session.cancel();
   job.join();
   EXPECT_TRUE(cancelled);

@@ -12,6 +12,7 @@
 
 #include "ispars/input_error.hpp"
 #include "roadmap_session_fixture.hpp"
+#include "support/eventually.hpp"
 
 namespace ispars {
 namespace {
@@ -60,9 +61,8 @@ TEST_F(RoadmapSessionTest, LoopingVerifiesNeverHoldOffADropOrAnUnload) {
     });
   }
   const auto wait_for_verifies = [&](int n) {
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (verified < n && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    ASSERT_GE(verified, n);
+    ASSERT_TRUE(test::eventually([&] { return verified >= n; }, std::chrono::seconds(30), "the verifies done",
+                                 std::chrono::milliseconds(5)));
   };
   wait_for_verifies(8);
   const auto drop_at = std::chrono::steady_clock::now();

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "ispars/service/roadmap_service.hpp"
+#include "server/service_waits.hpp"
 #include "ispars/service/scene_fingerprints.hpp"
 #include "support/test_support.hpp"
 
@@ -35,10 +36,7 @@ class SceneFingerprintsTest : public ::testing::Test {
     BuildRequest r;
     r.samples = 300;
     service.build("s0", r);
-    for (int i = 0; i < 3000 && service.stats("s0").samples_done < 300; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    ASSERT_EQ(service.stats("s0").samples_done, 300u);
+    ASSERT_EQ(test::wait_idle(service, "s0").samples_done, 300u);
   }
   test::TempDir dir_;
 };

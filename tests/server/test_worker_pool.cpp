@@ -4,12 +4,17 @@
 
 #include <atomic>
 #include <chrono>
+#include <future>
 #include <thread>
 
 #include "ispars/service/worker_pool.hpp"
+#include "support/eventually.hpp"
 
 namespace ispars::server {
 namespace {
+
+using namespace std::chrono_literals;
+using test::eventually;
 
 TEST(WorkerPool, RunsJobsOnItsThreadsAndStopWaitsForRunningOnes) {
   std::atomic<int> running{0}, peak{0}, done{0};
@@ -21,12 +26,12 @@ TEST(WorkerPool, RunsJobsOnItsThreadsAndStopWaitsForRunningOnes) {
         int p = peak.load();
         while (now > p && !peak.compare_exchange_weak(p, now)) {
         }
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the job's own work
         --running;
         ++done;
       });
     }
-    while (done < 6) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ASSERT_TRUE(eventually([&] { return done == 6; }, 10s, "six jobs done", 1ms));
   }
   EXPECT_EQ(done.load(), 6);
   EXPECT_LE(peak.load(), 2);
@@ -35,21 +40,22 @@ TEST(WorkerPool, RunsJobsOnItsThreadsAndStopWaitsForRunningOnes) {
 
 TEST(WorkerPool, StopDropsQueuedJobsAndRefusesNewOnes) {
   std::atomic<int> done{0};
-  std::atomic<bool> release{false}, started{false};
+  std::atomic<bool> started{false};
+  std::promise<void> release;
   WorkerPool pool(1);
-  pool.submit([&] {
+  pool.submit([&, released = release.get_future().share()] {
     started = true;
-    while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    released.wait();
     ++done;
   });
   pool.submit([&] { ++done; });  // queued behind the first
   // stop() must find the first job running (a loaded machine may not have started it yet).
-  while (!started) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_TRUE(eventually([&] { return started.load(); }, 10s, "the first job starts", 1ms));
   std::thread stopper([&] { pool.stop(); });
   // The first job holds the only thread, so the queue empties only when stop() drops the second
   // (a fixed wait here let a loaded machine release the first before stop() began).
-  while (pool.queued() != 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  release = true;
+  EXPECT_TRUE(eventually([&] { return pool.queued() == 0; }, 10s, "stop() drops the queued job", 1ms));
+  release.set_value();
   stopper.join();
   EXPECT_EQ(done.load(), 1);
   pool.submit([&] { ++done; });
@@ -57,23 +63,24 @@ TEST(WorkerPool, StopDropsQueuedJobsAndRefusesNewOnes) {
 }
 
 TEST(WorkerPool, ABoundedQueueRefusesPastItsLimitAndAcceptsAgainOnceItDrains) {
-  std::atomic<bool> release{false}, started{false};
+  std::atomic<bool> started{false};
+  std::promise<void> release;
   std::atomic<int> done{0};
   WorkerPool pool(1, /*max_queued=*/2);
-  ASSERT_TRUE(pool.submit([&] {
+  ASSERT_TRUE(pool.submit([&, released = release.get_future().share()] {
     started = true;
-    while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    released.wait();
     ++done;
   }));
-  while (!started) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_TRUE(eventually([&] { return started.load(); }, 10s, "the first job starts", 1ms));
   EXPECT_TRUE(pool.submit([&] { ++done; }));
   EXPECT_TRUE(pool.submit([&] { ++done; }));
   EXPECT_EQ(pool.queued(), 2u);
   EXPECT_FALSE(pool.submit([&] { ++done; })) << "a third job waited past the bound";
-  release = true;
-  while (done < 3) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  release.set_value();
+  ASSERT_TRUE(eventually([&] { return done == 3; }, 10s, "three jobs done", 1ms));
   EXPECT_TRUE(pool.submit([&] { ++done; }));
-  while (done < 4) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_TRUE(eventually([&] { return done == 4; }, 10s, "four jobs done", 1ms));
   pool.stop();
   EXPECT_EQ(done.load(), 4);
 }

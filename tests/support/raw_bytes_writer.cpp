@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "ispars/wire/participant.hpp"
+#include "support/eventually.hpp"
 #include "ispars/wire/topics.hpp"
 
 namespace ispars::test {
@@ -76,14 +77,13 @@ RawBytesWriter::RawBytesWriter(int domain, const std::string& security, const st
 RawBytesWriter::~RawBytesWriter() = default;
 
 bool RawBytesWriter::wait_matched(int seconds) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
-  for (;;) {
-    fdds::PublicationMatchedStatus status;
-    impl_->writer->get_publication_matched_status(status);
-    if (status.current_count > 0) return true;
-    if (std::chrono::steady_clock::now() >= deadline) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  return eventually(
+      [&] {
+        fdds::PublicationMatchedStatus status;
+        impl_->writer->get_publication_matched_status(status);
+        return status.current_count > 0;
+      },
+      std::chrono::seconds(seconds), "the writer matches a reader", std::chrono::milliseconds(10));
 }
 
 bool RawBytesWriter::write(const std::string& bytes) {

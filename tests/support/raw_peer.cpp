@@ -1,5 +1,7 @@
 #include "support/raw_peer.hpp"
 
+#include <algorithm>
+
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -17,6 +19,7 @@
 
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/participant.hpp"
+#include "support/eventually.hpp"
 #include "ispars/wire/topics.hpp"
 #include "ispars/wire/safe_type.hpp"
 #include "isparsPubSubTypes.h"
@@ -128,13 +131,14 @@ namespace {
 // Waits until the query writer has matched a daemon (its writer for this peer's reply partition
 // is made on the first request).
 bool wait_matched(fdds::DataWriter* writer, std::chrono::steady_clock::time_point deadline) {
-  for (;;) {
-    fdds::PublicationMatchedStatus pub;
-    writer->get_publication_matched_status(pub);
-    if (pub.current_count > 0) return true;
-    if (std::chrono::steady_clock::now() >= deadline) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+  return eventually(
+      [&] {
+        fdds::PublicationMatchedStatus pub;
+        writer->get_publication_matched_status(pub);
+        return pub.current_count > 0;
+      },
+      std::max(left, std::chrono::milliseconds(0)), "the query writer matches a daemon", std::chrono::milliseconds(10));
 }
 
 }  // namespace

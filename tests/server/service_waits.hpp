@@ -1,0 +1,25 @@
+#pragma once
+// Waiting on a RoadmapService in its unit tests: until no job runs or waits on a scene.
+
+#include <chrono>
+#include <string>
+
+#include "ispars/service/roadmap_service.hpp"
+#include "support/eventually.hpp"
+
+namespace ispars::test {
+
+/// `scene`'s status once no job runs or waits on it (a failure of the test after a minute).
+inline SessionStatus wait_idle(const RoadmapService& service, const std::string& scene) {
+  SessionStatus s;
+  EXPECT_TRUE(eventually(
+      [&] {
+        s = service.stats(scene);
+        return s.state != SessionState::queued && s.state != SessionState::building &&
+               s.state != SessionState::replaying;
+      },
+      std::chrono::seconds(60), scene + " has no job", std::chrono::milliseconds(5)));
+  return s;
+}
+
+}  // namespace ispars::test
