@@ -144,6 +144,8 @@ void Daemon::shutdown() {
   fleet_wake_.notify_all();
   note_stop_step("the fleet thread");
   if (fleet_thread_.joinable()) fleet_thread_.join();
+  note_stop_step("the takeovers running");
+  takeovers_.stop();
   note_stop_step("the health watchdog thread");
   if (watchdog_thread_.joinable()) watchdog_thread_.join();
   // Requests being answered finish (a running verify is stopped first, and answers so); queued

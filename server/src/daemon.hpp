@@ -28,6 +28,7 @@
 #include "fleet_listing.hpp"
 #include "scene_claims.hpp"
 #include "takeover_gate.hpp"
+#include "takeover_runner.hpp"
 #include "task_board.hpp"
 #include "systemd_notify.hpp"
 
@@ -111,7 +112,10 @@ class Daemon {
   void join_fleet();  // after dds_ exists: listens, refuses a duplicate id
   void watch_fleet();
   void give_up(const ContestedScene& contest);  // hands a held scene to the daemon that outweighs this one
-  void take_over(const OrphanScene& orphan);
+  /// Starts the takeovers of `orphans` beside the fleet thread (TakeoverRunner); those beyond
+  /// its capacity wait in waiting_takeovers_ for a later pass.
+  void start_takeovers(std::vector<OrphanScene> orphans);
+  void take_over(const OrphanScene& orphan);  // on a runner's thread
   /// A takeover that failed with `what`: an empty scene is released, the reason noted for the
   /// scenes list, and the takeover is tried again (SceneClaims, with backoff).
   void failed_takeover(const OrphanScene& orphan, const std::string& what);
@@ -167,7 +171,9 @@ class Daemon {
     std::string from;
     std::vector<InspectionTask> tasks;
   };
-  std::map<std::string, CarriedTasks> carried_tasks_;  // scene -> (fleet thread)
+  std::mutex carried_mutex_;
+  std::map<std::string, CarriedTasks> carried_tasks_;  // scene -> (written by takeovers, merged by the fleet thread)
+  std::vector<OrphanScene> waiting_takeovers_;          // for a free runner (fleet thread)
   TakeoverGate takeover_gate_;           // requests for a scene wait while take_over() resumes it
   std::mutex announce_mutex_;  // announcements written in the order they were made
   FleetListing listing_;  // scene files, stored roadmaps, handovers and notes, as announced
@@ -179,6 +185,7 @@ class Daemon {
   std::unique_ptr<RoadmapService> service_;
   std::unique_ptr<WorkerPool> quick_lane_;  // list, stats, cancel, unload, build, extend, tour
   std::unique_ptr<WorkerPool> slow_lane_;   // load, path, snapshot, verify, drop
+  TakeoverRunner takeovers_;  // stopped (joined) in shutdown(), before the service goes
   std::mutex fleet_mutex_;
   std::condition_variable fleet_wake_;
   bool fleet_stop_ = false;

@@ -102,8 +102,10 @@ void Daemon::watch_fleet() {
       if (refresh_listing()) announce();
     }
     rejoin_if_a_peer_returned();
-    for (const ContestedScene& contest : claims_->contested()) give_up(contest);
-    for (const OrphanScene& orphan : claims_->orphans()) take_over(orphan);
+    for (const ContestedScene& contest : claims_->contested()) {
+      if (!takeovers_.running(contest.scene)) give_up(contest);  // else looked at once it ends
+    }
+    start_takeovers(claims_->orphans());
     merge_handed_tasks();
     announce_if_fresher();
     lock.lock();
@@ -129,6 +131,37 @@ void Daemon::give_up(const ContestedScene& contest) {
   spdlog::warn("scene '{}' is handed over to daemon {}: {}; the {} samples accepted here go with it", contest.scene,
                contest.winner, contest.why, accepted);
   service_->yield(contest.scene, leaving_);
+}
+
+void Daemon::start_takeovers(std::vector<OrphanScene> orphans) {
+  for (OrphanScene& orphan : orphans) {
+    // A scene taken over now is reported again after its retry period, should this one fail.
+    if (takeovers_.running(orphan.scene)) continue;
+    std::erase_if(waiting_takeovers_, [&](const OrphanScene& o) { return o.scene == orphan.scene; });
+    waiting_takeovers_.push_back(std::move(orphan));
+  }
+  if (waiting_takeovers_.empty()) return;
+  const std::vector<msg::DaemonInfo> others = other_daemons();
+  const std::vector<std::string> claimed = claims_->claimed();
+  for (auto it = waiting_takeovers_.begin(); it != waiting_takeovers_.end();) {
+    // One that waited for a runner may be stale: held elsewhere now, or taken over here.
+    const bool here = std::find(claimed.begin(), claimed.end(), it->scene) != claimed.end();
+    if (!wire::holder_of(it->scene, others).empty() || (here && !it->handed_over)) {
+      it = waiting_takeovers_.erase(it);
+    } else if (takeovers_.running(it->scene)) {
+      ++it;
+    } else {
+      claims_->set_taking_over(it->scene, true);  // before the next pass's orphans()
+      if (!takeovers_.start(it->scene, [this, orphan = *it] {
+            take_over(orphan);
+            claims_->set_taking_over(orphan.scene, false);
+          })) {
+        claims_->set_taking_over(it->scene, false);
+        break;  // every runner busy: the next pass
+      }
+      it = waiting_takeovers_.erase(it);
+    }
+  }
 }
 
 void Daemon::take_over(const OrphanScene& orphan) {
@@ -166,6 +199,7 @@ void Daemon::take_over(const OrphanScene& orphan) {
     if (const auto mine = session->status().recipe; plan.action != TakeoverPlan::Action::rebuild && !plan.refused &&
                                                     former.tasks && !former.tasks->empty() && mine &&
                                                     mine->generation == former.generation) {
+      std::lock_guard lock(carried_mutex_);
       carried_tasks_[orphan.scene] = {former.owner, *former.tasks};
     }
     if (plan.action == TakeoverPlan::Action::rebuild) {
@@ -246,11 +280,19 @@ void Daemon::merge_handed_tasks() {
       if (apply_task_merge(scene, from, *theirs)) tasks_merged_[scene] = key;
     }
   }
-  const std::vector<std::string> loaded = carried_tasks_.empty() ? std::vector<std::string>{} : service_->loaded_scenes();
-  for (auto it = carried_tasks_.begin(); it != carried_tasks_.end();) {
-    const bool here = std::find(loaded.begin(), loaded.end(), it->first) != loaded.end();
-    const bool done = !here || apply_task_merge(it->first, it->second.from, it->second.tasks);
-    it = done ? carried_tasks_.erase(it) : std::next(it);
+  std::map<std::string, CarriedTasks> carried;  // written by takeovers on their own threads
+  {
+    std::lock_guard lock(carried_mutex_);
+    carried = carried_tasks_;
+  }
+  const std::vector<std::string> loaded = carried.empty() ? std::vector<std::string>{} : service_->loaded_scenes();
+  for (const auto& [scene, c] : carried) {
+    const bool here = std::find(loaded.begin(), loaded.end(), scene) != loaded.end();
+    if (here && !apply_task_merge(scene, c.from, c.tasks)) continue;
+    std::lock_guard lock(carried_mutex_);
+    if (const auto it = carried_tasks_.find(scene); it != carried_tasks_.end() && it->second.from == c.from) {
+      carried_tasks_.erase(it);  // unless a takeover carried another owner's meanwhile
+    }
   }
 }
 

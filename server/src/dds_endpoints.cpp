@@ -50,10 +50,12 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
       progress_type_(new wire::SafeType<msg::TourProgressPubSubType>()),
       task_type_(new wire::SafeType<msg::SceneTaskPubSubType>()),
       daemons_seen_([](const msg::DaemonInfo& d) { return d.server_id().to_string(); },
+                    // The daemon hears of a new run before the statuses it held back
+                    // (SceneClaims orders a daemon's statuses within its run).
                     [this](const msg::DaemonInfo& d) {
+                      daemon_.fleet_changed(&d);
                       statuses_.recheck();
                       tasks_seen_.recheck();
-                      daemon_.fleet_changed(&d);
                     },
                     // Every announcement is accepted; one of this daemon's id by another
                     // participant is noted (judged per sample, with its own sender: DDS delivers

@@ -4,7 +4,6 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <thread>
 
 #include "ispars/input_error.hpp"
 #include "ispars/wire/scene_owner.hpp"
@@ -72,7 +71,7 @@ void SceneClaims::claim(const std::string& scene) {
     claimed_.insert(scene);
   }
   fleet_.announce();
-  std::this_thread::sleep_for(kClaimWindow);
+  fleet_.sleep(kClaimWindow);
   const msg::DaemonInfo me = fleet_.self();
   std::vector<msg::DaemonInfo> now = fleet_.others();
   now.push_back(me);
@@ -125,6 +124,7 @@ std::vector<ContestedScene> SceneClaims::contested() const {
 void SceneClaims::remember_holders(const std::vector<msg::DaemonInfo>& announcements,
                                    const std::vector<msg::DaemonInfo>* live) {
   for (const msg::DaemonInfo& d : announcements) {
+    note_run(d);
     for (const auto& name : d.loaded()) {
       const std::string scene = name.to_string();
       const auto seen = held_by_.find(scene);
@@ -157,7 +157,7 @@ void SceneClaims::orphan_of(const std::string& scene, const Holder& holder) {
 
 void SceneClaims::add_handovers(const std::vector<msg::DaemonInfo>& others, const msg::DaemonInfo& me,
                                 std::vector<OrphanScene>& out) {
-  const auto now = std::chrono::steady_clock::now();
+  const auto now = fleet_.now();
   for (const msg::DaemonInfo& d : others) {
     for (const msg::StoredRoadmap& r : d.roadmaps()) {
       const std::string scene = r.scene().to_string();
@@ -187,11 +187,15 @@ void SceneClaims::add_handovers(const std::vector<msg::DaemonInfo>& others, cons
 
 void SceneClaims::report_takeovers(const std::vector<msg::DaemonInfo>& others,
                                    const std::vector<msg::DaemonInfo>& everyone, std::vector<OrphanScene>& out) {
-  const auto now = std::chrono::steady_clock::now();
+  const auto now = fleet_.now();
   for (auto it = takeovers_.begin(); it != takeovers_.end();) {
     auto& [scene, pending] = *it;
+    if (taking_over_.count(scene) > 0) {
+      ++it;  // its end decides: claimed (erased on the next pass) or failed (reported again)
+      continue;
+    }
     if (claimed_.count(scene) || served_again(scene, pending.orphan.accepted_generation, pending.samples, everyone)) {
-      it = takeovers_.erase(it);  // taken over here (a failure is handled before the next pass), or served
+      it = takeovers_.erase(it);  // taken over here, or served
       continue;
     }
     const bool mine = wire::holder_of(scene, others).empty() && wire::assigned_daemon(scene, everyone) == self_;
@@ -241,10 +245,30 @@ std::chrono::seconds SceneClaims::takeover_retry_in(const std::string& scene) co
   return it == takeovers_.end() || !it->second.reported ? std::chrono::seconds(0) : retry_delay(it->second.attempts);
 }
 
+void SceneClaims::set_taking_over(const std::string& scene, bool running) {
+  std::lock_guard lock(mutex_);
+  if (running) {
+    taking_over_.insert(scene);
+  } else {
+    taking_over_.erase(scene);
+  }
+}
+
 void SceneClaims::observe(const msg::DaemonInfo& announcement) {
   if (announcement.server_id() == self_) return;
   std::lock_guard lock(mutex_);
   remember_holders({announcement}, nullptr);
+}
+
+void SceneClaims::note_run(const msg::DaemonInfo& announcement) {
+  const std::string id = announcement.server_id().to_string();
+  const auto run = runs_.find(id);
+  if (run != runs_.end() && run->second == announcement.joined_ms()) return;
+  if (run == runs_.end() && runs_.size() >= kMaxRemembered) return;
+  if (run != runs_.end()) {
+    std::erase_if(last_status_, [&](const auto& entry) { return entry.first.second == id; });
+  }
+  runs_[id] = announcement.joined_ms();
 }
 
 void SceneClaims::observe(const msg::SceneStatus& status) {
@@ -252,7 +276,12 @@ void SceneClaims::observe(const msg::SceneStatus& status) {
   if (status.server_id() == self_ || status.state() == msg::SCENE_UNLOADED) return;
   std::lock_guard lock(mutex_);
   const std::pair key(status.scene().to_string(), status.server_id().to_string());
-  if (last_status_.size() < kMaxRemembered || last_status_.count(key)) last_status_[key] = status;
+  const auto kept = last_status_.find(key);
+  if (kept != last_status_.end()) {
+    if (kept->second.status_seq() < status.status_seq()) kept->second = status;  // else a late, older one
+  } else if (last_status_.size() < kMaxRemembered) {
+    last_status_.emplace(key, status);
+  }
 }
 
 }  // namespace ispars::server

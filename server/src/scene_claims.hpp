@@ -20,6 +20,7 @@
 #include <set>
 #include <utility>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "ispars.h"
@@ -34,6 +35,12 @@ struct Fleet {
   std::function<msg::DaemonInfo()> self;
   /// Announces this daemon's claims to the domain.
   std::function<void()> announce;
+  /// The clock the claim window and the retry periods run on: the steady clock, unless a test
+  /// gives a fake one.
+  std::function<std::chrono::steady_clock::time_point()> now = [] { return std::chrono::steady_clock::now(); };
+  std::function<void(std::chrono::milliseconds)> sleep = [](std::chrono::milliseconds d) {
+    std::this_thread::sleep_for(d);
+  };
 };
 
 /// A scene whose holder left the domain or handed it here, now this daemon's to take over.
@@ -92,7 +99,13 @@ class SceneClaims {
   [[nodiscard]] std::vector<OrphanScene> orphans();
   /// How long until a takeover of `scene` that failed now is tried again (0: none pending).
   [[nodiscard]] std::chrono::seconds takeover_retry_in(const std::string& scene) const;
-  /// Remembers a status another daemon published (the recipe a takeover rebuilds from).
+  /// A takeover of `scene` reported by orphans() runs (beside the fleet thread) until called
+  /// with false: its scene stays pending while claimed, so that a failure is tried again.
+  void set_taking_over(const std::string& scene, bool running);
+  /// Remembers a status another daemon published (the recipe a takeover rebuilds from): per
+  /// scene and daemon, the one with the highest status_seq of the daemon's run (its announced
+  /// joined_ms). DDS orders samples per writer only: while a daemon rejoins, a late status of its
+  /// old participant can arrive after a newer one of its new participant, and is ignored.
   void observe(const msg::SceneStatus& status);
   /// Another daemon's announcement as it arrives: the scenes it holds are remembered at once, so
   /// a holder that leaves before the next pass of the fleet thread is still taken over.
@@ -122,10 +135,16 @@ class SceneClaims {
   std::map<std::string, Holder> held_by_;  // scene -> the other daemon last seen holding it
   std::map<std::string, std::chrono::steady_clock::time_point> handover_reported_;
   std::map<std::string, PendingTakeover> takeovers_;  // scenes whose holder left, not yet served again
+  std::set<std::string> taking_over_;                 // of those, the ones whose takeover runs here
   // (scene, daemon) -> that daemon's last status of the scene but UNLOADED: another daemon's
   // status never hides the former owner's recipe.
   std::map<std::pair<std::string, std::string>, msg::SceneStatus> last_status_;
+  // daemon -> the joined_ms of its run last announced: a new run's status_seq starts again.
+  std::map<std::string, std::uint64_t> runs_;
 
+  // With mutex_ held: notes the run `announcement` belongs to; a new run's daemon has its older
+  // run's statuses forgotten (their status_seq do not compare with the new run's).
+  void note_run(const msg::DaemonInfo& announcement);
   // All with mutex_ held.
   void remember_holders(const std::vector<msg::DaemonInfo>& announcements, const std::vector<msg::DaemonInfo>* live);
   void orphan_of(const std::string& scene, const Holder& holder);

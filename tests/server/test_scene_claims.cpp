@@ -5,7 +5,6 @@
 
 #include <mutex>
 #include <optional>
-#include <thread>
 #include <tuple>
 
 #include "ispars/input_error.hpp"
@@ -34,9 +33,11 @@ struct ScriptedFleet {
   SceneClaims* claims = nullptr;
   std::string self;
   std::optional<std::tuple<std::uint64_t, std::uint64_t, std::uint64_t>> self_copy;  // generation, samples, target
+  // A fake clock: the claim window's wait moves it on at once; a test moves it past a retry period.
+  std::chrono::steady_clock::time_point clock{};
 
   Fleet fleet() {
-    return Fleet{[this] {
+    Fleet f{[this] {
                    std::lock_guard lock(mutex);
                    return others;
                  },
@@ -58,6 +59,16 @@ struct ScriptedFleet {
                    ++announcements;
                    if (after_announce) others = *std::exchange(after_announce, std::nullopt);
                  }};
+    f.now = [this] {
+      std::lock_guard lock(mutex);
+      return clock;
+    };
+    f.sleep = [this](std::chrono::milliseconds d) { pass(d); };
+    return f;
+  }
+  void pass(std::chrono::steady_clock::duration d) {
+    std::lock_guard lock(mutex);
+    clock += d;
   }
 };
 
@@ -202,10 +213,13 @@ TEST(SceneClaims, AHandedOverSceneIsTakenByTheDaemonItWasHandedTo) {
   EXPECT_TRUE(bystander.claims->orphans().empty());
 }
 
+// Each status a later one than the one before (status_seq increases), as one daemon run issues them.
 msg::SceneStatus status(const std::string& server, msg::SceneState state, const std::string& method) {
+  static std::uint64_t seq = 0;
   msg::SceneStatus s;
   s.scene("s");
   s.server_id(server);
+  s.status_seq(++seq);
   s.state(state);
   s.method(method);
   s.seed(7);
@@ -234,6 +248,44 @@ TEST(SceneClaims, AHolderThatLeavesIsTakenOverOnceWithItsLastRecipe) {
   EXPECT_TRUE(c.claims->orphans().empty());  // reported once
 }
 
+// DDS orders samples per writer only: a rejoining daemon's old participant's last status can
+// arrive after its new participant's newer one (t60 in docs/results/fleet.md: a taker then
+// rebuilt without an acknowledged task). The older one is ignored; a new run (a restart, its
+// status_seq starting again) replaces what the old run published.
+TEST(SceneClaims, ALateOlderStatusHidesNoNewerOneOfTheSameRun) {
+  Claims c("me");
+  msg::DaemonInfo holder = info("holder", {"s"});
+  const auto leaves = [&](const std::vector<msg::SceneStatus>& statuses) {
+    c.fleet.others = {holder};
+    (void)c.claims->orphans();
+    for (const auto& st : statuses) c.claims->observe(st);
+    c.fleet.others = {};
+    auto orphans = c.claims->orphans();
+    EXPECT_EQ(claim_error(*c.claims, "s"), "");  // taken over; then released again
+    c.claims->release("s");
+    return orphans;
+  };
+  holder.joined_ms(1000);
+  const msg::SceneStatus older = status("holder", msg::SCENE_IDLE, "ispars");
+  msg::SceneStatus newer = status("holder", msg::SCENE_IDLE, "ispars");
+  newer.task_events(1);
+  auto orphans = leaves({newer, older});
+  ASSERT_EQ(orphans.size(), 1u);
+  ASSERT_TRUE(orphans[0].last_status.has_value());
+  EXPECT_EQ(orphans[0].last_status->task_events(), 1u);
+  holder.joined_ms(2000);  // restarted: its statuses count from 1 again
+  msg::SceneStatus restarted = status("holder", msg::SCENE_IDLE, "spars");
+  restarted.status_seq(1);
+  msg::SceneStatus later = restarted;
+  later.status_seq(2);
+  later.task_events(5);
+  orphans = leaves({later, restarted});  // the new run's, late again within it
+  ASSERT_EQ(orphans.size(), 1u);
+  ASSERT_TRUE(orphans[0].last_status.has_value());
+  EXPECT_EQ(orphans[0].last_status->task_events(), 5u);
+  EXPECT_EQ(orphans[0].last_status->method(), "spars");
+}
+
 // A daemon starting beside a holder is refused the scene; the holder stops before the fleet
 // thread ever looked: the refused claim alone is enough to take the scene over.
 TEST(SceneClaims, AHolderThatRefusedAClaimAndLeftIsTakenOver) {
@@ -257,13 +309,37 @@ TEST(SceneClaims, AFailedTakeoverIsReportedAgainUntilTheSceneIsHeld) {
   c.fleet.others = {};
   ASSERT_EQ(c.claims->orphans().size(), 1u);
   EXPECT_TRUE(c.claims->orphans().empty());
-  std::this_thread::sleep_for(SceneClaims::kRetryPeriod + std::chrono::milliseconds(100));
+  c.fleet.pass(SceneClaims::kRetryPeriod - std::chrono::milliseconds(1));
+  EXPECT_TRUE(c.claims->orphans().empty());  // not before the retry period
+  c.fleet.pass(std::chrono::milliseconds(1));
   const auto again = c.claims->orphans();
   ASSERT_EQ(again.size(), 1u);
   EXPECT_EQ(again[0].former_owner, "gone");
   EXPECT_EQ(claim_error(*c.claims, "s"), "");  // taken over now
-  std::this_thread::sleep_for(SceneClaims::kRetryPeriod + std::chrono::milliseconds(100));
+  c.fleet.pass(SceneClaims::retry_delay(4));
   EXPECT_TRUE(c.claims->orphans().empty());
+}
+
+// A takeover runs beside the fleet thread: its claim seen by the next pass does not end the
+// scene's pending takeover (a failure then, its claim released, is tried again after the retry
+// period; before, the claim erased it and the failure was never retried). Its success does.
+TEST(SceneClaims, ATakeoverRunningBesideTheFleetThreadStaysPendingUntilItEnds) {
+  for (const bool fails : {true, false}) {
+    Claims c("me");
+    c.fleet.others = {info("gone", {"s"})};
+    (void)c.claims->orphans();
+    c.fleet.others = {};
+    ASSERT_EQ(c.claims->orphans().size(), 1u);
+    c.claims->set_taking_over("s", true);
+    EXPECT_EQ(claim_error(*c.claims, "s"), "");
+    EXPECT_TRUE(c.claims->orphans().empty());  // the next pass, while it runs
+    if (fails) c.claims->release("s");
+    EXPECT_EQ(c.claims->takeover_retry_in("s"), SceneClaims::kRetryPeriod);
+    c.claims->set_taking_over("s", false);
+    (void)c.claims->orphans();
+    c.fleet.pass(SceneClaims::kRetryPeriod);
+    EXPECT_EQ(c.claims->orphans().size(), fails ? 1u : 0u) << (fails ? "failed" : "succeeded");
+  }
 }
 
 TEST(SceneClaims, ASceneReleasedOnPurposeIsNoOrphan) {

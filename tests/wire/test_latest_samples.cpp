@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ispars.h"
+#include "ispars/wire/daemon_trust.hpp"
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/latest_samples.hpp"
 
@@ -108,6 +109,42 @@ TEST(LatestSamples, ANewWriterRestoresNothingAndWritersThatNeverReturnAreForgott
   EXPECT_FALSE(d.latest.get("a"));
   d.latest.on_subscription_matched(nullptr, matched(writer_of(73), +1));  // the latest to leave
   EXPECT_TRUE(d.latest.get("d73"));
+}
+
+// A rejoining daemon announces itself from two participants for a while: the old one's last
+// announcement can arrive after the new one's. Statuses of either count until it leaves (the
+// daemon trust rule); a status of the new one was refused before, and lost when a later status
+// replaced it among the held ones (t60 in docs/results/fleet.md).
+TEST(LatestSamples, EveryLiveWriterOfAnInstanceIsTrustedForItUntilItLeaves) {
+  Daemons d;
+  const std::string old_one = identity_of(writer_of(1).guidPrefix), new_one = identity_of(writer_of(2).guidPrefix);
+  d.write(writer_of(2), daemon("a"), 1);
+  d.write(writer_of(1), daemon("a"), 1);  // late
+  EXPECT_EQ(d.latest.sender("a"), old_one);
+  EXPECT_TRUE(d.latest.written_by("a", old_one));
+  EXPECT_TRUE(d.latest.written_by("a", new_one));
+  EXPECT_FALSE(d.latest.written_by("a", identity_of(writer_of(3).guidPrefix)));
+
+  std::vector<std::uint64_t> seen;
+  LatestSamples<msg::SceneStatus> statuses([](const msg::SceneStatus& s) { return s.scene().to_string(); },
+                                           [&](const msg::SceneStatus& s) { seen.push_back(s.status_seq()); },
+                                           statuses_from_their_daemon(d.latest));
+  msg::SceneStatus st;
+  st.scene("s");
+  st.server_id("a");
+  st.status_seq(7);
+  statuses.receive(st, true, new_one, instance(9));
+  EXPECT_EQ(seen, std::vector<std::uint64_t>{7});
+  st.status_seq(8);
+  statuses.receive(st, true, identity_of(writer_of(3).guidPrefix), instance(9));  // announces nothing
+  EXPECT_EQ(seen, std::vector<std::uint64_t>{7});
+
+  d.latest.on_subscription_matched(nullptr, matched(writer_of(2), -1));  // the new one left
+  EXPECT_FALSE(d.latest.written_by("a", new_one));
+  EXPECT_TRUE(d.latest.written_by("a", old_one));
+  d.latest.on_subscription_matched(nullptr, matched(writer_of(1), -1));
+  EXPECT_FALSE(d.latest.written_by("a", old_one));
+  EXPECT_FALSE(d.latest.get("a"));
 }
 
 }  // namespace

@@ -10,9 +10,11 @@
 #include <chrono>
 #include <condition_variable>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -56,6 +58,7 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
         keys_[handle] = key;
         latest_[key] = message;
         senders_[key] = sender;
+        writers_[key].insert(sender);
         held_.erase(key);
         changed = message;
       } else if (alive) {
@@ -64,6 +67,7 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
       } else if (const auto it = keys_.find(handle); it != keys_.end()) {
         latest_.erase(it->second);
         senders_.erase(it->second);
+        writers_.erase(it->second);
         keys_.erase(it);
       }
       ++changes_;
@@ -115,6 +119,15 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
     return it == senders_.end() ? std::string() : it->second;
   }
 
+  /// Whether the participant `sender` wrote `key`'s instance and has not left since: the writer
+  /// of its latest sample, or an earlier one still live (one daemon's two participants while it
+  /// rejoins, the old one's last announcement arriving after the new one's).
+  [[nodiscard]] bool written_by(const std::string& key, const std::string& sender) const {
+    std::lock_guard lock(mutex_);
+    const auto it = writers_.find(key);
+    return it != writers_.end() && it->second.count(sender) > 0;
+  }
+
   /// Tries the held (refused) samples again, after what the accept rule depends on changed.
   void recheck() {
     std::map<std::string, Held> held;
@@ -131,6 +144,7 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
       keys_[h.handle] = key;
       latest_[key] = h.message;
       senders_[key] = h.sender;
+      writers_[key].insert(h.sender);
       held_.erase(it);
       changed.push_back(h.message);
     }
@@ -159,6 +173,10 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
  private:
   // Under mutex_: moves every instance `gone` wrote last to departed_.
   void forget_departed(const std::string& gone) {
+    for (auto it = writers_.begin(); it != writers_.end();) {
+      it->second.erase(gone);
+      it = it->second.empty() ? writers_.erase(it) : std::next(it);
+    }
     std::vector<Departed> left;
     for (auto it = senders_.begin(); it != senders_.end();) {
       if (it->second != gone) {
@@ -176,6 +194,7 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
       }
       left.push_back(std::move(d));
       latest_.erase(it->first);
+      writers_.erase(it->first);  // its instance is gone: no other writer's sample of it is kept
       it = senders_.erase(it);
     }
     std::erase_if(held_, [&](const auto& entry) { return entry.second.sender == gone; });
@@ -197,6 +216,7 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
       if (latest_.count(d.key) > 0) continue;
       latest_[d.key] = d.message;
       senders_[d.key] = sender;
+      writers_[d.key].insert(sender);
       keys_[d.handle] = d.key;
       restored.push_back(std::move(d.message));
     }
@@ -220,6 +240,7 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
   std::map<eprosima::fastrtps::rtps::InstanceHandle_t, std::string> keys_;
   std::map<std::string, Message> latest_;
   std::map<std::string, std::string> senders_;
+  std::map<std::string, std::set<std::string>> writers_;  // live participants that wrote each key
   std::map<std::string, Held> held_;  // refused by accept_, latest per key
   struct Departed {
     std::string key;
