@@ -31,6 +31,58 @@ std::string status_message(const client::SceneStatus& s, bool daemon_gone) {
       .dump();
 }
 
+void append_roadmap_messages(const Roadmap& roadmap, std::uint64_t generation, const DrawLimits& limits,
+                             ViewerCursor& cursor, std::vector<std::string>& out) {
+  if (generation != cursor.generation) {
+    cursor = ViewerCursor{generation, 0, 0, cursor.last_status};
+    out.push_back(nlohmann::json{{"type", "reset"}, {"generation", generation}}.dump());
+  }
+  const std::size_t vertex_end = std::min(roadmap.vertex_count(), limits.vertices);
+  const std::size_t edge_end = std::min(roadmap.edge_count(), limits.edges);
+  const bool cut = roadmap.vertex_count() > limits.vertices || roadmap.edge_count() > limits.edges;
+  const std::string note = cut ? fmt::format("drawing the first {} of {} vertices and {} of {} edges (the viewer's "
+                                             "limit)",
+                                             vertex_end, roadmap.vertex_count(), edge_end, roadmap.edge_count())
+                               : std::string();
+  while (cursor.vertices < vertex_end || cursor.edges < edge_end) {
+    const std::size_t v1 = std::min(vertex_end, cursor.vertices + limits.per_message);
+    nlohmann::json positions = nlohmann::json::array();
+    for (std::size_t v = cursor.vertices; v < v1; ++v) {
+      const Vec3& p = roadmap.position(static_cast<VertexId>(v));
+      positions.push_back(p.x());
+      positions.push_back(p.y());
+      positions.push_back(p.z());
+    }
+    // An edge to a vertex of a later batch waits for it; once every vertex within the limit is
+    // sent, an edge with an end past the limit is left out.
+    const bool all_vertices = v1 == vertex_end;
+    std::size_t e1 = cursor.edges;
+    nlohmann::json edges = nlohmann::json::array();
+    for (const std::size_t cap = std::min(edge_end, cursor.edges + limits.per_message); e1 < cap; ++e1) {
+      const RoadmapEdge edge = roadmap.edge(e1);
+      if (edge.u >= v1 || edge.v >= v1) {
+        if (!all_vertices) break;
+        continue;
+      }
+      edges.push_back(edge.u);
+      edges.push_back(edge.v);
+    }
+    out.push_back(nlohmann::json{{"type", "batch"},
+                                 {"generation", generation},
+                                 {"first_vertex", cursor.vertices},
+                                 {"positions", std::move(positions)},
+                                 {"edges", std::move(edges)},
+                                 {"vertices_total", roadmap.vertex_count()},
+                                 {"edges_total", roadmap.edge_count()},
+                                 {"vertices_sent", v1},
+                                 {"edges_sent", e1},
+                                 {"note", note}}
+                      .dump());
+    cursor.vertices = v1;
+    cursor.edges = e1;
+  }
+}
+
 SceneFeed::SceneFeed(client::Client& client, std::string scene, DrawLimits limits)
     : client_(client), scene_(std::move(scene)), limits_(limits) {
   (void)client_.stats(scene_);  // throws, naming the problem, when no daemon holds the scene
@@ -84,51 +136,7 @@ std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
   }
   std::uint64_t generation = 0;
   const std::shared_ptr<const Roadmap> roadmap = current(generation);
-  if (!roadmap) return out;
-  if (generation != cursor.generation) {
-    cursor = ViewerCursor{generation, 0, 0, cursor.last_status};
-    out.push_back(nlohmann::json{{"type", "reset"}, {"generation", generation}}.dump());
-  }
-  const std::size_t vertex_end = std::min(roadmap->vertex_count(), limits_.vertices);
-  const std::size_t edge_end = std::min(roadmap->edge_count(), limits_.edges);
-  while (cursor.vertices < vertex_end || cursor.edges < edge_end) {
-    const std::size_t v1 = std::min(vertex_end, cursor.vertices + limits_.per_message);
-    const std::size_t e1 = std::min(edge_end, cursor.edges + limits_.per_message);
-    nlohmann::json positions = nlohmann::json::array();
-    for (std::size_t v = cursor.vertices; v < v1; ++v) {
-      const Vec3& p = roadmap->position(static_cast<VertexId>(v));
-      positions.push_back(p.x());
-      positions.push_back(p.y());
-      positions.push_back(p.z());
-    }
-    // Edges whose ends are not sent (past the vertex limit) are left out.
-    nlohmann::json edges = nlohmann::json::array();
-    for (std::size_t e = cursor.edges; e < e1; ++e) {
-      const RoadmapEdge& edge = roadmap->edges()[e];
-      if (edge.u < v1 && edge.v < v1) {
-        edges.push_back(edge.u);
-        edges.push_back(edge.v);
-      }
-    }
-    const bool cut = roadmap->vertex_count() > limits_.vertices || roadmap->edge_count() > limits_.edges;
-    out.push_back(nlohmann::json{{"type", "batch"},
-                                 {"generation", generation},
-                                 {"first_vertex", cursor.vertices},
-                                 {"positions", std::move(positions)},
-                                 {"edges", std::move(edges)},
-                                 {"vertices_total", roadmap->vertex_count()},
-                                 {"edges_total", roadmap->edge_count()},
-                                 {"vertices_sent", v1},
-                                 {"edges_sent", e1},
-                                 {"note", cut ? fmt::format("drawing the first {} of {} vertices and {} of {} edges "
-                                                            "(the viewer's limit)",
-                                                            vertex_end, roadmap->vertex_count(), edge_end,
-                                                            roadmap->edge_count())
-                                              : std::string()}}
-                      .dump());
-    cursor.vertices = v1;
-    cursor.edges = e1;
-  }
+  if (roadmap) append_roadmap_messages(*roadmap, generation, limits_, cursor, out);
   return out;
 }
 

@@ -91,6 +91,13 @@ class SceneFeed {
   std::unique_ptr<client::RoadmapReplica> replica_;  // last: its thread calls on_change
 };
 
+/// Appends to `out` the messages that bring a browser at `cursor` to `roadmap` (of `generation`),
+/// advancing the cursor: a reset when the generation is not the one it draws, then batches of at
+/// most `limits.per_message` new vertices and edges, within the draw limits (an edge with an end
+/// past the vertex limit is left out, and each batch notes the cut).
+void append_roadmap_messages(const Roadmap& roadmap, std::uint64_t generation, const DrawLimits& limits,
+                             ViewerCursor& cursor, std::vector<std::string>& out);
+
 /// The JSON of a status message for the page; `daemon_gone`: its daemon has left the domain.
 [[nodiscard]] std::string status_message(const client::SceneStatus& status, bool daemon_gone);
 
