@@ -28,6 +28,9 @@ namespace {
 constexpr std::size_t kMaxClientId = 100;
 constexpr unsigned kQuickThreads = 2;
 constexpr unsigned kSlowThreads = 2;
+// How often the stored copies no session holds are looked at (each read whole once per version of
+// its files): damage in a standby copy is named within seconds of the daemon's start.
+constexpr std::chrono::milliseconds kScrubPeriod{2000};
 
 // Operations whose cost grows with the scene or the roadmap.
 bool slow_operation(msg::Operation operation) {
@@ -82,6 +85,7 @@ Daemon::Daemon(DaemonConfig config)
   settings.build_workers = config_.workers;
   settings.tour_workers = config_.workers;
   settings.memory_budget_bytes = memory_budget_bytes(config_);
+  settings.scrub_period = kScrubPeriod;
   claims_ = std::make_unique<SceneClaims>(
       config_.server_id, Fleet{[this] { return other_daemons(); }, [this] { return self_info(); },
                                [this] { announce(); }});

@@ -125,6 +125,12 @@ std::string DaemonMetrics::render(const DaemonGauges& g) const {
   family(out, "ispars_fleet_declined_scenes", "gauge",
          "Scenes this daemon declines after its takeover of them failed, until it tries again.");
   line(fmt::format("ispars_fleet_declined_scenes {}\n", g.declined));
+  family(out, "ispars_stored_unservable", "gauge",
+         "Stored copies this daemon keeps and does not offer, by scene: damaged, or made by another builder version "
+         "or on another version of the scene file (the reason is in the scenes list and the log).");
+  for (const std::string& scene : g.unservable) {
+    line(fmt::format("ispars_stored_unservable{{scene=\"{}\"}} 1\n", label(scene)));
+  }
   family(out, "ispars_memory_budget_bytes", "gauge", "Memory all loaded roadmaps may be expected to hold.");
   line(fmt::format("ispars_memory_budget_bytes {}\n", g.memory_budget_bytes));
   family(out, "ispars_memory_reserved_bytes", "gauge", "Of the budget: the loaded roadmaps' estimated peaks.");

@@ -44,6 +44,8 @@ struct DaemonGauges {
   /// Copies this daemon handed over (scene, winner): kept on disk, served by the winner.
   std::vector<std::pair<std::string, std::string>> handed_over;
   std::uint64_t declined = 0;  ///< Scenes declined after a failed takeover, until its retry.
+  /// Stored copies not offered to the fleet (damaged, another builder version or scene file).
+  std::vector<std::string> unservable;
 };
 
 /// Request counters and latency histograms, safe to update from many threads.

@@ -157,6 +157,7 @@ std::string Daemon::metrics_text() const {
   g.fleet_tasks_known = task_board_.size();
   g.handed_over = listing_.handed_over();
   g.declined = listing_.declined_now();
+  g.unservable = listing_.unservable();
   g.resident_bytes = resident_memory_bytes();
   g.memory_budget_bytes = memory_budget_bytes(config_);
   return metrics_.render(g);

@@ -113,7 +113,8 @@ msg::DaemonInfo Daemon::self_info() const {
 }
 
 bool Daemon::refresh_listing() {
-  return listing_.refresh(service_ ? std::optional(service_->loaded_scenes()) : std::nullopt);
+  if (!service_) return listing_.refresh(std::nullopt);
+  return listing_.refresh(service_->loaded_scenes(), [this](const std::string& scene) { return service_->scrub_problem(scene); });
 }
 
 void Daemon::announce() {

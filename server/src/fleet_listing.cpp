@@ -12,10 +12,11 @@ namespace ispars::server {
 FleetListing::FleetListing(std::filesystem::path scene_dir, std::filesystem::path data_dir)
     : scene_dir_(std::move(scene_dir)), data_dir_(std::move(data_dir)), fingerprints_(scene_dir_) {}
 
-bool FleetListing::refresh(const std::optional<std::vector<std::string>>& loaded) {
+bool FleetListing::refresh(const std::optional<std::vector<std::string>>& loaded,
+                           const std::function<std::string(const std::string&)>& scrubbed) {
   std::vector<std::string> available = list_scene_names(scene_dir_);
   StoredListing listing;
-  if (loaded) listing = list_stored_roadmaps(data_dir_, *loaded, &fingerprints_);
+  if (loaded) listing = list_stored_roadmaps(data_dir_, *loaded, &fingerprints_, scrubbed);
   const auto same = [](const std::vector<ServedRoadmap>& a, const std::vector<ServedRoadmap>& b) {
     return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const ServedRoadmap& x, const ServedRoadmap& y) {
       return x.scene == y.scene && x.generation == y.generation && x.samples == y.samples &&
@@ -93,6 +94,13 @@ std::vector<std::pair<std::string, std::string>> FleetListing::handed_over() con
   std::lock_guard lock(mutex_);
   std::vector<std::pair<std::string, std::string>> out;
   for (const auto& [scene, h] : handed_over_) out.emplace_back(scene, h.to);
+  return out;
+}
+
+std::vector<std::string> FleetListing::unservable() const {
+  std::lock_guard lock(mutex_);
+  std::vector<std::string> out;
+  for (const auto& [scene, why] : unservable_) out.push_back(scene);
   return out;
 }
 

@@ -28,8 +28,10 @@ class FleetListing {
   /// Rescans both directories; `loaded` are the scenes held here (their stores are the
   /// service's, not listed as stored), none before the service has started (no store is listed
   /// then). True when what is announced changed. A store that cannot be served is noted (and
-  /// logged once per reason): one built on another version of its scene file included.
-  bool refresh(const std::optional<std::vector<std::string>>& loaded);
+  /// logged once per reason): one built on another version of its scene file included, and one
+  /// whose damage `scrubbed` names (the service's background check of stored copies).
+  bool refresh(const std::optional<std::vector<std::string>>& loaded,
+               const std::function<std::string(const std::string&)>& scrubbed = {});
   /// Fills `info`'s scene files, stored scenes and roadmaps: `held` (the roadmaps held now), then
   /// the stored ones not held; a scene handed over and not held again names its winner and the
   /// samples accepted here.
@@ -55,6 +57,8 @@ class FleetListing {
   [[nodiscard]] std::vector<std::pair<std::string, std::string>> handed_over() const;
   /// How many scenes this daemon declines now.
   [[nodiscard]] std::size_t declined_now() const;
+  /// The stored copies the last refresh found it cannot serve (for the metrics).
+  [[nodiscard]] std::vector<std::string> unservable() const;
 
   void set_note(const std::string& scene, const std::string& note);
   /// What the fleet last decided about `scene` here; empty if nothing.

@@ -54,9 +54,11 @@ TEST(DaemonMetrics, GaugesAreRenderedPerSceneWithEscapedLabels) {
   g.memory_leased_bytes = 512;
   g.handed_over = {{"tower", "d2"}};
   g.declined = 1;
+  g.unservable = {"bridge"};
   const std::string text = m.render(g);
   EXPECT_TRUE(has_line(text, "ispars_fleet_handed_over{scene=\"tower\",to=\"d2\"} 1")) << text;
   EXPECT_TRUE(has_line(text, "ispars_fleet_declined_scenes 1")) << text;
+  EXPECT_TRUE(has_line(text, "ispars_stored_unservable{scene=\"bridge\"} 1")) << text;
   EXPECT_TRUE(has_line(text, "ispars_scenes{state=\"idle\"} 1")) << text;
   EXPECT_TRUE(has_line(text, "ispars_scenes{state=\"building\"} 1")) << text;
   EXPECT_TRUE(has_line(text, "ispars_roadmap_vertices{scene=\"tower\"} 514")) << text;

@@ -35,12 +35,29 @@ RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events, F
   remove_dropped_stores(settings_.data_dir, fs_);
   next_job_id_ = static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
   budget_->set_reclaimer([this] { drop_kept_snapshots(); });
+  if (settings_.scrub_period.count() > 0) {
+    // Sessions held and being loaded are left alone: their stores are written.
+    scrub_ = std::make_unique<StoreScrub>(
+        settings_.data_dir,
+        [this] {
+          std::lock_guard lock(sessions_mutex_);
+          std::vector<std::string> out(loading_.begin(), loading_.end());
+          for (const auto& [name, s] : sessions_) out.push_back(name);
+          return out;
+        },
+        budget_, settings_.scrub_period, fs_);
+  }
 }
 
 RoadmapService::~RoadmapService() { stop(); }
 
+std::string RoadmapService::scrub_problem(const std::string& scene) const {
+  return scrub_ ? scrub_->problem(scene) : std::string();
+}
+
 void RoadmapService::stop() {
   if (stopping_.exchange(true)) return;
+  if (scrub_) scrub_->stop();
   stop_tours("");
   stop_all_readers("the daemon is stopping");
   builds_.stop();  // running builds commit their current chunk and return
@@ -308,7 +325,8 @@ std::string fingerprint_problem(const RoadmapRecipe& recipe, const CurrentFinger
 }  // namespace
 
 StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const std::vector<std::string>& loaded,
-                                   SceneFingerprints* current) {
+                                   SceneFingerprints* current,
+                                   const std::function<std::string(const std::string&)>& scrubbed) {
   StoredListing out;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(data_dir, ec)) {
@@ -326,10 +344,12 @@ StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const 
         continue;
       }
       if (std::find(loaded.begin(), loaded.end(), name) != loaded.end()) continue;  // weighed live
-      if (std::string problem = store_quick_problem(entry.path()); !problem.empty()) {
+      std::string damage = store_quick_problem(entry.path());
+      if (damage.empty() && scrubbed) damage = scrubbed(name);
+      if (!damage.empty()) {
         out.unservable.push_back({name, fmt::format("its stored roadmap is damaged: {}; not offered to the fleet "
                                                 "(drop it, or build with replace)",
-                                                problem)});
+                                                damage)});
         continue;
       }
       if (std::string problem = fingerprint_problem(recipe, current ? current->of(name) : CurrentFingerprint{});

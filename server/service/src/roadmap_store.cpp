@@ -149,6 +149,38 @@ RoadmapRecipe RoadmapStore::read_recipe(const std::filesystem::path& dir, const 
 
 namespace {
 
+// What a record file's damage is, in words: where, in which record, and that it is left as it is.
+std::string damage_text(const std::filesystem::path& path, const RecordReplay& replay, const FileSystem& fs) {
+  return fmt::format("{} is damaged at byte {} (commit {}): {}; the {} bytes from there on are left untouched for "
+                     "inspection (drop the scene's roadmap, or build with replace, to discard them)",
+                     path.string(), replay.valid_bytes, replay.records + 1, replay.tail_problem,
+                     fs.file_size(path).value_or(replay.valid_bytes) - replay.valid_bytes);
+}
+
+// Whether journal.log as read (`journal`) is damaged, not torn by a crash: a record refused, or a
+// bad record inside the bytes `head` says were durable (and the file still holds): acknowledged.
+// (A head older than the journal, as after a compaction's rotation, names more bytes than the new
+// file holds, and says nothing.) The journal's replay with its problem said, or nothing.
+std::optional<RecordReplay> journal_damage(const std::filesystem::path& dir, const RecordReplay& journal,
+                                           const FileSystem& fs) {
+  const std::optional<StoreHead> head = read_store_head(dir, fs);
+  const std::uint64_t file_bytes = fs.file_size(journal_path(dir)).value_or(0);
+  if (head && journal.torn_tail && journal.valid_bytes < head->journal_bytes && head->journal_bytes <= file_bytes) {
+    RecordReplay named = journal;
+    named.tail_problem += fmt::format(" in an acknowledged commit (head: durable to byte {})", head->journal_bytes);
+    return named;
+  }
+  if (journal.damaged) return journal;
+  return std::nullopt;
+}
+
+// A snapshot holds exactly one whole record; else what is wrong, in words.
+std::optional<std::string> snapshot_damage(const std::filesystem::path& dir, const RecordReplay& snapshot) {
+  if (snapshot.records == 1 && !snapshot.torn_tail) return std::nullopt;
+  return fmt::format("{} is damaged at byte {}: {}; left untouched for inspection", snapshot_path(dir).string(),
+                     snapshot.valid_bytes, snapshot.tail_problem.empty() ? "not exactly one record" : snapshot.tail_problem);
+}
+
 // Replays the snapshot, journal.old (while a compaction runs) and journal.log of the store at
 // `dir` into `recovered`; journal.log's valid length. Reads only. (A compaction of the same store
 // must not run meanwhile: it removes journal.old once the snapshot holds it.)
@@ -160,11 +192,7 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
   if (has_snapshot) {
     const RecordReplay snapshot =
         read_record_file(snapshot_path(dir), kSnapshot, [](const std::string&) { return std::string(); }, fs);
-    if (snapshot.payloads.size() != 1 || snapshot.torn_tail) {
-      throw StoreDamage(fmt::format("{} is damaged at byte {}: {}; left untouched for inspection",
-                                    snapshot_path(dir).string(), snapshot.valid_bytes,
-                                    snapshot.tail_problem.empty() ? "not exactly one record" : snapshot.tail_problem));
-    }
+    if (auto problem = snapshot_damage(dir, snapshot)) throw StoreDamage(*problem);
     const BuildCommit whole = decode_commit(snapshot.payloads.front());
     apply_commit(r, whole);
     fold_tasks(recovered.tasks, whole);
@@ -198,33 +226,14 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
       }
     }, fs, RecordKeep::count);
   };
-  const auto damage = [&](const std::filesystem::path& path, const RecordReplay& journal) {
-    return StoreDamage(fmt::format("{} is damaged at byte {} (commit {}): {}; the {} bytes from there on are left "
-                                   "untouched for inspection (drop the scene's roadmap, or build with replace, to "
-                                   "discard them)",
-                                   path.string(), journal.valid_bytes, journal.records + 1,
-                                   journal.tail_problem, fs.file_size(path).value_or(journal.valid_bytes) - journal.valid_bytes));
-  };
   if (fs.exists(old_journal_path(dir))) {
     // A rotated journal was whole: anything but whole records in it is damage.
     const RecordReplay old = replay(old_journal_path(dir));
-    if (old.torn_tail) throw damage(old_journal_path(dir), old);
+    if (old.torn_tail) throw StoreDamage(damage_text(old_journal_path(dir), old, fs));
   }
   const RecordReplay journal = replay(journal_path(dir));
-  // Not a crash's torn tail: stop before the writer would cut it, and say where. A bad record
-  // inside the bytes `head` says were durable (and the file still holds) was acknowledged: damage.
-  // (A head older than the journal, as after a compaction's rotation, names more bytes than the
-  // new file holds, and says nothing.)
-  const std::optional<StoreHead> head = read_store_head(dir, fs);
-  const std::uint64_t file_bytes = fs.file_size(journal_path(dir)).value_or(0);
-  const bool acknowledged = head && journal.torn_tail && journal.valid_bytes < head->journal_bytes &&
-                            head->journal_bytes <= file_bytes;
-  if (acknowledged) {
-    RecordReplay named = journal;
-    named.tail_problem += fmt::format(" in an acknowledged commit (head: durable to byte {})", head->journal_bytes);
-    throw damage(journal_path(dir), named);
-  }
-  if (journal.damaged) throw damage(journal_path(dir), journal);
+  // Not a crash's torn tail: stop before the writer would cut it, and say where.
+  if (const auto damaged = journal_damage(dir, journal, fs)) throw StoreDamage(damage_text(journal_path(dir), *damaged, fs));
   recovered.journal_commits = commits;
   recovered.torn_tail = journal.torn_tail;
   recovered.tail_problem = journal.tail_problem;
@@ -346,6 +355,25 @@ std::string store_quick_problem(const std::filesystem::path& dir) {
   if (head && head->journal_bytes > 0 && (ec || size < head->journal_bytes)) {
     return fmt::format("{} has {} bytes, and its head says {} were durable", journal_path(dir).string(),
                        ec ? 0 : size, head->journal_bytes);
+  }
+  return {};
+}
+
+std::string store_scrub_problem(const std::filesystem::path& dir, const FileSystem& fs) {
+  const auto whole = [](const std::string&) { return std::string(); };  // framing and checksums only
+  try {
+    if (fs.exists(snapshot_path(dir))) {
+      const RecordReplay snapshot = read_record_file(snapshot_path(dir), kSnapshot, whole, fs, RecordKeep::count);
+      if (auto problem = snapshot_damage(dir, snapshot)) return *problem;
+    }
+    if (fs.exists(old_journal_path(dir))) {
+      const RecordReplay old = read_record_file(old_journal_path(dir), kJournal, whole, fs, RecordKeep::count);
+      if (old.torn_tail) return damage_text(old_journal_path(dir), old, fs);
+    }
+    const RecordReplay journal = read_record_file(journal_path(dir), kJournal, whole, fs, RecordKeep::count);
+    if (const auto damaged = journal_damage(dir, journal, fs)) return damage_text(journal_path(dir), *damaged, fs);
+  } catch (const RecordMagicMismatch& e) {
+    return fmt::format("{} (damaged at byte 0)", e.what());
   }
   return {};
 }

@@ -25,6 +25,7 @@
 #include "ispars/tour/gip_solver.hpp"
 #include "ispars/tour/tour_shortcut.hpp"
 #include "ispars/service/memory_budget.hpp"
+#include "ispars/service/store_scrub.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/scene_fingerprints.hpp"
 #include "ispars/service/worker_pool.hpp"
@@ -45,6 +46,9 @@ struct ServiceSettings {
   /// Memory the roadmaps of all loaded scenes may be expected to hold together at their peaks, with
   /// the snapshot encodings and tours running (memory_budget.hpp); what would not fit is refused.
   double memory_budget_bytes = std::numeric_limits<double>::infinity();
+  /// How often the stores no session holds are checked whole for damage (StoreScrub), each once
+  /// per version of its files; 0: never (unit tests that do not test it).
+  std::chrono::milliseconds scrub_period{0};
 };
 
 /// A scene the service can load, as listed.
@@ -82,9 +86,11 @@ struct StoredListing {
   std::vector<ServedRoadmap> served;
   std::vector<UnservableStore> unservable;
 };
+/// `scrubbed` names the damage a whole read of a scene's store found (StoreScrub), if given.
 [[nodiscard]] StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir,
                                                  const std::vector<std::string>& loaded,
-                                                 SceneFingerprints* current = nullptr);
+                                                 SceneFingerprints* current = nullptr,
+                                                 const std::function<std::string(const std::string&)>& scrubbed = {});
 
 /// What the service tells its owner (the transport). Called on the thread that caused the event.
 struct ServiceEvents {
@@ -249,6 +255,9 @@ class RoadmapService {
   [[nodiscard]] const ServiceSettings& settings() const { return settings_; }
   /// The memory budget's reservations and leases (for metrics).
   [[nodiscard]] const MemoryBudget& budget() const { return *budget_; }
+  /// The damage the background check found in `scene`'s store as it is now (StoreScrub); empty
+  /// when none, or when the check is off (ServiceSettings::scrub_period).
+  [[nodiscard]] std::string scrub_problem(const std::string& scene) const;
 
  private:
   std::shared_ptr<RoadmapSession> session_or_null(const std::string& scene) const;
@@ -291,6 +300,7 @@ class RoadmapService {
   void drop_kept_snapshots();               // the budget's reclaimer: kept encodings give their leases back
 
   const std::shared_ptr<MemoryBudget> budget_;
+  std::unique_ptr<StoreScrub> scrub_;  // made last in the constructor, stopped first in stop()
 
   std::mutex tours_mutex_;
   std::size_t tours_admitted_ = 0;

@@ -222,6 +222,13 @@ void write_store_head(const std::filesystem::path& dir, const StoreHead& head, F
 /// durable. Empty when neither; recovery checks every record.
 [[nodiscard]] std::string store_quick_problem(const std::filesystem::path& dir);
 
+/// Why the store in `dir` cannot be served, found by reading every record of its snapshot and
+/// journals (framing and checksums, not the commits' contents) as recovery would, without opening
+/// it: a record refused, a snapshot that is not one whole record, a rotated journal that is not
+/// whole, or a bad record within what its head says was durable. A crash's torn tail is no
+/// problem. Empty when none. Reads only; holds one file in memory at a time (StoreScrub leases it).
+[[nodiscard]] std::string store_scrub_problem(const std::filesystem::path& dir, const FileSystem& fs = disk());
+
 /// Keeps a store the fleet superseded: renames it, whole, to DATA_DIR/.aside/NAME-gGEN-SAMPLES
 /// (a further ".N" when taken) with `why` in its aside.txt, durably. Returns where it went.
 /// Nothing at start or later removes it: an operator reads it and deletes it.
