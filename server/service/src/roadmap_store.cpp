@@ -15,6 +15,7 @@
 #include <system_error>
 
 #include "ispars/roadmap/sealed_file.hpp"
+#include "roadmap_store_damage.hpp"
 #include "roadmap_store_files.hpp"
 
 namespace ispars {
@@ -148,38 +149,6 @@ RoadmapRecipe RoadmapStore::read_recipe(const std::filesystem::path& dir, const 
 }
 
 namespace {
-
-// What a record file's damage is, in words: where, in which record, and that it is left as it is.
-std::string damage_text(const std::filesystem::path& path, const RecordReplay& replay, const FileSystem& fs) {
-  return fmt::format("{} is damaged at byte {} (commit {}): {}; the {} bytes from there on are left untouched for "
-                     "inspection (drop the scene's roadmap, or build with replace, to discard them)",
-                     path.string(), replay.valid_bytes, replay.records + 1, replay.tail_problem,
-                     fs.file_size(path).value_or(replay.valid_bytes) - replay.valid_bytes);
-}
-
-// Whether journal.log as read (`journal`) is damaged, not torn by a crash: a record refused, or a
-// bad record inside the bytes `head` says were durable (and the file still holds): acknowledged.
-// (A head older than the journal, as after a compaction's rotation, names more bytes than the new
-// file holds, and says nothing.) The journal's replay with its problem said, or nothing.
-std::optional<RecordReplay> journal_damage(const std::filesystem::path& dir, const RecordReplay& journal,
-                                           const FileSystem& fs) {
-  const std::optional<StoreHead> head = read_store_head(dir, fs);
-  const std::uint64_t file_bytes = fs.file_size(journal_path(dir)).value_or(0);
-  if (head && journal.torn_tail && journal.valid_bytes < head->journal_bytes && head->journal_bytes <= file_bytes) {
-    RecordReplay named = journal;
-    named.tail_problem += fmt::format(" in an acknowledged commit (head: durable to byte {})", head->journal_bytes);
-    return named;
-  }
-  if (journal.damaged) return journal;
-  return std::nullopt;
-}
-
-// A snapshot holds exactly one whole record; else what is wrong, in words.
-std::optional<std::string> snapshot_damage(const std::filesystem::path& dir, const RecordReplay& snapshot) {
-  if (snapshot.records == 1 && !snapshot.torn_tail) return std::nullopt;
-  return fmt::format("{} is damaged at byte {}: {}; left untouched for inspection", snapshot_path(dir).string(),
-                     snapshot.valid_bytes, snapshot.tail_problem.empty() ? "not exactly one record" : snapshot.tail_problem);
-}
 
 // Replays the snapshot, journal.old (while a compaction runs) and journal.log of the store at
 // `dir` into `recovered`; journal.log's valid length. Reads only. (A compaction of the same store
@@ -322,60 +291,6 @@ std::optional<StoreHead> read_store_head(const std::filesystem::path& dir, const
   if (!(in >> head.journal_bytes)) head.journal_bytes = 0;  // a head older than the field
   if (!(in >> head.task_events)) head.task_events = 0;      // older than this one
   return head;
-}
-
-namespace {
-
-// Whether `path`, when it exists and is not empty, starts with one of `format`'s magics (or, with
-// `torn_header`, is a prefix of the current one: a crash while a journal's header was written; a
-// snapshot is written whole and renamed into place).
-bool starts_as(const std::filesystem::path& path, const RecordFormat& format, bool torn_header) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return true;  // absent: recovery decides
-  std::string prefix(format.magic().size(), '\0');
-  in.read(prefix.data(), static_cast<std::streamsize>(prefix.size()));
-  prefix.resize(static_cast<std::size_t>(in.gcount()));
-  if (prefix.empty() || (torn_header && format.magic().substr(0, prefix.size()) == prefix)) return true;
-  return std::any_of(format.versions.begin(), format.versions.end(),
-                     [&](const RecordMagic& m) { return prefix == m.magic; });
-}
-
-}  // namespace
-
-std::string store_quick_problem(const std::filesystem::path& dir) {
-  for (const auto& [path, format] : {std::pair{snapshot_path(dir), &kSnapshot}, std::pair{journal_path(dir), &kJournal},
-                                     std::pair{old_journal_path(dir), &kJournal}}) {
-    if (!starts_as(path, *format, format == &kJournal)) {
-      return fmt::format("{} does not start as a {} file (damaged at byte 0)", path.string(), format->magic());
-    }
-  }
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(journal_path(dir), ec);
-  const auto head = read_store_head(dir);
-  if (head && head->journal_bytes > 0 && (ec || size < head->journal_bytes)) {
-    return fmt::format("{} has {} bytes, and its head says {} were durable", journal_path(dir).string(),
-                       ec ? 0 : size, head->journal_bytes);
-  }
-  return {};
-}
-
-std::string store_scrub_problem(const std::filesystem::path& dir, const FileSystem& fs) {
-  const auto whole = [](const std::string&) { return std::string(); };  // framing and checksums only
-  try {
-    if (fs.exists(snapshot_path(dir))) {
-      const RecordReplay snapshot = read_record_file(snapshot_path(dir), kSnapshot, whole, fs, RecordKeep::count);
-      if (auto problem = snapshot_damage(dir, snapshot)) return *problem;
-    }
-    if (fs.exists(old_journal_path(dir))) {
-      const RecordReplay old = read_record_file(old_journal_path(dir), kJournal, whole, fs, RecordKeep::count);
-      if (old.torn_tail) return damage_text(old_journal_path(dir), old, fs);
-    }
-    const RecordReplay journal = read_record_file(journal_path(dir), kJournal, whole, fs, RecordKeep::count);
-    if (const auto damaged = journal_damage(dir, journal, fs)) return damage_text(journal_path(dir), *damaged, fs);
-  } catch (const RecordMagicMismatch& e) {
-    return fmt::format("{} (damaged at byte 0)", e.what());
-  }
-  return {};
 }
 
 std::filesystem::path set_aside_store(const std::filesystem::path& dir, const std::string& why, FileSystem& fs) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "ispars/input_error.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/service/scene_catalog.hpp"
 
@@ -101,19 +100,15 @@ void StoreScrub::check(const std::string& scene) {
   // The largest file is held whole while it is read, and its one record copied once more.
   double bytes = 0.0;
   for (std::size_t i = 0; i + 1 < key.size(); i += 2) bytes = std::max(bytes, 2.0 * static_cast<double>(key[i]));
-  std::shared_ptr<MemoryLease> lease;
-  try {
-    lease = budget_->lease(bytes, "a check of the stored roadmap of scene '" + scene + "'");
-  } catch (const InputError&) {
-    return;  // no room now: the next pass
-  }
+  // Read only while the budget has room for it, and without a lease: background work never makes
+  // a build or a tour busy (a build admitted during the read may pass the estimate by this much).
+  if (bytes > budget_->total() - budget_->reserved() - budget_->leased()) return;  // the next pass
   std::string problem;
   try {
     problem = store_scrub_problem(dir, fs_);
   } catch (const std::exception& e) {  // a file that cannot be read at all is named too
     problem = e.what();
   }
-  lease.reset();
   // Read while a session opened it, or rewritten meanwhile: this read says nothing.
   if (held_now() || key_of(dir) != key) return;
   std::lock_guard lock(mutex_);

@@ -226,7 +226,7 @@ void write_store_head(const std::filesystem::path& dir, const StoreHead& head, F
 /// journals (framing and checksums, not the commits' contents) as recovery would, without opening
 /// it: a record refused, a snapshot that is not one whole record, a rotated journal that is not
 /// whole, or a bad record within what its head says was durable. A crash's torn tail is no
-/// problem. Empty when none. Reads only; holds one file in memory at a time (StoreScrub leases it).
+/// problem. Empty when none. Reads only; holds one file in memory at a time (twice its size).
 [[nodiscard]] std::string store_scrub_problem(const std::filesystem::path& dir, const FileSystem& fs = disk());
 
 /// Keeps a store the fleet superseded: renames it, whole, to DATA_DIR/.aside/NAME-gGEN-SAMPLES

@@ -3,8 +3,9 @@
 // holds is read whole (store_scrub_problem) once per version of its files, on a thread of its
 // own, so that damage in a copy that only sits on disk (a standby, or one handed over) is found
 // and named before a takeover needs it, not only when it is opened. Reads only: a damaged store
-// is left as it is. Each read holds the file in memory under a lease of the service's memory
-// budget; a read that does not fit waits for the next pass.
+// is left as it is. Each read holds the file in memory; it is made only while the service's
+// memory budget has room for it, and takes no lease (so it never makes a build or a tour busy);
+// one that does not fit waits for a later pass.
 
 #include <chrono>
 #include <condition_variable>
