@@ -361,6 +361,12 @@ void HistoryTest::run() {
                 static_cast<unsigned long long>(read.samples), read.tasks.size(), missing.size());
   }
   const auto count = [&](auto pred) { return std::count_if(flips_.begin(), flips_.end(), pred); };
+  (void)eventually(  // a flip of the last round: its daemon's background check runs every 2 s
+      [&] {
+        check_flips();
+        return count([](const Flip& f) { return f.named || f.gone; }) == static_cast<std::ptrdiff_t>(flips_.size());
+      },
+      std::chrono::seconds(10), "every flipped bit named", std::chrono::milliseconds(200));
   for (const Flip& flip : flips_) {
     EXPECT_TRUE(flip.named || flip.gone) << "a bit of " << flip.file << " (" << flip.daemon
                                          << ") was flipped and no log names the file";
