@@ -86,9 +86,9 @@ Daemon::Daemon(DaemonConfig config)
   settings.tour_workers = config_.workers;
   settings.memory_budget_bytes = memory_budget_bytes(config_);
   settings.scrub_period = kScrubPeriod;
-  claims_ = std::make_unique<SceneClaims>(
-      config_.server_id, Fleet{[this] { return other_daemons(); }, [this] { return self_info(); },
-                               [this] { announce(); }});
+  Fleet fleet{[this] { return other_daemons(); }, [this] { return self_info(); }, [this] { announce(); }};
+  fleet.taking_over = [this](const std::string& scene) { return takeovers_.running(scene); };
+  claims_ = std::make_unique<SceneClaims>(config_.server_id, std::move(fleet));
   try {
     ledger_ = std::make_unique<RequestLedger>(config_.data_dir);
     open_metrics_endpoint();

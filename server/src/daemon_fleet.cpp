@@ -148,18 +148,10 @@ void Daemon::start_takeovers(std::vector<OrphanScene> orphans) {
     const bool here = std::find(claimed.begin(), claimed.end(), it->scene) != claimed.end();
     if (!wire::holder_of(it->scene, others).empty() || (here && !it->handed_over)) {
       it = waiting_takeovers_.erase(it);
-    } else if (takeovers_.running(it->scene)) {
-      ++it;
+    } else if (takeovers_.start(it->scene, [this, orphan = *it] { take_over(orphan); })) {
+      it = waiting_takeovers_.erase(it);  // SceneClaims sees it run (Fleet::taking_over)
     } else {
-      claims_->set_taking_over(it->scene, true);  // before the next pass's orphans()
-      if (!takeovers_.start(it->scene, [this, orphan = *it] {
-            take_over(orphan);
-            claims_->set_taking_over(orphan.scene, false);
-          })) {
-        claims_->set_taking_over(it->scene, false);
-        break;  // every runner busy: the next pass
-      }
-      it = waiting_takeovers_.erase(it);
+      break;  // every runner busy: the next pass
     }
   }
 }

@@ -114,7 +114,8 @@ msg::DaemonInfo Daemon::self_info() const {
 
 bool Daemon::refresh_listing() {
   if (!service_) return listing_.refresh(std::nullopt);
-  return listing_.refresh(service_->loaded_scenes(), [this](const std::string& scene) { return service_->scrub_problem(scene); });
+  return listing_.refresh(service_->loaded_scenes(),
+                          [this](const std::string& scene) { return service_->scrub_problem(scene); });
 }
 
 void Daemon::announce() {

@@ -190,7 +190,7 @@ void SceneClaims::report_takeovers(const std::vector<msg::DaemonInfo>& others,
   const auto now = fleet_.now();
   for (auto it = takeovers_.begin(); it != takeovers_.end();) {
     auto& [scene, pending] = *it;
-    if (taking_over_.count(scene) > 0) {
+    if (fleet_.taking_over(scene)) {
       ++it;  // its end decides: claimed (erased on the next pass) or failed (reported again)
       continue;
     }
@@ -243,15 +243,6 @@ std::chrono::seconds SceneClaims::takeover_retry_in(const std::string& scene) co
   std::lock_guard lock(mutex_);
   const auto it = takeovers_.find(scene);
   return it == takeovers_.end() || !it->second.reported ? std::chrono::seconds(0) : retry_delay(it->second.attempts);
-}
-
-void SceneClaims::set_taking_over(const std::string& scene, bool running) {
-  std::lock_guard lock(mutex_);
-  if (running) {
-    taking_over_.insert(scene);
-  } else {
-    taking_over_.erase(scene);
-  }
 }
 
 void SceneClaims::observe(const msg::DaemonInfo& announcement) {

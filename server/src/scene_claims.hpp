@@ -41,6 +41,9 @@ struct Fleet {
   std::function<void(std::chrono::milliseconds)> sleep = [](std::chrono::milliseconds d) {
     std::this_thread::sleep_for(d);
   };
+  /// Whether a takeover of the scene that orphans() reported still runs here (beside the fleet
+  /// thread): its scene stays pending while claimed, so that a failure is tried again.
+  std::function<bool(const std::string& scene)> taking_over = [](const std::string&) { return false; };
 };
 
 /// A scene whose holder left the domain or handed it here, now this daemon's to take over.
@@ -99,9 +102,6 @@ class SceneClaims {
   [[nodiscard]] std::vector<OrphanScene> orphans();
   /// How long until a takeover of `scene` that failed now is tried again (0: none pending).
   [[nodiscard]] std::chrono::seconds takeover_retry_in(const std::string& scene) const;
-  /// A takeover of `scene` reported by orphans() runs (beside the fleet thread) until called
-  /// with false: its scene stays pending while claimed, so that a failure is tried again.
-  void set_taking_over(const std::string& scene, bool running);
   /// Remembers a status another daemon published (the recipe a takeover rebuilds from): per
   /// scene and daemon, the one with the highest status_seq of the daemon's run (its announced
   /// joined_ms). DDS orders samples per writer only: while a daemon rejoins, a late status of its
@@ -135,7 +135,6 @@ class SceneClaims {
   std::map<std::string, Holder> held_by_;  // scene -> the other daemon last seen holding it
   std::map<std::string, std::chrono::steady_clock::time_point> handover_reported_;
   std::map<std::string, PendingTakeover> takeovers_;  // scenes whose holder left, not yet served again
-  std::set<std::string> taking_over_;                 // of those, the ones whose takeover runs here
   // (scene, daemon) -> that daemon's last status of the scene but UNLOADED: another daemon's
   // status never hides the former owner's recipe.
   std::map<std::pair<std::string, std::string>, msg::SceneStatus> last_status_;

@@ -5,6 +5,7 @@
 
 #include <mutex>
 #include <optional>
+#include <set>
 #include <tuple>
 
 #include "ispars/input_error.hpp"
@@ -35,6 +36,7 @@ struct ScriptedFleet {
   std::optional<std::tuple<std::uint64_t, std::uint64_t, std::uint64_t>> self_copy;  // generation, samples, target
   // A fake clock: the claim window's wait moves it on at once; a test moves it past a retry period.
   std::chrono::steady_clock::time_point clock{};
+  std::set<std::string> taking_over;  // scenes whose takeover runs here (the daemon's TakeoverRunner)
 
   Fleet fleet() {
     Fleet f{[this] {
@@ -64,6 +66,10 @@ struct ScriptedFleet {
       return clock;
     };
     f.sleep = [this](std::chrono::milliseconds d) { pass(d); };
+    f.taking_over = [this](const std::string& scene) {
+      std::lock_guard lock(mutex);
+      return taking_over.count(scene) > 0;
+    };
     return f;
   }
   void pass(std::chrono::steady_clock::duration d) {
@@ -330,12 +336,12 @@ TEST(SceneClaims, ATakeoverRunningBesideTheFleetThreadStaysPendingUntilItEnds) {
     (void)c.claims->orphans();
     c.fleet.others = {};
     ASSERT_EQ(c.claims->orphans().size(), 1u);
-    c.claims->set_taking_over("s", true);
+    c.fleet.taking_over = {"s"};  // started
     EXPECT_EQ(claim_error(*c.claims, "s"), "");
     EXPECT_TRUE(c.claims->orphans().empty());  // the next pass, while it runs
     if (fails) c.claims->release("s");
     EXPECT_EQ(c.claims->takeover_retry_in("s"), SceneClaims::kRetryPeriod);
-    c.claims->set_taking_over("s", false);
+    c.fleet.taking_over.clear();  // ended
     (void)c.claims->orphans();
     c.fleet.pass(SceneClaims::kRetryPeriod);
     EXPECT_EQ(c.claims->orphans().size(), fails ? 1u : 0u) << (fails ? "failed" : "succeeded");
