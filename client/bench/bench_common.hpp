@@ -92,8 +92,7 @@ inline std::size_t proc_status_kib(pid_t pid, const std::string& field) {
 
 /// `ispars-bench grow`: see grow_bench.cpp.
 nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem::path& scene_dir, const std::string& scene,
-                        const std::string& method, std::uint64_t samples, std::uint64_t step,
-                        const std::map<std::string, double>& overrides);
+                        BuildRequest build, std::uint64_t samples, std::uint64_t step);
 
 /// `ispars-bench peak`: see peak_bench.cpp.
 nlohmann::json run_peak(const std::string& daemon_binary, std::uint64_t samples, const std::vector<std::string>& methods);

@@ -10,12 +10,21 @@
 #include <iostream>
 
 #include "bench_common.hpp"
+#include "ispars/params/json_archive.hpp"
 
 namespace ispars::bench {
+namespace {
+
+nlohmann::json overrides_json(const RecipeOverrides& overrides) {
+  nlohmann::json out = nlohmann::json::object();
+  params::write_json(overrides, out);
+  return out;
+}
+
+}  // namespace
 
 nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem::path& scene_dir, const std::string& scene,
-                        const std::string& method, std::uint64_t samples, std::uint64_t step,
-                        const std::map<std::string, double>& overrides) {
+                        BuildRequest build, std::uint64_t samples, std::uint64_t step) {
   Bench bench(daemon_binary, {}, "", "", std::filesystem::absolute(scene_dir));
   Client client(bench.options());
   client.load(scene);
@@ -26,7 +35,8 @@ nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem:
     const std::uint64_t n = std::min(step, samples - done);
     const auto t0 = Clock::now();
     if (done == 0) {
-      client.build(scene, {method, n, 1, overrides, false, {}});
+      build.samples = n;
+      client.build(scene, build);
     } else {
       client.extend(scene, n);
     }
@@ -63,8 +73,8 @@ nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem:
   if (extended.samples_done != samples + 1000) throw std::runtime_error("the extend after the restart failed: " + extended.last_error);
   return {{"bench", "grow"},
           {"scene", scene},
-          {"method", method},
-          {"overrides", overrides},
+          {"method", std::string(to_string(build.method))},
+          {"overrides", overrides_json(build.overrides)},
           {"samples", samples},
           {"step", step},
           {"seconds", total},

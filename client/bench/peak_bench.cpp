@@ -61,7 +61,7 @@ nlohmann::json run_one(const std::string& daemon_binary, const std::string& meth
   const pid_t pid = bench.daemon->pid();
   reset_peak(pid);
   const double loaded = proc_status_kib(pid, "VmRSS:") / kKiBPerMiB;
-  client.build("tower", {method, samples, 1, {}, false, {}});
+  client.build("tower", ispars::request_of(method, samples));
   const client::SceneStatus done = client.wait_idle("tower", {}, std::chrono::hours(4));
   if (done.samples_done != samples) throw std::runtime_error(method + " stopped early: " + done.last_error);
   wait_for_fold(bench.dir / "data");

@@ -146,7 +146,7 @@ struct Setting {
     bench.client_identity = identity(keystore, "bench-client");
     client = std::make_unique<Client>(bench.options());
     client->load("tower");
-    client->build("tower", {"ispars", 2000, 1, {}, false, {}});
+    client->build("tower", ispars::request_of("ispars", 2000));
     client->wait_idle("tower", {}, std::chrono::seconds(120));
     raw = std::make_unique<RawEndpoints>(bench.domain, identity(keystore, "bench-raw"), false);
     const std::string reply_hex = reply_to_hex(client::call(*client, stats));

@@ -36,7 +36,7 @@
 #include <thread>
 
 #include "ispars/roadmap/build_recipe.hpp"
-#include "ispars/roadmap/recipe_flags.hpp"
+#include "ispars/params/cli_archive.hpp"
 #include "ispars/client/client.hpp"
 #include "bench_common.hpp"
 #include "ispars/local/local_daemon.hpp"
@@ -63,7 +63,7 @@ nlohmann::json run_stream(const std::string& daemon_binary, std::uint64_t sample
     }
     for (auto& r : replicas) r->wait_for(0, 0, std::chrono::seconds(30));  // first (empty) sync
     const auto t0 = Clock::now();
-    control.build("tower", {method, samples, 1, {}, false, {}});
+    control.build("tower", ispars::request_of(method, samples));
     const auto done = control.wait_idle("tower", {}, std::chrono::hours(1));
     const double build_seconds = seconds_since(t0);
     bool all_equal = true;
@@ -97,7 +97,7 @@ nlohmann::json run_snapshot(const std::string& daemon_binary, std::uint64_t vert
   Client client(bench.options());
   client.load("tower");
   // Dense keeps (nearly) every valid sample: the quickest way to a roadmap of this size.
-  client.build("tower", {"dense", vertices + vertices / 20, 1, {}, false, {}});
+  client.build("tower", ispars::request_of("dense", vertices + vertices / 20));
   const auto done = client.wait_idle("tower", {}, std::chrono::hours(1));
   std::vector<double> times;
   std::size_t bytes = 0;
@@ -126,7 +126,7 @@ nlohmann::json run_memory(const std::string& daemon_binary, std::uint64_t sample
     client.load("tower");
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     const std::size_t before = rss_kib(bench.daemon->pid());
-    client.build("tower", {method, samples, 1, {}, false, {}});
+    client.build("tower", ispars::request_of(method, samples));
     const auto done = client.wait_idle("tower", {}, std::chrono::hours(1));
     // What the daemon holds, not what its store's background compaction holds for a moment
     // after the build (measured 300 ms after it: ispars 574-703 MiB; 6 s after: 368 MiB).
@@ -180,16 +180,14 @@ int main(int argc, char** argv) {
   peak->add_option("--methods", peak_methods, "build methods")->check(CLI::IsMember({"dense", "spars", "ispars", "irisc", "ispars2"}));
   std::string grow_scenes, grow_scene = "water_tower", grow_method = "ispars2";
   std::uint64_t grow_samples = 1'000'000, grow_step = 100'000;
-  double grow_slack = 0.0;
-  std::uint64_t grow_slack_after = 0;
+  ispars::BuildRequest grow_build;
   auto* grow = app.add_subcommand("grow", "a roadmap extended step by step: cost per sample, memory, restart");
   grow->add_option("--scene-dir", grow_scenes, "scene directory (deploy/scenes)")->required()->check(CLI::ExistingDirectory);
   grow->add_option("--scene", grow_scene, "scene name");
   grow->add_option("--method", grow_method, "build method");
   grow->add_option("--samples", grow_samples, "samples in all")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
   grow->add_option("--step", grow_step, "samples per extend")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
-  ispars::add_recipe_flag(*grow, "stretch_slack", grow_slack);  // the build's overrides (0: none)
-  ispars::add_recipe_flag(*grow, "stretch_slack_after", grow_slack_after);
+  ispars::params::add_flags(*grow, grow_build.overrides);  // the build's overrides
   int echo_domain = 0;
   std::string echo_security, echo_client, echo_reply;
   auto* echo = app.add_subcommand("echo", "")->group("");  // hidden: rtt's raw echo server
@@ -207,10 +205,8 @@ int main(int argc, char** argv) {
     if (*memory) out = run_memory(daemon, memory_samples);
     if (*peak) out = run_peak(daemon, peak_samples, peak_methods);
     if (*grow) {
-      std::map<std::string, double> overrides;
-      if (grow_slack > 0.0) overrides.emplace("stretch_slack", grow_slack);
-      if (grow_slack_after > 0) overrides.emplace("stretch_slack_after", static_cast<double>(grow_slack_after));
-      out = run_grow(daemon, grow_scenes, grow_scene, grow_method, grow_samples, grow_step, overrides);
+      ispars::set_method(grow_build, grow_method, "", "--method");
+      out = run_grow(daemon, grow_scenes, grow_scene, grow_build, grow_samples, grow_step);
     }
     std::cout << out.dump() << std::endl;
     return 0;

@@ -1,13 +1,9 @@
 // `ispars build`: a new roadmap for a scene, with the recipe's parameter overrides.
 
-#include <fmt/format.h>
-
-#include <cstdlib>
-
 #include "cli_output.hpp"
 #include "commands.hpp"
-#include "ispars/roadmap/build_recipe.hpp"
-#include "whole_number.hpp"
+#include "ispars/params/cli_archive.hpp"
+#include "ispars/roadmap/build_request.hpp"
 
 namespace ispars::cli {
 namespace {
@@ -17,31 +13,26 @@ class BuildCommand final : public Command {
   CLI::App* add(CLI::App& app) override {
     auto* cmd = app.add_subcommand("build", "build a new roadmap");
     cmd->add_option("scene", scene_, "scene name")->required();
-    cmd->add_option("--method", args_.method, build_method_names())->required();
-    cmd->add_option("--variant", args_.variant,
-                     "spars, ispars: the rule set, " + spars_variant_names() + " (default stretch)");
-    cmd->add_option("--samples", args_.samples, "samples to draw")
-        ->required()
-        ->check(whole_number(1, kMaxRequestSamples, "samples"));
-    cmd->add_option("--seed", args_.seed, "random seed")->check(whole_number(0, kMaxSeed, ""));
+    cmd->add_option("--method", method_, build_method_names())->required();
+    cmd->add_option("--variant", variant_, "spars, ispars: the rule set, " + spars_variant_names() + " (default stretch)");
+    params::add_flag(*cmd, kSamples, args_.samples)->required();
+    params::add_flag(*cmd, kSeed, args_.seed);
     cmd->add_flag("--replace", args_.replace, "replace an existing roadmap");
-    std::string set_help = "parameter override NAME=VALUE, one of:";
-    for (const RecipeParameter& p : recipe_overrides()) set_help += fmt::format("\n    {}: {}; {}", p.name, p.doc, p.range);
-    cmd->add_option("--set", sets_, set_help);
+    cmd->add_option("--set", sets_, "parameter override NAME=VALUE, one of:" + params::help<RecipeOverrides>());
     cmd->add_flag("--wait", wait_, "follow progress until the build ends");
     cmd->add_flag("--json", json_, "print the final status as JSON");
     return cmd;
   }
   void check() override {
-    // NAME=NUMBER each; the daemon checks the name and the value against the recipe.
-    for (const std::string& s : sets_) {
-      const auto eq = s.find('=');
-      char* end = nullptr;
-      const double value = eq == std::string::npos ? 0.0 : std::strtod(s.c_str() + eq + 1, &end);
-      if (eq == std::string::npos || eq == 0 || end == s.c_str() + eq + 1 || *end != '\0') {
-        throw CLI::ValidationError("--set", "'" + s + "' is not NAME=NUMBER");
+    try {
+      set_method(args_, method_, variant_, "ispars build");
+      for (const std::string& s : sets_) {  // NAME=VALUE each, read and checked as declared
+        const auto eq = s.find('=');
+        if (eq == std::string::npos || eq == 0) throw CLI::ValidationError("--set", "'" + s + "' is not NAME=VALUE");
+        params::set_text(args_.overrides, s.substr(0, eq), s.substr(eq + 1), "--set");
       }
-      args_.overrides[s.substr(0, eq)] = value;
+    } catch (const InputError& e) {
+      throw CLI::ValidationError(e.file() == "--set" ? "--set " + e.field() : "--" + e.field(), e.problem());
     }
   }
   int run(client::Client& client) override {
@@ -50,7 +41,9 @@ class BuildCommand final : public Command {
 
  private:
   std::string scene_;
-  client::BuildArgs args_;
+  std::string method_;
+  std::string variant_;
+  BuildRequest args_;
   std::vector<std::string> sets_;
   bool wait_ = false;
   bool json_ = false;

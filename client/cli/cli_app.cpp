@@ -16,7 +16,7 @@ struct ConnectionArgs {
   std::string profile_file, profile_name = "ispars", security, server;
 
   void add(CLI::App& app) {
-    app.add_option("--domain", domain, "DDS domain id")->envname("ISPARS_DOMAIN")->check(whole_number(0, 232, ""));
+    app.add_option("--domain", domain, "DDS domain id")->envname("ISPARS_DOMAIN")->check(whole_number(0, 232));
     app.add_option("--profile-file", profile_file, "Fast DDS XML profiles file (default: built-in localhost only)")
         ->envname("ISPARS_PROFILE_FILE");
     app.add_option("--profile-name", profile_name, "participant profile in the profiles file");

@@ -2,8 +2,8 @@
 
 #include "cli_output.hpp"
 #include "commands.hpp"
-#include "ispars/roadmap/build_recipe.hpp"
-#include "whole_number.hpp"
+#include "ispars/params/cli_archive.hpp"
+#include "ispars/roadmap/roadmap_parameters.hpp"
 
 namespace ispars::cli {
 namespace {
@@ -13,9 +13,7 @@ class ExtendCommand final : public Command {
   CLI::App* add(CLI::App& app) override {
     auto* cmd = app.add_subcommand("extend", "add samples to a roadmap");
     cmd->add_option("scene", scene_, "scene name")->required();
-    cmd->add_option("--samples", samples_, "more samples")
-        ->required()
-        ->check(whole_number(1, kMaxRequestSamples, "samples"));
+    params::add_flag(*cmd, kSamples, samples_)->required();
     cmd->add_flag("--wait", wait_, "follow progress until the extension ends");
     cmd->add_flag("--json", json_, "print the final status as JSON");
     return cmd;

@@ -7,7 +7,7 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/render/scene_render.hpp"
 #include "ispars/scene/scene.hpp"
 #include "whole_number.hpp"
@@ -28,7 +28,7 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& args) {
   cmd->add_option("--eye", args.eye, "camera position X Y Z (default: framed from the front-right)")->expected(3);
   cmd->add_option("--target", args.target, "camera target X Y Z (with --eye)")->expected(3);
   cmd->add_option("--max-edges", args.max_edges, "edges drawn at most (an evenly spread subset)")
-      ->check(whole_number(1, 100'000'000, "edges"));
+      ->check(whole_number(1, 100'000'000));
   cmd->add_option("--task", args.task, "draw this inspection task's POIs (ispars task list), and its tour with --tour");
   return cmd;
 }

@@ -57,9 +57,9 @@ class TaskCommand final : public Command {
     add_->add_option("name", name_, "task name (1-64 of A-Z a-z 0-9 _ - .)")->required();
     auto* file = add_->add_option("--file", file_, "POIs on the structure, one \"x y z\" per line");
     auto* sample = add_->add_option("--sample", sample_, "sample this many POIs on the structure's surface instead")
-                       ->check(whole_number(1, 1'000'000, "POIs"));
+                       ->check(whole_number(1, 1'000'000));
     file->excludes(sample);
-    add_->add_option("--seed", seed_, "seed of --sample")->needs(sample)->check(whole_number(0, kMaxSeed, ""));
+    add_->add_option("--seed", seed_, "seed of --sample")->needs(sample)->check(whole_number(0, kMaxSeed));
     add_->add_flag("--wait", wait_, "follow progress until the task is added");
     add_->add_flag("--json", json_, "print the final status as JSON");
     list_ = task_->add_subcommand("list", "the roadmap's tasks and how many of their POIs it sees");

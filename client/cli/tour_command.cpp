@@ -81,10 +81,10 @@ class TourCommand final : public Command {
     auto* cmd = app.add_subcommand("tour", "an inspection tour on the scene's roadmap, searched by the daemon");
     cmd->add_option("scene", scene_, "scene name")->required();
     cmd->add_option("--budget", budget_, "seconds of search")->required()->check(CLI::Range(0.001, 3600.0));
-    cmd->add_option("--seed", seed_, "search seed")->check(whole_number(0, kMaxSeed, ""));
+    cmd->add_option("--seed", seed_, "search seed")->check(whole_number(0, kMaxSeed));
     cmd->add_option("--targets", targets_, "POI ids to see (default: every POI seen from the root's component)")
         ->delimiter(',')
-        ->check(whole_number(0, std::numeric_limits<std::uint32_t>::max(), ""));
+        ->check(whole_number(0, std::numeric_limits<std::uint32_t>::max()));
     cmd->add_option("--task", task_, "the POIs of this inspection task (ispars task list) seen from the root's component")
         ->excludes("--targets");
     cmd->add_flag("--json", json_, "one JSON object");

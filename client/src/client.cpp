@@ -7,6 +7,7 @@
 
 #include "client_impl.hpp"
 #include "ispars/client/wire_calls.hpp"
+#include "ispars/wire/build_args.hpp"
 #include "ispars/wire/scene_owner.hpp"
 
 namespace ispars::client {
@@ -184,18 +185,7 @@ SceneStatus Client::stats(const std::string& scene) {
 
 Reply Client::build(const std::string& scene, const BuildArgs& args) {
   msg::ChangeRequest r = make_change(msg::BUILD, scene);
-  msg::BuildArgs& b = r.args().build();
-  b.method(args.method);
-  b.variant(args.variant);
-  b.samples(args.samples);
-  b.seed(args.seed);
-  b.replace(args.replace);
-  for (const auto& [name, value] : args.overrides) {
-    msg::Parameter p;
-    p.name(name);
-    p.value(value);
-    b.overrides().push_back(p);
-  }
+  r.args().build(wire::to_message(args));
   return to_reply(call(*this, r));
 }
 

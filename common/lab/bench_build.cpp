@@ -11,33 +11,33 @@
 #include "flags.hpp"
 #include "experiment_support.hpp"
 #include "json_output.hpp"
+#include "lab_build.hpp"
 #include "timing.hpp"
 
 namespace ispars::lab {
 
 int run_bench_build(const BenchBuildOptions& options) {
-  const Scene scene = Scene::load(options.scene);
-  const BuildMethod method = *parse_build_method(options.method);
-  BuildOptions build;
-  build.seed = options.seed;
-  build.threads = options.threads;
-  build.variant = *parse_spars_variant(options.variant);
-  build.stretch_slack = options.stretch_slack;
-  build.stretch_slack_after = options.stretch_slack_after;
-  const auto builder = make_roadmap_builder(method, scene, build);
+  const Scene base = Scene::load(options.scene);
+  const LabBuild lab = make_lab_build(base, options.method, options.variant, options.request, options.threads,
+                                      "ispars-lab bench build");
+  const Scene& scene = *lab.scene;
+  const auto& builder = lab.builder;
+  const BuildMethod method = lab.recipe.method;
+  const RoadmapRecipe& r = lab.recipe;
+  const std::size_t samples = options.request.samples;
   const CheckCounts start = scene.counts();
   const double t0 = now_seconds();
   nlohmann::json rows = nlohmann::json::array();
   std::cout << fmt::format("{} ({} rules, stretch slack {} Delta from sample {}) on {}, seed {}, {} thread(s)\n",
-                           options.method, options.variant, options.stretch_slack, options.stretch_slack_after,
-                           scene.config().name, options.seed, options.threads);
+                           options.method, to_string(r.variant), r.stretch_slack, r.stretch_slack_after,
+                           scene.config().name, r.seed, options.threads);
   std::cout << fmt::format("{:>9} {:>9} {:>9} {:>9} {:>9} {:>12} {:>12} {:>10}\n", "N", "seconds", "us/sample",
                            "seg/sample", "|V|", "|E|", "dense |E|", "peak MiB");
   std::size_t previous = 0;
   double previous_t = 0.0;
   CheckCounts previous_checks;
   for (std::size_t k = 1; k <= options.checkpoints; ++k) {
-    const std::size_t target = options.samples * k / options.checkpoints;
+    const std::size_t target = samples * k / options.checkpoints;
     builder->extend(target - previous);
     const double elapsed = now_seconds() - t0;
     const CheckCounts checks = scene.counts() - start;
@@ -62,9 +62,10 @@ int run_bench_build(const BenchBuildOptions& options) {
   const double seconds = now_seconds() - t0;
   if (options.json) {
     std::cout << nlohmann::json{{"scene", scene.config().name}, {"method", options.method},
-                                {"variant", options.variant}, {"stretch_slack", options.stretch_slack},
-                                {"stretch_slack_after", options.stretch_slack_after}, {"samples", options.samples}, {"seed", options.seed}, {"threads", options.threads},
-                                {"seconds", seconds}, {"samples_per_second", static_cast<double>(options.samples) / seconds},
+                                {"variant", std::string(to_string(r.variant))}, {"stretch_slack", r.stretch_slack},
+                                {"stretch_slack_after", r.stretch_slack_after}, {"samples", samples},
+                                {"seed", r.seed}, {"threads", options.threads}, {"seconds", seconds},
+                                {"samples_per_second", static_cast<double>(samples) / seconds},
                                 {"peak_rss_mib", peak_rss_mib()}, {"checkpoints", rows}}
                      .dump()
               << std::endl;
@@ -75,14 +76,8 @@ int run_bench_build(const BenchBuildOptions& options) {
 CLI::App* add_bench_build_command(CLI::App& parent, BenchBuildOptions& options) {
   auto* cmd = parent.add_subcommand("build", "Construction time, checks per sample and peak memory against N");
   cmd->add_option("scene", options.scene, "Scene YAML file")->required();
-  cmd->add_option("--method", options.method, "dense | spars | ispars | irisc | ispars2")
-      ->check(build_method_check());
-  cmd->add_option("--variant", options.variant, "spars, ispars: stretch (default) or alg1")
-      ->check(spars_variant_check());
-  cmd->add_option("--samples", options.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
-  add_stretch_slack_options(*cmd, options.stretch_slack, options.stretch_slack_after);
+  add_request_flags(*cmd, options.method, options.variant, options.request);
   cmd->add_option("--checkpoints", options.checkpoints, "Report rows")->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
-  cmd->add_option("--seed", options.seed, "Seed");
   cmd->add_option("--threads", options.threads, "Threads")->check(CLI::Range(1u, 64u));
   cmd->add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
   return cmd;

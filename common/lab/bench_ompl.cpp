@@ -21,7 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ispars/reference/fcl_checker.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/scene/scene.hpp"
 

@@ -8,7 +8,7 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
@@ -16,8 +16,8 @@
 #include "ispars/builders/spars_builder.hpp"
 #include "experiment_support.hpp"
 #include "json_output.hpp"
+#include "lab_build.hpp"
 #include "timing.hpp"
-#include "ispars/roadmap/recipe_flags.hpp"
 
 namespace ispars::lab {
 namespace {
@@ -68,26 +68,22 @@ void progress(std::size_t done, std::size_t total, const Roadmap& g, double seco
 }  // namespace
 
 int run_build(const BuildCommandOptions& options) {
-  const Scene scene = Scene::load(options.scene);
-  const BuildMethod method = *parse_build_method(options.method);
-  ispars::BuildOptions build_options;
-  build_options.seed = options.seed;
-  build_options.threads = options.threads;
-  build_options.p_accept = options.p_accept;
-  build_options.stretch_slack = options.stretch_slack;
-  build_options.stretch_slack_after = options.stretch_slack_after;
-  build_options.variant = *parse_spars_variant(options.variant);
+  const Scene base = Scene::load(options.scene);
+  const LabBuild lab = make_lab_build(base, options.method, options.variant, options.request, options.threads,
+                                      "ispars-lab build");
+  const Scene& scene = *lab.scene;
+  const auto& builder = lab.builder;
+  const std::size_t samples = options.request.samples;
 
   const CheckCounts before = scene.counts();
   const double t0 = now_seconds();
-  const auto builder = make_roadmap_builder(method, scene, build_options);
   const bool show_progress = !options.json && ::isatty(STDERR_FILENO);
-  const std::size_t chunk = std::max<std::size_t>(1, options.samples / 100);
-  for (std::size_t done = 0; done < options.samples;) {
-    const std::size_t n = std::min(chunk, options.samples - done);
+  const std::size_t chunk = std::max<std::size_t>(1, samples / 100);
+  for (std::size_t done = 0; done < samples;) {
+    const std::size_t n = std::min(chunk, samples - done);
     builder->extend(n);
     done += n;
-    if (show_progress) progress(done, options.samples, builder->roadmap(), now_seconds() - t0);
+    if (show_progress) progress(done, samples, builder->roadmap(), now_seconds() - t0);
   }
   if (show_progress) std::cerr << '\n';
   const double seconds = now_seconds() - t0;
@@ -95,19 +91,19 @@ int run_build(const BuildCommandOptions& options) {
 
   nlohmann::json out = {{"scene", scene.config().name},
                         {"method", options.method},
-                        {"samples", options.samples},
-                        {"seed", options.seed},
+                        {"samples", samples},
+                        {"seed", lab.recipe.seed},
                         {"threads", options.threads},
                         {"seconds", seconds},
-                        {"samples_per_second", seconds > 0 ? static_cast<double>(options.samples) / seconds : 0.0},
+                        {"samples_per_second", seconds > 0 ? static_cast<double>(samples) / seconds : 0.0},
                         {"roadmap", summary(builder->roadmap())},
                         {"checks", to_json(checks)}};
   if (const Roadmap* dense = builder->dense()) out["dense"] = summary(*dense);
   if (const auto* spars = dynamic_cast<const SparsBuilder*>(builder.get())) {
     const nlohmann::json causes = to_json(spars->admissions());
-    out["variant"] = options.variant;
-    out["stretch_slack"] = options.stretch_slack;
-    out["stretch_slack_after"] = options.stretch_slack_after;
+    out["variant"] = std::string(to_string(lab.recipe.variant));
+    out["stretch_slack"] = lab.recipe.stretch_slack;
+    out["stretch_slack_after"] = lab.recipe.stretch_slack_after;
     out["admissions"] = causes["admissions"];
     out["edges_by_cause"] = causes["edges_by_cause"];
   }
@@ -125,7 +121,7 @@ int run_build(const BuildCommandOptions& options) {
   }
   if (options.fresh > 0) {
     // Fresh samples, not the build's: what the roadmap misses between the samples it drew.
-    const VerificationReport fresh = verify_fresh_samples(scene, builder->roadmap(), options.fresh, options.seed + 1);
+    const VerificationReport fresh = verify_fresh_samples(scene, builder->roadmap(), options.fresh, lab.recipe.seed + 1);
     out["fresh_samples"] = {{"samples", fresh.invariant_samples},
                             {"samples_with_a_violation", fresh.invariant_vertices},
                             {"violations", fresh.invariant_violations}};
@@ -148,7 +144,7 @@ int run_build(const BuildCommandOptions& options) {
                        s["pois_covered_root"].get<std::size_t>());
   };
   std::cout << fmt::format("{} on {}: {} samples (seed {}) in {:.2f} s, {:.0f} samples/s\n", options.method,
-                           scene.config().name, options.samples, options.seed, seconds,
+                           scene.config().name, samples, lab.recipe.seed, seconds,
                            out["samples_per_second"].get<double>());
   std::cout << line("roadmap", out["roadmap"]);
   if (out.contains("dense")) std::cout << line("dense", out["dense"]);
@@ -169,20 +165,10 @@ int run_build(const BuildCommandOptions& options) {
 CLI::App* add_build_command(CLI::App& parent, BuildCommandOptions& options) {
   auto* cmd = parent.add_subcommand("build", "Build a roadmap: dense, spars, ispars, irisc or ispars2");
   cmd->add_option("scene", options.scene, "Scene YAML file")->required();
-  cmd->add_option("--method", options.method, "dense | spars | ispars | irisc | ispars2")
-      ->required()
-      ->check(build_method_check());
-  cmd->add_option("--samples", options.samples, "Samples to draw (N)")
-      ->check(CLI::Range(std::size_t{0}, std::size_t{100'000'000}));
-  cmd->add_option("--seed", options.seed, "Seed of the sample stream");
-  cmd->add_option("--variant", options.variant,
-                  "spars, ispars: stretch (default: bounds routes between nearby sparse vertices) or alg1 "
-                  "(the paper's Alg. 1 read literally)")
-      ->check(spars_variant_check());
+  add_request_flags(*cmd, options.method, options.variant, options.request);
+  cmd->get_option("--method")->required();
   cmd->add_option("--threads", options.threads, "Threads for per-sample checks (same roadmap for any count)")
       ->check(CLI::Range(1u, 64u));
-  add_recipe_flag(*cmd, "p_accept", options.p_accept);
-  add_stretch_slack_options(*cmd, options.stretch_slack, options.stretch_slack_after);
   cmd->add_flag("--verify", options.verify, "Check validity, costs and the inspection invariant exactly");
   cmd->add_option("--fresh", options.fresh, "Also check Invariant 1 on this many fresh samples (a seed of its own)")
       ->check(CLI::Range(std::size_t{0}, std::size_t{10'000'000}));

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "ispars/roadmap/build_request.hpp"
+
 namespace CLI {
 class App;
 }  // namespace CLI
@@ -37,13 +39,9 @@ int run_bench_geometry(const BenchGeometryOptions& options);
 struct BuildCommandOptions {
   std::string scene;
   std::string method;
-  std::string variant = "stretch";
-  std::size_t samples = 1000;
-  std::uint64_t seed = 1;
+  std::string variant;  ///< spars, ispars: the rule set (empty: stretch)
+  BuildRequest request{.samples = 1000};  ///< samples, seed and overrides (method and variant set from the names)
   unsigned threads = 1;
-  double p_accept = 0.2;
-  double stretch_slack = 0.0;
-  std::uint64_t stretch_slack_after = 0;  ///< the slack applies from this sample on
   bool verify = false;
   std::size_t fresh = 0;  ///< fresh samples to check Invariant 1 on (0: none)
   bool json = false;
@@ -56,12 +54,9 @@ int run_build(const BuildCommandOptions& options);
 struct BenchBuildOptions {
   std::string scene;
   std::string method = "ispars";
-  std::string variant = "stretch";
-  std::size_t samples = 20'000;
+  std::string variant;  ///< spars, ispars: the rule set (empty: stretch)
+  BuildRequest request{.samples = 20'000};  ///< samples, seed and overrides
   std::size_t checkpoints = 10;
-  std::uint64_t seed = 1;
-  double stretch_slack = 0.0;
-  std::uint64_t stretch_slack_after = 0;  ///< the slack applies from this sample on
   unsigned threads = 1;
   bool json = false;
 };

@@ -21,7 +21,7 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "experiment_support.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/builders/irisc_builder.hpp"
 #include "ispars/builders/dense_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"

@@ -18,7 +18,7 @@
 #include "experiment_support.hpp"
 #include "flags.hpp"
 #include "flown_rows.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars::lab {
 namespace {

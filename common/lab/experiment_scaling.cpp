@@ -13,7 +13,7 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "experiment_support.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "timing.hpp"
 
 namespace ispars::lab {

@@ -16,7 +16,7 @@
 #include "flags.hpp"
 #include "experiment_support.hpp"
 #include "ispars/search/graph_search.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/builders/spars_builder.hpp"
 #include "timing.hpp"

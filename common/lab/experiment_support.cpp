@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "timing.hpp"
 
 namespace ispars::lab {

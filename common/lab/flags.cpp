@@ -2,7 +2,7 @@
 
 #include "commands.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
-#include "ispars/roadmap/recipe_flags.hpp"
+#include "ispars/params/cli_archive.hpp"
 
 namespace ispars::lab {
 
@@ -24,8 +24,8 @@ CLI::Validator spars_variant_check() {
 }
 
 void add_stretch_slack_options(CLI::App& command, double& slack, std::uint64_t& after) {
-  add_recipe_flag(command, "stretch_slack", slack);
-  add_recipe_flag(command, "stretch_slack_after", after);
+  params::add_flag(command, kStretchSlack, slack);
+  params::add_flag(command, kStretchSlackAfter, after);
 }
 
 void add_experiment_flags(CLI::App& command, ExperimentOptions& options) {

@@ -10,7 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars::lab {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/render/scene_render.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "ispars/scene/scene.hpp"

@@ -14,7 +14,7 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "ispars/tour/gip_solver.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "ispars/scene/scene.hpp"
 #include "ispars/tour/flown_tour.hpp"

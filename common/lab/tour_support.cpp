@@ -8,7 +8,7 @@
 #include <string>
 #include <thread>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars::lab {
 

@@ -15,7 +15,7 @@
 #include <spdlog/spdlog.h>
 
 #include "dds_endpoints.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/wire/convert.hpp"
 #include "metrics_endpoint.hpp"
 #include "stop_watchdog.hpp"

@@ -11,7 +11,7 @@
 #include <type_traits>
 
 #include "daemon_settings.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars::server {
 
@@ -154,6 +154,15 @@ ListenAddress parse_listen_address(const std::string& text, const std::string& s
     throw bad("has no port in 0..65535");
   }
   out.port = static_cast<int>(std::stoul(port));
+  return out;
+}
+
+std::vector<std::string> changed_needing_restart(const DaemonConfig& running, DaemonConfig fresh) {
+  if (fresh.server_id.empty()) fresh.server_id = running.server_id;
+  std::vector<std::string> out;
+  visit_settings([&](const auto& s) {
+    if (!s.on_sighup && !(running.*s.field == fresh.*s.field)) out.emplace_back(s.key);
+  });
   return out;
 }
 

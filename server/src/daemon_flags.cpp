@@ -6,7 +6,7 @@
 #include <type_traits>
 
 #include "daemon_settings.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars::server {
 namespace {

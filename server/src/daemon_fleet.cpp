@@ -17,7 +17,7 @@
 
 #include "daemon.hpp"
 #include "dds_endpoints.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/wire/scene_owner.hpp"
 #include "status_message.hpp"
 #include "takeover_plan.hpp"

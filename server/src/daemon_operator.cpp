@@ -7,6 +7,7 @@
 
 #include "daemon.hpp"
 #include "daemon_log.hpp"
+#include "daemon_settings.hpp"
 #include "dds_endpoints.hpp"
 #include "ispars/wire/convert.hpp"
 #include "metrics_endpoint.hpp"
@@ -20,30 +21,6 @@ using Clock = std::chrono::steady_clock;
 // is healthy only while one came back within the limit (or the watchdog's, if longer).
 constexpr std::chrono::seconds kSelfProbePeriod{2};
 constexpr std::chrono::seconds kSelfHearingLimit{10};
-
-// The keys of `a` and `b` that differ and apply only at start.
-std::vector<std::string> changed_needing_restart(const DaemonConfig& a, const DaemonConfig& b) {
-  std::vector<std::string> out;
-  const auto check = [&](bool same, const char* key) {
-    if (!same) out.emplace_back(key);
-  };
-  check(a.data_dir == b.data_dir, "data_dir");
-  check(a.scene_dir == b.scene_dir, "scene_dir");
-  check(a.domain == b.domain, "domain");
-  check(a.workers == b.workers, "workers");
-  check(a.build_threads == b.build_threads, "build_threads");
-  check(a.profile_file == b.profile_file && a.profile_name == b.profile_name, "profile_file/profile_name");
-  check(a.security == b.security, "security");
-  check(b.server_id.empty() || a.server_id == b.server_id, "server_id");  // empty: the HOST-PID default
-  check(a.max_samples == b.max_samples, "max_samples");
-  check(a.snapshot_compact_every == b.snapshot_compact_every, "snapshot_compact_every");
-  check(a.preload == b.preload, "preload");
-  check(a.request_queue == b.request_queue, "request_queue");
-  check(a.memory_budget_mb == b.memory_budget_mb, "memory_budget_mb");
-  check(a.discovery_wait_ms == b.discovery_wait_ms, "discovery_wait_ms");
-  check(a.metrics == b.metrics, "metrics");
-  return out;
-}
 
 }  // namespace
 

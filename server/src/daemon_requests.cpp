@@ -6,7 +6,8 @@
 
 #include "daemon.hpp"
 #include "dds_endpoints.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
+#include "ispars/wire/build_args.hpp"
 #include "ispars/wire/convert.hpp"
 #include "request_codec.hpp"
 
@@ -99,7 +100,7 @@ bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
       return true;
     case msg::BUILD: {
       const msg::BuildArgs& a = args.build();
-      service_->build(scene, build_request_from(a));
+      service_->build(scene, wire::from_message(a, "request"));
       reply.message(fmt::format("building {} on '{}': {} samples, seed {}", a.method().to_string(), scene, a.samples(),
                                 a.seed()));
       break;

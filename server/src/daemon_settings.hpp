@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "daemon_config.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
 
 namespace ispars::server {
@@ -35,6 +35,7 @@ struct IntegerSetting {
   std::int64_t max = 0;
   SettingRule<T> rule = nullptr;   ///< Checked after the bounds, on the narrowed value.
   std::string_view alias = {};     ///< An older flag, still accepted ("--compact-every").
+  bool on_sighup = false;          ///< A running daemon takes a change on SIGHUP (else at a restart).
 };
 
 /// A text setting, at most `max_length` characters; a path is resolved against the config
@@ -47,6 +48,7 @@ struct TextSetting {
   std::size_t max_length = 4096;
   bool path = false;
   SettingRule<T> rule = nullptr;
+  bool on_sighup = false;  ///< A running daemon takes a change on SIGHUP (else at a restart).
 };
 
 /// A list of scene names, appended to by each flag.
@@ -56,6 +58,7 @@ struct ListSetting {
   std::string_view doc;
   std::size_t max_items = 1024;
   std::string_view alias = {};
+  bool on_sighup = false;
 };
 
 /// An ADDRESS:PORT to listen on, or none.
@@ -63,6 +66,7 @@ struct AddressSetting {
   std::optional<ListenAddress> DaemonConfig::*field;
   std::string_view key;
   std::string_view doc;
+  bool on_sighup = false;
 };
 
 std::string log_level_rule(const std::string& level);
@@ -88,11 +92,11 @@ void visit_settings(Visitor&& visit) {
                                  "DDS Security identity directory (deploy/security/make-keystore.sh); default: none",
                                  4096, true});
   visit(TextSetting<std::string>{&C::log_level, "log_level", "trace, debug, info, warn, error, critical or off", 16,
-                                 false, &log_level_rule});
+                                 false, &log_level_rule, true});
   visit(TextSetting<std::string>{&C::server_id, "server_id", "this daemon's unique id on the domain (default HOST-PID)",
                                  64});
   visit(IntegerSetting<std::uint64_t>{&C::max_samples, "max_samples", "largest build or extend a request may ask for",
-                                      1, static_cast<std::int64_t>(kMaxRequestSamples)});
+                                      1, static_cast<std::int64_t>(kSamples.max)});
   visit(IntegerSetting<std::size_t>{&C::snapshot_compact_every, "snapshot_compact_every",
                                     "journal commits between compacted snapshots", 1, 1'000'000'000, nullptr,
                                     "compact-every"});
@@ -108,13 +112,18 @@ void visit_settings(Visitor&& visit) {
                                       "how long to listen for the other daemons before claiming scenes", 100, 60'000});
   visit(TextSetting<std::filesystem::path>{&C::log_file, "log_file",
                                            "log to this file, rotated by size and reopened on SIGHUP (default: stdout)",
-                                           4096, true, &log_file_rule});
+                                           4096, true, &log_file_rule, true});
   visit(IntegerSetting<std::uint64_t>{&C::log_file_mb, "log_file_mb", "MiB a log file reaches before it is rotated",
-                                      1, 100'000});
+                                      1, 100'000, nullptr, {}, true});
   visit(AddressSetting{&C::metrics, "metrics",
                        "ADDRESS:PORT serving /metrics (Prometheus) and /healthz over HTTP, e.g. 127.0.0.1:9464 "
                        "(default: none)"});
 }
+
+/// The keys of the settings that differ between `running` and `fresh` and that a running daemon
+/// takes only at a restart (each one not declared on_sighup), in declaration order. A fresh
+/// config without a server_id asks for the default the running one already holds.
+[[nodiscard]] std::vector<std::string> changed_needing_restart(const DaemonConfig& running, DaemonConfig fresh);
 
 /// The flag of a setting: "--" and its key with dashes ("data_dir": "--data-dir").
 [[nodiscard]] std::string flag_of(std::string_view key);

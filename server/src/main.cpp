@@ -15,7 +15,7 @@
 #include "daemon_flags.hpp"
 #include "daemon_settings.hpp"
 #include "daemon_log.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/wire/participant.hpp"
 #include "stop_watchdog.hpp"
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 
 #include "ispars/builders/recipe_builder.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/wire/convert.hpp"
 
 namespace ispars::server {
@@ -13,27 +13,6 @@ namespace ispars::server {
 std::string operation_name(msg::Operation operation) {
   const std::string name = wire::to_string(operation);
   return name != "unknown" ? name : fmt::format("operation {}", static_cast<int>(operation));
-}
-
-BuildRequest build_request_from(const msg::BuildArgs& args) {
-  const RecipeChoices choices =
-      parse_recipe_choices(args.method().to_string(), args.variant().to_string(), "request");
-  if (args.overrides().size() > msg::MAX_OVERRIDES) {
-    throw InputError("request", "overrides",
-                     fmt::format("{} given; at most {} allowed", args.overrides().size(), msg::MAX_OVERRIDES));
-  }
-  BuildRequest build;
-  build.method = choices.method;
-  build.variant = choices.variant;
-  build.samples = args.samples();
-  build.seed = args.seed();
-  build.replace = args.replace();
-  for (const auto& o : args.overrides()) {
-    if (!build.overrides.emplace(o.name().to_string(), o.value()).second) {
-      throw InputError("request", "overrides." + o.name().to_string(), "given twice");
-    }
-  }
-  return build;
 }
 
 msg::VerifyResult to_message(const VerifyOutcome& v) {

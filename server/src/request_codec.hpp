@@ -1,8 +1,8 @@
 #pragma once
 // Between the wire and the service, with no DDS: a request's arguments decoded into the
-// service's typed form, and the service's results encoded into reply messages. Decoding checks
-// only what the typed form cannot hold (a known method and variant, overrides named once and no
-// more than the IDL bound); the values are the service's to check.
+// service's typed form, and the service's results encoded into reply messages (a build's
+// arguments: wire/build_args.hpp). Decoding checks only what the typed form cannot hold; the
+// values are the service's to check.
 
 #include <span>
 #include <string>
@@ -14,11 +14,6 @@ namespace ispars::server {
 
 /// "build", or "operation 42" for a code this daemon does not know.
 [[nodiscard]] std::string operation_name(msg::Operation operation);
-
-/// BUILD's arguments as a BuildRequest. Throws InputError ("request", FIELD) for an unknown
-/// method or variant, a variant given to a method without variants, more than MAX_OVERRIDES
-/// overrides, or one named twice. An empty variant is the default (stretch).
-[[nodiscard]] BuildRequest build_request_from(const msg::BuildArgs& args);
 
 /// TASK_ADD's arguments as a task on `scene`: its POIs as given, or `sample` drawn on the
 /// surface (sample_task_pois). Throws InputError ("request", task.pois / task.sample) for more

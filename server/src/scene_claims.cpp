@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/wire/scene_owner.hpp"
 
 namespace ispars::server {

@@ -103,7 +103,7 @@ inline std::string scene_name(unsigned n) {
 
 inline BuildArgs ispars_build(std::uint64_t samples, std::uint64_t seed = 1, bool replace = false) {
   BuildArgs a;
-  a.method = "ispars";
+  a.method = BuildMethod::ispars;
   a.samples = samples;
   a.seed = seed;
   a.replace = replace;

@@ -27,7 +27,7 @@ TEST_F(CliTest, NoDaemonExitsThreeNamingTheDomain) {
 // A whole-number flag is read as typed and refused by name, with its range in its own unit, exit 2,
 // before any daemon is asked (none runs here: a request would exit 3).
 TEST_F(CliTest, BadCountsAreRefusedByNameWithTheirRange) {
-  const std::string samples_range = "--samples: must be a whole number of samples from 1 to 9007199254740992, got '";
+  const std::string samples_range = "--samples: must be a whole number in [1, 9007199254740992], got ";
   for (const std::string value : {"0", "-5", "1e3", "99999999999999999999", "2.5", "0x10"}) {
     for (const std::string command : {"build tower --method ispars --samples=", "extend tower --samples="}) {
       const CliRun r = run(common_ + " " + command + value, dir_);
@@ -41,19 +41,19 @@ TEST_F(CliTest, BadCountsAreRefusedByNameWithTheirRange) {
   EXPECT_NE(empty.err.find("--samples"), std::string::npos) << empty.err;
   const CliRun seed = run(common_ + " tour tower --budget 1 --seed=-1", dir_);
   EXPECT_EQ(seed.code, 2);
-  EXPECT_NE(seed.err.find("--seed: must be a whole number from 0 to 18446744073709551615, got '-1'"), std::string::npos)
+  EXPECT_NE(seed.err.find("--seed: must be a whole number in [0, 18446744073709551615], got -1"), std::string::npos)
       << seed.err;
   const CliRun targets = run(common_ + " tour tower --budget 1 --targets 3,1.5", dir_);
   EXPECT_EQ(targets.code, 2);
-  EXPECT_NE(targets.err.find("--targets: must be a whole number from 0 to 4294967295, got '1.5'"), std::string::npos)
+  EXPECT_NE(targets.err.find("--targets: must be a whole number in [0, 4294967295], got 1.5"), std::string::npos)
       << targets.err;
   const CliRun pois = run(common_ + " task add tower t --sample 1e3", dir_);
   EXPECT_EQ(pois.code, 2);
-  EXPECT_NE(pois.err.find("--sample: must be a whole number of POIs from 1 to 1000000, got '1e3'"), std::string::npos)
+  EXPECT_NE(pois.err.find("--sample: must be a whole number in [1, 1000000], got 1e3"), std::string::npos)
       << pois.err;
   const CliRun domain = run("--domain 1e3 stats tower", dir_);
   EXPECT_EQ(domain.code, 2);
-  EXPECT_NE(domain.err.find("--domain: must be a whole number from 0 to 232, got '1e3'"), std::string::npos)
+  EXPECT_NE(domain.err.find("--domain: must be a whole number in [0, 232], got 1e3"), std::string::npos)
       << domain.err;
   // The largest count is accepted by the CLI and then refused by the daemon's own limit (exit 3
   // here: no daemon answers).
@@ -108,17 +108,28 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   CliRun r = run(common_ + " build tower --method ispars --samples 100", dir_);
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("request: replace: scene 'tower' already has a roadmap"), std::string::npos) << r.err;
+  // What the typed request cannot hold, or a value outside its declared range, is refused before
+  // anything is sent (exit 2); what depends on the scene, by the daemon (exit 1), in the same words.
   r = run(common_ + " build tower --method ispars --samples 100 --replace --set colour=1", dir_);
-  EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("overrides.colour: unknown parameter (expected dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after, p_accept)"),
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--set colour: unknown parameter (expected one of dense_delta, sparse_delta, stretch, "
+                       "stretch_slack, stretch_slack_after, p_accept)"),
             std::string::npos)
       << r.err;
   r = run(common_ + " build tower --method ispars --samples 100 --replace --variant greedy", dir_);
-  EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("request: variant: 'greedy' is not one of stretch, alg1"), std::string::npos) << r.err;
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--variant: 'greedy' is not one of stretch, alg1"), std::string::npos) << r.err;
   r = run(common_ + " build tower --method ispars --samples 100 --replace --set stretch=0.5", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--set stretch: must be in [1, 100], got 0.5"), std::string::npos) << r.err;
+  r = run(common_ + " build tower --method dense --variant alg1 --samples 100 --replace", dir_);
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("request: overrides.stretch: must be at least 1 and at most 100, got 0.5"), std::string::npos)
+  EXPECT_NE(r.err.find("request: variant: 'alg1' given, but dense has no rule-set variants"), std::string::npos)
+      << r.err;
+  r = run(common_ + " build tower --method ispars --samples 100 --replace --set sparse_delta=100000", dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("request: overrides.sparse_delta: 100000 is larger than the scene's diagonal"),
+            std::string::npos)
       << r.err;
   r = run(common_ + " build tower --method ispars --samples 100 --set stretch", dir_);
   EXPECT_EQ(r.code, 2);

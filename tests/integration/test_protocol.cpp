@@ -257,7 +257,7 @@ TEST_F(ProtocolTest, ARoadmapOfSeveralMegabytesTravelsInChunksAtOneVersion) {
   Client client(client::local_client_options(domain_));
   client.load("s0");
   client::BuildArgs dense;
-  dense.method = "dense";  // every pair within delta: many edges, a large encoding
+  dense.method = BuildMethod::dense;  // every pair within delta: many edges, a large encoding
   dense.samples = 15000;
   client.build("s0", dense);
   const SceneStatus built = client.wait_idle("s0", {}, std::chrono::minutes(5));

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <random>
@@ -292,27 +293,22 @@ TEST_F(ServiceTest, EveryBadRequestGetsANamedErrorAndTheDaemonLives) {
     r.args().build().samples(1'000'000'000'000ull);
     expect_error(r, "request: samples: 1000000000000 is more than this daemon allows");
   }
-  for (const auto& [name, value, needle] :
-       std::vector<std::tuple<std::string, double, std::string>>{
-           {"stretch", std::numeric_limits<double>::quiet_NaN(), "overrides.stretch: must be finite"},
-           {"dense_delta", -1.0, "dense_delta: must be positive"},
-           {"sparse_delta", std::numeric_limits<double>::infinity(), "overrides.sparse_delta: must be finite"},
-           {"p_accept", 1.5, "overrides.p_accept: must be a probability"},
-           {"stretch_slack", -0.5, "overrides.stretch_slack: must be in [0, 1], got -0.5"},
-           {"stretch_slack_after", 2.5, "overrides.stretch_slack_after: must be a whole number of samples"},
-           {"stretch_slack_after", 100.0, "overrides.stretch_slack_after: 100 given, but there is no stretch_slack"},
-           {"colour", 1.0, "overrides.colour: unknown parameter"}}) {
+  using Set = std::function<void(msg::RecipeOverrides&)>;
+  for (const auto& [bit, set, needle] : std::vector<std::tuple<std::uint32_t, Set, std::string>>{
+           {2, [](auto& o) { o.stretch(std::numeric_limits<double>::quiet_NaN()); },
+            "overrides.stretch: must be in [1, 100], got nan"},
+           {0, [](auto& o) { o.dense_delta(-1.0); }, "overrides.dense_delta: must be in (0, 1000000], got -1"},
+           {1, [](auto& o) { o.sparse_delta(std::numeric_limits<double>::infinity()); },
+            "overrides.sparse_delta: must be in (0, 1000000], got inf"},
+           {5, [](auto& o) { o.p_accept(1.5); }, "overrides.p_accept: must be in [0, 1], got 1.5"},
+           {3, [](auto& o) { o.stretch_slack(-0.5); }, "overrides.stretch_slack: must be in [0, 1], got -0.5"},
+           {4, [](auto& o) { o.stretch_slack_after(100); },
+            "overrides.stretch_slack_after: 100 given, but there is no stretch_slack"},
+           {6, [](auto&) {}, "request: overrides: presence bit 6 names an override this daemon does not know"}}) {
     auto r = build("s0");
-    msg::Parameter p;
-    p.name(name);
-    p.value(value);
-    r.args().build().overrides().push_back(p);
+    set(r.args().build().overrides());
+    r.args().build().overrides().present(1u << bit);
     expect_error(r, needle);
-  }
-  {
-    auto r = build("s0");
-    r.args().build().overrides().resize(100);
-    expect_error(r, "request: overrides: 100 given; at most 16");
   }
   // An operation outside the enum, and one sent on the other kind's topic, are refused by name.
   {

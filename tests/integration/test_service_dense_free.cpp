@@ -15,7 +15,7 @@ namespace {
 
 BuildArgs ispars2_build(std::uint64_t samples, std::uint64_t seed = 1) {
   BuildArgs a;
-  a.method = "ispars2";
+  a.method = BuildMethod::ispars2;
   a.samples = samples;
   a.seed = seed;
   return a;
@@ -27,7 +27,7 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
     Client client(client_options(domain_));
     client.load("s0");
     BuildArgs with_variant = ispars2_build(100);
-    with_variant.variant = "alg1";
+    with_variant.variant = SparsVariant::alg1;
     try {
       client.build("s0", with_variant);
       ADD_FAILURE() << "a variant for ispars2 was accepted";
@@ -104,8 +104,8 @@ TEST_F(ServiceTest, AStretchSlackIsBuiltReportedStoredAndKeptAfterARestart) {
     Client client(client_options(domain_));
     client.load("s0");
     BuildArgs args = ispars2_build(3000);
-    args.overrides.emplace("stretch_slack", 0.5);
-    args.overrides.emplace("stretch_slack_after", 1000);
+    args.overrides.stretch_slack = 0.5;
+    args.overrides.stretch_slack_after = 1000;
     client.build("s0", args);
     const SceneStatus built = client.wait_idle("s0", {}, kLong);
     ASSERT_EQ(built.state, SceneState::idle) << built.last_error;
@@ -145,7 +145,7 @@ TEST_F(ServiceTest, ADenseOrDensePairRoadmapGoesOnAfterARestartWithoutReplay) {
       Client client(client_options(domain_));
       client.load("s0");
       BuildArgs args;
-      args.method = name;
+      args.method = method;
       args.samples = 2000;
       args.replace = method != BuildMethod::dense;
       client.build("s0", args);

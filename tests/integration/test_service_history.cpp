@@ -138,7 +138,8 @@ void HistoryTest::change() {
     record(op, [&] { return client_->extend("s0", by); });
   } else if (pick < 70 || tasks_.empty()) {
     op.kind = HistoryOp::Kind::add_task;
-    op.task = "t" + std::to_string(tasks_.size());
+    op.task = "t";  // appended: GCC 12 warns falsely (-Wrestrict) on "t" + std::to_string(n)
+    op.task += std::to_string(tasks_.size());
     op.what = "add task " + op.task + in;
     tasks_.push_back(op.task);
     record(op, [&] { return client_->add_sampled_task("s0", op.task, 6, rng_() % 1000); });

@@ -91,10 +91,8 @@ TEST_F(ServiceTest, ExhaustionAttemptsAreRefusedBeforeMemoryGrows) {
     r.args().build().method("ispars");
     r.args().build().samples(samples);
     if (dense_delta) {
-      msg::Parameter p;
-      p.name("dense_delta");
-      p.value(*dense_delta);
-      r.args().build().overrides().push_back(p);
+      r.args().build().overrides().dense_delta(*dense_delta);
+      r.args().build().overrides().present(1);  // bit 0: dense_delta
     }
     const msg::Reply reply = call_raw(client, r, "d");
     EXPECT_FALSE(reply.ok()) << samples;

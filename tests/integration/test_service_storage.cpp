@@ -158,7 +158,7 @@ TEST_F(ServiceTest, AReplayThatDoesNotReproduceTheStoredRoadmapFailsByNameAndRew
     Client c(client_options(domain_));
     c.load("s0");
     BuildArgs irisc = ispars_build(1500, 7);
-    irisc.method = "irisc";
+    irisc.method = BuildMethod::irisc;
     c.build("s0", irisc);
     c.wait_idle("s0", {}, kLong);
     digest = roadmap_digest(c.snapshot("s0").roadmap);

@@ -29,13 +29,7 @@ std::uint64_t task_reference(const std::filesystem::path& scene_file, BuildMetho
   return roadmap_digest(builder->roadmap());
 }
 
-BuildArgs build_of(const std::string& method, std::uint64_t samples) {
-  BuildArgs a;
-  a.method = method;
-  a.samples = samples;
-  a.seed = 1;
-  return a;
-}
+BuildArgs build_of(const std::string& method, std::uint64_t samples) { return request_of(method, samples); }
 
 TEST_F(ServiceTest, AReplicaFollowingATaskResyncsToTheSnapshot) {
   auto daemon = start("d");

@@ -70,7 +70,6 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
       << read_text(node_out);
   const auto t0 = std::chrono::steady_clock::now();
   BuildArgs args;
-  args.method = "ispars";
   args.samples = scaled(20'000);  // a twentieth in the sanitizer pass
   args.seed = 1;
   client.build("s0", args);

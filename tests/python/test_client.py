@@ -77,12 +77,15 @@ def test_the_daemon_refusals_are_named_and_change_nothing(ispars, served):
     client, _ = served
     client.build(SCENE, 2000, seed=1)
     before = client.wait_idle(SCENE, timeout=120)
-    with pytest.raises(ispars.ClientError) as e:
+    # A request the typed form cannot hold, or a value out of its declared range, is refused
+    # before it is sent, with the daemon's own words (make_recipe's checks run there again).
+    with pytest.raises(ispars.InputError, match="method: 'prm' is not one of dense, spars, ispars, irisc, ispars2"):
         client.build(SCENE, 100, method="prm", replace=True)
-    assert e.value.kind == "rejected"
-    assert "method: 'prm' is not one of dense, spars, ispars, irisc, ispars2" in str(e.value)
-    with pytest.raises(ispars.ClientError, match="overrides.dense_delta"):
+    with pytest.raises(ispars.InputError, match=r"overrides.dense_delta: must be in \(0, 1000000\], got -1"):
         client.build(SCENE, 100, overrides={"dense_delta": -1}, replace=True)
+    with pytest.raises(ispars.ClientError, match="overrides.sparse_delta: 100000 is larger than the scene's diagonal") as e:
+        client.build(SCENE, 100, overrides={"sparse_delta": 1e5}, replace=True)  # the scene's checks: the daemon's
+    assert e.value.kind == "rejected"
     with pytest.raises(ispars.ClientError) as e:
         client.stats("no_such_scene")
     assert e.value.kind in ("rejected", "no_daemon")

@@ -36,12 +36,33 @@ def test_an_out_of_range_parameter_names_it(ispars, scene, overrides, field):
     assert e.value.field == field, str(e.value)
 
 
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(method="dense", overrides={"stretch_slack": 0.5}),
+     "overrides.stretch_slack: 0.5 given, but dense method has no stretch rules to slacken"),
+    (dict(method="ispars", overrides={"stretch_slack_after": 100}),
+     "overrides.stretch_slack_after: 100 given, but there is no stretch_slack to start there"),
+    (dict(method="spars", overrides={"stretch": 150}), "overrides.stretch: must be in [1, 100], got 150"),
+    (dict(method="ispars", overrides={"stretch_slack_after": 2.5}),
+     "overrides.stretch_slack_after: must be a whole number in [0, 1000000000000], got 2.5"),
+    (dict(method="ispars", overrides={"stretch_slack_after": -1}),
+     "overrides.stretch_slack_after: must be a whole number in [0, 1000000000000], got -1"),
+    (dict(method="irisc", variant="alg1"),
+     "variant: 'alg1' given, but irisc has no rule-set variants (spars and ispars have)"),
+])
+def test_a_builder_refuses_what_the_daemon_refuses_in_its_words(ispars, scene, kwargs, message):
+    # The daemon's words for the same requests: tests/integration/test_service.cpp and
+    # tests/cli/test_lab_requests.cpp, all from make_recipe.
+    with pytest.raises(ispars.InputError) as e:
+        ispars.Builder(scene, **kwargs)
+    assert message in str(e.value)
+
+
 def test_counts_out_of_range_are_refused(ispars, scene):
     with pytest.raises(ispars.InputError, match="threads: must be 1 .. 64, got 0"):
         ispars.Builder(scene, threads=0)
     builder = ispars.Builder(scene)
-    for samples in (0, -5, 100_000_001):
-        with pytest.raises(ispars.InputError, match="samples: must be 1 .. 100000000"):
+    for samples in (0, -5, 2**53 + 1):
+        with pytest.raises(ispars.InputError, match=r"samples: must be a whole number in \[1, 9007199254740992\]"):
             builder.extend(samples)
     assert builder.samples == 0 and builder.roadmap.vertex_count == 1  # the root alone: nothing changed
     with pytest.raises(ispars.InputError, match="tour: budget: give a budget or iterations"):

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/build_request.hpp"
 #include "support/test_support.hpp"
 
@@ -40,7 +40,8 @@ TEST(BuildRequest, TheRecipeTakesTheScenesParametersUnlessOverridden) {
   EXPECT_EQ(plain.stretch, c.stretch);
   EXPECT_EQ(plain.generation, 0u) << "the session sets it when the build is queued";
   BuildRequest r = asking(100);
-  r.overrides = {{"sparse_delta", c.sparse_delta * 1.5}, {"stretch", 2.5}};
+  r.overrides.sparse_delta = c.sparse_delta * 1.5;
+  r.overrides.stretch = 2.5;
   const RoadmapRecipe overridden = requested_recipe("tower", tower(), r, {});
   EXPECT_EQ(overridden.sparse_delta, c.sparse_delta * 1.5);
   EXPECT_EQ(overridden.stretch, 2.5);
@@ -61,23 +62,22 @@ TEST(BuildRequest, SamplesAreAtLeastOneAndAtMostTheLimit) {
 TEST(BuildRequest, OverridesOffTheScenesScaleAreRefusedByName) {
   const SceneConfig& c = tower().config();
   BuildRequest r = asking(100);
-  r.overrides = {{"dense_delta", 1e-6}};
+  r.overrides.dense_delta = 1e-6;
   EXPECT_NE(refusal(r).find("overrides.dense_delta: 1e-06 is too small for this scene"), std::string::npos) << refusal(r);
   const double diagonal = (c.bounds.max - c.bounds.min).norm();
   const double dense = diagonal / 100;  // so that 60 times it stays within the diagonal
-  r.overrides = {{"dense_delta", dense}, {"sparse_delta", dense * 60}};
+  r.overrides.dense_delta = dense;
+  r.overrides.sparse_delta = dense * 60;
   EXPECT_NE(refusal(r).find("overrides.sparse_delta: must be at most 50 times dense_delta"), std::string::npos)
       << refusal(r);
-  r.overrides = {{"colour", 1.0}};
-  EXPECT_NE(refusal(r).find("colour"), std::string::npos) << refusal(r);
-  r.overrides = {{"dense_delta", dense}, {"sparse_delta", dense * 50}};
+  r.overrides.sparse_delta = dense * 50;
   EXPECT_EQ(refusal(r), "accepted") << "50 times is the bound, not past it";
 }
 
 TEST(BuildRequest, ARebuildRequestAsksForTheSameRecipe) {
   BuildRequest r = asking(700);
   r.variant = SparsVariant::alg1;
-  r.overrides = {{"sparse_delta", tower().config().sparse_delta * 1.25}};
+  r.overrides.sparse_delta = tower().config().sparse_delta * 1.25;
   RoadmapRecipe recipe = requested_recipe("tower", tower(), r, {});
   recipe.generation = 42;
   const BuildRequest again = rebuild_request(recipe, 900);

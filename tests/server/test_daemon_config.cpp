@@ -11,7 +11,7 @@
 #include "daemon_config.hpp"
 #include "daemon_flags.hpp"
 #include "daemon_settings.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars::server {
@@ -206,6 +206,38 @@ TEST(DaemonSettings, EveryDefaultIsWithinItsBounds) {
     }
   });
   EXPECT_EQ(settings, 19u);
+}
+
+// A SIGHUP names each setting it cannot apply: every one declared without on_sighup, changed
+// alone, is named, and only it; a log setting changed is applied, so not named.
+TEST(DaemonSettings, EverySettingChangedButNotAppliedOnSighupIsNamed) {
+  const DaemonConfig running;
+  std::size_t named = 0;
+  visit_settings([&](const auto& s) {
+    DaemonConfig fresh = running;
+    auto& value = fresh.*s.field;
+    using T = std::remove_cvref_t<decltype(value)>;
+    if constexpr (std::is_arithmetic_v<T>) {
+      value = static_cast<T>(value + 1);
+    } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+      value.push_back("extra");
+    } else if constexpr (std::is_same_v<T, std::optional<ListenAddress>>) {
+      value = ListenAddress{"127.0.0.1", 9464};
+    } else {
+      value = T(std::string("changed"));
+    }
+    const std::vector<std::string> later = changed_needing_restart(running, fresh);
+    if (s.on_sighup) {
+      EXPECT_TRUE(later.empty()) << s.key << " is applied on SIGHUP";
+    } else {
+      EXPECT_EQ(later, std::vector<std::string>{std::string(s.key)});
+      ++named;
+    }
+  });
+  EXPECT_EQ(named, 16u) << "all but log_level, log_file and log_file_mb";
+  DaemonConfig with_id = running;
+  with_id.server_id = "d1";
+  EXPECT_TRUE(changed_needing_restart(with_id, running).empty()) << "no server_id: the default the daemon holds";
 }
 
 // deploy/isparsd.yaml, the shipped config, names every setting (set or commented out) and no

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/inspection_task.hpp"
 #include "support/test_support.hpp"
 

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <thread>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/roadmap_service.hpp"
 #include "server/service_waits.hpp"
 #include "support/test_support.hpp"

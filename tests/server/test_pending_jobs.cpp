@@ -18,7 +18,9 @@ TEST(PendingJobs, ARecordRoundTripsAndIsForgottenOnlyByItsOwnJob) {
   build.variant = SparsVariant::alg1;
   build.samples = 12345;
   build.seed = 77;
-  build.overrides = {{"dense_delta", 1.5}, {"stretch", 2.0}};
+  build.overrides.dense_delta = 1.5;
+  build.overrides.stretch = 2.0;
+  build.overrides.stretch_slack_after = 20000;
   build.replace = true;
   save_pending_job(dir.path(), PendingJob{"tower", 41, build, 9001, 12345, 2, std::nullopt});
   save_pending_job(dir.path(), PendingJob{"bridge", 42, std::nullopt, 0, 800, 0, std::nullopt});

@@ -1,90 +1,17 @@
-// The daemon's request decoding and reply encoding, without DDS: what reaches the service from a
-// BUILD's arguments, the errors that name what the typed form cannot hold, and a tour's and a
-// verify's replies field by field.
+// The daemon's request decoding and reply encoding, without DDS: a tour's and a verify's replies
+// field by field (a BUILD's arguments: tests/wire/test_build_args.cpp).
 
 #include <gtest/gtest.h>
 
 #include <memory>
 #include <string>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "request_codec.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars::server {
 namespace {
-
-msg::BuildArgs build_args(const std::string& method, const std::string& variant = "") {
-  msg::BuildArgs a;
-  a.method(method);
-  a.variant(variant);
-  a.samples(5000);
-  a.seed(7);
-  a.replace(true);
-  return a;
-}
-
-msg::Parameter parameter(const std::string& name, double value) {
-  msg::Parameter p;
-  p.name(name);
-  p.value(value);
-  return p;
-}
-
-// The decoding error's "field: problem", or "" when it decodes.
-std::string decode_error(const msg::BuildArgs& a) {
-  try {
-    (void)build_request_from(a);
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), "request");
-    return e.field() + ": " + e.problem();
-  }
-  return "";
-}
-
-TEST(RequestCodec, BuildArgumentsDecodeIntoTheTypedRequest) {
-  msg::BuildArgs a = build_args("spars", "alg1");
-  a.overrides().push_back(parameter("stretch", 1.5));
-  a.overrides().push_back(parameter("stretch_slack_after", 2000));
-  const BuildRequest r = build_request_from(a);
-  EXPECT_EQ(r.method, BuildMethod::spars);
-  EXPECT_EQ(r.variant, SparsVariant::alg1);
-  EXPECT_EQ(r.samples, 5000u);
-  EXPECT_EQ(r.seed, 7u);
-  EXPECT_TRUE(r.replace);
-  EXPECT_EQ(r.overrides.size(), 2u);
-  EXPECT_EQ(r.overrides.at("stretch"), 1.5);
-  EXPECT_EQ(r.overrides.at("stretch_slack_after"), 2000.0);
-  EXPECT_EQ(r.generation, 0u) << "a request always asks for a new roadmap";
-  // No variant is the default rule set, for every method.
-  EXPECT_EQ(build_request_from(build_args("ispars")).variant, SparsVariant::stretch);
-  EXPECT_EQ(build_request_from(build_args("ispars2")).method, BuildMethod::ispars2);
-}
-
-TEST(RequestCodec, WhatTheTypedFormCannotHoldIsRefusedByName) {
-  EXPECT_EQ(decode_error(build_args("Dense")),
-            "method: 'Dense' is not one of dense, spars, ispars, irisc, ispars2");
-  EXPECT_EQ(decode_error(build_args("ispars", "loose")), "variant: 'loose' is not one of stretch, alg1");
-  EXPECT_EQ(decode_error(build_args("irisc", "alg1")),
-            "variant: 'alg1' given, but irisc has no rule-set variants (spars and ispars have)");
-  msg::BuildArgs twice = build_args("ispars");
-  twice.overrides().push_back(parameter("stretch", 1.5));
-  twice.overrides().push_back(parameter("stretch", 2.0));
-  EXPECT_EQ(decode_error(twice), "overrides.stretch: given twice");
-  // More than the IDL's bound (a peer that ignores it: the sequence arrives longer).
-  msg::BuildArgs many = build_args("ispars");
-  for (std::uint32_t i = 0; i <= msg::MAX_OVERRIDES; ++i) {
-    std::string name(1, 'p');  // appended: GCC 12 warns falsely (-Wrestrict) on "p" + std::to_string(i)
-    name += std::to_string(i);
-    many.overrides().push_back(parameter(name, 1));
-  }
-  EXPECT_EQ(decode_error(many), "overrides: 17 given; at most 16 allowed");
-  // Values are the service's to check, not the decoder's.
-  msg::BuildArgs odd = build_args("ispars");
-  odd.overrides().push_back(parameter("stretch", -4));
-  odd.samples(0);
-  EXPECT_EQ(decode_error(odd), "");
-}
 
 TEST(RequestCodec, ATourReplyCarriesTheWalkTheShortcutTheBoundAndTheTraces) {
   TourOutcome o;

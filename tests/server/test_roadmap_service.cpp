@@ -9,7 +9,7 @@
 #include <fstream>
 #include <thread>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/pending_jobs.hpp"
 #include "ispars/service/roadmap_service.hpp"
 #include "ispars/service/roadmap_store.hpp"
@@ -162,11 +162,11 @@ TEST_F(RoadmapServiceTest, BuildsPastTheMemoryBudgetAreRefusedBeforeAnyMemoryGro
     }
   };
   BuildRequest huge_delta = ispars(3000);
-  huge_delta.overrides["dense_delta"] = 1e6;
+  huge_delta.overrides.dense_delta = 1e6;
   refused("s0", huge_delta);
   refused("s0", ispars(50'000'000));  // huge N
   BuildRequest tiny_delta_huge_n = ispars(40'000'000);
-  tiny_delta_huge_n.overrides["dense_delta"] = 0.1;
+  tiny_delta_huge_n.overrides.dense_delta = 0.1;
   refused("s0", tiny_delta_huge_n);
   EXPECT_LT(test::peak_rss_mib() - rss_before, 16.0) << "a refused build grew memory";
   EXPECT_EQ(service.stats("s0").state, SessionState::empty) << "a refusal changed nothing";

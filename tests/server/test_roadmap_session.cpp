@@ -6,7 +6,7 @@
 #include <fstream>
 #include <thread>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "roadmap_session_fixture.hpp"
 #include "support/eventually.hpp"
@@ -263,22 +263,27 @@ TEST_F(RoadmapSessionTest, BadAndConflictingRequestsAreRefusedByName) {
   expect_refusal([&] { (void)session->path(Vec3(0, 0, 1), Vec3(1, 1, 1)); }, "has no roadmap yet");
   expect_refusal([&] { session->drop(); }, "has no roadmap");
   BuildRequest r = ispars(100);
-  r.overrides["sparse_delta"] = -2.0;
-  expect_refusal([&] { session->request_build(r); }, "sparse_delta: must be positive");
-  r.overrides = {{"stretch", 0.5}};
-  expect_refusal([&] { session->request_build(r); }, "stretch: must be at least 1");
-  r.overrides = {{"dense_delta", 1e-6}};
+  r.overrides.sparse_delta = -2.0;
+  expect_refusal([&] { session->request_build(r); }, "sparse_delta: must be in (0, 1000000], got -2");
+  r.overrides = {};
+  r.overrides.stretch = 0.5;
+  expect_refusal([&] { session->request_build(r); }, "stretch: must be in [1, 100], got 0.5");
+  r.overrides = {};
+  r.overrides.dense_delta = 1e-6;
   expect_refusal([&] { session->request_build(r); }, "overrides.dense_delta: 1e-06 is too small for this scene");
-  r.overrides = {{"sparse_delta", 1e5}};
+  r.overrides = {};
+  r.overrides.sparse_delta = 1e5;
   expect_refusal([&] { session->request_build(r); }, "overrides.sparse_delta: 100000 is larger than the scene's diagonal");
-  r.overrides = {{"stretch_slack", 0.5}};
+  r.overrides = {};
+  r.overrides.stretch_slack = 0.5;
   r.method = BuildMethod::dense;
   expect_refusal([&] { session->request_build(r); }, "overrides.stretch_slack: 0.5 given, but dense method has no");
   r.method = BuildMethod::ispars;
   r.variant = SparsVariant::alg1;
   expect_refusal([&] { session->request_build(r); }, "but ispars variant alg1 has no stretch rules");
   r.variant = SparsVariant::stretch;
-  r.overrides = {{"stretch_slack_after", 1000}};
+  r.overrides = {};
+  r.overrides.stretch_slack_after = 1000;
   expect_refusal([&] { session->request_build(r); },
                  "overrides.stretch_slack_after: 1000 given, but there is no stretch_slack to start there");
   EXPECT_EQ(session->status().state, SessionState::empty);  // nothing changed
@@ -290,7 +295,7 @@ TEST_F(RoadmapSessionTest, BadAndConflictingRequestsAreRefusedByName) {
   expect_refusal([&] { session->request_build(ispars(500)); }, "replace: scene 'tower' already has a roadmap");
   BuildRequest replace = ispars(300, 2);
   replace.replace = true;
-  replace.overrides = {{"sparse_delta", 4.0}};
+  replace.overrides.sparse_delta = 4.0;
   const auto old_generation = session->published().generation;
   session->request_build(replace);
   session->run_job(never_);

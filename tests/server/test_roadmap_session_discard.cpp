@@ -5,7 +5,7 @@
 
 #include <fstream>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "roadmap_session_fixture.hpp"
 

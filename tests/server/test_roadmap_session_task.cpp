@@ -9,7 +9,7 @@
 #include <mutex>
 #include <thread>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "roadmap_session_fixture.hpp"
 

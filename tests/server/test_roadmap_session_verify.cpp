@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "roadmap_session_fixture.hpp"
 #include "support/eventually.hpp"
 

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/scene_catalog.hpp"
 
 #include <fstream>

@@ -8,7 +8,7 @@
 #include <set>
 #include <tuple>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/wire/scene_owner.hpp"
 #include "scene_claims.hpp"
 #include "wire/stored_roadmap_fixture.hpp"

@@ -63,9 +63,7 @@ TEST(StatusMessage, TheRecipeReadsBackAsTheSameRoadmapAndItsRebuildRequest) {
   EXPECT_EQ(request.seed, 9u);
   EXPECT_EQ(request.samples, 4000u);
   EXPECT_FALSE(request.replace);
-  const std::map<std::string, double> overrides{
-      {"dense_delta", 1.25}, {"sparse_delta", 2.5}, {"stretch", 1.5}, {"stretch_slack", 0.5},
-      {"stretch_slack_after", 2000}, {"p_accept", 0.3}};
+  const RecipeOverrides overrides{1.25, 2.5, 1.5, 0.5, 2000, 0.3};
   EXPECT_EQ(request.overrides, overrides);
 
   msg::SceneStatus unknown = m;

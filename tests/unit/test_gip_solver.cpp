@@ -8,7 +8,7 @@
 #include <queue>
 
 #include "ispars/tour/gip_solver.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/geometry/random.hpp"
 #include "support/gip_reference.hpp"
 

@@ -8,7 +8,7 @@
 #include <limits>
 #include <string>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/inspection_graph.hpp"
 #include "support/test_support.hpp"
 

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "ispars/builders/recipe_builder.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "support/test_support.hpp"
 
@@ -16,49 +16,67 @@ const Scene& tower() { return test::shared_scene("demo_tank_tower"); }
 
 std::string refusal_of(std::string_view method, std::string_view variant) {
   try {
-    (void)parse_recipe_choices(method, variant, "call");
+    BuildRequest request;
+    request.samples = 100;
+    set_method(request, method, variant, "call");
+    (void)make_recipe("t", tower(), request, "call");
   } catch (const InputError& e) {
     return e.what();
   }
   return "accepted";
 }
 
+BuildRequest request(std::uint64_t samples = 100) {
+  BuildRequest r;
+  r.samples = samples;
+  return r;
+}
+
 TEST(RecipeBuilder, ChoicesAreParsedAndRefusedByFieldUnderTheCallersFile) {
-  const RecipeChoices c = parse_recipe_choices("spars", "alg1", "call");
-  EXPECT_EQ(c.method, BuildMethod::spars);
-  EXPECT_EQ(c.variant, SparsVariant::alg1);
-  EXPECT_EQ(parse_recipe_choices("ispars2", "", "call").variant, SparsVariant::stretch);
+  EXPECT_EQ(refusal_of("spars", "alg1"), "accepted");
+  EXPECT_EQ(make_recipe("t", tower(), request_of("ispars2", 5), "call").variant, SparsVariant::stretch);
+  EXPECT_EQ(refusal_of("ispars2", "alg1"),
+            "call: variant: 'alg1' given, but ispars2 has no rule-set variants (spars and ispars have)");
   EXPECT_EQ(refusal_of("prm", ""), "call: method: 'prm' is not one of dense, spars, ispars, irisc, ispars2");
   EXPECT_EQ(refusal_of("ispars", "loose"), "call: variant: 'loose' is not one of stretch, alg1");
   EXPECT_EQ(refusal_of("dense", "alg1"),
             "call: variant: 'alg1' given, but dense has no rule-set variants (spars and ispars have)");
 }
 
+TEST(RecipeBuilder, TheSampleCountIsCheckedAgainstItsDeclaredRange) {
+  EXPECT_THROW((void)make_recipe("t", tower(), request(0), "call"), InputError);
+  EXPECT_THROW((void)make_recipe("t", tower(), request(kSamples.max + 1), "call"), InputError);
+  EXPECT_NO_THROW((void)make_recipe("t", tower(), request(kSamples.max), "call"));
+}
+
 TEST(RecipeBuilder, OverridesAreCheckedByRangeThenByTheScenesScale) {
-  RecipeChoices c;
-  c.overrides = {{"p_accept", 1.5}};
-  EXPECT_THROW((void)recipe_for("t", tower(), c, "call"), InputError);
-  c.overrides = {{"sparse_delta", 1e5}};
+  BuildRequest c = request();
+  c.overrides.p_accept = 1.5;
+  EXPECT_THROW((void)make_recipe("t", tower(), c, "call"), InputError);
+  c.overrides = {};
+  c.overrides.sparse_delta = 1e5;
   try {
-    (void)recipe_for("t", tower(), c, "call");
+    (void)make_recipe("t", tower(), c, "call");
     FAIL() << "a Delta larger than the scene was accepted";
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), "call");
     EXPECT_EQ(e.field(), "overrides.sparse_delta");
   }
-  c.overrides = {{"stretch", 2.5}};
-  const RoadmapRecipe r = recipe_for("t", tower(), c, "call");
+  c.overrides = {};
+  c.overrides.stretch = 2.5;
+  const RoadmapRecipe r = make_recipe("t", tower(), c, "call");
   EXPECT_EQ(r.stretch, 2.5);
   EXPECT_EQ(r.dense_delta, tower().config().dense_delta);
   EXPECT_EQ(recipe_scene(tower(), r, "call").config().stretch, 2.5);
 }
 
 TEST(RecipeBuilder, TheRecipesBuilderIsTheOneMadeByHand) {
-  RecipeChoices c;
+  BuildRequest c = request();
   c.method = BuildMethod::ispars;
   c.seed = 7;
-  c.overrides = {{"p_accept", 0.3}, {"stretch_slack", 0.1}};
-  const RoadmapRecipe r = recipe_for("t", tower(), c, "call");
+  c.overrides.p_accept = 0.3;
+  c.overrides.stretch_slack = 0.1;
+  const RoadmapRecipe r = make_recipe("t", tower(), c, "call");
   const Scene scene = recipe_scene(tower(), r, "call");
   const BuildOptions options = recipe_build_options(r, 3);
   EXPECT_EQ(options.seed, 7u);

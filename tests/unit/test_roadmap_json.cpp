@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <string>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "support/test_support.hpp"
 

@@ -6,7 +6,7 @@
 #include <map>
 #include <sstream>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/scene/procedural.hpp"
 #include "ispars/scene/scene.hpp"
 #include "support/test_support.hpp"

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/scene/scene_config.hpp"
 
 namespace ispars {
@@ -85,7 +85,8 @@ TEST(SceneConfig, ProceduralScenesTakeGeneratorDefaultsAndOverrides) {
 }
 
 TEST(SceneConfig, RadiusMustBePositiveAndFinite) {
-  EXPECT_NE(expect_error(with("robot_radius", "robot_radius: -0.5"), "robot_radius").find("positive"), std::string::npos);
+  EXPECT_NE(expect_error(with("robot_radius", "robot_radius: -0.5"), "robot_radius").find("must be in (0, 1000000], got -0.5"),
+            std::string::npos);
   EXPECT_NE(expect_error(with("robot_radius", "robot_radius: .nan"), "robot_radius").find("finite"), std::string::npos);
   expect_error(with("robot_radius", "robot_radius: 0"), "robot_radius");
   expect_error(with("robot_radius", "robot_radius: .inf"), "robot_radius");
@@ -107,17 +108,19 @@ TEST(SceneConfig, EveryNumericFieldIsChecked) {
   expect_error(with("pois", "pois: {count: 10, seed: 1, skip_ground: maybe}"), "pois.skip_ground");
 }
 
-// Every numeric parameter has an upper bound too (a scene 1000 km across, a stretch of 1000).
+// Every numeric parameter has an upper bound too (a scene 1000 km across, a stretch over 100: the
+// range a build override has, one declaration for both).
 TEST(SceneConfig, EveryNumericFieldHasAnUpperBound) {
   for (const std::string key : {"scale", "robot_radius", "sensor_range", "dense_delta", "sparse_delta"}) {
-    EXPECT_NE(expect_error(with(key, key + ": 2e6"), key).find("must be at most 1000000, got 2000000"),
+    EXPECT_NE(expect_error(with(key, key + ": 2e6"), key).find("must be in (0, 1000000], got 2000000"),
               std::string::npos)
         << key;
     EXPECT_NO_THROW((void)parse_scene_config_text(with(key, key + ": 1e6"), ".", "scene.yaml")) << key;
   }
-  EXPECT_NE(expect_error(with("stretch", "stretch: 1001"), "stretch").find("must be at most 1000"),
+  EXPECT_NE(expect_error(with("stretch", "stretch: 101"), "stretch").find("must be in [1, 100], got 101"),
             std::string::npos);
-  EXPECT_NE(expect_error(with("stretch", "stretch: 0.9"), "stretch").find("must be at least 1"), std::string::npos);
+  EXPECT_NE(expect_error(with("stretch", "stretch: 0.9"), "stretch").find("must be in [1, 100], got 0.9"),
+            std::string::npos);
 }
 
 TEST(SceneConfig, BoundsAndRootAreChecked) {

@@ -6,7 +6,7 @@
 
 #include <filesystem>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/render/scene_render.hpp"
 #include "support/test_support.hpp"
 

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/scene/procedural.hpp"
 #include "ispars/geometry/triangle_mesh.hpp"
 #include "support/test_support.hpp"

@@ -6,14 +6,14 @@
 #include <chrono>
 
 #include "arrays.hpp"
+#include "param_dict.hpp"
 #include "verification_dict.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars::python {
 namespace {
 
 constexpr const char* kBuild = "build";  // the InputError file of a Builder's arguments
-constexpr std::int64_t kMaxSamples = 100'000'000;  // per extend, as ispars-lab build allows
 constexpr std::int64_t kMaxThreads = 64;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -39,26 +39,28 @@ class BuilderHandle::Busy {
 };
 
 BuilderHandle::BuilderHandle(std::shared_ptr<Scene> scene, const std::string& method, std::uint64_t seed,
-                             const std::string& variant, std::int64_t threads,
-                             const std::map<std::string, double>& overrides)
+                             const std::string& variant, std::int64_t threads, const py::dict& overrides)
     : base_(std::move(scene)) {
   if (!base_) throw InputError(kBuild, "scene", "a Scene is required (Scene.load(path))");
   if (threads < 1 || threads > kMaxThreads) {
     throw InputError(kBuild, "threads", fmt::format("must be 1 .. {}, got {}", kMaxThreads, threads));
   }
   threads_ = static_cast<unsigned>(threads);
-  RecipeChoices choices = parse_recipe_choices(method, variant, kBuild);
-  choices.seed = seed;
-  choices.overrides = overrides;
-  recipe_ = recipe_for(base_->config().name, *base_, choices, kBuild);
+  BuildRequest request;
+  set_method(request, method, variant, kBuild);
+  request.seed = seed;
+  request.samples = 1;  // extend() checks each call's count
+  read_dict(overrides, request.overrides, kBuild, "overrides.");
+  recipe_ = make_recipe(base_->config().name, *base_, request, kBuild);
   scene_ = std::make_unique<Scene>(recipe_scene(*base_, recipe_, kBuild));
   builder_ = make_roadmap_builder(recipe_.method, *scene_, recipe_build_options(recipe_, threads_));
 }
 
 std::uint64_t BuilderHandle::extend(std::int64_t samples, const std::shared_ptr<StopFlag>& stop,
                                     const py::object& progress) {
-  if (samples < 1 || samples > kMaxSamples) {
-    throw InputError(kBuild, "samples", fmt::format("must be 1 .. {}, got {}", kMaxSamples, samples));
+  if (const std::string p = params::problem(kSamples, static_cast<std::uint64_t>(std::max<std::int64_t>(samples, 0)));
+      samples < 1 || !p.empty()) {
+    throw InputError(kBuild, "samples", fmt::format("must be {}, got {}", params::range_text(kSamples), samples));
   }
   const Busy busy(busy_);
   roadmap_copy_.reset();
@@ -137,13 +139,7 @@ py::dict BuilderHandle::recipe() const {
   out["method"] = std::string(to_string(recipe_.method));
   out["variant"] = std::string(to_string(recipe_.variant));
   out["seed"] = recipe_.seed;
-  for (const RecipeParameter& p : recipe_overrides()) {
-    if (p.whole()) {
-      out[py::str(std::string(p.name))] = static_cast<std::uint64_t>(p.get(recipe_));
-    } else {
-      out[py::str(std::string(p.name))] = p.get(recipe_);
-    }
-  }
+  write_dict(recipe_, out);
   return out;
 }
 
@@ -155,13 +151,13 @@ void bind_builder(py::module_& m) {
       "checked as the daemon checks a build request. The same recipe gives the same roadmap as isparsd and "
       "ispars-lab, byte for byte, for any thread count.")
       .def(py::init<std::shared_ptr<Scene>, const std::string&, std::uint64_t, const std::string&, std::int64_t,
-                    const std::map<std::string, double>&>(),
+                    const py::dict&>(),
            py::arg("scene"), py::arg("method") = "ispars", py::arg("seed") = 1, py::arg("variant") = "",
-           py::arg("threads") = 1, py::arg("overrides") = std::map<std::string, double>{},
+           py::arg("threads") = 1, py::arg("overrides") = py::dict(),
            "Raises InputError (file 'build') naming a bad method, variant, thread count or override.")
       .def("extend", &BuilderHandle::extend, py::arg("samples"), py::arg("stop") = nullptr,
            py::arg("progress") = py::none(),
-           "Draws `samples` more samples of the seeded stream (1 .. 100,000,000), without the GIL. "
+           "Draws `samples` more samples of the seeded stream (1 .. 2^53), without the GIL. "
            "`progress(done, samples, vertices, edges)` is called about every 0.2 s. Stopped by `stop` or Ctrl-C, "
            "it keeps the samples drawn (extend again goes on with the same stream) and returns how many it drew "
            "(Ctrl-C raises KeyboardInterrupt once stopped).")

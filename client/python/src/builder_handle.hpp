@@ -2,7 +2,6 @@
 // ispars.Builder: a roadmap under construction from Python, grown by extend() off the GIL.
 
 #include <atomic>
-#include <map>
 #include <memory>
 #include <string>
 
@@ -17,7 +16,7 @@ namespace ispars::python {
 class BuilderHandle {
  public:
   BuilderHandle(std::shared_ptr<Scene> scene, const std::string& method, std::uint64_t seed,
-                const std::string& variant, std::int64_t threads, const std::map<std::string, double>& overrides);
+                const std::string& variant, std::int64_t threads, const py::dict& overrides);
 
   /// Draws `samples` more samples; returns how many it drew (fewer when stopped).
   std::uint64_t extend(std::int64_t samples, const std::shared_ptr<StopFlag>& stop, const py::object& progress);

@@ -6,7 +6,8 @@
 
 #include "arrays.hpp"
 #include "client_handle.hpp"
-#include "ispars/input_error.hpp"
+#include "param_dict.hpp"
+#include "ispars/params/input_error.hpp"
 #include "stoppable.hpp"
 #include "verification_dict.hpp"
 
@@ -114,12 +115,6 @@ py::dict snapshot_dict(client::Snapshot&& s) {
   return out;
 }
 
-std::map<std::string, double> overrides_of(const py::dict& overrides) {
-  std::map<std::string, double> out;
-  for (const auto& [k, v] : overrides) out[py::str(k)] = v.cast<double>();
-  return out;
-}
-
 void bind_status(py::module_& m) {
   using client::SceneStatus;
   py::class_<SceneStatus>(m, "SceneStatus", "A scene's status as its owning daemon published it.")
@@ -176,11 +171,10 @@ void bind_requests(py::class_<ClientHandle>& c) {
   c.def("build", [](const ClientHandle& self, const std::string& scene, std::uint64_t samples, const std::string& method,
                     std::uint64_t seed, const std::string& variant, const py::dict& overrides, bool replace) {
      client::BuildArgs args;
-     args.method = method;
+     set_method(args, method, variant, "build");
      args.samples = samples;
      args.seed = seed;
-     args.variant = variant;
-     args.overrides = overrides_of(overrides);
+     read_dict(overrides, args.overrides, "build", "overrides.");
      args.replace = replace;
      return reply_dict(run_detached([self, scene, args] { return self->build(scene, args); }));
    }, py::arg("scene"), py::arg("samples"), py::arg("method") = "ispars", py::arg("seed") = 1,

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "ispars/client/client.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "python_module.hpp"
 
 namespace ispars::python {

@@ -9,7 +9,7 @@
 
 #include "arrays.hpp"
 #include "builder_handle.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/scene/scene.hpp"
 #include "ispars/scene/scene_fingerprint.hpp"
 #include "python_module.hpp"

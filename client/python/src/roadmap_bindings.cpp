@@ -4,7 +4,7 @@
 
 #include "arrays.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/record_file.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "python_module.hpp"

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "arrays.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/render/scene_render.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "ispars/scene/scene.hpp"

@@ -7,7 +7,7 @@
 #include <chrono>
 #include <thread>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/scene/scene_file.hpp"
 
 namespace ispars::web {

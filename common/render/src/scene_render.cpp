@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "ispars/geometry/embree_scene.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars {
 namespace {

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <tuple>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
+#include "ispars/params/json_archive.hpp"
 #include "ispars/roadmap/sealed_file.hpp"
 
 namespace ispars {
@@ -17,37 +19,6 @@ constexpr std::array<BuildMethod, 5> kMethods{BuildMethod::dense, BuildMethod::s
                                               BuildMethod::irisc, BuildMethod::ispars2};
 constexpr std::array<SparsVariant, 2> kVariants{SparsVariant::stretch, SparsVariant::alg1};
 
-constexpr std::array<RecipeParameter, 6> kOverrides{{
-    {"dense_delta", 1e-6, 1e6, "positive (at least 1e-6, at most 1e6 metres)",
-     "delta, the dense roadmap's connection radius in metres (default: the scene's)", &RoadmapRecipe::dense_delta},
-    {"sparse_delta", 1e-6, 1e6, "positive (at least 1e-6, at most 1e6 metres)",
-     "Delta, the sparse roadmap's visibility radius in metres (default: the scene's)", &RoadmapRecipe::sparse_delta},
-    {"stretch", 1.0, 100.0, "at least 1 and at most 100", "t, the spanner's stretch factor (default: the scene's)",
-     &RoadmapRecipe::stretch},
-    {"stretch_slack", 0.0, 1.0, "in [0, 1]",
-     "the stretch rules' additive slack, a fraction of Delta: bounds t d + slack Delta (default 0; "
-     "0.5 keeps a long extend's cost per sample nearly flat, docs/results/ispars2.md)",
-     &RoadmapRecipe::stretch_slack, true},
-    {"stretch_slack_after", 0.0, 1e12, "a whole number of samples in [0, 1e12]",
-     "the sample from which stretch_slack applies (default 0: from the first; the samples before it "
-     "grow the roadmap no slack grows)",
-     &RoadmapRecipe::stretch_slack_after, true},
-    {"p_accept", 0.0, 1.0, "a probability in [0, 1]",
-     "IRIS-C: probability of admitting a state that adds no POI (default 0.2)", &RoadmapRecipe::p_accept},
-}};
-
-// A count travels as a double (the wire's overrides, get()): exact while its range stays within
-// 2^53, which this checks for every count declared above, at compile time.
-constexpr bool counts_are_exact_as_doubles() {
-  for (const RecipeParameter& p : kOverrides) {
-    if (std::holds_alternative<RecipeParameter::CountField>(p.field) && (p.min < 0.0 || p.max > 9007199254740992.0)) {
-      return false;
-    }
-  }
-  return true;
-}
-static_assert(counts_are_exact_as_doubles(), "a count's declared range must lie within [0, 2^53]");
-
 template <typename Items, typename Name>
 std::string join_names(const Items& items, Name name) {
   std::string out;
@@ -56,23 +27,6 @@ std::string join_names(const Items& items, Name name) {
 }
 
 }  // namespace
-
-bool RecipeParameter::accepts(double value) const {
-  return std::isfinite(value) && value >= min && value <= max && (!whole() || value == std::floor(value));
-}
-
-double RecipeParameter::get(const RoadmapRecipe& recipe) const {
-  if (const auto* count = std::get_if<CountField>(&field)) return static_cast<double>(recipe.**count);
-  return recipe.*std::get<RealField>(field);
-}
-
-void RecipeParameter::set(RoadmapRecipe& recipe, double value) const {
-  if (const auto* count = std::get_if<CountField>(&field)) {
-    recipe.**count = static_cast<std::uint64_t>(value);
-  } else {
-    recipe.*std::get<RealField>(field) = value;
-  }
-}
 
 std::string_view to_string(BuildMethod method) {
   switch (method) {
@@ -119,15 +73,6 @@ std::string spars_variant_names() {
   return join_names(kVariants, [](SparsVariant v) { return to_string(v); });
 }
 
-std::span<const RecipeParameter> recipe_overrides() { return kOverrides; }
-
-const RecipeParameter& recipe_override(std::string_view name) {
-  for (const RecipeParameter& p : kOverrides) {
-    if (p.name == name) return p;
-  }
-  throw std::out_of_range("no recipe parameter " + std::string(name));
-}
-
 bool reads_stretch_slack(BuildMethod method, SparsVariant variant) {
   return method == BuildMethod::ispars2 || (has_variants(method) && variant == SparsVariant::stretch);
 }
@@ -149,28 +94,10 @@ void check_stretch_slack(const RoadmapRecipe& recipe, std::string_view file) {
 
 bool same_roadmap(const RoadmapRecipe& a, const RoadmapRecipe& b) {
   if (a.method != b.method || a.seed != b.seed || (has_variants(a.method) && a.variant != b.variant)) return false;
-  for (const RecipeParameter& p : kOverrides) {
-    if (p.get(a) != p.get(b)) return false;
-  }
-  return true;
-}
-
-std::string recipe_override_names() {
-  return join_names(kOverrides, [](const RecipeParameter& p) { return p.name; });
-}
-
-void set_recipe_override(RoadmapRecipe& recipe, std::string_view name, double value, std::string_view file) {
-  const std::string field = "overrides." + std::string(name.substr(0, 64));
-  for (const RecipeParameter& p : kOverrides) {
-    if (p.name != name) continue;
-    if (!std::isfinite(value)) throw InputError(std::string(file), field, fmt::format("must be finite, got {}", value));
-    if (!p.accepts(value)) {
-      throw InputError(std::string(file), field, fmt::format("must be {}, got {}", p.range, value));
-    }
-    p.set(recipe, value);
-    return;
-  }
-  throw InputError(std::string(file), field, fmt::format("unknown parameter (expected {})", recipe_override_names()));
+  const auto values = [](const RoadmapRecipe& r) {
+    return std::tuple(r.dense_delta, r.sparse_delta, r.stretch, r.stretch_slack, r.stretch_slack_after, r.p_accept);
+  };
+  return values(a) == values(b);
 }
 
 std::string recipe_to_json(const RoadmapRecipe& r) {
@@ -182,29 +109,22 @@ std::string recipe_to_json(const RoadmapRecipe& r) {
                       {"scene_fingerprint", r.scene_fingerprint},
                       {"builder_version", r.builder_version},
                       {"format", kRecipeFormat}};
-  for (const RecipeParameter& p : kOverrides) {  // each in its type: a count as an integer
-    std::visit([&](auto field) { j[std::string(p.name)] = r.*field; }, p.field);
-  }
+  params::write_json(r, j);  // each in its type: a count as an integer
   return seal_json(std::move(j)).dump(2) + "\n";
 }
 
 namespace {
 
-// Every override from recipe.json, checked as a request's is (the file may have been edited).
-void read_overrides(const nlohmann::json& j, RoadmapRecipe& r) {
-  for (const RecipeParameter& p : kOverrides) {
-    const std::string name(p.name);
-    if (!j.contains(name)) {
-      if (p.optional_in_file) continue;  // written before the parameter existed: 0, as built
-      throw std::runtime_error("recipe.json lacks " + name);
-    }
-    const nlohmann::json& v = j.at(name);
-    if (!v.is_number()) throw std::runtime_error(fmt::format("recipe.json: {} must be a number", name));
-    const double value = v.get<double>();
-    if (!p.accepts(value)) {
-      throw std::runtime_error(fmt::format("recipe.json: {} must be {}, got {}", name, p.range, value));
-    }
-    p.set(r, value);
+// Every parameter from recipe.json, checked as a request's is (the file may have been edited).
+// stretch_slack and stretch_slack_after came later: a file without them reads 0 for each, as built.
+void read_parameters(const nlohmann::json& j, RoadmapRecipe& r) {
+  for (const auto& spec : {kDenseDelta, kSparseDelta, kStretch, kPAccept}) {
+    if (!j.contains(std::string(spec.name))) throw std::runtime_error("recipe.json lacks " + std::string(spec.name));
+  }
+  try {
+    params::read_json(j, r, "recipe.json");
+  } catch (const InputError& e) {
+    throw std::runtime_error(fmt::format("recipe.json: {}: {}", e.field(), e.problem()));
   }
 }
 
@@ -237,7 +157,7 @@ RoadmapRecipe recipe_from_json(const std::string& text) {
       if (!variant) throw std::runtime_error("recipe.json: unknown variant");
       r.variant = *variant;
     }
-    read_overrides(j, r);
+    read_parameters(j, r);
     r.generation = field("generation").get<std::uint64_t>();
     if (j.contains("format") && j.at("format").get<int>() > kRecipeFormat) {
       throw std::runtime_error("recipe.json is format " + std::to_string(j.at("format").get<int>()) +

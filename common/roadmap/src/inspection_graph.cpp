@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars {
 

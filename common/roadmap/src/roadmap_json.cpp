@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars {
 namespace {

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/geometry/random.hpp"
 
 namespace ispars {

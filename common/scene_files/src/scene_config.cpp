@@ -8,35 +8,12 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/fields.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/scene/procedural.hpp"
 
 namespace ispars {
 namespace {
-
-// A scene's numeric parameters, each declared once: its key, its field, its bounds and whether a
-// mesh scene must give it (a procedural scene's generator supplies every one). The reader, the
-// list of known keys and check_scene_config all walk this table.
-struct SceneNumber {
-  const char* key;
-  double SceneConfig::*field;
-  double min;            // the smallest value allowed; `positive` makes it exclusive
-  bool positive;
-  double max;            // the largest value allowed (scene units: a mesh 1000 km across is not a scene)
-  bool required;         // for a mesh scene
-  const char* min_text;  // what the lower bound means, for the error
-};
-
-constexpr double kLargest = 1e6;
-constexpr SceneNumber kSceneNumbers[] = {
-    {"scale", &SceneConfig::scale, 0.0, true, kLargest, false, "must be positive"},
-    {"robot_radius", &SceneConfig::robot_radius, 0.0, true, kLargest, true, "must be positive"},
-    {"sensor_range", &SceneConfig::sensor_range, 0.0, true, kLargest, true, "must be positive"},
-    {"dense_delta", &SceneConfig::dense_delta, 0.0, true, kLargest, true, "must be positive"},
-    {"sparse_delta", &SceneConfig::sparse_delta, 0.0, true, kLargest, true, "must be positive"},
-    {"stretch", &SceneConfig::stretch, 1.0, false, 1e3, true,
-     "must be at least 1 (the spanner's stretch factor t)"},
-};
 
 // Reads fields of one YAML map, naming the file and the dotted field path in every error.
 class FieldReader {
@@ -62,8 +39,12 @@ class FieldReader {
     return FieldReader(source_, value, prefix_ + key + ".");
   }
 
-  [[nodiscard]] double number(const std::string& key) const {
-    return to_number(child(key), key);
+  // The declared parameter `spec`, read as a finite YAML number and checked against its range.
+  [[nodiscard]] double parameter(const params::Spec<double>& spec) const {
+    const std::string key(spec.name);
+    const double number = to_number(child(key), key);
+    if (std::string p = params::problem(spec, number); !p.empty()) fail(key, p);
+    return number;
   }
 
   [[nodiscard]] std::uint64_t whole(const std::string& key) const {
@@ -143,7 +124,8 @@ SceneConfig parse_root(const YAML::Node& root, const std::filesystem::path& base
   if (!root.IsMap()) throw InputError(source, "yaml", "expected a mapping of scene fields at the top level");
   const FieldReader top(source, root, "");
   std::set<std::string> known{"name", "mesh", "procedural", "bounds", "root", "pois"};
-  for (const SceneNumber& n : kSceneNumbers) known.insert(n.key);
+  const SceneConfig declared;
+  params::visit(declared, [&](const auto& spec, const auto&) { known.insert(std::string(spec.name)); });
   top.reject_unknown(known);
 
   SceneConfig config;
@@ -173,9 +155,10 @@ SceneConfig parse_root(const YAML::Node& root, const std::filesystem::path& base
 
   // Required for a mesh scene (scale aside: 1 by default); optional (generator default) for a
   // procedural one.
-  for (const SceneNumber& n : kSceneNumbers) {
-    if (top.has(n.key) || (!procedural && n.required)) config.*n.field = top.number(n.key);
-  }
+  params::visit(config, [&](const auto& spec, double& value) {
+    const std::string key(spec.name);
+    if (top.has(key) || (!procedural && &spec != &kScale)) value = top.parameter(spec);
+  });
   if (top.has("bounds") || !procedural) {
     const FieldReader bounds = top.map("bounds");
     bounds.reject_unknown({"min", "max"});
@@ -215,12 +198,7 @@ void check_scene_config(const SceneConfig& c) {
   const auto fail = [&](const std::string& field, const std::string& problem) {
     throw InputError(c.source, field, problem);
   };
-  for (const SceneNumber& n : kSceneNumbers) {
-    const double value = c.*n.field;
-    if (!std::isfinite(value)) fail(n.key, fmt::format("must be finite, got {}", value));
-    if (n.positive ? !(value > n.min) : !(value >= n.min)) fail(n.key, fmt::format("{}, got {}", n.min_text, value));
-    if (value > n.max) fail(n.key, fmt::format("must be at most {}, got {}", n.max, value));
-  }
+  params::check(c, c.source);
   if (!c.bounds.min.allFinite() || !c.bounds.max.allFinite()) fail("bounds", "must be finite");
   for (int i = 0; i < 3; ++i) {
     if (!(c.bounds.min[i] < c.bounds.max[i])) {

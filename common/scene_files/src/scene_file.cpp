@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/scene/poi_sampling.hpp"
 #include "ispars/scene/procedural.hpp"
 

@@ -3,7 +3,8 @@
 #include <fmt/format.h>
 
 #include "ispars/builders/recipe_builder.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/fields.hpp"
+#include "ispars/params/input_error.hpp"
 #include "request_input.hpp"
 
 namespace ispars {
@@ -11,13 +12,14 @@ namespace ispars {
 BuildRequest rebuild_request(const RoadmapRecipe& recipe, std::uint64_t samples) {
   BuildRequest request;
   request.method = recipe.method;
-  request.variant = recipe.variant;
   request.seed = recipe.seed;
   request.samples = samples;
   request.generation = recipe.generation;
-  for (const RecipeParameter& p : recipe_overrides()) {
-    if (p.get(recipe) > 0.0) request.overrides.emplace(std::string(p.name), p.get(recipe));
-  }
+  request.variant = has_variants(recipe.method) ? std::optional(recipe.variant) : std::nullopt;
+  // Every parameter as an override (a value of 0, unknown to the sender, is left to the scene).
+  params::for_matching(recipe, request.overrides, [](const auto&, const auto& value, auto& override) {
+    if (value > 0) override = value;
+  });
   return request;
 }
 
@@ -32,12 +34,7 @@ void check_samples(std::uint64_t samples, const SessionLimits& limits) {
 RoadmapRecipe requested_recipe(const std::string& name, const Scene& scene, const BuildRequest& request,
                                const SessionLimits& limits) {
   check_samples(request.samples, limits);
-  RecipeChoices choices;
-  choices.method = request.method;
-  choices.variant = request.variant;
-  choices.seed = request.seed;
-  choices.overrides = request.overrides;
-  return recipe_for(name, scene, choices, kRequest);
+  return make_recipe(name, scene, request, kRequest);
 }
 
 std::string stale_store_reason(const std::string& name, const RoadmapRecipe& stored, const std::string& fingerprint) {

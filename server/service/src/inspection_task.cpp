@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/scene/poi_sampling.hpp"
 #include "ispars/service/scene_catalog.hpp"
 #include "request_input.hpp"

@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "request_input.hpp"
 
 namespace ispars {

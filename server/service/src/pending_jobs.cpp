@@ -5,9 +5,9 @@
 
 #include <optional>
 #include <iterator>
-#include <map>
 #include <stdexcept>
 
+#include "ispars/params/json_archive.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/roadmap/record_file.hpp"
 #include "ispars/roadmap/sealed_file.hpp"
@@ -26,11 +26,13 @@ nlohmann::json to_json(const PendingJob& job) {
                    {"stopped_cleanly", job.stopped_cleanly}};
   if (job.build) {
     const BuildRequest& b = *job.build;
+    nlohmann::json overrides = nlohmann::json::object();
+    params::write_json(b.overrides, overrides);
     j["build"] = {{"method", std::string(to_string(b.method))},
-                  {"variant", std::string(to_string(b.variant))},
+                  {"variant", std::string(to_string(b.variant.value_or(SparsVariant::stretch)))},
                   {"samples", b.samples},
                   {"seed", b.seed},
-                  {"overrides", b.overrides},
+                  {"overrides", std::move(overrides)},
                   {"replace", b.replace},
                   {"lineage", b.generation}};
     j["generation"] = job.generation;
@@ -58,10 +60,12 @@ PendingJob from_json(nlohmann::json j) {
     const auto variant = parse_spars_variant(b.at("variant").get<std::string>());
     if (!method || !variant) throw std::runtime_error("unknown method or variant");
     r.method = *method;
-    r.variant = *variant;
+    if (has_variants(r.method)) r.variant = *variant;  // older records give one to every method
     r.samples = b.at("samples").get<std::uint64_t>();
     r.seed = b.at("seed").get<std::uint64_t>();
-    r.overrides = b.at("overrides").get<std::map<std::string, double>>();
+    // Each override under its name: a count as an integer, or as the double of records before
+    // protocol 12 (read alike).
+    params::read_json(b.at("overrides"), r.overrides, "pending job", "overrides.");
     r.replace = b.at("replace").get<bool>();
     r.generation = b.value("lineage", std::uint64_t{0});  // absent in records before takeovers kept lineages
     job.build = r;

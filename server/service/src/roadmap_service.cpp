@@ -11,7 +11,7 @@
 #include <chrono>
 #include <thread>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/drop_mark.hpp"
 #include "ispars/roadmap/record_file.hpp"
 #include "ispars/service/pending_jobs.hpp"

@@ -7,7 +7,7 @@
 
 #include <algorithm>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/pending_jobs.hpp"
 #include "ispars/service/roadmap_service.hpp"
 #include "request_input.hpp"

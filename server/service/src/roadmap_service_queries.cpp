@@ -13,7 +13,7 @@
 #include "ispars/roadmap/inspection_graph.hpp"
 #include "ispars/tour/tour_bound.hpp"
 #include "ispars/tour/tour_closure.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/roadmap_service.hpp"
 #include "request_input.hpp"
 #include "roadmap_session_detail.hpp"

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <thread>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/drop_mark.hpp"
 #include "ispars/builders/recipe_builder.hpp"
 #include "roadmap_session_detail.hpp"

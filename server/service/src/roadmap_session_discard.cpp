@@ -3,7 +3,7 @@
 
 #include <fmt/format.h>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/drop_mark.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/roadmap_store.hpp"

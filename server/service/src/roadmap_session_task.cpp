@@ -10,7 +10,7 @@
 #include <chrono>
 
 #include "ispars/builders/poi_visibility.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "request_input.hpp"
 

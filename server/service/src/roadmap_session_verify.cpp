@@ -4,7 +4,7 @@
 #include <fmt/format.h>
 
 #include "ispars/builders/roadmap_verifier.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/builders/recipe_builder.hpp"
 #include "roadmap_session_detail.hpp"

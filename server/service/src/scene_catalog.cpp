@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars {
 namespace {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "ispars/client/types.hpp"
+#include "ispars/roadmap/build_request.hpp"
 #include "ispars/roadmap/roadmap.hpp"
 #include "ispars/wire/participant_options.hpp"
 
@@ -48,15 +49,9 @@ struct ClientOptions {
   std::string server;
 };
 
-/// A build as a client asks for it (the daemon checks every field).
-struct BuildArgs {
-  std::string method = "ispars";
-  std::uint64_t samples = 0;
-  std::uint64_t seed = 1;
-  std::map<std::string, double> overrides;
-  bool replace = false;
-  std::string variant;  ///< spars, ispars: "stretch" or "alg1" (empty: the daemon's default, stretch)
-};
+/// A build as a client asks for it: the one typed request every caller fills (the daemon checks
+/// every field again).
+using BuildArgs = BuildRequest;
 
 /// A whole roadmap fetched at one version.
 struct Snapshot {

@@ -2,7 +2,8 @@
 
 #include <fmt/format.h>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/fields.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars {
 namespace {
@@ -29,41 +30,28 @@ void check_override_scale(const Scene& scene, const RoadmapRecipe& recipe, const
 
 }  // namespace
 
-RecipeChoices parse_recipe_choices(std::string_view method, std::string_view variant, std::string_view file) {
-  RecipeChoices choices;
-  const auto parsed_method = parse_build_method(method);
-  if (!parsed_method) {
-    throw InputError(std::string(file), "method", fmt::format("'{}' is not one of {}", method, build_method_names()));
+RoadmapRecipe make_recipe(const std::string& name, const Scene& scene, const BuildRequest& request,
+                          std::string_view file) {
+  const std::string source(file);
+  if (std::string p = params::problem(kSamples, request.samples); !p.empty()) throw InputError(source, "samples", p);
+  if (request.variant && !has_variants(request.method)) {
+    throw InputError(source, "variant",
+                     fmt::format("'{}' given, but {} has no rule-set variants (spars and ispars have)",
+                                 to_string(*request.variant), to_string(request.method)));
   }
-  const auto parsed_variant = variant.empty() ? SparsVariant::stretch : parse_spars_variant(variant);
-  if (!parsed_variant) {
-    throw InputError(std::string(file), "variant",
-                     fmt::format("'{}' is not one of {}", variant, spars_variant_names()));
-  }
-  if (!variant.empty() && !has_variants(*parsed_method)) {
-    throw InputError(std::string(file), "variant",
-                     fmt::format("'{}' given, but {} has no rule-set variants (spars and ispars have)", variant,
-                                 method));
-  }
-  choices.method = *parsed_method;
-  choices.variant = *parsed_variant;
-  return choices;
-}
-
-RoadmapRecipe recipe_for(const std::string& name, const Scene& scene, const RecipeChoices& choices,
-                         std::string_view file) {
+  params::check(request.overrides, file, "overrides.");
   RoadmapRecipe recipe;
   recipe.scene = name;
-  recipe.method = choices.method;
-  recipe.variant = choices.variant;
-  recipe.seed = choices.seed;
+  recipe.method = request.method;
+  recipe.variant = request.variant.value_or(SparsVariant::stretch);
+  recipe.seed = request.seed;
   recipe.dense_delta = scene.config().dense_delta;
   recipe.sparse_delta = scene.config().sparse_delta;
   recipe.stretch = scene.config().stretch;
-  for (const auto& [key, value] : choices.overrides) set_recipe_override(recipe, key, value, file);
+  params::overlay(request.overrides, recipe);
   check_stretch_slack(recipe, file);
   (void)recipe_scene(scene, recipe, file);  // throws InputError naming the bad one
-  if (!choices.overrides.empty()) check_override_scale(scene, recipe, std::string(file));
+  if (request.overrides.any()) check_override_scale(scene, recipe, source);
   return recipe;
 }
 

@@ -56,9 +56,8 @@ SparsBuilder::SparsBuilder(const Scene& scene, const BuildOptions& options, cons
       sparse_grid_(scene.config().sparse_delta),
       known_routes_(options.known_route_pairs) {
   // A precondition of this library's callers, with the range the recipe declares.
-  if (const RecipeParameter& slack = recipe_override("stretch_slack"); !slack.accepts(options.stretch_slack)) {
-    throw std::invalid_argument(fmt::format("stretch_slack must be {} (a fraction of Delta), got {}", slack.range,
-                                            options.stretch_slack));
+  if (const std::string p = params::problem(kStretchSlack, options.stretch_slack); !p.empty()) {
+    throw std::invalid_argument("stretch_slack " + p + " (a fraction of Delta)");
   }
   if (rules.dense_shortcut && !rules.dense_graph) {
     throw std::invalid_argument("the dense shortcut reads the dense graph: it cannot run without one");

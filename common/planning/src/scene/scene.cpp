@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/scene/scene_file.hpp"
 #include "ispars/scene/procedural.hpp"
 

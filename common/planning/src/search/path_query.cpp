@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "ispars/search/graph_search.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars {
 namespace {

@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "ispars/search/graph_search.hpp"
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/geometry/random.hpp"
 #include "ispars/tour/quick_tour.hpp"
 #include "ispars/tour/tour_bound.hpp"

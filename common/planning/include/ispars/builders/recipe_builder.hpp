@@ -1,11 +1,10 @@
 #pragma once
-// From a build's choices to its recipe and its builder, in one place for every caller: the
-// service's build requests, the Python package's offline builds and the lab. The same choices
+// From a build request to its recipe and its builder, in one place for every caller: the
+// service's build requests, the Python package's offline builds and the lab. The same request
 // give the same recipe, the same checks (each refusal an InputError naming its field), and the
 // same roadmap, byte for byte.
 
 #include <cstdint>
-#include <map>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -13,31 +12,20 @@
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
+#include "ispars/roadmap/build_request.hpp"
 #include "ispars/scene/scene.hpp"
 
 namespace ispars {
 
-/// What a caller chooses of a recipe: the method, the rule set, the seed and the scene parameters
-/// it overrides, by name (recipe_overrides() in build_recipe.hpp).
-struct RecipeChoices {
-  BuildMethod method = BuildMethod::ispars;
-  SparsVariant variant = SparsVariant::stretch;
-  std::uint64_t seed = 1;
-  std::map<std::string, double> overrides;
-};
-
-/// The method and variant named by text, as a request or a Python call names them: `method` one
-/// of build_method_names(); `variant` empty (stretch) or one of spars_variant_names(), and only
-/// for a method with variants. Throws InputError (file `file`, field "method" or "variant").
-[[nodiscard]] RecipeChoices parse_recipe_choices(std::string_view method, std::string_view variant,
-                                                 std::string_view file);
-
-/// The recipe `choices` make on scene `name` (`scene`): the scene's deltas and stretch, with the
-/// overrides checked (each by its declared range, then against the scene's scale) and applied.
-/// Throws InputError (file `file`, field "overrides.NAME") naming the first bad one. Generation,
-/// fingerprint and builder version are left at their defaults.
-[[nodiscard]] RoadmapRecipe recipe_for(const std::string& name, const Scene& scene, const RecipeChoices& choices,
-                                       std::string_view file);
+/// The recipe `request` asks for on scene `name` (`scene`): the one place a build's choices are
+/// checked, for the daemon, Python and the lab alike. Its sample count in kSamples' range; a
+/// variant only for a method with variants; each override in its declared range, then against
+/// the scene's scale; the slack only where it is read. The scene's deltas and stretch, with the
+/// overrides applied. Throws InputError (file `file`, field "samples", "variant" or
+/// "overrides.NAME") naming the first bad one. Generation, fingerprint and builder version are
+/// left at their defaults.
+[[nodiscard]] RoadmapRecipe make_recipe(const std::string& name, const Scene& scene, const BuildRequest& request,
+                                        std::string_view file);
 
 /// `scene` with `recipe`'s deltas and stretch: the scene its roadmap is built in.
 [[nodiscard]] Scene recipe_scene(const Scene& scene, const RoadmapRecipe& recipe, std::string_view file);

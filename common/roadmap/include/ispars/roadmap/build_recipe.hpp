@@ -1,16 +1,15 @@
 #pragma once
 // How a roadmap is built, in one typed form from the request to the store: the method, the rule
-// set, the seed and the scene parameters a build may override. Each parameter an override may
-// set is declared once here (name, type, range, one line of doc); the CLI help, the service's
-// validation, the lab's and the benchmark's flags, and the store's recipe.json all read this
-// table.
+// set, the seed and the scene parameters a build may override (each declared once, in
+// roadmap_parameters.hpp), and recipe.json, the store's copy of it.
 
 #include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
-#include <variant>
+
+#include "ispars/roadmap/roadmap_parameters.hpp"
 
 namespace ispars {
 
@@ -68,6 +67,16 @@ struct RoadmapRecipe {
   /// The sample from which the slack applies (0: from the first). The first stretch_slack_after
   /// samples grow the roadmap that no slack grows.
   std::uint64_t stretch_slack_after = 0;
+
+  /// The recipe's parameters (roadmap_parameters.hpp), in recipe.json under their names.
+  static void describe(auto& self, auto&& field) {
+    field(kDenseDelta, self.dense_delta);
+    field(kSparseDelta, self.sparse_delta);
+    field(kStretch, self.stretch);
+    field(kStretchSlack, self.stretch_slack);
+    field(kStretchSlackAfter, self.stretch_slack_after);
+    field(kPAccept, self.p_accept);
+  }
 };
 
 /// Whether two recipes build the same roadmap: method, seed, the variant where the method has
@@ -79,55 +88,11 @@ struct RoadmapRecipe {
 /// that would be stored and ignored.
 void check_stretch_slack(const RoadmapRecipe& recipe, std::string_view file);
 
-/// The most samples one build or extend request may ask for, whoever sends it: the upper bound of
-/// a daemon's `max_samples` setting (default 50,000,000, which it enforces per request). 2^53, so
-/// that a count survives every JSON reader's double.
-inline constexpr std::uint64_t kMaxRequestSamples = std::uint64_t{1} << 53;
-
 /// Bumped whenever a builder's output for the same recipe changes: a stored roadmap of another
 /// builder version is not replayed or extended (it would not match), only rebuilt or dropped.
 inline constexpr std::uint32_t kBuilderVersion = 1;
 /// The recipe.json format this code writes; it refuses to read a newer one.
 inline constexpr int kRecipeFormat = 1;
-
-/// A recipe parameter a build request may override, declared once: its name, its type (a real
-/// number, or a count held as an integer), its range and its doc.
-struct RecipeParameter {
-  using RealField = double RoadmapRecipe::*;
-  using CountField = std::uint64_t RoadmapRecipe::*;
-
-  std::string_view name;
-  double min = 0.0;  ///< Smallest value accepted (inclusive).
-  double max = 0.0;  ///< Largest value accepted (inclusive; a count's is below 2^53, so exact).
-  std::string_view range;  ///< The range in words, for errors: "must be <range>, got <value>".
-  std::string_view doc;    ///< One line: what it is, and its default.
-  std::variant<RealField, CountField> field;
-  /// Whether a recipe.json written before the parameter existed lacks it (then it reads as 0).
-  bool optional_in_file = false;
-
-  /// Whether it is a count: only whole numbers are accepted.
-  [[nodiscard]] bool whole() const { return std::holds_alternative<CountField>(field); }
-  /// Whether it accepts `value`: finite, within [min, max], and whole if it is a count.
-  [[nodiscard]] bool accepts(double value) const;
-  /// Its value in `recipe`.
-  [[nodiscard]] double get(const RoadmapRecipe& recipe) const;
-  /// Sets it in `recipe` to `value`, which it must accept (a count takes it as an integer).
-  void set(RoadmapRecipe& recipe, double value) const;
-};
-
-/// dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after and p_accept, in that
-/// order.
-[[nodiscard]] std::span<const RecipeParameter> recipe_overrides();
-/// The declared parameter `name` (throws std::out_of_range for a name not declared).
-[[nodiscard]] const RecipeParameter& recipe_override(std::string_view name);
-/// The override names, for help texts and errors: "dense_delta, sparse_delta, stretch,
-/// stretch_slack, stretch_slack_after, p_accept".
-[[nodiscard]] std::string recipe_override_names();
-
-/// Sets the override `name` to `value`. Throws InputError (file `file`, field "overrides.NAME")
-/// when the name is unknown, or the value is not finite or out of its declared range. Checks
-/// that depend on the scene (its scale) are the caller's.
-void set_recipe_override(RoadmapRecipe& recipe, std::string_view name, double value, std::string_view file);
 
 /// recipe.json: the recipe and a format number.
 [[nodiscard]] std::string recipe_to_json(const RoadmapRecipe& recipe);

@@ -23,6 +23,8 @@
 #include <string>
 #include <string_view>
 
+#include "ispars/params/spec.hpp"
+#include "ispars/roadmap/roadmap_parameters.hpp"
 #include "ispars/roadmap/vec.hpp"
 
 namespace ispars {
@@ -41,6 +43,16 @@ struct ProceduralSource {
   std::uint64_t seed = 0;
 };
 
+/// A scene's own numbers, declared once (its roadmap parameters, dense_delta, sparse_delta and
+/// stretch, are the recipe's: roadmap_parameters.hpp). Scene units; a mesh 1000 km across is not
+/// a scene.
+inline constexpr params::Spec<double> kScale{"scale", 0.0, 1e6, "uniform scale of the mesh, about the origin",
+                                             params::Lower::open};
+inline constexpr params::Spec<double> kRobotRadius{"robot_radius", 0.0, 1e6, "the robot's radius (a sphere)",
+                                                   params::Lower::open};
+inline constexpr params::Spec<double> kSensorRange{"sensor_range", 0.0, 1e6, "how far the sensor sees",
+                                                   params::Lower::open};
+
 /// A parsed and checked scene file. Every number is finite and in its valid range.
 struct SceneConfig {
   std::string source;    ///< The YAML file it came from (for error messages).
@@ -56,6 +68,16 @@ struct SceneConfig {
   double stretch = 0.0;       ///< t
   Vec3 root = Vec3::Zero();
   PoiSource pois;
+
+  /// Its numbers, each with its declaration: every one a mesh scene must give, scale aside.
+  static void describe(auto& self, auto&& field) {
+    field(kScale, self.scale);
+    field(kRobotRadius, self.robot_radius);
+    field(kSensorRange, self.sensor_range);
+    field(kDenseDelta, self.dense_delta);
+    field(kSparseDelta, self.sparse_delta);
+    field(kStretch, self.stretch);
+  }
 };
 
 /// Reads and checks a scene file. Throws InputError naming the file and the field on a

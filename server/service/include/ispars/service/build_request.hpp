@@ -6,27 +6,13 @@
 // without a daemon (tests/server/test_build_request.cpp).
 
 #include <cstdint>
-#include <map>
 #include <string>
 
 #include "ispars/roadmap/build_recipe.hpp"
+#include "ispars/roadmap/build_request.hpp"
 #include "ispars/scene/scene.hpp"
 
 namespace ispars {
-
-/// A build request, as checked by request_build(): the recipe's choices, the scene parameters
-/// it overrides (by name, recipe_overrides() in build_recipe.hpp) and the job's size.
-struct BuildRequest {
-  BuildMethod method = BuildMethod::ispars;
-  SparsVariant variant = SparsVariant::stretch;
-  std::uint64_t samples = 0;
-  std::uint64_t seed = 1;
-  std::map<std::string, double> overrides;
-  bool replace = false;
-  /// 0: a new roadmap, with a new generation. Otherwise the generation of the roadmap this build
-  /// makes again (a fleet takeover continuing another daemon's roadmap: the same lineage).
-  std::uint64_t generation = 0;
-};
 
 /// The build request that makes `recipe`'s roadmap to `samples` samples: its method, variant and
 /// seed, with its deltas, stretch and p_accept as overrides (request_build's inverse; a value of 0,
@@ -44,9 +30,8 @@ struct SessionLimits {
 /// "samples").
 void check_samples(std::uint64_t samples, const SessionLimits& limits);
 
-/// The recipe `request` asks for on scene `name` (its `scene`): the scene's deltas and stretch,
-/// with the request's overrides checked and applied (each by its declared range, then against the
-/// scene's scale), and its sample count checked. Its generation, fingerprint and builder version
+/// The recipe `request` asks for on scene `name` (its `scene`): make_recipe's, with the sample
+/// count checked against this daemon's limits too. Its generation, fingerprint and builder version
 /// are left to the session, which sets them when the build is queued.
 [[nodiscard]] RoadmapRecipe requested_recipe(const std::string& name, const Scene& scene, const BuildRequest& request,
                                              const SessionLimits& limits);

@@ -1,4 +1,4 @@
-#include "ispars/input_error.hpp"
+#include "ispars/params/input_error.hpp"
 
 #include <utility>
 

@@ -1,0 +1,38 @@
+#pragma once
+// A struct's declared parameters (fields.hpp) as CLI11 flags: `stretch_slack_after` becomes
+// --stretch-slack-after INT, read as its declaration says (a count as a signed whole number, then
+// range-checked) with the declared doc and range as its help. Header-only, so that only the
+// programs that parse flags need CLI11.
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <string_view>
+
+#include "ispars/params/fields.hpp"
+
+namespace ispars::params {
+
+/// Declares the flag of `spec` on `command`, parsed into `member` (a T or a std::optional<T>).
+template <class T, class Member>
+CLI::Option* add_flag(CLI::App& command, const Spec<T>& spec, Member& member) {
+  const std::string flag = flag_name(spec.name);
+  auto* option = command.add_option_function<std::string>(
+      flag,
+      [&spec, &member, flag](const std::string& text) {
+        const Parsed<T> parsed = parse(spec, text);
+        if (!parsed.problem.empty()) throw CLI::ValidationError(flag, parsed.problem);
+        member = parsed.value;
+      },
+      std::string(spec.doc) + "; " + range_text(spec));
+  option->type_name(std::string(type_name<T>()));
+  return option;
+}
+
+/// Declares a flag for each parameter `object` declares, parsed into its member.
+template <class Object>
+void add_flags(CLI::App& command, Object& object) {
+  visit(object, [&](const auto& spec, auto& member) { add_flag(command, spec, member); });
+}
+
+}  // namespace ispars::params
