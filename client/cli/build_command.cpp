@@ -1,6 +1,6 @@
 // `ispars build`: a new roadmap for a scene, with the recipe's parameter overrides.
 
-#include "cli_output.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
 #include "ispars/params/cli_archive.hpp"
 #include "ispars/roadmap/build_request.hpp"

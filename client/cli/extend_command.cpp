@@ -1,6 +1,6 @@
 // `ispars extend`: more samples for a scene's roadmap.
 
-#include "cli_output.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
 #include "ispars/params/cli_archive.hpp"
 #include "ispars/roadmap/roadmap_parameters.hpp"

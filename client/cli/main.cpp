@@ -2,7 +2,8 @@
 // (commands.hpp); the connection's flags and the exit codes in cli_app.cpp. It links the client
 // library only: `render` runs `ispars-render` (render_main.cpp).
 
-#include "cli_app.hpp"
+#include "commands.hpp"
+#include "ispars/cli_app/cli_app.hpp"
 
 int main(int argc, char** argv) {
   using namespace ispars::cli;

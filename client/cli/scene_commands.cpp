@@ -3,7 +3,7 @@
 #include <functional>
 #include <iostream>
 
-#include "cli_output.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
 
 namespace ispars::cli {

@@ -5,7 +5,7 @@
 
 #include <iostream>
 
-#include "cli_output.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
 
 namespace ispars::cli {

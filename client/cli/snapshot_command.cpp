@@ -4,7 +4,7 @@
 
 #include <iostream>
 
-#include "cli_output.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"

@@ -9,9 +9,9 @@
 #include <iostream>
 #include <sstream>
 
-#include "cli_output.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
-#include "whole_number.hpp"
+#include "ispars/cli_app/whole_number.hpp"
 
 namespace ispars::cli {
 namespace {

@@ -8,7 +8,7 @@
 #include <iostream>
 #include <thread>
 
-#include "cli_output.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
 #include "ispars/client/replica.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"

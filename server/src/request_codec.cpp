@@ -4,7 +4,6 @@
 
 #include <algorithm>
 
-#include "ispars/builders/recipe_builder.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/wire/convert.hpp"
 

@@ -5,9 +5,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "ispars/cli_app/command.hpp"
 #include "ispars/client/client.hpp"
 
 namespace ispars::cli {
@@ -24,6 +26,9 @@ struct RenderArgs {
   std::size_t max_edges = 2'000'000;
   std::string task;            ///< Not empty: draw this inspection task's POIs (and tour) only.
 };
+
+/// `render`, the one command of ispars-render.
+std::unique_ptr<Command> make_render_command();
 
 /// Declares `render` on `app`, parsing into `args`.
 CLI::App* add_render_command(CLI::App& app, RenderArgs& args);

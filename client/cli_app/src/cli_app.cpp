@@ -1,5 +1,5 @@
-#include "cli_app.hpp"
-#include "whole_number.hpp"
+#include "ispars/cli_app/cli_app.hpp"
+#include "ispars/cli_app/whole_number.hpp"
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>

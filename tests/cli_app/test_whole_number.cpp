@@ -1,7 +1,7 @@
 // Whole-number flags of `ispars` that are no declared parameter (client/cli/whole_number.hpp):
 // the text as typed, refused in the words every declared parameter uses.
 
-#include "whole_number.hpp"
+#include "ispars/cli_app/whole_number.hpp"
 
 #include <gtest/gtest.h>
 

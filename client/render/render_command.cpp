@@ -6,11 +6,10 @@
 #include <cmath>
 #include <iostream>
 
-#include "commands.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/render/scene_render.hpp"
 #include "ispars/scene/scene.hpp"
-#include "whole_number.hpp"
+#include "ispars/cli_app/whole_number.hpp"
 
 namespace ispars::cli {
 

@@ -5,7 +5,7 @@
 #include <memory>
 #include <vector>
 
-#include "commands.hpp"
+#include "ispars/cli_app/command.hpp"
 
 namespace ispars::cli {
 

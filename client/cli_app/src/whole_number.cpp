@@ -1,4 +1,4 @@
-#include "whole_number.hpp"
+#include "ispars/cli_app/whole_number.hpp"
 
 #include "ispars/params/spec.hpp"
 

@@ -1,4 +1,4 @@
-#include "cli_output.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>

@@ -2,7 +2,8 @@
 // renderer (the scene's mesh through assimp, rays through Embree). `ispars render ARGS` runs it
 // with the same arguments: `ispars-render [connection flags] render SCENE ...`.
 
-#include "cli_app.hpp"
+#include "ispars/cli_app/cli_app.hpp"
+#include "render_command.hpp"
 
 int main(int argc, char** argv) {
   using namespace ispars::cli;
