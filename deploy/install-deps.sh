@@ -15,7 +15,7 @@ PACKAGES=(
   gnuplot-nox
   nodejs chromium
   nginx-core openssl
-  gdb python3
+  gdb python3 clang-format
   python3-dev pybind11-dev python3-numpy python3-pytest
   iproute2 nftables
 )

@@ -2,15 +2,15 @@
 // What every ispars-bench subcommand shares: a daemon of its own in a temporary directory, and
 // the statistics it prints.
 
-#include <nlohmann/json.hpp>
 #include <stdlib.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -91,11 +91,12 @@ inline std::size_t proc_status_kib(pid_t pid, const std::string& field) {
 }
 
 /// `ispars-bench grow`: see grow_bench.cpp.
-nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem::path& scene_dir, const std::string& scene,
-                        BuildRequest build, std::uint64_t samples, std::uint64_t step);
+nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem::path& scene_dir,
+                        const std::string& scene, BuildRequest build, std::uint64_t samples, std::uint64_t step);
 
 /// `ispars-bench peak`: see peak_bench.cpp.
-nlohmann::json run_peak(const std::string& daemon_binary, std::uint64_t samples, const std::vector<std::string>& methods);
+nlohmann::json run_peak(const std::string& daemon_binary, std::uint64_t samples,
+                        const std::vector<std::string>& methods);
 
 /// `ispars-bench rtt`: see rtt_bench.cpp. `keystore_script` empty: without DDS Security only.
 nlohmann::json run_rtt(const std::string& daemon_binary, int count, const std::string& keystore_script);

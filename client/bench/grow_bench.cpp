@@ -23,8 +23,8 @@ nlohmann::json overrides_json(const RecipeOverrides& overrides) {
 
 }  // namespace
 
-nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem::path& scene_dir, const std::string& scene,
-                        BuildRequest build, std::uint64_t samples, std::uint64_t step) {
+nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem::path& scene_dir,
+                        const std::string& scene, BuildRequest build, std::uint64_t samples, std::uint64_t step) {
   Bench bench(daemon_binary, {}, "", "", std::filesystem::absolute(scene_dir));
   Client client(bench.options());
   client.load(scene);
@@ -41,7 +41,8 @@ nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem:
       client.extend(scene, n);
     }
     const client::SceneStatus s = client.wait_idle(scene, {}, std::chrono::hours(24));
-    if (s.samples_done != done + n) throw std::runtime_error("the build stopped at " + std::to_string(s.samples_done) + ": " + s.last_error);
+    if (s.samples_done != done + n)
+      throw std::runtime_error("the build stopped at " + std::to_string(s.samples_done) + ": " + s.last_error);
     const double seconds = seconds_since(t0);
     done += n;
     rows.push_back({{"samples", done},
@@ -66,11 +67,13 @@ nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem:
   after.load(scene);  // stored roadmaps are loaded at start: this only confirms it
   const client::SceneStatus back = after.stats(scene);
   const double answered = seconds_since(t0);
-  if (back.samples_done != samples) throw std::runtime_error("the restarted daemon holds " + std::to_string(back.samples_done) + " samples");
+  if (back.samples_done != samples)
+    throw std::runtime_error("the restarted daemon holds " + std::to_string(back.samples_done) + " samples");
   after.extend(scene, 1000);
   const client::SceneStatus extended = after.wait_idle(scene, {}, std::chrono::hours(24));
   const double extended_at = seconds_since(t0);
-  if (extended.samples_done != samples + 1000) throw std::runtime_error("the extend after the restart failed: " + extended.last_error);
+  if (extended.samples_done != samples + 1000)
+    throw std::runtime_error("the extend after the restart failed: " + extended.last_error);
   return {{"bench", "grow"},
           {"scene", scene},
           {"method", std::string(to_string(build.method))},
@@ -80,10 +83,11 @@ nlohmann::json run_grow(const std::string& daemon_binary, const std::filesystem:
           {"seconds", total},
           {"peak_rss_mib", peak},
           {"steps", rows},
-          {"restart", {{"seconds_to_announce", announced},
-                       {"seconds_to_answer_with_the_roadmap", answered},
-                       {"seconds_to_extend_1000_more", extended_at},
-                       {"rss_mib_after_extend", proc_status_kib(bench.daemon->pid(), "VmRSS:") / 1024.0}}}};
+          {"restart",
+           {{"seconds_to_announce", announced},
+            {"seconds_to_answer_with_the_roadmap", answered},
+            {"seconds_to_extend_1000_more", extended_at},
+            {"rss_mib_after_extend", proc_status_kib(bench.daemon->pid(), "VmRSS:") / 1024.0}}}};
 }
 
 }  // namespace ispars::bench

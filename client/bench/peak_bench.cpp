@@ -91,7 +91,8 @@ nlohmann::json run_one(const std::string& daemon_binary, const std::string& meth
 
 }  // namespace
 
-nlohmann::json run_peak(const std::string& daemon_binary, std::uint64_t samples, const std::vector<std::string>& methods) {
+nlohmann::json run_peak(const std::string& daemon_binary, std::uint64_t samples,
+                        const std::vector<std::string>& methods) {
   nlohmann::json rows = nlohmann::json::array();
   bool all_within = true;
   for (const std::string& method : methods) {

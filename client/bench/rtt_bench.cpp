@@ -5,6 +5,9 @@
 // the governance deploy/security/make-keystore.sh writes), so both the service's overhead over
 // raw DDS with the same security and the cost of security itself come from one run.
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -13,9 +16,6 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -200,8 +200,12 @@ struct Setting {
 nlohmann::json summary(const Setting& s) {
   const double sm = percentile(s.service, 0.5) * 1e6, sp = percentile(s.service, 0.99) * 1e6;
   const double rm = percentile(s.direct, 0.5) * 1e6, rp = percentile(s.direct, 0.99) * 1e6;
-  return {{"round_trips", s.service.size()}, {"service_median_us", sm}, {"service_p99_us", sp},
-          {"raw_median_us", rm},            {"raw_p99_us", rp},         {"median_ratio", sm / rm},
+  return {{"round_trips", s.service.size()},
+          {"service_median_us", sm},
+          {"service_p99_us", sp},
+          {"raw_median_us", rm},
+          {"raw_p99_us", rp},
+          {"median_ratio", sm / rm},
           {"p99_ratio", sp / rp}};
 }
 

@@ -12,6 +12,10 @@
 // Every run starts its own isparsd (next to this binary unless --daemon) on a random domain
 // with the localhost-only profile, in a temporary directory, and stops it at the end.
 
+#include <fmt/format.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -21,11 +25,7 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -35,12 +35,12 @@
 #include <mutex>
 #include <thread>
 
-#include "ispars/roadmap/build_recipe.hpp"
-#include "ispars/params/cli_archive.hpp"
-#include "ispars/client/client.hpp"
 #include "bench_common.hpp"
-#include "ispars/local/local_daemon.hpp"
+#include "ispars/client/client.hpp"
 #include "ispars/client/replica.hpp"
+#include "ispars/local/local_daemon.hpp"
+#include "ispars/params/cli_archive.hpp"
+#include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/wire/topics.hpp"
 #include "isparsPubSubTypes.h"
@@ -176,17 +176,23 @@ int main(int argc, char** argv) {
   std::uint64_t peak_samples = 100000;
   std::vector<std::string> peak_methods{"dense", "ispars", "irisc", "ispars2"};
   auto* peak = app.add_subcommand("peak", "a build's peak memory (compaction fold, recovery) against its estimate");
-  peak->add_option("--samples", peak_samples, "samples per build")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{10'000'000}));
-  peak->add_option("--methods", peak_methods, "build methods")->check(CLI::IsMember({"dense", "spars", "ispars", "irisc", "ispars2"}));
+  peak->add_option("--samples", peak_samples, "samples per build")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{10'000'000}));
+  peak->add_option("--methods", peak_methods, "build methods")
+      ->check(CLI::IsMember({"dense", "spars", "ispars", "irisc", "ispars2"}));
   std::string grow_scenes, grow_scene = "water_tower", grow_method = "ispars2";
   std::uint64_t grow_samples = 1'000'000, grow_step = 100'000;
   ispars::BuildRequest grow_build;
   auto* grow = app.add_subcommand("grow", "a roadmap extended step by step: cost per sample, memory, restart");
-  grow->add_option("--scene-dir", grow_scenes, "scene directory (deploy/scenes)")->required()->check(CLI::ExistingDirectory);
+  grow->add_option("--scene-dir", grow_scenes, "scene directory (deploy/scenes)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   grow->add_option("--scene", grow_scene, "scene name");
   grow->add_option("--method", grow_method, "build method");
-  grow->add_option("--samples", grow_samples, "samples in all")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
-  grow->add_option("--step", grow_step, "samples per extend")->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
+  grow->add_option("--samples", grow_samples, "samples in all")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
+  grow->add_option("--step", grow_step, "samples per extend")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
   ispars::params::add_flags(*grow, grow_build.overrides);  // the build's overrides
   int echo_domain = 0;
   std::string echo_security, echo_client, echo_reply;

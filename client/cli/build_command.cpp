@@ -1,7 +1,7 @@
 // `ispars build`: a new roadmap for a scene, with the recipe's parameter overrides.
 
-#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "ispars/params/cli_archive.hpp"
 #include "ispars/roadmap/build_request.hpp"
 
@@ -14,7 +14,8 @@ class BuildCommand final : public Command {
     auto* cmd = app.add_subcommand("build", "build a new roadmap");
     cmd->add_option("scene", scene_, "scene name")->required();
     cmd->add_option("--method", method_, build_method_names())->required();
-    cmd->add_option("--variant", variant_, "spars, ispars: the rule set, " + spars_variant_names() + " (default stretch)");
+    cmd->add_option("--variant", variant_,
+                    "spars, ispars: the rule set, " + spars_variant_names() + " (default stretch)");
     params::add_flag(*cmd, kSamples, args_.samples)->required();
     params::add_flag(*cmd, kSeed, args_.seed);
     cmd->add_flag("--replace", args_.replace, "replace an existing roadmap");

@@ -52,8 +52,8 @@ class DelegatedCommand final : public Command {
 }  // namespace
 
 std::unique_ptr<Command> make_render_delegate() {
-  return std::make_unique<DelegatedCommand>(
-      "render", "ispars-render", "a PNG of the scene's roadmap as the daemon serves it, and a tour");
+  return std::make_unique<DelegatedCommand>("render", "ispars-render",
+                                            "a PNG of the scene's roadmap as the daemon serves it, and a tour");
 }
 
 }  // namespace ispars::cli

@@ -1,7 +1,7 @@
 // `ispars extend`: more samples for a scene's roadmap.
 
-#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "ispars/params/cli_archive.hpp"
 #include "ispars/roadmap/roadmap_parameters.hpp"
 

@@ -3,8 +3,8 @@
 #include <functional>
 #include <iostream>
 
-#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 
 namespace ispars::cli {
 namespace {
@@ -63,14 +63,14 @@ std::unique_ptr<Command> make_drop_command() {
 }
 
 std::unique_ptr<Command> make_verify_command() {
-  return std::make_unique<SceneCommand>(
-      "verify", "check a roadmap (validity, costs, Invariant 1)", false,
-      [](client::Client& c, const std::string& scene, bool) {
-        const auto r = c.verify(scene);
-        const std::uint64_t violations = r.verify.violations;
-        std::cout << (violations == 0 ? "verified: " : "NOT verified: ") << r.message << "\n";
-        return violations == 0 ? 0 : 1;
-      });
+  return std::make_unique<SceneCommand>("verify", "check a roadmap (validity, costs, Invariant 1)", false,
+                                        [](client::Client& c, const std::string& scene, bool) {
+                                          const auto r = c.verify(scene);
+                                          const std::uint64_t violations = r.verify.violations;
+                                          std::cout << (violations == 0 ? "verified: " : "NOT verified: ") << r.message
+                                                    << "\n";
+                                          return violations == 0 ? 0 : 1;
+                                        });
 }
 
 }  // namespace ispars::cli

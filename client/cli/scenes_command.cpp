@@ -5,8 +5,8 @@
 
 #include <iostream>
 
-#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 
 namespace ispars::cli {
 namespace {
@@ -43,16 +43,18 @@ class ScenesCommand final : public Command {
     if (json_) {
       nlohmann::json list = nlohmann::json::array();
       for (const auto& e : entries) {
-        list.push_back({{"name", e.scene}, {"server_id", e.server_id},
-                        {"loaded", e.loaded}, {"has_roadmap", e.has_roadmap}, {"note", e.note}});
+        list.push_back({{"name", e.scene},
+                        {"server_id", e.server_id},
+                        {"loaded", e.loaded},
+                        {"has_roadmap", e.has_roadmap},
+                        {"note", e.note}});
       }
       std::cout << nlohmann::json{{"scenes", list}}.dump() << std::endl;
       return;
     }
     for (const auto& e : entries) {
-      std::cout << fmt::format("{:<24} {:<28} {}{}{}\n", e.scene, e.server_id,
-                               e.loaded ? "loaded" : "-", e.has_roadmap ? ", stored roadmap" : "",
-                               e.note.empty() ? "" : "\n    " + e.note);
+      std::cout << fmt::format("{:<24} {:<28} {}{}{}\n", e.scene, e.server_id, e.loaded ? "loaded" : "-",
+                               e.has_roadmap ? ", stored roadmap" : "", e.note.empty() ? "" : "\n    " + e.note);
     }
   }
 

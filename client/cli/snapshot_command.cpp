@@ -4,8 +4,8 @@
 
 #include <iostream>
 
-#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 

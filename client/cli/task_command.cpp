@@ -9,8 +9,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "ispars/cli_app/whole_number.hpp"
 
 namespace ispars::cli {
@@ -25,7 +25,8 @@ std::vector<Vec3> read_pois(const std::string& path) {
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) throw CLI::ValidationError("--file", fmt::format("{}: cannot be read ({})", path, ec.message()));
   if (size > kMaxPoiFileBytes) {
-    throw CLI::ValidationError("--file", fmt::format("{}: {} bytes; a POI file has at most {}", path, size, kMaxPoiFileBytes));
+    throw CLI::ValidationError("--file",
+                               fmt::format("{}: {} bytes; a POI file has at most {}", path, size, kMaxPoiFileBytes));
   }
   std::ifstream in(path);
   if (!in) throw CLI::ValidationError("--file", fmt::format("{}: cannot be opened", path));
@@ -65,8 +66,9 @@ class TaskCommand final : public Command {
     list_ = task_->add_subcommand("list", "the roadmap's tasks and how many of their POIs it sees");
     list_->add_option("scene", scene_, "scene name")->required();
     list_->add_flag("--json", json_, "one JSON object");
-    remove_ = task_->add_subcommand("remove", "take a task's POIs out of every target set (the roadmap keeps its "
-                                              "vertices); its name is free again");
+    remove_ = task_->add_subcommand("remove",
+                                    "take a task's POIs out of every target set (the roadmap keeps its "
+                                    "vertices); its name is free again");
     remove_->add_option("scene", scene_, "scene name")->required();
     remove_->add_option("name", name_, "task name")->required();
     return task_;
@@ -84,8 +86,8 @@ class TaskCommand final : public Command {
       std::cout << client.remove_task(scene_, name_).message << "\n";
       return 0;
     }
-    const client::Reply reply = pois_.empty() ? client.add_sampled_task(scene_, name_, sample_, seed_)
-                                              : client.add_task(scene_, name_, pois_);
+    const client::Reply reply =
+        pois_.empty() ? client.add_sampled_task(scene_, name_, sample_, seed_) : client.add_task(scene_, name_, pois_);
     return follow_job(client, scene_, reply, wait_, json_);
   }
 
@@ -94,8 +96,11 @@ class TaskCommand final : public Command {
     if (json_) {
       nlohmann::json list = nlohmann::json::array();
       for (const auto& t : tasks) {
-        list.push_back({{"name", t.name}, {"first_poi", t.first_poi}, {"poi_count", t.poi_count},
-                        {"pois_covered", t.pois_covered}, {"pois_covered_root", t.pois_covered_root}});
+        list.push_back({{"name", t.name},
+                        {"first_poi", t.first_poi},
+                        {"poi_count", t.poi_count},
+                        {"pois_covered", t.pois_covered},
+                        {"pois_covered_root", t.pois_covered_root}});
       }
       std::cout << nlohmann::json{{"scene", scene_}, {"tasks", list}}.dump() << std::endl;
       return;

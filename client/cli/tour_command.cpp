@@ -2,15 +2,15 @@
 // roadmap walk, its shortcut (the path as flown) and the proven bound.
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdint>
 #include <iostream>
 #include <limits>
 
-#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "ispars/cli_app/whole_number.hpp"
 
 namespace ispars::cli {
@@ -35,7 +35,8 @@ std::size_t steps(std::size_t stops) { return stops == 0 ? 0 : stops - 1; }
 
 nlohmann::json stages_json(const std::vector<client::TourStage>& stages) {
   nlohmann::json out = nlohmann::json::array();
-  for (const client::TourStage& s : stages) out.push_back({{"stage", s.name}, {"cost", s.cost}, {"seconds", s.seconds}});
+  for (const client::TourStage& s : stages)
+    out.push_back({{"stage", s.name}, {"cost", s.cost}, {"seconds", s.seconds}});
   return out;
 }
 
@@ -66,12 +67,12 @@ void print_tour(const client::TourReply& reply) {
   std::cout << fmt::format("  flown: {:.6g} in {} straight steps (the roadmap walk {:.6g}, shortcut {:.6g})\n",
                            r.flown_cost, steps(r.flown_path.size()), r.cost, r.shortcut_cost);
   std::string stages;
-  for (const client::TourStage& s : r.stages) stages += fmt::format("{}{} {:.6g} at {:.2f} s", stages.empty() ? "" : ", ", s.name, s.cost, s.seconds);
+  for (const client::TourStage& s : r.stages)
+    stages += fmt::format("{}{} {:.6g} at {:.2f} s", stages.empty() ? "" : ", ", s.name, s.cost, s.seconds);
   std::cout << "  stages: " << stages << "\n";
   std::cout << fmt::format("  searched last on {} vertices and {} edges\n", r.graph_vertices, r.graph_edges);
-  std::cout << fmt::format("  {} roadmap steps, proven lower bound {:.6g} (gap {:.1f}%{}), {}\n",
-                           steps(r.walk.size()), r.lower_bound,
-                           r.cost > 0 ? 100.0 * (r.cost - r.lower_bound) / r.cost : 0.0,
+  std::cout << fmt::format("  {} roadmap steps, proven lower bound {:.6g} (gap {:.1f}%{}), {}\n", steps(r.walk.size()),
+                           r.lower_bound, r.cost > 0 ? 100.0 * (r.cost - r.lower_bound) / r.cost : 0.0,
                            r.bound_complete ? ", LP solved over all its cuts" : "", r.valid ? "valid" : "NOT valid");
 }
 
@@ -85,7 +86,8 @@ class TourCommand final : public Command {
     cmd->add_option("--targets", targets_, "POI ids to see (default: every POI seen from the root's component)")
         ->delimiter(',')
         ->check(whole_number(0, std::numeric_limits<std::uint32_t>::max()));
-    cmd->add_option("--task", task_, "the POIs of this inspection task (ispars task list) seen from the root's component")
+    cmd->add_option("--task", task_,
+                    "the POIs of this inspection task (ispars task list) seen from the root's component")
         ->excludes("--targets");
     cmd->add_flag("--json", json_, "one JSON object");
     cmd->add_option("--out", out_, "write the tour (walk, positions, trace) as JSON");
@@ -95,8 +97,8 @@ class TourCommand final : public Command {
     const bool tty = ::isatty(STDERR_FILENO) != 0;
     const auto progress = [&](double t, double cost, double bound) {
       if (json_) return;
-      std::cerr << fmt::format("{}{:8.2f} s  best tour {:.6g}  proven bound {:.6g}{}", tty ? "\r" : "", t, cost,
-                               bound, tty ? "   " : "\n")
+      std::cerr << fmt::format("{}{:8.2f} s  best tour {:.6g}  proven bound {:.6g}{}", tty ? "\r" : "", t, cost, bound,
+                               tty ? "   " : "\n")
                 << std::flush;
     };
     const auto reply = task_.empty() ? client.tour(scene_, budget_, seed_, targets_, progress)

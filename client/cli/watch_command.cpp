@@ -8,8 +8,8 @@
 #include <iostream>
 #include <thread>
 
-#include "ispars/cli_app/cli_output.hpp"
 #include "commands.hpp"
+#include "ispars/cli_app/cli_output.hpp"
 #include "ispars/client/replica.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
@@ -67,10 +67,10 @@ class WatchCommand final : public Command {
  private:
   int report_retired(client::Client& client) const {
     const auto s = client.latest_status(scene_);
-    const std::string what = !s                                     ? "dropped or unloaded"
+    const std::string what = !s                                         ? "dropped or unloaded"
                              : s->state == client::SceneState::unloaded ? "unloaded"
-                             : s->state == client::SceneState::empty     ? "dropped"
-                                                                  : "dropped or unloaded";
+                             : s->state == client::SceneState::empty    ? "dropped"
+                                                                        : "dropped or unloaded";
     std::cerr << fmt::format("ispars: the roadmap of scene '{}' was {} while watching{}\n", scene_, what,
                              dump_.empty() ? "" : "; nothing written to " + dump_);
     return 1;

@@ -6,17 +6,18 @@
 #include <cmath>
 #include <iostream>
 
+#include "ispars/cli_app/whole_number.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/render/scene_render.hpp"
 #include "ispars/scene/scene.hpp"
-#include "ispars/cli_app/whole_number.hpp"
 
 namespace ispars::cli {
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& args) {
   auto* cmd = app.add_subcommand("render", "a PNG of the scene's roadmap as the daemon serves it, and a tour");
   cmd->add_option("scene", args.scene, "scene name")->required();
-  cmd->add_option("--scene-file", args.scene_file, "the scene's YAML here, for its mesh (checked against the daemon's POIs)")
+  cmd->add_option("--scene-file", args.scene_file,
+                  "the scene's YAML here, for its mesh (checked against the daemon's POIs)")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", args.out, "PNG file to write")->required();
@@ -44,12 +45,13 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
   // The mesh is the user's copy: it must be the daemon's scene, which its POIs tell (the
   // daemon's begin with the scene file's; its inspection tasks' follow).
   bool same = snapshot.pois.size() >= scene.pois().size();
-  for (std::size_t i = 0; same && i < scene.pois().size(); ++i) same = (snapshot.pois[i] - scene.pois()[i]).norm() < 1e-6;
+  for (std::size_t i = 0; same && i < scene.pois().size(); ++i)
+    same = (snapshot.pois[i] - scene.pois()[i]).norm() < 1e-6;
   if (!same) {
-    throw CLI::ValidationError("--scene-file", fmt::format("{} is not the daemon's scene '{}': its {} POIs differ from the "
-                                                           "daemon's {}",
-                                                           args.scene_file, args.scene, scene.pois().size(),
-                                                           snapshot.pois.size()));
+    throw CLI::ValidationError("--scene-file",
+                               fmt::format("{} is not the daemon's scene '{}': its {} POIs differ from the "
+                                           "daemon's {}",
+                                           args.scene_file, args.scene, scene.pois().size(), snapshot.pois.size()));
   }
   std::vector<Vec3> tour;
   double tour_cost = 0.0;
@@ -70,8 +72,8 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
     if (args.eye.size() != 3 || args.target.size() != 3) {
       throw CLI::ValidationError("--eye", "give --eye X Y Z and --target X Y Z together");
     }
-    request.camera = Camera{Vec3(args.eye[0], args.eye[1], args.eye[2]), Vec3(args.target[0], args.target[1], args.target[2]),
-                            Vec3::UnitZ(), 45.0};
+    request.camera = Camera{Vec3(args.eye[0], args.eye[1], args.eye[2]),
+                            Vec3(args.target[0], args.target[1], args.target[2]), Vec3::UnitZ(), 45.0};
   }
   const Roadmap& g = snapshot.roadmap;
   request.roadmap = DrawnGraph{g.positions(), g.edge_ends()};
@@ -81,7 +83,8 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
     const std::vector<client::TaskEntry> tasks = client.tasks(args.scene);
     const auto task = std::find_if(tasks.begin(), tasks.end(), [&](const auto& t) { return t.name == args.task; });
     if (task == tasks.end()) {
-      throw CLI::ValidationError("--task", fmt::format("scene '{}' has no task '{}' (ispars task list)", args.scene, args.task));
+      throw CLI::ValidationError("--task",
+                                 fmt::format("scene '{}' has no task '{}' (ispars task list)", args.scene, args.task));
     }
     first = std::min<std::size_t>(task->first_poi, count);
     count = std::min<std::size_t>(task->poi_count, count - first);
@@ -101,9 +104,10 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
   } catch (const std::runtime_error& e) {
     throw CLI::ValidationError("--out", e.what());
   }
-  std::cout << fmt::format("wrote {} ({}x{}): {} at version {}, {} vertices, {} of {} edges drawn{}\n", args.out, args.width,
-                           args.height, args.scene, snapshot.version, g.vertex_count(), result.roadmap_edges_drawn,
-                           g.edge_count(), tour.empty() ? "" : fmt::format(", a tour of {:.6g}", tour_cost));
+  std::cout << fmt::format("wrote {} ({}x{}): {} at version {}, {} vertices, {} of {} edges drawn{}\n", args.out,
+                           args.width, args.height, args.scene, snapshot.version, g.vertex_count(),
+                           result.roadmap_edges_drawn, g.edge_count(),
+                           tour.empty() ? "" : fmt::format(", a tour of {:.6g}", tour_cost));
   return 0;
 }
 

@@ -16,15 +16,15 @@ namespace ispars::cli {
 
 /// The command's arguments, as parsed.
 struct RenderArgs {
-  std::string scene;           ///< The scene's name on the daemon.
-  std::string scene_file;      ///< Its YAML here (for the mesh); checked against the daemon's POIs.
-  std::string out;             ///< The PNG to write.
-  double tour_budget = 0.0;    ///< Seconds of tour search by the daemon (0: no tour).
+  std::string scene;         ///< The scene's name on the daemon.
+  std::string scene_file;    ///< Its YAML here (for the mesh); checked against the daemon's POIs.
+  std::string out;           ///< The PNG to write.
+  double tour_budget = 0.0;  ///< Seconds of tour search by the daemon (0: no tour).
   int width = 1600;
   int height = 1200;
   std::vector<double> eye, target;
   std::size_t max_edges = 2'000'000;
-  std::string task;            ///< Not empty: draw this inspection task's POIs (and tour) only.
+  std::string task;  ///< Not empty: draw this inspection task's POIs (and tour) only.
 };
 
 /// `render`, the one command of ispars-render.

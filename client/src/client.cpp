@@ -116,7 +116,8 @@ msg::Reply WireAccess::routed(Client& c, Request request, const std::string& ser
   const std::string scene = request.scene().to_string();
   std::string target = c.owner_of(scene);
   for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     try {
       return c.impl_->call(request, target, std::max(left, std::chrono::milliseconds(1)));
     } catch (const ClientError& e) {

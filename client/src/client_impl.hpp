@@ -3,6 +3,7 @@
 // status, announcement and tour-progress readers: client_link.hpp), the listeners that outlive
 // it, the call with retries, and the rejoin under DDS Security (client_rejoin.cpp).
 
+#include <fmt/format.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -11,7 +12,6 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-#include <fmt/format.h>
 
 #include <algorithm>
 #include <condition_variable>
@@ -32,8 +32,8 @@
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/latest_samples.hpp"
 #include "ispars/wire/rejoin_schedule.hpp"
-#include "ispars/wire/topics.hpp"
 #include "ispars/wire/safe_type.hpp"
+#include "ispars/wire/topics.hpp"
 #include "isparsPubSubTypes.h"
 
 namespace ispars::client {
@@ -97,7 +97,7 @@ class Client::Impl final : public fdds::DataReaderListener {
       if (!info.valid_data) continue;
       {
         std::lock_guard lock(mutex_);
-        if (reply.client_id() != id_) continue;  // another client's reply, or one to a link left behind
+        if (reply.client_id() != id_) continue;                  // another client's reply, or one to a link left behind
         if (waiting_.count(reply.request_seq()) == 0) continue;  // late duplicate of an answered request
         replies_[reply.request_seq()] = reply;
       }
@@ -132,9 +132,9 @@ class Client::Impl final : public fdds::DataReaderListener {
     // The daemon must be discovered (its announcement arrived) before the first send.
     if (!daemons_.wait_for(options_.timeout, [&](const auto& latest) { return latest.count(server) > 0; })) {
       throw ClientError(ClientError::Kind::no_daemon,
-                        daemons_.all().empty() ? no_daemon_message()
-                                               : fmt::format("daemon {} is not on DDS domain {}", server,
-                                                             options_.participant.domain));
+                        daemons_.all().empty()
+                            ? no_daemon_message()
+                            : fmt::format("daemon {} is not on DDS domain {}", server, options_.participant.domain));
     }
     if (const auto info = daemons_.get(server); info && info->protocol() != msg::PROTOCOL_VERSION) {
       throw ClientError(ClientError::Kind::protocol,
@@ -175,10 +175,10 @@ class Client::Impl final : public fdds::DataReaderListener {
                                       options_.participant.domain, wire::to_string(request.args()._d())));
       }
     }
-    throw ClientError(ClientError::Kind::timeout,
-                      fmt::format("daemon {} did not answer {} on DDS domain {} within {:.1f} s", server,
-                                  wire::to_string(request.args()._d()), options_.participant.domain,
-                                  timeout.count() / 1000.0));
+    throw ClientError(
+        ClientError::Kind::timeout,
+        fmt::format("daemon {} did not answer {} on DDS domain {} within {:.1f} s", server,
+                    wire::to_string(request.args()._d()), options_.participant.domain, timeout.count() / 1000.0));
   }
 
   // Writes `request` as this client's current link: once its writer has matched a request

@@ -40,11 +40,13 @@ Snapshot Client::snapshot(const std::string& scene) {
       s.roadmap = Roadmap(s.pois.size());
       apply_batch(s.roadmap, decode_batch(bytes));
     } catch (const std::runtime_error& e) {
-      throw ClientError(ClientError::Kind::protocol, std::string("snapshot of '") + scene + "' is damaged: " + e.what());
+      throw ClientError(ClientError::Kind::protocol,
+                        std::string("snapshot of '") + scene + "' is damaged: " + e.what());
     }
     return s;
   }
-  throw ClientError(ClientError::Kind::protocol, "the roadmap of '" + scene + "' kept changing generation during the snapshot");
+  throw ClientError(ClientError::Kind::protocol,
+                    "the roadmap of '" + scene + "' kept changing generation during the snapshot");
 }
 
 TourReply Client::tour(const std::string& scene, double budget, std::uint64_t seed,
@@ -101,20 +103,20 @@ SceneStatus Client::wait_idle(const std::string& scene, const std::function<void
     }
     impl_->statuses_.wait_for(std::chrono::milliseconds(500), [&](const auto& latest) {
       const auto it = latest.find(scene);
-      return it != latest.end() && (it->second.samples_done() != seen_samples ||
-                                    from_message(it->second.state()) != seen_state ||
-                                    it->second.version() != seen_version);
+      return it != latest.end() &&
+             (it->second.samples_done() != seen_samples || from_message(it->second.state()) != seen_state ||
+              it->second.version() != seen_version);
     });
     if (const auto s = latest_status(scene); s && s->status_seq < last.status_seq && s->server_id == last.server_id) {
       // older than what we know: ignore
     } else if (s) {
       if (s->server_id != last.server_id) {
         // The fleet moved the scene (docs/fleet.md): the new owner's status says what it continues.
-        throw ClientError(ClientError::Kind::protocol,
-                          fmt::format("scene '{}' moved from daemon {} to daemon {} while waiting (now {}, {} of {} "
-                                      "samples); wait on it again to follow the new owner",
-                                      scene, last.server_id, s->server_id, to_string(s->state), s->samples_done,
-                                      s->samples_target));
+        throw ClientError(
+            ClientError::Kind::protocol,
+            fmt::format("scene '{}' moved from daemon {} to daemon {} while waiting (now {}, {} of {} "
+                        "samples); wait on it again to follow the new owner",
+                        scene, last.server_id, s->server_id, to_string(s->state), s->samples_done, s->samples_target));
       }
       if (s->state == SceneState::unloaded) {
         throw ClientError(ClientError::Kind::protocol, fmt::format("scene '{}' was unloaded while waiting", scene));

@@ -25,8 +25,12 @@ std::vector<Vec3> positions(const Points& points) {
 }
 
 StoredRoadmap from_message(const msg::StoredRoadmap& r) {
-  return {r.scene().to_string(), r.generation(),      r.samples(),
-          r.target(),            r.builder_version(), r.fingerprint().to_string(),
+  return {r.scene().to_string(),
+          r.generation(),
+          r.samples(),
+          r.target(),
+          r.builder_version(),
+          r.fingerprint().to_string(),
           r.yielded_to().to_string()};
 }
 
@@ -34,13 +38,20 @@ StoredRoadmap from_message(const msg::StoredRoadmap& r) {
 
 std::string_view to_string(SceneState state) {
   switch (state) {
-    case SceneState::empty: return "empty";
-    case SceneState::idle: return "idle";
-    case SceneState::queued: return "queued";
-    case SceneState::replaying: return "replaying";
-    case SceneState::building: return "building";
-    case SceneState::failed: return "failed";
-    case SceneState::unloaded: return "unloaded";
+    case SceneState::empty:
+      return "empty";
+    case SceneState::idle:
+      return "idle";
+    case SceneState::queued:
+      return "queued";
+    case SceneState::replaying:
+      return "replaying";
+    case SceneState::building:
+      return "building";
+    case SceneState::failed:
+      return "failed";
+    case SceneState::unloaded:
+      return "unloaded";
   }
   return "unknown";
 }
@@ -51,13 +62,20 @@ bool busy(SceneState state) {
 
 SceneState from_message(msg::SceneState state) {
   switch (state) {
-    case msg::SCENE_EMPTY: return SceneState::empty;
-    case msg::SCENE_IDLE: return SceneState::idle;
-    case msg::SCENE_QUEUED: return SceneState::queued;
-    case msg::SCENE_REPLAYING: return SceneState::replaying;
-    case msg::SCENE_BUILDING: return SceneState::building;
-    case msg::SCENE_FAILED: return SceneState::failed;
-    case msg::SCENE_UNLOADED: return SceneState::unloaded;
+    case msg::SCENE_EMPTY:
+      return SceneState::empty;
+    case msg::SCENE_IDLE:
+      return SceneState::idle;
+    case msg::SCENE_QUEUED:
+      return SceneState::queued;
+    case msg::SCENE_REPLAYING:
+      return SceneState::replaying;
+    case msg::SCENE_BUILDING:
+      return SceneState::building;
+    case msg::SCENE_FAILED:
+      return SceneState::failed;
+    case msg::SCENE_UNLOADED:
+      return SceneState::unloaded;
   }
   // The decoder admits only the enum's values; a newer daemon's state reads as failed.
   return SceneState::failed;
@@ -162,7 +180,8 @@ TourReply to_tour_reply(const msg::Reply& reply) {
   const auto& offsets = t.flown_sees_offsets();
   for (std::size_t i = 0; i + 1 < offsets.size(); ++i) {
     const std::uint32_t from = std::min<std::uint32_t>(offsets[i], static_cast<std::uint32_t>(t.flown_sees().size()));
-    const std::uint32_t to = std::clamp<std::uint32_t>(offsets[i + 1], from, static_cast<std::uint32_t>(t.flown_sees().size()));
+    const std::uint32_t to =
+        std::clamp<std::uint32_t>(offsets[i + 1], from, static_cast<std::uint32_t>(t.flown_sees().size()));
     tour.flown_sees.emplace_back(t.flown_sees().begin() + from, t.flown_sees().begin() + to);
   }
   tour.flown_cost = t.flown_cost();

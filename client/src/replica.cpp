@@ -21,9 +21,9 @@
 #include "ispars/wire/convert.hpp"
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/participant.hpp"
+#include "ispars/wire/safe_type.hpp"
 #include "ispars/wire/scene_filter.hpp"
 #include "ispars/wire/topics.hpp"
-#include "ispars/wire/safe_type.hpp"
 #include "isparsPubSubTypes.h"
 
 namespace ispars::client {
@@ -135,7 +135,8 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
 
   static ReplicaQueueLimits checked(const ReplicaQueueLimits& limits) {
     if (limits.batches < 1 || limits.batches > 1'000'000) {
-      throw std::invalid_argument("replica queue limit: batches must be in 1..1000000, not " + std::to_string(limits.batches));
+      throw std::invalid_argument("replica queue limit: batches must be in 1..1000000, not " +
+                                  std::to_string(limits.batches));
     }
     if (limits.bytes < (std::size_t{64} << 10) || limits.bytes > (std::size_t{64} << 30)) {
       throw std::invalid_argument("replica queue limit: bytes must be in 65536..68719476736, not " +
@@ -162,7 +163,8 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
 
   void run() {
     // Wait until the update reader has matched a writer, so no batch after the snapshot is missed.
-    for (int i = 0; i < 400 && !stopping() && !matched(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (int i = 0; i < 400 && !stopping() && !matched(); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
     bool need_sync = true;
     while (!stopping()) {
       if (take_rejoined()) need_sync = true;  // the client's new participant: batches may be missing
@@ -308,7 +310,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
       // A task added POIs, which the vertices held here may see too: only a snapshot tells.
       if (b.poi_count() > roadmap_.poi_count()) return false;
       const std::uint64_t version = roadmap_.version();
-      if (b.to_version() <= version) return true;  // already in the snapshot: a duplicate
+      if (b.to_version() <= version) return true;     // already in the snapshot: a duplicate
       if (b.from_version() != version) return false;  // a gap
       try {
         apply_batch(roadmap_, wire::from_message(b));
@@ -345,8 +347,8 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
   fdds::DataReader* reader_ = nullptr;
   fdds::ContentFilteredTopic* filtered_ = nullptr;
   std::atomic<std::size_t> other_scenes_{0};  // batches of other scenes that reached the reader
-  std::size_t attached_ = 0;  // participants attached to so far
-  bool rejoined_ = false;     // attached to a new participant since the last look
+  std::size_t attached_ = 0;                  // participants attached to so far
+  bool rejoined_ = false;                     // attached to a new participant since the last look
   // The replica's thread's: the last resync behind_owner() asked for, and since when the owner's
   // status has shown a later version than this replica's.
   std::chrono::steady_clock::time_point moved_at_{};
@@ -355,7 +357,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
   std::condition_variable wake_;
   std::deque<msg::UpdateBatch> inbox_;
   std::size_t inbox_bytes_ = 0;
-  std::size_t dropped_ = 0;  // batches dropped from a full inbox
+  std::size_t dropped_ = 0;                                       // batches dropped from a full inbox
   static constexpr std::chrono::milliseconds kStatusPeriod{100};  // how often the status is looked at
   bool stopping_ = false;
   std::thread thread_;
@@ -425,7 +427,8 @@ std::string RoadmapReplica::last_error() const {
   std::lock_guard lock(impl_->state_mutex_);
   return impl_->last_error_;
 }
-bool RoadmapReplica::wait_for(std::uint64_t generation, std::uint64_t version, std::chrono::milliseconds timeout) const {
+bool RoadmapReplica::wait_for(std::uint64_t generation, std::uint64_t version,
+                              std::chrono::milliseconds timeout) const {
   std::unique_lock lock(impl_->state_mutex_);
   return impl_->state_changed_.wait_for(lock, timeout, [&] {
     return impl_->snapshots_ > 0 && (generation == 0 || impl_->generation_ == generation) &&

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "commands.hpp"
-#include "flags.hpp"
 #include "experiment_support.hpp"
+#include "flags.hpp"
 #include "json_output.hpp"
 #include "lab_build.hpp"
 #include "timing.hpp"
@@ -18,8 +18,8 @@ namespace ispars::lab {
 
 int run_bench_build(const BenchBuildOptions& options) {
   const Scene base = Scene::load(options.scene);
-  const LabBuild lab = make_lab_build(base, options.method, options.variant, options.request, options.threads,
-                                      "ispars-lab bench build");
+  const LabBuild lab =
+      make_lab_build(base, options.method, options.variant, options.request, options.threads, "ispars-lab bench build");
   const Scene& scene = *lab.scene;
   const auto& builder = lab.builder;
   const BuildMethod method = lab.recipe.method;
@@ -43,14 +43,22 @@ int run_bench_build(const BenchBuildOptions& options) {
     const CheckCounts checks = scene.counts() - start;
     const double interval = static_cast<double>(target - previous);
     const double us_per_sample = interval > 0 ? 1e6 * (elapsed - previous_t) / interval : 0.0;
-    const double segments_per_sample = interval > 0 ? static_cast<double>(checks.segment - previous_checks.segment) / interval : 0.0;
+    const double segments_per_sample =
+        interval > 0 ? static_cast<double>(checks.segment - previous_checks.segment) / interval : 0.0;
     const Roadmap& g = builder->roadmap();
     const std::size_t dense_edges =  // 0: no dense graph (irisc, ispars2)
-        builder->dense() ? builder->dense()->edge_count() : method == BuildMethod::dense ? g.edge_count() : 0;
+        builder->dense()               ? builder->dense()->edge_count()
+        : method == BuildMethod::dense ? g.edge_count()
+                                       : 0;
     const double rss = peak_rss_mib();
-    rows.push_back({{"samples", target}, {"seconds", elapsed}, {"us_per_sample", us_per_sample},
-                    {"segment_checks_per_sample", segments_per_sample}, {"vertices", g.vertex_count()},
-                    {"edges", g.edge_count()}, {"dense_edges", dense_edges}, {"peak_rss_mib", rss},
+    rows.push_back({{"samples", target},
+                    {"seconds", elapsed},
+                    {"us_per_sample", us_per_sample},
+                    {"segment_checks_per_sample", segments_per_sample},
+                    {"vertices", g.vertex_count()},
+                    {"edges", g.edge_count()},
+                    {"dense_edges", dense_edges},
+                    {"peak_rss_mib", rss},
                     {"checks", to_json(checks)}});
     std::cout << fmt::format("{:>9} {:>9.2f} {:>9.1f} {:>9.1f} {:>9} {:>12} {:>12} {:>10.0f}\n", target, elapsed,
                              us_per_sample, segments_per_sample, g.vertex_count(), g.edge_count(), dense_edges, rss)
@@ -61,12 +69,18 @@ int run_bench_build(const BenchBuildOptions& options) {
   }
   const double seconds = now_seconds() - t0;
   if (options.json) {
-    std::cout << nlohmann::json{{"scene", scene.config().name}, {"method", options.method},
-                                {"variant", std::string(to_string(r.variant))}, {"stretch_slack", r.stretch_slack},
-                                {"stretch_slack_after", r.stretch_slack_after}, {"samples", samples},
-                                {"seed", r.seed}, {"threads", options.threads}, {"seconds", seconds},
+    std::cout << nlohmann::json{{"scene", scene.config().name},
+                                {"method", options.method},
+                                {"variant", std::string(to_string(r.variant))},
+                                {"stretch_slack", r.stretch_slack},
+                                {"stretch_slack_after", r.stretch_slack_after},
+                                {"samples", samples},
+                                {"seed", r.seed},
+                                {"threads", options.threads},
+                                {"seconds", seconds},
                                 {"samples_per_second", static_cast<double>(samples) / seconds},
-                                {"peak_rss_mib", peak_rss_mib()}, {"checkpoints", rows}}
+                                {"peak_rss_mib", peak_rss_mib()},
+                                {"checkpoints", rows}}
                      .dump()
               << std::endl;
   }
@@ -77,7 +91,8 @@ CLI::App* add_bench_build_command(CLI::App& parent, BenchBuildOptions& options) 
   auto* cmd = parent.add_subcommand("build", "Construction time, checks per sample and peak memory against N");
   cmd->add_option("scene", options.scene, "Scene YAML file")->required();
   add_request_flags(*cmd, options.method, options.variant, options.request);
-  cmd->add_option("--checkpoints", options.checkpoints, "Report rows")->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
+  cmd->add_option("--checkpoints", options.checkpoints, "Report rows")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
   cmd->add_option("--threads", options.threads, "Threads")->check(CLI::Range(1u, 64u));
   cmd->add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
   return cmd;

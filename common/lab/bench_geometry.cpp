@@ -71,8 +71,8 @@ int run_bench_geometry(const BenchGeometryOptions& options) {
   const std::vector<Vec3> near_points = make_near_points(scene, rng, n);
 
   const FclCollisionChecker fcl(scene.mesh(), config.bounds, config.robot_radius);
-  const BruteForceGeometry brute(scene.embree().triangles(), config.bounds, config.robot_radius,
-                                 scene.pois(), config.sensor_range);
+  const BruteForceGeometry brute(scene.embree().triangles(), config.bounds, config.robot_radius, scene.pois(),
+                                 config.sensor_range);
   const CollisionChecker& fast = scene.collision();
   const VisibilityOracle& oracle = scene.visibility();
 
@@ -82,9 +82,8 @@ int run_bench_geometry(const BenchGeometryOptions& options) {
   // Fast paths.
   const CheckCounts before = scene.counts();
   const double point_ns = median_ns_per_call(n, batch, [&](std::size_t i) { sink += fast.point_valid(box_points[i]); });
-  const double segment_ns = median_ns_per_call(segments.size(), batch, [&](std::size_t i) {
-    sink += fast.segment_valid(segments[i].a, segments[i].b);
-  });
+  const double segment_ns = median_ns_per_call(
+      segments.size(), batch, [&](std::size_t i) { sink += fast.segment_valid(segments[i].a, segments[i].b); });
   const CheckCounts before_chi = scene.counts();
   const double chi_t0 = now_seconds();
   const double chi_ns = median_ns_per_call(n, 1, [&](std::size_t i) {
@@ -107,19 +106,21 @@ int run_bench_geometry(const BenchGeometryOptions& options) {
   const CheckCounts fast_counts = scene.counts() - before;
 
   // FCL on the same queries.
-  const double fcl_point_ns = median_ns_per_call(n, batch, [&](std::size_t i) { sink += fcl.point_valid(box_points[i]); });
-  const double fcl_segment_ns = median_ns_per_call(segments.size(), batch, [&](std::size_t i) {
-    sink += fcl.segment_valid(segments[i].a, segments[i].b);
-  });
+  const double fcl_point_ns =
+      median_ns_per_call(n, batch, [&](std::size_t i) { sink += fcl.point_valid(box_points[i]); });
+  const double fcl_segment_ns = median_ns_per_call(
+      segments.size(), batch, [&](std::size_t i) { sink += fcl.segment_valid(segments[i].a, segments[i].b); });
 
   // Brute force on the first m queries, one call per timing (each is long).
   const std::size_t ms = std::min(m, segments.size());
-  const double brute_point_ns = median_ns_per_call(m, 1, [&](std::size_t i) { sink += brute.point_valid(box_points[i]); });
-  const double brute_segment_ns = median_ns_per_call(ms, 1, [&](std::size_t i) {
-    sink += brute.segment_valid(segments[i].a, segments[i].b);
-  });
-  const double brute_chi_ns = median_ns_per_call(m, 1, [&](std::size_t i) { sink += brute.visible_pois(valid_points[i]).size(); });
-  const double brute_chi_near_ns = median_ns_per_call(m, 1, [&](std::size_t i) { sink += brute.visible_pois(near_points[i]).size(); });
+  const double brute_point_ns =
+      median_ns_per_call(m, 1, [&](std::size_t i) { sink += brute.point_valid(box_points[i]); });
+  const double brute_segment_ns =
+      median_ns_per_call(ms, 1, [&](std::size_t i) { sink += brute.segment_valid(segments[i].a, segments[i].b); });
+  const double brute_chi_ns =
+      median_ns_per_call(m, 1, [&](std::size_t i) { sink += brute.visible_pois(valid_points[i]).size(); });
+  const double brute_chi_near_ns =
+      median_ns_per_call(m, 1, [&](std::size_t i) { sink += brute.visible_pois(near_points[i]).size(); });
 
   // Agreement with the reference on those queries.
   std::size_t point_disagree = 0;
@@ -163,23 +164,35 @@ int run_bench_geometry(const BenchGeometryOptions& options) {
       {"reference_queries", m},
       {"seed", options.seed},
       {"segment_length", config.dense_delta},
-      {"point_check_ns", {{"fast", point_ns}, {"fcl", fcl_point_ns}, {"brute_force", brute_point_ns},
-                          {"speedup_vs_brute_force", ratio(brute_point_ns, point_ns)},
-                          {"speedup_vs_fcl", ratio(fcl_point_ns, point_ns)}}},
-      {"segment_check_ns", {{"fast", segment_ns}, {"fcl", fcl_segment_ns}, {"brute_force", brute_segment_ns},
-                            {"speedup_vs_brute_force", ratio(brute_segment_ns, segment_ns)},
-                            {"speedup_vs_fcl", ratio(fcl_segment_ns, segment_ns)}}},
-      {"chi_ns", {{"fast", chi_ns}, {"brute_force", brute_chi_ns},
-                  {"speedup_vs_brute_force", ratio(brute_chi_ns, chi_ns)}}},
-      {"chi_near_structure_ns", {{"fast", chi_near_ns}, {"brute_force", brute_chi_near_ns},
-                                 {"speedup_vs_brute_force", ratio(brute_chi_near_ns, chi_near_ns)}}},
+      {"point_check_ns",
+       {{"fast", point_ns},
+        {"fcl", fcl_point_ns},
+        {"brute_force", brute_point_ns},
+        {"speedup_vs_brute_force", ratio(brute_point_ns, point_ns)},
+        {"speedup_vs_fcl", ratio(fcl_point_ns, point_ns)}}},
+      {"segment_check_ns",
+       {{"fast", segment_ns},
+        {"fcl", fcl_segment_ns},
+        {"brute_force", brute_segment_ns},
+        {"speedup_vs_brute_force", ratio(brute_segment_ns, segment_ns)},
+        {"speedup_vs_fcl", ratio(fcl_segment_ns, segment_ns)}}},
+      {"chi_ns",
+       {{"fast", chi_ns}, {"brute_force", brute_chi_ns}, {"speedup_vs_brute_force", ratio(brute_chi_ns, chi_ns)}}},
+      {"chi_near_structure_ns",
+       {{"fast", chi_near_ns},
+        {"brute_force", brute_chi_near_ns},
+        {"speedup_vs_brute_force", ratio(brute_chi_near_ns, chi_near_ns)}}},
       {"clearance_ns", clearance_ns},
       {"rays_per_second", rays_per_second},
       {"rays_per_chi", rays_per_chi},
       {"rays_per_chi_near_structure", rays_per_chi_near},
-      {"disagreements", {{"point", point_disagree}, {"segment", segment_disagree},
-                         {"fcl_point", fcl_point_disagree}, {"fcl_segment", fcl_segment_disagree},
-                         {"chi_pois", chi_disagree}, {"chi_pois_in_tolerance_band", chi_ambiguous}}},
+      {"disagreements",
+       {{"point", point_disagree},
+        {"segment", segment_disagree},
+        {"fcl_point", fcl_point_disagree},
+        {"fcl_segment", fcl_segment_disagree},
+        {"chi_pois", chi_disagree},
+        {"chi_pois_in_tolerance_band", chi_ambiguous}}},
       {"checks", to_json(fast_counts)},
   };
   if (sink == 0xFFFFFFFF) std::cerr << "";  // keeps the measured calls observable
@@ -197,28 +210,24 @@ int run_bench_geometry(const BenchGeometryOptions& options) {
       "exact clearance: {:.0f} ns; rays: {:.2f} M/s; rays per chi(q): {:.1f} (box), {:.1f} (near)\n"
       "disagreements with the reference: point {}, segment {}, chi {} (+{} POIs in the tolerance band); "
       "FCL: point {}, segment {}\n",
-      config.name, scene.mesh().triangle_count(), scene.pois().size(), n, m,
-      "median ns per query", "fast", "fcl", "brute force", "speed-up",
-      "point check", point_ns, fcl_point_ns, brute_point_ns, ratio(brute_point_ns, point_ns),
-      fmt::format("segment check (len {:g})", config.dense_delta), segment_ns, fcl_segment_ns,
-      brute_segment_ns, ratio(brute_segment_ns, segment_ns),
-      "chi(q), box samples", chi_ns, "-", brute_chi_ns, ratio(brute_chi_ns, chi_ns),
-      "chi(q), near structure", chi_near_ns, "-", brute_chi_near_ns, ratio(brute_chi_near_ns, chi_near_ns),
-      clearance_ns, rays_per_second / 1e6, rays_per_chi, rays_per_chi_near,
-      point_disagree, segment_disagree, chi_disagree, chi_ambiguous, fcl_point_disagree,
-      fcl_segment_disagree);
+      config.name, scene.mesh().triangle_count(), scene.pois().size(), n, m, "median ns per query", "fast", "fcl",
+      "brute force", "speed-up", "point check", point_ns, fcl_point_ns, brute_point_ns, ratio(brute_point_ns, point_ns),
+      fmt::format("segment check (len {:g})", config.dense_delta), segment_ns, fcl_segment_ns, brute_segment_ns,
+      ratio(brute_segment_ns, segment_ns), "chi(q), box samples", chi_ns, "-", brute_chi_ns,
+      ratio(brute_chi_ns, chi_ns), "chi(q), near structure", chi_near_ns, "-", brute_chi_near_ns,
+      ratio(brute_chi_near_ns, chi_near_ns), clearance_ns, rays_per_second / 1e6, rays_per_chi, rays_per_chi_near,
+      point_disagree, segment_disagree, chi_disagree, chi_ambiguous, fcl_point_disagree, fcl_segment_disagree);
   return 0;
 }
 
 CLI::App* add_bench_geometry_command(CLI::App& parent, BenchGeometryOptions& options) {
-  auto* cmd = parent.add_subcommand(
-      "geometry", "Point, segment and visibility query costs against brute-force and FCL references");
+  auto* cmd = parent.add_subcommand("geometry",
+                                    "Point, segment and visibility query costs against brute-force and FCL references");
   cmd->add_option("scene", options.scene, "Scene YAML file")->required();
   cmd->add_flag("--json", options.json, "Print one JSON object as the last line of stdout");
   cmd->add_option("--queries", options.queries, "Queries per fast-path measurement")
       ->check(CLI::Range(std::size_t{64}, std::size_t{10'000'000}));
-  cmd->add_option("--reference-queries", options.reference_queries,
-                  "Queries through the brute-force reference")
+  cmd->add_option("--reference-queries", options.reference_queries, "Queries through the brute-force reference")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000}));
   cmd->add_option("--seed", options.seed, "Seed of the random queries");
   return cmd;

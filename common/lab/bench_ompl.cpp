@@ -20,9 +20,9 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "ispars/reference/fcl_checker.hpp"
-#include "ispars/params/input_error.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/params/input_error.hpp"
+#include "ispars/reference/fcl_checker.hpp"
 #include "ispars/scene/scene.hpp"
 
 namespace ob = ompl::base;
@@ -147,9 +147,9 @@ int main(int argc, char** argv) {
       ours[std::string(to_string(variant))] = {{"seconds", seconds},
                                                {"dense_vertices", builder->dense()->vertex_count()},
                                                {"sparse_vertices", builder->roadmap().vertex_count()}};
-      std::cout << fmt::format("Inspection-SPARS ({}): {} samples, {} dense / {} sparse vertices in {:.3f} s (1 thread)\n",
-                               to_string(variant), samples, builder->dense()->vertex_count(),
-                               builder->roadmap().vertex_count(), seconds);
+      std::cout << fmt::format(
+          "Inspection-SPARS ({}): {} samples, {} dense / {} sparse vertices in {:.3f} s (1 thread)\n",
+          to_string(variant), samples, builder->dense()->vertex_count(), builder->roadmap().vertex_count(), seconds);
     }
     const Checks ours_checks{[&](const ispars::Vec3& q) { return scene.point_valid(q); },
                              [&](const ispars::Vec3& a, const ispars::Vec3& b) { return scene.segment_valid(a, b); }};
@@ -180,13 +180,13 @@ int main(int argc, char** argv) {
       }
       capped = capped || run.capped;
       const double ratio = run.seconds / ours_seconds;
-      std::cout << fmt::format("OMPL SPARS with {}: {} dense / {} sparse vertices in {:.3f} s{}; {:.0f}x the time of "
-                               "Inspection-SPARS (stretch)\n",
-                               name == "fcl" ? "FCL" : "our checker", run.dense, run.sparse, run.seconds,
-                               run.capped ? " (stopped at the cap, short of the dense target)" : "", ratio);
-      ompl_json[name] = {{"seconds", run.seconds},       {"dense_vertices", run.dense},
-                         {"sparse_vertices", run.sparse}, {"capped", run.capped},
-                         {"attempts_that_threw", failures}, {"over_ispars", ratio}};
+      std::cout << fmt::format(
+          "OMPL SPARS with {}: {} dense / {} sparse vertices in {:.3f} s{}; {:.0f}x the time of "
+          "Inspection-SPARS (stretch)\n",
+          name == "fcl" ? "FCL" : "our checker", run.dense, run.sparse, run.seconds,
+          run.capped ? " (stopped at the cap, short of the dense target)" : "", ratio);
+      ompl_json[name] = {{"seconds", run.seconds}, {"dense_vertices", run.dense},     {"sparse_vertices", run.sparse},
+                         {"capped", run.capped},   {"attempts_that_threw", failures}, {"over_ispars", ratio}};
     }
     if (json) {
       std::cout << nlohmann::json{{"scene", scene.config().name},

@@ -58,8 +58,8 @@ int run_bench_task(const BenchTaskOptions& options) {
   std::cout << fmt::format(
       "{}: {}, {} samples, {} POIs + a task of {}\n  built in {:.2f} s ({} sparse vertices); task added in "
       "{:.3f} s (+{} guards)\n  rebuilt with every POI in {:.2f} s ({} sparse vertices): {:.1f}x the addition\n",
-      scene.config().name, options.method, options.samples, first, task.size(), added.seconds, vertices_before, add_seconds, guards,
-      rebuilt.seconds, rebuilt.builder->roadmap().vertex_count(), rebuilt.seconds / add_seconds);
+      scene.config().name, options.method, options.samples, first, task.size(), added.seconds, vertices_before,
+      add_seconds, guards, rebuilt.seconds, rebuilt.builder->roadmap().vertex_count(), rebuilt.seconds / add_seconds);
 
   const InspectionGraph g_added = InspectionGraph::from_roadmap(added.builder->roadmap());
   const InspectionGraph g_rebuilt = InspectionGraph::from_roadmap(rebuilt.builder->roadmap());
@@ -69,9 +69,10 @@ int run_bench_task(const BenchTaskOptions& options) {
   work.iterations = options.iterations;
   const std::vector<GipResult> tours = solve_each(graphs, targets, options.seed, work);
   const double ratio = tours[0].tour.cost / tours[1].tour.cost;
-  std::cout << fmt::format("  tours of the task's {} POIs seen from the root, {} iterations each: added {:.6g}, "
-                           "rebuilt {:.6g} (added/rebuilt {:.4f})\n",
-                           targets.size(), options.iterations, tours[0].tour.cost, tours[1].tour.cost, ratio);
+  std::cout << fmt::format(
+      "  tours of the task's {} POIs seen from the root, {} iterations each: added {:.6g}, "
+      "rebuilt {:.6g} (added/rebuilt {:.4f})\n",
+      targets.size(), options.iterations, tours[0].tour.cost, tours[1].tour.cost, ratio);
   nlohmann::json verified;
   if (options.verify && added.builder->dense() != nullptr) {
     const auto& b = *added.builder;
@@ -81,16 +82,24 @@ int run_bench_task(const BenchTaskOptions& options) {
     verified = {{"invariant_violations", r.invariant_violations}, {"geometry_ok", r.geometry_ok()}};
   }
   if (options.json) {
-    std::cout << nlohmann::json{{"scene", scene.config().name}, {"method", options.method},
+    std::cout << nlohmann::json{{"scene", scene.config().name},
+                                {"method", options.method},
                                 {"samples", options.samples},
-                                {"scene_pois", first}, {"task_pois", task.size()}, {"threads", options.threads},
-                                {"build_seconds", added.seconds}, {"add_seconds", add_seconds},
-                                {"sparse_vertices_before", vertices_before}, {"guards_added", guards},
+                                {"scene_pois", first},
+                                {"task_pois", task.size()},
+                                {"threads", options.threads},
+                                {"build_seconds", added.seconds},
+                                {"add_seconds", add_seconds},
+                                {"sparse_vertices_before", vertices_before},
+                                {"guards_added", guards},
                                 {"rebuild_seconds", rebuilt.seconds},
                                 {"rebuild_sparse_vertices", rebuilt.builder->roadmap().vertex_count()},
-                                {"speedup", rebuilt.seconds / add_seconds}, {"targets", targets.size()},
-                                {"iterations", options.iterations}, {"tour_added", tours[0].tour.cost},
-                                {"tour_rebuilt", tours[1].tour.cost}, {"tour_ratio", ratio},
+                                {"speedup", rebuilt.seconds / add_seconds},
+                                {"targets", targets.size()},
+                                {"iterations", options.iterations},
+                                {"tour_added", tours[0].tour.cost},
+                                {"tour_rebuilt", tours[1].tour.cost},
+                                {"tour_ratio", ratio},
                                 {"verify", verified}}
                      .dump()
               << std::endl;

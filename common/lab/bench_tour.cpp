@@ -10,8 +10,8 @@
 #include <thread>
 
 #include "commands.hpp"
-#include "flags.hpp"
 #include "experiment_support.hpp"
+#include "flags.hpp"
 #include "ispars/tour/gip_solver.hpp"
 #include "ispars/tour/tour_shortcut.hpp"
 #include "json_output.hpp"
@@ -65,9 +65,9 @@ int run_bench_tour(const BenchTourOptions& options) {
   const double build_seconds = now_seconds() - b0;
   const InspectionGraph g = InspectionGraph::from_roadmap(builder->roadmap());
   const double rss_graph = peak_rss_mib();
-  std::cout << fmt::format("{} roadmap of {} samples on {}: {} vertices, {} edges, built in {:.1f} s; peak RSS {:.0f} MiB\n",
-                           options.method, options.samples, scene.config().name, g.vertex_count(), g.edge_count(),
-                           build_seconds, rss_graph);
+  std::cout << fmt::format(
+      "{} roadmap of {} samples on {}: {} vertices, {} edges, built in {:.1f} s; peak RSS {:.0f} MiB\n", options.method,
+      options.samples, scene.config().name, g.vertex_count(), g.edge_count(), build_seconds, rss_graph);
 
   GipOptions o;
   o.budget_seconds = options.budget;
@@ -94,21 +94,37 @@ int run_bench_tour(const BenchTourOptions& options) {
     const StopRun s = stop_after(g, at, options.seed);
     std::cout << fmt::format("stop requested at {:.2f} s: returned at {:.2f} s ({:.3f} s later), {}\n", s.stop_at,
                              s.returned_at, s.returned_at - s.stop_at, s.message);
-    stops.push_back({{"stop_at", s.stop_at}, {"returned_at", s.returned_at}, {"latency", s.returned_at - s.stop_at},
-                     {"had_tour", s.had_tour}, {"message", s.message}});
+    stops.push_back({{"stop_at", s.stop_at},
+                     {"returned_at", s.returned_at},
+                     {"latency", s.returned_at - s.stop_at},
+                     {"had_tour", s.had_tour},
+                     {"message", s.message}});
   }
   if (options.json) {
-    std::cout << nlohmann::json{{"scene", scene.config().name}, {"method", options.method},
-                                {"samples", options.samples}, {"vertices", g.vertex_count()},
-                                {"edges", g.edge_count()}, {"build_seconds", build_seconds},
-                                {"budget", options.budget}, {"returned_after", wall},
-                                {"first_tour", r.trace.empty() ? nlohmann::json() : nlohmann::json(r.trace.front().first)},
-                                {"cost", r.tour.cost}, {"trace", r.trace}, {"valid", r.validation.valid()},
-                                {"shortcut_cost", shortcut.cost}, {"shortcut_seconds", shortcut_seconds},
-                                {"candidates", r.candidates}, {"thinned", r.thinned},
-                                {"distance_rows", r.distance_rows}, {"iterations", r.iterations},
-                                {"lower_bound", r.lower_bound.value_or(0.0)}, {"bound_note", r.bound_note},
-                                {"peak_rss_mib_graph", rss_graph}, {"peak_rss_mib", rss_tour}, {"stops", stops}}
+    std::cout << nlohmann::json{{"scene", scene.config().name},
+                                {"method", options.method},
+                                {"samples", options.samples},
+                                {"vertices", g.vertex_count()},
+                                {"edges", g.edge_count()},
+                                {"build_seconds", build_seconds},
+                                {"budget", options.budget},
+                                {"returned_after", wall},
+                                {"first_tour",
+                                 r.trace.empty() ? nlohmann::json() : nlohmann::json(r.trace.front().first)},
+                                {"cost", r.tour.cost},
+                                {"trace", r.trace},
+                                {"valid", r.validation.valid()},
+                                {"shortcut_cost", shortcut.cost},
+                                {"shortcut_seconds", shortcut_seconds},
+                                {"candidates", r.candidates},
+                                {"thinned", r.thinned},
+                                {"distance_rows", r.distance_rows},
+                                {"iterations", r.iterations},
+                                {"lower_bound", r.lower_bound.value_or(0.0)},
+                                {"bound_note", r.bound_note},
+                                {"peak_rss_mib_graph", rss_graph},
+                                {"peak_rss_mib", rss_tour},
+                                {"stops", stops}}
                      .dump()
               << std::endl;
   }
@@ -116,11 +132,10 @@ int run_bench_tour(const BenchTourOptions& options) {
 }
 
 CLI::App* add_bench_tour_command(CLI::App& parent, BenchTourOptions& options) {
-  auto* cmd = parent.add_subcommand(
-      "tour", "The tour solver on a large roadmap: first tour, budget, memory, stop latency");
+  auto* cmd =
+      parent.add_subcommand("tour", "The tour solver on a large roadmap: first tour, budget, memory, stop latency");
   cmd->add_option("scene", options.scene, "Scene YAML file")->required();
-  cmd->add_option("--method", options.method, "dense | spars | ispars | irisc | ispars2")
-      ->check(build_method_check());
+  cmd->add_option("--method", options.method, "dense | spars | ispars | irisc | ispars2")->check(build_method_check());
   cmd->add_option("--samples", options.samples, "N")->check(CLI::Range(std::size_t{1}, std::size_t{10'000'000}));
   cmd->add_option("--seed", options.seed, "Seed of the roadmap and the search");
   cmd->add_option("--budget", options.budget, "Seconds of search")->check(CLI::Range(0.01, 3600.0));

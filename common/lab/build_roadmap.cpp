@@ -7,14 +7,14 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "experiment_support.hpp"
 #include "flags.hpp"
-#include "ispars/params/input_error.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
-#include "ispars/roadmap/roadmap_batch.hpp"
-#include "ispars/roadmap/roadmap_json.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/builders/spars_builder.hpp"
-#include "experiment_support.hpp"
+#include "ispars/params/input_error.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
+#include "ispars/roadmap/roadmap_json.hpp"
 #include "json_output.hpp"
 #include "lab_build.hpp"
 #include "timing.hpp"
@@ -60,17 +60,48 @@ void progress(std::size_t done, std::size_t total, const Roadmap& g, double seco
   const int filled = total == 0 ? width : static_cast<int>(width * done / total);
   std::cerr << fmt::format("\r[{:<{}}] {:3d}% {}/{} samples, {} vertices, {} edges, {:.1f} s",
                            std::string(static_cast<std::size_t>(filled), '#'), width,
-                           total == 0 ? 100 : static_cast<int>(100 * done / total), done, total,
-                           g.vertex_count(), g.edge_count(), seconds)
+                           total == 0 ? 100 : static_cast<int>(100 * done / total), done, total, g.vertex_count(),
+                           g.edge_count(), seconds)
             << std::flush;
+}
+
+// The human report of a build: `out`, the JSON --json prints, in lines.
+void print_report(const nlohmann::json& out, const std::string& method) {
+  const auto line = [](const char* name, const nlohmann::json& s) {
+    return fmt::format(
+        "{:<9}{:>8} vertices {:>8} edges {:>5} components, POIs covered {} ({} in the root's component)\n", name,
+        s["vertices"].get<std::size_t>(), s["edges"].get<std::size_t>(), s["components"].get<std::size_t>(),
+        s["pois_covered"].get<std::size_t>(), s["pois_covered_root"].get<std::size_t>());
+  };
+  std::cout << fmt::format("{} on {}: {} samples (seed {}) in {:.2f} s, {:.0f} samples/s\n", method,
+                           out["scene"].get<std::string>(), out["samples"].get<std::size_t>(),
+                           out["seed"].get<std::uint64_t>(), out["seconds"].get<double>(),
+                           out["samples_per_second"].get<double>());
+  std::cout << line("roadmap", out["roadmap"]);
+  if (out.contains("dense")) std::cout << line("dense", out["dense"]);
+  const nlohmann::json& checks = out["checks"];
+  std::cout << fmt::format("checks   {} point, {} segment, {} rays\n", checks["point"].get<std::uint64_t>(),
+                           checks["segment"].get<std::uint64_t>(), checks["rays"].get<std::uint64_t>());
+  if (out.contains("admissions")) {
+    std::cout << "admissions " << out["admissions"].dump() << "\nedges by cause " << out["edges_by_cause"].dump()
+              << '\n';
+  }
+  if (out.contains("fresh_samples"))
+    std::cout << "Invariant 1 on fresh samples " << out["fresh_samples"].dump() << '\n';
+  if (out.contains("verification")) {
+    std::cout << "verification " << out["verification"].dump() << ", invariant violations "
+              << (out["invariant_violations"].is_null() ? std::string("n/a (no dense pair)")
+                                                        : out["invariant_violations"].dump())
+              << '\n';
+  }
 }
 
 }  // namespace
 
 int run_build(const BuildCommandOptions& options) {
   const Scene base = Scene::load(options.scene);
-  const LabBuild lab = make_lab_build(base, options.method, options.variant, options.request, options.threads,
-                                      "ispars-lab build");
+  const LabBuild lab =
+      make_lab_build(base, options.method, options.variant, options.request, options.threads, "ispars-lab build");
   const Scene& scene = *lab.scene;
   const auto& builder = lab.builder;
   const std::size_t samples = options.request.samples;
@@ -112,8 +143,10 @@ int run_build(const BuildCommandOptions& options) {
         builder->dense() != nullptr
             ? verify_sparse_pair(scene, builder->roadmap(), *builder->dense(), builder->dense_ids())
             : verify_roadmap(scene, builder->roadmap());
-    out["verification"] = {{"invalid_vertices", report.invalid_vertices}, {"invalid_edges", report.invalid_edges},
-                           {"wrong_costs", report.wrong_costs}, {"sparse_not_dense", report.sparse_not_dense},
+    out["verification"] = {{"invalid_vertices", report.invalid_vertices},
+                           {"invalid_edges", report.invalid_edges},
+                           {"wrong_costs", report.wrong_costs},
+                           {"sparse_not_dense", report.sparse_not_dense},
                            {"invariant_vertices", report.invariant_vertices}};
     // Invariant 1 relates a sparse roadmap to its dense pair; Dense and IRIS-C have none.
     out["invariant_violations"] =
@@ -121,7 +154,8 @@ int run_build(const BuildCommandOptions& options) {
   }
   if (options.fresh > 0) {
     // Fresh samples, not the build's: what the roadmap misses between the samples it drew.
-    const VerificationReport fresh = verify_fresh_samples(scene, builder->roadmap(), options.fresh, lab.recipe.seed + 1);
+    const VerificationReport fresh =
+        verify_fresh_samples(scene, builder->roadmap(), options.fresh, lab.recipe.seed + 1);
     out["fresh_samples"] = {{"samples", fresh.invariant_samples},
                             {"samples_with_a_violation", fresh.invariant_vertices},
                             {"violations", fresh.invariant_violations}};
@@ -137,28 +171,7 @@ int run_build(const BuildCommandOptions& options) {
     std::cout << out.dump() << std::endl;
     return 0;
   }
-  const auto line = [](const char* name, const nlohmann::json& s) {
-    return fmt::format("{:<9}{:>8} vertices {:>8} edges {:>5} components, POIs covered {} ({} in the root's component)\n",
-                       name, s["vertices"].get<std::size_t>(), s["edges"].get<std::size_t>(),
-                       s["components"].get<std::size_t>(), s["pois_covered"].get<std::size_t>(),
-                       s["pois_covered_root"].get<std::size_t>());
-  };
-  std::cout << fmt::format("{} on {}: {} samples (seed {}) in {:.2f} s, {:.0f} samples/s\n", options.method,
-                           scene.config().name, samples, lab.recipe.seed, seconds,
-                           out["samples_per_second"].get<double>());
-  std::cout << line("roadmap", out["roadmap"]);
-  if (out.contains("dense")) std::cout << line("dense", out["dense"]);
-  std::cout << fmt::format("checks   {} point, {} segment, {} rays\n", checks.point, checks.segment, checks.rays);
-  if (out.contains("admissions")) {
-    std::cout << "admissions " << out["admissions"].dump() << "\nedges by cause " << out["edges_by_cause"].dump() << '\n';
-  }
-  if (out.contains("fresh_samples")) std::cout << "Invariant 1 on fresh samples " << out["fresh_samples"].dump() << '\n';
-  if (out.contains("verification")) {
-    std::cout << "verification " << out["verification"].dump() << ", invariant violations "
-              << (out["invariant_violations"].is_null() ? std::string("n/a (no dense pair)")
-                                                        : out["invariant_violations"].dump())
-              << '\n';
-  }
+  print_report(out, options.method);
   return 0;
 }
 

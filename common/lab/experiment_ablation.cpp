@@ -12,8 +12,8 @@
 #include <map>
 
 #include "commands.hpp"
-#include "flags.hpp"
 #include "experiment_support.hpp"
+#include "flags.hpp"
 #include "ispars/builders/dense_builder.hpp"
 #include "ispars/builders/irisc_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
@@ -27,9 +27,9 @@ namespace {
 struct Row {
   std::vector<double> vertices, edges, components, violations, tour, tour_ratio;
   std::vector<double> flown, flown_ratio, flown_wide_ratio;  // shortcut tours: length, / Dense's, / Dense-wide's
-  std::vector<double> median3, p95_3, over3;        // within 3 Delta, against dense routes
-  std::vector<double> median_bin[4];                 // per bin, against dense routes
-  std::vector<double> segment_median3, segment_p95_3;  // within 3 Delta, against segments
+  std::vector<double> median3, p95_3, over3;                 // within 3 Delta, against dense routes
+  std::vector<double> median_bin[4];                         // per bin, against dense routes
+  std::vector<double> segment_median3, segment_p95_3;        // within 3 Delta, against segments
 };
 
 std::string mean_cell(const std::vector<double>& v, int decimals) {
@@ -60,7 +60,8 @@ int run_experiment_ablation(const ExperimentOptions& options) {
   const PaperSetting& paper = paper_setting(options.scene);
   const std::size_t samples = options.samples > 0 ? options.samples : paper.samples;
   const SceneConfig base = parse_scene_config(options.scenes_dir + "/" + options.scene + ".yaml");
-  const double delta = options.delta > 0.0 ? options.delta : calibrate_delta(base, samples, paper.degree, options.threads);
+  const double delta =
+      options.delta > 0.0 ? options.delta : calibrate_delta(base, samples, paper.degree, options.threads);
   std::vector<SparsRules> rule_sets;
   for (const std::string& name : options.rule_sets) rule_sets.push_back(parse_rule_set(name, "--rule-sets"));
   const SolverWork work{options.iterations, options.cap, options.jobs};
@@ -209,8 +210,8 @@ int run_experiment_ablation(const ExperimentOptions& options) {
     const Row& r = rows[name];
     const bool sparse = !r.median3.empty();
     std::cout << fmt::format(
-        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", name, mean_sd_cell(r.vertices, 0), mean_sd_cell(r.edges, 0),
-        sparse ? mean_cell(r.components, 1) : "-", sparse ? mean_cell(r.violations, 0) : "-",
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", name, mean_sd_cell(r.vertices, 0),
+        mean_sd_cell(r.edges, 0), sparse ? mean_cell(r.components, 1) : "-", sparse ? mean_cell(r.violations, 0) : "-",
         sparse ? fmt::format("{} / {} / {:.1f}%", mean_cell(r.median3, 3), mean_cell(r.p95_3, 3),
                              100.0 * mean_sd(r.over3).mean)
                : "-",
@@ -220,21 +221,30 @@ int run_experiment_ablation(const ExperimentOptions& options) {
         sparse ? fmt::format("{} / {}", mean_cell(r.segment_median3, 3), mean_cell(r.segment_p95_3, 3)) : "-",
         mean_sd_cell(r.tour, 1), mean_cell(r.tour_ratio, 3), mean_sd_cell(r.flown, 1), mean_cell(r.flown_ratio, 3),
         mean_cell(r.flown_wide_ratio, 3));
-    summary.push_back({{"roadmap", name}, {"vertices", mean_sd(r.vertices).mean}, {"edges", mean_sd(r.edges).mean},
-                       {"tour", mean_sd(r.tour).mean}, {"tour_over_dense", mean_sd(r.tour_ratio).mean},
-                       {"flown", mean_sd(r.flown).mean}, {"flown_over_dense", mean_sd(r.flown_ratio).mean},
-                       {"flown_over_dense_wide", options.wide ? nlohmann::json(mean_sd(r.flown_wide_ratio).mean) : nlohmann::json()},
-                       {"flown_per_seed", r.flown},
-                       {"median_within_3_Delta", sparse ? mean_sd(r.median3).mean : 0.0},
-                       {"p95_within_3_Delta", sparse ? mean_sd(r.p95_3).mean : 0.0},
-                       {"violations", sparse ? mean_sd(r.violations).mean : 0.0}});
+    summary.push_back(
+        {{"roadmap", name},
+         {"vertices", mean_sd(r.vertices).mean},
+         {"edges", mean_sd(r.edges).mean},
+         {"tour", mean_sd(r.tour).mean},
+         {"tour_over_dense", mean_sd(r.tour_ratio).mean},
+         {"flown", mean_sd(r.flown).mean},
+         {"flown_over_dense", mean_sd(r.flown_ratio).mean},
+         {"flown_over_dense_wide", options.wide ? nlohmann::json(mean_sd(r.flown_wide_ratio).mean) : nlohmann::json()},
+         {"flown_per_seed", r.flown},
+         {"median_within_3_Delta", sparse ? mean_sd(r.median3).mean : 0.0},
+         {"p95_within_3_Delta", sparse ? mean_sd(r.p95_3).mean : 0.0},
+         {"violations", sparse ? mean_sd(r.violations).mean : 0.0}});
   }
   if (options.json) {
-    std::cout << nlohmann::json{{"scene", options.scene}, {"delta", delta}, {"iterations", work.iterations},
+    std::cout << nlohmann::json{{"scene", options.scene},
+                                {"delta", delta},
+                                {"iterations", work.iterations},
                                 {"stretch_slack", options.stretch_slack},
                                 {"stretch_slack_after", options.stretch_slack_after},
-                                {"seeds", used}, {"skipped_seeds", skipped},
-                                {"summary", summary}, {"runs", runs}}
+                                {"seeds", used},
+                                {"skipped_seeds", skipped},
+                                {"summary", summary},
+                                {"runs", runs}}
                      .dump()
               << std::endl;
   }
@@ -243,7 +253,8 @@ int run_experiment_ablation(const ExperimentOptions& options) {
 
 CLI::App* add_experiment_ablation_command(CLI::App& parent, ExperimentOptions& options) {
   auto* cmd = parent.add_subcommand(
-      "ablation", "Sparse-roadmap rules one by one: size, route stretch, Invariant 1 and tours (same targets, same work)");
+      "ablation",
+      "Sparse-roadmap rules one by one: size, route stretch, Invariant 1 and tours (same targets, same work)");
   add_experiment_flags(*cmd, options);
   cmd->add_option("--scene", options.scene, "water_tower, truss_bridge or caric_city (the paper's setting)");
   cmd->add_option("--seeds", options.seeds, "Seeds 1..S")->check(CLI::Range(1, 1000));
@@ -256,7 +267,8 @@ CLI::App* add_experiment_ablation_command(CLI::App& parent, ExperimentOptions& o
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
   cmd->add_option("--cap", options.cap, "Wall-clock cap per tour, seconds")->check(CLI::Range(0.1, 1e5));
   add_stretch_slack_options(*cmd, options.stretch_slack, options.stretch_slack_after);
-  cmd->add_flag("--wide", options.wide, "Tour Dense-wide too (Dense joined within 2 Delta: the strongest baseline, and the slowest)");
+  cmd->add_flag("--wide", options.wide,
+                "Tour Dense-wide too (Dense joined within 2 Delta: the strongest baseline, and the slowest)");
   cmd->add_option("--jobs", options.jobs, "Tours solved at once (one solver thread each)")->check(CLI::Range(1u, 64u));
   return cmd;
 }

@@ -19,12 +19,12 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "flags.hpp"
 #include "experiment_support.hpp"
-#include "ispars/params/input_error.hpp"
-#include "ispars/builders/irisc_builder.hpp"
+#include "flags.hpp"
 #include "ispars/builders/dense_builder.hpp"
+#include "ispars/builders/irisc_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/tour/tour_shortcut.hpp"
 #include "tour_support.hpp"
 
@@ -34,8 +34,8 @@ namespace {
 // The roadmaps of one seed, in this order; the last two are Dense routing with the viewpoints
 // of the two sparse roadmaps.
 const std::vector<std::string>& roadmap_names() {
-  static const std::vector<std::string> names{"dense",  "ispars", "ispars-alg1", "irisc", "dense-wide",
-                                              "dense/ispars-viewpoints", "dense/alg1-viewpoints"};
+  static const std::vector<std::string> names{
+      "dense", "ispars", "ispars-alg1", "irisc", "dense-wide", "dense/ispars-viewpoints", "dense/alg1-viewpoints"};
   return names;
 }
 constexpr std::size_t kPlotted = 5;  // the first five are the figure's curves (the methods)
@@ -64,11 +64,11 @@ void plot(const std::string& csv, const std::string& png, const std::string& wor
     script << "set title '" << s.scene << "'\nplot ";
     for (std::size_t m = 0; m < kPlotted; ++m) {
       if (m > 0) script << ", ";
-      const std::string sel = fmt::format("(strcol(1) eq '{}' && strcol(2) eq '{}' && $3 > 0 ? ", s.scene,
-                                          roadmap_names()[m]);
+      const std::string sel =
+          fmt::format("(strcol(1) eq '{}' && strcol(2) eq '{}' && $3 > 0 ? ", s.scene, roadmap_names()[m]);
       script << "'" << csv << "' skip 1 using " << sel << "$3 : 1/0):($4 - $5):($4 + $5) with filledcurves lc rgb '"
-             << colours[m] << "' notitle, '" << csv << "' skip 1 using " << sel << "$3 : 1/0):4 with lines lw 2 lc rgb '"
-             << colours[m] << "' title '" << roadmap_names()[m] << "'";
+             << colours[m] << "' notitle, '" << csv << "' skip 1 using " << sel
+             << "$3 : 1/0):4 with lines lw 2 lc rgb '" << colours[m] << "' title '" << roadmap_names()[m] << "'";
     }
     script << "\n";
   }
@@ -80,9 +80,9 @@ struct Runs {
   std::vector<std::vector<std::pair<double, double>>> traces;
   std::vector<double> vertices, edges, costs, over_dense, over_irisc, first, seconds, violations, bounds, gaps;
   std::vector<double> shortcut, shortcut_over_best_other;  // the shortcut tours, and / the best other method's
-  std::vector<double> rounds, bound_seconds;              // the LP's solves and wall time
-  std::string skipped;                                    // why an LP was not attempted, if one was not
-  std::size_t complete = 0;  // bounds solved over all their cuts
+  std::vector<double> rounds, bound_seconds;               // the LP's solves and wall time
+  std::string skipped;                                     // why an LP was not attempted, if one was not
+  std::size_t complete = 0;                                // bounds solved over all their cuts
 };
 
 // Each tour shortcut with the scene's collision checker; positions[i] places graphs[i]'s vertices.
@@ -116,25 +116,23 @@ std::vector<double> over_best_other(const std::vector<ShortcutTour>& shortcuts) 
 // One row of the summary table: roadmap m's figures over the seeds of one scene.
 std::string summary_row(const std::string& scene, double targets, std::size_t m, const Runs& run) {
   const bool sparse = m == 1 || m == 2;
-  return fmt::format("| {} | {:.1f} | {} | {:.0f} | {:.0f} | {} | {:.3f} | {:.3f} | {} | {} | {} | {} | {:.2f} "
-                     "| {:.1f} |\n",
-                     scene, targets, roadmap_names()[m], mean_sd(run.vertices).mean,
-                     mean_sd(run.edges).mean, mean_sd_cell(run.costs, 1), mean_sd(run.over_dense).mean,
-                     mean_sd(run.over_irisc).mean, mean_sd_cell(run.shortcut, 1),
-                     run.shortcut_over_best_other.empty()
-                         ? std::string("-")
-                         : fmt::format("{:.3f} (max {:.3f})", mean_sd(run.shortcut_over_best_other).mean,
-                                       *std::max_element(run.shortcut_over_best_other.begin(),
-                                                         run.shortcut_over_best_other.end())),
-                     !run.skipped.empty() ? "no LP on some seeds: " + run.skipped
-                     : run.bounds.empty() ? std::string("-")
-                                        : fmt::format("{:.1f} ({:.1f}%; {}/{}; {:.0f}, {:.1f})",
-                                                      mean_sd(run.bounds).mean, 100.0 * mean_sd(run.gaps).mean,
-                                                      run.complete, run.bounds.size(), mean_sd(run.rounds).mean,
-                                                      mean_sd(run.bound_seconds).mean),
-                     sparse ? fmt::format("{:.0f}", mean_sd(run.violations).mean * run.violations.size())
-                            : std::string("-"),
-                     mean_sd(run.first).mean, mean_sd(run.seconds).mean);
+  return fmt::format(
+      "| {} | {:.1f} | {} | {:.0f} | {:.0f} | {} | {:.3f} | {:.3f} | {} | {} | {} | {} | {:.2f} "
+      "| {:.1f} |\n",
+      scene, targets, roadmap_names()[m], mean_sd(run.vertices).mean, mean_sd(run.edges).mean,
+      mean_sd_cell(run.costs, 1), mean_sd(run.over_dense).mean, mean_sd(run.over_irisc).mean,
+      mean_sd_cell(run.shortcut, 1),
+      run.shortcut_over_best_other.empty()
+          ? std::string("-")
+          : fmt::format("{:.3f} (max {:.3f})", mean_sd(run.shortcut_over_best_other).mean,
+                        *std::max_element(run.shortcut_over_best_other.begin(), run.shortcut_over_best_other.end())),
+      !run.skipped.empty() ? "no LP on some seeds: " + run.skipped
+      : run.bounds.empty() ? std::string("-")
+                           : fmt::format("{:.1f} ({:.1f}%; {}/{}; {:.0f}, {:.1f})", mean_sd(run.bounds).mean,
+                                         100.0 * mean_sd(run.gaps).mean, run.complete, run.bounds.size(),
+                                         mean_sd(run.rounds).mean, mean_sd(run.bound_seconds).mean),
+      sparse ? fmt::format("{:.0f}", mean_sd(run.violations).mean * run.violations.size()) : std::string("-"),
+      mean_sd(run.first).mean, mean_sd(run.seconds).mean);
 }
 
 }  // namespace
@@ -150,9 +148,10 @@ int run_experiment_anytime(const ExperimentOptions& options) {
   const SolverWork work{options.iterations, options.iterations > 0 ? options.cap : options.budget, options.jobs};
   const std::string work_text =
       work.iterations > 0
-          ? fmt::format("{} solver iterations per roadmap, one solver thread each, {} roadmaps at a time, {:.0f} s cap; "
-                        "LP bound {:.0f} s per roadmap",
-                        work.iterations, work.jobs, work.cap_seconds, options.bound_seconds)
+          ? fmt::format(
+                "{} solver iterations per roadmap, one solver thread each, {} roadmaps at a time, {:.0f} s cap; "
+                "LP bound {:.0f} s per roadmap",
+                work.iterations, work.jobs, work.cap_seconds, options.bound_seconds)
           : fmt::format("{:.0f} s per roadmap, one solver thread each, {} roadmaps at a time", work.cap_seconds,
                         work.jobs);
   std::cout << fmt::format("# Fig. 4, reproduced: {} seeds; the same work for every roadmap: {}\n\n", options.seeds,
@@ -201,9 +200,10 @@ int run_experiment_anytime(const ExperimentOptions& options) {
           InspectionGraph::from_roadmap(alg1.roadmap()), InspectionGraph::from_roadmap(irisc.roadmap()),
           InspectionGraph::from_roadmap(wide.roadmap()), with_viewpoints(dense, stretch.dense_ids()),
           with_viewpoints(dense, alg1.dense_ids())};
-      const std::vector<std::span<const Vec3>> positions{
-          dense.positions(),        stretch.roadmap().positions(), alg1.roadmap().positions(), irisc.roadmap().positions(),
-          wide.roadmap().positions(), dense.positions(),           dense.positions()};
+      const std::vector<std::span<const Vec3>> positions{dense.positions(),          stretch.roadmap().positions(),
+                                                         alg1.roadmap().positions(), irisc.roadmap().positions(),
+                                                         wide.roadmap().positions(), dense.positions(),
+                                                         dense.positions()};
       std::vector<double> violations(graphs.size(), 0.0);
       violations[1] = static_cast<double>(
           verify_sparse_pair(scene, stretch.roadmap(), dense, stretch.dense_ids()).invariant_violations);
@@ -232,10 +232,9 @@ int run_experiment_anytime(const ExperimentOptions& options) {
       // The proven LP bound of the four roadmaps, on the same targets: it tells "the search got
       // stuck" (a gap) from "the roadmap holds no better tour" (none).
       const std::vector<TourBoundResult> bounds =
-          options.bound_seconds > 0.0
-              ? bound_each(std::span<const InspectionGraph* const>(pointers.data(), kPlotted), common,
-                           options.bound_seconds, work.jobs)
-              : std::vector<TourBoundResult>(kPlotted);
+          options.bound_seconds > 0.0 ? bound_each(std::span<const InspectionGraph* const>(pointers.data(), kPlotted),
+                                                   common, options.bound_seconds, work.jobs)
+                                      : std::vector<TourBoundResult>(kPlotted);
       per_seed << fmt::format("| {} | {} | {} |", ps.scene, seed, common.size());
       for (std::size_t i = 0; i < graphs.size(); ++i) {
         const GipResult& r = tours[i];
@@ -264,30 +263,40 @@ int run_experiment_anytime(const ExperimentOptions& options) {
         }
         longest = std::max(longest, r.seconds);
         per_seed << fmt::format(" {:.1f} / {:.1f} |", r.tour.cost, shortcuts[i].cost);
-        results.push_back({{"scene", ps.scene}, {"seed", seed}, {"roadmap", roadmap_names()[i]},
-                           {"targets", common.size()}, {"vertices", graphs[i].vertex_count()},
-                           {"edges", graphs[i].edge_count()}, {"cost", r.tour.cost}, {"seconds", r.seconds},
-                           {"shortcut_cost", shortcuts[i].cost}, {"shortcut_steps", shortcuts[i].stops.size() - 1},
+        results.push_back({{"scene", ps.scene},
+                           {"seed", seed},
+                           {"roadmap", roadmap_names()[i]},
+                           {"targets", common.size()},
+                           {"vertices", graphs[i].vertex_count()},
+                           {"edges", graphs[i].edge_count()},
+                           {"cost", r.tour.cost},
+                           {"seconds", r.seconds},
+                           {"shortcut_cost", shortcuts[i].cost},
+                           {"shortcut_steps", shortcuts[i].stops.size() - 1},
                            {"shortcut_segments_checked", shortcuts[i].segments_checked},
                            {"bound_rounds", i < kPlotted ? bounds[i].rounds : 0},
                            {"bound_seconds", i < kPlotted ? bounds[i].seconds : 0.0},
-                           {"iterations", r.iterations}, {"invariant_violations", violations[i]}, {"trace", r.trace},
+                           {"iterations", r.iterations},
+                           {"invariant_violations", violations[i]},
+                           {"trace", r.trace},
                            {"lower_bound", i < kPlotted ? nlohmann::json(bounds[i].bound) : nlohmann::json()},
                            {"bound_complete", i < kPlotted && bounds[i].complete}});
       }
       per_seed << '\n';
-      std::cerr << fmt::format("{} seed {}: I_t = {}; tour / shortcut: dense {:.1f} / {:.1f}, ispars {:.1f} / {:.1f}, "
-                               "alg1 {:.1f} / {:.1f}, irisc {:.1f} / {:.1f}, dense-wide {:.1f} / {:.1f}\n",
-                               ps.scene, seed, common.size(), tours[0].tour.cost, shortcuts[0].cost, tours[1].tour.cost,
-                               shortcuts[1].cost, tours[2].tour.cost, shortcuts[2].cost, tours[3].tour.cost,
-                               shortcuts[3].cost, tours[4].tour.cost, shortcuts[4].cost);
+      std::cerr << fmt::format(
+          "{} seed {}: I_t = {}; tour / shortcut: dense {:.1f} / {:.1f}, ispars {:.1f} / {:.1f}, "
+          "alg1 {:.1f} / {:.1f}, irisc {:.1f} / {:.1f}, dense-wide {:.1f} / {:.1f}\n",
+          ps.scene, seed, common.size(), tours[0].tour.cost, shortcuts[0].cost, tours[1].tour.cost, shortcuts[1].cost,
+          tours[2].tour.cost, shortcuts[2].cost, tours[3].tour.cost, shortcuts[3].cost, tours[4].tour.cost,
+          shortcuts[4].cost);
     }
     notes << fmt::format("{}: seeds {} (skipped, no common target: {})\n", ps.scene, fmt::join(used, ", "),
                          skipped.empty() ? std::string("none") : fmt::format("{}", fmt::join(skipped, ", ")));
-    notes << fmt::format("{}: calibrated delta {:.3f}; the paper's I_t less the targets the viewpoint-restricted Dense "
-                         "graphs do not reach from the root: {:.1f} on average (at most {:.0f})\n",
-                         ps.scene, delta, mean_sd(dropped).mean,
-                         dropped.empty() ? 0.0 : *std::max_element(dropped.begin(), dropped.end()));
+    notes << fmt::format(
+        "{}: calibrated delta {:.3f}; the paper's I_t less the targets the viewpoint-restricted Dense "
+        "graphs do not reach from the root: {:.1f} on average (at most {:.0f})\n",
+        ps.scene, delta, mean_sd(dropped).mean,
+        dropped.empty() ? 0.0 : *std::max_element(dropped.begin(), dropped.end()));
     for (std::size_t m = 0; m < roadmap_names().size(); ++m) {
       const Runs& run = runs[roadmap_names()[m]];
       if (m < kPlotted) {
@@ -329,7 +338,8 @@ CLI::App* add_experiment_anytime_command(CLI::App& parent, ExperimentOptions& op
       ->check(CLI::Range(0.1, 1e5));
   cmd->add_option("--cap", options.cap, "With --iterations: wall-clock cap per tour, seconds")
       ->check(CLI::Range(0.1, 1e5));
-  cmd->add_option("--jobs", options.jobs, "Roadmaps solved at once (one solver thread each)")->check(CLI::Range(1u, 64u));
+  cmd->add_option("--jobs", options.jobs, "Roadmaps solved at once (one solver thread each)")
+      ->check(CLI::Range(1u, 64u));
   cmd->add_option("--csv", options.csv, "CSV of mean +- sd of the best tour against time");
   cmd->add_option("--png", options.png, "Plot (gnuplot)");
   cmd->add_flag("--replot", options.replot, "Only draw --png from the --csv of an earlier run");

@@ -31,8 +31,8 @@ struct RowRuns {
 
 std::string summary_row(const std::string& scene, const std::string& name, const RowRuns& r) {
   return fmt::format("| {} | {} | {:.0f} | {:.0f} | {} | {} | {} | {:.2f} | {} | {} |\n", scene, name,
-                     mean_sd(r.vertices).mean, mean_sd(r.edges).mean, mean_sd_cell(r.walk, 2),
-                     mean_sd_cell(r.flown, 2), ratio_interval_cell(r.over_wide), mean_sd(r.seconds).mean,
+                     mean_sd(r.vertices).mean, mean_sd(r.edges).mean, mean_sd_cell(r.walk, 2), mean_sd_cell(r.flown, 2),
+                     ratio_interval_cell(r.over_wide), mean_sd(r.seconds).mean,
                      r.targets_lost.empty() ? std::string("0") : fmt::format("{:.1f}", mean_sd(r.targets_lost).mean),
                      r.checks_failed == 0 ? std::string("all") : fmt::format("{} FAILED", r.checks_failed));
 }
@@ -87,16 +87,19 @@ int run_experiment_flown(const ExperimentOptions& options) {
   for (const std::string& name : options.rows) {
     const auto& names = flown_row_names();
     if (std::find(names.begin(), names.end(), name) == names.end()) {
-      throw InputError("experiment flown", "--rows", fmt::format("no row '{}' (rows: {})", name, fmt::join(names, ", ")));
+      throw InputError("experiment flown", "--rows",
+                       fmt::format("no row '{}' (rows: {})", name, fmt::join(names, ", ")));
     }
   }
   const auto earlier_wide = wide_tours_from(options.wide_from, options.iterations);
-  std::cout << fmt::format("# Flown tours: {} seeds, {} solver iterations per search, one solver thread each, {} rows "
-                           "at a time, {:.0f} s cap\n\n",
-                           options.seeds, work.iterations, work.jobs, work.cap_seconds);
+  std::cout << fmt::format(
+      "# Flown tours: {} seeds, {} solver iterations per search, one solver thread each, {} rows "
+      "at a time, {:.0f} s cap\n\n",
+      options.seeds, work.iterations, work.jobs, work.cap_seconds);
   std::ostringstream summary, panel;
   summary << "| scene | row | \\|V\\| | \\|E\\| searched | roadmap walk | flown tour | flown / Dense-wide's flown "
-             "(mean [95% CI], worst) | seconds | targets lost | checks passed |\n|---|---|---|---|---|---|---|---|---|---|\n";
+             "(mean [95% CI], worst) | seconds | targets lost | checks passed "
+             "|\n|---|---|---|---|---|---|---|---|---|---|\n";
   panel << "| scene | budget [s] | ispars-flown | dense-wide | ratio (mean [95% CI], worst) |\n|---|---|---|---|---|\n";
   nlohmann::json results = nlohmann::json::array();
   for (const PaperSetting& ps : paper_settings()) {
@@ -114,7 +117,7 @@ int run_experiment_flown(const ExperimentOptions& options) {
       const std::vector<FlownRow> rows = flown_rows(roadmaps, work, seed, options.rows);
       const FlownRow* wide_row = find_row(rows, "dense-wide");
       const auto earlier = earlier_wide.find({ps.scene, seed});
-      const double wide = wide_row != nullptr          ? wide_row->tour.cost
+      const double wide = wide_row != nullptr             ? wide_row->tour.cost
                           : earlier != earlier_wide.end() ? earlier->second
                                                           : std::nan("");
       for (const FlownRow& row : rows) {
@@ -151,7 +154,8 @@ int run_experiment_flown(const ExperimentOptions& options) {
 }
 
 CLI::App* add_experiment_flown_command(CLI::App& parent, ExperimentOptions& options) {
-  auto* cmd = parent.add_subcommand("flown", "Flown tours: Inspection-SPARS through the tour pipeline against Dense-wide");
+  auto* cmd =
+      parent.add_subcommand("flown", "Flown tours: Inspection-SPARS through the tour pipeline against Dense-wide");
   add_experiment_flags(*cmd, options);
   cmd->add_option("--seeds", options.seeds, "Seeds 1..S")->check(CLI::Range(1, 1000));
   cmd->add_option("--scene", options.only_scenes, "Only these scenes (water_tower, truss_bridge, caric_city)");

@@ -7,12 +7,12 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <map>
+#include <sstream>
 
 #include "commands.hpp"
-#include "flags.hpp"
 #include "experiment_support.hpp"
+#include "flags.hpp"
 #include "ispars/params/input_error.hpp"
 #include "timing.hpp"
 
@@ -53,10 +53,12 @@ int run_experiment_scaling(const ExperimentOptions& options) {
                                          BuildMethod::irisc};
   const SceneConfig base = parse_scene_config(options.scenes_dir + "/" + options.scene + ".yaml");
   // Calibrated as in the paper's density: the water tower's Dense mean degree 7.36 at N = 4000.
-  const double delta = options.delta > 0.0 ? options.delta : calibrate_delta(base, 4000, 2.0 * 14474 / 3933, options.threads);
+  const double delta =
+      options.delta > 0.0 ? options.delta : calibrate_delta(base, 4000, 2.0 * 14474 / 3933, options.threads);
   const std::vector<std::size_t> marks = checkpoints(options.max_samples);
 
-  std::string csv = "method,seed,samples,vertices,edges,pois_covered,pois_covered_root,point_checks,segment_checks,rays,seconds\n";
+  std::string csv =
+      "method,seed,samples,vertices,edges,pois_covered,pois_covered_root,point_checks,segment_checks,rays,seconds\n";
   // (method, N) -> per-seed values of each column
   std::map<std::pair<int, std::size_t>, std::vector<std::array<double, 5>>> table;
   for (std::uint64_t seed = 1; seed <= options.seeds; ++seed) {
@@ -73,9 +75,9 @@ int run_experiment_scaling(const ExperimentOptions& options) {
         const RunFigures f = figures_of(*builder, scene.counts() - start, now_seconds() - t0);
         csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{:.4f}\n", to_string(m), seed, n, f.vertices, f.edges,
                            f.covered, f.covered_root, f.checks.point, f.checks.segment, f.checks.rays, f.seconds);
-        table[{static_cast<int>(m), n}].push_back(
-            {static_cast<double>(f.vertices), static_cast<double>(f.edges), static_cast<double>(f.covered_root),
-             static_cast<double>(f.checks.point + f.checks.segment), f.seconds});
+        table[{static_cast<int>(m), n}].push_back({static_cast<double>(f.vertices), static_cast<double>(f.edges),
+                                                   static_cast<double>(f.covered_root),
+                                                   static_cast<double>(f.checks.point + f.checks.segment), f.seconds});
       }
     }
   }
@@ -107,7 +109,9 @@ int run_experiment_scaling(const ExperimentOptions& options) {
     std::ofstream out(options.csv);
     if (!out) throw InputError(options.csv, "--csv", "cannot open for writing");
     out << csv;
-    std::ofstream(options.csv + ".summary") << "# method blocks: N, mean sd of |V|, |E|, POIs covered (root), checks, seconds\n" << summary;
+    std::ofstream(options.csv + ".summary")
+        << "# method blocks: N, mean sd of |V|, |E|, POIs covered (root), checks, seconds\n"
+        << summary;
   }
   if (!options.png.empty()) {
     const std::string data = options.png + ".dat";

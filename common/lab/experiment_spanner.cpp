@@ -13,12 +13,12 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "flags.hpp"
 #include "experiment_support.hpp"
-#include "ispars/search/graph_search.hpp"
-#include "ispars/params/input_error.hpp"
+#include "flags.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/builders/spars_builder.hpp"
+#include "ispars/params/input_error.hpp"
+#include "ispars/search/graph_search.hpp"
 #include "timing.hpp"
 #include "tour_support.hpp"
 
@@ -128,8 +128,10 @@ int run_experiment_spanner(const ExperimentOptions& options) {
     r["invariant_violations"] = verified.invariant_violations;
     r["geometry_ok"] = verified.geometry_ok();
     r["viewpoint_stretch"] = to_json(stretch);
-    r["random_pairs"] = {{"pairs", options.pairs},          {"measured", rp.measured},
-                         {"disconnected", rp.disconnected}, {"median_ratio", rp.median},
+    r["random_pairs"] = {{"pairs", options.pairs},
+                         {"measured", rp.measured},
+                         {"disconnected", rp.disconnected},
+                         {"median_ratio", rp.median},
                          {"p95_ratio", rp.p95}};
     results.push_back(r);
 
@@ -146,9 +148,10 @@ int run_experiment_spanner(const ExperimentOptions& options) {
         rp.measured, rp.median, rp.p95, rp.disconnected);
   }
   if (options.json) {
-    std::cout << nlohmann::json{{"scene", options.scene}, {"samples", samples}, {"pois", scene.pois().size()},
-                                {"delta", scene.config().dense_delta}, {"Delta", big_delta}, {"t", t},
-                                {"seed", options.build_seed}, {"spanner", results}}
+    std::cout << nlohmann::json{{"scene", options.scene},      {"samples", samples},
+                                {"pois", scene.pois().size()}, {"delta", scene.config().dense_delta},
+                                {"Delta", big_delta},          {"t", t},
+                                {"seed", options.build_seed},  {"spanner", results}}
                      .dump()
               << std::endl;
   }
@@ -174,8 +177,8 @@ CLI::App* add_experiment_spanner_command(CLI::App& parent, ExperimentOptions& op
       ->check(CLI::Range(std::size_t{0}, std::size_t{100'000'000}));
   cmd->add_option("--variants", options.variants,
                   "Rule sets to compare: " + ispars::spars_variant_names() +
-                  ", spars (SPARS: alg1 without the inspection test), or a rule set as "
-                  "--rule-sets of ablation reads it (e.g. stretch+shortcut)")
+                      ", spars (SPARS: alg1 without the inspection test), or a rule set as "
+                      "--rule-sets of ablation reads it (e.g. stretch+shortcut)")
       ->delimiter(',');
   return cmd;
 }

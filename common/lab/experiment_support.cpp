@@ -116,22 +116,37 @@ RunFigures figures_of(const RoadmapBuilder& builder, const CheckCounts& checks, 
 
 nlohmann::json to_json(const SparsAdmissions& a) {
   return {{"admissions",
-           {{"guard", a.guard}, {"bridge", a.bridge}, {"bridge_edge", a.bridge_edge}, {"interface_edge", a.interface_edge},
-            {"interface_vertex", a.interface_vertex}, {"inspection", a.inspection}, {"shortcut_edge", a.shortcut_edge},
-            {"shortcut_path", a.shortcut_path}, {"shortcut_path_vertices", a.shortcut_path_vertices},
-            {"witness_edge", a.witness_edge}, {"witness_vertex", a.witness_vertex}}},
+           {{"guard", a.guard},
+            {"bridge", a.bridge},
+            {"bridge_edge", a.bridge_edge},
+            {"interface_edge", a.interface_edge},
+            {"interface_vertex", a.interface_vertex},
+            {"inspection", a.inspection},
+            {"shortcut_edge", a.shortcut_edge},
+            {"shortcut_path", a.shortcut_path},
+            {"shortcut_path_vertices", a.shortcut_path_vertices},
+            {"witness_edge", a.witness_edge},
+            {"witness_vertex", a.witness_vertex}}},
           {"edges_by_cause",
-           {{"bridge", a.bridge_edges}, {"interface", a.interface_edges}, {"shortcut", a.shortcut_edges},
-            {"join", a.join_edges}, {"witness", a.witness_edges}}}};
+           {{"bridge", a.bridge_edges},
+            {"interface", a.interface_edges},
+            {"shortcut", a.shortcut_edges},
+            {"join", a.join_edges},
+            {"witness", a.witness_edges}}}};
 }
 
 namespace {
 
 nlohmann::json stats_json(const StretchStats& s) {
   const auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json("inf"); };
-  return {{"pairs", s.pairs},     {"disconnected", s.disconnected}, {"median", number(s.median)},
-          {"p95", number(s.p95)}, {"p99", number(s.p99)},           {"max", number(s.max)},
-          {"share_over_t", s.share_over_t}, {"max_excess_Delta", number(s.max_excess)}};
+  return {{"pairs", s.pairs},
+          {"disconnected", s.disconnected},
+          {"median", number(s.median)},
+          {"p95", number(s.p95)},
+          {"p99", number(s.p99)},
+          {"max", number(s.max)},
+          {"share_over_t", s.share_over_t},
+          {"max_excess_Delta", number(s.max_excess)}};
 }
 
 nlohmann::json bin_json(const StretchBin& b) {
@@ -143,10 +158,11 @@ nlohmann::json bin_json(const StretchBin& b) {
 
 std::string stats_text(const StretchStats& s) {
   if (s.pairs == 0) return "no pairs";
-  return fmt::format("{} pairs, median {:.3f}, p95 {:.3f}, p99 {:.3f}, max {:.3f}, {:.1f}% > t, "
-                     "max (d_s - t d) / Delta {:.2f}{}",
-                     s.pairs, s.median, s.p95, s.p99, s.max, 100.0 * s.share_over_t, s.max_excess,
-                     s.disconnected ? fmt::format(", {} not joined in G_s", s.disconnected) : std::string());
+  return fmt::format(
+      "{} pairs, median {:.3f}, p95 {:.3f}, p99 {:.3f}, max {:.3f}, {:.1f}% > t, "
+      "max (d_s - t d) / Delta {:.2f}{}",
+      s.pairs, s.median, s.p95, s.p99, s.max, 100.0 * s.share_over_t, s.max_excess,
+      s.disconnected ? fmt::format(", {} not joined in G_s", s.disconnected) : std::string());
 }
 
 }  // namespace
@@ -189,7 +205,8 @@ const PaperSetting& paper_setting(const std::string& scene) {
   for (const PaperSetting& s : paper_settings()) {
     if (scene == s.scene) return s;
   }
-  throw InputError("experiment", "--scene", "the paper's setting is known for water_tower, truss_bridge and caric_city only");
+  throw InputError("experiment", "--scene",
+                   "the paper's setting is known for water_tower, truss_bridge and caric_city only");
 }
 
 }  // namespace ispars::lab

@@ -9,8 +9,8 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "flags.hpp"
 #include "experiment_support.hpp"
+#include "flags.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
@@ -35,15 +35,24 @@ struct TableScene {
 
 const std::vector<TableScene>& table_scenes() {
   static const std::vector<TableScene> scenes{
-      {"water_tower", 4000, 100, 2.0 * 14474 / 3933,
+      {"water_tower",
+       4000,
+       100,
+       2.0 * 14474 / 3933,
        {{"dense", "3933 +- 17", "14474 +- 198", "73.8 +- 4.1"},
         {"ispars", "476 +- 10", "2086 +- 14", "76.2 +- 3.6"},
         {"irisc", "843 +- 24", "3168 +- 165", "70.8 +- 3.2"}}},
-      {"truss_bridge", 5000, 500, 2.0 * 27508 / 4955,
+      {"truss_bridge",
+       5000,
+       500,
+       2.0 * 27508 / 4955,
        {{"dense", "4955 +- 11", "27508 +- 457", "404.2 +- 6.1"},
         {"ispars", "875 +- 18", "3589 +- 42", "404.8 +- 6.1"},
         {"irisc", "1199 +- 28", "3935 +- 103", "381.7 +- 23.0"}}},
-      {"caric_city", 7000, 500, 2.0 * 16891 / 6391,
+      {"caric_city",
+       7000,
+       500,
+       2.0 * 16891 / 6391,
        {{"dense", "6391 +- 40", "16891 +- 281", "225.5 +- 11.6"},
         {"ispars", "1425 +- 29", "3165 +- 61", "249.8 +- 8.7"},
         {"irisc", "1462 +- 48", "3101 +- 224", "192.7 +- 5.0"}}},
@@ -78,8 +87,7 @@ int run_experiment_table(const ExperimentOptions& options) {
     std::cout << fmt::format(
         "Parameter sets: physical delta = {:.3f}, Delta = {:.3f} (deploy/scenes); calibrated delta = {:.3f}, "
         "Delta = {:.3f} (dense mean degree {:.2f} at N = {}, seed 1, as in the paper). t = {}.\n\n",
-        base.dense_delta, base.sparse_delta, calibrated, 1.5 * calibrated, ts.paper_degree, ts.samples,
-        base.stretch);
+        base.dense_delta, base.sparse_delta, calibrated, 1.5 * calibrated, ts.paper_degree, ts.samples, base.stretch);
     std::cout << "| parameters | method | \\|V\\| | \\|E\\| | covered POIs (root component) | covered POIs (all) "
                  "| invariant violations | seconds |\n|---|---|---|---|---|---|---|---|\n";
     for (const auto& [label, delta] : {std::pair<const char*, double>{"physical", base.dense_delta},
@@ -119,12 +127,21 @@ int run_experiment_table(const ExperimentOptions& options) {
         }
         const std::string viol = violations.count(m) ? mean_sd_cell(violations[m], 1) : "-";
         std::cout << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.2f} |\n", label, m, mean_sd_cell(v, 0),
-                                 mean_sd_cell(e, 0), mean_sd_cell(root, 1), mean_sd_cell(all, 1), viol, mean_sd(secs).mean);
-        results.push_back({{"scene", ts.name}, {"parameters", label}, {"delta", delta}, {"method", m},
-                           {"samples", ts.samples}, {"pois", ts.pois}, {"vertices", v}, {"edges", e},
-                           {"covered_root", root}, {"covered", all},
-                           {"invariant_violations", violations.count(m) ? nlohmann::json(violations[m]) : nlohmann::json()},
-                           {"seconds", secs}});
+                                 mean_sd_cell(e, 0), mean_sd_cell(root, 1), mean_sd_cell(all, 1), viol,
+                                 mean_sd(secs).mean);
+        results.push_back(
+            {{"scene", ts.name},
+             {"parameters", label},
+             {"delta", delta},
+             {"method", m},
+             {"samples", ts.samples},
+             {"pois", ts.pois},
+             {"vertices", v},
+             {"edges", e},
+             {"covered_root", root},
+             {"covered", all},
+             {"invariant_violations", violations.count(m) ? nlohmann::json(violations[m]) : nlohmann::json()},
+             {"seconds", secs}});
       }
     }
     for (const PaperRow& row : ts.paper) {

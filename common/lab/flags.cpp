@@ -1,15 +1,16 @@
 #include "flags.hpp"
 
 #include "commands.hpp"
-#include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/params/cli_archive.hpp"
+#include "ispars/roadmap/build_recipe.hpp"
 
 namespace ispars::lab {
 
 CLI::Validator build_method_check() {
   return CLI::Validator(
       [](std::string& text) {
-        return parse_build_method(text) ? std::string() : "unknown method '" + text + "' (" + build_method_names() + ")";
+        return parse_build_method(text) ? std::string()
+                                        : "unknown method '" + text + "' (" + build_method_names() + ")";
       },
       "dense|spars|ispars|irisc|ispars2");
 }

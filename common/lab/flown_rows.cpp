@@ -83,7 +83,11 @@ std::vector<RowInput> row_inputs(const SeedRoadmaps& r) {
 SeedRoadmaps build_seed_roadmaps(const SceneConfig& base, const PaperSetting& ps, std::uint64_t seed, double delta,
                                  unsigned threads) {
   SeedRoadmaps r{Scene::build(scene_variant(base, ps.pois, seed, delta)),
-                 Scene::build(scene_variant(base, ps.pois, seed, 3.0 * delta)), nullptr, nullptr, nullptr, ps.samples};
+                 Scene::build(scene_variant(base, ps.pois, seed, 3.0 * delta)),
+                 nullptr,
+                 nullptr,
+                 nullptr,
+                 ps.samples};
   BuildOptions build;
   build.seed = seed;
   build.threads = threads;
@@ -100,8 +104,9 @@ SeedRoadmaps build_seed_roadmaps(const SceneConfig& base, const PaperSetting& ps
 const std::vector<std::string>& flown_row_names() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> out;
-    for (const char* name : {"ispars", "ispars-flown", "dense-wide", "dense-wide-refined", "dense-wide/ispars-viewpoints",
-                             "random@|V|", "ispars-flown/dense-samples", "ispars-flown/stream"}) {
+    for (const char* name :
+         {"ispars", "ispars-flown", "dense-wide", "dense-wide-refined", "dense-wide/ispars-viewpoints", "random@|V|",
+          "ispars-flown/dense-samples", "ispars-flown/stream"}) {
       out.emplace_back(name);
     }
     return out;
@@ -117,10 +122,12 @@ std::vector<FlownRow> flown_rows(const SeedRoadmaps& roadmaps, const SolverWork&
   const std::vector<const InspectionGraph*> graphs{&inputs[0].graph, &inputs[2].graph, &inputs[4].graph};
   const std::vector<PoiId> common = common_targets(graphs);
   if (!only.empty()) {
-    std::erase_if(inputs, [&](const RowInput& in) { return std::find(only.begin(), only.end(), in.name) == only.end(); });
+    std::erase_if(inputs,
+                  [&](const RowInput& in) { return std::find(only.begin(), only.end(), in.name) == only.end(); });
   }
   std::vector<FlownRow> rows(inputs.size());
-  run_jobs(inputs.size(), work.jobs, [&](std::size_t i) { rows[i] = run_row(roadmaps, inputs[i], common, work, seed); });
+  run_jobs(inputs.size(), work.jobs,
+           [&](std::size_t i) { rows[i] = run_row(roadmaps, inputs[i], common, work, seed); });
   return rows;
 }
 
@@ -145,8 +152,8 @@ std::pair<double, double> equal_time(const SeedRoadmaps& roadmaps, double budget
 std::string ratio_interval_cell(const std::vector<double>& ratios) {
   if (ratios.empty()) return "-";
   // Student's t at 97.5% for n - 1 degrees of freedom (n = 2 .. 21).
-  static const double t975[] = {0.0, 0.0, 12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262,
-                                2.228, 2.201, 2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086};
+  static const double t975[] = {0.0,   0.0,   12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262,
+                                2.228, 2.201, 2.179,  2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086};
   const MeanSd ms = mean_sd(ratios);
   const double t = ratios.size() < std::size(t975) ? t975[ratios.size()] : 2.0;
   const double half = ratios.size() > 1 ? t * ms.sd / std::sqrt(static_cast<double>(ratios.size())) : 0.0;
@@ -171,7 +178,8 @@ std::string equal_time_row(const std::string& scene, double budget, const std::v
 
 nlohmann::json row_json(const std::string& scene, std::uint64_t seed, const FlownRow& row) {
   nlohmann::json stages = nlohmann::json::array();
-  for (const FlownStage& s : row.tour.stages) stages.push_back({{"stage", s.name}, {"cost", s.cost}, {"seconds", s.seconds}});
+  for (const FlownStage& s : row.tour.stages)
+    stages.push_back({{"stage", s.name}, {"cost", s.cost}, {"seconds", s.seconds}});
   return {{"scene", scene},
           {"seed", seed},
           {"row", row.name},

@@ -22,8 +22,8 @@ namespace ispars::lab {
 
 /// The roadmaps of one seed, calibrated as Table II.
 struct SeedRoadmaps {
-  Scene scene;       ///< delta calibrated, Delta = 1.5 delta: Inspection-SPARS's
-  Scene wide_scene;  ///< the same with delta = 2 Delta: Dense-wide's (the same geometry and POIs)
+  Scene scene;                           ///< delta calibrated, Delta = 1.5 delta: Inspection-SPARS's
+  Scene wide_scene;                      ///< the same with delta = 2 Delta: Dense-wide's (the same geometry and POIs)
   std::unique_ptr<SparsBuilder> ispars;  ///< the default rules
   std::unique_ptr<DenseBuilder> wide;    ///< the same stream joined within 2 Delta
   std::unique_ptr<DenseBuilder> random;  ///< the stream's first samples joined within 2 Delta, |V| = ispars's
@@ -41,7 +41,7 @@ struct FlownRow {
   std::size_t targets = 0;       ///< Targets toured.
   std::size_t targets_lost = 0;  ///< Of the common targets, those this roadmap does not reach.
   FlownTour tour;
-  double seconds = 0.0;          ///< The pipeline's wall time.
+  double seconds = 0.0;  ///< The pipeline's wall time.
 };
 
 /// Row indices in flown_row_names().
@@ -55,8 +55,8 @@ inline constexpr std::size_t kFlownRow = 1, kDenseWideRow = 2;
 [[nodiscard]] const std::vector<std::string>& flown_row_names();
 
 /// The rows named in `only` (every row when empty), in flown_row_names()'s order.
-[[nodiscard]] std::vector<FlownRow> flown_rows(const SeedRoadmaps& roadmaps, const SolverWork& work,
-                                               std::uint64_t seed, std::span<const std::string> only = {});
+[[nodiscard]] std::vector<FlownRow> flown_rows(const SeedRoadmaps& roadmaps, const SolverWork& work, std::uint64_t seed,
+                                               std::span<const std::string> only = {});
 
 /// The best flown tour of ispars-flown and of Dense-wide (shortcut) within `budget` seconds of
 /// wall clock on one thread each (NaN where no tour came by then).

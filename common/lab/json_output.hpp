@@ -10,9 +10,7 @@ namespace ispars::lab {
 
 inline nlohmann::json to_json(const Vec3& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); }
 
-inline nlohmann::json to_json(const Aabb& box) {
-  return {{"min", to_json(box.min)}, {"max", to_json(box.max)}};
-}
+inline nlohmann::json to_json(const Aabb& box) { return {{"min", to_json(box.min)}, {"max", to_json(box.max)}}; }
 
 inline nlohmann::json to_json(const CheckCounts& c) {
   return {{"point", c.point}, {"segment", c.segment}, {"rays", c.rays}};

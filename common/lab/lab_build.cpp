@@ -7,9 +7,10 @@ namespace ispars::lab {
 
 void add_request_flags(CLI::App& command, std::string& method, std::string& variant, BuildRequest& request) {
   command.add_option("--method", method, build_method_names())->check(build_method_check());
-  command.add_option("--variant", variant,
-                     "spars, ispars: stretch (default: bounds routes between nearby sparse vertices) or alg1 "
-                     "(the paper's Alg. 1 read literally)")
+  command
+      .add_option("--variant", variant,
+                  "spars, ispars: stretch (default: bounds routes between nearby sparse vertices) or alg1 "
+                  "(the paper's Alg. 1 read literally)")
       ->check(spars_variant_check());
   params::add_flag(command, kSamples, request.samples);
   params::add_flag(command, kSeed, request.seed);

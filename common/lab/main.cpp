@@ -6,8 +6,8 @@
 #include <iostream>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "commands.hpp"
 #include "ispars/params/input_error.hpp"
@@ -31,8 +31,8 @@ struct Lab {
   void add(CLI::App& app) {
     auto* scene = app.add_subcommand("scene", "Scene files")->require_subcommand(1);
     on(add_scene_info_command(*scene, info), [this] { return run_scene_info(info); });
-    auto* bench = app.add_subcommand("bench", "Benchmarks that print figures (JSON with --json)")
-                      ->require_subcommand(1);
+    auto* bench =
+        app.add_subcommand("bench", "Benchmarks that print figures (JSON with --json)")->require_subcommand(1);
     on(add_bench_geometry_command(*bench, geometry), [this] { return run_bench_geometry(geometry); });
     on(add_bench_build_command(*bench, bench_build), [this] { return run_bench_build(bench_build); });
     on(add_bench_tour_command(*bench, bench_tour), [this] { return run_bench_tour(bench_tour); });

@@ -5,9 +5,9 @@
 
 #include <chrono>
 #include <cmath>
-#include <optional>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "commands.hpp"
 #include "flags.hpp"
@@ -125,10 +125,10 @@ int run_render(const RenderCommandOptions& options) {
                              options.out, options.width, options.height, render_s, load_s, c.eye.x(), c.eye.y(),
                              c.eye.z());
     if (result.roadmap_edges_drawn < roadmap_edges || result.dense_edges_drawn < dense_edges) {
-      std::cout << fmt::format("drew an evenly spread subset: {} of {} roadmap edges, {} of {} dense edges "
-                               "(--max-edges {})\n",
-                               result.roadmap_edges_drawn, roadmap_edges, result.dense_edges_drawn, dense_edges,
-                               options.max_edges);
+      std::cout << fmt::format(
+          "drew an evenly spread subset: {} of {} roadmap edges, {} of {} dense edges "
+          "(--max-edges {})\n",
+          result.roadmap_edges_drawn, roadmap_edges, result.dense_edges_drawn, dense_edges, options.max_edges);
     }
   }
   return 0;

@@ -83,14 +83,13 @@ int run_scene_info(const SceneInfoOptions& options) {
       "checks        {} point, {} segment, {} rays\n"
       "time          load {:.3f} s, sampling {:.3f} s\n",
       config.name, config.source, out["mesh"].get<std::string>(), scene.mesh().triangle_count(),
-      scene.mesh().surface_area(), mb.min.x(), mb.min.y(), mb.min.z(), mb.max.x(), mb.max.y(),
-      mb.max.z(), config.bounds.min.x(), config.bounds.min.y(), config.bounds.min.z(),
-      config.bounds.max.x(), config.bounds.max.y(), config.bounds.max.z(), 100.0 * valid_fraction,
-      config.robot_radius, config.sensor_range, config.dense_delta, config.sparse_delta,
-      config.stretch, config.root.x(), config.root.y(), config.root.z(),
-      root_distance - config.robot_radius, root_chi.size(), scene.pois().size(), seen_count,
-      options.samples, 100.0 * static_cast<double>(seen_count) / static_cast<double>(scene.pois().size()),
-      scene.counts().point, scene.counts().segment, scene.counts().rays, load_seconds, sample_seconds);
+      scene.mesh().surface_area(), mb.min.x(), mb.min.y(), mb.min.z(), mb.max.x(), mb.max.y(), mb.max.z(),
+      config.bounds.min.x(), config.bounds.min.y(), config.bounds.min.z(), config.bounds.max.x(), config.bounds.max.y(),
+      config.bounds.max.z(), 100.0 * valid_fraction, config.robot_radius, config.sensor_range, config.dense_delta,
+      config.sparse_delta, config.stretch, config.root.x(), config.root.y(), config.root.z(),
+      root_distance - config.robot_radius, root_chi.size(), scene.pois().size(), seen_count, options.samples,
+      100.0 * static_cast<double>(seen_count) / static_cast<double>(scene.pois().size()), scene.counts().point,
+      scene.counts().segment, scene.counts().rays, load_seconds, sample_seconds);
   return 0;
 }
 

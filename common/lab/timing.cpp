@@ -27,8 +27,7 @@ double median(std::vector<double> values) {
   return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-double median_ns_per_call(std::size_t count, std::size_t batch,
-                          const std::function<void(std::size_t)>& call) {
+double median_ns_per_call(std::size_t count, std::size_t batch, const std::function<void(std::size_t)>& call) {
   std::vector<double> per_call;
   for (std::size_t start = 0; start < count; start += batch) {
     const std::size_t end = std::min(count, start + batch);

@@ -13,11 +13,11 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "ispars/tour/gip_solver.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "ispars/scene/scene.hpp"
 #include "ispars/tour/flown_tour.hpp"
+#include "ispars/tour/gip_solver.hpp"
 #include "ispars/tour/tour_shortcut.hpp"
 #include "json_output.hpp"
 
@@ -57,7 +57,8 @@ std::optional<FlownTour> fly_with_scene(const TourCommandOptions& options, const
   if (options.scene.empty()) return std::nullopt;
   const Scene scene = Scene::build(parse_scene_config(options.scene));
   if (input.positions.empty() || (input.positions[0] - scene.config().root).norm() > 1e-6) {
-    throw InputError(options.scene, "--scene", "its root is not the roadmap's root (vertex 0): not the roadmap's scene");
+    throw InputError(options.scene, "--scene",
+                     "its root is not the roadmap's root (vertex 0): not the roadmap's scene");
   }
   FlownTourOptions flown;
   flown.search = search;
@@ -121,36 +122,37 @@ int run_tour(const TourCommandOptions& options) {
   nlohmann::json bound_trace = nlohmann::json::array();
   for (const auto& [t, b] : r.bound_trace) bound_trace.push_back({t, b});
   const nlohmann::json lower = r.lower_bound ? nlohmann::json(*r.lower_bound) : nlohmann::json();
-  const nlohmann::json out = {{"cost", r.tour.cost},
-                              {"covered", r.tour.covered.size()},
-                              {"targets", r.targets.size()},
-                              {"seconds", r.seconds},
-                              {"lower_bound", lower},
-                              {"valid", r.validation.valid()},
-                              {"trace", trace},
-                              {"bound_trace", bound_trace},
-                              {"bound_complete", r.bound_complete},
-                              {"bound_rounds", r.bound_rounds},
-                              {"bound_cuts", r.bound_cuts},
-                              {"bound_dropped", r.bound_dropped},
-                              {"bound_peak_nonzeros", r.bound_peak_nonzeros},
-                              {"bound_note", r.bound_note},
-                              {"gap", r.lower_bound && r.tour.cost > 0 ? (r.tour.cost - *r.lower_bound) / r.tour.cost : 0.0},
-                              {"walk_steps", r.tour.walk.size() - 1},
-                              {"shortcut_cost", shortcut ? nlohmann::json(shortcut->cost) : nlohmann::json()},
-                              {"shortcut_steps", shortcut ? shortcut->stops.size() - 1 : 0},
-                              {"shortcut_segments_checked", shortcut ? shortcut->segments_checked : 0},
-                              {"flown_cost", flown ? nlohmann::json(flown->cost) : nlohmann::json()},
-                              {"flown_steps", flown ? flown->stops.size() - 1 : 0},
-                              {"stages", flown ? stages_json(flown->stages) : nlohmann::json::array()},
-                              {"graph_vertices", flown ? flown->graph_vertices : input.graph.vertex_count()},
-                              {"graph_edges", flown ? flown->graph_edges : input.graph.edge_count()},
-                              {"candidates", r.candidates},
-                              {"iterations", r.iterations},
-                              {"vertices", input.graph.vertex_count()},
-                              {"edges", input.graph.edge_count()}};
+  const nlohmann::json out = {
+      {"cost", r.tour.cost},
+      {"covered", r.tour.covered.size()},
+      {"targets", r.targets.size()},
+      {"seconds", r.seconds},
+      {"lower_bound", lower},
+      {"valid", r.validation.valid()},
+      {"trace", trace},
+      {"bound_trace", bound_trace},
+      {"bound_complete", r.bound_complete},
+      {"bound_rounds", r.bound_rounds},
+      {"bound_cuts", r.bound_cuts},
+      {"bound_dropped", r.bound_dropped},
+      {"bound_peak_nonzeros", r.bound_peak_nonzeros},
+      {"bound_note", r.bound_note},
+      {"gap", r.lower_bound && r.tour.cost > 0 ? (r.tour.cost - *r.lower_bound) / r.tour.cost : 0.0},
+      {"walk_steps", r.tour.walk.size() - 1},
+      {"shortcut_cost", shortcut ? nlohmann::json(shortcut->cost) : nlohmann::json()},
+      {"shortcut_steps", shortcut ? shortcut->stops.size() - 1 : 0},
+      {"shortcut_segments_checked", shortcut ? shortcut->segments_checked : 0},
+      {"flown_cost", flown ? nlohmann::json(flown->cost) : nlohmann::json()},
+      {"flown_steps", flown ? flown->stops.size() - 1 : 0},
+      {"stages", flown ? stages_json(flown->stages) : nlohmann::json::array()},
+      {"graph_vertices", flown ? flown->graph_vertices : input.graph.vertex_count()},
+      {"graph_edges", flown ? flown->graph_edges : input.graph.edge_count()},
+      {"candidates", r.candidates},
+      {"iterations", r.iterations},
+      {"vertices", input.graph.vertex_count()},
+      {"edges", input.graph.edge_count()}};
   if (!options.out.empty()) {
-    nlohmann::json file = {{"cost", r.tour.cost}, {"walk", r.tour.walk}, {"covered", r.tour.covered},
+    nlohmann::json file = {{"cost", r.tour.cost},  {"walk", r.tour.walk},           {"covered", r.tour.covered},
                            {"targets", r.targets}, {"valid", r.validation.valid()}, {"trace", trace}};
     if (!input.positions.empty()) {
       nlohmann::json positions = nlohmann::json::array();
@@ -180,18 +182,19 @@ int run_tour(const TourCommandOptions& options) {
     if (flown) {
       std::cout << fmt::format("shortcut tour: cost {:.6g} ({:.1f}% shorter), {} straight steps\n", shortcut->cost,
                                100.0 * (1.0 - shortcut->cost / r.tour.cost), shortcut->stops.size() - 1);
-      std::cout << fmt::format("flown tour: cost {:.6g} ({:.1f}% shorter than the walk), {} straight steps, searched "
-                               "last on {} vertices and {} edges, {} segments checked\n",
-                               flown->cost, 100.0 * (1.0 - flown->cost / r.tour.cost), flown->stops.size() - 1,
-                               flown->graph_vertices, flown->graph_edges, flown->segments_checked);
+      std::cout << fmt::format(
+          "flown tour: cost {:.6g} ({:.1f}% shorter than the walk), {} straight steps, searched "
+          "last on {} vertices and {} edges, {} segments checked\n",
+          flown->cost, 100.0 * (1.0 - flown->cost / r.tour.cost), flown->stops.size() - 1, flown->graph_vertices,
+          flown->graph_edges, flown->segments_checked);
     }
     if (r.lower_bound) {
       std::cout << fmt::format("proven lower bound {:.6g} (gap {:.1f}%){}\n", *r.lower_bound,
                                100.0 * (r.tour.cost - *r.lower_bound) / r.tour.cost,
                                r.bound_complete ? ", the LP solved over all its cuts"
-                               : !r.bound_note.empty() ? "; no LP bound: " + r.bound_note
-                                                        : fmt::format(", LP after {} rounds and {} cuts", r.bound_rounds,
-                                                                      r.bound_cuts));
+                               : !r.bound_note.empty()
+                                   ? "; no LP bound: " + r.bound_note
+                                   : fmt::format(", LP after {} rounds and {} cuts", r.bound_rounds, r.bound_cuts));
     }
     std::cout << fmt::format("{} improvements in {:.2f} s, {} search iterations\n", r.trace.size(), r.seconds,
                              r.iterations);
@@ -204,11 +207,13 @@ CLI::App* add_tour_command(CLI::App& parent, TourCommandOptions& options) {
   cmd->add_option("roadmap", options.roadmap, "Roadmap JSON (ispars-lab build --out, ispars snapshot --out)");
   cmd->add_option("--graph", options.graph, "Which graph of the file")->check(CLI::IsMember({"roadmap", "dense"}));
   cmd->add_option("--iris", options.iris, "IRIS files PREFIX_vertex and PREFIX_edge instead of a roadmap file");
-  cmd->add_flag("--all-edges", options.all_edges, "IRIS: keep edges marked invalid (as the published solver read them)");
+  cmd->add_flag("--all-edges", options.all_edges,
+                "IRIS: keep edges marked invalid (as the published solver read them)");
   cmd->add_option("--budget", options.budget, "Seconds of search")->required()->check(CLI::Range(0.0, 1e6));
   cmd->add_option("--seed", options.seed, "Seed");
   cmd->add_option("--threads", options.threads, "Search threads (one chain each)")->check(CLI::Range(1u, 64u));
-  cmd->add_option("--iterations", options.iterations, "Stop after this many search iterations per thread (deterministic)");
+  cmd->add_option("--iterations", options.iterations,
+                  "Stop after this many search iterations per thread (deterministic)");
   cmd->add_option("--targets", options.targets, "A file of target POI ids (default: all seen from the root)");
   cmd->add_option("--bound", options.bound, "lp: prove a lower bound by linear programming beside the search; simple")
       ->check(CLI::IsMember({"lp", "simple"}));

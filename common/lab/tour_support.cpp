@@ -44,7 +44,6 @@ InspectionGraph with_viewpoints(const Roadmap& dense, std::span<const VertexId> 
                                      dense.visibility_table().poi_count());
 }
 
-
 std::vector<GipResult> solve_each(std::span<const InspectionGraph* const> graphs, const std::vector<PoiId>& targets,
                                   std::uint64_t seed, const SolverWork& work) {
   std::vector<GipResult> results(graphs.size());
@@ -63,7 +62,7 @@ std::vector<GipResult> solve_each(std::span<const InspectionGraph* const> graphs
 }
 
 std::vector<TourBoundResult> bound_each(std::span<const InspectionGraph* const> graphs,
-                                       const std::vector<PoiId>& targets, double seconds, unsigned jobs) {
+                                        const std::vector<PoiId>& targets, double seconds, unsigned jobs) {
   std::vector<TourBoundResult> results(graphs.size());
   run_jobs(graphs.size(), jobs, [&](std::size_t i) {
     TourBoundOptions options;

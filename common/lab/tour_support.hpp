@@ -13,9 +13,9 @@
 #include <thread>
 #include <vector>
 
-#include "ispars/tour/gip_solver.hpp"
-#include "ispars/roadmap/inspection_graph.hpp"
 #include "ispars/builders/spars_builder.hpp"
+#include "ispars/roadmap/inspection_graph.hpp"
+#include "ispars/tour/gip_solver.hpp"
 #include "ispars/tour/tour_bound.hpp"
 
 namespace ispars::lab {
@@ -77,8 +77,7 @@ struct SolverWork {
 /// The LP lower bound (tour_bound.hpp) of each graph for `targets`, `seconds` of wall clock
 /// each, `jobs` graphs at a time. result[i] belongs to graphs[i].
 [[nodiscard]] std::vector<TourBoundResult> bound_each(std::span<const InspectionGraph* const> graphs,
-                                                      const std::vector<PoiId>& targets, double seconds,
-                                                      unsigned jobs);
+                                                      const std::vector<PoiId>& targets, double seconds, unsigned jobs);
 
 /// True when the run stopped at the wall-clock cap, before its iteration cap.
 [[nodiscard]] bool hit_time_cap(const GipResult& result, const SolverWork& work);

@@ -18,14 +18,16 @@ using Slot = std::variant<double*, std::uint64_t*>;
 // The message's member of each override, in RecipeOverrides' declaration order: bit i of
 // `present` is the i-th.
 std::array<Slot, 6> slots(msg::RecipeOverrides& m) {
-  return {&m.dense_delta(), &m.sparse_delta(), &m.stretch(), &m.stretch_slack(), &m.stretch_slack_after(), &m.p_accept()};
+  return {&m.dense_delta(),   &m.sparse_delta(),        &m.stretch(),
+          &m.stretch_slack(), &m.stretch_slack_after(), &m.p_accept()};
 }
 
 // Calls f(member, slot, bit) for each declared override and its message member.
 template <class Overrides, class F>
 void each_override(Overrides& overrides, msg::RecipeOverrides& m, F&& f) {
   const std::array<Slot, 6> wire = slots(m);
-  if (params::field_count<RecipeOverrides>() != wire.size()) throw std::logic_error("an override without its wire member");
+  if (params::field_count<RecipeOverrides>() != wire.size())
+    throw std::logic_error("an override without its wire member");
   std::uint32_t bit = 0;
   params::visit(overrides, [&](const auto&, auto& member) {
     using T = params::value_type_of<decltype(member)>;

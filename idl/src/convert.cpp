@@ -85,34 +85,56 @@ RoadmapBatch from_message(const msg::UpdateBatch& m) {
 
 std::string to_string(msg::SceneState state) {
   switch (state) {
-    case msg::SCENE_EMPTY: return "empty";
-    case msg::SCENE_IDLE: return "idle";
-    case msg::SCENE_QUEUED: return "queued";
-    case msg::SCENE_REPLAYING: return "replaying";
-    case msg::SCENE_BUILDING: return "building";
-    case msg::SCENE_FAILED: return "failed";
-    case msg::SCENE_UNLOADED: return "unloaded";
+    case msg::SCENE_EMPTY:
+      return "empty";
+    case msg::SCENE_IDLE:
+      return "idle";
+    case msg::SCENE_QUEUED:
+      return "queued";
+    case msg::SCENE_REPLAYING:
+      return "replaying";
+    case msg::SCENE_BUILDING:
+      return "building";
+    case msg::SCENE_FAILED:
+      return "failed";
+    case msg::SCENE_UNLOADED:
+      return "unloaded";
   }
   return "unknown";
 }
 
 std::string to_string(msg::Operation operation) {
   switch (operation) {
-    case msg::LIST_SCENES: return "list";
-    case msg::LOAD_SCENE: return "load";
-    case msg::UNLOAD_SCENE: return "unload";
-    case msg::BUILD: return "build";
-    case msg::EXTEND: return "extend";
-    case msg::CANCEL: return "cancel";
-    case msg::STATS: return "stats";
-    case msg::PATH: return "path";
-    case msg::SNAPSHOT: return "snapshot";
-    case msg::DROP: return "drop";
-    case msg::VERIFY: return "verify";
-    case msg::TOUR: return "tour";
-    case msg::TASK_ADD: return "task add";
-    case msg::TASK_LIST: return "task list";
-    case msg::TASK_REMOVE: return "task remove";
+    case msg::LIST_SCENES:
+      return "list";
+    case msg::LOAD_SCENE:
+      return "load";
+    case msg::UNLOAD_SCENE:
+      return "unload";
+    case msg::BUILD:
+      return "build";
+    case msg::EXTEND:
+      return "extend";
+    case msg::CANCEL:
+      return "cancel";
+    case msg::STATS:
+      return "stats";
+    case msg::PATH:
+      return "path";
+    case msg::SNAPSHOT:
+      return "snapshot";
+    case msg::DROP:
+      return "drop";
+    case msg::VERIFY:
+      return "verify";
+    case msg::TOUR:
+      return "tour";
+    case msg::TASK_ADD:
+      return "task add";
+    case msg::TASK_LIST:
+      return "task list";
+    case msg::TASK_REMOVE:
+      return "task remove";
   }
   return "unknown";
 }
@@ -120,21 +142,51 @@ std::string to_string(msg::Operation operation) {
 msg::ReplyBody empty_reply_body(msg::Operation operation) {
   msg::ReplyBody body;
   switch (operation) {
-    case msg::LIST_SCENES: body.list_scenes(msg::SceneList{}); break;
-    case msg::LOAD_SCENE: body.load_scene(msg::NoArgs{}); break;
-    case msg::UNLOAD_SCENE: body.unload_scene(msg::NoArgs{}); break;
-    case msg::BUILD: body.build(msg::NoArgs{}); break;
-    case msg::EXTEND: body.extend(msg::NoArgs{}); break;
-    case msg::CANCEL: body.cancel(msg::NoArgs{}); break;
-    case msg::STATS: body.stats(msg::NoArgs{}); break;
-    case msg::PATH: body.path(msg::PathResult{}); break;
-    case msg::SNAPSHOT: body.snapshot(msg::SnapshotChunk{}); break;
-    case msg::DROP: body.drop(msg::NoArgs{}); break;
-    case msg::VERIFY: body.verify(msg::VerifyResult{}); break;
-    case msg::TOUR: body.tour(msg::TourResult{}); break;
-    case msg::TASK_ADD: body.task_add(msg::NoArgs{}); break;
-    case msg::TASK_LIST: body.task_list(msg::TaskList{}); break;
-    case msg::TASK_REMOVE: body.task_remove(msg::NoArgs{}); break;
+    case msg::LIST_SCENES:
+      body.list_scenes(msg::SceneList{});
+      break;
+    case msg::LOAD_SCENE:
+      body.load_scene(msg::NoArgs{});
+      break;
+    case msg::UNLOAD_SCENE:
+      body.unload_scene(msg::NoArgs{});
+      break;
+    case msg::BUILD:
+      body.build(msg::NoArgs{});
+      break;
+    case msg::EXTEND:
+      body.extend(msg::NoArgs{});
+      break;
+    case msg::CANCEL:
+      body.cancel(msg::NoArgs{});
+      break;
+    case msg::STATS:
+      body.stats(msg::NoArgs{});
+      break;
+    case msg::PATH:
+      body.path(msg::PathResult{});
+      break;
+    case msg::SNAPSHOT:
+      body.snapshot(msg::SnapshotChunk{});
+      break;
+    case msg::DROP:
+      body.drop(msg::NoArgs{});
+      break;
+    case msg::VERIFY:
+      body.verify(msg::VerifyResult{});
+      break;
+    case msg::TOUR:
+      body.tour(msg::TourResult{});
+      break;
+    case msg::TASK_ADD:
+      body.task_add(msg::NoArgs{});
+      break;
+    case msg::TASK_LIST:
+      body.task_list(msg::TaskList{});
+      break;
+    case msg::TASK_REMOVE:
+      body.task_remove(msg::NoArgs{});
+      break;
   }
   return body;
 }
@@ -142,14 +194,29 @@ msg::ReplyBody empty_reply_body(msg::Operation operation) {
 msg::QueryArgs query_args(msg::Operation operation) {
   msg::QueryArgs args;
   switch (operation) {
-    case msg::LIST_SCENES: args.list_scenes(msg::NoArgs{}); break;
-    case msg::STATS: args.stats(msg::NoArgs{}); break;
-    case msg::PATH: args.path(msg::PathArgs{}); break;
-    case msg::SNAPSHOT: args.snapshot(msg::SnapshotArgs{}); break;
-    case msg::VERIFY: args.verify(msg::NoArgs{}); break;
-    case msg::TOUR: args.tour(msg::TourArgs{}); break;
-    case msg::TASK_LIST: args.task_list(msg::NoArgs{}); break;
-    default: throw std::invalid_argument(to_string(operation) + " is not a query");
+    case msg::LIST_SCENES:
+      args.list_scenes(msg::NoArgs{});
+      break;
+    case msg::STATS:
+      args.stats(msg::NoArgs{});
+      break;
+    case msg::PATH:
+      args.path(msg::PathArgs{});
+      break;
+    case msg::SNAPSHOT:
+      args.snapshot(msg::SnapshotArgs{});
+      break;
+    case msg::VERIFY:
+      args.verify(msg::NoArgs{});
+      break;
+    case msg::TOUR:
+      args.tour(msg::TourArgs{});
+      break;
+    case msg::TASK_LIST:
+      args.task_list(msg::NoArgs{});
+      break;
+    default:
+      throw std::invalid_argument(to_string(operation) + " is not a query");
   }
   return args;
 }
@@ -157,15 +224,32 @@ msg::QueryArgs query_args(msg::Operation operation) {
 msg::ChangeArgs change_args(msg::Operation operation) {
   msg::ChangeArgs args;
   switch (operation) {
-    case msg::LOAD_SCENE: args.load_scene(msg::NoArgs{}); break;
-    case msg::UNLOAD_SCENE: args.unload_scene(msg::NoArgs{}); break;
-    case msg::BUILD: args.build(msg::BuildArgs{}); break;
-    case msg::EXTEND: args.extend(msg::ExtendArgs{}); break;
-    case msg::CANCEL: args.cancel(msg::NoArgs{}); break;
-    case msg::DROP: args.drop(msg::NoArgs{}); break;
-    case msg::TASK_ADD: args.task_add(msg::TaskAddArgs{}); break;
-    case msg::TASK_REMOVE: args.task_remove(msg::TaskRemoveArgs{}); break;
-    default: throw std::invalid_argument(to_string(operation) + " is not a change");
+    case msg::LOAD_SCENE:
+      args.load_scene(msg::NoArgs{});
+      break;
+    case msg::UNLOAD_SCENE:
+      args.unload_scene(msg::NoArgs{});
+      break;
+    case msg::BUILD:
+      args.build(msg::BuildArgs{});
+      break;
+    case msg::EXTEND:
+      args.extend(msg::ExtendArgs{});
+      break;
+    case msg::CANCEL:
+      args.cancel(msg::NoArgs{});
+      break;
+    case msg::DROP:
+      args.drop(msg::NoArgs{});
+      break;
+    case msg::TASK_ADD:
+      args.task_add(msg::TaskAddArgs{});
+      break;
+    case msg::TASK_REMOVE:
+      args.task_remove(msg::TaskRemoveArgs{});
+      break;
+    default:
+      throw std::invalid_argument(to_string(operation) + " is not a change");
   }
   return args;
 }

@@ -2,18 +2,18 @@
 
 #include "ispars/wire/identity.hpp"
 
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <spdlog/spdlog.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/log/Log.hpp>
-#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
-#include <spdlog/spdlog.h>
 
 #include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <sstream>
-#include <utility>
 #include <stdexcept>
+#include <utility>
 
 namespace ispars::wire {
 namespace fdds = eprosima::fastdds::dds;
@@ -109,9 +109,10 @@ class ParticipantEvents final : public fdds::DomainParticipantListener {
       case rtps::ParticipantDiscoveryInfo::DROPPED_PARTICIPANT:
         peers_->dropped(prefix_of(info.info.m_guid));
         if (secure_) {
-          spdlog::warn("participant {} dropped: its lease ran out here; if it is still running, DDS Security "
-                       "(Fast DDS 2.9.1) cannot authenticate it again until one of the two restarts",
-                       who);
+          spdlog::warn(
+              "participant {} dropped: its lease ran out here; if it is still running, DDS Security "
+              "(Fast DDS 2.9.1) cannot authenticate it again until one of the two restarts",
+              who);
         } else {
           spdlog::debug("participant {} dropped: its lease ran out here", who);
         }
@@ -269,7 +270,8 @@ fdds::PropertyPolicyQos security_properties(const std::string& dir) {
   std::error_code error;
   const fs::path root = fs::canonical(dir, error);
   if (error || !fs::is_directory(root)) {
-    throw std::runtime_error("security identity " + dir + " is not a directory (make one with "
+    throw std::runtime_error("security identity " + dir +
+                             " is not a directory (make one with "
                              "deploy/security/make-keystore.sh)");
   }
   const auto uri = [&](const char* file) {

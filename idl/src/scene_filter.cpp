@@ -17,7 +17,6 @@ namespace {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wnon-virtual-dtor"
 
-
 // Passes the batches of one scene.
 class SceneFilter final : public fdds::IContentFilter {
  public:
@@ -80,10 +79,11 @@ SceneInPayload scene_of_serialized(const std::uint8_t* data, std::size_t length)
   if (data == nullptr || length < kHeader + 4) return {};
   const bool little = (data[1] & 0x01) != 0;
   const std::uint8_t* at = data + kHeader;
-  const std::uint32_t size = little ? (std::uint32_t{at[0]} | std::uint32_t{at[1]} << 8 | std::uint32_t{at[2]} << 16 |
-                                       std::uint32_t{at[3]} << 24)
-                                    : (std::uint32_t{at[3]} | std::uint32_t{at[2]} << 8 | std::uint32_t{at[1]} << 16 |
-                                       std::uint32_t{at[0]} << 24);
+  const std::uint32_t size =
+      little
+          ? (std::uint32_t{at[0]} | std::uint32_t{at[1]} << 8 | std::uint32_t{at[2]} << 16 | std::uint32_t{at[3]} << 24)
+          : (std::uint32_t{at[3]} | std::uint32_t{at[2]} << 8 | std::uint32_t{at[1]} << 16 |
+             std::uint32_t{at[0]} << 24);
   if (size == 0 || size > length - kHeader - 4) return {};
   return {true, std::string_view(reinterpret_cast<const char*>(at + 4), size - 1)};
 }

@@ -79,7 +79,8 @@ Freshness claim_freshness(const msg::DaemonInfo& daemon, std::string_view scene,
   if (r == nullptr) return {};
   const std::string to = r->yielded_to().to_string();
   if (!to.empty() && to != daemon.server_id().to_string() &&
-      std::any_of(live.begin(), live.end(), [&](const msg::DaemonInfo& d) { return d.server_id().to_string() == to; })) {
+      std::any_of(live.begin(), live.end(),
+                  [&](const msg::DaemonInfo& d) { return d.server_id().to_string() == to; })) {
     return {};  // handed over to a daemon that still lives: that one carries it now
   }
   const bool held = holds(daemon, scene);

@@ -39,9 +39,11 @@ bool slow_operation(msg::Operation operation) {
     case msg::PATH:
     case msg::SNAPSHOT:
     case msg::VERIFY:
-    case msg::TASK_ADD:    // checks each POI against the surface
-    case msg::TASK_LIST: return true;  // coverage over the roadmap
-    default: return false;
+    case msg::TASK_ADD:  // checks each POI against the surface
+    case msg::TASK_LIST:
+      return true;  // coverage over the roadmap
+    default:
+      return false;
   }
 }
 
@@ -60,8 +62,7 @@ msg::Reply reply_to(const Request& request, const std::string& server_id) {
 
 }  // namespace
 
-Daemon::Daemon(DaemonConfig config)
-    : config_(std::move(config)), listing_(config_.scene_dir, config_.data_dir) {
+Daemon::Daemon(DaemonConfig config) : config_(std::move(config)), listing_(config_.scene_dir, config_.data_dir) {
   if (config_.server_id.empty()) config_.server_id = fmt::format("{}-{}", host_name(), ::getpid());
   std::filesystem::create_directories(config_.data_dir);
   const auto lock_path = config_.data_dir / ".isparsd.lock";
@@ -92,9 +93,9 @@ Daemon::Daemon(DaemonConfig config)
   try {
     ledger_ = std::make_unique<RequestLedger>(config_.data_dir);
     open_metrics_endpoint();
-    joined_ms_ = static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(
-                                                std::chrono::system_clock::now().time_since_epoch())
-                                                .count());
+    joined_ms_ = static_cast<std::uint64_t>(
+        std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+            .count());
     dds_ = std::make_unique<DdsEndpoints>(*this, config_, joined_ms_);
     join_fleet();  // the other daemons seen, this one's id unique, claims possible
     service_ = std::make_unique<RoadmapService>(std::move(settings), service_events());
@@ -124,10 +125,11 @@ Daemon::Daemon(DaemonConfig config)
     shutdown();  // joins whatever threads were started, releases the lock
     throw;
   }
-  spdlog::info("isparsd {} serving on DDS domain {} (scenes from {}, data in {}, {} build workers, memory budget "
-               "{:.1f} GiB, protocol {})",
-               config_.server_id, config_.domain, config_.scene_dir.string(), config_.data_dir.string(),
-               config_.workers, memory_budget_bytes(config_) / (1024.0 * 1024.0 * 1024.0), msg::PROTOCOL_VERSION);
+  spdlog::info(
+      "isparsd {} serving on DDS domain {} (scenes from {}, data in {}, {} build workers, memory budget "
+      "{:.1f} GiB, protocol {})",
+      config_.server_id, config_.domain, config_.scene_dir.string(), config_.data_dir.string(), config_.workers,
+      memory_budget_bytes(config_) / (1024.0 * 1024.0 * 1024.0), msg::PROTOCOL_VERSION);
 }
 
 Daemon::~Daemon() { shutdown(); }
@@ -159,7 +161,7 @@ void Daemon::shutdown() {
   if (quick_lane_) quick_lane_->stop();
   if (slow_lane_) slow_lane_->stop();
   note_stop_step("the running builds' last commits and tours");
-  if (service_) service_->stop();                  // tours reply with their best; builds commit and stop
+  if (service_) service_->stop();  // tours reply with their best; builds commit and stop
   note_stop_step("the metrics endpoint and the service's release");
   metrics_endpoint_.reset();  // it reads the service and the endpoints
   service_.reset();
@@ -237,9 +239,10 @@ void Daemon::refuse_busy(const Request& request, const WorkerPool& lane, const c
                request.request_seq(), wire::to_string(request.args()._d()), lane_name, lane.max_queued());
   msg::Reply reply = reply_to(request, config_.server_id);
   reply.ok(false);
-  reply.error(fmt::format("request: kind: busy: {} requests are queued on this daemon's {} lane (its limit); "
-                          "retry later",
-                          lane.max_queued(), lane_name));
+  reply.error(
+      fmt::format("request: kind: busy: {} requests are queued on this daemon's {} lane (its limit); "
+                  "retry later",
+                  lane.max_queued(), lane_name));
   metrics_.count_request(wire::to_string(request.args()._d()), RequestOutcome::busy, 0.0);
   with_dds([&](DdsEndpoints& d) { d.send_reply(reply); });  // not cached: a retry is a new chance
 }

@@ -11,26 +11,26 @@
 #include <memory>
 #include <mutex>
 #include <shared_mutex>
-#include <stdexcept>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "daemon_config.hpp"
 #include "daemon_metrics.hpp"
+#include "fleet_listing.hpp"
 #include "ispars.h"
 #include "ispars/service/roadmap_service.hpp"
 #include "ispars/service/worker_pool.hpp"
 #include "ispars/wire/rejoin_schedule.hpp"
 #include "reply_cache.hpp"
 #include "request_ledger.hpp"
-#include "fleet_listing.hpp"
 #include "scene_claims.hpp"
+#include "systemd_notify.hpp"
 #include "takeover_gate.hpp"
 #include "takeover_runner.hpp"
 #include "task_board.hpp"
-#include "systemd_notify.hpp"
 
 namespace ispars::server {
 
@@ -159,11 +159,11 @@ class Daemon {
   int lock_fd_ = -1;
   ReplyCache cache_;
   std::unique_ptr<RequestLedger> ledger_;  // change requests on disk: a retry after a restart is not run again
-  mutable std::mutex status_mutex_;  // stamps statuses in order
+  mutable std::mutex status_mutex_;        // stamps statuses in order
   mutable std::uint64_t status_seq_ = 0;
-  std::mutex publish_mutex_;  // writes statuses in stamp order
-  std::unique_ptr<SceneClaims> claims_;  // made before dds_: DDS callbacks read it
-  TaskBoard task_board_;                 // other daemons' tasks, for a takeover's rebuild
+  std::mutex publish_mutex_;                         // writes statuses in stamp order
+  std::unique_ptr<SceneClaims> claims_;              // made before dds_: DDS callbacks read it
+  TaskBoard task_board_;                             // other daemons' tasks, for a takeover's rebuild
   std::map<std::string, std::string> tasks_merged_;  // scene -> the lists last merged (fleet thread)
   /// A takeover that continued this daemon's own copy: the former owner's tasks, merged in once
   /// the scene is idle (merge_tasks; the counts of task events of two histories do not compare).
@@ -173,10 +173,10 @@ class Daemon {
   };
   std::mutex carried_mutex_;
   std::map<std::string, CarriedTasks> carried_tasks_;  // scene -> (written by takeovers, merged by the fleet thread)
-  std::vector<OrphanScene> waiting_takeovers_;          // for a free runner (fleet thread)
-  TakeoverGate takeover_gate_;           // requests for a scene wait while take_over() resumes it
-  std::mutex announce_mutex_;  // announcements written in the order they were made
-  FleetListing listing_;  // scene files, stored roadmaps, handovers and notes, as announced
+  std::vector<OrphanScene> waiting_takeovers_;         // for a free runner (fleet thread)
+  TakeoverGate takeover_gate_;                         // requests for a scene wait while take_over() resumes it
+  std::mutex announce_mutex_;                          // announcements written in the order they were made
+  FleetListing listing_;                  // scene files, stored roadmaps, handovers and notes, as announced
   std::vector<ServedRoadmap> last_held_;  // held roadmaps as last announced (announce_if_fresher)
   std::chrono::steady_clock::time_point last_held_announce_{};
   mutable std::shared_mutex dds_mutex_;
@@ -185,7 +185,7 @@ class Daemon {
   std::unique_ptr<RoadmapService> service_;
   std::unique_ptr<WorkerPool> quick_lane_;  // list, stats, cancel, unload, build, extend, tour
   std::unique_ptr<WorkerPool> slow_lane_;   // load, path, snapshot, verify, drop
-  TakeoverRunner takeovers_;  // stopped (joined) in shutdown(), before the service goes
+  TakeoverRunner takeovers_;                // stopped (joined) in shutdown(), before the service goes
   std::mutex fleet_mutex_;
   std::condition_variable fleet_wake_;
   bool fleet_stop_ = false;
@@ -197,7 +197,7 @@ class Daemon {
   DaemonMetrics metrics_;
   std::unique_ptr<MetricsEndpoint> metrics_endpoint_;
   std::atomic<bool> serving_{false};
-  std::atomic<bool> probe_pending_{false};                          // a health probe waits on the quick lane
+  std::atomic<bool> probe_pending_{false};                        // a health probe waits on the quick lane
   std::atomic<std::chrono::steady_clock::rep> last_progress_{0};  // when the quick lane last finished a job
   /// How long this process stood still past the built-in lease (SIGSTOP, a stalled machine), seen
   /// by watch_health; the fleet thread takes it and rejoins (plain DDS too). 0: none.

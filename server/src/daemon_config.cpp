@@ -90,7 +90,8 @@ std::string to_yaml(const DaemonConfig& config) {
     using S = std::decay_t<decltype(s)>;
     const std::string key(s.key);
     if constexpr (std::is_same_v<S, AddressSetting>) {
-      if (const auto& a = config.*s.field) out << YAML::Key << key << YAML::Value << fmt::format("{}:{}", a->host, a->port);
+      if (const auto& a = config.*s.field)
+        out << YAML::Key << key << YAML::Value << fmt::format("{}:{}", a->host, a->port);
     } else if constexpr (std::is_same_v<S, ListSetting>) {
       out << YAML::Key << key << YAML::Value << YAML::Flow << config.*s.field;
     } else if constexpr (requires { s.max_length; }) {
@@ -140,8 +141,8 @@ double memory_budget_bytes(const DaemonConfig& config) {
 ListenAddress parse_listen_address(const std::string& text, const std::string& source, const std::string& field) {
   const auto colon = text.rfind(':');
   const auto bad = [&](const std::string& why) {
-    return InputError(source, field, fmt::format("'{}' {}; write ADDRESS:PORT, e.g. 127.0.0.1:9464",
-                                                 text.substr(0, 64), why));
+    return InputError(source, field,
+                      fmt::format("'{}' {}; write ADDRESS:PORT, e.g. 127.0.0.1:9464", text.substr(0, 64), why));
   };
   if (text.size() > 64 || colon == std::string::npos) throw bad("is not an address and a port");
   ListenAddress out;

@@ -20,14 +20,14 @@ struct ListenAddress {
 
 /// Everything isparsd is configured with, file and flags merged.
 struct DaemonConfig {
-  std::filesystem::path data_dir = "/var/lib/ispars";       ///< Stored roadmaps, one directory per scene.
+  std::filesystem::path data_dir = "/var/lib/ispars";            ///< Stored roadmaps, one directory per scene.
   std::filesystem::path scene_dir = "/usr/share/ispars/scenes";  ///< The only place scenes load from.
-  int domain = 0;                                           ///< DDS domain id.
-  unsigned workers = 2;                                     ///< Build worker threads.
+  int domain = 0;                                                ///< DDS domain id.
+  unsigned workers = 2;                                          ///< Build worker threads.
   /// Threads each build uses for its per-sample work (point check, chi); any count gives the
   /// same roadmap.
   unsigned build_threads = 1;
-  std::string profile_file;   ///< Fast DDS XML profiles; empty: built-in localhost-only settings.
+  std::string profile_file;  ///< Fast DDS XML profiles; empty: built-in localhost-only settings.
   std::string profile_name = "ispars";
   /// A DDS Security identity directory (deploy/security/make-keystore.sh); empty: no security.
   std::string security;
@@ -39,10 +39,10 @@ struct DaemonConfig {
   /// Where the HTTP endpoint serving /metrics (Prometheus text) and /healthz listens ("ADDRESS:PORT"
   /// in the file and the flag); none: no endpoint. Port 0 takes any free port (the log names it).
   std::optional<ListenAddress> metrics;
-  std::string server_id;      ///< Unique on the domain; empty: HOST-PID.
-  std::uint64_t max_samples = 50'000'000;  ///< Per build or extend request.
+  std::string server_id;                    ///< Unique on the domain; empty: HOST-PID.
+  std::uint64_t max_samples = 50'000'000;   ///< Per build or extend request.
   std::size_t snapshot_compact_every = 64;  ///< Journal commits between compactions.
-  std::vector<std::string> preload;  ///< Scenes to load at start.
+  std::vector<std::string> preload;         ///< Scenes to load at start.
   /// Requests each lane (quick, slow) holds waiting; past that a request is refused as busy.
   std::size_t request_queue = 256;
   /// MiB the roadmaps of all loaded scenes may be expected to hold together; 0: half of this

@@ -26,9 +26,9 @@
 namespace ispars::server {
 namespace {
 
-constexpr std::chrono::milliseconds kFleetPeriod{100};  // how often the rule is re-applied
-constexpr std::chrono::seconds kReannouncePeriod{5};    // after another participant announced this id
-constexpr std::chrono::seconds kListingPeriod{2};  // how often scene files and stored roadmaps are rescanned
+constexpr std::chrono::milliseconds kFleetPeriod{100};     // how often the rule is re-applied
+constexpr std::chrono::seconds kReannouncePeriod{5};       // after another participant announced this id
+constexpr std::chrono::seconds kListingPeriod{2};          // how often scene files and stored roadmaps are rescanned
 constexpr std::chrono::seconds kSamplesAnnouncePeriod{1};  // held roadmaps' committed samples, at most this often
 
 // The samples of the roadmap `status` describes: its target while it was still building, and
@@ -49,9 +49,10 @@ void Daemon::join_fleet() {
   announce();
   std::this_thread::sleep_for(std::chrono::milliseconds(config_.discovery_wait_ms));
   if (dds_->id_announced_elsewhere()) {
-    throw ServerIdTaken(fmt::format("server id '{}' is already announced on DDS domain {} by another running "
-                                         "daemon; give each daemon its own server_id",
-                                         config_.server_id, config_.domain));
+    throw ServerIdTaken(
+        fmt::format("server id '{}' is already announced on DDS domain {} by another running "
+                    "daemon; give each daemon its own server_id",
+                    config_.server_id, config_.domain));
   }
 }
 
@@ -85,9 +86,10 @@ void Daemon::watch_fleet() {
     if (!older.empty() && !displaced_.exchange(true)) {
       // Discovery slower than the wait at start: two daemons with one id ran. The one that
       // joined first keeps serving; this one stops as if told to.
-      spdlog::error("server id '{}' is also announced by a daemon that joined DDS domain {} before this one ({}); "
-                    "this daemon stops: give each daemon its own server_id",
-                    config_.server_id, config_.domain, older);
+      spdlog::error(
+          "server id '{}' is also announced by a daemon that joined DDS domain {} before this one ({}); "
+          "this daemon stops: give each daemon its own server_id",
+          config_.server_id, config_.domain, older);
       ::kill(::getpid(), SIGTERM);
     }
     if (contested && std::chrono::steady_clock::now() - last_reannounce >= kReannouncePeriod) {
@@ -124,9 +126,9 @@ void Daemon::give_up(const ContestedScene& contest) {
   {
     // Announced with this daemon's copy from the moment the scene is released: the winner takes
     // it over, continuing to `accepted`, and no daemon weighs this copy while the winner lives.
-    listing_.hand_over(contest.scene, {contest.winner, accepted, task_events},
-                       fmt::format("handed over to daemon {} ({}); this daemon's copy is kept", contest.winner,
-                                   contest.why));
+    listing_.hand_over(
+        contest.scene, {contest.winner, accepted, task_events},
+        fmt::format("handed over to daemon {} ({}); this daemon's copy is kept", contest.winner, contest.why));
   }
   spdlog::warn("scene '{}' is handed over to daemon {}: {}; the {} samples accepted here go with it", contest.scene,
                contest.winner, contest.why, accepted);
@@ -177,8 +179,8 @@ void Daemon::take_over(const OrphanScene& orphan) {
       former.task_events = st->task_events();
       if (former.task_events > 0) {  // published under the roadmap's generation
         // POIs not checked: an acknowledged task not yet committed counts in task_events, not in poi_count.
-        former.tasks = task_board_.tasks_of(orphan.scene, orphan.former_owner, st->generation(), former.task_events,
-                                            std::nullopt);
+        former.tasks =
+            task_board_.tasks_of(orphan.scene, orphan.former_owner, st->generation(), former.task_events, std::nullopt);
       }
     }
     const TakeoverPlan plan = plan_takeover(orphan.scene, session->status(), session->fingerprint(), former);
@@ -243,8 +245,8 @@ void Daemon::announce_if_fresher() {
   for (std::size_t i = 0; !at_once && i < held.size(); ++i) {
     const ServedRoadmap& a = held[i];
     const ServedRoadmap& b = last_held_[i];
-    at_once = a.scene != b.scene || a.generation != b.generation || a.target != b.target ||
-              a.task_events != b.task_events;
+    at_once =
+        a.scene != b.scene || a.generation != b.generation || a.target != b.target || a.task_events != b.task_events;
     samples = samples || a.samples != b.samples;
   }
   // A new roadmap or a new job is announced at once (the fleet weighs it); committed samples at
@@ -262,11 +264,13 @@ void Daemon::merge_handed_tasks() {
       const std::string scene = r.scene().to_string();
       if (r.yielded_to().to_string() != config_.server_id || r.task_events() == 0 || wire::holds(d, scene)) continue;
       if (!held) held = service_->held_roadmaps();
-      const auto mine = std::find_if(held->begin(), held->end(), [&](const ServedRoadmap& h) { return h.scene == scene; });
+      const auto mine =
+          std::find_if(held->begin(), held->end(), [&](const ServedRoadmap& h) { return h.scene == scene; });
       if (mine == held->end() || mine->generation != r.generation()) continue;
       const std::string from = d.server_id().to_string();
       const std::string key = fmt::format("{} {} {} {}", from, r.generation(), r.task_events(), mine->task_events);
-      if (const auto merged = tasks_merged_.find(scene); merged != tasks_merged_.end() && merged->second == key) continue;
+      if (const auto merged = tasks_merged_.find(scene); merged != tasks_merged_.end() && merged->second == key)
+        continue;
       const auto theirs = task_board_.tasks_of(scene, from, r.generation(), r.task_events(), std::nullopt);
       if (!theirs) continue;  // not all arrived yet: looked at again on the next pass
       if (apply_task_merge(scene, from, *theirs)) tasks_merged_[scene] = key;

@@ -89,7 +89,7 @@ std::string DaemonMetrics::render(const DaemonGauges& g) const {
     line(fmt::format("ispars_samples_built_total {}\n", samples_built_));
   }
   // Every state on every scrape (0 when none), so a series never vanishes.
-  std::map<std::string, std::uint64_t> by_state{{"empty", 0},    {"idle", 0},     {"queued", 0},
+  std::map<std::string, std::uint64_t> by_state{{"empty", 0},     {"idle", 0},     {"queued", 0},
                                                 {"replaying", 0}, {"building", 0}, {"failed", 0}};
   for (const SceneGauges& s : g.scenes) ++by_state[s.state];
   family(out, "ispars_scenes", "gauge", "Loaded scenes, by state.");

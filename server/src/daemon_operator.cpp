@@ -29,8 +29,8 @@ void Daemon::open_metrics_endpoint() {
   // Before anything runs: a port in use stops the start. Until serving_, a scrape sees only the
   // counters (the service and endpoints are being made), and /healthz says 503.
   const ListenAddress& at = *config_.metrics;
-  metrics_endpoint_ = std::make_unique<MetricsEndpoint>(at, [this] { return metrics_text(); },
-                                                        [this] { return healthy(); });
+  metrics_endpoint_ = std::make_unique<MetricsEndpoint>(
+      at, [this] { return metrics_text(); }, [this] { return healthy(); });
   spdlog::info("metrics on http://{}:{}/metrics, health on /healthz", at.host, metrics_endpoint_->port());
 }
 
@@ -92,9 +92,9 @@ void Daemon::watch_health() {
 bool Daemon::healthy() const {
   if (!serving_ || leaving_) return false;
   // The watchdog's whole timeout (twice its ping period), or 10 s without one.
-  const auto limit = notifier_.watchdog_period() ? 2 * *notifier_.watchdog_period()
-                                                 : std::chrono::duration_cast<std::chrono::microseconds>(
-                                                       std::chrono::seconds(10));
+  const auto limit = notifier_.watchdog_period()
+                         ? 2 * *notifier_.watchdog_period()
+                         : std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::seconds(10));
   const Clock::time_point progressed{Clock::duration(last_progress_.load())};
   if (Clock::now() - progressed > limit) return false;
   // And DDS: the daemon heard its own probe through its sockets lately (a daemon whose sockets or
@@ -114,8 +114,8 @@ std::string Daemon::metrics_text() const {
     for (const std::string& scene : service_->loaded_scenes()) {
       try {
         const SessionStatus s = service_->stats(scene);
-        g.scenes.push_back({scene, std::string(to_string(s.state)), s.samples_done, s.vertices, s.edges, s.poi_count,
-                            s.pois_covered});
+        g.scenes.push_back(
+            {scene, std::string(to_string(s.state)), s.samples_done, s.vertices, s.edges, s.poi_count, s.pois_covered});
       } catch (const std::exception&) {
         // unloaded since it was listed
       }
@@ -142,9 +142,9 @@ std::string Daemon::metrics_text() const {
 
 void Daemon::finish(const msg::Reply& reply, Clock::time_point taken) {
   const std::string& error = reply.error();
-  const RequestOutcome outcome = reply.ok()                               ? RequestOutcome::ok
+  const RequestOutcome outcome = reply.ok()                              ? RequestOutcome::ok
                                  : error.rfind("internal error", 0) == 0 ? RequestOutcome::failed
-                                                                          : RequestOutcome::refused;
+                                                                         : RequestOutcome::refused;
   metrics_.count_request(wire::to_string(reply.body()._d()), outcome,
                          std::chrono::duration<double>(Clock::now() - taken).count());
   finish(reply);

@@ -48,25 +48,27 @@ void Daemon::rejoin_if_a_peer_returned() {
     // meets it again under the same GUID may never hear what it writes, nor it theirs (plain DDS
     // too: HistoryTest, SIGSTOP past the lease, left two daemons holding one scene, each missing
     // the other's announcement, for good). A new participant meets every peer afresh.
-    rejoin(fmt::format("this daemon stood still for {:.1f} s (stopped, or its machine stalled), past its peers' "
-                       "lease of {} s",
-                       static_cast<double>(ms) / 1000.0, wire::kLeaseSeconds));
+    rejoin(
+        fmt::format("this daemon stood still for {:.1f} s (stopped, or its machine stalled), past its peers' "
+                    "lease of {} s",
+                    static_cast<double>(ms) / 1000.0, wire::kLeaseSeconds));
     return;
   }
   if (config_.security.empty()) return;
   wire::RejoinSchedule::Decision decision;
   with_dds([&](DdsEndpoints& d) { decision = rejoin_schedule_.poll(d.peers(), std::chrono::steady_clock::now()); });
   if (decision.given_up) {
-    spdlog::warn("{} did not authenticate with this daemon's participant before the last rejoin either; no "
-                 "rejoin is made for it again (it may lack DDS Security)",
-                 decision.given_up->name);
+    spdlog::warn(
+        "{} did not authenticate with this daemon's participant before the last rejoin either; no "
+        "rejoin is made for it again (it may lack DDS Security)",
+        decision.given_up->name);
   }
   if (decision.deferred) {
-    spdlog::warn("{}; rejoined {:.0f} s ago, so again {:.0f} s after that unless it authenticates, leaves or "
-                 "rejoins itself meanwhile",
-                 rejoin_schedule_.reason(*decision.deferred),
-                 std::chrono::duration<double>(decision.since_last).count(),
-                 std::chrono::duration<double>(rejoin_schedule_.period()).count());
+    spdlog::warn(
+        "{}; rejoined {:.0f} s ago, so again {:.0f} s after that unless it authenticates, leaves or "
+        "rejoins itself meanwhile",
+        rejoin_schedule_.reason(*decision.deferred), std::chrono::duration<double>(decision.since_last).count(),
+        std::chrono::duration<double>(rejoin_schedule_.period()).count());
   }
   if (decision.now) rejoin(rejoin_schedule_.reason(*decision.now));
 }
@@ -124,8 +126,8 @@ void Daemon::rejoin(const std::string& why) {
   old.reset();  // peers see the old participant leave, and keep the new one's announcement
   announce();   // the latest announcement everywhere is the new participant's
   spdlog::info("rejoined DDS domain {} in {:.2f} s; {} other daemons heard{}", config_.domain,
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-               other_daemons().size(), all_heard ? "" : " (not every daemon the old participant heard)");
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), other_daemons().size(),
+               all_heard ? "" : " (not every daemon the old participant heard)");
 }
 
 bool Daemon::overlap_until_heard(const std::vector<std::string>& heard) {

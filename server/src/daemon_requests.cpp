@@ -44,7 +44,8 @@ bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
     }
     case msg::SNAPSHOT: {
       const msg::SnapshotArgs& a = args.snapshot();
-      const SnapshotSlice slice = service_->snapshot(scene, a.version(), a.generation(), a.chunk_index(), a.poi_count());
+      const SnapshotSlice slice =
+          service_->snapshot(scene, a.version(), a.generation(), a.chunk_index(), a.poi_count());
       if (slice.chunk_index != 0) {
         reply.body().snapshot(to_message(slice, nullptr));
         return true;
@@ -74,10 +75,11 @@ bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
       return true;
     }
     default:
-      throw InputError("request", "operation",
-                       fmt::format("{} is not a query (list, stats, path, snapshot, verify, tour, task list); changes go on the "
-                                   "change topic",
-                                   operation_name(args._d())));
+      throw InputError(
+          "request", "operation",
+          fmt::format("{} is not a query (list, stats, path, snapshot, verify, tour, task list); changes go on the "
+                      "change topic",
+                      operation_name(args._d())));
   }
 }
 
@@ -88,7 +90,7 @@ bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
   switch (args._d()) {
     case msg::LOAD_SCENE: {
       const auto [s, loaded_now] = service_->load(scene);
-      reply.message(!loaded_now                       ? fmt::format("scene '{}' was already loaded", scene)
+      reply.message(!loaded_now                  ? fmt::format("scene '{}' was already loaded", scene)
                     : s->recovery_note().empty() ? fmt::format("loaded scene '{}'", scene)
                                                  : s->recovery_note());
       reply.status(status_message(*s));
@@ -121,8 +123,8 @@ bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
       const std::string name = task.name;
       const std::size_t pois = task.pois.size();
       const std::size_t count = service_->add_task(scene, std::move(task));
-      reply.message(fmt::format("adding task '{}' ({} POIs) to the roadmap of '{}'; the scene will have {} task{}", name,
-                                pois, scene, count, count == 1 ? "" : "s"));
+      reply.message(fmt::format("adding task '{}' ({} POIs) to the roadmap of '{}'; the scene will have {} task{}",
+                                name, pois, scene, count, count == 1 ? "" : "s"));
       break;
     }
     case msg::TASK_REMOVE: {
@@ -134,14 +136,18 @@ bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
     }
     case msg::DROP:
       service_->drop(scene);
-      with_dds([&](DdsEndpoints& d) { d.retire_updates(scene); });  // replicas drop their copy; the kept batches are released
+      with_dds([&](DdsEndpoints& d) {
+        d.retire_updates(scene);
+      });  // replicas drop their copy; the kept batches are released
       reply.message(fmt::format("dropped the roadmap of '{}'", scene));
       break;
     default:
-      throw InputError("request", "operation",
-                       fmt::format("{} is not a change (load, unload, build, extend, cancel, drop, task add, task remove); queries go on "
-                                   "the query topic",
-                                   operation_name(args._d())));
+      throw InputError(
+          "request", "operation",
+          fmt::format(
+              "{} is not a change (load, unload, build, extend, cancel, drop, task add, task remove); queries go on "
+              "the query topic",
+              operation_name(args._d())));
   }
   reply.status(status_message(*service_->session(scene)));
   return true;
@@ -151,7 +157,8 @@ void Daemon::start_tour(const msg::QueryRequest& request, const msg::Reply& head
   const msg::TourArgs& a = request.args().tour();
   TourRequest tour;
   if (a.targets().size() > msg::MAX_TOUR_TARGETS) {
-    throw InputError("request", "targets", fmt::format("{} given; at most {}", a.targets().size(), msg::MAX_TOUR_TARGETS));
+    throw InputError("request", "targets",
+                     fmt::format("{} given; at most {}", a.targets().size(), msg::MAX_TOUR_TARGETS));
   }
   tour.targets.assign(a.targets().begin(), a.targets().end());
   tour.budget_seconds = a.budget();

@@ -33,9 +33,9 @@ struct IntegerSetting {
   std::string_view doc;
   std::int64_t min = 0;
   std::int64_t max = 0;
-  SettingRule<T> rule = nullptr;   ///< Checked after the bounds, on the narrowed value.
-  std::string_view alias = {};     ///< An older flag, still accepted ("--compact-every").
-  bool on_sighup = false;          ///< A running daemon takes a change on SIGHUP (else at a restart).
+  SettingRule<T> rule = nullptr;  ///< Checked after the bounds, on the narrowed value.
+  std::string_view alias = {};    ///< An older flag, still accepted ("--compact-every").
+  bool on_sighup = false;         ///< A running daemon takes a change on SIGHUP (else at a restart).
 };
 
 /// A text setting, at most `max_length` characters; a path is resolved against the config
@@ -113,8 +113,8 @@ void visit_settings(Visitor&& visit) {
   visit(TextSetting<std::filesystem::path>{&C::log_file, "log_file",
                                            "log to this file, rotated by size and reopened on SIGHUP (default: stdout)",
                                            4096, true, &log_file_rule, true});
-  visit(IntegerSetting<std::uint64_t>{&C::log_file_mb, "log_file_mb", "MiB a log file reaches before it is rotated",
-                                      1, 100'000, nullptr, {}, true});
+  visit(IntegerSetting<std::uint64_t>{
+      &C::log_file_mb, "log_file_mb", "MiB a log file reaches before it is rotated", 1, 100'000, nullptr, {}, true});
   visit(AddressSetting{&C::metrics, "metrics",
                        "ADDRESS:PORT serving /metrics (Prometheus) and /healthz over HTTP, e.g. 127.0.0.1:9464 "
                        "(default: none)"});

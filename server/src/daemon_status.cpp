@@ -34,7 +34,6 @@ std::vector<msg::SceneTask> task_messages(const std::vector<InspectionTask>& tas
 
 }  // namespace
 
-
 ServiceEvents Daemon::service_events() {
   ServiceEvents events;
   events.on_commit = [this](const std::string& scene, const RoadmapBatch& batch, std::uint64_t generation,

@@ -1,11 +1,11 @@
 #include "dds_endpoints.hpp"
 
+#include <fastdds/rtps/common/InstanceHandle.h>
+#include <spdlog/spdlog.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
-#include <fastdds/rtps/common/InstanceHandle.h>
-#include <spdlog/spdlog.h>
 
 #include <unistd.h>
 
@@ -15,9 +15,9 @@
 #include "daemon.hpp"
 #include "ispars/wire/daemon_trust.hpp"
 #include "ispars/wire/identity.hpp"
+#include "ispars/wire/safe_type.hpp"
 #include "ispars/wire/scene_filter.hpp"
 #include "ispars/wire/topics.hpp"
-#include "ispars/wire/safe_type.hpp"
 #include "isparsPubSubTypes.h"
 
 namespace ispars::server {
@@ -95,21 +95,24 @@ DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint
   routes_ = std::make_unique<ReplyRoutes>(p, reply_topic, progress_topic, this, server_id_);
   // Each replica's scene filter is evaluated here, per reader: a replica of one scene is sent no
   // other scene's batches (wire/scene_filter.hpp).
-  if (!wire::register_scene_filter(p)) spdlog::warn("the scene filter could not be registered; replicas filter on their side");
+  if (!wire::register_scene_filter(p))
+    spdlog::warn("the scene filter could not be registered; replicas filter on their side");
   updates_ = wire::created(pub->create_datawriter(update_topic, wire::updates_writer_qos()), "update writer");
   status_ = wire::created(pub->create_datawriter(status_topic, wire::state_writer_qos()), "status writer");
   daemons_ = wire::created(pub->create_datawriter(daemon_topic, wire::state_writer_qos()), "announcement writer");
   daemons_reader_ = wire::created(sub->create_datareader(daemon_topic, wire::state_reader_qos(), &daemons_seen_),
-                            "announcement reader");
-  status_reader_ = wire::created(sub->create_datareader(status_topic, wire::state_reader_qos(), &statuses_), "status reader");
+                                  "announcement reader");
+  status_reader_ =
+      wire::created(sub->create_datareader(status_topic, wire::state_reader_qos(), &statuses_), "status reader");
   tasks_ = wire::created(pub->create_datawriter(task_topic, wire::state_writer_qos()), "task writer");
-  tasks_reader_ = wire::created(sub->create_datareader(task_topic, wire::state_reader_qos(), &tasks_seen_), "task reader");
-  queries_ = wire::created(sub->create_datareader(query_topic, wire::request_reply_reader_qos(), this,
-                                            fdds::StatusMask::data_available()),
-                     "query reader");
-  changes_ = wire::created(sub->create_datareader(change_topic, wire::request_reply_reader_qos(), this,
-                                            fdds::StatusMask::data_available()),
-                     "change reader");
+  tasks_reader_ =
+      wire::created(sub->create_datareader(task_topic, wire::state_reader_qos(), &tasks_seen_), "task reader");
+  queries_ = wire::created(
+      sub->create_datareader(query_topic, wire::request_reply_reader_qos(), this, fdds::StatusMask::data_available()),
+      "query reader");
+  changes_ = wire::created(
+      sub->create_datareader(change_topic, wire::request_reply_reader_qos(), this, fdds::StatusMask::data_available()),
+      "change reader");
   // Without DDS Security the daemon delivers nothing inside its process (main.cpp): its probe
   // samples come back through its sockets. Under security its own announcements never came back
   // that way (measured), so there is no probe.
@@ -216,7 +219,8 @@ void DdsEndpoints::send_reply(const msg::Reply& reply, std::chrono::milliseconds
 }
 
 void DdsEndpoints::write_reply(const msg::Reply& reply) {
-  if (!routes_->write_reply(reply)) spdlog::error("reply to {} #{} could not be written", reply.client_id(), reply.request_seq());
+  if (!routes_->write_reply(reply))
+    spdlog::error("reply to {} #{} could not be written", reply.client_id(), reply.request_seq());
 }
 
 void DdsEndpoints::send_pending_replies() {
@@ -238,7 +242,9 @@ void DdsEndpoints::send_pending_replies() {
       const std::string client = it->reply.client_id().to_string();
       const bool ready = routes_->ready(client);
       if (ready || now >= it->deadline) {
-        if (!ready) spdlog::warn("client {}'s reply reader has not acknowledged its route; replying anyway (it will retry)", client);
+        if (!ready)
+          spdlog::warn("client {}'s reply reader has not acknowledged its route; replying anyway (it will retry)",
+                       client);
         write_reply(it->reply);
         it = pending.erase(it);
       } else {
@@ -252,7 +258,8 @@ void DdsEndpoints::send_pending_replies() {
 
 void DdsEndpoints::publish_update(const msg::UpdateBatch& batch) {
   msg::UpdateBatch copy = batch;
-  if (!updates_->write(&copy)) spdlog::error("update {}..{} of {} could not be written", batch.from_version(), batch.to_version(), batch.scene());
+  if (!updates_->write(&copy))
+    spdlog::error("update {}..{} of {} could not be written", batch.from_version(), batch.to_version(), batch.scene());
 }
 
 void DdsEndpoints::retire_updates(const std::string& scene) {

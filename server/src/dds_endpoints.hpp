@@ -11,14 +11,14 @@
 #include <chrono>
 #include <condition_variable>
 #include <functional>
+#include <list>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <list>
+#include <string>
 #include <thread>
 #include <utility>
-#include <string>
 #include <vector>
 
 #include "daemon_config.hpp"
@@ -87,8 +87,8 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
   Daemon& daemon_;
   std::string server_id_;
   wire::Participant participant_;
-  eprosima::fastdds::dds::TypeSupport query_type_, change_type_, reply_type_, update_type_, status_type_,
-      daemon_type_, progress_type_, task_type_;
+  eprosima::fastdds::dds::TypeSupport query_type_, change_type_, reply_type_, update_type_, status_type_, daemon_type_,
+      progress_type_, task_type_;
   eprosima::fastdds::dds::DataReader* queries_ = nullptr;
   eprosima::fastdds::dds::DataReader* changes_ = nullptr;
   eprosima::fastdds::dds::DataWriter* updates_ = nullptr;

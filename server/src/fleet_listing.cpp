@@ -47,7 +47,8 @@ void FleetListing::describe(msg::DaemonInfo& info, std::vector<ServedRoadmap> he
   for (const std::string& name : available_) info.available().push_back(name);
   for (const std::string& name : stored_) info.stored().push_back(name);
   for (const ServedRoadmap& r : stored_roadmaps_) {
-    const bool is_held = std::any_of(held.begin(), held.end(), [&](const ServedRoadmap& h) { return h.scene == r.scene; });
+    const bool is_held =
+        std::any_of(held.begin(), held.end(), [&](const ServedRoadmap& h) { return h.scene == r.scene; });
     if (!is_held) held.push_back(r);  // a scene loaded since the listing: the live figures count
   }
   for (const ServedRoadmap& r : held) {

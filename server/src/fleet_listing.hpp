@@ -39,9 +39,9 @@ class FleetListing {
 
   /// What a daemon had accepted of a scene when it handed it over: the winner carries it.
   struct Handover {
-    std::string to;                    ///< the winner
-    std::uint64_t accepted = 0;        ///< samples accepted here (an extend's target)
-    std::uint64_t task_events = 0;     ///< task events accepted here (a queued addition counted)
+    std::string to;                 ///< the winner
+    std::uint64_t accepted = 0;     ///< samples accepted here (an extend's target)
+    std::uint64_t task_events = 0;  ///< task events accepted here (a queued addition counted)
   };
   /// `scene` was handed over as `handover` says; `note` says so. Announced with the stored copy
   /// (yielded_to, its target, and its task events: the winner carries the task additions
@@ -74,7 +74,7 @@ class FleetListing {
   std::vector<ServedRoadmap> stored_roadmaps_;  // stored, not loaded
   std::map<std::string, Handover> handed_over_;
   std::map<std::string, std::string> notes_;
-  std::map<std::string, std::string> unservable_;  // as last listed, with why
+  std::map<std::string, std::string> unservable_;                          // as last listed, with why
   std::map<std::string, std::chrono::steady_clock::time_point> declined_;  // until when
 };
 

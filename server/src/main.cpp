@@ -1,11 +1,11 @@
 // isparsd: the Inspection-SPARS roadmap daemon.
 
-#include <CLI/CLI.hpp>
 #include <fastrtps/attributes/LibrarySettingsAttributes.h>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <cstdlib>
 #include <functional>
@@ -13,8 +13,8 @@
 
 #include "daemon.hpp"
 #include "daemon_flags.hpp"
-#include "daemon_settings.hpp"
 #include "daemon_log.hpp"
+#include "daemon_settings.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/wire/participant.hpp"
 #include "stop_watchdog.hpp"

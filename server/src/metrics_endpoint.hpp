@@ -20,8 +20,7 @@ class MetricsEndpoint {
  public:
   /// Listens on `address` and serves on its own thread. Throws std::runtime_error naming the
   /// address when it cannot be bound.
-  MetricsEndpoint(const ListenAddress& address, std::function<std::string()> metrics,
-                  std::function<bool()> healthy);
+  MetricsEndpoint(const ListenAddress& address, std::function<std::string()> metrics, std::function<bool()> healthy);
   /// Stops listening and joins its thread.
   ~MetricsEndpoint();
   MetricsEndpoint(const MetricsEndpoint&) = delete;

@@ -35,8 +35,8 @@ void ReplyCache::evict_a_client() {
   // now (by at most the requests the lanes hold).
   for (auto l = lru_.rbegin(); l != lru_.rend(); ++l) {
     const auto c = clients_.find(*l);
-    const bool in_progress = std::any_of(c->second.replies.begin(), c->second.replies.end(),
-                                         [](const auto& r) { return !r.second; });
+    const bool in_progress =
+        std::any_of(c->second.replies.begin(), c->second.replies.end(), [](const auto& r) { return !r.second; });
     if (in_progress) continue;
     clients_.erase(c);
     lru_.erase(std::next(l).base());

@@ -95,16 +95,16 @@ class ReplyRoutes {
   std::size_t max_routes_;
   mutable std::shared_mutex mutex_;  // shared: writes and queries; exclusive: service()
   Routes routes_;
-  mutable std::mutex asked_mutex_;  // apart from mutex_: want and forget run in DDS's threads
+  mutable std::mutex asked_mutex_;                  // apart from mutex_: want and forget run in DDS's threads
   std::deque<std::pair<std::string, bool>> asked_;  // (client, open?) in the order asked
   std::mutex tick_mutex_;
   std::uint64_t tick_ = 0;
 
   void touch(ReplyRoute& route);
   void open(const std::string& client, Clock::time_point now);  // with mutex_ held exclusively
-  void release(Routes::iterator it);                             // with mutex_ held exclusively
-  void release_one();                                            // the least recently used
-  bool advance(const std::string& client, ReplyRoute& route);    // true: still waiting
+  void release(Routes::iterator it);                            // with mutex_ held exclusively
+  void release_one();                                           // the least recently used
+  bool advance(const std::string& client, ReplyRoute& route);   // true: still waiting
 };
 
 }  // namespace ispars::server

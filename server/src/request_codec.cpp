@@ -76,14 +76,16 @@ std::string verify_summary(const VerifyOutcome& v, std::size_t dense_vertices) {
       r.invariant_drawn > 0
           ? fmt::format("{} of the {} samples the build drew (drawn again)", r.invariant_vertices, r.invariant_drawn)
       : r.invariant_samples > 0
-          ? fmt::format("{} of {} fresh samples, drawn for this check: an estimate, not counted; every sample "
-                        "the build drew keeps it",
-                        r.invariant_vertices, r.invariant_samples)
+          ? fmt::format(
+                "{} of {} fresh samples, drawn for this check: an estimate, not counted; every sample "
+                "the build drew keeps it",
+                r.invariant_vertices, r.invariant_samples)
           : fmt::format("{} of {} dense vertices", r.invariant_vertices, dense_vertices);
-  return fmt::format("invalid vertices {}, invalid edges {}, wrong costs {}, sparse not dense {}, "
-                     "Invariant 1 violations {} ({} have one){}",
-                     r.invalid_vertices, r.invalid_edges, r.wrong_costs, r.sparse_not_dense, r.invariant_violations,
-                     checked_on, v.invariant_promised ? "" : "; Invariant 1 is not promised by this method");
+  return fmt::format(
+      "invalid vertices {}, invalid edges {}, wrong costs {}, sparse not dense {}, "
+      "Invariant 1 violations {} ({} have one){}",
+      r.invalid_vertices, r.invalid_edges, r.wrong_costs, r.sparse_not_dense, r.invariant_violations, checked_on,
+      v.invariant_promised ? "" : "; Invariant 1 is not promised by this method");
 }
 
 msg::PathResult to_message(const RoadmapPath& path) {

@@ -19,8 +19,10 @@ bool RequestLedger::kept(msg::Operation operation) {
     case msg::CANCEL:
     case msg::DROP:
     case msg::TASK_ADD:
-    case msg::TASK_REMOVE: return true;
-    default: return false;
+    case msg::TASK_REMOVE:
+      return true;
+    default:
+      return false;
   }
 }
 
@@ -35,10 +37,11 @@ std::optional<msg::Reply> RequestLedger::from_before(const msg::ChangeRequest& r
     return reply;
   }
   reply.ok(false);
-  reply.error(fmt::format("request: kind: interrupted: daemon {} stopped while it was doing this {} of scene '{}' "
-                          "(request #{}), before it answered; it may have been done: check `ispars stats {}` before "
-                          "sending it again",
-                          reply.server_id().to_string(), entry->operation, entry->scene, entry->seq, entry->scene));
+  reply.error(
+      fmt::format("request: kind: interrupted: daemon {} stopped while it was doing this {} of scene '{}' "
+                  "(request #{}), before it answered; it may have been done: check `ispars stats {}` before "
+                  "sending it again",
+                  reply.server_id().to_string(), entry->operation, entry->scene, entry->seq, entry->scene));
   return reply;
 }
 

@@ -57,10 +57,11 @@ void SceneClaims::claim(const std::string& scene) {
     const wire::Freshness mine = wire::claim_freshness(everyone.back(), scene, everyone);
     const std::string why =
         f.generation == 0 ? std::string("no daemon has a copy, and its rendezvous weight is the highest")
-        : f == mine       ? fmt::format("equally fresh copies are here and there (generation {}, {} samples): settled "
-                                        "by rendezvous weight",
-                                        f.generation, f.samples)
-                          : fmt::format("it has the freshest copy: generation {}, {} samples", f.generation, f.samples);
+        : f == mine       ? fmt::format(
+                                "equally fresh copies are here and there (generation {}, {} samples): settled "
+                                      "by rendezvous weight",
+                                f.generation, f.samples)
+                    : fmt::format("it has the freshest copy: generation {}, {} samples", f.generation, f.samples);
     throw InputError(kRequest, "scene",
                      fmt::format("scene '{}' belongs to daemon {} by the fleet's rule ({}); load it there (ispars "
                                  "does by itself)",

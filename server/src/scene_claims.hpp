@@ -18,9 +18,9 @@
 #include <mutex>
 #include <optional>
 #include <set>
-#include <utility>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "ispars.h"
@@ -122,10 +122,10 @@ class SceneClaims {
   /// daemon serves a copy at least as fresh (a third daemon's takeover that fails and releases
   /// the scene leaves it here, so the next daemon the rule names takes it over).
   struct PendingTakeover {
-    OrphanScene orphan;   // its accepted_generation is the former owner's copy's
+    OrphanScene orphan;         // its accepted_generation is the former owner's copy's
     std::uint64_t samples = 0;  // the former owner's committed samples
     std::optional<std::chrono::steady_clock::time_point> reported;  // here, last time
-    unsigned attempts = 0;                                           // reported again so far
+    unsigned attempts = 0;                                          // reported again so far
   };
 
   const std::string self_;

@@ -1,10 +1,10 @@
 #include "self_probe.hpp"
 
+#include <spdlog/spdlog.h>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
-#include <spdlog/spdlog.h>
 
 #include <stdexcept>
 

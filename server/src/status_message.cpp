@@ -4,12 +4,18 @@ namespace ispars::server {
 
 msg::SceneState to_message(SessionState state) {
   switch (state) {
-    case SessionState::empty: return msg::SCENE_EMPTY;
-    case SessionState::idle: return msg::SCENE_IDLE;
-    case SessionState::queued: return msg::SCENE_QUEUED;
-    case SessionState::replaying: return msg::SCENE_REPLAYING;
-    case SessionState::building: return msg::SCENE_BUILDING;
-    case SessionState::failed: return msg::SCENE_FAILED;
+    case SessionState::empty:
+      return msg::SCENE_EMPTY;
+    case SessionState::idle:
+      return msg::SCENE_IDLE;
+    case SessionState::queued:
+      return msg::SCENE_QUEUED;
+    case SessionState::replaying:
+      return msg::SCENE_REPLAYING;
+    case SessionState::building:
+      return msg::SCENE_BUILDING;
+    case SessionState::failed:
+      return msg::SCENE_FAILED;
   }
   return msg::SCENE_FAILED;
 }

@@ -46,9 +46,10 @@ void arm_stop_watchdog() {
       std::this_thread::sleep_for(std::chrono::seconds(1));
       ::_exit(kExitStopTimedOut);
     }).detach();
-    logger->error("the stop did not finish within {} s (waiting for {}); exiting with status {} without it (every "
-                  "commit is already on disk)",
-                  kStopDeadline.count(), step != nullptr ? step : "an unnamed step", kExitStopTimedOut);
+    logger->error(
+        "the stop did not finish within {} s (waiting for {}); exiting with status {} without it (every "
+        "commit is already on disk)",
+        kStopDeadline.count(), step != nullptr ? step : "an unnamed step", kExitStopTimedOut);
     logger->flush();
     ::_exit(kExitStopTimedOut);
   });

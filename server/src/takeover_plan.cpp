@@ -19,18 +19,20 @@ std::string copy_words(const SessionStatus& mine) {
 // A continued copy with fewer task events than the former owner's, whose tasks did not arrive.
 std::string missing_tasks(const SessionStatus& mine, const FormerRoadmap& former) {
   if (mine.task_events >= former.task_events) return "";
-  return fmt::format("; daemon {}'s roadmap had {} task events to this copy's {}, whose tasks did not reach this "
-                     "daemon: continued without them (they stay in its store)",
-                     former.owner, former.task_events, mine.task_events);
+  return fmt::format(
+      "; daemon {}'s roadmap had {} task events to this copy's {}, whose tasks did not reach this "
+      "daemon: continued without them (they stay in its store)",
+      former.owner, former.task_events, mine.task_events);
 }
 
 // What a rebuild does with the former owner's tasks, as the end of its sentence.
 std::string task_words(const FormerRoadmap& former) {
   if (former.task_events == 0) return "";
   if (!former.tasks) {
-    return fmt::format("; its tasks ({} events) did not reach this daemon: rebuilt without them (they stay in daemon "
-                       "{}'s store, which outweighs this copy while it holds no more samples)",
-                       former.task_events, former.owner);
+    return fmt::format(
+        "; its tasks ({} events) did not reach this daemon: rebuilt without them (they stay in daemon "
+        "{}'s store, which outweighs this copy while it holds no more samples)",
+        former.task_events, former.owner);
   }
   std::string names;
   for (const InspectionTask& t : *former.tasks) {
@@ -45,9 +47,10 @@ std::string task_words(const FormerRoadmap& former) {
 // this daemon's copy was built sets that copy aside.
 TakeoverPlan plan_without_roadmap(const std::string& scene, const SessionStatus& mine, const FormerRoadmap& former) {
   if (former.generation > 0 && mine.recipe && mine.recipe->generation < former.generation) {
-    TakeoverPlan plan = keep(fmt::format("scene '{}' taken over from {}, which dropped its roadmap (generation {}) "
-                                         "after this daemon's copy ({}) was built: the copy is set aside",
-                                         scene, former.owner, former.generation, copy_words(mine)));
+    TakeoverPlan plan =
+        keep(fmt::format("scene '{}' taken over from {}, which dropped its roadmap (generation {}) "
+                         "after this daemon's copy ({}) was built: the copy is set aside",
+                         scene, former.owner, former.generation, copy_words(mine)));
     plan.set_aside = true;
     return plan;
   }
@@ -60,10 +63,11 @@ TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, 
                            const FormerRoadmap& former) {
   if (!former.recipe) return plan_without_roadmap(scene, mine, former);
   if (!mine.recipe && mine.generation > former.recipe->generation) {
-    return keep(fmt::format("scene '{}' taken over from {}: this daemon dropped the scene's roadmap (generation {}) "
-                            "after daemon {}'s was built (generation {}): nothing is rebuilt, and its copy stays in "
-                            "its store",
-                            scene, former.owner, mine.generation, former.owner, former.recipe->generation));
+    return keep(
+        fmt::format("scene '{}' taken over from {}: this daemon dropped the scene's roadmap (generation {}) "
+                    "after daemon {}'s was built (generation {}): nothing is rebuilt, and its copy stays in "
+                    "its store",
+                    scene, former.owner, mine.generation, former.owner, former.recipe->generation));
   }
   if (former.samples == 0) {
     return keep(fmt::format("scene '{}' taken over from {}, which held no roadmap of it", scene, former.owner));
@@ -89,9 +93,10 @@ TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, 
   if (mine.recipe && same_roadmap(*mine.recipe, theirs) && mine.recipe->generation == theirs.generation &&
       !lacks_tasks) {
     if (mine.samples_done >= former.samples) {
-      return keep(fmt::format("scene '{}' taken over from {}: this daemon's copy ({}) holds the {} samples it had "
-                              "reached or accepted{}",
-                              scene, former.owner, copy_words(mine), former.samples, missing_tasks(mine, former)));
+      return keep(
+          fmt::format("scene '{}' taken over from {}: this daemon's copy ({}) holds the {} samples it had "
+                      "reached or accepted{}",
+                      scene, former.owner, copy_words(mine), former.samples, missing_tasks(mine, former)));
     }
     TakeoverPlan plan;
     plan.action = TakeoverPlan::Action::extend;
@@ -101,9 +106,10 @@ TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, 
     return plan;
   }
   if (mine.recipe && mine.recipe->generation > theirs.generation) {  // (a later build: its tasks are its own)
-    return keep(fmt::format("scene '{}' taken over from {}: this daemon's copy ({}) is of a later build than its "
-                            "generation {}, and is kept",
-                            scene, former.owner, copy_words(mine), theirs.generation));
+    return keep(
+        fmt::format("scene '{}' taken over from {}: this daemon's copy ({}) is of a later build than its "
+                    "generation {}, and is kept",
+                    scene, former.owner, copy_words(mine), theirs.generation));
   }
   TakeoverPlan plan;
   plan.action = TakeoverPlan::Action::rebuild;
@@ -114,11 +120,10 @@ TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, 
   plan.outcome = fmt::format(
       "scene '{}' taken over from {}: rebuilding its {} roadmap (generation {}, seed {}) to {} samples{}{}", scene,
       former.owner, to_string(theirs.method), theirs.generation, theirs.seed, former.samples, task_words(former),
-      !mine.recipe ? std::string()
-      : lacks_tasks
-          ? fmt::format("; this daemon's copy ({}, {} task events of {}) is set aside", copy_words(mine),
-                        mine.task_events, former.task_events)
-          : fmt::format("; this daemon's older copy ({}) is set aside", copy_words(mine)));
+      !mine.recipe  ? std::string()
+      : lacks_tasks ? fmt::format("; this daemon's copy ({}, {} task events of {}) is set aside", copy_words(mine),
+                                  mine.task_events, former.task_events)
+                    : fmt::format("; this daemon's older copy ({}) is set aside", copy_words(mine)));
   return plan;
 }
 

@@ -35,9 +35,9 @@ struct FormerRoadmap {
 /// One takeover's decision.
 struct TakeoverPlan {
   enum class Action {
-    keep,      ///< Nothing to build: this daemon's copy serves as it is.
-    extend,    ///< Extend this daemon's copy (the same roadmap) by `extend_by` samples.
-    rebuild,   ///< Build `request` (the former owner's recipe and generation), setting any copy aside.
+    keep,     ///< Nothing to build: this daemon's copy serves as it is.
+    extend,   ///< Extend this daemon's copy (the same roadmap) by `extend_by` samples.
+    rebuild,  ///< Build `request` (the former owner's recipe and generation), setting any copy aside.
   };
   Action action = Action::keep;
   std::uint64_t extend_by = 0;

@@ -7,8 +7,8 @@ namespace {
 
 // The entry of `name` still held in `tasks`, or nullptr.
 const InspectionTask* held_task(std::span<const InspectionTask> tasks, const std::string& name) {
-  const auto it = std::find_if(tasks.begin(), tasks.end(),
-                               [&](const InspectionTask& t) { return t.name == name && !t.removed; });
+  const auto it =
+      std::find_if(tasks.begin(), tasks.end(), [&](const InspectionTask& t) { return t.name == name && !t.removed; });
   return it == tasks.end() ? nullptr : &*it;
 }
 

@@ -40,9 +40,8 @@ inline std::string last_line(const std::string& text) {
 class LabCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("ispars-cli-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = std::filesystem::temp_directory_path() / ("ispars-cli-" + std::to_string(::getpid()) + "-" +
+                                                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::create_directories(dir_);
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
@@ -50,8 +49,8 @@ class LabCli : public ::testing::Test {
   LabRun lab(const std::string& args) const {
     const auto out = dir_ / "out.txt";
     const auto err = dir_ / "err.txt";
-    const std::string command = std::string("'") + ISPARS_LAB + "' " + args + " >'" + out.string() +
-                                "' 2>'" + err.string() + "'";
+    const std::string command =
+        std::string("'") + ISPARS_LAB + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
     const int status = std::system(command.c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
   }

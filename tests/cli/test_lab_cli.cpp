@@ -29,7 +29,8 @@ TEST_F(LabCli, SceneInfoJsonIsTheLastLine) {
 }
 
 TEST_F(LabCli, SceneInfoIsDeterministic) {
-  const std::string args = std::string("scene info ") + ISPARS_SCENES_DIR + "/truss_bridge.yaml --json --samples 300 --seed 4";
+  const std::string args =
+      std::string("scene info ") + ISPARS_SCENES_DIR + "/truss_bridge.yaml --json --samples 300 --seed 4";
   auto strip_times = [](std::string s) {
     auto j = nlohmann::json::parse(s);
     j.erase("load_seconds");
@@ -41,7 +42,7 @@ TEST_F(LabCli, SceneInfoIsDeterministic) {
 
 TEST_F(LabCli, BenchGeometryReportsAllPathsAndAgreement) {
   const LabRun run = lab(std::string("bench geometry ") + ISPARS_SCENES_DIR +
-                      "/demo_tank_tower.yaml --json --queries 256 --reference-queries 20");
+                         "/demo_tank_tower.yaml --json --queries 256 --reference-queries 20");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto json = nlohmann::json::parse(run.out);
   for (const char* key : {"point_check_ns", "segment_check_ns", "chi_ns", "chi_near_structure_ns"}) {
@@ -155,7 +156,8 @@ TEST_F(LabBuild, JsonHasTheContractFields) {
 }
 
 TEST_F(LabBuild, OutFilesAreByteIdenticalAcrossRunsAndThreadCounts) {
-  const std::string base = std::string("build ") + ISPARS_SCENES_DIR + "/truss_bridge.yaml --method ispars --samples 2000 --seed 9 ";
+  const std::string base =
+      std::string("build ") + ISPARS_SCENES_DIR + "/truss_bridge.yaml --method ispars --samples 2000 --seed 9 ";
   ASSERT_EQ(lab(base + "--threads 1 --out " + (dir_ / "a.json").string()).exit_code, 0);
   ASSERT_EQ(lab(base + "--threads 2 --out " + (dir_ / "b.json").string()).exit_code, 0);
   ASSERT_EQ(lab(base + "--threads 1 --out " + (dir_ / "c.json").string()).exit_code, 0);
@@ -174,8 +176,10 @@ TEST_F(LabBuild, OutFilesAreByteIdenticalAcrossRunsAndThreadCounts) {
 
 TEST_F(LabBuild, IrisFilesFollowTheIrisFormat) {
   const std::string prefix = (dir_ / "wt").string();
-  ASSERT_EQ(lab(std::string("build ") + ISPARS_SCENES_DIR + "/water_tower.yaml --method irisc --samples 800 --iris " +
-                prefix).exit_code, 0);
+  ASSERT_EQ(
+      lab(std::string("build ") + ISPARS_SCENES_DIR + "/water_tower.yaml --method irisc --samples 800 --iris " + prefix)
+          .exit_code,
+      0);
   std::istringstream vertex(slurp(prefix + "_vertex"));
   std::istringstream edge(slurp(prefix + "_edge"));
   std::istringstream conf(slurp(prefix + "_conf"));
@@ -227,8 +231,8 @@ TEST_F(LabTour, ToursOnRoadmapFilesAndIrisFilesKeepTheJsonContract) {
   const auto roadmap = dir_ / "rm.json";
   ASSERT_EQ(lab("build " + scene + " --method ispars --samples 3000 --out " + roadmap.string()).exit_code, 0);
   for (const char* graph : {"roadmap", "dense"}) {
-    const LabRun run = lab("tour " + roadmap.string() + " --graph " + graph + " --budget 2 --iterations 30 --json --out " +
-                           (dir_ / "tour.json").string());
+    const LabRun run = lab("tour " + roadmap.string() + " --graph " + graph +
+                           " --budget 2 --iterations 30 --json --out " + (dir_ / "tour.json").string());
     ASSERT_EQ(run.exit_code, 0) << run.err;
     const std::string last = last_line(run.out);
     const auto json = nlohmann::json::parse(last);
@@ -249,20 +253,22 @@ TEST_F(LabTour, ToursOnRoadmapFilesAndIrisFilesKeepTheJsonContract) {
   const std::string fixed = "tour " + roadmap.string() + " --budget 3 --iterations 20 --seed 4 --out ";
   ASSERT_EQ(lab(fixed + (dir_ / "a.json").string()).exit_code, 0);
   ASSERT_EQ(lab(fixed + (dir_ / "b.json").string()).exit_code, 0);
-  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "a.json"))["walk"], nlohmann::json::parse(slurp(dir_ / "b.json"))["walk"]);
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "a.json"))["walk"],
+            nlohmann::json::parse(slurp(dir_ / "b.json"))["walk"]);
   // With its scene, the tour is shortcut too: never longer, and what render draws ("path").
-  const LabRun cut = lab("tour " + roadmap.string() + " --budget 2 --iterations 30 --json --scene " + scene + " --out " +
-                         (dir_ / "cut.json").string());
+  const LabRun cut = lab("tour " + roadmap.string() + " --budget 2 --iterations 30 --json --scene " + scene +
+                         " --out " + (dir_ / "cut.json").string());
   ASSERT_EQ(cut.exit_code, 0) << cut.err;
   const auto cut_json = nlohmann::json::parse(last_line(cut.out));
   EXPECT_GT(cut_json["shortcut_cost"].get<double>(), 0.0);
   EXPECT_LE(cut_json["shortcut_cost"].get<double>(), cut_json["cost"].get<double>());
   // The flown tour (what render draws, "path") is never longer than the walk's shortcut.
   EXPECT_LE(cut_json["flown_cost"].get<double>(), cut_json["shortcut_cost"].get<double>() * (1.0 + 1e-9));
-  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "cut.json"))["path"].size(), cut_json["flown_steps"].get<std::size_t>() + 1);
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "cut.json"))["path"].size(),
+            cut_json["flown_steps"].get<std::size_t>() + 1);
   EXPECT_FALSE(cut_json["stages"].empty());
-  const LabRun other = lab("tour " + roadmap.string() + " --budget 1 --iterations 5 --scene " + std::string(ISPARS_SCENES_DIR) +
-                           "/demo_truss_bridge.yaml");
+  const LabRun other = lab("tour " + roadmap.string() + " --budget 1 --iterations 5 --scene " +
+                           std::string(ISPARS_SCENES_DIR) + "/demo_truss_bridge.yaml");
   EXPECT_NE(other.exit_code, 0);
   EXPECT_NE(other.err.find("--scene: its root is not the roadmap's root"), std::string::npos) << other.err;
   // IRIS files: all edges or valid ones only.
@@ -276,7 +282,9 @@ TEST_F(LabTour, ATargetsFileFixesTheTargetSetAndTheLpBoundStaysBelowTheTour) {
   const std::string scene = std::string(ISPARS_SCENES_DIR) + "/demo_tank_tower.yaml";
   const auto roadmap = dir_ / "rm.json";
   ASSERT_EQ(lab("build " + scene + " --method ispars --samples 1500 --out " + roadmap.string()).exit_code, 0);
-  ASSERT_EQ(lab("tour " + roadmap.string() + " --budget 5 --iterations 20 --out " + (dir_ / "all.json").string()).exit_code, 0);
+  ASSERT_EQ(
+      lab("tour " + roadmap.string() + " --budget 5 --iterations 20 --out " + (dir_ / "all.json").string()).exit_code,
+      0);
   const auto all = nlohmann::json::parse(slurp(dir_ / "all.json"))["targets"];
   ASSERT_GE(all.size(), 3u);
   const auto targets = write("targets.txt", "# three of them\n" + all[0].dump() + " " + all[2].dump() + "\n\n" +
@@ -293,10 +301,12 @@ TEST_F(LabTour, ATargetsFileFixesTheTargetSetAndTheLpBoundStaysBelowTheTour) {
   ASSERT_FALSE(json["bound_trace"].empty()) << "an LP bound was proven";
   EXPECT_GT(json["lower_bound"].get<double>(), 0.0);
   EXPECT_LE(json["lower_bound"].get<double>(), json["cost"].get<double>() * (1 + 1e-9));
-  for (const auto& step : json["bound_trace"]) EXPECT_LE(step[1].get<double>(), json["lower_bound"].get<double>() + 1e-9);
+  for (const auto& step : json["bound_trace"])
+    EXPECT_LE(step[1].get<double>(), json["lower_bound"].get<double>() + 1e-9);
 
   const auto bad = write("bad.txt", "1 2\n3 x7\n");
-  expect_input_error(lab("tour " + roadmap.string() + " --targets " + bad.string() + " --budget 1"), bad.string(), "line 2");
+  expect_input_error(lab("tour " + roadmap.string() + " --targets " + bad.string() + " --budget 1"), bad.string(),
+                     "line 2");
   const auto negative = write("negative.txt", "-4\n");
   expect_input_error(lab("tour " + roadmap.string() + " --targets " + negative.string() + " --budget 1"),
                      negative.string(), "line 1");
@@ -314,17 +324,21 @@ TEST_F(LabTour, ATargetsFileFixesTheTargetSetAndTheLpBoundStaysBelowTheTour) {
 TEST_F(LabTour, BadInputIsNamed) {
   expect_input_error(lab("tour " + (dir_ / "missing.json").string() + " --budget 1"), (dir_ / "missing.json").string(),
                      "file");
-  const auto broken = write("broken.json", "{\"graphs\": {\"roadmap\": {\"vertices\": [[0,0,0]], \"visible\": [], \"edges\": []}}}");
+  const auto broken =
+      write("broken.json", "{\"graphs\": {\"roadmap\": {\"vertices\": [[0,0,0]], \"visible\": [], \"edges\": []}}}");
   expect_input_error(lab("tour " + broken.string() + " --budget 1"), broken.string(), "graphs.roadmap.visible");
-  const auto no_dense = write("nodense.json", "{\"graphs\": {\"roadmap\": {\"vertices\": [], \"visible\": [], \"edges\": []}}}");
+  const auto no_dense =
+      write("nodense.json", "{\"graphs\": {\"roadmap\": {\"vertices\": [], \"visible\": [], \"edges\": []}}}");
   expect_input_error(lab("tour " + no_dense.string() + " --graph dense --budget 1"), no_dense.string(), "graphs.dense");
-  const auto lonely = write("lonely.json", "{\"pois\": [[0,0,0]], \"graphs\": {\"roadmap\": {\"vertices\": [[0,0,0],[1,0,0]], "
-                                           "\"visible\": [[],[0]], \"edges\": []}}}");
+  const auto lonely = write("lonely.json",
+                            "{\"pois\": [[0,0,0]], \"graphs\": {\"roadmap\": {\"vertices\": [[0,0,0],[1,0,0]], "
+                            "\"visible\": [[],[0]], \"edges\": []}}}");
   expect_input_error(lab("tour " + lonely.string() + " --budget 1"), "tour", "root");
   write("x_vertex", "0 0 0 1 2\n1 0 0 x\n");
   write("x_edge", "0 1 1 1 0 0 1.5\n");
-  expect_input_error(lab("tour --iris " + (dir_ / "x").string() + " --budget 1"), (dir_ / "x_vertex").string(), "line 2");
-  EXPECT_EQ(lab("tour --budget 1").exit_code, 2);  // no input
+  expect_input_error(lab("tour --iris " + (dir_ / "x").string() + " --budget 1"), (dir_ / "x_vertex").string(),
+                     "line 2");
+  EXPECT_EQ(lab("tour --budget 1").exit_code, 2);                                   // no input
   EXPECT_EQ(lab("tour " + lonely.string() + " --iris x --budget 1").exit_code, 2);  // two inputs
   EXPECT_EQ(lab("tour " + lonely.string() + " --budget -1").exit_code, 2);
 }

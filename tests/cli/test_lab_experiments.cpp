@@ -17,10 +17,13 @@ using ispars::test::LabRun;
 
 class LabVariants : public LabCli {};
 
-nlohmann::json last_json_line(const std::string& out) { return nlohmann::json::parse(out.substr(out.rfind("\n{") + 1)); }
+nlohmann::json last_json_line(const std::string& out) {
+  return nlohmann::json::parse(out.substr(out.rfind("\n{") + 1));
+}
 
 TEST_F(LabVariants, BuildTakesAVariantAndReportsEdgesByCause) {
-  const std::string base = std::string("build ") + ISPARS_SCENES_DIR + "/truss_bridge.yaml --method ispars --samples 2000 --json";
+  const std::string base =
+      std::string("build ") + ISPARS_SCENES_DIR + "/truss_bridge.yaml --method ispars --samples 2000 --json";
   const LabRun ours = lab(base);
   const LabRun paper = lab(base + " --variant alg1");
   ASSERT_EQ(ours.exit_code, 0) << ours.err;
@@ -76,7 +79,8 @@ TEST_F(LabVariants, SpannerMeasuresShortPairsPerVariant) {
     EXPECT_EQ(pairs, r["viewpoint_stretch"]["all"]["vs_dense"]["pairs"].get<std::size_t>());
     EXPECT_GT(r["viewpoint_stretch"]["beyond_3_Delta"]["vs_dense"]["pairs"].get<std::size_t>(), 0u);
   }
-  const LabRun spars = lab("experiment spanner --scene water_tower --samples 2000 --pois 60 --variants spars,stretch+shortcut --json");
+  const LabRun spars =
+      lab("experiment spanner --scene water_tower --samples 2000 --pois 60 --variants spars,stretch+shortcut --json");
   ASSERT_EQ(spars.exit_code, 0) << spars.err;
   const auto spars_json = last_json_line(spars.out);
   ASSERT_EQ(spars_json["spanner"].size(), 2u);
@@ -93,8 +97,9 @@ TEST_F(LabVariants, SpannerMeasuresShortPairsPerVariant) {
 }
 
 TEST_F(LabVariants, AblationComparesRuleSetsOnTheSameTargetsAndWork) {
-  const LabRun run = lab("experiment ablation --scene water_tower --delta 2.348 --seeds 1 --iterations 50 "
-                         "--rule-sets alg1,stretch,stretch+nearest-witness --wide --json");
+  const LabRun run =
+      lab("experiment ablation --scene water_tower --delta 2.348 --seeds 1 --iterations 50 "
+          "--rule-sets alg1,stretch,stretch+nearest-witness --wide --json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto json = last_json_line(run.out);
   ASSERT_EQ(json["summary"].size(), 6u);  // dense, irisc, dense-wide and the three rule sets
@@ -114,8 +119,9 @@ TEST_F(LabVariants, AblationComparesRuleSetsOnTheSameTargetsAndWork) {
     }
   }
   // The stretch rules' slack: recorded, and it changes the stretch roadmap (not Alg. 1's).
-  const LabRun slack = lab("experiment ablation --scene water_tower --delta 2.348 --seeds 1 --iterations 50 "
-                           "--rule-sets alg1,stretch --stretch-slack 0.5 --json");
+  const LabRun slack =
+      lab("experiment ablation --scene water_tower --delta 2.348 --seeds 1 --iterations 50 "
+          "--rule-sets alg1,stretch --stretch-slack 0.5 --json");
   ASSERT_EQ(slack.exit_code, 0) << slack.err;
   const auto slack_json = last_json_line(slack.out);
   EXPECT_EQ(slack_json["stretch_slack"], 0.5);
@@ -129,14 +135,16 @@ TEST_F(LabVariants, AblationComparesRuleSetsOnTheSameTargetsAndWork) {
   EXPECT_LT(edges(slack_json, "stretch"), edges(json, "stretch"));
   EXPECT_EQ(edges(slack_json, "alg1"), edges(json, "alg1"));
   // From a sample past N on, the slack changes nothing.
-  const LabRun late = lab("experiment ablation --scene water_tower --delta 2.348 --seeds 1 --iterations 50 "
-                          "--rule-sets stretch --stretch-slack 0.5 --stretch-slack-after 1000000 --json");
+  const LabRun late =
+      lab("experiment ablation --scene water_tower --delta 2.348 --seeds 1 --iterations 50 "
+          "--rule-sets stretch --stretch-slack 0.5 --stretch-slack-after 1000000 --json");
   ASSERT_EQ(late.exit_code, 0) << late.err;
   EXPECT_EQ(edges(last_json_line(late.out), "stretch"), edges(json, "stretch"));
   EXPECT_EQ(lab("experiment ablation --scene water_tower --delta 2.3 --stretch-slack 1.5").exit_code, 2);
   const LabRun bad = lab("experiment ablation --scene water_tower --delta 2.3 --rule-sets alg1+teleport");
   EXPECT_EQ(bad.exit_code, 2);
-  EXPECT_NE(bad.err.find("--rule-sets: rule set 'alg1+teleport': unknown rule 'teleport'"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("--rule-sets: rule set 'alg1+teleport': unknown rule 'teleport'"), std::string::npos)
+      << bad.err;
   EXPECT_EQ(lab("experiment ablation --scene water_tower --delta 2.3 --rule-sets greedy").exit_code, 2);
 }
 
@@ -164,18 +172,23 @@ TEST_F(LabVariants, FlownRowsPassTheirChecksAndTheCorridorSourcesAgree) {
   EXPECT_NE(run.out.find("| water_tower | 0.1 |"), std::string::npos) << "the equal-time panel";
 
   const auto earlier = write("earlier.json", run.out);
-  const LabRun one = lab("experiment flown --scene water_tower --seeds 1 --iterations 200 --rows ispars-flown "
-                         "--wide-from " + earlier.string() + " --json");
+  const LabRun one =
+      lab("experiment flown --scene water_tower --seeds 1 --iterations 200 --rows ispars-flown "
+          "--wide-from " +
+          earlier.string() + " --json");
   ASSERT_EQ(one.exit_code, 0) << one.err;
   const auto again = last_json_line(one.out);
   ASSERT_EQ(again["runs"].size(), 1u);
   EXPECT_EQ(again["runs"][0]["shortcut_cost"], rows["ispars-flown"]["shortcut_cost"]);
-  const double ratio = rows["ispars-flown"]["shortcut_cost"].get<double>() / rows["dense-wide"]["shortcut_cost"].get<double>();
+  const double ratio =
+      rows["ispars-flown"]["shortcut_cost"].get<double>() / rows["dense-wide"]["shortcut_cost"].get<double>();
   EXPECT_NE(one.out.find(fmt::format("{:.3f} [", ratio)), std::string::npos) << one.out;
   EXPECT_EQ(one.out.find("| water_tower | 0.1 |"), std::string::npos) << "no panel without dense-wide";
 
-  const LabRun other_work = lab("experiment flown --scene water_tower --seeds 1 --iterations 300 --rows ispars "
-                                "--wide-from " + earlier.string());
+  const LabRun other_work =
+      lab("experiment flown --scene water_tower --seeds 1 --iterations 300 --rows ispars "
+          "--wide-from " +
+          earlier.string());
   EXPECT_EQ(other_work.exit_code, 2);
   EXPECT_NE(other_work.err.find("ran 200 iterations, not 300"), std::string::npos) << other_work.err;
   const LabRun bad_row = lab("experiment flown --scene water_tower --seeds 1 --rows ispars,teleport");

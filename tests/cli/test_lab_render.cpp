@@ -55,8 +55,8 @@ TEST_F(LabRender, DrawsTheRoadmapItsDensePairAndTheTourWithTheFilesCounts) {
 }
 
 TEST_F(LabRender, ARoadmapOverTheEdgeLimitIsDrawnAsASubsetAndSaysSo) {
-  const LabRun run = lab("render " + scene_ + " --roadmap " + roadmap_ + " --max-edges 5 --width 64 --height 48 --out " +
-                         (dir_ / "small.png").string());
+  const LabRun run = lab("render " + scene_ + " --roadmap " + roadmap_ +
+                         " --max-edges 5 --width 64 --height 48 --out " + (dir_ / "small.png").string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("drew an evenly spread subset: 5 of"), std::string::npos) << run.out;
 }

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include "ispars/builders/recipe_builder.hpp"
 #include "ispars/params/cli_archive.hpp"
-#include <nlohmann/json.hpp>
 
 #include "lab_cli_fixture.hpp"
 
@@ -65,21 +65,20 @@ TEST_P(LabRequests, TheLabRefusesWhatTheDaemonRefusesWithTheSameMessage) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    BadRequests, LabRequests,
-    ::testing::Values("--method dense --stretch-slack 0.5",            // no stretch rules to slacken
-                      "--method ispars --variant alg1 --stretch-slack 0.2",
-                      "--method ispars --stretch-slack-after 100",     // a start without a slack
-                      "--method irisc --variant alg1",                 // a variant of a method without one
-                      "--method ispars --sparse-delta 100000",         // off the scene's scale
-                      "--method ispars --dense-delta 0.000001",
-                      "--method spars --stretch 150",                  // out of its declared range
-                      "--method ispars --stretch-slack-after 2.5",     // a count is whole
-                      "--method ispars2 --p-accept -0.5"));
+INSTANTIATE_TEST_SUITE_P(BadRequests, LabRequests,
+                         ::testing::Values("--method dense --stretch-slack 0.5",  // no stretch rules to slacken
+                                           "--method ispars --variant alg1 --stretch-slack 0.2",
+                                           "--method ispars --stretch-slack-after 100",  // a start without a slack
+                                           "--method irisc --variant alg1",  // a variant of a method without one
+                                           "--method ispars --sparse-delta 100000",  // off the scene's scale
+                                           "--method ispars --dense-delta 0.000001",
+                                           "--method spars --stretch 150",               // out of its declared range
+                                           "--method ispars --stretch-slack-after 2.5",  // a count is whole
+                                           "--method ispars2 --p-accept -0.5"));
 
 TEST_F(LabCli, AnAcceptedRequestBuildsTheRecipeItNames) {
-  const test::LabRun run = lab(std::string("build ") + kScene +
-                               " --method ispars --samples 300 --stretch 1.5 --stretch-slack 0.25 --json");
+  const test::LabRun run =
+      lab(std::string("build ") + kScene + " --method ispars --samples 300 --stretch 1.5 --stretch-slack 0.25 --json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto json = nlohmann::json::parse(test::last_line(run.out));
   EXPECT_EQ(json["stretch_slack"], 0.25);

@@ -36,7 +36,8 @@ inline CliRun run(const std::string& args, const test::TempDir& dir) {
 inline std::string last_line(const std::string& text) {
   const auto end = text.find_last_not_of('\n');
   const auto start = text.rfind('\n', end);
-  return text.substr(start == std::string::npos ? 0 : start + 1, end - (start == std::string::npos ? 0 : start + 1) + 1);
+  return text.substr(start == std::string::npos ? 0 : start + 1,
+                     end - (start == std::string::npos ? 0 : start + 1) + 1);
 }
 
 class CliTest : public ::testing::Test {
@@ -47,9 +48,9 @@ class CliTest : public ::testing::Test {
     common_ = "--domain " + std::to_string(domain_) + " --profile-file " + kProfile + " --timeout 20";
   }
   void start() {
-    daemon_ = std::make_unique<client::LocalDaemon>(
-        ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "cli",
-        std::vector<std::string>{"--profile-file", kProfile});
+    daemon_ =
+        std::make_unique<client::LocalDaemon>(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes",
+                                              "cli", std::vector<std::string>{"--profile-file", kProfile});
   }
   const std::string kProfile = std::string(ISPARS_SOURCE_DIR) + "/deploy/fastdds_localhost.xml";
   test::TempDir dir_;

@@ -1,6 +1,8 @@
 #pragma once
-// Reading a daemon's metrics endpoint from an integration test. Include after
-// service_fixture.hpp: httplib defines a macro Eigen's headers use.
+// Reading a daemon's metrics endpoint from an integration test.
+
+// Eigen first: httplib.h defines a macro Eigen's headers use, so Eigen must be read before it.
+#include <Eigen/Core>
 
 #include <string>
 

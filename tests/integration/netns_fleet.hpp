@@ -31,9 +31,9 @@ class NetnsFleetTest : public ServiceTest {
     args.insert(args.end(), extra.begin(), extra.end());
     if (!keystore_.empty()) args.insert(args.end(), {"--security", (keystore_ / "identities" / id).string()});
     return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id),
-                                           scenes.empty() ? scene_dir_ : scenes, id, args,
-                                           probe_identity(), std::vector<std::string>{}, std::chrono::seconds(60),
-                                           lab_->prefix(id), lab_->profile("hc").string());
+                                           scenes.empty() ? scene_dir_ : scenes, id, args, probe_identity(),
+                                           std::vector<std::string>{}, std::chrono::seconds(60), lab_->prefix(id),
+                                           lab_->profile("hc").string());
   }
   std::string probe_identity() const { return keystore_.empty() ? "" : (keystore_ / "identities" / "probe").string(); }
   client::ClientOptions options_on_hc() const {
@@ -63,7 +63,8 @@ class NetnsFleetTest : public ServiceTest {
   }
   // `ispars ARGS --json` on `host`: its last JSON line, or an error naming its output.
   nlohmann::json cli_on(const std::string& host, const std::string& args) const {
-    std::string command = "ISPARS_DOMAIN=" + std::to_string(domain_) + " ISPARS_PROFILE_FILE=" + lab_->profile(host).string();
+    std::string command =
+        "ISPARS_DOMAIN=" + std::to_string(domain_) + " ISPARS_PROFILE_FILE=" + lab_->profile(host).string();
     if (!keystore_.empty()) command += " ISPARS_SECURITY=" + (keystore_ / "identities" / ("op-" + host)).string();
     command += std::string(" ") + ISPARS_CLI + " " + args;
     const NetnsLab::Result r = lab_->run(host, command + " --json");
@@ -79,6 +80,5 @@ class NetnsFleetTest : public ServiceTest {
   std::unique_ptr<NetnsLab> lab_;
   std::filesystem::path keystore_;
 };
-
 
 }  // namespace ispars::test

@@ -9,18 +9,17 @@
 #include <string>
 #include <vector>
 
+#include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/client/client.hpp"
 #include "ispars/client/wire_calls.hpp"
-#include "ispars/wire/participant.hpp"
-#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/local/local_daemon.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/scene/scene.hpp"
-#include "ispars/local/local_daemon.hpp"
+#include "ispars/wire/participant.hpp"
 #include "support/eventually.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars::test {
-
 
 using client::BuildArgs;
 using DaemonProcess = client::LocalDaemon;
@@ -54,7 +53,8 @@ class ServiceTest : public ::testing::Test {
     if (HasFailure()) print_daemon_log_tails(dir_.path(), 40);
   }
   std::unique_ptr<DaemonProcess> start(const std::string& id, std::vector<std::string> extra = {}) {
-    return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id, std::move(extra));
+    return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id,
+                                           std::move(extra));
   }
   TempDir dir_;
   int domain_ = 0;
@@ -143,9 +143,9 @@ inline SceneStatus idle_on(Client& client, const std::string& scene, const std::
 }
 
 // The roadmap an uninterrupted in-process build of `samples` gives: the reference for the daemon.
-inline std::uint64_t reference_digest(const std::filesystem::path& scene_file, std::uint64_t samples, std::uint64_t seed,
-                                      BuildMethod method = BuildMethod::ispars, double stretch_slack = 0.0,
-                                      std::uint64_t stretch_slack_after = 0) {
+inline std::uint64_t reference_digest(const std::filesystem::path& scene_file, std::uint64_t samples,
+                                      std::uint64_t seed, BuildMethod method = BuildMethod::ispars,
+                                      double stretch_slack = 0.0, std::uint64_t stretch_slack_after = 0) {
   const Scene scene = Scene::load(scene_file);
   BuildOptions options;
   options.seed = seed;

@@ -2,8 +2,8 @@
 // errors, JSON output, live replicas written to files; with the shipped localhost XML profile.
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <sys/wait.h>
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cstdio>
@@ -12,8 +12,8 @@
 #include <thread>
 
 #include "integration/cli_fixture.hpp"
-#include "support/eventually.hpp"
 #include "ispars/render/scene_render.hpp"
+#include "support/eventually.hpp"
 
 namespace ispars::test {
 namespace {
@@ -49,12 +49,10 @@ TEST_F(CliTest, BadCountsAreRefusedByNameWithTheirRange) {
       << targets.err;
   const CliRun pois = run(common_ + " task add tower t --sample 1e3", dir_);
   EXPECT_EQ(pois.code, 2);
-  EXPECT_NE(pois.err.find("--sample: must be a whole number in [1, 1000000], got 1e3"), std::string::npos)
-      << pois.err;
+  EXPECT_NE(pois.err.find("--sample: must be a whole number in [1, 1000000], got 1e3"), std::string::npos) << pois.err;
   const CliRun domain = run("--domain 1e3 stats tower", dir_);
   EXPECT_EQ(domain.code, 2);
-  EXPECT_NE(domain.err.find("--domain: must be a whole number in [0, 232], got 1e3"), std::string::npos)
-      << domain.err;
+  EXPECT_NE(domain.err.find("--domain: must be a whole number in [0, 232], got 1e3"), std::string::npos) << domain.err;
   // The largest count is accepted by the CLI and then refused by the daemon's own limit (exit 3
   // here: no daemon answers).
   const std::string quick = "--domain " + std::to_string(domain_) + " --profile-file " + kProfile + " --timeout 0.5";
@@ -91,9 +89,9 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   ASSERT_EQ(run(common_ + " snapshot tower --out " + snapshot.string(), dir_).code, 0);
   // The watch writes its dump as it exits (not atomically): read until it is whole.
   const std::string expected = test::read_text(snapshot);
-  EXPECT_TRUE(test::eventually(
-      [&] { return std::filesystem::exists(dump) && test::read_text(dump) == expected; }, std::chrono::seconds(30),
-      "the live replica's dump equals the snapshot, byte for byte", std::chrono::milliseconds(100)))
+  EXPECT_TRUE(test::eventually([&] { return std::filesystem::exists(dump) && test::read_text(dump) == expected; },
+                               std::chrono::seconds(30), "the live replica's dump equals the snapshot, byte for byte",
+                               std::chrono::milliseconds(100)))
       << test::read_text(dir_.path() / "watch.txt");
   const auto file = nlohmann::json::parse(test::read_text(snapshot));
   EXPECT_EQ(file["graphs"]["roadmap"]["vertices"].size(), status["vertices"].get<std::size_t>());
@@ -164,9 +162,9 @@ TEST_F(CliTest, RenderDrawsTheDaemonsRoadmapAndTourOverTheLocalSceneFile) {
   const auto stats = nlohmann::json::parse(last_line(run(common_ + " stats tower --json", dir_).out));
   const auto png = dir_.path() / "tower.png";
   const std::string scene_file = (dir_.path() / "scenes" / "tower.yaml").string();
-  CliRun r = run(common_ + " render tower --scene-file " + scene_file + " --tour 1 --width 320 --height 240 --out " +
-                     png.string(),
-                 dir_);
+  CliRun r = run(
+      common_ + " render tower --scene-file " + scene_file + " --tour 1 --width 320 --height 240 --out " + png.string(),
+      dir_);
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string edges = std::to_string(stats["edges"].get<std::size_t>());
   EXPECT_NE(r.out.find(edges + " of " + edges + " edges drawn, a tour of"), std::string::npos) << r.out;

@@ -45,8 +45,9 @@ TEST_F(CliTaskTest, TasksAreAddedListedVerifiedTouredFollowedAndKeptAcrossAResta
   // replica following from before it: the replica resyncs on the task's new POIs.
   const auto pois = nlohmann::json::parse(test::read_text(before))["pois"];
   std::string file = "# welds\n";
-  for (int i = 0; i < 3; ++i) file += nlohmann::to_string(pois[i][0]) + " " + nlohmann::to_string(pois[i][1]) + " " +
-                                      nlohmann::to_string(pois[i][2]) + "\n\n";
+  for (int i = 0; i < 3; ++i)
+    file += nlohmann::to_string(pois[i][0]) + " " + nlohmann::to_string(pois[i][1]) + " " +
+            nlohmann::to_string(pois[i][2]) + "\n\n";
   const auto dump = dir_.path() / "replica.json";
   r = cli("task add tower welds --file " + write("welds.txt", file));
   ASSERT_EQ(r.code, 0) << r.err;

@@ -37,9 +37,9 @@ class StopTestDaemon {
  public:
   explicit StopTestDaemon(const std::vector<std::string>& environment = {}) {
     client::write_tank_tower_scenes(dir_.path() / "scenes", {"s0"});
-    daemon_ = std::make_unique<LocalDaemon>(ISPARS_DAEMON, client::random_domain(), dir_.path() / "data",
-                                            dir_.path() / "scenes", "stop", std::vector<std::string>{}, "",
-                                            environment);
+    daemon_ =
+        std::make_unique<LocalDaemon>(ISPARS_DAEMON, client::random_domain(), dir_.path() / "data",
+                                      dir_.path() / "scenes", "stop", std::vector<std::string>{}, "", environment);
   }
   std::unique_ptr<LocalDaemon>& daemon() { return daemon_; }
 
@@ -97,8 +97,9 @@ TEST(DaemonStopWatchdogTest, AStopThatStallsEndsWithTheWatchdogsStatusAfterItsDe
   EXPECT_FALSE(daemon.stop_timed_out()) << "the daemon did not end its own stop";
   EXPECT_GE(took, kWatchdogDeadline);
   EXPECT_LT(took, kWatchdogDeadline + kWatchdogSlack);
-  EXPECT_TRUE(mentions(daemon.log(), "the stop did not finish within 5 s (waiting for a stall a test asked for "
-                                     "(ISPARS_TEST_STALL_STOP)); exiting with status 4"))
+  EXPECT_TRUE(mentions(daemon.log(),
+                       "the stop did not finish within 5 s (waiting for a stall a test asked for "
+                       "(ISPARS_TEST_STALL_STOP)); exiting with status 4"))
       << daemon.log();
 }
 

@@ -11,9 +11,9 @@
 
 #include "ispars/client/client.hpp"
 #include "ispars/client/wire_calls.hpp"
-#include "ispars/wire/convert.hpp"
 #include "ispars/local/local_daemon.hpp"
 #include "ispars/roadmap/sealed_file.hpp"
+#include "ispars/wire/convert.hpp"
 #include "support/eventually.hpp"
 #include "support/raw_peer.hpp"
 #include "support/test_support.hpp"
@@ -144,7 +144,7 @@ TEST_F(ProtocolTest, AReplyIsHeldUntilTheClientsReaderMatchedAndNoLonger) {
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(1500));
 
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the reader comes late: 0.5 s
-  slow.open_reply_reader();  // within the bound: the held reply reaches it
+  slow.open_reply_reader();                                     // within the bound: the held reply reaches it
   ASSERT_TRUE(eventually([&] { return slow.replies_to(1) == 1u; }, 3s, "the held reply reaches the late reader", 10ms))
       << "the reply was written before the client's reader matched, and lost";
   ASSERT_TRUE(slow.reply_to(1)->ok()) << slow.reply_to(1)->error();
@@ -192,7 +192,8 @@ TEST_F(ProtocolTest, AChangeResentAfterARestartIsAnsweredFromTheLedgerNotDoneTwi
   // A begun change never answered, as a kill between the two records leaves it.
   {
     std::ofstream ledger(data / ".changes.log", std::ios::app);
-    ledger << seal_json({{"begun", "EXTEND"}, {"client", peer.identity()}, {"seq", 12}, {"scene", "s0"}}).dump() << "\n";
+    ledger << seal_json({{"begun", "EXTEND"}, {"client", peer.identity()}, {"seq", 12}, {"scene", "s0"}}).dump()
+           << "\n";
   }
   daemon = std::make_unique<client::LocalDaemon>(ISPARS_DAEMON, domain_, data, dir_.path() / "scenes", "d");
   Client client(client::local_client_options(domain_));
@@ -200,7 +201,8 @@ TEST_F(ProtocolTest, AChangeResentAfterARestartIsAnsweredFromTheLedgerNotDoneTwi
   ASSERT_EQ(client.wait_idle("s0", {}, std::chrono::seconds(60)).samples_done, 1500u) << "the extend, done once";
   extend.client_id(peer.identity());
   ASSERT_TRUE(peer.post(extend));
-  ASSERT_TRUE(eventually([&] { return peer.replies_to(11) >= 2; }, 30s, "the retry is answered", 10ms)) << daemon->log();
+  ASSERT_TRUE(eventually([&] { return peer.replies_to(11) >= 2; }, 30s, "the retry is answered", 10ms))
+      << daemon->log();
   ASSERT_EQ(peer.replies_to(11), 2u) << daemon->log();
   EXPECT_TRUE(peer.reply_to(11)->ok());
   EXPECT_EQ(peer.reply_to(11)->message(), first->message());

@@ -43,8 +43,8 @@ TEST_F(ServiceTest, EightConcurrentClientsGetTheirOwnRepliesAndNoneIsLost) {
               } catch (const ClientError& e) {
                 // A build already running, or no roadmap yet: a correct, named refusal.
                 const std::string what = e.what();
-                if (e.kind() != ClientError::Kind::rejected ||
-                    (what.find("already running") == std::string::npos && what.find("no roadmap") == std::string::npos)) {
+                if (e.kind() != ClientError::Kind::rejected || (what.find("already running") == std::string::npos &&
+                                                                what.find("no roadmap") == std::string::npos)) {
                   throw;
                 }
                 ++expected_errors;
@@ -201,7 +201,8 @@ TEST_F(ServiceTest, SigtermFinishesTheBatchPersistsAndExitsZero) {
   EXPECT_GE(after.samples_done, before);
   EXPECT_EQ(after.samples_done, stopped_at);
   EXPECT_EQ(after.state, SceneState::idle);
-  EXPECT_EQ(roadmap_digest(client.snapshot("s2").roadmap), reference_digest(scene_dir_ / "s2.yaml", after.samples_done, 5));
+  EXPECT_EQ(roadmap_digest(client.snapshot("s2").roadmap),
+            reference_digest(scene_dir_ / "s2.yaml", after.samples_done, 5));
 }
 
 TEST_F(ServiceTest, TwoDaemonsSplitScenesByTheFleetRuleAndNeverBothAnswer) {

@@ -55,9 +55,9 @@ TEST_F(CrashTest, KillNineAtFiftyMomentsLosesNoCommitAndReplaysByteForByte) {
   std::uint64_t seed = 5;
   std::uint64_t committed_before = 0;  // samples of the roadmap before the interrupted operation
   auto daemon = start_daemon();
-  std::string operation;  // the one interrupted last
-  std::optional<SceneStatus> seen;  // the last status a client saw before the kill
-  std::size_t compared_with_ack = 0;     // restarts compared with an acknowledged status
+  std::string operation;              // the one interrupted last
+  std::optional<SceneStatus> seen;    // the last status a client saw before the kill
+  std::size_t compared_with_ack = 0;  // restarts compared with an acknowledged status
   for (std::size_t k = 0; k < kills; ++k) {
     try {
       Client client(client_options(domain_));
@@ -111,7 +111,8 @@ TEST_F(CrashTest, KillNineAtFiftyMomentsLosesNoCommitAndReplaysByteForByte) {
       (void)after.cancel("s0");
       const SceneStatus recovered = after.wait_idle("s0", {}, kLong);
       ASSERT_NE(recovered.state, SceneState::failed)
-          << "kill " << k << " in " << operation << ": " << recovered.last_error << "\n" << daemon->log();
+          << "kill " << k << " in " << operation << ": " << recovered.last_error << "\n"
+          << daemon->log();
       if (recovered.method.empty()) {
         EXPECT_TRUE(operation == "drop" || !has_roadmap) << "kill " << k << ": the roadmap vanished in " << operation;
         EXPECT_TRUE(!seen || seen->method.empty() || operation == "drop")
@@ -137,16 +138,15 @@ TEST_F(CrashTest, KillNineAtFiftyMomentsLosesNoCommitAndReplaysByteForByte) {
               << "kill " << k << " in " << operation << ": an acknowledged commit was lost";
           ++compared_with_ack;
         } else {
-          EXPECT_EQ(operation, "replace") << "kill " << k << ": generation " << seen->generation << " became "
-                                          << recovered.generation;
+          EXPECT_EQ(operation, "replace")
+              << "kill " << k << ": generation " << seen->generation << " became " << recovered.generation;
           EXPECT_GT(recovered.generation, seen->generation) << "kill " << k;
         }
       }
       EXPECT_GT(recovered.samples_done, 0u);
       const auto verified = after.verify("s0");
       EXPECT_EQ(verified.verify.violations, 0u) << "kill " << k << ": " << verified.message;
-      EXPECT_EQ(roadmap_digest(after.snapshot("s0").roadmap),
-                references.digest(recovered.seed, recovered.samples_done))
+      EXPECT_EQ(roadmap_digest(after.snapshot("s0").roadmap), references.digest(recovered.seed, recovered.samples_done))
           << "kill " << k << " in " << operation << " at " << recovered.samples_done << " samples";
       if (k % 5 == 4) {  // extending to a fixed count: the uninterrupted build's roadmap exactly
         const std::uint64_t target = recovered.samples_done + 1500;

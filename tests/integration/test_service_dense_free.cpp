@@ -58,7 +58,8 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
     client.extend("s0", 2000);
     const SceneStatus extended = client.wait_idle("s0", {}, kLong);
     ASSERT_EQ(extended.samples_done, 5000u) << extended.last_error;
-    EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 5000, 1, BuildMethod::ispars2));
+    EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap),
+              reference_digest(scene_dir_ / "s0.yaml", 5000, 1, BuildMethod::ispars2));
   }
   const std::string log = daemon->log();
   EXPECT_NE(log.find("the ispars2 builder resumed from its stored roadmaps at 3000 samples"), std::string::npos) << log;
@@ -81,7 +82,8 @@ TEST_F(ServiceTest, Ispars2KeepsNoDenseGraphAndGoesOnAfterARestartWithoutReplay)
   client.extend("s0", 1000);
   const SceneStatus done = client.wait_idle("s0", {}, kLong);
   ASSERT_EQ(done.samples_done, target) << done.last_error;
-  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", target, 1, BuildMethod::ispars2));
+  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap),
+            reference_digest(scene_dir_ / "s0.yaml", target, 1, BuildMethod::ispars2));
 }
 
 }  // namespace

@@ -30,7 +30,8 @@ class SmallFilesystem {
   // Remounts with `options` ("ro", "rw", "size=64m"); false on failure.
   bool remount(const std::string& options) {
     const unsigned long flags = MS_REMOUNT | (options == "ro" ? MS_RDONLY : 0);
-    return ::mount("tmpfs", at_.c_str(), "tmpfs", flags, options == "ro" || options == "rw" ? nullptr : options.c_str()) == 0;
+    return ::mount("tmpfs", at_.c_str(), "tmpfs", flags,
+                   options == "ro" || options == "rw" ? nullptr : options.c_str()) == 0;
   }
 
  private:

@@ -36,7 +36,7 @@ class NotifySocket {
   ~NotifySocket() { ::close(fd_); }
   // Every datagram received until `until` holds or `limit` passes.
   std::vector<std::string> receive(std::chrono::milliseconds limit,
-                                    const std::function<bool(const std::vector<std::string>&)>& until) {
+                                   const std::function<bool(const std::vector<std::string>&)>& until) {
     const auto deadline = Clock::now() + limit;
     while (Clock::now() < deadline && !until(messages_)) {
       char buffer[4096];
@@ -53,9 +53,8 @@ class NotifySocket {
 };
 
 std::size_t count_of(const std::vector<std::string>& messages, const std::string& text) {
-  return static_cast<std::size_t>(std::count_if(messages.begin(), messages.end(), [&](const std::string& m) {
-    return m.find(text) != std::string::npos;
-  }));
+  return static_cast<std::size_t>(std::count_if(
+      messages.begin(), messages.end(), [&](const std::string& m) { return m.find(text) != std::string::npos; }));
 }
 
 TEST_F(ServiceTest, SystemdHearsReadyThenWatchdogPingsThenStopping) {
@@ -65,7 +64,8 @@ TEST_F(ServiceTest, SystemdHearsReadyThenWatchdogPingsThenStopping) {
       ISPARS_DAEMON, domain_, dir_.path() / "data-d", scene_dir_, "d", std::vector<std::string>{}, "",
       std::vector<std::string>{"NOTIFY_SOCKET=" + (dir_.path() / "notify.sock").string(), "WATCHDOG_USEC=400000"});
   // Pings every 200 ms (half the timeout): at least 4 in 1.5 s after READY.
-  auto messages = manager.receive(std::chrono::seconds(10), [](const auto& m) { return count_of(m, "WATCHDOG=1") >= 4; });
+  auto messages =
+      manager.receive(std::chrono::seconds(10), [](const auto& m) { return count_of(m, "WATCHDOG=1") >= 4; });
   ASSERT_FALSE(messages.empty());
   EXPECT_NE(messages.front().find("READY=1\nSTATUS=serving on DDS domain"), std::string::npos) << messages.front();
   EXPECT_GE(count_of(messages, "WATCHDOG=1"), 4u);

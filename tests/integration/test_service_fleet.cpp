@@ -9,11 +9,11 @@
 #include <chrono>
 #include <thread>
 
+#include "integration/metrics_probe.hpp"
 #include "integration/service_fixture.hpp"
 #include "ispars/client/replica.hpp"
 #include "ispars/wire/scene_owner.hpp"
 #include "support/raw_peer.hpp"
-#include "integration/metrics_probe.hpp"  // after service_fixture.hpp (httplib)
 
 namespace ispars::test {
 namespace {
@@ -25,7 +25,7 @@ class FleetTest : public ServiceTest {
  protected:
   // Starts daemons `ids` at the same instant (each with `extra`), returns once all announce.
   std::vector<std::unique_ptr<DaemonProcess>> start_together(const std::vector<std::string>& ids,
-                                                              const std::vector<std::string>& extra = {}) {
+                                                             const std::vector<std::string>& extra = {}) {
     std::vector<std::unique_ptr<DaemonProcess>> daemons(ids.size());
     std::vector<std::thread> threads;
     for (std::size_t i = 0; i < ids.size(); ++i) {
@@ -153,8 +153,8 @@ TEST_F(FleetTest, AnAddedSceneFileAndAStoredRoadmapAreAnnouncedWhileTheDaemonRun
   EXPECT_FALSE(announced(stored, "s0"));
   client.build("s0", ispars_build(800));
   ASSERT_EQ(client.wait_idle("s0", {}, kLong).state, SceneState::idle);
-  EXPECT_TRUE(eventually([&] { return announced(stored, "s0"); }, 10s,
-                         "a roadmap stored while the daemon runs is announced"));
+  EXPECT_TRUE(
+      eventually([&] { return announced(stored, "s0"); }, 10s, "a roadmap stored while the daemon runs is announced"));
 }
 
 TEST_F(FleetTest, ADaemonWhoseIdIsAlreadyAnnouncedRefusesToStartOrStopsOnceItSeesIt) {
@@ -287,8 +287,8 @@ TEST_F(FleetTest, WhenTheOwnerIsKilledAnotherTakesOverAndRebuildsTheSameRoadmap)
   // The bound: the participant lease (3 s on localhost), the client's retry (1 s), the claim
   // window (0.3 s) and the scene's load, with room for a loaded 2-core machine.
   EXPECT_LT(answered_after, 12.0) << "the new owner answered " << answered_after << " s after the kill";
-  std::printf("takeover: %s answered stats on s1 %.2f s after %s was killed\n", after.server_id.c_str(),
-              answered_after, first_owner.c_str());
+  std::printf("takeover: %s answered stats on s1 %.2f s after %s was killed\n", after.server_id.c_str(), answered_after,
+              first_owner.c_str());
   const SceneStatus rebuilt = client.wait_idle("s1", {}, kLong);
   EXPECT_EQ(rebuilt.samples_done, built.samples_done);
   EXPECT_EQ(rebuilt.method, "ispars");
@@ -371,7 +371,8 @@ TEST_F(FleetTest, AnExtendQueuedWhenTheOwnerStopsIsCarriedOutByTheDaemonThatTake
   // ("not loaded on daemon b"), and the client asks again (bounded).
   std::vector<std::string> refusals;
   const SceneStatus carried = idle_on(client, "s0", "b", 60s, &refusals);
-  for (const std::string& refusal : refusals) EXPECT_NE(refusal.find("is not loaded on daemon b"), std::string::npos) << refusal;
+  for (const std::string& refusal : refusals)
+    EXPECT_NE(refusal.find("is not loaded on daemon b"), std::string::npos) << refusal;
   EXPECT_EQ(carried.server_id, "b");
   EXPECT_EQ(carried.samples_done, 8000u) << b->log();
   EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 8000, 3));
@@ -391,13 +392,14 @@ TEST_F(FleetTest, ATaskIsCarriedByTheDaemonThatTakesTheSceneOver) {
   ASSERT_EQ(with_task.tasks, 1u) << with_task.last_error;
   auto b = start("b", {"--memory-budget-mb", kNoBudget, "--metrics", "127.0.0.1:0"});
   const int b_metrics = metrics_port(b->log());
-  ASSERT_TRUE(eventually([&] { return metric_on(b_metrics, "ispars_fleet_tasks_known") == 1; }, 30s,
-                         "b knows a's task"))
+  ASSERT_TRUE(
+      eventually([&] { return metric_on(b_metrics, "ispars_fleet_tasks_known") == 1; }, 30s, "b knows a's task"))
       << b->log();
   EXPECT_EQ(a->terminate(), 0);
   std::vector<std::string> refusals;  // b named the owner a moment before it claims s0
   const SceneStatus carried = idle_on(client, "s0", "b", 60s, &refusals);
-  for (const std::string& refusal : refusals) EXPECT_NE(refusal.find("is not loaded on daemon b"), std::string::npos) << refusal;
+  for (const std::string& refusal : refusals)
+    EXPECT_NE(refusal.find("is not loaded on daemon b"), std::string::npos) << refusal;
   ASSERT_EQ(carried.server_id, "b") << b->log();
   EXPECT_EQ(carried.samples_done, 1500u);
   EXPECT_EQ(carried.tasks, 1u) << "the task vanished in the takeover: " << b->log();
@@ -411,8 +413,8 @@ TEST_F(FleetTest, ATaskIsCarriedByTheDaemonThatTakesTheSceneOver) {
       << note_of(client, "s0", "b");
   // a returns with its copy: equally fresh (generation, samples, task events), so b keeps it.
   a = start("a", {"--memory-budget-mb", kNoBudget});
-  EXPECT_TRUE(throughout([&] { return holders(client, "s0") == std::vector<std::string>{"b"}; }, 4s,
-                         "b alone holds s0", 200ms))
+  EXPECT_TRUE(
+      throughout([&] { return holders(client, "s0") == std::vector<std::string>{"b"}; }, 4s, "b alone holds s0", 200ms))
       << a->log() << b->log();
   EXPECT_EQ(client.tasks("s0").size(), 1u);
 }
@@ -425,7 +427,8 @@ TEST_F(FleetTest, ATakeoverThatFailsPassesToTheNextDaemonTheRuleNames) {
   // The roles by the rule's weights for s0 (no copies yet): the first holds it, the second (a
   // small budget) is named next, the third after it.
   std::vector<std::string> ids{"a", "b", "c"};
-  std::sort(ids.begin(), ids.end(), [](const std::string& x, const std::string& y) { return wire::outranks("s0", x, y); });
+  std::sort(ids.begin(), ids.end(),
+            [](const std::string& x, const std::string& y) { return wire::outranks("s0", x, y); });
   auto owner = start(ids[0], {"--memory-budget-mb", kNoBudget});
   auto weak = start(ids[1], {"--memory-budget-mb", "16"});
   auto rescuer = start(ids[2], {"--memory-budget-mb", kNoBudget});

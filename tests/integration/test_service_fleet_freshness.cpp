@@ -15,7 +15,7 @@
 #include "ispars/roadmap/sealed_file.hpp"
 #include "ispars/wire/scene_owner.hpp"
 
-#include "integration/metrics_probe.hpp"  // after service_fixture.hpp (httplib)
+#include "integration/metrics_probe.hpp"
 
 namespace ispars::test {
 namespace {
@@ -25,8 +25,8 @@ using namespace std::chrono_literals;
 
 // Waits until exactly `id` holds `scene` and serves it idle; returns how long it took (-1: it
 // did not within `limit`), and in `announced` how long until the announcements said so.
-double wait_held_idle_by(Client& client, const std::string& scene, const std::string& id,
-                         std::chrono::seconds limit, double* announced = nullptr) {
+double wait_held_idle_by(Client& client, const std::string& scene, const std::string& id, std::chrono::seconds limit,
+                         double* announced = nullptr) {
   const auto start = Clock::now();
   const auto since = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   double took = -1.0;
@@ -126,8 +126,7 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
   std::printf("handover: %s announced s0 held %.2f s, and answered it idle %.2f s, after it announced itself\n",
               p.c_str(), held, handover);
   EXPECT_EQ(client.stats("s0").samples_done, 4000u);
-  EXPECT_NE(owner->log().find("scene 's0' is handed over to daemon " + p + ": its copy is fresher"),
-            std::string::npos)
+  EXPECT_NE(owner->log().find("scene 's0' is handed over to daemon " + p + ": its copy is fresher"), std::string::npos)
       << owner->log();
   EXPECT_NE(note_of(client, "s0", o).find("handed over to daemon " + p), std::string::npos);
   // In the metrics too, not only in a log line and the scenes list.
@@ -150,8 +149,7 @@ TEST_F(FleetFreshnessTest, ARestartedStaleOwnerNeverReplacesTheFresherRoadmap) {
   const SceneStatus final_status = client.wait_idle("s0", {}, kLong);
   EXPECT_EQ(final_status.server_id, p);
   EXPECT_EQ(final_status.samples_done, 4000u);
-  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap),
-            reference_digest(scene_dir_ / "s0.yaml", 4000, 5));
+  EXPECT_EQ(roadmap_digest(client.snapshot("s0").roadmap), reference_digest(scene_dir_ / "s0.yaml", 4000, 5));
   const std::string log = other->log();  // this run's part: after its last start
   EXPECT_EQ(log.find("rebuilding", log.rfind("isparsd " + p + " serving")), std::string::npos) << log;
 }

@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <string>
 
+#include "integration/metrics_probe.hpp"
 #include "integration/service_fixture.hpp"
-#include "integration/metrics_probe.hpp"  // after service_fixture.hpp (httplib)
 
 namespace ispars::test {
 namespace {
@@ -23,7 +23,8 @@ TEST_F(FleetTakeoverTest, TheScenesOfAHolderThatLeftAreTakenOverAtOnce) {
   auto a = start("a", {"--memory-budget-mb", kNoBudget});
   Client client(client_options(domain_));
   const std::vector<std::string> scenes = {"s0", "s1", "s2"};
-  for (const std::string& scene : scenes) ASSERT_EQ(load_and_build(client, scene, ispars_build(3000, 3)).server_id, "a");
+  for (const std::string& scene : scenes)
+    ASSERT_EQ(load_and_build(client, scene, ispars_build(3000, 3)).server_id, "a");
   auto b = start("b", {"--memory-budget-mb", kNoBudget, "--metrics", "127.0.0.1:0"});
   const int b_metrics = metrics_port(b->log());
   ASSERT_TRUE(eventually([&] { return other_daemons_counted_on(b_metrics) == 1; }, 30s, "b counts a")) << b->log();
@@ -32,7 +33,8 @@ TEST_F(FleetTakeoverTest, TheScenesOfAHolderThatLeftAreTakenOverAtOnce) {
     const SceneStatus carried = idle_on(client, scene, "b", 60s);  // after a's lease and b's claim
     ASSERT_EQ(carried.server_id, "b") << b->log();
     EXPECT_EQ(carried.samples_done, 3000u) << b->log();
-    EXPECT_EQ(roadmap_digest(client.snapshot(scene).roadmap), reference_digest(scene_dir_ / (scene + ".yaml"), 3000, 3));
+    EXPECT_EQ(roadmap_digest(client.snapshot(scene).roadmap),
+              reference_digest(scene_dir_ / (scene + ".yaml"), 3000, 3));
   }
   const std::string log = b->log();
   std::size_t first_outcome = std::string::npos;

@@ -24,12 +24,14 @@ msg::QueryRequest hostile_request(std::mt19937_64& rng, std::uint64_t seq) {
   r.server_id("d");
   r.request_seq(seq);
   r.protocol(pick(rng) == 0 ? static_cast<std::uint16_t>(rng()) : msg::PROTOCOL_VERSION);
-  static const std::vector<std::string> scenes = {"s0", "", "../s0", std::string(127, 'x'), "s0/..", "\x01\xff",
-                                                   "S0", "s9", std::string(64, 's')};
+  static const std::vector<std::string> scenes = {"s0",       "",   "../s0", std::string(127, 'x'), "s0/..",
+                                                  "\x01\xff", "S0", "s9",    std::string(64, 's')};
   r.scene(scenes[rng() % scenes.size()]);
   const int op = pick(rng);
   switch (op % 6) {
-    case 0: r.args(wire::query_args(msg::STATS)); break;
+    case 0:
+      r.args(wire::query_args(msg::STATS));
+      break;
     case 1: {
       r.args(wire::query_args(msg::PATH));
       const double values[] = {std::numeric_limits<double>::quiet_NaN(), 1e300, -1e300, 0.0, 1.0};
@@ -48,11 +50,13 @@ msg::QueryRequest hostile_request(std::mt19937_64& rng, std::uint64_t seq) {
       r.args(wire::query_args(msg::TOUR));
       const double budgets[] = {std::numeric_limits<double>::quiet_NaN(), -1.0, 0.0, 1e9, 0.05};
       r.args().tour().budget(budgets[rng() % 5]);
-      r.args().tour().targets(std::vector<std::uint32_t>(rng() % 50 == 0 ? 1'000'001 : rng() % 8,
-                                                         static_cast<std::uint32_t>(rng())));
+      r.args().tour().targets(
+          std::vector<std::uint32_t>(rng() % 50 == 0 ? 1'000'001 : rng() % 8, static_cast<std::uint32_t>(rng())));
       break;
     }
-    case 4: r.args(wire::query_args(msg::LIST_SCENES)); break;
+    case 4:
+      r.args(wire::query_args(msg::LIST_SCENES));
+      break;
     default: {
       r.args(wire::query_args(msg::STATS));
       r.args()._d() = static_cast<msg::Operation>(rng() % 40);  // often outside the enum or a change
@@ -137,9 +141,9 @@ TEST_F(ServiceTest, AThousandMalformedRequestsWhileEightClientsQuery) {
         ++refused;
         // "WHAT: FIELD: problem" (request, path or tour), never an internal error.
         const std::string& error = r.error();
-        const bool named = (error.rfind("request: ", 0) == 0 || error.rfind("path: ", 0) == 0 ||
-                            error.rfind("tour: ", 0) == 0) &&
-                           error.find(": ", error.find(": ") + 2) != std::string::npos;
+        const bool named =
+            (error.rfind("request: ", 0) == 0 || error.rfind("path: ", 0) == 0 || error.rfind("tour: ", 0) == 0) &&
+            error.find(": ", error.find(": ") + 2) != std::string::npos;
         EXPECT_TRUE(named) << "not a named refusal: " << error;
       }
     }

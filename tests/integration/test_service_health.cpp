@@ -69,9 +69,10 @@ TEST_F(HealthTest, ADaemonThatHearsNoDdsIsUnhealthyAndHealthyAgainWhenItDoes) {
   ASSERT_GE(unhealthy_s, 0.0) << "still healthy " << kUnhealthyBound.count() << " s after it stopped hearing DDS";
   const double healthy_s = seconds_until(http, 200, kHealthyBound);
   ASSERT_GE(healthy_s, 0.0) << "not healthy again " << kHealthyBound.count() << " s after DDS came back";
-  std::printf("health: 503 %.2f s after every UDP packet into the daemon's host was dropped; 200 %.2f s after "
-              "they passed again\n",
-              unhealthy_s, healthy_s);
+  std::printf(
+      "health: 503 %.2f s after every UDP packet into the daemon's host was dropped; 200 %.2f s after "
+      "they passed again\n",
+      unhealthy_s, healthy_s);
   EXPECT_TRUE(daemon.alive());
 }
 

@@ -39,18 +39,18 @@ int env_or(const char* name, int fallback) {
 }
 
 enum class Fault { sigterm, kill9, sigstop, partition, scene_edit, bit_flip };
-constexpr std::array<const char*, 6> kFaultNames{"SIGTERM", "kill -9", "SIGSTOP", "partition", "scene file edited",
-                                                 "bit flipped"};
+constexpr std::array<const char*, 6> kFaultNames{"SIGTERM",   "kill -9",           "SIGSTOP",
+                                                 "partition", "scene file edited", "bit flipped"};
 const std::chrono::seconds kLease{3};
 
 // A bit flipped in a stored file of a stopped daemon, looked for in its log once the fleet settled.
 struct Flip {
   std::string daemon;
   std::filesystem::path file;
-  std::size_t log_from = 0;  // the daemon's log before its restart (restarts append to it)
+  std::size_t log_from = 0;                 // the daemon's log before its restart (restarts append to it)
   std::filesystem::file_time_type written;  // the file as flipped: a later write replaced the damage
-  bool named = false;  // the daemon's log names the file
-  bool gone = false;   // rewritten or removed before it was named (a rebuild, a drop, set aside)
+  bool named = false;                       // the daemon's log names the file
+  bool gone = false;                        // rewritten or removed before it was named (a rebuild, a drop, set aside)
 };
 
 class HistoryTest : public NetnsFleetTest {
@@ -268,16 +268,15 @@ std::optional<HistoryRead> HistoryTest::settle() {
       return false;
     }
     const std::size_t daemons = client_->daemons().size();
-    const bool ok = daemons == kDaemons.size() && held.size() == 1 && st.server_id == held[0] &&
-                    st.state == SceneState::idle;
+    const bool ok =
+        daemons == kDaemons.size() && held.size() == 1 && st.server_id == held[0] && st.state == SceneState::idle;
     seen = std::to_string(daemons) + " daemons seen, " + std::to_string(held.size()) + " holders, stats from " +
            st.server_id + " in state " + std::to_string(static_cast<int>(st.state)) + " at " +
            std::to_string(st.samples_done) + " samples";
     // The roadmap's version and its tasks, not the status's sequence: a status is issued again on
     // events that change neither (and a task changes no version).
     const std::uint64_t look =
-        ok ? (st.version ^ (st.generation << 1) ^ (std::hash<std::string>{}(st.server_id) << 2) ^ (st.tasks << 3))
-           : 0;
+        ok ? (st.version ^ (st.generation << 1) ^ (std::hash<std::string>{}(st.server_id) << 2) ^ (st.tasks << 3)) : 0;
     if (!ok || look != last_seq) {
       last_seq = look;
       stable_since = Clock::now();
@@ -307,8 +306,8 @@ void HistoryTest::run() {
   }
   client_ = joined();
   SceneStatus built = load_and_build(*client_, "s0", ispars_build(800, 4));
-  history_.push_back({HistoryOp::Kind::build, "", true, built.generation, built.samples_done, built.server_id,
-                      "the first build"});
+  history_.push_back(
+      {HistoryOp::Kind::build, "", true, built.generation, built.samples_done, built.server_id, "the first build"});
   auto watcher = joined();
   client::RoadmapReplica replica(*watcher, "s0");
   std::map<std::string, int> faults;
@@ -355,11 +354,12 @@ void HistoryTest::run() {
                     << theirs.vertex_count() << ", " << theirs.edge_count() << ", " << theirs.poi_count();
       keep_logs();
     }
-    std::printf("history round %d: %s on %s; %zu changes, %zu acknowledged; read from %s: generation %llu, %llu "
-                "samples, %zu tasks; %zu acknowledged changes missing\n",
-                round_, kFaultNames[static_cast<int>(fault)], owner.c_str(), history_.size() - before, acked,
-                read.server.c_str(), static_cast<unsigned long long>(read.generation),
-                static_cast<unsigned long long>(read.samples), read.tasks.size(), missing.size());
+    std::printf(
+        "history round %d: %s on %s; %zu changes, %zu acknowledged; read from %s: generation %llu, %llu "
+        "samples, %zu tasks; %zu acknowledged changes missing\n",
+        round_, kFaultNames[static_cast<int>(fault)], owner.c_str(), history_.size() - before, acked,
+        read.server.c_str(), static_cast<unsigned long long>(read.generation),
+        static_cast<unsigned long long>(read.samples), read.tasks.size(), missing.size());
   }
   const auto count = [&](auto pred) { return std::count_if(flips_.begin(), flips_.end(), pred); };
   (void)eventually(  // a flip of the last round: its daemon's background check runs every 2 s
@@ -372,10 +372,11 @@ void HistoryTest::run() {
     EXPECT_TRUE(flip.named || flip.gone) << "a bit of " << flip.file << " (" << flip.daemon
                                          << ") was flipped and no log names the file";
   }
-  std::printf("history: %d rounds, %zu acknowledged changes, %zu missing; %zu bits flipped: %td named by their "
-              "daemon, %td rewritten or removed first\n",
-              rounds, acknowledged, missing_total, flips_.size(), count([](const Flip& f) { return f.named; }),
-              count([](const Flip& f) { return f.gone; }));
+  std::printf(
+      "history: %d rounds, %zu acknowledged changes, %zu missing; %zu bits flipped: %td named by their "
+      "daemon, %td rewritten or removed first\n",
+      rounds, acknowledged, missing_total, flips_.size(), count([](const Flip& f) { return f.named; }),
+      count([](const Flip& f) { return f.gone; }));
 }
 
 TEST_F(HistoryTest, RandomFaultsLoseNoAcknowledgedChange) { run(); }

@@ -98,9 +98,9 @@ TEST_F(ServiceTest, ExhaustionAttemptsAreRefusedBeforeMemoryGrows) {
     EXPECT_FALSE(reply.ok()) << samples;
     EXPECT_NE(reply.error().find("more than this daemon's memory budget leaves"), std::string::npos) << reply.error();
   };
-  refused(100'000, 1e6);      // every pair within delta: about 10^10 edges
-  refused(50'000'000, {});    // the most samples a request may ask for
-  refused(40'000'000, 0.1);   // a tiny delta does not save a huge N
+  refused(100'000, 1e6);     // every pair within delta: about 10^10 edges
+  refused(50'000'000, {});   // the most samples a request may ask for
+  refused(40'000'000, 0.1);  // a tiny delta does not save a huge N
   EXPECT_EQ(client.stats("s0").state, SceneState::empty) << "a refusal changed the scene";
   client.build("s0", ispars_build(2000));
   const auto built = client.wait_idle("s0", {}, kLong);

@@ -71,8 +71,8 @@ TEST_F(ServiceTest, SighupReopensTheLogFileAndAppliesTheConfigsLogLevel) {
   std::filesystem::create_directories(log_file.parent_path());
   const auto config = dir_.path() / "isparsd.yaml";
   const auto write_config = [&](const std::string& level, int workers) {
-    std::ofstream(config) << "log_file: " << log_file.string() << "\nlog_level: " << level
-                          << "\nworkers: " << workers << "\n";
+    std::ofstream(config) << "log_file: " << log_file.string() << "\nlog_level: " << level << "\nworkers: " << workers
+                          << "\n";
   };
   write_config("info", 2);
   // --log-level is not given here: the config's level is the one SIGHUP re-reads.
@@ -89,8 +89,8 @@ TEST_F(ServiceTest, SighupReopensTheLogFileAndAppliesTheConfigsLogLevel) {
   std::filesystem::rename(log_file, log_file.string() + ".1");
   write_config("debug", 3);
   ASSERT_EQ(::kill(daemon.pid(), SIGHUP), 0);
-  (void)eventually([&] { return read_text(log_file).find("SIGHUP") != std::string::npos; },
-                   std::chrono::seconds(10), "the reopened log names the SIGHUP");  // checked below
+  (void)eventually([&] { return read_text(log_file).find("SIGHUP") != std::string::npos; }, std::chrono::seconds(10),
+                   "the reopened log names the SIGHUP");  // checked below
   EXPECT_NE(read_text(log_file).find("SIGHUP: log reopened (level debug); changed but applied only at a restart: "
                                      "workers"),
             std::string::npos)
@@ -98,9 +98,8 @@ TEST_F(ServiceTest, SighupReopensTheLogFileAndAppliesTheConfigsLogLevel) {
   EXPECT_EQ(c.stats("s0").scene, "s0");
   c.load("s1");
   c.unload("s1");
-  EXPECT_NE(read_text(log_file).find(" debug "), std::string::npos)
-      << "the new level was not applied:\n"
-      << read_text(log_file);
+  EXPECT_NE(read_text(log_file).find(" debug "), std::string::npos) << "the new level was not applied:\n"
+                                                                    << read_text(log_file);
   // The renamed file holds what was logged before, and nothing of the reload.
   const std::string rotated = read_text(log_file.string() + ".1");
   EXPECT_EQ(rotated.rfind(before, 0), 0u);
@@ -109,10 +108,9 @@ TEST_F(ServiceTest, SighupReopensTheLogFileAndAppliesTheConfigsLogLevel) {
   std::ofstream(config) << "log_level: [not, a, level]\n";
   ASSERT_EQ(::kill(daemon.pid(), SIGHUP), 0);
   const std::string refused = "SIGHUP: the config was not reloaded: " + config.string() + ": log_level";
-  (void)eventually([&] { return read_text(log_file).find(refused) != std::string::npos; },
-                   std::chrono::seconds(10), "the log names the refused reload");  // checked below
-  EXPECT_NE(read_text(log_file).find(refused), std::string::npos)
-      << read_text(log_file);
+  (void)eventually([&] { return read_text(log_file).find(refused) != std::string::npos; }, std::chrono::seconds(10),
+                   "the log names the refused reload");  // checked below
+  EXPECT_NE(read_text(log_file).find(refused), std::string::npos) << read_text(log_file);
   EXPECT_TRUE(daemon.alive());
   EXPECT_EQ(c.stats("s0").scene, "s0");
   EXPECT_EQ(daemon.terminate(), 0);
@@ -133,8 +131,8 @@ TEST_F(ServiceTest, AnInterruptedBuildAndAQueuedOneResumeAfterARestart) {
     c.build("s1", ispars_build(2000, 2));
     c.build("s2", ispars_build(1000, 3));
     c.cancel("s2");  // queued and cancelled: never resumed
-    ASSERT_TRUE(eventually([&] { return c.stats("s0").samples_done > 0; }, std::chrono::seconds(30),
-                           "s0's build commits"));
+    ASSERT_TRUE(
+        eventually([&] { return c.stats("s0").samples_done > 0; }, std::chrono::seconds(30), "s0's build commits"));
     ASSERT_LT(c.stats("s0").samples_done, 30'000u) << "the build ended before SIGTERM: make it longer";
     EXPECT_EQ(c.stats("s1").state, SceneState::queued);
     EXPECT_EQ(daemon->terminate(), 0);
@@ -152,8 +150,7 @@ TEST_F(ServiceTest, AnInterruptedBuildAndAQueuedOneResumeAfterARestart) {
     EXPECT_EQ(c.load("s2").status.method, "") << "a cancelled build was resumed";
     const std::string log = daemon->log();
     EXPECT_NE(log.find("scene 's0': resuming an interrupted job at "), std::string::npos) << log;
-    EXPECT_NE(log.find("scene 's1': resuming a build that had not committed: 2000 samples, seed 2"),
-              std::string::npos)
+    EXPECT_NE(log.find("scene 's1': resuming a build that had not committed: 2000 samples, seed 2"), std::string::npos)
         << log;
     EXPECT_EQ(daemon->terminate(), 0);
   }
@@ -183,7 +180,8 @@ TEST_F(ServiceTest, ABuildSurvivesFiveCleanRestarts) {
     (void)eventually([&] { return daemon->log().find("scene 's0': resuming") != std::string::npos; },
                      std::chrono::seconds(30), "the daemon resumes s0");  // checked below
     ASSERT_NE(daemon->log().find("scene 's0': resuming"), std::string::npos)
-        << "restart " << restart << ": the build was not resumed:\n" << daemon->log();
+        << "restart " << restart << ": the build was not resumed:\n"
+        << daemon->log();
     EXPECT_EQ(daemon->terminate(), 0);
   }
   auto daemon = start("d");

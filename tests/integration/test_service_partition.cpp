@@ -130,13 +130,14 @@ void PartitionTest::run_campaign(bool secured) {
                            "a single owner with the larger side's samples, for 2 s", std::chrono::milliseconds(200)))
         << expected << " samples expected";
     const double heal_s = std::chrono::duration<double>(settled_since - healed_at).count();
-    std::printf("partition round %d%s: %s cut; %s served the other side after %.2f s; healed to one owner (%s, %llu "
-                "samples) after %.2f s\n",
-                round, secured ? " (secured)" : "", cut.c_str(), taken.server_id.c_str(), takeover_s,
-                status.server_id.c_str(), static_cast<unsigned long long>(status.samples_done), heal_s);
+    std::printf(
+        "partition round %d%s: %s cut; %s served the other side after %.2f s; healed to one owner (%s, %llu "
+        "samples) after %.2f s\n",
+        round, secured ? " (secured)" : "", cut.c_str(), taken.server_id.c_str(), takeover_s, status.server_id.c_str(),
+        static_cast<unsigned long long>(status.samples_done), heal_s);
     // The fresher copy wins (docs/fleet.md): the side whose extend was larger keeps the scene.
-    const Ack& larger = acks[acks.size() - 1].samples > acks[acks.size() - 2].samples ? acks[acks.size() - 1]
-                                                                                       : acks[acks.size() - 2];
+    const Ack& larger =
+        acks[acks.size() - 1].samples > acks[acks.size() - 2].samples ? acks[acks.size() - 1] : acks[acks.size() - 2];
     EXPECT_EQ(status.server_id, larger.side) << "the holder of the fresher copy did not keep the scene";
     for (const Ack& ack : acks) {
       EXPECT_EQ(ack.generation, status.generation) << "an acknowledged extend on " << ack.side;

@@ -121,10 +121,11 @@ TEST_F(ServiceTest, LoopingViewersNeverHoldUpAnUnloadADropOrTheStop) {
   std::sort(stats_ms.begin(), stats_ms.end());
   const double p99 = stats_ms[stats_ms.size() * 99 / 100];
   EXPECT_LT(p99, 50.0) << "STATS of another scene waited behind the viewers";
-  std::printf("viewers: %d verifies, %d snapshots; unload %.3f s, drop %.3f s, stop %.3f s; STATS of s1 p99 %.1f ms "
-              "(median %.1f, %zu probes); a running verify met by the unload %d, the drop %d, the stop %d\n",
-              verifies.load(), snapshots.load(), unload_s, drop_s, stop_s, p99, stats_ms[stats_ms.size() / 2],
-              stats_ms.size(), met_a_verify, drop_met, stop_met);
+  std::printf(
+      "viewers: %d verifies, %d snapshots; unload %.3f s, drop %.3f s, stop %.3f s; STATS of s1 p99 %.1f ms "
+      "(median %.1f, %zu probes); a running verify met by the unload %d, the drop %d, the stop %d\n",
+      verifies.load(), snapshots.load(), unload_s, drop_s, stop_s, p99, stats_ms[stats_ms.size() / 2], stats_ms.size(),
+      met_a_verify, drop_met, stop_met);
 }
 
 }  // namespace

@@ -16,10 +16,10 @@
 #include <string>
 #include <thread>
 
+#include "integration/metrics_probe.hpp"
 #include "integration/service_fixture.hpp"
 #include "ispars/client/replica.hpp"
 #include "support/netns_lab.hpp"
-#include "integration/metrics_probe.hpp"  // after service_fixture.hpp (httplib)
 
 namespace ispars::test {
 namespace {
@@ -93,10 +93,11 @@ TEST_F(RejoinTest, ASecuredClientThatDroppedADaemonWhichKeptItRejoinsByItself) {
   ASSERT_TRUE(replica.wait_for(status.generation, status.version, std::chrono::seconds(60))) << replica.last_error();
   const double followed_s = std::chrono::duration<double>(Clock::now() - heard_at).count();
   EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(client.snapshot("s0").roadmap));
-  std::printf("one-way loss for %.0f s: the client answered %.2f s after the link came back (bound %lld s); its "
-              "replica followed an extend %.2f s after\n",
-              std::chrono::duration<double>(heard_at - deaf_at).count(), answered_s,
-              static_cast<long long>(kHealBound.count()), followed_s);
+  std::printf(
+      "one-way loss for %.0f s: the client answered %.2f s after the link came back (bound %lld s); its "
+      "replica followed an extend %.2f s after\n",
+      std::chrono::duration<double>(heard_at - deaf_at).count(), answered_s, static_cast<long long>(kHealBound.count()),
+      followed_s);
   EXPECT_LT(answered_s, static_cast<double>(kHealBound.count()));
   EXPECT_TRUE(daemon.alive());
   EXPECT_EQ(daemon.log().find("rejoining DDS domain"), std::string::npos) << "the daemon rejoined: it lost the client";
@@ -161,12 +162,14 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
   const std::string left = "participant " + dotted(first_participant) + " (isparsd " + owner + ") left";
   const std::string authenticated = "participant " + dotted(second_participant) + " authenticated";
   const auto seen = [&](const std::string& line) { return daemons[other]->log().find(line) != std::string::npos; };
-  (void)eventually([&] { return seen(left) && seen(authenticated); }, 10s, "the other daemon logs both");  // checked below
+  (void)eventually([&] { return seen(left) && seen(authenticated); }, 10s,
+                   "the other daemon logs both");  // checked below
   const std::string log = daemons[other]->log();
   ASSERT_NE(log.find(left), std::string::npos) << log;
   ASSERT_NE(log.find(authenticated), std::string::npos) << log;
-  EXPECT_LT(log.find(authenticated), log.find(left)) << "the old participant left before daemon " << other
-                                           << " heard the new one:\n" << log;
+  EXPECT_LT(log.find(authenticated), log.find(left))
+      << "the old participant left before daemon " << other << " heard the new one:\n"
+      << log;
 
   // Served by the owner throughout: an extend sent to it is taken, and nothing moved.
   client.extend("s0", 200);
@@ -175,7 +178,8 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
   EXPECT_EQ(extended.generation, built.generation);
   EXPECT_EQ(extended.samples_done, 1000u);
   EXPECT_EQ(daemons[other]->log().find("takes it over"), std::string::npos)
-      << "daemon " << other << " took the scene over:\n" << daemons[other]->log();
+      << "daemon " << other << " took the scene over:\n"
+      << daemons[other]->log();
   EXPECT_EQ(daemons[owner]->log().find("handed over to"), std::string::npos) << daemons[owner]->log();
   std::printf("daemon %s rejoined %.1f s after the link came back and kept scene s0\n", owner.c_str(), rejoined_s);
   for (auto& [id, d] : daemons) EXPECT_TRUE(d->alive()) << id;
@@ -189,9 +193,8 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
 // DDS resends the handshake and, without the rule, the two met 0.8 s after the link was whole.
 TEST_F(RejoinTest, TwoSecuredDaemonsWhoseFirstHandshakeFailedMeetByRejoining) {
   NetnsLab lab(dir_.path() / "netns", {"d1", "d2", "hc"}, kSecureLease);
-  const auto keystore =
-      client::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
-                            dir_.path() / "keystore", {"daemon:d1", "daemon:d2", "viewer:probe"});
+  const auto keystore = client::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
+                                              dir_.path() / "keystore", {"daemon:d1", "daemon:d2", "viewer:probe"});
   const auto identity = [&](const std::string& name) { return (keystore / "identities" / name).string(); };
   lab.deafen_unicast("d1", "d2");
   lab.deafen_unicast("d2", "d1");
@@ -221,8 +224,7 @@ TEST_F(RejoinTest, TwoSecuredDaemonsWhoseFirstHandshakeFailedMeetByRejoining) {
     return other_daemons_counted_on(ports["d1"], lab.address("d1")) == 1 &&
            other_daemons_counted_on(ports["d2"], lab.address("d2")) == 1;
   };
-  ASSERT_TRUE(eventually(connected, kFirstMeetingBound,
-                         "the daemons meet", 200ms))
+  ASSERT_TRUE(eventually(connected, kFirstMeetingBound, "the daemons meet", 200ms))
       << daemons["d1"]->log() << daemons["d2"]->log();
   const double met_s = std::chrono::duration<double>(Clock::now() - whole_at).count();
   // The positive control: the handshake did fail, and a rejoin was what met them.

@@ -6,10 +6,10 @@
 
 #include <chrono>
 #include <condition_variable>
-#include <mutex>
-#include <stdexcept>
 #include <fstream>
 #include <iterator>
+#include <mutex>
+#include <stdexcept>
 #include <thread>
 
 #include "integration/service_fixture.hpp"
@@ -60,7 +60,8 @@ TEST_F(ReplicaTest, ADropEmptiesEveryReplicaAndReleasesTheKeptBatches) {
   // The positive control of `other`'s zero retirements above: a drop of s1 does reach s1's
   // replica, so that zero was not the count of a replica deaf to every drop.
   client.drop("s1");
-  EXPECT_TRUE(eventually([&] { return other.retirements() >= 1; }, 20s, "s1's replica retires")) << "a drop of s1 never reached s1's replica";
+  EXPECT_TRUE(eventually([&] { return other.retirements() >= 1; }, 20s, "s1's replica retires"))
+      << "a drop of s1 never reached s1's replica";
   EXPECT_EQ(other.roadmap().vertex_count(), 0u);
 }
 
@@ -125,12 +126,14 @@ TEST_F(ReplicaTest, AReplicaThatFallsBehindDropsItsOldestBatchesAndResyncsToTheS
     released = true;
   }
   released_cv.notify_all();
-  ASSERT_TRUE(replica.wait_for(extended.generation, extended.version, std::chrono::seconds(30))) << replica.last_error();
+  ASSERT_TRUE(replica.wait_for(extended.generation, extended.version, std::chrono::seconds(30)))
+      << replica.last_error();
   EXPECT_GT(replica.snapshots_taken(), snapshots) << "the dropped batches did not lead to a resync";
   const client::Snapshot snapshot = client.snapshot("s0");
   EXPECT_EQ(snapshot.version, extended.version);
   EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(snapshot.roadmap));
-  EXPECT_THROW(client::RoadmapReplica(client, "s0", {}, client::ReplicaQueueLimits{0, 64u << 10}), std::invalid_argument);
+  EXPECT_THROW(client::RoadmapReplica(client, "s0", {}, client::ReplicaQueueLimits{0, 64u << 10}),
+               std::invalid_argument);
   EXPECT_THROW(client::RoadmapReplica(client, "s0", {}, client::ReplicaQueueLimits{2, 1000}), std::invalid_argument);
 }
 
@@ -167,8 +170,8 @@ TEST_F(ReplicaTest, WatchStopsOnADropAndWritesNoStaleFile) {
   int status = -1;
   std::thread watcher([&] { status = std::system(command.c_str()); });
   // The watch shows progress once it follows the scene; then give its replica a moment to sync.
-  ASSERT_TRUE(eventually([&] { return std::filesystem::exists(out_file) && std::filesystem::file_size(out_file) > 0; }, 20s,
-                         "the watch shows progress"));
+  ASSERT_TRUE(eventually([&] { return std::filesystem::exists(out_file) && std::filesystem::file_size(out_file) > 0; },
+                         20s, "the watch shows progress"));
   std::this_thread::sleep_for(std::chrono::seconds(2));
   client.drop("s3");
   watcher.join();

@@ -85,7 +85,8 @@ TEST_F(ServiceTest, ThreeHundredClientsComeAndGoAndTheRoutesHeldAreThoseOfTheLiv
     if (peer.replies_to(1) == 0) {
       ++lost;
     } else {
-      latency_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - posted).count());
+      latency_ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - posted).count());
     }
     if (live.size() > kStaying) live.pop_front();
   }

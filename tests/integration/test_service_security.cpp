@@ -150,8 +150,11 @@ void expect_the_daemons_extend_is_followed(Client& op, Client& viewer, client::R
 // A secured daemon "d"; an operator that loaded and built s0; a viewer whose replica followed.
 struct BuiltAndFollowed {
   explicit BuiltAndFollowed(SecureServiceTest& test)
-      : daemon(test.start_secure("d")), op(test.joined_as("op")), viewer(test.joined_as("view")),
-        replica((op->load("s0"), *viewer), "s0"), done(build_followed(*op, replica)) {}
+      : daemon(test.start_secure("d")),
+        op(test.joined_as("op")),
+        viewer(test.joined_as("view")),
+        replica((op->load("s0"), *viewer), "s0"),
+        done(build_followed(*op, replica)) {}
   std::tuple<Client&, Client&, client::RoadmapReplica&, const SceneStatus&> parts() {
     return {*op, *viewer, replica, done};
   }
@@ -164,11 +167,10 @@ struct BuiltAndFollowed {
 // Writes a status and an update batch for a scene in the name of daemon "d", as any participant
 // can try (as the DDS Security identity `security` unless empty).
 struct Forger {
-  Forger(int domain, const std::string& security)
-      : participant({domain, "", "ispars", "forger", security}) {
+  Forger(int domain, const std::string& security) : participant({domain, "", "ispars", "forger", security}) {
     auto* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-    status = publisher->create_datawriter(wire::find_or_create_topic(participant.get(), status_type, wire::kStatusTopic),
-                                          wire::state_writer_qos());
+    status = publisher->create_datawriter(
+        wire::find_or_create_topic(participant.get(), status_type, wire::kStatusTopic), wire::state_writer_qos());
     updates = publisher->create_datawriter(
         wire::find_or_create_topic(participant.get(), update_type, wire::kUpdatesTopic), wire::updates_writer_qos());
     if (status == nullptr || updates == nullptr) throw std::runtime_error("forger: writers refused");
@@ -329,8 +331,7 @@ TEST_F(SecureServiceTest, AForgedStatusOrUpdateFromANonDaemonIdentityChangesNoth
   const std::size_t snapshots = replica.snapshots_taken();  // a build may already have caused one or two
 
   // An operator may not publish status or updates at all.
-  EXPECT_THROW(RawBytesWriter(domain_, identity("op"), wire::kStatusTopic, "SceneStatus"),
-               std::runtime_error);
+  EXPECT_THROW(RawBytesWriter(domain_, identity("op"), wire::kStatusTopic, "SceneStatus"), std::runtime_error);
   EXPECT_THROW(RawBytesWriter(domain_, identity("op"), wire::kUpdatesTopic, "ispars::msg::UpdateBatch"),
                std::runtime_error);
   // The rogue may, by its own signature; nobody matches it.
@@ -343,11 +344,12 @@ TEST_F(SecureServiceTest, AForgedStatusOrUpdateFromANonDaemonIdentityChangesNoth
       },
       2s, "nobody matches the rogue's writer"));
   rogue.forge(done);
-  EXPECT_TRUE(throughout([&] {
-                           const auto st = viewer.latest_status("s0");
-                           return st && st->state == done.state;
-                         }, 1s,
-                         "the viewer keeps the real status"));
+  EXPECT_TRUE(throughout(
+      [&] {
+        const auto st = viewer.latest_status("s0");
+        return st && st->state == done.state;
+      },
+      1s, "the viewer keeps the real status"));
   const auto seen = viewer.latest_status("s0");
   ASSERT_TRUE(seen.has_value());
   EXPECT_EQ(seen->state, done.state);
@@ -380,11 +382,12 @@ TEST_F(ServiceTest, AForgedStatusOrUpdateFromAnotherParticipantChangesNothing) {
   forger.forge(done);
   forger.claim("s1", "ghost");
   // The forgeries reach every reader within this window; none is believed.
-  EXPECT_TRUE(throughout([&] {
-                           const auto st = op.latest_status("s0");
-                           return st && st->state == done.state;
-                         }, 1s,
-                         "the operator keeps the real status"));
+  EXPECT_TRUE(throughout(
+      [&] {
+        const auto st = op.latest_status("s0");
+        return st && st->state == done.state;
+      },
+      1s, "the operator keeps the real status"));
   EXPECT_NO_THROW(op.load("s1")) << "a forged claim made the daemon refuse a load";
   const auto seen = op.latest_status("s0");
   ASSERT_TRUE(seen.has_value());
@@ -408,7 +411,8 @@ void expect_replies_reach_only_their_requester(Client& requester, RawPeer& bysta
   requester.wait_idle("s0", {}, kLong);
   for (int i = 0; i < 20; ++i) (void)requester.stats("s0");
   (void)requester.snapshot("s0");
-  EXPECT_TRUE(throughout([&] { return bystander.foreign_replies() == 0u; }, 500ms, "the bystander reads no reply of another"));
+  EXPECT_TRUE(
+      throughout([&] { return bystander.foreign_replies() == 0u; }, 500ms, "the bystander reads no reply of another"));
   EXPECT_EQ(bystander.replies_received(), 1u);
   // The positive control: the bystander's reader still hears its own replies after that window
   // (a reader that heard nothing would have counted no foreign reply either).
@@ -437,7 +441,8 @@ TEST_F(SecureServiceTest, RepliesReachOnlyTheirRequesterAndNoSubjectMayReadAnoth
   wire::Participant snoop({domain_, "", "ispars", "snoop", identity("view")});
   fdds::TypeSupport reply_type(new msg::ReplyPubSubType());
   fdds::Topic* topic = wire::find_or_create_topic(snoop.get(), reply_type, wire::kReplyTopic);
-  for (const std::string& partition : {std::string("*"), std::string("ispars.client.*"), wire::reply_partition(requester.id())}) {
+  for (const std::string& partition :
+       {std::string("*"), std::string("ispars.client.*"), wire::reply_partition(requester.id())}) {
     fdds::SubscriberQos qos = fdds::SUBSCRIBER_QOS_DEFAULT;
     qos.partition().push_back(partition.c_str());
     fdds::Subscriber* sub = snoop->create_subscriber(qos);

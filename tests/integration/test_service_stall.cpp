@@ -14,9 +14,9 @@
 #include <cstdlib>
 #include <thread>
 
+#include "integration/metrics_probe.hpp"
 #include "integration/service_fixture.hpp"
 #include "ispars/wire/scene_owner.hpp"
-#include "integration/metrics_probe.hpp"  // after service_fixture.hpp (httplib)
 
 namespace ispars::test {
 namespace {
@@ -32,16 +32,16 @@ class StallTest : public ServiceTest {
  protected:
   void SetUp() override {
     ServiceTest::SetUp();
-    keystore_ = client::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
-                                      dir_.path() / "keystore",
-                                      {"daemon:a", "daemon:b", "operator:op", "viewer:probe"});
+    keystore_ =
+        client::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
+                              dir_.path() / "keystore", {"daemon:a", "daemon:b", "operator:op", "viewer:probe"});
   }
   std::string identity(const std::string& name) const { return (keystore_ / "identities" / name).string(); }
   std::unique_ptr<DaemonProcess> start_secure(const std::string& id) {
-    return std::make_unique<DaemonProcess>(ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id,
-                                           std::vector<std::string>{"--security", identity(id), "--metrics", "127.0.0.1:0"},
-                                           identity("probe"),
-                                           std::vector<std::string>{}, std::chrono::seconds(60));
+    return std::make_unique<DaemonProcess>(
+        ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id,
+        std::vector<std::string>{"--security", identity(id), "--metrics", "127.0.0.1:0"}, identity("probe"),
+        std::vector<std::string>{}, std::chrono::seconds(60));
   }
   // A new client (a new participant, so no session of an earlier one is reused) that has heard
   // both daemons within 10 s, or nullptr.

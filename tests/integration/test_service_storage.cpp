@@ -81,7 +81,7 @@ TEST_F(ServiceTest, AFlippedLengthInTheJournalsMiddleFailsTheSceneAndCutsNothing
   const auto s0 = c.stats("s0");
   EXPECT_EQ(s0.state, SceneState::failed);
   EXPECT_NE(s0.last_error.find("journal.log is damaged at byte " + std::to_string(offset) + " (commit " +
-                                 std::to_string(middle + 1) + "): record header checksum mismatch"),
+                               std::to_string(middle + 1) + "): record header checksum mismatch"),
             std::string::npos)
       << s0.last_error;
   EXPECT_EQ(read_text(store / "journal.log"), damaged) << "the damaged journal was changed";

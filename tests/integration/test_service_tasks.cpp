@@ -48,7 +48,8 @@ TEST_F(ServiceTest, AReplicaFollowingATaskResyncsToTheSnapshot) {
   EXPECT_GT(replica.snapshots_taken(), snapshots) << "a task's POIs come with a snapshot";
   EXPECT_EQ(replica.pois().size(), added.poi_count);
   EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(client.snapshot("s0").roadmap));
-  EXPECT_EQ(roadmap_digest(replica.roadmap()), task_reference(scene_dir_ / "s0.yaml", BuildMethod::ispars2, 6000, 50, 8));
+  EXPECT_EQ(roadmap_digest(replica.roadmap()),
+            task_reference(scene_dir_ / "s0.yaml", BuildMethod::ispars2, 6000, 50, 8));
   const auto tasks = client.tasks("s0");
   ASSERT_EQ(tasks.size(), 1u);
   EXPECT_EQ(tasks[0].first_poi + tasks[0].poi_count, added.poi_count);

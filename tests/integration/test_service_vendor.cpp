@@ -21,8 +21,8 @@ class VendorTest : public ServiceTest {
   // exit status and standard error.
   json cyclone(const std::string& args, int limit_s = 120) {
     const auto err = dir_.path() / "cyclone.err";
-    const std::string command = "timeout -k 5 " + std::to_string(limit_s) + " '" + std::string(ISPARS_CYCLONE) +
-                                "' " + std::to_string(domain_) + " " + args + " 2>'" + err.string() + "'";
+    const std::string command = "timeout -k 5 " + std::to_string(limit_s) + " '" + std::string(ISPARS_CYCLONE) + "' " +
+                                std::to_string(domain_) + " " + args + " 2>'" + err.string() + "'";
     const auto [code, out] = run_command(command);
     const std::string errors = read_text(err);
     if (!errors.empty()) std::printf("ispars-cyclone %s (stderr):\n%s", args.c_str(), errors.c_str());

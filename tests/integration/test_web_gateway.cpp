@@ -33,13 +33,14 @@ TEST_F(WebGatewayTest, AForeignOriginAndARebindingHostAreRefusedTheGatewaysOwnLe
     EXPECT_EQ(foreign.status(), "HTTP/1.1 403 Forbidden");
     EXPECT_EQ(foreign.body(), "origin http://evil.example is not allowed (see --allow-origin)\n");
   }
-  for (const std::string& origin : {own, "http://localhost:" + std::to_string(port), std::string("https://viewer.example:8443")}) {
+  for (const std::string& origin :
+       {own, "http://localhost:" + std::to_string(port), std::string("https://viewer.example:8443")}) {
     RawWebSocket allowed(port, "/ws?scene=s0", origin_header(origin));
     EXPECT_EQ(allowed.status(), "HTTP/1.1 101 Switching Protocols") << origin << ": " << allowed.body();
   }
   // The same origin on another port, or another scheme, is another origin.
-  for (const std::string& origin : {std::string("http://127.0.0.1:1"), "https://127.0.0.1:" + std::to_string(port),
-                                    std::string("null")}) {
+  for (const std::string& origin :
+       {std::string("http://127.0.0.1:1"), "https://127.0.0.1:" + std::to_string(port), std::string("null")}) {
     RawWebSocket other(port, "/ws?scene=s0", origin_header(origin));
     EXPECT_EQ(other.status(), "HTTP/1.1 403 Forbidden") << origin;
   }
@@ -71,9 +72,10 @@ TEST_F(WebGatewayTest, APageOfAnotherOriginCannotOpenTheWebSocket) {
   const std::string page_origin = "http://127.0.0.1:" + std::to_string(page_port);
   const auto try_page = [&](int gateway_port) {
     const auto out = dir_.path() / "origin.txt";
-    const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' timeout -k 5 300 node '" +
-                                ISPARS_SOURCE_DIR + "/tests/web/origin_check.mjs' " + std::to_string(gateway_port) + " " +
-                                std::to_string(page_port) + " s0 60 > '" + out.string() + "' 2>&1";
+    const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) +
+                                "' timeout -k 5 300 node '" + ISPARS_SOURCE_DIR + "/tests/web/origin_check.mjs' " +
+                                std::to_string(gateway_port) + " " + std::to_string(page_port) + " s0 60 > '" +
+                                out.string() + "' 2>&1";
     EXPECT_EQ(std::system(command.c_str()), 0) << read_text(out);
     const auto json = nlohmann::json::parse(read_text(out), nullptr, false);
     return json.is_discarded() ? nlohmann::json{{"failure", read_text(out)}} : json;
@@ -106,7 +108,8 @@ TEST_F(WebGatewayTest, AGatewayWithATokenNeedsItFromEveryPeer) {
   for (const std::string& listen : {std::string("0.0.0.0:0"), address + ":0"}) {
     const auto refused = lab.run("gw", "timeout 10 " + web + " --listen " + listen);  // 124: it served
     EXPECT_EQ(refused.status, 2) << refused.output;
-    EXPECT_NE(refused.output.find("--listen " + listen + " is not a loopback address"), std::string::npos) << refused.output;
+    EXPECT_NE(refused.output.find("--listen " + listen + " is not a loopback address"), std::string::npos)
+        << refused.output;
   }
   const std::string token = "tok-0123456789abcdef-XYZ";
   const auto token_file = dir_.path() / "token";
@@ -131,14 +134,17 @@ TEST_F(WebGatewayTest, AGatewayWithATokenNeedsItFromEveryPeer) {
   // requests and its WebSocket (which a browser cannot give an Authorization header).
   const auto headers = lab.run("cl", "curl -s -D - -o /dev/null \"" + url + "/?token=" + token + "\"").output;
   EXPECT_NE(headers.find("HTTP/1.1 200 OK"), std::string::npos) << headers;
-  EXPECT_NE(headers.find("Set-Cookie: ispars_token=" + token + "; Path=/; HttpOnly; SameSite=Strict"), std::string::npos)
+  EXPECT_NE(headers.find("Set-Cookie: ispars_token=" + token + "; Path=/; HttpOnly; SameSite=Strict"),
+            std::string::npos)
       << headers;
-  const std::string upgrade = "curl -s -i --max-time 2 -H \"Origin: " + url +
-                              "\" -H \"Connection: Upgrade\" -H \"Upgrade: websocket\" -H \"Sec-WebSocket-Version: 13\" "
-                              "-H \"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\" ";
+  const std::string upgrade =
+      "curl -s -i --max-time 2 -H \"Origin: " + url +
+      "\" -H \"Connection: Upgrade\" -H \"Upgrade: websocket\" -H \"Sec-WebSocket-Version: 13\" "
+      "-H \"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\" ";
   EXPECT_EQ(lab.run("cl", upgrade + url + "/ws?scene=s0 | head -1").output, "HTTP/1.1 401 Unauthorized\r\n");
-  EXPECT_EQ(lab.run("cl", upgrade + "-H \"Cookie: ispars_token=" + token + "\" " + url + "/ws?scene=s0 | head -1").output,
-            "HTTP/1.1 101 Switching Protocols\r\n");
+  EXPECT_EQ(
+      lab.run("cl", upgrade + "-H \"Cookie: ispars_token=" + token + "\" " + url + "/ws?scene=s0 | head -1").output,
+      "HTTP/1.1 101 Switching Protocols\r\n");
   // On the gateway's host: by its own address and by 127.0.0.1 alike.
   const std::string local = "http://127.0.0.1:" + std::to_string(gateway.port()) + "/";
   EXPECT_EQ(code("gw", url + "/"), "401");
@@ -155,9 +161,9 @@ TEST_F(WebGatewayTest, BehindATlsProxyTheTokenHoldsAndIdleConnectionsCannotLockU
   const std::string token = "tok-0123456789abcdef-XYZ";
   const auto token_file = dir_.path() / "token";
   std::ofstream(token_file) << token << "\n";
-  Gateway gateway(domain_, scene_dir_, dir_.path() / "web.log",
-                  {"--token-file", token_file.string(), "--allow-origin", "https://viewer.example", "--max-browsers",
-                   "8"});
+  Gateway gateway(
+      domain_, scene_dir_, dir_.path() / "web.log",
+      {"--token-file", token_file.string(), "--allow-origin", "https://viewer.example", "--max-browsers", "8"});
   ASSERT_GT(gateway.port(), 0) << gateway.log();
   const int port = gateway.port();
   const std::string bearer = "Authorization: Bearer " + token + "\r\n";
@@ -261,7 +267,8 @@ TEST_F(WebGatewayTest, ToursAreBoundedPerGatewayAndAnUnwatchedSceneIsDropped) {
     b.send_text(R"({"type":"tour","budget":0.5,"task":7})");
     EXPECT_EQ(next_of(b, {"tour", "error"}).value("message", ""), "tour: task: not a task name (1-64 of A-Za-z0-9_-.)");
     b.send_text(R"({"type":"tour","budget":0.5,"task":"nope"})");
-    EXPECT_NE(next_of(b, {"tour", "error"}).value("message", "").find("the roadmap has no task 'nope'"), std::string::npos);
+    EXPECT_NE(next_of(b, {"tour", "error"}).value("message", "").find("the roadmap has no task 'nope'"),
+              std::string::npos);
     b.send_text(R"({"type":"tasks"})");
     EXPECT_EQ(next_of(b, {"tasks", "error"}), (nlohmann::json{{"type", "tasks"}, {"tasks", nlohmann::json::array()}}));
   }

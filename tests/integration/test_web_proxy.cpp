@@ -55,17 +55,20 @@ class TlsProxy {
   }
   std::string config(int port, int upstream) const {
     const std::string d = dir_.string();
-    return "daemon off;\nworker_processes 1;\npid " + d + "/nginx.pid;\nevents { worker_connections 1024; }\n"
-           "http {\n  access_log " + d + "/access.log;\n" +
-           "  client_body_temp_path " + d + "/tmp/body;\n  proxy_temp_path " + d + "/tmp/proxy;\n" +
-           "  fastcgi_temp_path " + d + "/tmp/fastcgi;\n  uwsgi_temp_path " + d + "/tmp/uwsgi;\n" +
+    return "daemon off;\nworker_processes 1;\npid " + d +
+           "/nginx.pid;\nevents { worker_connections 1024; }\n"
+           "http {\n  access_log " +
+           d + "/access.log;\n" + "  client_body_temp_path " + d + "/tmp/body;\n  proxy_temp_path " + d +
+           "/tmp/proxy;\n" + "  fastcgi_temp_path " + d + "/tmp/fastcgi;\n  uwsgi_temp_path " + d + "/tmp/uwsgi;\n" +
            "  scgi_temp_path " + d + "/tmp/scgi;\n" +
            "  map $http_upgrade $connection_upgrade { default upgrade; '' close; }\n"
-           "  server {\n    listen 127.0.0.1:" + std::to_string(port) + " ssl;\n" +
-           "    ssl_certificate " + d + "/cert.pem;\n    ssl_certificate_key " + d + "/key.pem;\n" +
+           "  server {\n    listen 127.0.0.1:" +
+           std::to_string(port) + " ssl;\n" + "    ssl_certificate " + d + "/cert.pem;\n    ssl_certificate_key " + d +
+           "/key.pem;\n" +
            // client/web/README.md's location block, word for word.
            "    location / {\n"
-           "      proxy_pass http://127.0.0.1:" + std::to_string(upstream) + ";\n" +
+           "      proxy_pass http://127.0.0.1:" +
+           std::to_string(upstream) + ";\n" +
            "      proxy_http_version 1.1;\n"
            "      proxy_set_header Upgrade $http_upgrade;\n"
            "      proxy_set_header Connection $connection_upgrade;\n"
@@ -84,12 +87,12 @@ class WebProxyTest : public ServiceTest {
   nlohmann::json check(const std::string& mode, const std::string& args) {
     const auto out = dir_.path() / (mode + ".txt");
     const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) +
-                                "' timeout -k 5 300 node '" + ISPARS_SOURCE_DIR + "/tests/web/proxy_check.mjs' " + mode +
-                                " " + base_ + " " + token_ + " " + args + " > '" + out.string() + "' 2>&1";
+                                "' timeout -k 5 300 node '" + ISPARS_SOURCE_DIR + "/tests/web/proxy_check.mjs' " +
+                                mode + " " + base_ + " " + token_ + " " + args + " > '" + out.string() + "' 2>&1";
     (void)std::system(command.c_str());
     const std::string text = read_text(out);
-    const auto json = nlohmann::json::parse(text.substr(text.rfind("\n{") == std::string::npos ? 0 : text.rfind("\n{") + 1),
-                                            nullptr, false);
+    const auto json = nlohmann::json::parse(
+        text.substr(text.rfind("\n{") == std::string::npos ? 0 : text.rfind("\n{") + 1), nullptr, false);
     return json.is_discarded() ? nlohmann::json{{"failure", text}} : json;
   }
   std::string base_;
@@ -144,7 +147,8 @@ TEST_F(WebProxyTest, ChromiumFollowsABuildOverHttpsAndWssAndTheBoundsHoldThrough
   EXPECT_EQ(follow["samples"], scaled(20'000)) << follow;
   EXPECT_TRUE(follow["errors"].empty() && follow["console_errors"].empty()) << follow;
   ASSERT_FALSE(follow["sockets"].empty()) << follow;
-  for (const auto& url : follow["sockets"]) EXPECT_EQ(url.get<std::string>().rfind("wss://localhost:" + std::to_string(port) + "/ws", 0), 0u) << url;
+  for (const auto& url : follow["sockets"])
+    EXPECT_EQ(url.get<std::string>().rfind("wss://localhost:" + std::to_string(port) + "/ws", 0), 0u) << url;
   ASSERT_EQ(follow["cookies"].size(), 1u) << follow;
   EXPECT_TRUE(follow["cookies"][0]["secure"].get<bool>() && follow["cookies"][0]["httpOnly"].get<bool>()) << follow;
 
@@ -160,10 +164,11 @@ TEST_F(WebProxyTest, ChromiumFollowsABuildOverHttpsAndWssAndTheBoundsHoldThrough
   EXPECT_EQ(idle["page"], 200) << idle;
   EXPECT_FALSE(idle["answered_ms"].is_null()) << idle;
   EXPECT_TRUE(flood["closed"].get<bool>()) << flood;
-  std::printf("behind nginx: the flood sent %d of 3000 requests of 60 kB before it was closed; ispars-web's resident "
-              "memory %.0f MB before, %.0f MB after; with 64 idle TLS connections held, another user had the page "
-              "(%d) and a WebSocket answer in %d ms\n",
-              flood["sent"].get<int>(), before, after, idle["page"].get<int>(), idle["answered_ms"].get<int>());
+  std::printf(
+      "behind nginx: the flood sent %d of 3000 requests of 60 kB before it was closed; ispars-web's resident "
+      "memory %.0f MB before, %.0f MB after; with 64 idle TLS connections held, another user had the page "
+      "(%d) and a WebSocket answer in %d ms\n",
+      flood["sent"].get<int>(), before, after, idle["page"].get<int>(), idle["answered_ms"].get<int>());
   EXPECT_LT(after - before, 120.0);
   EXPECT_EQ(gateway.stop(), 0);
   EXPECT_NE(gateway.log().find(" 1 browsers closed for not reading"), std::string::npos) << gateway.log();

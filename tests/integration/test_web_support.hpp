@@ -36,8 +36,9 @@ class Gateway {
           const std::string& listen = "127.0.0.1:0")
       : log_(log) {
     std::vector<std::string> args = prefix;
-    const std::vector<std::string> own = {ISPARS_WEB, "--domain", std::to_string(domain), "--listen", listen,
-                                          "--scene-dir", scene_dir.string(), "--timeout", "5"};
+    const std::vector<std::string> own = {ISPARS_WEB,         "--domain",  std::to_string(domain),
+                                          "--listen",         listen,      "--scene-dir",
+                                          scene_dir.string(), "--timeout", "5"};
     args.insert(args.end(), own.begin(), own.end());
     args.insert(args.end(), extra.begin(), extra.end());
     std::vector<char*> argv;
@@ -53,7 +54,8 @@ class Gateway {
     (void)eventually(
         [&] {
           const std::string text = read_text(log_);
-          if (const auto at = text.find(said); at != std::string::npos) port_ = std::stoi(text.substr(at + said.size()));
+          if (const auto at = text.find(said); at != std::string::npos)
+            port_ = std::stoi(text.substr(at + said.size()));
           return port_ != 0 || !alive();
         },
         std::chrono::seconds(20), "the gateway says where it serves", std::chrono::milliseconds(100));  // port() 0 else
@@ -135,9 +137,9 @@ inline std::string http_response(int port, const std::string& path, const std::s
                                  const std::string& host = "") {
   const int fd = connect_local(port);
   if (fd < 0) return "no connection";
-  const std::string request = "GET " + path + " HTTP/1.1\r\nHost: " +
-                              (host.empty() ? "127.0.0.1:" + std::to_string(port) : host) + "\r\n" + headers +
-                              "Connection: close\r\n\r\n";
+  const std::string request = "GET " + path +
+                              " HTTP/1.1\r\nHost: " + (host.empty() ? "127.0.0.1:" + std::to_string(port) : host) +
+                              "\r\n" + headers + "Connection: close\r\n\r\n";
   (void)::write(fd, request.data(), request.size());
   std::string response;
   char buffer[4096];
@@ -238,7 +240,8 @@ class RawWebSocket {
     return true;
   }
   bool fill(std::chrono::steady_clock::time_point deadline) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     pollfd p{fd_, POLLIN, 0};
     if (fd_ < 0 || left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) return false;
     char buffer[65536];

@@ -26,10 +26,10 @@ class WebViewerTest : public ServiceTest {
   // One page of scene s0 driven by viewer_check.mjs's `flag`: what it printed.
   nlohmann::json one_page(int port, const std::string& flag) {
     const auto out = dir_.path() / "page_text.txt";
-    const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' timeout -k 5 300 node '" +
-                                ISPARS_SOURCE_DIR + "/tests/web/viewer_check.mjs' 'http://127.0.0.1:" +
-                                std::to_string(port) + "/' s0 1 unused.png 60 " + flag + " > '" +
-                                out.string() + "' 2>&1";
+    const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) +
+                                "' timeout -k 5 300 node '" + ISPARS_SOURCE_DIR +
+                                "/tests/web/viewer_check.mjs' 'http://127.0.0.1:" + std::to_string(port) +
+                                "/' s0 1 unused.png 60 " + flag + " > '" + out.string() + "' 2>&1";
     EXPECT_EQ(std::system(command.c_str()), 0) << read_text(out);
     const auto json = nlohmann::json::parse(read_text(out), nullptr, false);
     return json.is_discarded() ? nlohmann::json{{"text", read_text(out)}, {"vertices", -1}, {"edges", -1}} : json;
@@ -60,13 +60,13 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   const auto shot = dir_.path() / "viewer.png";
   const auto ready = dir_.path() / "pages-open";
   const auto node_out = dir_.path() / "node.txt";
-  const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) + "' timeout -k 5 300 node '" +
-                              ISPARS_SOURCE_DIR + "/tests/web/viewer_check.mjs' '" + url + "' s0 4 '" + shot.string() +
-                              "' 240 --close-one-early --ready-file='" + ready.string() + "' > '" + node_out.string() +
-                              "' 2>&1; echo $? > '" + node_out.string() + ".exit'";
+  const std::string command = "ISPARS_WEB_NODE_MODULES='" + std::string(ISPARS_WEB_NODE_MODULES) +
+                              "' timeout -k 5 300 node '" + ISPARS_SOURCE_DIR + "/tests/web/viewer_check.mjs' '" + url +
+                              "' s0 4 '" + shot.string() + "' 240 --close-one-early --ready-file='" + ready.string() +
+                              "' > '" + node_out.string() + "' 2>&1; echo $? > '" + node_out.string() + ".exit'";
   ASSERT_EQ(std::system(("(" + command + ") &").c_str()), 0);
-  ASSERT_TRUE(eventually([&] { return std::filesystem::exists(ready); }, std::chrono::seconds(60), "the pages are ready",
-                         std::chrono::milliseconds(100)))
+  ASSERT_TRUE(eventually([&] { return std::filesystem::exists(ready); }, std::chrono::seconds(60),
+                         "the pages are ready", std::chrono::milliseconds(100)))
       << read_text(node_out);
   const auto t0 = std::chrono::steady_clock::now();
   BuildArgs args;
@@ -78,7 +78,8 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   ASSERT_EQ(read_text(node_out.string() + ".exit"), "0\n") << read_text(node_out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::string out = read_text(node_out);
-  const auto result = nlohmann::json::parse(out.substr(out.rfind("\n{") == std::string::npos ? 0 : out.rfind("\n{") + 1));
+  const auto result =
+      nlohmann::json::parse(out.substr(out.rfind("\n{") == std::string::npos ? 0 : out.rfind("\n{") + 1));
   ASSERT_FALSE(result.contains("failure")) << out << "\n" << gateway.log();
   const SceneStatus stats = client.stats("s0");
   EXPECT_EQ(stats.samples_done, scaled(20'000));
@@ -98,7 +99,8 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   EXPECT_GT(most_batches, 1);
   EXPECT_TRUE(result["console_errors"].empty()) << result["console_errors"];
   // The drawing is there: in the page's canvas and in the screenshot.
-  EXPECT_GT(result["drawn_pixels"]["drawn"].get<double>(), 0.03 * result["drawn_pixels"]["total"].get<double>()) << result;
+  EXPECT_GT(result["drawn_pixels"]["drawn"].get<double>(), 0.03 * result["drawn_pixels"]["total"].get<double>())
+      << result;
   const Image image = read_png(shot.string());
   std::size_t drawn = 0;
   for (int y = 0; y < image.height; ++y) {
@@ -112,7 +114,8 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   EXPECT_GT(result["tour"]["waypoints"], 2) << result["tour"];
   EXPECT_NE(text_of(result["unknown_scene_error"]).find("no_such_scene"), std::string::npos) << result;
   std::cout << "viewer: " << seconds << " s for the build and 4 pages; waited ms per page:";
-  for (const auto& page : result["pages"]) std::cout << " " << page["waited_ms"] << " (" << page["batches"] << " batches)";
+  for (const auto& page : result["pages"])
+    std::cout << " " << page["waited_ms"] << " (" << page["batches"] << " batches)";
   std::cout << "\n";
 
   // A roadmap past the viewer's limits: drawn up to them, and the page says so.
@@ -122,8 +125,7 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
     const auto note = page_text(small.port(), "note:drawing the first");
     EXPECT_EQ(note["vertices"], 50) << note << "\n" << small.log();
     EXPECT_LE(note["edges"], 100) << note;
-    EXPECT_NE(text_of(note["text"]).find("drawing the first 50 of " + std::to_string(stats.vertices) +
-                                                   " vertices"),
+    EXPECT_NE(text_of(note["text"]).find("drawing the first 50 of " + std::to_string(stats.vertices) + " vertices"),
               std::string::npos)
         << note;
   }
@@ -213,8 +215,8 @@ TEST_F(WebViewerTest, APageDrawsTheChosenTasksPoisAndToursThem) {
 TEST_F(WebViewerTest, BadCommandLinesAndABusyPortStopTheStartByName) {
   const auto run = [&](const std::string& args) {
     const auto out = dir_.path() / "bad.txt";
-    const int status = std::system((std::string(ISPARS_WEB) + " --domain " + std::to_string(domain_) + " " + args + " > '" +
-                                    out.string() + "' 2>&1")
+    const int status = std::system((std::string(ISPARS_WEB) + " --domain " + std::to_string(domain_) + " " + args +
+                                    " > '" + out.string() + "' 2>&1")
                                        .c_str());
     return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out));
   };
@@ -233,7 +235,8 @@ TEST_F(WebViewerTest, BadCommandLinesAndABusyPortStopTheStartByName) {
            {"--allow-origin evil.example", "--allow-origin: 'evil.example' is not an origin"},
            {"--allow-origin http://evil.example/page", "--allow-origin: 'http://evil.example/page' is not an origin"},
            {"--token-file /nonexistent", "--token-file"},
-           {"--token-file " + short_token.string(), "--token-file: " + short_token.string() + ": the token has 5 characters"}}) {
+           {"--token-file " + short_token.string(),
+            "--token-file: " + short_token.string() + ": the token has 5 characters"}}) {
     const auto [code, text] = run(args);
     EXPECT_EQ(code, 2) << args << ": " << text;
     EXPECT_NE(text.find(named), std::string::npos) << args << ": " << text;

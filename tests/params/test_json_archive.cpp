@@ -54,7 +54,8 @@ TEST(ParamJson, ACountWrittenAsAWholeRealReadsTheSameAndEveryBadValueIsNamed) {
   Valve v;
   read_json(nlohmann::json::parse(R"({"count": 20000.0})"), v, "valve.json");
   EXPECT_EQ(v.count, 20000u);
-  EXPECT_EQ(read_error(R"({"count": 2.5})"), "valve.json: count: must be a whole number in [0, 1000000000000], got 2.5");
+  EXPECT_EQ(read_error(R"({"count": 2.5})"),
+            "valve.json: count: must be a whole number in [0, 1000000000000], got 2.5");
   EXPECT_EQ(read_error(R"({"count": -1})"), "valve.json: count: must be a whole number in [0, 1000000000000], got -1");
   EXPECT_EQ(read_error(R"({"count": "5"})"), "valve.json: count: expected a whole number, got \"5\"");
   EXPECT_EQ(read_error(R"({"radius": 0})"), "valve.json: radius: must be in (0, 10], got 0");

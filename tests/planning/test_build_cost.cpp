@@ -17,9 +17,10 @@ struct Case {
 };
 
 TEST(BuildCost, TheEstimateBoundsTheBuiltGraphFromAboveAndWithinAFewTimes) {
-  for (const Case& c : {Case{"demo_tank_tower", BuildMethod::dense, 4000}, Case{"water_tower", BuildMethod::dense, 3000},
-                        Case{"truss_bridge", BuildMethod::ispars, 3000}, Case{"demo_tank_tower", BuildMethod::irisc, 3000},
-                        Case{"water_tower", BuildMethod::ispars2, 20000}, Case{"caric_city", BuildMethod::ispars2, 20000}}) {
+  for (const Case& c :
+       {Case{"demo_tank_tower", BuildMethod::dense, 4000}, Case{"water_tower", BuildMethod::dense, 3000},
+        Case{"truss_bridge", BuildMethod::ispars, 3000}, Case{"demo_tank_tower", BuildMethod::irisc, 3000},
+        Case{"water_tower", BuildMethod::ispars2, 20000}, Case{"caric_city", BuildMethod::ispars2, 20000}}) {
     const Scene& scene = test::shared_scene(c.scene);
     BuildOptions options;
     options.seed = 5;

@@ -41,8 +41,8 @@ const Scene& scene_for(const std::string& name) {
 }
 
 BruteForceGeometry reference_for(const Scene& scene) {
-  return BruteForceGeometry(scene.embree().triangles(), scene.config().bounds,
-                            scene.config().robot_radius, scene.pois(), scene.config().sensor_range);
+  return BruteForceGeometry(scene.embree().triangles(), scene.config().bounds, scene.config().robot_radius,
+                            scene.pois(), scene.config().sensor_range);
 }
 
 class CollisionAgreement : public ::testing::TestWithParam<AgreementCase> {};
@@ -102,8 +102,7 @@ INSTANTIATE_TEST_SUITE_P(
     Scenes, CollisionAgreement,
     ::testing::Values(AgreementCase{"water_tower", 4000, 3000}, AgreementCase{"truss_bridge", 4000, 3000},
                       AgreementCase{"radio_tower", 4000, 3000}, AgreementCase{"powerplant", 3000, 2000},
-                      AgreementCase{"caric_city", 1500, 1000},
-                      AgreementCase{"procedural_truss_bridge", 3000, 3000},
+                      AgreementCase{"caric_city", 1500, 1000}, AgreementCase{"procedural_truss_bridge", 3000, 3000},
                       AgreementCase{"procedural_tank_tower", 3000, 3000},
                       AgreementCase{"procedural_city_grid", 3000, 3000}),
     [](const auto& case_info) { return case_info.param.scene; });
@@ -112,8 +111,7 @@ INSTANTIATE_TEST_SUITE_P(
 Scene single_triangle_scene(const Triangle& t, double radius) {
   // Plus a far-away tile in a corner, so POIs have surface to be sampled on.
   TriangleMesh mesh;
-  mesh.vertices = {t.a.cast<float>(), t.b.cast<float>(), t.c.cast<float>(),
-                   {-9, -9, -9}, {-8, -9, -9}, {-9, -8, -9}};
+  mesh.vertices = {t.a.cast<float>(), t.b.cast<float>(), t.c.cast<float>(), {-9, -9, -9}, {-8, -9, -9}, {-9, -8, -9}};
   mesh.triangles = {{0, 1, 2}, {3, 4, 5}};
   SceneConfig config;
   config.source = "test";

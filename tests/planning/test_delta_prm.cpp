@@ -34,7 +34,7 @@ TEST(DeltaPrm, JoinsPairsWithinDeltaInclusiveAndNoFarther) {
   const std::vector<PoiId> first{0};
   EXPECT_EQ(prm.insert(Vec3(0, 0, 0), first), 0u);
   EXPECT_EQ(prm.insert(Vec3(0.5, 0, 0), none), 1u);
-  EXPECT_EQ(prm.insert(Vec3(1.0, 0, 0), none), 2u);  // exactly delta from vertex 0
+  EXPECT_EQ(prm.insert(Vec3(1.0, 0, 0), none), 2u);   // exactly delta from vertex 0
   EXPECT_EQ(prm.insert(Vec3(1.75, 0, 0), none), 3u);  // 1.75 from 0, 1.25 from 1, 0.75 from 2
   const Roadmap& g = prm.graph();
   EXPECT_TRUE(g.has_edge(0, 1));
@@ -55,7 +55,7 @@ TEST(DeltaPrm, SkipsAPairWithinDeltaWhoseSegmentCrossesTheWall) {
   DeltaPrm prm(wall_scene(), 1.0);
   const std::vector<PoiId> none;
   const VertexId a = prm.insert(Vec3(2.2, 0, 0), none);
-  const VertexId b = prm.insert(Vec3(2.8, 0, 0), none);  // 0.6 apart, the wall between
+  const VertexId b = prm.insert(Vec3(2.8, 0, 0), none);    // 0.6 apart, the wall between
   const VertexId c = prm.insert(Vec3(2.2, 0, 1.3), none);  // above the wall's top edge (z = 1)
   const VertexId d = prm.insert(Vec3(2.8, 0, 1.3), none);
   ASSERT_FALSE(wall_scene().segment_valid(prm.graph().position(a), prm.graph().position(b)));

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/builders/dense_builder.hpp"
 #include "ispars/builders/delta_prm.hpp"
+#include "ispars/builders/dense_builder.hpp"
 #include "ispars/geometry/random.hpp"
 #include "support/test_support.hpp"
 
@@ -36,7 +36,7 @@ TEST(DenseBuilder, StartsWithTheRootAndWhatItSees) {
 TEST(DenseBuilder, StepInsertsAValidSampleWithItsDeltaEdgesAndDropsAnInvalidOne) {
   const Scene scene = test::open_scene(1.0, 2.0, true);  // wall at x = 2.5, robot radius 0.1
   DenseBuilder b(scene, BuildOptions{});
-  b.step(Vec3(1, 0, 0));  // exactly delta from the root
+  b.step(Vec3(1, 0, 0));     // exactly delta from the root
   b.step(Vec3(2.45, 0, 0));  // within the robot radius of the wall: dropped
   b.step(Vec3(2.0, 0, 0));
   b.step(Vec3(2.9, 0, 0));  // 0.9 from (2, 0, 0), the wall between

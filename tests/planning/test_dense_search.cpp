@@ -128,11 +128,11 @@ TEST(DenseSearch, AgreesWithDijkstraOnRandomGraphs) {
       std::size_t reachable = 0, wrong = 0;
       for (VertexId v = 0; v < g.vertex_count(); ++v) {
         reachable += std::isfinite(expected[v]) ? 1 : 0;
-        const bool right = std::isfinite(expected[v]) ? std::abs(s.distance(v) - expected[v]) <= 1e-12
-                                                      : s.distance(v) == INFINITY;
+        const bool right =
+            std::isfinite(expected[v]) ? std::abs(s.distance(v) - expected[v]) <= 1e-12 : s.distance(v) == INFINITY;
         if (!right && wrong++ == 0) {
-          ADD_FAILURE() << "trial " << trial << " source " << source << " v " << v << ": " << s.distance(v)
-                        << " for " << expected[v];
+          ADD_FAILURE() << "trial " << trial << " source " << source << " v " << v << ": " << s.distance(v) << " for "
+                        << expected[v];
         }
       }
       EXPECT_EQ(wrong, 0u);

@@ -7,9 +7,9 @@
 #include <limits>
 #include <queue>
 
-#include "ispars/tour/gip_solver.hpp"
-#include "ispars/params/input_error.hpp"
 #include "ispars/geometry/random.hpp"
+#include "ispars/params/input_error.hpp"
+#include "ispars/tour/gip_solver.hpp"
 #include "support/gip_reference.hpp"
 
 namespace ispars {

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
+#include "ispars/geometry/random.hpp"
 #include "ispars/search/dense_search.hpp"
 #include "ispars/search/graph_search.hpp"
-#include "ispars/geometry/random.hpp"
 
 namespace ispars {
 namespace {

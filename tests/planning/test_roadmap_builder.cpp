@@ -6,10 +6,10 @@
 #include <memory>
 #include <string>
 
-#include "ispars/scene/procedural.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
+#include "ispars/scene/procedural.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
@@ -68,7 +68,8 @@ TEST(RoadmapBuilder, AResumedDenseBuilderGoesOnByteForByteAsTheUninterruptedOne)
       const Roadmap& source = resumed ? resumed->roadmap() : whole->roadmap();
       Roadmap stored(scene.pois().size());
       apply_batch(stored, batch_since(source, 0));
-      resumed = resume_roadmap_builder(BuildMethod::dense, scene, options, {whole->samples(), std::move(stored), {}, {}});
+      resumed =
+          resume_roadmap_builder(BuildMethod::dense, scene, options, {whole->samples(), std::move(stored), {}, {}});
       ASSERT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap())) << name;
     }
     resumed->extend(1500);
@@ -81,10 +82,8 @@ TEST(RoadmapBuilder, AResumedDenseBuilderGoesOnByteForByteAsTheUninterruptedOne)
 TEST(RoadmapBuilder, ThreadCountDoesNotChangeTheRoadmap) {
   const Scene& scene = test::shared_scene("radio_tower");
   for (const BuildMethod m : kMethods) {
-    EXPECT_EQ(build_fingerprint(scene, m, 7, 1, {1500}), build_fingerprint(scene, m, 7, 2, {1500}))
-        << to_string(m);
-    EXPECT_EQ(build_fingerprint(scene, m, 7, 1, {1500}), build_fingerprint(scene, m, 7, 3, {600, 900}))
-        << to_string(m);
+    EXPECT_EQ(build_fingerprint(scene, m, 7, 1, {1500}), build_fingerprint(scene, m, 7, 2, {1500})) << to_string(m);
+    EXPECT_EQ(build_fingerprint(scene, m, 7, 1, {1500}), build_fingerprint(scene, m, 7, 3, {600, 900})) << to_string(m);
   }
 }
 

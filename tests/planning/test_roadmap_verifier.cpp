@@ -22,8 +22,9 @@ TEST(RoadmapVerifier, ABuiltPairIsCleanAndAStopIsHeardWithin256Steps) {
   for (const std::size_t allowed : {std::size_t{0}, std::size_t{1}, std::size_t{5}}) {
     std::size_t asked = 0;
     const VerifyKeepGoing keep_going = [&] { return asked++ < allowed; };
-    EXPECT_THROW((void)verify_sparse_pair(scene, builder->roadmap(), *builder->dense(), builder->dense_ids(), keep_going),
-                 VerificationStopped);
+    EXPECT_THROW(
+        (void)verify_sparse_pair(scene, builder->roadmap(), *builder->dense(), builder->dense_ids(), keep_going),
+        VerificationStopped);
     EXPECT_EQ(asked, allowed + 1) << "it went on after a stop";
   }
   std::size_t asked = 0;

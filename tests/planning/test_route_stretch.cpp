@@ -25,7 +25,8 @@ TEST(RouteStretch, BinsAndRatiosMatchAHandComputedRoadmap) {
   sparse.add_edge(c, f);
   // Dense: the same samples, plus d between a and c; a - d - c is straight; e joined to c.
   Roadmap dense(3);
-  for (VertexId v = 0; v < sparse.vertex_count(); ++v) dense.add_vertex(sparse.position(v), sparse.visibility_table().ids(v));
+  for (VertexId v = 0; v < sparse.vertex_count(); ++v)
+    dense.add_vertex(sparse.position(v), sparse.visibility_table().ids(v));
   const VertexId d = dense.add_vertex(Vec3(1, 0, 0), {});
   dense.add_edge(a, b);
   dense.add_edge(b, c);

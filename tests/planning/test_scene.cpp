@@ -16,9 +16,11 @@ namespace {
 
 TEST(Scene, ShippedScenesLoadWithTheDocumentedTriangleCountsAndClearances) {
   // Triangle counts and root clearances from deploy/scenes/SOURCES.md.
-  const std::map<std::string, std::pair<std::size_t, double>> expected{
-      {"water_tower", {1564, 7.38}}, {"truss_bridge", {3404, 4.45}}, {"caric_city", {70104, 11.94}},
-      {"powerplant", {4693, 9.53}},  {"radio_tower", {4892, 7.29}}};
+  const std::map<std::string, std::pair<std::size_t, double>> expected{{"water_tower", {1564, 7.38}},
+                                                                       {"truss_bridge", {3404, 4.45}},
+                                                                       {"caric_city", {70104, 11.94}},
+                                                                       {"powerplant", {4693, 9.53}},
+                                                                       {"radio_tower", {4892, 7.29}}};
   for (const auto& [name, facts] : expected) {
     const Scene& scene = test::shared_scene(name);
     EXPECT_EQ(scene.mesh().triangle_count(), facts.first) << name;

@@ -11,8 +11,8 @@ namespace ispars {
 namespace {
 
 Scene procedural(int seed) {
-  return Scene::build(parse_scene_config_text("procedural: {kind: tank_tower, seed: " + std::to_string(seed) + "}",
-                                              ".", "test.yaml"));
+  return Scene::build(
+      parse_scene_config_text("procedural: {kind: tank_tower, seed: " + std::to_string(seed) + "}", ".", "test.yaml"));
 }
 
 TEST(SceneFingerprint, EqualForTheSameSceneAndDifferentForAnyChange) {

@@ -3,10 +3,10 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/search/graph_search.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/builders/spars_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
+#include "ispars/search/graph_search.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
@@ -205,7 +205,7 @@ TEST(SparsBuilder, RadiiAreInclusiveEverywhere) {
   // away is reachable (so no guard is added).
   const Scene scene = test::open_scene(2.0, 3.0);
   SparsBuilder b(scene, BuildOptions{}, default_rules(false));
-  b.step(valid_at(Vec3(2, 0, 0)));   // exactly delta from the root
+  b.step(valid_at(Vec3(2, 0, 0)));  // exactly delta from the root
   EXPECT_TRUE(b.dense()->has_edge(0, 1));
   EXPECT_EQ(b.roadmap().vertex_count(), 1u) << "within Delta of the root: not a guard";
   EXPECT_EQ(b.representative(1), 0u);
@@ -307,7 +307,9 @@ TEST(SparsBuilder, AResumedDensePairHoldsTheSameRepresentativesAndGoesOnByteForB
       whole->extend(step);
       if (resumed) resumed->extend(step);
       const RoadmapBuilder& source = resumed ? *resumed : *whole;
-      BuiltRoadmaps stored{source.samples(), Roadmap(scene.pois().size()), Roadmap(scene.pois().size()),
+      BuiltRoadmaps stored{source.samples(),
+                           Roadmap(scene.pois().size()),
+                           Roadmap(scene.pois().size()),
                            {source.dense_ids().begin(), source.dense_ids().end()}};
       apply_batch(stored.roadmap, batch_since(source.roadmap(), 0));
       apply_batch(*stored.dense, batch_since(*source.dense(), 0));
@@ -348,8 +350,8 @@ TEST(SparsBuilder, ADensePairThatDoesNotFitIsNotResumed) {
   auto built = make_roadmap_builder(BuildMethod::ispars, scene, BuildOptions{});
   built->extend(600);
   const auto pair = [&] {
-    return BuiltRoadmaps{600, built->roadmap(), *built->dense(),
-                         {built->dense_ids().begin(), built->dense_ids().end()}};
+    return BuiltRoadmaps{
+        600, built->roadmap(), *built->dense(), {built->dense_ids().begin(), built->dense_ids().end()}};
   };
   EXPECT_NO_THROW((void)resume_roadmap_builder(BuildMethod::ispars, scene, BuildOptions{}, pair()));
   const auto refused = [&](BuiltRoadmaps b, const std::string& why) {

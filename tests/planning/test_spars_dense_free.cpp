@@ -75,31 +75,32 @@ INSTANTIATE_TEST_SUITE_P(Scenes, DenseFreeOnSharedScenes,
 TEST_P(DenseFreeOnSharedScenes, AResumedBuilderGoesOnByteForByteAsTheUninterruptedOne) {
   const Scene& scene = test::shared_scene(GetParam());
   // No slack, a slack, and a slack from a sample between two resumes on.
-  for (const auto& [slack, slack_after] : {std::pair{0.0, std::size_t{0}}, std::pair{0.5, std::size_t{0}},
-                                           std::pair{0.5, test::scaled(1800)}}) {
-  SCOPED_TRACE(testing::Message() << "stretch slack " << slack << " from sample " << slack_after);
-  BuildOptions options;
-  options.seed = 3;
-  options.stretch_slack = slack;
-  options.stretch_slack_after = slack_after;
-  auto whole = make_roadmap_builder(BuildMethod::ispars2, scene, options);
-  std::unique_ptr<RoadmapBuilder> resumed;
-  for (const std::size_t n : {0u, 1u, 700u, 2300u, 3001u}) {
-    const std::size_t step = test::scaled(n);
-    whole->extend(step);
-    if (resumed) resumed->extend(step);
-    // Stop here: what the store keeps is the roadmap's batches.
-    const Roadmap& source = resumed ? resumed->roadmap() : whole->roadmap();
-    Roadmap stored(scene.pois().size());
-    apply_batch(stored, batch_since(source, 0));
-    resumed = resume_roadmap_builder(BuildMethod::ispars2, scene, options, {whole->samples(), std::move(stored), {}, {}});
-    ASSERT_EQ(resumed->samples(), whole->samples());
-    ASSERT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap()));
-  }
-  resumed->extend(test::scaled(2000));
-  whole->extend(test::scaled(2000));
-  EXPECT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap())) << GetParam();
-  EXPECT_GT(resumed->roadmap().vertex_count(), 10u);
+  for (const auto& [slack, slack_after] :
+       {std::pair{0.0, std::size_t{0}}, std::pair{0.5, std::size_t{0}}, std::pair{0.5, test::scaled(1800)}}) {
+    SCOPED_TRACE(testing::Message() << "stretch slack " << slack << " from sample " << slack_after);
+    BuildOptions options;
+    options.seed = 3;
+    options.stretch_slack = slack;
+    options.stretch_slack_after = slack_after;
+    auto whole = make_roadmap_builder(BuildMethod::ispars2, scene, options);
+    std::unique_ptr<RoadmapBuilder> resumed;
+    for (const std::size_t n : {0u, 1u, 700u, 2300u, 3001u}) {
+      const std::size_t step = test::scaled(n);
+      whole->extend(step);
+      if (resumed) resumed->extend(step);
+      // Stop here: what the store keeps is the roadmap's batches.
+      const Roadmap& source = resumed ? resumed->roadmap() : whole->roadmap();
+      Roadmap stored(scene.pois().size());
+      apply_batch(stored, batch_since(source, 0));
+      resumed =
+          resume_roadmap_builder(BuildMethod::ispars2, scene, options, {whole->samples(), std::move(stored), {}, {}});
+      ASSERT_EQ(resumed->samples(), whole->samples());
+      ASSERT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap()));
+    }
+    resumed->extend(test::scaled(2000));
+    whole->extend(test::scaled(2000));
+    EXPECT_EQ(roadmap_digest(resumed->roadmap()), roadmap_digest(whole->roadmap())) << GetParam();
+    EXPECT_GT(resumed->roadmap().vertex_count(), 10u);
   }
 }
 
@@ -114,22 +115,24 @@ TEST(DenseFree, OnlyIrisCIsReplayedAndEveryResumeStartsWithTheRoot) {
     EXPECT_THROW((void)resume_roadmap_builder(m, scene, BuildOptions{}, alone(Roadmap(scene.pois().size()), 0)),
                  std::invalid_argument);
   }
-  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::ispars2, scene, BuildOptions{}, alone(Roadmap(scene.pois().size()), 0)),
-               std::invalid_argument);
+  EXPECT_THROW(
+      (void)resume_roadmap_builder(BuildMethod::ispars2, scene, BuildOptions{}, alone(Roadmap(scene.pois().size()), 0)),
+      std::invalid_argument);
   Roadmap elsewhere(scene.pois().size());
   (void)elsewhere.add_vertex(scene.config().root + Vec3(0.5, 0, 0), {});
   EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::ispars2, scene, BuildOptions{}, alone(elsewhere, 10)),
                std::invalid_argument);
-  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::dense, scene, BuildOptions{}, alone(Roadmap(scene.pois().size()), 0)),
-               std::invalid_argument);
+  EXPECT_THROW(
+      (void)resume_roadmap_builder(BuildMethod::dense, scene, BuildOptions{}, alone(Roadmap(scene.pois().size()), 0)),
+      std::invalid_argument);
   EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::dense, scene, BuildOptions{}, alone(elsewhere, 10)),
                std::invalid_argument);
   // ispars2 keeps no dense roadmap: one given is a mistake, not something to drop silently.
   auto built = make_roadmap_builder(BuildMethod::ispars, scene, BuildOptions{});
   built->extend(200);
-  EXPECT_THROW((void)resume_roadmap_builder(BuildMethod::ispars2, scene, BuildOptions{},
-                                            {200, built->roadmap(), *built->dense(),
-                                             {built->dense_ids().begin(), built->dense_ids().end()}}),
+  EXPECT_THROW((void)resume_roadmap_builder(
+                   BuildMethod::ispars2, scene, BuildOptions{},
+                   {200, built->roadmap(), *built->dense(), {built->dense_ids().begin(), built->dense_ids().end()}}),
                std::invalid_argument);
 }
 

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "ispars/search/graph_search.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/builders/spars_builder.hpp"
+#include "ispars/search/graph_search.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
@@ -66,8 +66,8 @@ StepRun check_every_step(const Scene& scene, SparsVariant variant, std::size_t w
     b.step(q);
     if (b.dense()->vertex_count() == dense_before) continue;  // invalid sample
     const VertexId dense_q = static_cast<VertexId>(dense_before);
-    const VertexId self = b.dense_ids().back() == dense_q ? static_cast<VertexId>(b.roadmap().vertex_count() - 1)
-                                                          : kNoVertex;
+    const VertexId self =
+        b.dense_ids().back() == dense_q ? static_cast<VertexId>(b.roadmap().vertex_count() - 1) : kNoVertex;
     ++run.checked_steps;
     run.violating_steps += witness_violations(scene, b.roadmap(), q, self, slack) > 0;
     if (slack > 0.0) run.steps_past_zero_slack += witness_violations(scene, b.roadmap(), q, self) > 0;

@@ -222,8 +222,8 @@ TEST(SparsTask, AnAdditionStopsWhenAskedAndSaysSo) {
 TEST(SparsTask, TakesPoisNamesTheBuildersThatAddThem) {
   const Scene& scene = test::shared_scene("truss_bridge");
   const Scene widened = scene.with_more_pois(task_pois(scene, 5));
-  for (const BuildMethod method : {BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars, BuildMethod::irisc,
-                                   BuildMethod::ispars2}) {
+  for (const BuildMethod method :
+       {BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars, BuildMethod::irisc, BuildMethod::ispars2}) {
     auto built = make_roadmap_builder(method, scene, options_with(1));
     built->extend(300);
     const std::uint64_t before = roadmap_digest(built->roadmap());
@@ -252,10 +252,12 @@ TEST(SparsTask, AnAdditionStoppedBeforeTheInspectionTestLeavesTheBuilderAsItWas)
     // The rows do not depend on the threads that find them.
     const Roadmap& rows_of = reference->dense() ? *reference->dense() : reference->roadmap();
     const auto first = static_cast<PoiId>(scene.pois().size());
-    EXPECT_TRUE(new_poi_visibility(widened, rows_of, first, {}, 1) == new_poi_visibility(widened, rows_of, first, {}, 3))
+    EXPECT_TRUE(new_poi_visibility(widened, rows_of, first, {}, 1) ==
+                new_poi_visibility(widened, rows_of, first, {}, 3))
         << to_string(method);
     // The visibility pass asks once per 256 rows: the dense pair's, or the roadmap's.
-    const std::size_t rows = reference->dense() ? reference->dense()->vertex_count() : reference->roadmap().vertex_count();
+    const std::size_t rows =
+        reference->dense() ? reference->dense()->vertex_count() : reference->roadmap().vertex_count();
     const auto visibility_asks = static_cast<int>((rows + 255) / 256);
     for (const int stop_at : {visibility_asks, visibility_asks + 1}) {
       auto built = make_roadmap_builder(method, scene, options_with(1));

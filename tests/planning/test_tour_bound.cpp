@@ -139,8 +139,8 @@ TEST(CutSeparation, MaxFlowAndBothCutsOnAPath) {
   const double x[] = {1.5, 0.5, 2.0};
   flow.set_capacities(x);
   EXPECT_NEAR(flow.max_flow_to(cg.groups[0], 2.0), 0.5, 1e-12);
-  EXPECT_EQ(flow.source_side(), (std::vector<char>{1, 1, 0, 0}));            // the cut 1-2
-  EXPECT_EQ(flow.sink_side_complement(), (std::vector<char>{1, 1, 0, 0}));   // the same one here
+  EXPECT_EQ(flow.source_side(), (std::vector<char>{1, 1, 0, 0}));           // the cut 1-2
+  EXPECT_EQ(flow.sink_side_complement(), (std::vector<char>{1, 1, 0, 0}));  // the same one here
   // With the middle edge at 3 the flow reaches the limit and stops there.
   const double wide[] = {2.5, 3.0, 2.5};
   flow.set_capacities(wide);

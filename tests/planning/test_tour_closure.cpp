@@ -155,7 +155,8 @@ TEST(TourClosure, RowsOnFirstUseAndAheadAreTheWholeGraphsShortestPaths) {
   std::vector<std::vector<PoiId>> visible(side * side);
   for (std::size_t y = 0; y < side; ++y) {
     for (std::size_t x = 0; x < side / 2; ++x) {
-      if (rng.uniform01() < 0.1) visible[at(x, y)] = {static_cast<PoiId>(static_cast<std::size_t>(rng.uniform01() * pois) % pois)};
+      if (rng.uniform01() < 0.1)
+        visible[at(x, y)] = {static_cast<PoiId>(static_cast<std::size_t>(rng.uniform01() * pois) % pois)};
     }
   }
   const InspectionGraph g = InspectionGraph::from_edges(side * side, edges, std::move(visible), pois);

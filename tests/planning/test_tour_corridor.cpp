@@ -93,8 +93,9 @@ TEST(TourCorridor, NoJoinCrossesAWallAndAStopOffTheGraphBecomesAVertex) {
 
 // What the found sources must keep: in the tube (brute force), in the box, valid, not a base
 // position; the first `cap`, in order.
-std::vector<Vec3> expected_found(const Scene& scene, const std::vector<Vec3>& candidates, const std::vector<Vec3>& stops,
-                                 const std::vector<Vec3>& base, double r, std::size_t cap) {
+std::vector<Vec3> expected_found(const Scene& scene, const std::vector<Vec3>& candidates,
+                                 const std::vector<Vec3>& stops, const std::vector<Vec3>& base, double r,
+                                 std::size_t cap) {
   std::vector<Vec3> out;
   for (const Vec3& q : candidates) {
     if (out.size() >= cap) break;
@@ -112,7 +113,8 @@ TEST(TourCorridor, GivenSamplesAndTheStreamKeepExactlyThoseInTheTube) {
   // segments included), then candidates: random ones, ones near the path, and the base's own.
   std::vector<Vec3> positions{Vec3(0, 0, 0)};
   for (int i = 0; i < 20; ++i) positions.push_back(rng.uniform_in(scene.config().bounds));
-  const InspectionGraph graph = InspectionGraph::from_edges(positions.size(), {}, std::vector<std::vector<PoiId>>(positions.size()), 3);
+  const InspectionGraph graph =
+      InspectionGraph::from_edges(positions.size(), {}, std::vector<std::vector<PoiId>>(positions.size()), 3);
   const std::vector<Vec3> stops{positions[0], positions[3], positions[7], Vec3(-45, 45, -45), positions[0]};
   const std::vector<VertexId> ids{0, 3, 7, kNoVertex, 0};
   std::vector<Vec3> candidates;

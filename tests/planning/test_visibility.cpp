@@ -26,8 +26,8 @@ class VisibilityAgreement : public ::testing::TestWithParam<std::pair<std::strin
 
 TEST_P(VisibilityAgreement, ChiMatchesBruteForceOutsideTheToleranceBand) {
   const Scene& scene = test::shared_scene(GetParam().first);
-  const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds,
-                                 scene.config().robot_radius, scene.pois(), scene.config().sensor_range);
+  const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds, scene.config().robot_radius,
+                                 scene.pois(), scene.config().sensor_range);
   Rng rng(21);
   const auto configurations = near_structure_configurations(scene, rng, test::scaled(GetParam().second));
   std::size_t visible_total = 0;
@@ -41,8 +41,7 @@ TEST_P(VisibilityAgreement, ChiMatchesBruteForceOutsideTheToleranceBand) {
     scene.visible_pois(q, chi);
     ASSERT_TRUE(std::is_sorted(chi.begin(), chi.end()));
     std::vector<PoiId> differ;
-    std::set_symmetric_difference(chi.begin(), chi.end(), expected.begin(), expected.end(),
-                                  std::back_inserter(differ));
+    std::set_symmetric_difference(chi.begin(), chi.end(), expected.begin(), expected.end(), std::back_inserter(differ));
     for (const PoiId id : differ) {
       EXPECT_TRUE(std::binary_search(ambiguous.begin(), ambiguous.end(), id))
           << "POI " << id << " from " << q.transpose() << ": fast says "
@@ -86,8 +85,7 @@ TEST(Visibility, PoisInRangeMatchesAScanIncludingTheBoundary) {
 // A wall at z = 0 over a floor at z = -2; POIs on the floor, one of them under the wall.
 Scene wall_scene(const test::TempDir& dir) {
   TriangleMesh mesh;
-  mesh.vertices = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0},
-                   {-4, -4, -2}, {4, -4, -2}, {4, 4, -2}, {-4, 4, -2}};
+  mesh.vertices = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, {-4, -4, -2}, {4, -4, -2}, {4, 4, -2}, {-4, 4, -2}};
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
   SceneConfig config;
   config.source = "test";

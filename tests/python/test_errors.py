@@ -57,6 +57,27 @@ def test_a_builder_refuses_what_the_daemon_refuses_in_its_words(ispars, scene, k
     assert message in str(e.value)
 
 
+def test_overrides_by_keyword_are_the_declared_parameters(ispars, scene):
+    declared = ispars.recipe_parameters()
+    assert [p["name"] for p in declared] == ["dense_delta", "sparse_delta", "stretch", "stretch_slack",
+                                             "stretch_slack_after", "p_accept"]
+    after = next(p for p in declared if p["name"] == "stretch_slack_after")
+    assert after["type"] == "int" and after["range"] == "a whole number in [0, 1000000000000]"
+    by_keyword = ispars.Builder(scene, method="ispars2", stretch_slack=0.25, stretch_slack_after=100)
+    by_dict = ispars.Builder(scene, method="ispars2", overrides={"stretch_slack": 0.25, "stretch_slack_after": 100})
+    assert by_keyword.recipe == by_dict.recipe
+    assert by_keyword.recipe["stretch_slack_after"] == 100 and isinstance(by_keyword.recipe["stretch_slack_after"], int)
+    with pytest.raises(ispars.InputError, match="overrides.stretch: given twice"):
+        ispars.Builder(scene, overrides={"stretch": 1.5}, stretch=2.0)
+    with pytest.raises(ispars.InputError, match="overrides.warp: unknown parameter"):
+        ispars.Builder(scene, warp=1.0)
+    with pytest.raises(ispars.InputError, match="overrides.stretch_slack_after: expected a number, got True"):
+        ispars.Builder(scene, stretch_slack=0.5, stretch_slack_after=True)
+    # Keywords of one call never reach the next (the overrides default is one dict for every call).
+    assert ispars.Builder(scene).recipe == ispars.Builder(scene, overrides={}).recipe
+    assert ispars.Builder(scene).recipe["stretch_slack"] == 0.0
+
+
 def test_counts_out_of_range_are_refused(ispars, scene):
     with pytest.raises(ispars.InputError, match="threads: must be 1 .. 64, got 0"):
         ispars.Builder(scene, threads=0)

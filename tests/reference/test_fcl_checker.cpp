@@ -16,8 +16,8 @@ TEST(FclCollisionChecker, AgreesWithReferenceOnRealMeshes) {
     const Scene& scene = test::shared_scene(name);
     const double r = scene.config().robot_radius;
     const FclCollisionChecker fcl(scene.mesh(), scene.config().bounds, r);
-    const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds, r,
-                                   scene.pois(), scene.config().sensor_range);
+    const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds, r, scene.pois(),
+                                   scene.config().sensor_range);
     Rng rng(31);
     // FCL works to its own tolerance (GJK/EPA); compare where the answer is clear by 1e-6 m.
     for (const Vec3& p : test::mixed_query_points(scene, rng, test::scaled(1500))) {

@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/roadmap/build_recipe.hpp"
 
 namespace ispars {
 namespace {
@@ -17,7 +17,8 @@ TEST(BuildRecipe, NamesRoundTripAndListsComeFromOnePlace) {
     EXPECT_EQ(parse_build_method(to_string(m)), m);
     EXPECT_NE(build_method_names().find(to_string(m)), std::string::npos);
   }
-  for (const SparsVariant v : {SparsVariant::stretch, SparsVariant::alg1}) EXPECT_EQ(parse_spars_variant(to_string(v)), v);
+  for (const SparsVariant v : {SparsVariant::stretch, SparsVariant::alg1})
+    EXPECT_EQ(parse_spars_variant(to_string(v)), v);
   EXPECT_FALSE(parse_build_method("Dense"));
   EXPECT_FALSE(parse_spars_variant(""));
   EXPECT_EQ(build_method_names(), "dense, spars, ispars, irisc, ispars2");
@@ -35,8 +36,8 @@ TEST(BuildRecipe, NamesRoundTripAndListsComeFromOnePlace) {
 }
 
 TEST(BuildRecipe, RecipeJsonRoundTripsAndOldRecipesReadAsAlg1) {
-  RoadmapRecipe r{"tower", BuildMethod::irisc, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 42, "0123456789abcdef", 7, 0.375,
-                  20000};
+  RoadmapRecipe r{
+      "tower", BuildMethod::irisc, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 42, "0123456789abcdef", 7, 0.375, 20000};
   const RoadmapRecipe back = recipe_from_json(recipe_to_json(r));
   // The edits below make files as older versions wrote them (or as a hand edit leaves them):
   // without the seal, which a changed value would fail first (sealed_file.hpp).
@@ -89,7 +90,8 @@ TEST(BuildRecipe, RecipeJsonRoundTripsAndOldRecipesReadAsAlg1) {
   EXPECT_EQ(old_store.stretch_slack_after, 0u);
   // A slack outside [0, 1] (a damaged or hand-edited file) is refused by name.
   std::string bad = unsealed(recipe_to_json(r));
-  bad.replace(bad.find("\"stretch_slack\": 0.375"), std::string("\"stretch_slack\": 0.375").size(), "\"stretch_slack\": 4");
+  bad.replace(bad.find("\"stretch_slack\": 0.375"), std::string("\"stretch_slack\": 0.375").size(),
+              "\"stretch_slack\": 4");
   try {
     (void)recipe_from_json(bad);
     FAIL() << "a slack of 4 was read";

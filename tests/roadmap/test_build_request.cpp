@@ -18,7 +18,8 @@ TEST(BuildRequestTypes, EveryOverrideMemberIsDeclaredAndEveryDeclarationIsARecip
   EXPECT_EQ(params::aggregate_size<RecipeOverrides>(), params::field_count<RecipeOverrides>())
       << "a member added to RecipeOverrides without its declaration in describe()";
   EXPECT_EQ(params::field_count<RoadmapRecipe>(), params::field_count<RecipeOverrides>());
-  EXPECT_EQ(params::names<RecipeOverrides>(), "dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after, p_accept");
+  EXPECT_EQ(params::names<RecipeOverrides>(),
+            "dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after, p_accept");
 }
 
 TEST(BuildRequestTypes, EachOverrideSurvivesTextJsonAndTheRecipeWithItsOwnValue) {
@@ -36,9 +37,8 @@ TEST(BuildRequestTypes, EachOverrideSurvivesTextJsonAndTheRecipeWithItsOwnValue)
   EXPECT_EQ(from_json, given);
   RoadmapRecipe recipe;
   params::overlay(given, recipe);
-  const std::size_t matched = params::for_matching(given, recipe, [](const auto& spec, const auto& o, const auto& r) {
-    EXPECT_EQ(*o, r) << spec.name;
-  });
+  const std::size_t matched = params::for_matching(
+      given, recipe, [](const auto& spec, const auto& o, const auto& r) { EXPECT_EQ(*o, r) << spec.name; });
   EXPECT_EQ(matched, params::field_count<RecipeOverrides>());
 }
 

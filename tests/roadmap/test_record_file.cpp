@@ -20,7 +20,7 @@ const auto accept_all = [](const std::string&) { return std::string(); };
 class FileSizeLimit {
  public:
   explicit FileSizeLimit(rlim_t bytes) {
-    struct sigaction ignore{};
+    struct sigaction ignore {};
     ignore.sa_handler = SIG_IGN;
     ::sigaction(SIGXFSZ, &ignore, &previous_);
     ::getrlimit(RLIMIT_FSIZE, &old_);
@@ -36,7 +36,7 @@ class FileSizeLimit {
   FileSizeLimit& operator=(const FileSizeLimit&) = delete;
 
  private:
-  struct sigaction previous_{};
+  struct sigaction previous_ {};
   rlimit old_{};
 };
 
@@ -72,7 +72,8 @@ std::vector<std::size_t> write_records(const std::filesystem::path& path, const 
 }
 
 void write_bytes(const std::filesystem::path& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
 TEST(RecordFile, EveryPrefixOfTheFileReadsAsTheWholeRecordsItHolds) {
@@ -171,9 +172,8 @@ TEST(RecordFile, OnlyAnIncompleteLastRecordIsATornTailAnythingElseIsDamage) {
       EXPECT_TRUE(replay.torn_tail);
       EXPECT_FALSE(replay.damaged) << "cut at " << cut;
     }
-    const RecordReplay refused = read_with(bytes, [](const std::string& p) {
-      return p == "five" ? std::string("five is refused") : std::string();
-    });
+    const RecordReplay refused = read_with(
+        bytes, [](const std::string& p) { return p == "five" ? std::string("five is refused") : std::string(); });
     EXPECT_TRUE(refused.damaged) << "an intact record the check refuses is not a torn write";
     EXPECT_EQ(refused.payloads.size(), 4u);
     EXPECT_FALSE(read_with(bytes, accept_all).damaged);

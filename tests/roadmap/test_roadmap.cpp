@@ -88,7 +88,8 @@ TEST(Roadmap, TheChangeLogComesBackAsMadeFromEveryVersionForAnyInterleaving) {
         const auto n = static_cast<VertexId>(g.vertex_count());
         const VertexId a = rng() % n;
         const VertexId b = rng() % n;
-        if (g.add_edge(a, b)) made.push_back({RoadmapChange::Kind::edge, static_cast<std::uint32_t>(g.edge_count() - 1)});
+        if (g.add_edge(a, b))
+          made.push_back({RoadmapChange::Kind::edge, static_cast<std::uint32_t>(g.edge_count() - 1)});
       }
     }
     ASSERT_EQ(g.version(), made.size());

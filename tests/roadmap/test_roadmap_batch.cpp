@@ -6,8 +6,8 @@
 #include <limits>
 #include <memory>
 
-#include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/builders/spars_builder.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
@@ -31,7 +31,8 @@ class RoadmapBatchTest : public ::testing::Test {
  protected:
   void build(const std::string& scene_name, int batches) {
     scene_ = &test::shared_scene(scene_name);
-    builder_ = std::make_unique<SparsBuilder>(*scene_, BuildOptions{}, SparsRules::for_variant(SparsVariant::stretch, true));
+    builder_ =
+        std::make_unique<SparsBuilder>(*scene_, BuildOptions{}, SparsRules::for_variant(SparsVariant::stretch, true));
     batches_ = build_batches(*builder_, batches);
   }
 

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/reference/brute_force.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/reference/brute_force.hpp"
 #include "ispars/scene/poi_sampling.hpp"
 #include "ispars/scene/procedural.hpp"
 #include "support/test_support.hpp"

@@ -68,7 +68,8 @@ TEST(SceneConfig, ParsesTheContract) {
 }
 
 TEST(SceneConfig, ScaleIsOptionalAndPoisMayComeFromAFile) {
-  const SceneConfig c = parse(with("pois", "pois: {file: p.txt, skip_ground: true}").replace(kValid.find("scale"), 11, ""));
+  const SceneConfig c =
+      parse(with("pois", "pois: {file: p.txt, skip_ground: true}").replace(kValid.find("scale"), 11, ""));
   EXPECT_DOUBLE_EQ(c.scale, 1.0);
   EXPECT_EQ(c.pois.file, std::filesystem::path("/scenes/p.txt"));
 }
@@ -85,7 +86,8 @@ TEST(SceneConfig, ProceduralScenesTakeGeneratorDefaultsAndOverrides) {
 }
 
 TEST(SceneConfig, RadiusMustBePositiveAndFinite) {
-  EXPECT_NE(expect_error(with("robot_radius", "robot_radius: -0.5"), "robot_radius").find("must be in (0, 1000000], got -0.5"),
+  EXPECT_NE(expect_error(with("robot_radius", "robot_radius: -0.5"), "robot_radius")
+                .find("must be in (0, 1000000], got -0.5"),
             std::string::npos);
   EXPECT_NE(expect_error(with("robot_radius", "robot_radius: .nan"), "robot_radius").find("finite"), std::string::npos);
   expect_error(with("robot_radius", "robot_radius: 0"), "robot_radius");
@@ -135,8 +137,8 @@ TEST(SceneConfig, BoundsAndRootAreChecked) {
 }
 
 TEST(SceneConfig, MissingAndUnknownFieldsAreNamed) {
-  for (const std::string key : {"bounds", "robot_radius", "sensor_range", "dense_delta", "sparse_delta",
-                                "stretch", "root", "pois"}) {
+  for (const std::string key :
+       {"bounds", "robot_radius", "sensor_range", "dense_delta", "sparse_delta", "stretch", "root", "pois"}) {
     EXPECT_NE(expect_error(without(key), key).find("missing"), std::string::npos);
   }
   expect_error(without("mesh"), "mesh");

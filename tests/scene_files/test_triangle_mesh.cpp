@@ -5,9 +5,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "ispars/geometry/triangle_mesh.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/scene/procedural.hpp"
-#include "ispars/geometry/triangle_mesh.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
@@ -41,7 +41,8 @@ TEST(TriangleMesh, QuadsAreTriangulatedAndStlLoads) {
   EXPECT_EQ(quad.triangle_count(), 2u);
   EXPECT_DOUBLE_EQ(quad.surface_area(), 1.0);
   const auto stl = load_triangle_mesh(dir.write("t.stl",
-      "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 2 0 0\nvertex 0 2 0\nendloop\nendfacet\nendsolid t\n"));
+                                                "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 2 0 "
+                                                "0\nvertex 0 2 0\nendloop\nendfacet\nendsolid t\n"));
   EXPECT_EQ(stl.triangle_count(), 1u);
   EXPECT_DOUBLE_EQ(stl.surface_area(), 2.0);
 }
@@ -58,7 +59,8 @@ TEST(TriangleMesh, NodeTransformsAreFlattenedIntoWorldCoordinates) {
     "scenes": [{"nodes": [0, 1]}],
     "nodes": [{"mesh": 0}, {"scale": [2, 2, 2], "children": [2]}, {"mesh": 0, "translation": [10, 0, 0]}],
     "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
-    "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)" + buffer_b64 + R"("}],
+    "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)" +
+                           buffer_b64 + R"("}],
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
     "accessors": [
       {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},

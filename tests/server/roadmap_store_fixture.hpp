@@ -79,5 +79,4 @@ class RoadmapStoreTest : public ::testing::Test {
   test::TempDir dir_;
 };
 
-
 }  // namespace ispars

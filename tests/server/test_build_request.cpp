@@ -63,7 +63,8 @@ TEST(BuildRequest, OverridesOffTheScenesScaleAreRefusedByName) {
   const SceneConfig& c = tower().config();
   BuildRequest r = asking(100);
   r.overrides.dense_delta = 1e-6;
-  EXPECT_NE(refusal(r).find("overrides.dense_delta: 1e-06 is too small for this scene"), std::string::npos) << refusal(r);
+  EXPECT_NE(refusal(r).find("overrides.dense_delta: 1e-06 is too small for this scene"), std::string::npos)
+      << refusal(r);
   const double diagonal = (c.bounds.max - c.bounds.min).norm();
   const double dense = diagonal / 100;  // so that 60 times it stays within the diagonal
   r.overrides.dense_delta = dense;

@@ -85,7 +85,8 @@ TEST(DaemonConfig, BadValuesAreNamed) {
   expect("domain: [\n", "yaml");
   expect("log_file_mb: 0\n", "log_file_mb: must be in 1..100000, got 0");
   expect("log_file_mb: 100001\n", "log_file_mb: must be in 1..100000");
-  expect("log_file: nowhere/x.log\n", "log_file: its directory " + (dir.path() / "nowhere").string() + " does not exist");
+  expect("log_file: nowhere/x.log\n",
+         "log_file: its directory " + (dir.path() / "nowhere").string() + " does not exist");
   expect("metrics: localhost:9464\n", "metrics: 'localhost:9464' does not start with an IPv4 address");
   expect("metrics: 127.0.0.1\n", "metrics: '127.0.0.1' is not an address and a port");
   expect("metrics: 127.0.0.1:65536\n", "has no port in 0..65535");
@@ -107,7 +108,6 @@ TEST(DaemonConfig, AListenAddressIsAnIpv4AddressAndAPort) {
   EXPECT_THROW((void)parse_listen_address(":80", "isparsd", "metrics"), InputError);
 }
 
-
 // Parses `args` as isparsd's flags and applies them over `config`.
 DaemonConfig with_flags(std::vector<std::string> args, DaemonConfig config = {}) {
   CLI::App app;
@@ -124,10 +124,10 @@ TEST(DaemonFlags, EachSettingHasAFlagOverTheFile) {
   DaemonConfig file;
   file.preload = {"from-file"};
   file.workers = 5;
-  const DaemonConfig c = with_flags({"--workers", "3", "--compact-every", "5", "--load", "a", "--preload", "b",
-                                     "--metrics", "127.0.0.1:9", "--data-dir", "rel/data", "--log-level", "warn",
-                                     "--discovery-wait-ms", "100", "--max-samples", "7"},
-                                    file);
+  const DaemonConfig c =
+      with_flags({"--workers", "3", "--compact-every", "5", "--load", "a", "--preload", "b", "--metrics", "127.0.0.1:9",
+                  "--data-dir", "rel/data", "--log-level", "warn", "--discovery-wait-ms", "100", "--max-samples", "7"},
+                 file);
   EXPECT_EQ(c.workers, 3u);
   EXPECT_EQ(c.snapshot_compact_every, 5u);
   EXPECT_EQ(c.preload, (std::vector<std::string>{"from-file", "a", "b"}));
@@ -176,10 +176,16 @@ TEST(DaemonFlags, TheHelpGivesEachIntegerItsBoundsAndDefault) {
 TEST(DaemonSettings, APrintedConfigReadsBackTheSame) {
   test::TempDir dir;
   std::filesystem::create_directories(dir.path() / "logs");
-  DaemonConfig changed = with_flags({"--data-dir", "rel/data", "--domain", "7", "--workers", "3", "--preload", "a",
-                                     "--preload", "b", "--metrics", "127.0.0.1:9464", "--log-file",
-                                     (dir.path() / "logs" / "d.log").string(), "--server-id", "east 1: \"quoted\"",
-                                     "--memory-budget-mb", "64", "--compact-every", "9"});
+  DaemonConfig changed = with_flags({"--data-dir",         "rel/data",
+                                     "--domain",           "7",
+                                     "--workers",          "3",
+                                     "--preload",          "a",
+                                     "--preload",          "b",
+                                     "--metrics",          "127.0.0.1:9464",
+                                     "--log-file",         (dir.path() / "logs" / "d.log").string(),
+                                     "--server-id",        "east 1: \"quoted\"",
+                                     "--memory-budget-mb", "64",
+                                     "--compact-every",    "9"});
   for (const DaemonConfig& config : {DaemonConfig{}, changed}) {
     const std::string printed = to_yaml(config);
     const auto path = dir.write("printed.yaml", printed);

@@ -14,10 +14,10 @@ bool has_line(const std::string& text, const std::string& line) {
 
 TEST(DaemonMetrics, RequestsAreCountedByOperationAndOutcomeWithACumulativeHistogram) {
   DaemonMetrics m;
-  m.count_request("stats", RequestOutcome::ok, 0.0004);  // first bucket
-  m.count_request("stats", RequestOutcome::ok, 0.003);   // le=0.005
+  m.count_request("stats", RequestOutcome::ok, 0.0004);       // first bucket
+  m.count_request("stats", RequestOutcome::ok, 0.003);        // le=0.005
   m.count_request("stats", RequestOutcome::refused, 0.0005);  // exactly on a bound: in that bucket
-  m.count_request("stats", RequestOutcome::ok, 7.0);     // past the last bound: +Inf only
+  m.count_request("stats", RequestOutcome::ok, 7.0);          // past the last bound: +Inf only
   m.count_request("build", RequestOutcome::busy, 0.0);
   const std::string text = m.render({});
   EXPECT_TRUE(has_line(text, "ispars_requests_total{operation=\"stats\",outcome=\"ok\"} 3")) << text;
@@ -38,7 +38,7 @@ TEST(DaemonMetrics, SamplesBuiltCountIncreasesAndARebuildFromZeroCountsAfresh) {
   m.observe_samples("a", 1000);  // a status repeated
   m.observe_samples("a", 2500);
   m.observe_samples("b", 300);
-  m.observe_samples("a", 0);     // dropped, or a replacing build started
+  m.observe_samples("a", 0);  // dropped, or a replacing build started
   m.observe_samples("a", 400);
   EXPECT_TRUE(has_line(m.render({}), "ispars_samples_built_total 3200")) << m.render({});
 }

@@ -65,7 +65,7 @@ TEST(PendingJobs, AnUnreadableRecordIsLeftAsItIsAndNotResumed) {
   test::TempDir dir;
   save_pending_job(dir.path(), PendingJob{"tower", 1, std::nullopt, 0, 10, 0, std::nullopt});
   std::filesystem::create_directories(dir.path() / ".jobs");
-  std::ofstream(dir.path() / ".jobs" / "bridge.json") << "{\"scene\": \"bridge\", \"id\": ";  // torn
+  std::ofstream(dir.path() / ".jobs" / "bridge.json") << "{\"scene\": \"bridge\", \"id\": ";            // torn
   std::ofstream(dir.path() / ".jobs" / "other.json") << R"({"scene": "tower", "id": 2, "target": 5})";  // misnamed
   std::ofstream(dir.path() / ".jobs" / "tower.json.tmp") << "{";  // a write a crash interrupted
   const auto jobs = pending_jobs(dir.path());

@@ -99,12 +99,12 @@ TEST(PowerCutFileSystem, CountsOperationsAndCutsAtTheArmedOne) {
   fs.create_directories("/d");
   const std::uint64_t start = fs.operations();
   auto f = fs.open("/d/f", FileSystem::Open::existing_or_new);  // 1: a creation
-  f->append("x");                                              // 2
+  f->append("x");                                               // 2
   EXPECT_EQ(fs.operations(), start + 2);
   fs.cut_at(2);
-  f->append("y");                                              // 3
+  f->append("y");  // 3
   EXPECT_FALSE(fs.is_cut());
-  EXPECT_THROW(f->sync(), PowerCut);                           // 4: the power goes
+  EXPECT_THROW(f->sync(), PowerCut);  // 4: the power goes
   EXPECT_TRUE(fs.is_cut());
   EXPECT_THROW(fs.sync_directory("/d"), PowerCut);
 }

@@ -12,12 +12,12 @@
 #include <chrono>
 #include <thread>
 
-#include "isparsPubSubTypes.h"
+#include "ispars/local/local_daemon.hpp"
 #include "ispars/wire/participant.hpp"
 #include "ispars/wire/topics.hpp"
+#include "isparsPubSubTypes.h"
 #include "reply_routes.hpp"
 #include "support/eventually.hpp"
-#include "ispars/local/local_daemon.hpp"
 
 namespace ispars::server {
 namespace {

@@ -349,7 +349,8 @@ TEST_F(RoadmapServiceTest, AYieldIsNotHeldUpByLoopingVerifies) {
           (void)service.verify("s0");
           ++verified;
         } catch (const std::exception& e) {
-          if (std::string(e.what()).find("was stopped: scene 's0' is being given up to its owner") != std::string::npos) {
+          if (std::string(e.what()).find("was stopped: scene 's0' is being given up to its owner") !=
+              std::string::npos) {
             ++stopped;
             const auto lag = std::chrono::steady_clock::now() - yield_at.load();
             for (auto worst = worst_lag.load(); lag > worst && !worst_lag.compare_exchange_weak(worst, lag);) {
@@ -406,7 +407,8 @@ TEST_F(RoadmapServiceTest, AJobIsResumedWithItsAttemptCountedAndGivenUpAfterThre
     }
     EXPECT_EQ(wait_idle(service, "s0").samples_done, 2500u);
     // The worker forgets the record just after the session turns idle, not in the same step.
-    EXPECT_TRUE(eventually([&] { return pending_jobs(data).empty(); }, 5s, "a finished job's record is forgotten", 10ms));
+    EXPECT_TRUE(
+        eventually([&] { return pending_jobs(data).empty(); }, 5s, "a finished job's record is forgotten", 10ms));
   }
 }
 

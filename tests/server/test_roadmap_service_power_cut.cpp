@@ -20,13 +20,13 @@
 #include <fstream>
 #include <optional>
 #include <set>
-#include <tuple>
 #include <thread>
+#include <tuple>
 
 #include "ispars/service/inspection_task.hpp"
-#include "server/service_waits.hpp"
 #include "ispars/service/roadmap_service.hpp"
 #include "ispars/service/scene_catalog.hpp"
+#include "server/service_waits.hpp"
 #include "support/power_cut_fs.hpp"
 #include "support/test_support.hpp"
 
@@ -85,7 +85,9 @@ class SkippedSyncs final : public FileSystem {
   std::optional<std::uint64_t> file_size(const std::filesystem::path& p) const override { return inner_.file_size(p); }
   std::vector<std::string> list(const std::filesystem::path& d) const override { return inner_.list(d); }
   void rename(const std::filesystem::path& a, const std::filesystem::path& b) override { inner_.rename(a, b); }
-  bool exchange(const std::filesystem::path& a, const std::filesystem::path& b) override { return inner_.exchange(a, b); }
+  bool exchange(const std::filesystem::path& a, const std::filesystem::path& b) override {
+    return inner_.exchange(a, b);
+  }
   bool remove(const std::filesystem::path& p) override { return inner_.remove(p); }
   void remove_all(const std::filesystem::path& p) override { inner_.remove_all(p); }
   bool create_directories(const std::filesystem::path& d) override { return inner_.create_directories(d); }
@@ -195,7 +197,8 @@ class ServicePowerCutTest : public ::testing::Test {
   // The cuts to try: every write of the uninterrupted run with ISPARS_POWER_CUTS=all, else 40.
   static std::vector<std::uint64_t> cut_points(std::uint64_t writes) {
     const char* all = std::getenv("ISPARS_POWER_CUTS");
-    const std::uint64_t count = all != nullptr && std::string(all) == "all" ? writes : std::min<std::uint64_t>(40, writes);
+    const std::uint64_t count =
+        all != nullptr && std::string(all) == "all" ? writes : std::min<std::uint64_t>(40, writes);
     std::vector<std::uint64_t> out;
     for (std::uint64_t i = 0; i < count; ++i) out.push_back(1 + i * writes / count);
     return out;
@@ -220,7 +223,7 @@ TEST_F(ServicePowerCutTest, NoAcknowledgedChangeIsLostWhereverThePowerGoesEvenDu
     PowerCutFileSystem fs;
     fs.cut_at(at);
     const std::size_t acked = run_script(fs, nullptr);
-    fs.power_on(at);  // a seeded torn tail of the unsynced appends
+    fs.power_on(at);      // a seeded torn tail of the unsynced appends
     if (cuts % 3 == 2) {  // the power goes again, part way through the recovery
       fs.cut_at(1 + at % 7);
       recovery_cuts += recover(fs, fs) ? 0 : 1;
@@ -236,13 +239,14 @@ TEST_F(ServicePowerCutTest, NoAcknowledgedChangeIsLostWhereverThePowerGoesEvenDu
     }
     ASSERT_TRUE(got) << "cut at write " << at;
     const bool allowed = *got == states[acked] || (acked + 1 < states.size() && *got == states[acked + 1]);
-    EXPECT_TRUE(allowed) << "cut at write " << at << " after " << acked << " acknowledged changes: read "
-                         << shown(*got) << "; allowed " << shown(states[acked])
+    EXPECT_TRUE(allowed) << "cut at write " << at << " after " << acked << " acknowledged changes: read " << shown(*got)
+                         << "; allowed " << shown(states[acked])
                          << (acked + 1 < states.size() ? " or " + shown(states[acked + 1]) : "");
   }
-  std::printf("service power cuts: %zu cuts over %llu writes, %zu of them cut again during recovery; 0 allowed to "
-              "lose an acknowledged change\n",
-              cuts, static_cast<unsigned long long>(writes), recovery_cuts);
+  std::printf(
+      "service power cuts: %zu cuts over %llu writes, %zu of them cut again during recovery; 0 allowed to "
+      "lose an acknowledged change\n",
+      cuts, static_cast<unsigned long long>(writes), recovery_cuts);
   EXPECT_GT(recovery_cuts, 0u) << "no recovery was cut: the second cut came after it";
 }
 
@@ -257,8 +261,9 @@ TEST_F(ServicePowerCutTest, WithoutFsyncTheSameCutsLoseAcknowledgedChanges) {
     ASSERT_EQ(run_script(fs, &states), 10u);
     writes = fs.operations();
   }
-  for (const auto& [files, dirs, name] : {std::tuple{true, false, "file syncs"}, std::tuple{false, true, "directory syncs"},
-                                          std::tuple{true, true, "file and directory syncs"}}) {
+  for (const auto& [files, dirs, name] :
+       {std::tuple{true, false, "file syncs"}, std::tuple{false, true, "directory syncs"},
+        std::tuple{true, true, "file and directory syncs"}}) {
     std::size_t cuts = 0, lost = 0, failed = 0;
     std::string first_failure;
     for (const std::uint64_t at : cut_points(writes)) {

@@ -144,8 +144,8 @@ TEST_F(RoadmapSessionTest, ARoadmapOfAnotherVersionOfTheSceneLoadsFailedUntilReb
   }
   const SceneConfig& c = scene().config();
   const Scene edited = scene().with_roadmap_parameters(c.dense_delta * 0.9, c.sparse_delta, c.stretch, "edited");
-  auto session = std::make_unique<RoadmapSession>("tower", edited, dir_.path() / "tower", SessionLimits{},
-                                                  SessionCallbacks{});
+  auto session =
+      std::make_unique<RoadmapSession>("tower", edited, dir_.path() / "tower", SessionLimits{}, SessionCallbacks{});
   EXPECT_EQ(session->status().state, SessionState::failed);
   EXPECT_NE(session->status().last_error.find("was built on another version of the scene"), std::string::npos)
       << session->status().last_error;
@@ -160,7 +160,8 @@ TEST_F(RoadmapSessionTest, ARoadmapOfAnotherVersionOfTheSceneLoadsFailedUntilReb
   EXPECT_EQ(session->status().state, SessionState::idle) << session->status().last_error;
   // Reopened on the edited scene, the new roadmap is served.
   session.reset();
-  session = std::make_unique<RoadmapSession>("tower", edited, dir_.path() / "tower", SessionLimits{}, SessionCallbacks{});
+  session =
+      std::make_unique<RoadmapSession>("tower", edited, dir_.path() / "tower", SessionLimits{}, SessionCallbacks{});
   EXPECT_EQ(session->status().state, SessionState::idle) << session->status().last_error;
 }
 
@@ -273,7 +274,8 @@ TEST_F(RoadmapSessionTest, BadAndConflictingRequestsAreRefusedByName) {
   expect_refusal([&] { session->request_build(r); }, "overrides.dense_delta: 1e-06 is too small for this scene");
   r.overrides = {};
   r.overrides.sparse_delta = 1e5;
-  expect_refusal([&] { session->request_build(r); }, "overrides.sparse_delta: 100000 is larger than the scene's diagonal");
+  expect_refusal([&] { session->request_build(r); },
+                 "overrides.sparse_delta: 100000 is larger than the scene's diagonal");
   r.overrides = {};
   r.overrides.stretch_slack = 0.5;
   r.method = BuildMethod::dense;
@@ -340,7 +342,8 @@ TEST_F(RoadmapSessionTest, PathsAreFreeJoinedWithinDeltaAndMeasured) {
     } catch (const InputError& e) {
       // Only the documented refusals: no free join within Delta, or different components.
       const std::string what = e.what();
-      EXPECT_TRUE(what.find("no free segment") != std::string::npos || what.find("different component") != std::string::npos)
+      EXPECT_TRUE(what.find("no free segment") != std::string::npos ||
+                  what.find("different component") != std::string::npos)
           << what;
     }
   }

@@ -100,8 +100,7 @@ TEST(SessionTaskRemoval, TheStatusIsReadWhileARemovalWaitsOnTheDisk) {
   HeldSyncs fs;
   test::TempDir dir;
   std::atomic<bool> never{false};
-  RoadmapSession session("tower", test::shared_scene("demo_tank_tower"), dir.path() / "tower", SessionLimits{}, {},
-                         fs);
+  RoadmapSession session("tower", test::shared_scene("demo_tank_tower"), dir.path() / "tower", SessionLimits{}, {}, fs);
   BuildRequest request;
   request.samples = 300;
   request.seed = 4;
@@ -233,7 +232,10 @@ TEST_P(SessionTaskTest, ARemovalChangesNoVertexIsDurableAndFreesTheName) {
     EXPECT_NE(refusal([&] { session->remove_task("a"); }).find("task 'a' was removed already"), std::string::npos);
     EXPECT_NE(refusal([&] { session->remove_task("zz"); }).find("no task 'zz'"), std::string::npos);
     session->request_task(again);  // the name is free again
-    EXPECT_NE(refusal([&] { session->remove_task("b"); }).find("a build is running on scene 'tower'; remove the task when it is idle"), std::string::npos)
+    EXPECT_NE(refusal([&] {
+                session->remove_task("b");
+              }).find("a build is running on scene 'tower'; remove the task when it is idle"),
+              std::string::npos)
         << "refused while an addition is queued";
     session->run_job(never_);
     EXPECT_EQ(session->status().tasks, 2u);
@@ -314,7 +316,9 @@ TEST_F(RoadmapSessionTest, BadTasksAreRefusedByNameAndChangeNothing) {
   EXPECT_NE(refusal([&] { session->request_task(sampled_task("t", 5, 2)); }).find("task.name: a task 't' exists"),
             std::string::npos);
   EXPECT_NE(refusal([&] { session->request_task(sampled_task("../x", 5, 2)); }).find("task.name"), std::string::npos);
-  EXPECT_NE(refusal([&] { session->request_task({"empty", {}}); }).find("task.pois: a task has at least one POI"),
+  EXPECT_NE(refusal([&] {
+              session->request_task({"empty", {}});
+            }).find("task.pois: a task has at least one POI"),
             std::string::npos);
   InspectionTask far = sampled_task("far", 5, 2);
   far.pois[3] += Vec3(0, 0, 0.5);

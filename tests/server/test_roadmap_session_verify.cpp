@@ -75,7 +75,8 @@ TEST_F(RoadmapSessionTest, LoopingVerifiesNeverHoldOffADropOrAnUnload) {
   wait_for_verifies(before + 8);
   const auto unload_at = std::chrono::steady_clock::now();
   session->close();
-  EXPECT_LT(std::chrono::steady_clock::now() - unload_at, std::chrono::seconds(5)) << "the unload waited for the verifies";
+  EXPECT_LT(std::chrono::steady_clock::now() - unload_at, std::chrono::seconds(5))
+      << "the unload waited for the verifies";
   done = true;
   readers.clear();
   std::lock_guard lock(mutex);
@@ -121,8 +122,9 @@ TEST_F(RoadmapSessionTest, ACancelOrAStartingBuildStopsARunningVerify) {
     }
     return std::string("no verify was caught running");
   };
-  EXPECT_NE(stopped_by([&] { (void)session->cancel(); }).find("was stopped: cancelled by a cancel request on scene 'tower'"),
-            std::string::npos);
+  EXPECT_NE(
+      stopped_by([&] { (void)session->cancel(); }).find("was stopped: cancelled by a cancel request on scene 'tower'"),
+      std::string::npos);
   std::jthread job;
   const std::string by_build = stopped_by([&] {
     session->request_extend(200);

@@ -70,9 +70,8 @@ TEST_F(RoadmapStoreTest, ACorruptCommitInTheMiddleIsReportedAndNothingIsCut) {
     (void)build_and_commit(*store, 6, 150);
   }
   std::string journal = slurp(path / "journal.log");
-  const RecordReplay intact = read_record_file(path / "journal.log", "ISPJRN03", [](const std::string&) {
-    return std::string();
-  });
+  const RecordReplay intact =
+      read_record_file(path / "journal.log", "ISPJRN03", [](const std::string&) { return std::string(); });
   ASSERT_EQ(intact.payloads.size(), 6u);
   std::size_t offset = 8;  // the magic, then records of 16 header bytes and a payload each
   for (int i = 0; i < 3; ++i) offset += 16 + intact.payloads[static_cast<std::size_t>(i)].size();
@@ -102,7 +101,8 @@ TEST_F(RoadmapStoreTest, ACorruptCommitInTheMiddleIsReportedAndNothingIsCut) {
       ADD_FAILURE() << "bit " << bit << " of commit 4's length flipped, and the store opened";
     } catch (const StoreDamage& e) {
       const std::string what = e.what();
-      EXPECT_NE(what.find("journal.log is damaged at byte " + std::to_string(offset) + " (commit 4)"), std::string::npos)
+      EXPECT_NE(what.find("journal.log is damaged at byte " + std::to_string(offset) + " (commit 4)"),
+                std::string::npos)
           << what;
       EXPECT_NE(what.find("record header checksum mismatch"), std::string::npos) << what;
     }

@@ -34,8 +34,8 @@ TEST_F(RoadmapStoreTest, EveryCrashWindowOfABackgroundCompactionRecoversTheLastC
         EXPECT_FALSE(std::filesystem::exists(path / "journal.old"));
         (i == 2 ? s1 : s2) = slurp(path / "snapshot.bin");
         // The fold of the files is the snapshot of the live roadmaps, byte for byte.
-        const RecordReplay snapshot = read_record_file(path / "snapshot.bin", "ISPSNP03",
-                                                       [](const std::string&) { return std::string(); });
+        const RecordReplay snapshot =
+            read_record_file(path / "snapshot.bin", "ISPSNP03", [](const std::string&) { return std::string(); });
         ASSERT_EQ(snapshot.payloads.size(), 1u);
         EXPECT_EQ(snapshot.payloads[0], encode_commit(commit_since(view(*builder_), 0, 0))) << "after commit " << i + 1;
       }
@@ -72,8 +72,10 @@ TEST_F(RoadmapStoreTest, EveryCrashWindowOfABackgroundCompactionRecoversTheLastC
   // A rotated journal was whole: a flipped byte or a cut in it is damage, named, and left as is.
   for (const bool cut : {false, true}) {
     std::string damaged = j_a;
-    if (cut) damaged.resize(damaged.size() - 5);
-    else damaged[damaged.size() / 2] ^= 0x04;
+    if (cut)
+      damaged.resize(damaged.size() - 5);
+    else
+      damaged[damaged.size() / 2] ^= 0x04;
     set_files(s1, &damaged, &j_b);
     StoreRecovery r;
     try {

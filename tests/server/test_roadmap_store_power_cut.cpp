@@ -27,9 +27,9 @@ const std::filesystem::path kStore = kData / "bridge";
 
 // What a scenario was told was done before the power went.
 struct Acknowledged {
-  std::size_t commits = 0;    // commit() returned this many times
-  bool replaced = false;      // a replacing store's first commit returned: it is the store now
-  bool dropped = false;       // drop_store returned
+  std::size_t commits = 0;  // commit() returned this many times
+  bool replaced = false;    // a replacing store's first commit returned: it is the store now
+  bool dropped = false;     // drop_store returned
 };
 
 class PowerCutTest : public RoadmapStoreTest {
@@ -179,7 +179,8 @@ class PowerCutTest : public RoadmapStoreTest {
     const bool is_new = r.recipe.generation == 43;
     EXPECT_TRUE(is_new || !ack.replaced) << "the replaced store came back";
     std::size_t at_least = ack.commits;
-    if (scenario.rfind("replace", 0) == 0) at_least = is_new ? std::max<std::size_t>(ack.commits, 1) : precommitted(scenario);
+    if (scenario.rfind("replace", 0) == 0)
+      at_least = is_new ? std::max<std::size_t>(ack.commits, 1) : precommitted(scenario);
     if (scenario == "drop") at_least = precommitted(scenario);
     if (r.roadmaps.roadmap.vertex_count() == 0) {  // a new store before its first commit (the root)
       EXPECT_EQ(at_least, 0u) << "an acknowledged commit was lost (" << at_least << " acknowledged)";
@@ -209,8 +210,8 @@ class PowerCutTest : public RoadmapStoreTest {
   std::vector<Committed> states_;
 };
 
-const std::vector<std::string> kScenarios = {"build", "build, overlapping compactions", "extend", "replace",
-                                             "replace, without RENAME_EXCHANGE", "drop"};
+const std::vector<std::string> kScenarios = {"build",   "build, overlapping compactions",   "extend",
+                                             "replace", "replace, without RENAME_EXCHANGE", "drop"};
 
 // Every operation of every scenario is a moment, cut twice: once losing every unsynced write, once
 // keeping a seeded torn prefix of unsynced appends. ISPARS_POWER_CUT_ROUNDS=N repeats the torn
@@ -258,8 +259,8 @@ TEST_F(PowerCutTest, AFailedWriteSyncOrRenameIsReportedByNameAndLosesNothingAckn
         continue;
       }
       ++reported;
-      EXPECT_NE(error.find(injected), std::string::npos) << s << ", operation " << m << ": " << error << " is not "
-                                                         << injected;
+      EXPECT_NE(error.find(injected), std::string::npos)
+          << s << ", operation " << m << ": " << error << " is not " << injected;
     }
   }
   std::printf("failed operations: %zu, reported to the caller: %zu (the rest touched only the head hint)\n", moments,

@@ -55,7 +55,7 @@ TEST_F(RoadmapStoreTaskTest, ATaskCommitAfterASnapshotOfTheSameSampleCountIsReco
     auto store = RoadmapStore::create(path, recipe_);
     store->set_compact_every(1000);
     (void)build_and_commit(*store, 3, 300);
-    store->compact();  // the snapshot holds every sample drawn so far
+    store->compact();                   // the snapshot holds every sample drawn so far
     add_task(*store, "cracks", 25, 5);  // a commit of no new sample, in the journal after it
   }
   {
@@ -108,14 +108,15 @@ TEST_F(RoadmapStoreTaskTest, ARemovalAfterASnapshotIsRecoveredFoldedAndChangesNo
     (void)build_and_commit(*store, 2, 300);
     add_task(*store, "one", 10, 1);
     add_task(*store, "two", 15, 2);
-    store->compact();   // the snapshot holds both tasks at this sample count
+    store->compact();        // the snapshot holds both tasks at this sample count
     remove_task(*store, 0);  // in the journal after it, of the same sample count
   }
   for (const int reopening : {0, 1}) {
     StoreRecovery r;
     auto store = RoadmapStore::open(path, scene_->pois().size(), r);
     ASSERT_EQ(r.tasks.size(), 2u) << reopening;
-    EXPECT_TRUE(r.tasks[0].removed) << "the removal's commit was taken for one the snapshot holds (" << reopening << ")";
+    EXPECT_TRUE(r.tasks[0].removed) << "the removal's commit was taken for one the snapshot holds (" << reopening
+                                    << ")";
     EXPECT_FALSE(r.tasks[1].removed);
     EXPECT_EQ(r.journal_commits, reopening == 0 ? 1u : 0u);
     EXPECT_EQ(r.roadmaps.roadmap.poi_count(), scene_->pois().size() + 25) << "a removed task's POIs keep their ids";

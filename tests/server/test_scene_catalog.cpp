@@ -19,8 +19,8 @@ TEST(SceneCatalog, NamesResolveInsideTheDirectoryOnly) {
   std::ofstream(dir.path() / "outside.yaml") << "x: 1\n";
   std::filesystem::create_symlink(dir.path() / "outside.yaml", scenes / "escape.yaml");
   EXPECT_EQ(scene_file(scenes, "tower"), scenes / "tower.yaml");
-  for (const std::string& bad : std::vector<std::string>{"../outside", "a/b", "", ".hidden", "tower\n", "to wer", std::string(65, 'a'),
-                                "/etc/passwd", "..", "tower.yaml/.."}) {
+  for (const std::string& bad : std::vector<std::string>{"../outside", "a/b", "", ".hidden", "tower\n", "to wer",
+                                                         std::string(65, 'a'), "/etc/passwd", "..", "tower.yaml/.."}) {
     EXPECT_THROW((void)scene_file(scenes, bad), InputError) << bad;
   }
   try {

@@ -40,27 +40,27 @@ struct ScriptedFleet {
 
   Fleet fleet() {
     Fleet f{[this] {
-                   std::lock_guard lock(mutex);
-                   return others;
-                 },
-                 [this] {
-                   msg::DaemonInfo d = info(self);
-                   for (const auto& s : claims->claimed()) d.loaded().push_back(s);
-                   if (self_copy) {
-                     msg::StoredRoadmap r;
-                     r.scene("s");
-                     r.generation(std::get<0>(*self_copy));
-                     r.samples(std::get<1>(*self_copy));
-                     r.target(std::get<2>(*self_copy));
-                     d.roadmaps().push_back(r);
-                   }
-                   return d;
-                 },
-                 [this] {
-                   std::lock_guard lock(mutex);
-                   ++announcements;
-                   if (after_announce) others = *std::exchange(after_announce, std::nullopt);
-                 }};
+              std::lock_guard lock(mutex);
+              return others;
+            },
+            [this] {
+              msg::DaemonInfo d = info(self);
+              for (const auto& s : claims->claimed()) d.loaded().push_back(s);
+              if (self_copy) {
+                msg::StoredRoadmap r;
+                r.scene("s");
+                r.generation(std::get<0>(*self_copy));
+                r.samples(std::get<1>(*self_copy));
+                r.target(std::get<2>(*self_copy));
+                d.roadmaps().push_back(r);
+              }
+              return d;
+            },
+            [this] {
+              std::lock_guard lock(mutex);
+              ++announcements;
+              if (after_announce) others = *std::exchange(after_announce, std::nullopt);
+            }};
     f.now = [this] {
       std::lock_guard lock(mutex);
       return clock;
@@ -157,7 +157,7 @@ TEST(SceneClaims, AClaimSeenOnlyAfterTheWindowIsContestedAndGivenUpByTheOutranke
   const Ranked r;
   Claims low(r.low);
   EXPECT_EQ(claim_error(*low.claims, "s"), "");  // alone on its view
-  low.fleet.others = {info(r.high, {"s"})};        // a late announcement: both hold it
+  low.fleet.others = {info(r.high, {"s"})};      // a late announcement: both hold it
   const auto contested = low.claims->contested();
   ASSERT_EQ(contested.size(), 1u);
   EXPECT_EQ(contested[0].scene, "s");
@@ -241,9 +241,9 @@ TEST(SceneClaims, AHolderThatLeavesIsTakenOverOnceWithItsLastRecipe) {
   EXPECT_TRUE(c.claims->orphans().empty());  // held by a live daemon
   c.claims->observe(status(gone, msg::SCENE_IDLE, "ispars"));
   c.claims->observe(status(gone, msg::SCENE_UNLOADED, ""));  // a stopping daemon's last word
-  c.fleet.others = {info(r.high)};                            // `gone` left
-  EXPECT_TRUE(c.claims->orphans().empty());  // the rule gives it to r.high, not here
-  c.fleet.others = {};                        // r.high left too, before taking it
+  c.fleet.others = {info(r.high)};                           // `gone` left
+  EXPECT_TRUE(c.claims->orphans().empty());                  // the rule gives it to r.high, not here
+  c.fleet.others = {};                                       // r.high left too, before taking it
   const auto orphans = c.claims->orphans();
   ASSERT_EQ(orphans.size(), 1u);
   EXPECT_EQ(orphans[0].scene, "s");

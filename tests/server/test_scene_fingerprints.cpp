@@ -8,8 +8,8 @@
 #include <thread>
 
 #include "ispars/service/roadmap_service.hpp"
-#include "server/service_waits.hpp"
 #include "ispars/service/scene_fingerprints.hpp"
+#include "server/service_waits.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
@@ -65,9 +65,9 @@ TEST_F(SceneFingerprintsTest, AStoredCopyOfAnotherSceneFileVersionIsNotOffered) 
   EXPECT_TRUE(same.unservable.empty());
 
   write_scene(2);  // the user edits the scene file: the copy describes another structure
-  std::filesystem::last_write_time(dir_.path() / "scenes" / "s0.yaml",
-                                   std::filesystem::last_write_time(dir_.path() / "scenes" / "s0.yaml") +
-                                       std::chrono::seconds(5));
+  std::filesystem::last_write_time(
+      dir_.path() / "scenes" / "s0.yaml",
+      std::filesystem::last_write_time(dir_.path() / "scenes" / "s0.yaml") + std::chrono::seconds(5));
   StoredListing edited = list_stored_roadmaps(data, {}, &fingerprints);
   EXPECT_TRUE(edited.served.empty()) << "a copy this daemon cannot serve outweighed healthy holders";
   ASSERT_EQ(edited.unservable.size(), 1u);

@@ -34,7 +34,8 @@ TEST(StatusMessage, TheRecipeReadsBackAsTheSameRoadmapAndItsRebuildRequest) {
   SessionStatus s;
   s.scene = "tower";
   s.state = SessionState::idle;
-  s.recipe = RoadmapRecipe{"tower", BuildMethod::ispars, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 77, "fp", 1, 0.5, 2000};
+  s.recipe =
+      RoadmapRecipe{"tower", BuildMethod::ispars, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 77, "fp", 1, 0.5, 2000};
   const msg::SceneStatus m = to_message(s, "d1", 77);
   const auto back = recipe_of(m);
   ASSERT_TRUE(back.has_value());

@@ -44,7 +44,8 @@ class StoreScrubTest : public ::testing::Test {
   [[nodiscard]] std::filesystem::path data() const { return dir_.path() / "data"; }
   // A scrub of data() over `budget` bytes; `held` are the scenes a session holds.
   std::unique_ptr<StoreScrub> scrub(std::vector<std::string> held = {}, double budget = 1e18) const {
-    return std::make_unique<StoreScrub>(data(), [held] { return held; }, MemoryBudget::make(budget), 10ms);
+    return std::make_unique<StoreScrub>(
+        data(), [held] { return held; }, MemoryBudget::make(budget), 10ms);
   }
   // Waits for two more passes: one that started after now has ended.
   static void two_passes(const StoreScrub& s) {
@@ -78,9 +79,8 @@ TEST_F(StoreScrubTest, AFlippedBitInAStoredCopyIsNamedAndLeftAsItIs) {
       << problem;
   EXPECT_EQ(bytes_of(data() / "s0" / "journal.log"), flipped) << "the scrub wrote to the store";
   // The listing names it, and offers no copy of it.
-  const StoredListing listing = list_stored_roadmaps(data(), {}, nullptr, [&](const std::string& scene) {
-    return s->problem(scene);
-  });
+  const StoredListing listing =
+      list_stored_roadmaps(data(), {}, nullptr, [&](const std::string& scene) { return s->problem(scene); });
   ASSERT_EQ(listing.unservable.size(), 1u);
   EXPECT_NE(listing.unservable[0].why.find("its stored roadmap is damaged: " + problem), std::string::npos);
   EXPECT_TRUE(listing.served.empty());

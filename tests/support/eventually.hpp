@@ -43,9 +43,9 @@ template <class Predicate>
   for (;;) {
     const auto held = std::chrono::steady_clock::now() - start;
     if (!holds()) {
-      return testing::AssertionFailure()
-             << what << ": stopped holding after "
-             << std::chrono::duration_cast<std::chrono::milliseconds>(held).count() << " ms";
+      return testing::AssertionFailure() << what << ": stopped holding after "
+                                         << std::chrono::duration_cast<std::chrono::milliseconds>(held).count()
+                                         << " ms";
     }
     if (held >= duration) return testing::AssertionSuccess();
     std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(period, duration - held));

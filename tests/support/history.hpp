@@ -18,8 +18,8 @@ namespace ispars::test {
 struct HistoryOp {
   enum class Kind { build, extend, add_task, remove_task };
   Kind kind = Kind::extend;
-  std::string task;           ///< add_task, remove_task: the task's name
-  bool acknowledged = false;  ///< the daemon answered that it accepted it
+  std::string task;              ///< add_task, remove_task: the task's name
+  bool acknowledged = false;     ///< the daemon answered that it accepted it
   std::uint64_t generation = 0;  ///< from the reply's status: the lineage it changed
   std::uint64_t target = 0;      ///< from the reply's status: the samples accepted to reach
   std::string server;            ///< the daemon that answered

@@ -85,7 +85,8 @@ NetnsLab::NetnsLab(const std::filesystem::path& dir, std::vector<std::string> ho
       const std::string host_end = "vn" + std::to_string(k);
       must(std::string(kIp) + " netns add " + n);
       must(std::string(kIp) + " -n " + n + " link set lo up");
-      must(std::string(kIp) + " -n " + hub + " link add " + hub_end + " type veth peer name " + host_end + " netns " + n);
+      must(std::string(kIp) + " -n " + hub + " link add " + hub_end + " type veth peer name " + host_end + " netns " +
+           n);
       must(std::string(kIp) + " -n " + hub + " link set " + hub_end + " master br0");
       must(std::string(kIp) + " -n " + hub + " link set " + hub_end + " up");
       must(std::string(kIp) + " -n " + n + " addr add " + address(hosts_[k]) + "/24 dev " + host_end);

@@ -147,7 +147,7 @@ void PowerCutFileSystem::power_on(std::optional<std::uint64_t> torn_seed) {
   restore_dir(restore_dir, *root_);
   cut_ = false;
   cut_at_ = 0;
-  fail_at_ = 0;  // an armed failure that never struck is not carried past the restart
+  fail_at_ = 0;     // an armed failure that never struck is not carried past the restart
   locked_.clear();  // the processes that held them are gone
   ++epoch_;
 }

@@ -90,7 +90,7 @@ class PowerCutFileSystem final : public FileSystem {
   mutable std::mutex mutex_;
   std::shared_ptr<Dir> root_;
   std::uint64_t operations_ = 0;
-  std::uint64_t cut_at_ = 0;  // the operation count at which the power goes; 0: never
+  std::uint64_t cut_at_ = 0;   // the operation count at which the power goes; 0: never
   std::uint64_t fail_at_ = 0;  // the operation count that fails; 0: none
   std::string injected_;
   bool cut_ = false;

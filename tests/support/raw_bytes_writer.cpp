@@ -12,8 +12,8 @@
 #include <thread>
 
 #include "ispars/wire/participant.hpp"
-#include "support/eventually.hpp"
 #include "ispars/wire/topics.hpp"
+#include "support/eventually.hpp"
 
 namespace ispars::test {
 namespace fdds = eprosima::fastdds::dds;

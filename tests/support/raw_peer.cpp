@@ -19,10 +19,10 @@
 
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/participant.hpp"
-#include "support/eventually.hpp"
-#include "ispars/wire/topics.hpp"
 #include "ispars/wire/safe_type.hpp"
+#include "ispars/wire/topics.hpp"
 #include "isparsPubSubTypes.h"
+#include "support/eventually.hpp"
 
 namespace ispars::test {
 namespace fdds = eprosima::fastdds::dds;

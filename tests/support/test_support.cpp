@@ -7,10 +7,10 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
-#include <sstream>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <sstream>
 
 #include <unistd.h>
 
@@ -19,8 +19,7 @@ namespace ispars::test {
 std::filesystem::path scenes_dir() { return ISPARS_SCENES_DIR; }
 
 const std::vector<std::string>& shared_scene_names() {
-  static const std::vector<std::string> names{"water_tower", "truss_bridge", "caric_city",
-                                              "powerplant", "radio_tower"};
+  static const std::vector<std::string> names{"water_tower", "truss_bridge", "caric_city", "powerplant", "radio_tower"};
   return names;
 }
 

@@ -3,8 +3,8 @@
 // the surface, where the decisions are close and bugs show.
 
 #include <filesystem>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ispars/builders/sample_batch.hpp"

@@ -25,7 +25,9 @@ RequestFacts request(std::string_view host, std::string peer = "127.0.0.1") {
   return r;
 }
 
-AccessPolicy with_token(std::vector<std::string> origins = {}) { return AccessPolicy({std::move(origins), kToken}, kPort); }
+AccessPolicy with_token(std::vector<std::string> origins = {}) {
+  return AccessPolicy({std::move(origins), kToken}, kPort);
+}
 
 TEST(AccessPolicy, AHostThatDoesNotNameTheGatewayIsMisdirected) {
   const AccessPolicy open({}, kPort);

@@ -18,7 +18,8 @@ namespace {
 Roadmap path(std::size_t n) {
   Roadmap r;
   for (std::size_t i = 0; i < n; ++i) (void)r.add_vertex(Vec3(static_cast<double>(i), 0, 0), {});
-  for (std::size_t i = 0; i + 1 < n; ++i) EXPECT_TRUE(r.add_edge(static_cast<VertexId>(i), static_cast<VertexId>(i + 1)));
+  for (std::size_t i = 0; i + 1 < n; ++i)
+    EXPECT_TRUE(r.add_edge(static_cast<VertexId>(i), static_cast<VertexId>(i + 1)));
   return r;
 }
 

@@ -54,8 +54,9 @@ fdds::SubscriptionMatchedStatus matched(const rtps::GUID_t& writer, int change) 
 
 struct Daemons {
   std::vector<std::string> changes;
-  LatestSamples<msg::DaemonInfo> latest{[](const msg::DaemonInfo& d) { return d.server_id().to_string(); },
-                                        [this](const msg::DaemonInfo& d) { changes.push_back(d.server_id().to_string()); }};
+  LatestSamples<msg::DaemonInfo> latest{
+      [](const msg::DaemonInfo& d) { return d.server_id().to_string(); },
+      [this](const msg::DaemonInfo& d) { changes.push_back(d.server_id().to_string()); }};
   void write(const rtps::GUID_t& writer, const msg::DaemonInfo& d, std::uint8_t key) {
     latest.receive(d, true, identity_of(writer.guidPrefix), instance(key));
   }

@@ -29,7 +29,7 @@ TEST(PeerWatch, APeerDroppedAndDiscoveredAgainIsUnhealedUntilItAuthenticates) {
   EXPECT_EQ(back->name, "isparsd a");
   EXPECT_TRUE(peers.take_unhealed(t0 + 21s, 1s).has_value());
   EXPECT_FALSE(peers.take_unhealed(t0 + 22s, 1s).has_value());  // once
-  peers.discovered("01.02", "isparsd a", t0 + 30s);               // seen again without a drop
+  peers.discovered("01.02", "isparsd a", t0 + 30s);             // seen again without a drop
   EXPECT_FALSE(peers.unhealed(t0 + 40s, 1s));
   peers.dropped("01.02");
   peers.discovered("01.02", "isparsd a", t0 + 50s);

@@ -40,8 +40,7 @@ struct ConnectionArgs {
 };
 
 // The chosen command, checked; nullptr when parsing ended the run (help), with `code` set.
-Command* parse(CLI::App& app, int argc, char** argv, const std::vector<std::unique_ptr<Command>>& commands,
-               int& code) {
+Command* parse(CLI::App& app, int argc, char** argv, const std::vector<std::unique_ptr<Command>>& commands, int& code) {
   std::vector<CLI::App*> subcommands;
   for (const auto& c : commands) subcommands.push_back(c->add(app));
   try {

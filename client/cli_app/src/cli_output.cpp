@@ -1,8 +1,8 @@
 #include "ispars/cli_app/cli_output.hpp"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <fstream>
 #include <iostream>
@@ -42,8 +42,7 @@ void print_status(const client::SceneStatus& s) {
   std::cout << fmt::format("{} on {}: {}", s.scene, s.server_id, client::to_string(s.state));
   if (!s.method.empty()) {
     std::cout << fmt::format(", {}{} seed {}, {}/{} samples\n", s.method,
-                             s.variant.empty() ? std::string() : fmt::format(" ({} rules)", s.variant),
-                             s.seed,
+                             s.variant.empty() ? std::string() : fmt::format(" ({} rules)", s.variant), s.seed,
                              s.samples_done, s.samples_target);
     if (s.stretch_slack > 0.0) {
       std::cout << fmt::format("  stretch: t = {}, slack {} Delta from sample {}\n", s.stretch, s.stretch_slack,
@@ -54,10 +53,10 @@ void print_status(const client::SceneStatus& s) {
     if (s.dense_vertices > 0) {
       std::cout << fmt::format("  dense:   {} vertices, {} edges\n", s.dense_vertices, s.dense_edges);
     }
-    std::cout << fmt::format("  POIs:    {} of {} seen, {} from the root's component{}\n", s.pois_covered,
-                             s.poi_count, s.pois_covered_root,
-                             s.tasks == 0 ? std::string() : fmt::format(" (with {} task{}: ispars task list)", s.tasks,
-                                                                        s.tasks == 1 ? "" : "s"));
+    std::cout << fmt::format(
+        "  POIs:    {} of {} seen, {} from the root's component{}\n", s.pois_covered, s.poi_count, s.pois_covered_root,
+        s.tasks == 0 ? std::string()
+                     : fmt::format(" (with {} task{}: ispars task list)", s.tasks, s.tasks == 1 ? "" : "s"));
   } else {
     std::cout << ", no roadmap\n";
   }
@@ -68,21 +67,20 @@ void print_status(const client::SceneStatus& s) {
 Progress::Progress(bool enabled) : enabled_(enabled), tty_(::isatty(STDERR_FILENO) != 0) {}
 
 void Progress::operator()(const client::SceneStatus& s) {
-    if (!enabled_) return;
-    const auto now = std::chrono::steady_clock::now();
-    const bool busy = client::busy(s.state);
-    if (!tty_ && busy && now - last_ < std::chrono::seconds(1)) return;
-    last_ = now;
-    const double fraction = s.samples_target ? static_cast<double>(s.samples_done) / s.samples_target
-                                               : (busy ? 0.0 : 1.0);
-    const int width = 30;
-    const int filled = static_cast<int>(width * std::min(1.0, fraction));
-    const std::string line =
-        fmt::format("[{:<{}}] {:3.0f}% {} {}/{} samples, {} vertices, {} edges",
-                    std::string(static_cast<std::size_t>(filled), '#'), width, 100 * fraction,
-                    client::to_string(s.state), s.samples_done, s.samples_target, s.vertices, s.edges);
-    std::cerr << (tty_ ? "\r" + line : line + "\n") << std::flush;
-    drawn_ = true;
+  if (!enabled_) return;
+  const auto now = std::chrono::steady_clock::now();
+  const bool busy = client::busy(s.state);
+  if (!tty_ && busy && now - last_ < std::chrono::seconds(1)) return;
+  last_ = now;
+  const double fraction =
+      s.samples_target ? static_cast<double>(s.samples_done) / s.samples_target : (busy ? 0.0 : 1.0);
+  const int width = 30;
+  const int filled = static_cast<int>(width * std::min(1.0, fraction));
+  const std::string line = fmt::format(
+      "[{:<{}}] {:3.0f}% {} {}/{} samples, {} vertices, {} edges", std::string(static_cast<std::size_t>(filled), '#'),
+      width, 100 * fraction, client::to_string(s.state), s.samples_done, s.samples_target, s.vertices, s.edges);
+  std::cerr << (tty_ ? "\r" + line : line + "\n") << std::flush;
+  drawn_ = true;
 }
 
 void Progress::finish() {
@@ -96,14 +94,13 @@ void write_text(const std::string& path, const std::string& text) {
   if (!out) throw CLI::ValidationError("--out", "write to " + path + " failed");
 }
 
-
 int follow_job(client::Client& client, const std::string& scene, const client::Reply& reply, bool wait, bool json) {
   if (!json) std::cout << reply.message << "\n";
   client::SceneStatus final_status = reply.status;
   if (wait) {
     Progress progress(!json);
-    final_status = client.wait_idle(scene, [&](const client::SceneStatus& s) { progress(s); },
-                                    std::chrono::hours(24 * 365));
+    final_status = client.wait_idle(
+        scene, [&](const client::SceneStatus& s) { progress(s); }, std::chrono::hours(24 * 365));
     progress.finish();
   }
   if (json) {

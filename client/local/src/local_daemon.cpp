@@ -1,16 +1,16 @@
 #include "ispars/local/local_daemon.hpp"
 
-#include <algorithm>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
 
 #include <algorithm>
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -117,9 +117,11 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
                          std::chrono::seconds ready_within, const std::vector<std::string>& command_prefix,
                          const std::string& probe_profile_file)
     : domain_(domain), server_id_(std::move(server_id)) {
-  log_path_ = data_dir.parent_path() / (server_id_ + "-" + data_dir.filename().string() + "-" + std::to_string(::getpid()) + ".log");
-  std::vector<std::string> args = {daemon_binary, "--domain", std::to_string(domain), "--data-dir", data_dir.string(),
-                                   "--scene-dir", scene_dir.string(), "--server-id", server_id_};
+  log_path_ = data_dir.parent_path() /
+              (server_id_ + "-" + data_dir.filename().string() + "-" + std::to_string(::getpid()) + ".log");
+  std::vector<std::string> args = {daemon_binary,      "--domain",        std::to_string(domain),
+                                   "--data-dir",       data_dir.string(), "--scene-dir",
+                                   scene_dir.string(), "--server-id",     server_id_};
   // Debug logs unless the caller sets the level itself, or through a config file (which a flag
   // would override).
   if (std::find(extra_args.begin(), extra_args.end(), "--log-level") == extra_args.end() &&
@@ -182,7 +184,8 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
   const auto deadline = std::chrono::steady_clock::now() + ready_within;
   std::optional<std::chrono::steady_clock::time_point> serving_since;
   while (std::chrono::steady_clock::now() < deadline) {
-    if (!alive()) throw std::runtime_error("isparsd exited at start:\n" + log().substr(std::min(log_start, log().size())));
+    if (!alive())
+      throw std::runtime_error("isparsd exited at start:\n" + log().substr(std::min(log_start, log().size())));
     if (log().find("isparsd " + server_id_ + " serving on DDS domain", log_start) != std::string::npos) {
       if (!serving_since) serving_since = std::chrono::steady_clock::now();
       for (const auto& d : probe->daemons()) {
@@ -248,9 +251,9 @@ std::optional<int> reap_within(pid_t pid, std::chrono::milliseconds limit) {
 void append_thread_stacks(pid_t pid, const std::filesystem::path& log) {
   std::ofstream(log, std::ios::app) << "\n==== LocalDaemon: every thread's stack of pid " << pid
                                     << " (gdb), which did not stop in time ====\n";
-  std::vector<std::string> args = {"/usr/bin/timeout", "--kill-after", kGdbKillAfterSeconds, kGdbSeconds,
-                                    "/usr/bin/gdb", "-nx", "-batch", "-p", std::to_string(pid),
-                                    "-ex", "thread apply all bt"};
+  std::vector<std::string> args = {
+      "/usr/bin/timeout", "--kill-after", kGdbKillAfterSeconds, kGdbSeconds, "/usr/bin/gdb",       "-nx",
+      "-batch",           "-p",           std::to_string(pid),  "-ex",       "thread apply all bt"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

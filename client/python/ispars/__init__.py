@@ -18,25 +18,27 @@ from ._ispars import (  # noqa: F401
     Stop,
     Watch,
     load_roadmap,
+    recipe_parameters,
     render,
     tour,
 )
 
 __all__ = [
     "Builder", "Client", "ClientError", "InputError", "Roadmap", "Scene", "SceneStatus", "Stop", "Watch",
-    "build", "load_roadmap", "render", "tour",
+    "build", "load_roadmap", "recipe_parameters", "render", "tour",
 ]
 
 
 def build(scene, samples, method="ispars", seed=1, variant="", threads=1, overrides=None, stop=None,
-          progress=None):
+          progress=None, **parameters):
     """A Builder for the recipe, extended by `samples` samples: Builder(...) then extend(...).
 
-    `scene` is a Scene or the path of a scene YAML file.
+    `scene` is a Scene or the path of a scene YAML file; each override by keyword (stretch=1.5)
+    or in `overrides`.
     """
     if not isinstance(scene, Scene):
         scene = Scene.load(str(scene))
     builder = Builder(scene, method=method, seed=seed, variant=variant, threads=threads,
-                      overrides=overrides or {})
+                      overrides=overrides or {}, **parameters)
     builder.extend(samples, stop=stop, progress=progress)
     return builder

@@ -18,7 +18,8 @@ static_assert(sizeof(EdgeEnds) == 2 * sizeof(std::uint32_t), "EdgeEnds must be t
 template <class T>
 py::array_t<T> view(const T* data, std::size_t rows, std::size_t cols, py::handle owner) {
   const std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)};
-  const std::vector<py::ssize_t> strides{static_cast<py::ssize_t>(cols * sizeof(T)), static_cast<py::ssize_t>(sizeof(T))};
+  const std::vector<py::ssize_t> strides{static_cast<py::ssize_t>(cols * sizeof(T)),
+                                         static_cast<py::ssize_t>(sizeof(T))};
   static const T empty{};
   py::array_t<T> a(shape, strides, rows == 0 ? &empty : data, owner);
   py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;

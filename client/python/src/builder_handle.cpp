@@ -6,9 +6,9 @@
 #include <chrono>
 
 #include "arrays.hpp"
+#include "ispars/params/input_error.hpp"
 #include "param_dict.hpp"
 #include "verification_dict.hpp"
-#include "ispars/params/input_error.hpp"
 
 namespace ispars::python {
 namespace {
@@ -144,16 +144,24 @@ py::dict BuilderHandle::recipe() const {
 }
 
 void bind_builder(py::module_& m) {
+  m.def("recipe_parameters", &declarations<RecipeOverrides>,
+        "The parameters a build may override, as declared once for the daemon, the lab and Python: a list of "
+        "dicts of name, type, min, max, range and doc.");
   py::class_<BuilderHandle, std::shared_ptr<BuilderHandle>>(
       m, "Builder",
       "A roadmap under construction, from a recipe: the method, its rule set, the seed and scene parameters "
       "overridden by name (dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after, p_accept), "
       "checked as the daemon checks a build request. The same recipe gives the same roadmap as isparsd and "
       "ispars-lab, byte for byte, for any thread count.")
-      .def(py::init<std::shared_ptr<Scene>, const std::string&, std::uint64_t, const std::string&, std::int64_t,
-                    const py::dict&>(),
+      .def(py::init([](std::shared_ptr<Scene> scene, const std::string& method, std::uint64_t seed,
+                       const std::string& variant, std::int64_t threads, const py::dict& overrides,
+                       const py::kwargs& named) {
+             return std::make_shared<BuilderHandle>(std::move(scene), method, seed, variant, threads,
+                                                    merged(overrides, named, kBuild, "overrides."));
+           }),
            py::arg("scene"), py::arg("method") = "ispars", py::arg("seed") = 1, py::arg("variant") = "",
            py::arg("threads") = 1, py::arg("overrides") = py::dict(),
+           "Each override by keyword (stretch=1.5) or in `overrides` (ispars.recipe_parameters() lists them). "
            "Raises InputError (file 'build') naming a bad method, variant, thread count or override.")
       .def("extend", &BuilderHandle::extend, py::arg("samples"), py::arg("stop") = nullptr,
            py::arg("progress") = py::none(),

@@ -15,8 +15,8 @@ namespace ispars::python {
 /// verify() runs (from another thread) raises RuntimeError rather than wait.
 class BuilderHandle {
  public:
-  BuilderHandle(std::shared_ptr<Scene> scene, const std::string& method, std::uint64_t seed,
-                const std::string& variant, std::int64_t threads, const py::dict& overrides);
+  BuilderHandle(std::shared_ptr<Scene> scene, const std::string& method, std::uint64_t seed, const std::string& variant,
+                std::int64_t threads, const py::dict& overrides);
 
   /// Draws `samples` more samples; returns how many it drew (fewer when stopped).
   std::uint64_t extend(std::int64_t samples, const std::shared_ptr<StopFlag>& stop, const py::object& progress);

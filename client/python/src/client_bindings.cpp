@@ -6,8 +6,8 @@
 
 #include "arrays.hpp"
 #include "client_handle.hpp"
-#include "param_dict.hpp"
 #include "ispars/params/input_error.hpp"
+#include "param_dict.hpp"
 #include "stoppable.hpp"
 #include "verification_dict.hpp"
 
@@ -24,7 +24,7 @@ std::string env_or(const char* name, const std::string& fallback) {
 }
 
 ClientHandle connect(const py::object& domain, const std::string& profile_file, const std::string& profile_name,
-                  const std::string& security, double timeout, const std::string& server) {
+                     const std::string& security, double timeout, const std::string& server) {
   client::ClientOptions o;
   const std::string domain_text = env_or("ISPARS_DOMAIN", "0");
   long d = 0;
@@ -36,7 +36,8 @@ ClientHandle connect(const py::object& domain, const std::string& profile_file, 
     d = domain.cast<long>();
   }
   if (d < 0 || d > 232) throw InputError(kClient, "domain", fmt::format("must be 0 .. 232, got {}", d));
-  if (!(timeout > 0 && timeout <= 3600)) throw InputError(kClient, "timeout", fmt::format("must be in (0, 3600] s, got {}", timeout));
+  if (!(timeout > 0 && timeout <= 3600))
+    throw InputError(kClient, "timeout", fmt::format("must be in (0, 3600] s, got {}", timeout));
   o.participant.domain = static_cast<int>(d);
   o.participant.profile_file = profile_file.empty() ? env_or("ISPARS_PROFILE_FILE", "") : profile_file;
   o.participant.profile_name = profile_name;
@@ -118,8 +119,9 @@ py::dict snapshot_dict(client::Snapshot&& s) {
 void bind_status(py::module_& m) {
   using client::SceneStatus;
   py::class_<SceneStatus>(m, "SceneStatus", "A scene's status as its owning daemon published it.")
-      .def_property_readonly("state", [](const SceneStatus& s) { return std::string(client::to_string(s.state)); },
-                             "empty, idle, queued, replaying, building, failed or unloaded.")
+      .def_property_readonly(
+          "state", [](const SceneStatus& s) { return std::string(client::to_string(s.state)); },
+          "empty, idle, queued, replaying, building, failed or unloaded.")
       .def_readonly("scene", &SceneStatus::scene)
       .def_readonly("server_id", &SceneStatus::server_id)
       .def_readonly("method", &SceneStatus::method)
@@ -153,104 +155,144 @@ void bind_status(py::module_& m) {
 }
 
 void bind_requests(py::class_<ClientHandle>& c) {
-  c.def("scenes", [](const ClientHandle& self) {
-     const auto entries = run_detached([self] { return self->list_scenes(); });
-     py::list out;
-     for (const auto& e : entries) out.append(scene_entry(e));
-     return out;
-   }, "Every scene of every daemon on the domain: dicts of scene, loaded, has_roadmap, server_id, note.");
+  c.def(
+      "scenes",
+      [](const ClientHandle& self) {
+        const auto entries = run_detached([self] { return self->list_scenes(); });
+        py::list out;
+        for (const auto& e : entries) out.append(scene_entry(e));
+        return out;
+      },
+      "Every scene of every daemon on the domain: dicts of scene, loaded, has_roadmap, server_id, note.");
   const auto change = [&c](const char* name, client::Reply (Client::*call)(const std::string&), const char* doc) {
-    c.def(name, [call](const ClientHandle& self, const std::string& scene) {
-      return reply_dict(run_detached([self, call, scene] { return ((*self).*call)(scene); }));
-    }, py::arg("scene"), doc);
+    c.def(
+        name,
+        [call](const ClientHandle& self, const std::string& scene) {
+          return reply_dict(run_detached([self, call, scene] { return ((*self).*call)(scene); }));
+        },
+        py::arg("scene"), doc);
   };
   change("load", &Client::load, "Loads a scene of a daemon's scene directory (and its stored roadmap).");
   change("unload", &Client::unload, "Unloads a scene (its stored roadmap stays on disk).");
   change("cancel", &Client::cancel, "Cancels the scene's build or extend, keeping what it committed.");
   change("drop", &Client::drop, "Drops the scene's roadmap, stored copy included.");
-  c.def("build", [](const ClientHandle& self, const std::string& scene, std::uint64_t samples, const std::string& method,
-                    std::uint64_t seed, const std::string& variant, const py::dict& overrides, bool replace) {
-     client::BuildArgs args;
-     set_method(args, method, variant, "build");
-     args.samples = samples;
-     args.seed = seed;
-     read_dict(overrides, args.overrides, "build", "overrides.");
-     args.replace = replace;
-     return reply_dict(run_detached([self, scene, args] { return self->build(scene, args); }));
-   }, py::arg("scene"), py::arg("samples"), py::arg("method") = "ispars", py::arg("seed") = 1,
-   py::arg("variant") = "", py::arg("overrides") = py::dict(), py::arg("replace") = false,
-   "Queues a build (the daemon checks every field; a refusal raises ClientError 'rejected' naming it). "
-   "wait_idle() waits for it.");
-  c.def("extend", [](const ClientHandle& self, const std::string& scene, std::uint64_t samples) {
-     return reply_dict(run_detached([self, scene, samples] { return self->extend(scene, samples); }));
-   }, py::arg("scene"), py::arg("samples"), "Queues `samples` more samples of the roadmap's stream.");
-  c.def("stats", [](const ClientHandle& self, const std::string& scene) {
-     return run_detached([self, scene] { return self->stats(scene); });
-   }, py::arg("scene"), "The scene's status (a SceneStatus).");
-  c.def("path", [](const ClientHandle& self, const std::string& scene, const py::object& from, const py::object& to) {
-     const Vec3 a = to_vec3(from, "from");
-     const Vec3 b = to_vec3(to, "to");
-     client::PathReply r = run_detached([self, scene, a, b] { return self->path(scene, a, b); });
-     py::dict out = reply_dict(r);
-     out["length"] = r.path.length;
-     out["waypoints"] = take_points(std::move(r.path.waypoints));
-     return out;
-   }, py::arg("scene"), py::arg("start"), py::arg("goal"), "A collision-free path on the roadmap: length, waypoints.");
-  c.def("verify", [](const ClientHandle& self, const std::string& scene) {
-     return verify_dict(run_detached([self, scene] { return self->verify(scene); }));
-   }, py::arg("scene"), "Checks the roadmap on the daemon; 'violations' is 0 when verified.");
-  c.def("snapshot", [](const ClientHandle& self, const std::string& scene) {
-     return snapshot_dict(run_detached([self, scene] { return self->snapshot(scene); }));
-   }, py::arg("scene"),
-   "The whole roadmap at one version: a dict of scene, generation, version, roadmap (a Roadmap), root, pois, status.");
+  c.def(
+      "build",
+      [](const ClientHandle& self, const std::string& scene, std::uint64_t samples, const std::string& method,
+         std::uint64_t seed, const std::string& variant, const py::dict& overrides, bool replace,
+         const py::kwargs& named) {
+        client::BuildArgs args;
+        set_method(args, method, variant, "build");
+        args.samples = samples;
+        args.seed = seed;
+        read_dict(merged(overrides, named, "build", "overrides."), args.overrides, "build", "overrides.");
+        args.replace = replace;
+        return reply_dict(run_detached([self, scene, args] { return self->build(scene, args); }));
+      },
+      py::arg("scene"), py::arg("samples"), py::arg("method") = "ispars", py::arg("seed") = 1, py::arg("variant") = "",
+      py::arg("overrides") = py::dict(), py::arg("replace") = false,
+      "Queues a build; each override by keyword (stretch=1.5) or in `overrides`. A bad name or a value out of "
+      "its range raises InputError before anything is sent; the daemon checks every field against the scene "
+      "(a refusal raises ClientError 'rejected' naming it). "
+      "wait_idle() waits for it.");
+  c.def(
+      "extend",
+      [](const ClientHandle& self, const std::string& scene, std::uint64_t samples) {
+        return reply_dict(run_detached([self, scene, samples] { return self->extend(scene, samples); }));
+      },
+      py::arg("scene"), py::arg("samples"), "Queues `samples` more samples of the roadmap's stream.");
+  c.def(
+      "stats",
+      [](const ClientHandle& self, const std::string& scene) {
+        return run_detached([self, scene] { return self->stats(scene); });
+      },
+      py::arg("scene"), "The scene's status (a SceneStatus).");
+  c.def(
+      "path",
+      [](const ClientHandle& self, const std::string& scene, const py::object& from, const py::object& to) {
+        const Vec3 a = to_vec3(from, "from");
+        const Vec3 b = to_vec3(to, "to");
+        client::PathReply r = run_detached([self, scene, a, b] { return self->path(scene, a, b); });
+        py::dict out = reply_dict(r);
+        out["length"] = r.path.length;
+        out["waypoints"] = take_points(std::move(r.path.waypoints));
+        return out;
+      },
+      py::arg("scene"), py::arg("start"), py::arg("goal"), "A collision-free path on the roadmap: length, waypoints.");
+  c.def(
+      "verify",
+      [](const ClientHandle& self, const std::string& scene) {
+        return verify_dict(run_detached([self, scene] { return self->verify(scene); }));
+      },
+      py::arg("scene"), "Checks the roadmap on the daemon; 'violations' is 0 when verified.");
+  c.def(
+      "snapshot",
+      [](const ClientHandle& self, const std::string& scene) {
+        return snapshot_dict(run_detached([self, scene] { return self->snapshot(scene); }));
+      },
+      py::arg("scene"),
+      "The whole roadmap at one version: a dict of scene, generation, version, roadmap (a Roadmap), root, pois, "
+      "status.");
 }
 
 void bind_tours_and_waits(py::class_<ClientHandle>& c) {
-  c.def("tour", [](const ClientHandle& self, const std::string& scene, double budget, std::uint64_t seed,
-                   std::vector<std::uint32_t> targets, const std::string& task, const py::object& progress) {
-     auto halt = std::make_shared<Halt>();
-     const Callback report(progress, halt);
-     const auto call = [self, scene, budget, seed, targets, task, report] {
-       const auto on_progress = [report](double t, double cost, double bound) { report(t, cost, bound); };
-       return task.empty() ? self->tour(scene, budget, seed, targets, on_progress)
-                           : self->task_tour(scene, task, budget, seed, on_progress);
-     };
-     client::TourReply r = run_detached(call);
-     halt->rethrow();
-     return tour_dict(std::move(r));
-   }, py::arg("scene"), py::arg("budget") = 5.0, py::arg("seed") = 1,
-   py::arg("targets") = std::vector<std::uint32_t>{}, py::arg("task") = "", py::arg("progress") = py::none(),
-   "An inspection tour searched on the daemon for `budget` seconds; progress(seconds, cost, bound) as it "
-   "improves. Targets default to every POI seen from the root's component; `task` aims at one inspection task.");
-  c.def("wait_idle", [](const ClientHandle& self, const std::string& scene, double timeout, const py::object& progress) {
-     if (!(timeout > 0)) throw InputError(kClient, "timeout", fmt::format("must be positive, got {}", timeout));
-     auto halt = std::make_shared<Halt>();
-     const Callback report(progress, halt);
-     const auto call = [self, scene, timeout, report] {
-       return self->wait_idle(scene, [report](const client::SceneStatus& s) { report(s); },
-                              std::chrono::milliseconds(static_cast<long>(timeout * 1000)));
-     };
-     client::SceneStatus s = run_detached(call);
-     halt->rethrow();
-     return s;
-   }, py::arg("scene"), py::arg("timeout") = 600.0, py::arg("progress") = py::none(),
-   "Waits until the scene has no job; progress(status) on each status seen. Raises ClientError 'timeout'.");
-  c.def("_bench_stats", [](const ClientHandle& self, const std::string& scene, std::int64_t count) {
-     // The benchmark's C++ side: `count` stats calls from C++ alone, each timed (seconds).
-     py::gil_scoped_release release;
-     std::vector<double> seconds;
-     for (std::int64_t i = 0; i < count; ++i) {
-       const auto t0 = std::chrono::steady_clock::now();
-       (void)self->stats(scene);
-       seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-     }
-     return seconds;
-   }, py::arg("scene"), py::arg("count"), "For bench_python.py: `count` STATS round trips timed in C++ alone.");
-  c.def_property_readonly("id", [](const ClientHandle& self) {
-     py::gil_scoped_release release;  // a callback on a client thread may be waiting for the GIL
-     return self->id();
-   },
-                          "This client's identity: its participant's GUID prefix, as daemons read it.");
+  c.def(
+      "tour",
+      [](const ClientHandle& self, const std::string& scene, double budget, std::uint64_t seed,
+         std::vector<std::uint32_t> targets, const std::string& task, const py::object& progress) {
+        auto halt = std::make_shared<Halt>();
+        const Callback report(progress, halt);
+        const auto call = [self, scene, budget, seed, targets, task, report] {
+          const auto on_progress = [report](double t, double cost, double bound) { report(t, cost, bound); };
+          return task.empty() ? self->tour(scene, budget, seed, targets, on_progress)
+                              : self->task_tour(scene, task, budget, seed, on_progress);
+        };
+        client::TourReply r = run_detached(call);
+        halt->rethrow();
+        return tour_dict(std::move(r));
+      },
+      py::arg("scene"), py::arg("budget") = 5.0, py::arg("seed") = 1, py::arg("targets") = std::vector<std::uint32_t>{},
+      py::arg("task") = "", py::arg("progress") = py::none(),
+      "An inspection tour searched on the daemon for `budget` seconds; progress(seconds, cost, bound) as it "
+      "improves. Targets default to every POI seen from the root's component; `task` aims at one inspection task.");
+  c.def(
+      "wait_idle",
+      [](const ClientHandle& self, const std::string& scene, double timeout, const py::object& progress) {
+        if (!(timeout > 0)) throw InputError(kClient, "timeout", fmt::format("must be positive, got {}", timeout));
+        auto halt = std::make_shared<Halt>();
+        const Callback report(progress, halt);
+        const auto call = [self, scene, timeout, report] {
+          return self->wait_idle(
+              scene, [report](const client::SceneStatus& s) { report(s); },
+              std::chrono::milliseconds(static_cast<long>(timeout * 1000)));
+        };
+        client::SceneStatus s = run_detached(call);
+        halt->rethrow();
+        return s;
+      },
+      py::arg("scene"), py::arg("timeout") = 600.0, py::arg("progress") = py::none(),
+      "Waits until the scene has no job; progress(status) on each status seen. Raises ClientError 'timeout'.");
+  c.def(
+      "_bench_stats",
+      [](const ClientHandle& self, const std::string& scene, std::int64_t count) {
+        // The benchmark's C++ side: `count` stats calls from C++ alone, each timed (seconds).
+        py::gil_scoped_release release;
+        std::vector<double> seconds;
+        for (std::int64_t i = 0; i < count; ++i) {
+          const auto t0 = std::chrono::steady_clock::now();
+          (void)self->stats(scene);
+          seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        }
+        return seconds;
+      },
+      py::arg("scene"), py::arg("count"), "For bench_python.py: `count` STATS round trips timed in C++ alone.");
+  c.def_property_readonly(
+      "id",
+      [](const ClientHandle& self) {
+        py::gil_scoped_release release;  // a callback on a client thread may be waiting for the GIL
+        return self->id();
+      },
+      "This client's identity: its participant's GUID prefix, as daemons read it.");
 }
 
 }  // namespace
@@ -271,8 +313,7 @@ void bind_client(py::module_& m) {
       "timeout, without the GIL; Ctrl-C returns at once (a request already sent ends by itself). Refusals "
       "raise ClientError with the daemon's named message.");
   c.def(py::init(&connect), py::arg("domain") = py::none(), py::arg("profile_file") = "",
-        py::arg("profile_name") = "ispars", py::arg("security") = "", py::arg("timeout") = 15.0,
-        py::arg("server") = "",
+        py::arg("profile_name") = "ispars", py::arg("security") = "", py::arg("timeout") = 15.0, py::arg("server") = "",
         "Joins `domain` (default: $ISPARS_DOMAIN, else 0). `profile_file` a Fast DDS XML profiles file (default: "
         "$ISPARS_PROFILE_FILE, else localhost only); `security` a DDS Security identity directory (default: "
         "$ISPARS_SECURITY, else none).");

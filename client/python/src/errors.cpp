@@ -12,11 +12,16 @@ namespace {
 
 std::string kind_name(client::ClientError::Kind kind) {
   switch (kind) {
-    case client::ClientError::Kind::no_daemon: return "no_daemon";
-    case client::ClientError::Kind::timeout: return "timeout";
-    case client::ClientError::Kind::rejected: return "rejected";
-    case client::ClientError::Kind::protocol: return "protocol";
-    case client::ClientError::Kind::forbidden: return "forbidden";
+    case client::ClientError::Kind::no_daemon:
+      return "no_daemon";
+    case client::ClientError::Kind::timeout:
+      return "timeout";
+    case client::ClientError::Kind::rejected:
+      return "rejected";
+    case client::ClientError::Kind::protocol:
+      return "protocol";
+    case client::ClientError::Kind::forbidden:
+      return "forbidden";
   }
   return "unknown";
 }

@@ -60,6 +60,42 @@ void read_dict(const py::dict& values, Object& object, const std::string& file, 
   }
 }
 
+/// `overrides` and the keyword arguments `named` in one dict (Builder(scene, stretch=1.5) and
+/// Builder(scene, overrides={"stretch": 1.5}) alike). InputError (file `file`, field prefix + name)
+/// for a name given both ways.
+inline py::dict merged(const py::dict& overrides, const py::kwargs& named, const std::string& file,
+                       const std::string& prefix) {
+  py::dict out;  // a new dict: `overrides` may be the binding's one default, shared by every call
+  for (const auto& [key, value] : overrides) out[key] = value;
+  for (const auto& [key, value] : named) {
+    if (out.contains(key)) {
+      throw InputError(file, prefix + py::str(key).cast<std::string>(), "given twice (in overrides and as a keyword)");
+    }
+    out[key] = value;
+  }
+  return out;
+}
+
+/// Each parameter `Object` declares, as Python reads it: a dict of name, type ("float", "int",
+/// "bool"), min, max, range (in words) and doc, in declaration order.
+template <class Object>
+py::list declarations() {
+  py::list out;
+  const Object object{};
+  params::visit(object, [&](const auto& spec, const auto& member) {
+    using T = params::value_type_of<decltype(member)>;
+    py::dict d;
+    d["name"] = std::string(spec.name);
+    d["type"] = std::is_same_v<T, double> ? "float" : std::is_same_v<T, bool> ? "bool" : "int";
+    d["min"] = spec.min;
+    d["max"] = spec.max;
+    d["range"] = params::range_text(spec);
+    d["doc"] = std::string(spec.doc);
+    out.append(d);
+  });
+  return out;
+}
+
 /// Each declared member of `object` into `out` under its name (an absent optional left out).
 template <class Object>
 void write_dict(const Object& object, py::dict& out) {

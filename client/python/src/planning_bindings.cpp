@@ -29,13 +29,17 @@ void bind_scene(py::module_& m) {
       .def_static("load", &load_scene, py::arg("path"),
                   "Loads a scene YAML file (deploy/scenes/*.yaml). Raises InputError naming the file and field.")
       .def_property_readonly("name", [](const Scene& s) { return s.config().name; })
-      .def_property_readonly("root", [](const Scene& s) { return take_points({s.config().root}).attr("reshape")(3); },
-                             "(3,) float64: the robot's start, vertex 0 of every roadmap.")
+      .def_property_readonly(
+          "root", [](const Scene& s) { return take_points({s.config().root}).attr("reshape")(3); },
+          "(3,) float64: the robot's start, vertex 0 of every roadmap.")
       .def_property_readonly(
           "pois", [](const py::object& self) { return points_view(self.cast<const Scene&>().pois(), self); },
           "(P, 3) float64, read-only view: POI p is row p.")
       .def_property_readonly(
-          "bounds", [](const Scene& s) { return take_points({s.config().bounds.min, s.config().bounds.max}); },
+          "bounds",
+          [](const Scene& s) {
+            return take_points({s.config().bounds.min, s.config().bounds.max});
+          },
           "(2, 3) float64: the sampling box's low and high corners.")
       .def_property_readonly("dense_delta", [](const Scene& s) { return s.config().dense_delta; })
       .def_property_readonly("sparse_delta", [](const Scene& s) { return s.config().sparse_delta; })

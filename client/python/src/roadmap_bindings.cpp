@@ -3,9 +3,9 @@
 #include <memory>
 
 #include "arrays.hpp"
-#include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/record_file.hpp"
+#include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "python_module.hpp"
 
@@ -65,8 +65,9 @@ void bind_roadmap(py::module_& m) {
       .def_property_readonly("component_count", &Roadmap::component_count)
       .def_property_readonly("poi_count", &Roadmap::poi_count)
       .def_property_readonly("version", &Roadmap::version, "Vertices plus edges: the length of its change log.")
-      .def_property_readonly("digest", &roadmap_digest,
-                             "64-bit FNV-1a of the change log: equal roadmaps built in the same order have equal digests.")
+      .def_property_readonly(
+          "digest", &roadmap_digest,
+          "64-bit FNV-1a of the change log: equal roadmaps built in the same order have equal digests.")
       .def_property_readonly("covered_pois", &Roadmap::covered_pois, "POIs seen by some vertex.")
       .def_property_readonly(
           "covered_pois_root", [](const Roadmap& r) { return r.covered_pois_in_component_of(0); },

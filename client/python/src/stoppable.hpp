@@ -52,11 +52,12 @@ class Callback {
  public:
   Callback() = default;
   Callback(const py::object& f, std::shared_ptr<Halt> halt)
-      : f_(f.is_none() ? nullptr : new py::object(f), [](py::object* p) {
-          if (p == nullptr) return;
-          py::gil_scoped_acquire gil;
-          delete p;
-        }),
+      : f_(f.is_none() ? nullptr : new py::object(f),
+           [](py::object* p) {
+             if (p == nullptr) return;
+             py::gil_scoped_acquire gil;
+             delete p;
+           }),
         halt_(std::move(halt)) {}
   explicit operator bool() const { return f_ != nullptr; }
   template <class... A>

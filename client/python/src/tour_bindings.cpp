@@ -38,7 +38,8 @@ py::array_t<T> array_of(std::vector<T> values) {
 
 GipOptions tour_options(double budget, std::int64_t iterations, std::uint64_t seed, std::int64_t threads,
                         const py::object& targets, bool bound) {
-  if (!(budget >= 0.0 && budget <= 1e6)) throw InputError(kTour, "budget", fmt::format("must be 0 .. 1e6 s, got {}", budget));
+  if (!(budget >= 0.0 && budget <= 1e6))
+    throw InputError(kTour, "budget", fmt::format("must be 0 .. 1e6 s, got {}", budget));
   if (iterations < 0) throw InputError(kTour, "iterations", fmt::format("must be 0 or more, got {}", iterations));
   if (threads < 1 || threads > 64) throw InputError(kTour, "threads", fmt::format("must be 1 .. 64, got {}", threads));
   if (budget == 0.0 && iterations == 0) throw InputError(kTour, "budget", "give a budget or iterations (both are 0)");
@@ -95,8 +96,8 @@ py::dict flown_result(FlownTour&& t) {
   out["flown_cost"] = t.cost;
   out["shortcut_cost"] = t.roadmap_shortcut.cost;
   py::list stages;
-  for (const FlownStage& s : t.stages) stages.append(py::dict(py::arg("stage") = s.name, py::arg("cost") = s.cost,
-                                                              py::arg("seconds") = s.seconds));
+  for (const FlownStage& s : t.stages)
+    stages.append(py::dict(py::arg("stage") = s.name, py::arg("cost") = s.cost, py::arg("seconds") = s.seconds));
   out["stages"] = stages;
   out["graph_vertices"] = t.graph_vertices;
   out["graph_edges"] = t.graph_edges;

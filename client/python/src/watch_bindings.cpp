@@ -35,14 +35,15 @@ class WatchHandle {
   /// (None: for ever); None on a timeout; StopIteration once closed.
   py::object next(const py::object& timeout) {
     const auto deadline = std::chrono::steady_clock::now() +
-                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(
-                              timeout.is_none() ? 1e9 : timeout.cast<double>()));
+                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(timeout.is_none() ? 1e9 : timeout.cast<double>()));
     for (;;) {
       bool ready = false;
       {
         py::gil_scoped_release release;
         std::unique_lock lock(mutex_);
-        ready = changed_.wait_for(lock, std::chrono::milliseconds(20), [this] { return closed_ || changes_ != taken_; });
+        ready =
+            changed_.wait_for(lock, std::chrono::milliseconds(20), [this] { return closed_ || changes_ != taken_; });
         if (closed_) ready = true;
       }
       if (ready) break;
@@ -131,7 +132,7 @@ class WatchHandle {
     return out;
   }
 
-  ClientHandle client_;  // outlives replica_
+  ClientHandle client_;                              // outlives replica_
   std::shared_ptr<client::RoadmapReplica> replica_;  // guarded by mutex_
   std::mutex mutex_;
   std::condition_variable changed_;

@@ -10,7 +10,8 @@ namespace {
 
 std::string lower(std::string_view text) {
   std::string out(text);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(out.begin(), out.end(), out.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return out;
 }
 
@@ -144,16 +145,18 @@ std::string AccessPolicy::host_problem(const RequestFacts& request) const {
   for (const std::string& host : host_candidates(*request.host)) {
     if (!host.empty() && (hosts_.count(host) != 0 || host == own)) return {};
   }
-  return fmt::format("host {} is not this gateway (name it by 127.0.0.1:{}, localhost:{}, its address, or an "
-                     "--allow-origin)",
-                     shown(*request.host), port_, port_);
+  return fmt::format(
+      "host {} is not this gateway (name it by 127.0.0.1:{}, localhost:{}, its address, or an "
+      "--allow-origin)",
+      shown(*request.host), port_, port_);
 }
 
 bool AccessPolicy::came_by_https(const RequestFacts& request) const {
   if (lower(trim(request.forwarded_proto)) == "https") return true;
   if (!request.host) return false;
   const auto candidates = host_candidates(*request.host);
-  return std::any_of(candidates.begin(), candidates.end(), [&](const std::string& h) { return https_hosts_.count(h) != 0; });
+  return std::any_of(candidates.begin(), candidates.end(),
+                     [&](const std::string& h) { return https_hosts_.count(h) != 0; });
 }
 
 std::string AccessPolicy::token_problem_of(const RequestFacts& request, bool& from_query) const {
@@ -173,9 +176,10 @@ std::string AccessPolicy::token_problem_of(const RequestFacts& request, bool& fr
   }
   if (!given) {
     // Loopback too: behind a proxy on the same host every user is a loopback peer.
-    return fmt::format("a token is required from {} (an Authorization: Bearer header, or open the page once as "
-                       "/?token=TOKEN; see --token-file)",
-                       request.peer);
+    return fmt::format(
+        "a token is required from {} (an Authorization: Bearer header, or open the page once as "
+        "/?token=TOKEN; see --token-file)",
+        request.peer);
   }
   if (!same_secret(options_.token, *given)) return "the token is not this gateway's (see --token-file)";
   return {};

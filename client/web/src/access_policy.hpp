@@ -80,8 +80,8 @@ class AccessPolicy {
   [[nodiscard]] std::string token_problem_of(const RequestFacts& request, bool& from_query) const;
   AccessOptions options_;
   std::uint16_t port_;
-  std::set<std::string> hosts_;    // normalized Host values that name this gateway
-  std::set<std::string> origins_;  // normalized origins let in
+  std::set<std::string> hosts_;        // normalized Host values that name this gateway
+  std::set<std::string> origins_;      // normalized origins let in
   std::set<std::string> https_hosts_;  // hosts of the https origins let in
 };
 

@@ -35,8 +35,8 @@ int main(int argc, char** argv) {
     std::cout << "ispars-web: stopping (" << stats.browsers_total << " browsers served, " << stats.messages_sent
               << " messages sent, " << stats.refused_access << " requests refused by Host, Origin or token, "
               << stats.tours_refused << " tours refused over --max-tours, " << stats.evicted
-              << " idle connections closed to make room, " << stats.unread
-              << " browsers closed for not reading)" << std::endl;
+              << " idle connections closed to make room, " << stats.unread << " browsers closed for not reading)"
+              << std::endl;
   } catch (const std::exception& e) {
     std::cerr << "ispars-web: " << e.what() << "\n";
     return 1;

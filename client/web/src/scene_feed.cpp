@@ -40,9 +40,10 @@ void append_roadmap_messages(const Roadmap& roadmap, std::uint64_t generation, c
   const std::size_t vertex_end = std::min(roadmap.vertex_count(), limits.vertices);
   const std::size_t edge_end = std::min(roadmap.edge_count(), limits.edges);
   const bool cut = roadmap.vertex_count() > limits.vertices || roadmap.edge_count() > limits.edges;
-  const std::string note = cut ? fmt::format("drawing the first {} of {} vertices and {} of {} edges (the viewer's "
-                                             "limit)",
-                                             vertex_end, roadmap.vertex_count(), edge_end, roadmap.edge_count())
+  const std::string note = cut ? fmt::format(
+                                     "drawing the first {} of {} vertices and {} of {} edges (the viewer's "
+                                     "limit)",
+                                     vertex_end, roadmap.vertex_count(), edge_end, roadmap.edge_count())
                                : std::string();
   while (cursor.vertices < vertex_end || cursor.edges < edge_end) {
     const std::size_t v1 = std::min(vertex_end, cursor.vertices + limits.per_message);
@@ -67,17 +68,18 @@ void append_roadmap_messages(const Roadmap& roadmap, std::uint64_t generation, c
       edges.push_back(edge.u);
       edges.push_back(edge.v);
     }
-    out.push_back(nlohmann::json{{"type", "batch"},
-                                 {"generation", generation},
-                                 {"first_vertex", cursor.vertices},
-                                 {"positions", std::move(positions)},
-                                 {"edges", std::move(edges)},
-                                 {"vertices_total", roadmap.vertex_count()},
-                                 {"edges_total", roadmap.edge_count()},
-                                 {"vertices_sent", v1},
-                                 {"edges_sent", e1},
-                                 {"note", note}}
-                      .dump());
+    out.push_back(nlohmann::json{
+        {"type", "batch"},
+        {"generation", generation},
+        {"first_vertex", cursor.vertices},
+        {"positions", std::move(positions)},
+        {"edges", std::move(edges)},
+        {"vertices_total", roadmap.vertex_count()},
+        {"edges_total", roadmap.edge_count()},
+        {"vertices_sent", v1},
+        {"edges_sent", e1},
+        {"note",
+         note}}.dump());
     cursor.vertices = v1;
     cursor.edges = e1;
   }
@@ -86,8 +88,8 @@ void append_roadmap_messages(const Roadmap& roadmap, std::uint64_t generation, c
 SceneFeed::SceneFeed(client::Client& client, std::string scene, DrawLimits limits)
     : client_(client), scene_(std::move(scene)), limits_(limits) {
   (void)client_.stats(scene_);  // throws, naming the problem, when no daemon holds the scene
-  replica_ = std::make_unique<client::RoadmapReplica>(client_, scene_,
-                                                      [this](const client::ReplicaEvent&) { on_change(); });
+  replica_ =
+      std::make_unique<client::RoadmapReplica>(client_, scene_, [this](const client::ReplicaEvent&) { on_change(); });
   replica_ready_ = replica_.get();
 }
 
@@ -220,9 +222,10 @@ std::shared_ptr<const std::string> SceneFeed::load_mesh(const std::filesystem::p
   bool same = pois.size() >= scene.pois.size();
   for (std::size_t i = 0; same && i < scene.pois.size(); ++i) same = (pois[i] - scene.pois[i]).norm() < 1e-6;
   if (!same) {
-    throw std::runtime_error(fmt::format("no mesh: {} in the gateway's scene directory is not the daemon's scene "
-                                         "(its POIs differ)",
-                                         file.filename().string()));
+    throw std::runtime_error(
+        fmt::format("no mesh: {} in the gateway's scene directory is not the daemon's scene "
+                    "(its POIs differ)",
+                    file.filename().string()));
   }
   const TriangleMesh& m = scene.mesh;
   auto bytes = std::make_shared<std::string>();

@@ -21,8 +21,8 @@ namespace ispars::web {
 /// How much of a roadmap a browser is sent at most; past it, an evenly spread subset is not
 /// possible while it grows, so the first vertices and edges are drawn and the page says so.
 struct DrawLimits {
-  std::size_t vertices = 200'000;  ///< 1..10,000,000
-  std::size_t edges = 500'000;     ///< 1..50,000,000
+  std::size_t vertices = 200'000;    ///< 1..10,000,000
+  std::size_t edges = 500'000;       ///< 1..50,000,000
   std::size_t per_message = 20'000;  ///< Vertices or edges in one message (1..1,000,000).
 };
 
@@ -76,19 +76,19 @@ class SceneFeed {
   std::string scene_;
   DrawLimits limits_;
   mutable std::mutex mutex_;
-  std::optional<client::SceneStatus> last_status_;  // the last status seen from a live daemon
-  std::atomic<std::uint64_t> changes_{0};        // the replica's changes so far
-  std::mutex copy_mutex_;                        // one copy at a time; the others then share it
+  std::optional<client::SceneStatus> last_status_;    // the last status seen from a live daemon
+  std::atomic<std::uint64_t> changes_{0};             // the replica's changes so far
+  std::mutex copy_mutex_;                             // one copy at a time; the others then share it
   std::uint64_t copied_changes_ = ~std::uint64_t{0};  // changes_ when roadmap_ was copied
-  std::shared_ptr<const Roadmap> roadmap_;       // under copy_mutex_
-  std::uint64_t generation_ = 0;                 // under copy_mutex_
-  std::mutex mesh_mutex_;                        // the mesh's state, never held across its load
+  std::shared_ptr<const Roadmap> roadmap_;            // under copy_mutex_
+  std::uint64_t generation_ = 0;                      // under copy_mutex_
+  std::mutex mesh_mutex_;                             // the mesh's state, never held across its load
   std::condition_variable mesh_loaded_;
   bool mesh_loading_ = false;
   std::optional<std::shared_ptr<const std::string>> mesh_;
   std::string mesh_error_;
   std::atomic<client::RoadmapReplica*> replica_ready_{nullptr};  // set once replica_ is constructed
-  std::unique_ptr<client::RoadmapReplica> replica_;  // last: its thread calls on_change
+  std::unique_ptr<client::RoadmapReplica> replica_;              // last: its thread calls on_change
 };
 
 /// Appends to `out` the messages that bring a browser at `cursor` to `roadmap` (of `generation`),

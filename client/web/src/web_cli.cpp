@@ -33,9 +33,11 @@ void declare(CLI::App& app, WebCommandLine& c, Raw& r) {
   app.add_option("--profile-name", r.profile_name, "participant profile in the profiles file");
   app.add_option("--security", r.security, "DDS Security identity directory (a viewer identity is enough)")
       ->envname("ISPARS_SECURITY");
-  app.add_option("--timeout", r.timeout_s, "seconds to wait for a daemon and each reply")->check(CLI::Range(0.1, 3600.0));
-  app.add_option("--listen", r.listen,
-                 "IPv4ADDRESS:PORT to serve on (port 0: a free one, printed); an address off loopback needs --token-file");
+  app.add_option("--timeout", r.timeout_s, "seconds to wait for a daemon and each reply")
+      ->check(CLI::Range(0.1, 3600.0));
+  app.add_option(
+      "--listen", r.listen,
+      "IPv4ADDRESS:PORT to serve on (port 0: a free one, printed); an address off loopback needs --token-file");
   app.add_option("--web-root", o.web_root, "the page's files (default: the build's)")->check(CLI::ExistingDirectory);
   app.add_option("--scene-dir", o.scene_dir, "scene YAML files, for the meshes (default: no meshes)")
       ->check(CLI::ExistingDirectory);
@@ -83,7 +85,8 @@ std::string check_access(const Raw& r, WebServerOptions& o) {
   o.address = r.listen.substr(0, colon);
   o.port = static_cast<std::uint16_t>(port);
   in_addr parsed{};
-  if (::inet_pton(AF_INET, o.address.c_str(), &parsed) != 1) return "--listen: '" + o.address + "' is not an IPv4 address";
+  if (::inet_pton(AF_INET, o.address.c_str(), &parsed) != 1)
+    return "--listen: '" + o.address + "' is not an IPv4 address";
   if (r.allow_origins.size() > 32) return "--allow-origin: at most 32 origins";
   for (const std::string& origin : r.allow_origins) {
     if (origin.size() > 256 || normalize_origin(origin).empty()) {
@@ -95,7 +98,8 @@ std::string check_access(const Raw& r, WebServerOptions& o) {
     if (std::string why = read_token(r.token_file, o.access.token); !why.empty()) return why;
   }
   if (!is_loopback(o.address) && o.access.token.empty()) {
-    return "--listen " + r.listen + " is not a loopback address: any machine that reaches it would use the gateway "
+    return "--listen " + r.listen +
+           " is not a loopback address: any machine that reaches it would use the gateway "
            "(and its DDS read rights) unchecked; give --token-file PATH (browsers off this machine then present the "
            "token), or listen on 127.0.0.1";
   }
@@ -106,7 +110,8 @@ std::string check_access(const Raw& r, WebServerOptions& o) {
 std::string check_web_root(const CLI::App& app, WebServerOptions& o) {
   if (app.count("--web-root") == 0 && !std::filesystem::exists(o.web_root / "index.html")) {
     std::error_code ec;
-    const auto installed = std::filesystem::canonical("/proc/self/exe", ec).parent_path().parent_path() / "share/ispars/web";
+    const auto installed =
+        std::filesystem::canonical("/proc/self/exe", ec).parent_path().parent_path() / "share/ispars/web";
     if (!ec && std::filesystem::exists(installed / "index.html")) o.web_root = installed;
   }
   if (!std::filesystem::exists(o.web_root / "index.html")) {

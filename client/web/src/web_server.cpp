@@ -9,10 +9,14 @@ namespace ispars::web {
 
 bool valid_scene_name(const std::string& name) {
   if (name.empty() || name.size() > 64 || name[0] == '.') return false;
-  return std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'; });
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+  });
 }
 
-std::string error_message(const std::string& what) { return nlohmann::json{{"type", "error"}, {"message", what}}.dump(); }
+std::string error_message(const std::string& what) {
+  return nlohmann::json{{"type", "error"}, {"message", what}}.dump();
+}
 
 namespace {
 
@@ -70,7 +74,8 @@ class HttpSession : public WaitingConnection, public std::enable_shared_from_thi
       start_websocket(stream_.release_socket(), server_, slot_, std::move(request));
       return;
     }
-    if (request.method() != http::verb::get) return respond(http::status::method_not_allowed, "text/plain", "GET only\n");
+    if (request.method() != http::verb::get)
+      return respond(http::status::method_not_allowed, "text/plain", "GET only\n");
     if (path == "/api/scenes") return list_scenes();
     if (path.rfind("/api/mesh/", 0) == 0) return send_mesh(path.substr(10));
     std::string type, body;
@@ -87,15 +92,16 @@ class HttpSession : public WaitingConnection, public std::enable_shared_from_thi
       try {
         nlohmann::json list = nlohmann::json::array();
         for (const auto& e : self->server_->client.list_scenes()) {
-          list.push_back({{"name", e.scene}, {"server_id", e.server_id},
-                          {"loaded", e.loaded}, {"has_roadmap", e.has_roadmap}});
+          list.push_back(
+              {{"name", e.scene}, {"server_id", e.server_id}, {"loaded", e.loaded}, {"has_roadmap", e.has_roadmap}});
         }
         body = nlohmann::json{{"scenes", list}}.dump();
       } catch (const std::exception& e) {
         status = http::status::service_unavailable;
         body = nlohmann::json{{"error", e.what()}}.dump();
       }
-      net::post(self->stream_.get_executor(), [self, status, body] { self->respond(status, "application/json", body); });
+      net::post(self->stream_.get_executor(),
+                [self, status, body] { self->respond(status, "application/json", body); });
     });
   }
 
@@ -183,7 +189,7 @@ void WebServer::Impl::sweep() {
 }
 
 void WebServer::Impl::serve_file(const std::string& name, std::string& type, std::string& body,
-                               http::status& status) const {
+                                 http::status& status) const {
   static const std::map<std::string, std::string> kFiles = {{"index.html", "text/html; charset=utf-8"},
                                                             {"app.js", "text/javascript"},
                                                             {"three.module.js", "text/javascript"},
@@ -194,7 +200,8 @@ void WebServer::Impl::serve_file(const std::string& name, std::string& type, std
   if (it == kFiles.end() || !in) {
     status = http::status::not_found;
     type = "text/plain";
-    body = it == kFiles.end() ? "not found\n" : name + " is missing from the web root " + options.web_root.string() + "\n";
+    body =
+        it == kFiles.end() ? "not found\n" : name + " is missing from the web root " + options.web_root.string() + "\n";
     return;
   }
   std::ostringstream text;
@@ -241,7 +248,9 @@ WebServer::WebServer(client::Client& client, WebServerOptions options)
   if (!ec) s.acceptor.set_option(net::socket_base::reuse_address(true), ec);
   if (!ec) s.acceptor.bind(endpoint, ec);
   if (!ec) s.acceptor.listen(net::socket_base::max_listen_connections, ec);
-  if (ec) throw std::runtime_error(fmt::format("cannot listen on {}:{}: {}", s.options.address, s.options.port, ec.message()));
+  if (ec)
+    throw std::runtime_error(
+        fmt::format("cannot listen on {}:{}: {}", s.options.address, s.options.port, ec.message()));
   s.access = std::make_unique<AccessPolicy>(s.options.access, s.acceptor.local_endpoint().port());
   s.accept();
   s.sweep();
@@ -258,9 +267,8 @@ WebServer::~WebServer() {
 std::uint16_t WebServer::port() const { return impl_->acceptor.local_endpoint().port(); }
 
 WebServerStats WebServer::stats() const {
-  return {impl_->browsers,       impl_->browsers_total, impl_->messages,
-          impl_->refused,        impl_->refused_access, impl_->tours_refused,
-          impl_->feeds.size(),   impl_->evicted,        impl_->unread};
+  return {impl_->browsers,      impl_->browsers_total, impl_->messages, impl_->refused, impl_->refused_access,
+          impl_->tours_refused, impl_->feeds.size(),   impl_->evicted,  impl_->unread};
 }
 
 }  // namespace ispars::web

@@ -10,28 +10,28 @@
 #include <memory>
 #include <string>
 
-#include "ispars/client/client.hpp"
 #include "access_policy.hpp"
+#include "ispars/client/client.hpp"
 #include "scene_feed.hpp"
 
 namespace ispars::web {
 
 /// Where and how the gateway serves. Every bound is checked by the command line.
 struct WebServerOptions {
-  std::string address = "127.0.0.1";       ///< An IPv4 address to bind (localhost unless told otherwise).
-  std::uint16_t port = 8080;               ///< 0: a free port (see WebServer::port()).
-  std::filesystem::path web_root;          ///< index.html, app.js and the three.js modules.
-  std::filesystem::path scene_dir;         ///< Scene YAML files, for the meshes (may be empty).
-  std::size_t max_connections = 64;        ///< Browsers and requests at once (1..10,000); when full, the
-                                           ///< oldest connection whose request has not arrived makes room.
-  std::size_t max_scenes = 32;             ///< Scenes followed at once (1..1000).
-  std::size_t max_queued_messages = 64;    ///< Per browser: past it, updates wait for the socket.
-  std::size_t max_queued_bytes = 32u << 20;  ///< Per browser: past it, updates wait; past twice
-                                             ///< it, a browser that sends and does not read is closed.
-  double tour_budget_max = 60.0;           ///< Seconds a browser may ask a tour to search (0.1..3600).
-  std::size_t max_tours = 2;               ///< Tours searching at once, over every page (1..64).
+  std::string address = "127.0.0.1";              ///< An IPv4 address to bind (localhost unless told otherwise).
+  std::uint16_t port = 8080;                      ///< 0: a free port (see WebServer::port()).
+  std::filesystem::path web_root;                 ///< index.html, app.js and the three.js modules.
+  std::filesystem::path scene_dir;                ///< Scene YAML files, for the meshes (may be empty).
+  std::size_t max_connections = 64;               ///< Browsers and requests at once (1..10,000); when full, the
+                                                  ///< oldest connection whose request has not arrived makes room.
+  std::size_t max_scenes = 32;                    ///< Scenes followed at once (1..1000).
+  std::size_t max_queued_messages = 64;           ///< Per browser: past it, updates wait for the socket.
+  std::size_t max_queued_bytes = 32u << 20;       ///< Per browser: past it, updates wait; past twice
+                                                  ///< it, a browser that sends and does not read is closed.
+  double tour_budget_max = 60.0;                  ///< Seconds a browser may ask a tour to search (0.1..3600).
+  std::size_t max_tours = 2;                      ///< Tours searching at once, over every page (1..64).
   std::chrono::milliseconds feed_linger{30'000};  ///< A scene no browser watches is dropped after it (0..3600 s).
-  AccessOptions access;                    ///< Origins allowed beyond the gateway's own, and the token.
+  AccessOptions access;                           ///< Origins allowed beyond the gateway's own, and the token.
   DrawLimits limits;
 };
 

@@ -4,11 +4,11 @@
 
 #include <utility>  // before Boost 1.74's asio, whose awaitable.hpp uses std::exchange unincluded
 
+#include <fmt/format.h>
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>

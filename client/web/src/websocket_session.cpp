@@ -95,16 +95,18 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     if (m.contains("budget") && !m["budget"].is_number()) return send(error_message("tour: budget: not a number"));
     const double budget = m.value("budget", 2.0);
     if (!(budget >= 0.1 && budget <= server_->options.tour_budget_max)) {
-      return send(error_message(fmt::format("tour: budget: must be 0.1..{} seconds", server_->options.tour_budget_max)));
+      return send(
+          error_message(fmt::format("tour: budget: must be 0.1..{} seconds", server_->options.tour_budget_max)));
     }
     if (tour_running_) return send(error_message("tour: this page's last tour is still searching"));
     if (!feed_) return send(error_message("tour: the scene is not followed yet"));
     // Every page's tours take the daemon's tour slots: the gateway runs at most max_tours at once.
     if (server_->tours >= server_->options.max_tours) {
       ++server_->tours_refused;
-      return send(error_message(fmt::format("tour: the gateway runs {} tours at once already (its limit, --max-tours); "
-                                            "ask again when one ends",
-                                            server_->options.max_tours)));
+      return send(
+          error_message(fmt::format("tour: the gateway runs {} tours at once already (its limit, --max-tours); "
+                                    "ask again when one ends",
+                                    server_->options.max_tours)));
     }
     ++server_->tours;
     tour_running_ = true;

@@ -95,9 +95,9 @@ Parsed<T> parse(const Spec<T>& spec, std::string_view text) {
   }
 }
 
-#define ISPARS_PARAM_TYPE(T)                                        \
-  template std::string range_text<T>(const Spec<T>&);              \
-  template std::string problem<T>(const Spec<T>&, T);              \
+#define ISPARS_PARAM_TYPE(T)                          \
+  template std::string range_text<T>(const Spec<T>&); \
+  template std::string problem<T>(const Spec<T>&, T); \
   template Parsed<T> parse<T>(const Spec<T>&, std::string_view);
 ISPARS_PARAM_TYPE(double)
 ISPARS_PARAM_TYPE(std::uint64_t)

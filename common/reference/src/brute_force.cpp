@@ -6,9 +6,8 @@
 
 namespace ispars {
 
-BruteForceGeometry::BruteForceGeometry(std::vector<Triangle> triangles, Aabb bounds,
-                                       double robot_radius, std::vector<Vec3> pois,
-                                       double sensor_range)
+BruteForceGeometry::BruteForceGeometry(std::vector<Triangle> triangles, Aabb bounds, double robot_radius,
+                                       std::vector<Vec3> pois, double sensor_range)
     : triangles_(std::move(triangles)),
       bounds_(bounds),
       radius_(robot_radius),
@@ -47,8 +46,7 @@ bool BruteForceGeometry::segment_valid(const Vec3& a, const Vec3& b) const {
   return true;
 }
 
-ReferenceSight BruteForceGeometry::line_of_sight(const Vec3& q, PoiId id,
-                                                 double tolerance) const {
+ReferenceSight BruteForceGeometry::line_of_sight(const Vec3& q, PoiId id, double tolerance) const {
   const Vec3 d = pois_[id] - q;
   const double length = d.norm();
   const double s_end = length > kPoiStandoff ? 1.0 - kPoiStandoff / length : 0.0;
@@ -69,8 +67,7 @@ ReferenceSight BruteForceGeometry::line_of_sight(const Vec3& q, PoiId id,
   return sight;
 }
 
-std::vector<PoiId> BruteForceGeometry::visible_pois(const Vec3& q,
-                                                    std::vector<PoiId>* ambiguous) const {
+std::vector<PoiId> BruteForceGeometry::visible_pois(const Vec3& q, std::vector<PoiId>* ambiguous) const {
   std::vector<PoiId> out;
   if (ambiguous != nullptr) ambiguous->clear();
   const double range2 = range_ * range_;

@@ -1,7 +1,7 @@
 #include "ispars/reference/fcl_checker.hpp"
 
-#include <Eigen/Geometry>
 #include <fcl/fcl.h>
+#include <Eigen/Geometry>
 
 namespace ispars {
 
@@ -28,8 +28,8 @@ FclCollisionChecker::~FclCollisionChecker() = default;
 
 namespace {
 
-bool collides(const fcl::CollisionGeometryd& shape, const fcl::Transform3d& pose,
-              const fcl::CollisionGeometryd& mesh, const fcl::Transform3d& mesh_pose) {
+bool collides(const fcl::CollisionGeometryd& shape, const fcl::Transform3d& pose, const fcl::CollisionGeometryd& mesh,
+              const fcl::Transform3d& mesh_pose) {
   fcl::CollisionRequestd request;
   fcl::CollisionResultd result;
   return fcl::collide(&shape, pose, &mesh, mesh_pose, request, result) > 0;

@@ -35,7 +35,8 @@ Image read_png(const std::string& path) {
     throw std::runtime_error("cannot read " + path + ": " + png.message);
   }
   png.format = PNG_FORMAT_RGB;
-  Image image{static_cast<int>(png.width), static_cast<int>(png.height), std::vector<std::uint8_t>(PNG_IMAGE_SIZE(png))};
+  Image image{static_cast<int>(png.width), static_cast<int>(png.height),
+              std::vector<std::uint8_t>(PNG_IMAGE_SIZE(png))};
   if (png_image_finish_read(&png, nullptr, image.rgb.data(), 0, nullptr) == 0) {
     const std::string why = png.message;
     png_image_free(&png);

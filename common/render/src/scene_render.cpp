@@ -107,7 +107,8 @@ class Canvas {
   [[nodiscard]] Image image() const {
     Image out{w_, h_, std::vector<std::uint8_t>(color_.size() * 3)};
     for (std::size_t i = 0; i < color_.size(); ++i) {
-      for (int k = 0; k < 3; ++k) out.rgb[3 * i + k] = static_cast<std::uint8_t>(std::clamp(color_[i][k], 0.0f, 1.0f) * 255.0f + 0.5f);
+      for (int k = 0; k < 3; ++k)
+        out.rgb[3 * i + k] = static_cast<std::uint8_t>(std::clamp(color_[i][k], 0.0f, 1.0f) * 255.0f + 0.5f);
     }
     return out;
   }
@@ -147,7 +148,8 @@ void shade_mesh(const TriangleMesh& mesh, const View& view, Canvas& canvas, int 
         n.normalize();
         const Vec3 to_eye = -d.normalized();
         if (n.dot(to_eye) < 0) n = -n;  // two-sided
-        const float lit = static_cast<float>(0.30 + 0.45 * std::max(0.0, n.dot(to_eye)) + 0.30 * std::max(0.0, n.dot(light)));
+        const float lit =
+            static_cast<float>(0.30 + 0.45 * std::max(0.0, n.dot(to_eye)) + 0.30 * std::max(0.0, n.dot(light)));
         canvas.color(x, y) = {kMesh[0] * lit, kMesh[1] * lit, kMesh[2] * lit};
         canvas.depth(x, y) = hit.ray.tfar;
       }
@@ -225,9 +227,11 @@ RenderResult render_scene(const TriangleMesh& mesh, const RenderRequest& request
   Canvas canvas(request.width, request.height);
   for (int y = 0; y < request.height; ++y) {  // a soft sky
     const float s = static_cast<float>(y) / request.height;
-    for (int x = 0; x < request.width; ++x) canvas.color(x, y) = {0.93f - 0.08f * s, 0.95f - 0.06f * s, 0.98f - 0.03f * s};
+    for (int x = 0; x < request.width; ++x)
+      canvas.color(x, y) = {0.93f - 0.08f * s, 0.95f - 0.06f * s, 0.98f - 0.03f * s};
   }
-  const int threads = request.threads > 0 ? request.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads =
+      request.threads > 0 ? request.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   shade_mesh(mesh, view, canvas, std::min(threads, 64));
   if (request.dense) {
     result.dense_edges_drawn = draw_graph(view, canvas, *request.dense, request.max_edges, kDense, 0.25f, 0.04f);
@@ -237,7 +241,9 @@ RenderResult render_scene(const TriangleMesh& mesh, const RenderRequest& request
     for (const Vec3& p : request.roadmap->positions) canvas.disc(view, p, 1, kVertex, 0.2f);
   }
   for (std::size_t i = 0; i < request.pois.size(); ++i) {
-    const Rgb& colour = request.poi_seen.empty() ? kPoi : (i < request.poi_seen.size() && request.poi_seen[i]) ? kSeen : kUnseen;
+    const Rgb& colour = request.poi_seen.empty()                               ? kPoi
+                        : (i < request.poi_seen.size() && request.poi_seen[i]) ? kSeen
+                                                                               : kUnseen;
     canvas.disc(view, request.pois[i], 3, colour, 0.0f);
   }
   for (std::size_t i = 0; i + 1 < request.tour.size(); ++i) {

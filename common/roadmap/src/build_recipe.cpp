@@ -30,11 +30,16 @@ std::string join_names(const Items& items, Name name) {
 
 std::string_view to_string(BuildMethod method) {
   switch (method) {
-    case BuildMethod::dense: return "dense";
-    case BuildMethod::spars: return "spars";
-    case BuildMethod::ispars: return "ispars";
-    case BuildMethod::irisc: return "irisc";
-    case BuildMethod::ispars2: return "ispars2";
+    case BuildMethod::dense:
+      return "dense";
+    case BuildMethod::spars:
+      return "spars";
+    case BuildMethod::ispars:
+      return "ispars";
+    case BuildMethod::irisc:
+      return "irisc";
+    case BuildMethod::ispars2:
+      return "ispars2";
   }
   return "?";
 }
@@ -56,8 +61,10 @@ std::string build_method_names() {
 
 std::string_view to_string(SparsVariant variant) {
   switch (variant) {
-    case SparsVariant::stretch: return "stretch";
-    case SparsVariant::alg1: return "alg1";
+    case SparsVariant::stretch:
+      return "stretch";
+    case SparsVariant::alg1:
+      return "alg1";
   }
   return "?";
 }

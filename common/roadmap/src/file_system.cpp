@@ -105,9 +105,7 @@ class Disk final : public FileSystem {
     if (in.bad()) throw std::runtime_error(os_error("cannot read", path));
     return bytes;
   }
-  [[nodiscard]] bool exists(const std::filesystem::path& path) const override {
-    return std::filesystem::exists(path);
-  }
+  [[nodiscard]] bool exists(const std::filesystem::path& path) const override { return std::filesystem::exists(path); }
   [[nodiscard]] std::optional<std::uint64_t> file_size(const std::filesystem::path& path) const override {
     std::error_code ec;
     const std::uint64_t size = std::filesystem::file_size(path, ec);

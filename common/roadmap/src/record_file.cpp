@@ -67,7 +67,7 @@ namespace {
 struct Frame {
   std::size_t header = 0;
   std::uint64_t length = 0;
-  std::string problem;  // empty: the header is whole and the payload is in the file and intact
+  std::string problem;       // empty: the header is whole and the payload is in the file and intact
   bool payload_bad = false;  // the header is sound but the payload fails its checksum
 };
 
@@ -135,8 +135,8 @@ bool is_damage(std::string_view data, std::size_t at, const Frame& f, RecordLayo
 
 }  // namespace
 
-RecordReplay read_record_file(const std::filesystem::path& path, const RecordFormat& format,
-                              const RecordCheck& check, const FileSystem& fs, RecordKeep keep) {
+RecordReplay read_record_file(const std::filesystem::path& path, const RecordFormat& format, const RecordCheck& check,
+                              const FileSystem& fs, RecordKeep keep) {
   RecordReplay replay;
   const std::optional<std::string> file = fs.read(path);
   if (!file || file->empty()) return replay;  // no file yet
@@ -245,12 +245,14 @@ RecordFileWriter::~RecordFileWriter() = default;
 
 void RecordFileWriter::append(std::string_view payload) {
   if (broken_) {
-    throw std::runtime_error(path_.string() + " ends in a partial record that could not be cut off; no more records "
+    throw std::runtime_error(path_.string() +
+                             " ends in a partial record that could not be cut off; no more records "
                              "are appended to it");
   }
   if (layout_ == RecordLayout::plain && payload.size() > kLegacyRecordLimit) {
-    throw std::runtime_error("record of " + std::to_string(payload.size()) + " bytes exceeds the 4 GiB record limit of " +
-                             path_.string() + " (an older format; a compaction starts a file without the limit)");
+    throw std::runtime_error("record of " + std::to_string(payload.size()) +
+                             " bytes exceeds the 4 GiB record limit of " + path_.string() +
+                             " (an older format; a compaction starts a file without the limit)");
   }
   const std::string header = record_header(payload.size(), crc32(payload.data(), payload.size()), layout_);
   const std::uint64_t whole = file_->size();
@@ -304,8 +306,8 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 void write_record_file_atomically(const std::filesystem::path& path, const RecordFormat& format,
                                   std::string_view payload, const std::function<bool()>& keep_going, FileSystem& fs) {
   replace_atomically(path, fs, [&](FileSystem::File& file, const std::filesystem::path& tmp) {
-    file.append(std::string(format.magic()) + record_header(payload.size(), crc32(payload.data(), payload.size()),
-                                                            format.versions.front().layout));
+    file.append(std::string(format.magic()) +
+                record_header(payload.size(), crc32(payload.data(), payload.size()), format.versions.front().layout));
     write_pieces(file, payload, tmp, keep_going);
   });
 }

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <iterator>
-#include <utility>
 #include <stdexcept>
+#include <utility>
 
 #include "ispars/roadmap/record_file.hpp"
 
@@ -83,7 +83,8 @@ void check_batch(const Roadmap& replica, const RoadmapBatch& batch) {
   if (batch.to_version < batch.from_version || batch.to_version - batch.from_version != batch.changes.size()) {
     throw std::runtime_error("batch does not end at its version");
   }
-  if (batch.visible.size() != batch.positions.size()) throw std::runtime_error("batch POI lists do not match its vertices");
+  if (batch.visible.size() != batch.positions.size())
+    throw std::runtime_error("batch POI lists do not match its vertices");
   const std::size_t pois = replica.visibility_table().poi_count();
   std::size_t vertex = 0;
   std::size_t edge = 0;
@@ -99,7 +100,8 @@ void check_batch(const Roadmap& replica, const RoadmapBatch& batch) {
       }
       if (!batch.positions[vertex].allFinite()) throw std::runtime_error("batch vertex position is not finite");
       for (const PoiId id : batch.visible[vertex]) {
-        if (id >= pois) throw std::runtime_error("batch vertex sees POI " + std::to_string(id) + " of " + std::to_string(pois));
+        if (id >= pois)
+          throw std::runtime_error("batch vertex sees POI " + std::to_string(id) + " of " + std::to_string(pois));
       }
       ++vertex;
     } else {
@@ -114,14 +116,16 @@ void check_batch(const Roadmap& replica, const RoadmapBatch& batch) {
       if (e.u < replica.vertex_count() && e.v < replica.vertex_count() && replica.has_edge(e.u, e.v)) {
         throw std::runtime_error("batch edge is a duplicate");
       }
-      if ((position(e.u) - position(e.v)).norm() != e.cost) throw std::runtime_error("batch edge cost is not its length");
+      if ((position(e.u) - position(e.v)).norm() != e.cost)
+        throw std::runtime_error("batch edge cost is not its length");
     }
   }
   if (vertex != batch.positions.size() || edge != batch.edges.size()) {
     throw std::runtime_error("batch holds vertices or edges its change list does not");
   }
   std::sort(added.begin(), added.end());
-  if (std::adjacent_find(added.begin(), added.end()) != added.end()) throw std::runtime_error("batch edge is a duplicate");
+  if (std::adjacent_find(added.begin(), added.end()) != added.end())
+    throw std::runtime_error("batch edge is a duplicate");
 }
 
 void apply_batch(Roadmap& replica, const RoadmapBatch& batch) {

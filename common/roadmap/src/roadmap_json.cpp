@@ -52,8 +52,8 @@ struct BadId : std::runtime_error {
 // `x` as an id; `what` (with `{}` for `index`) names it in the error, formatted only then.
 std::uint32_t id_of(const nlohmann::json& x, const char* what, std::size_t index) {
   if (!x.is_number_unsigned() || x.get<std::uint64_t>() > std::numeric_limits<std::uint32_t>::max()) {
-    throw BadId(fmt::format("{} is {}, not a whole number in 0..{}", fmt::format(fmt::runtime(what), index),
-                            x.dump(), std::numeric_limits<std::uint32_t>::max()));
+    throw BadId(fmt::format("{} is {}, not a whole number in 0..{}", fmt::format(fmt::runtime(what), index), x.dump(),
+                            std::numeric_limits<std::uint32_t>::max()));
   }
   return static_cast<std::uint32_t>(x.get<std::uint64_t>());
 }
@@ -82,7 +82,8 @@ RoadmapFileGraph read_roadmap_file_graph(const std::filesystem::path& path, cons
     if (vertices.size() != visible.size()) throw InputError(file, "visible", "needs one POI list per vertex");
     RoadmapFileGraph out;
     std::vector<std::vector<PoiId>> lists;
-    for (const auto& v : vertices) out.positions.emplace_back(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>());
+    for (const auto& v : vertices)
+      out.positions.emplace_back(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>());
     for (std::size_t v = 0; v < visible.size(); ++v) {
       std::vector<PoiId>& list = lists.emplace_back();
       for (const auto& p : visible[v].get_ref<const nlohmann::json::array_t&>()) {
@@ -92,8 +93,8 @@ RoadmapFileGraph read_roadmap_file_graph(const std::filesystem::path& path, cons
     std::vector<RoadmapEdge> edge_list;
     for (std::size_t k = 0; k < edges.size(); ++k) {
       const auto& e = edges[k];
-      edge_list.push_back({id_of(e.at(0), "edge {}'s first vertex", k),
-                           id_of(e.at(1), "edge {}'s second vertex", k), e.at(2).get<double>()});
+      edge_list.push_back({id_of(e.at(0), "edge {}'s first vertex", k), id_of(e.at(1), "edge {}'s second vertex", k),
+                           e.at(2).get<double>()});
     }
     const std::size_t pois = j.contains("pois") ? j["pois"].size() : 0;
     out.graph = InspectionGraph::from_edges(vertices.size(), edge_list, std::move(lists), pois);

@@ -14,9 +14,7 @@ std::string crc_text(std::string_view bytes) { return fmt::format("{:08x}", crc3
 
 }  // namespace
 
-std::string seal_text(std::string_view body) {
-  return fmt::format("{}{}{}\n", body, kSealWord, crc_text(body));
-}
+std::string seal_text(std::string_view body) { return fmt::format("{}{}{}\n", body, kSealWord, crc_text(body)); }
 
 SealedText open_sealed_text(std::string_view text) {
   SealedText out{std::string(text), Seal::absent};

@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "ispars/params/input_error.hpp"
 #include "ispars/geometry/random.hpp"
+#include "ispars/params/input_error.hpp"
 
 namespace ispars {
 
@@ -24,8 +24,8 @@ bool is_ground_triangle(const TriangleMesh& mesh, std::size_t t, double ground_z
   return norm > 0.0 && std::abs(n.z()) / norm > 0.99;
 }
 
-std::vector<Vec3> sample_pois_on_surface(const TriangleMesh& mesh, std::size_t count,
-                                         std::uint64_t seed, bool skip_ground) {
+std::vector<Vec3> sample_pois_on_surface(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed,
+                                         bool skip_ground) {
   const double ground_z = mesh.bounds().min.z();
   std::vector<double> cumulative;
   std::vector<std::size_t> eligible;
@@ -48,14 +48,12 @@ std::vector<Vec3> sample_pois_on_surface(const TriangleMesh& mesh, std::size_t c
   for (std::size_t i = 0; i < count; ++i) {
     const double u = rng.uniform01() * total;
     const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), u);
-    const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - cumulative.begin()),
-                                                eligible.size() - 1);
+    const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(it - cumulative.begin()), eligible.size() - 1);
     const std::size_t t = eligible[k];
     // Uniform on the triangle: the square-root warp of two uniforms.
     const double r1 = std::sqrt(rng.uniform01());
     const double r2 = rng.uniform01();
-    pois.push_back((1.0 - r1) * mesh.corner(t, 0) + r1 * (1.0 - r2) * mesh.corner(t, 1) +
-                   r1 * r2 * mesh.corner(t, 2));
+    pois.push_back((1.0 - r1) * mesh.corner(t, 0) + r1 * (1.0 - r2) * mesh.corner(t, 1) + r1 * r2 * mesh.corner(t, 2));
   }
   return pois;
 }
@@ -76,8 +74,7 @@ std::vector<Vec3> read_poi_file(const std::filesystem::path& path, const std::st
     double y = 0;
     double z = 0;
     std::string extra;
-    if (!(fields >> x >> y >> z) || (fields >> extra) || !std::isfinite(x) || !std::isfinite(y) ||
-        !std::isfinite(z)) {
+    if (!(fields >> x >> y >> z) || (fields >> extra) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
       throw InputError(path.string(), field,
                        "line " + std::to_string(line_number) + ": expected three finite numbers \"x y z\"");
     }

@@ -20,8 +20,8 @@ std::uint32_t add_vertex(TriangleMesh& mesh, const Vec3& p) {
 void add_hexahedron(TriangleMesh& mesh, const std::array<Vec3, 8>& c) {
   std::array<std::uint32_t, 8> id{};
   for (std::size_t i = 0; i < 8; ++i) id[i] = add_vertex(mesh, c[i]);
-  static constexpr std::array<std::array<int, 4>, 6> kFaces{{
-      {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
+  static constexpr std::array<std::array<int, 4>, 6> kFaces{
+      {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
   for (const auto& f : kFaces) {
     const auto at = [&](int k) { return id[static_cast<std::size_t>(f[static_cast<std::size_t>(k)])]; };
     mesh.triangles.push_back({at(0), at(1), at(2)});
@@ -109,8 +109,7 @@ TriangleMesh city_grid(std::uint64_t seed) {
 void add_box(TriangleMesh& mesh, const Vec3& centre, const Vec3& half_extent) {
   std::array<Vec3, 8> c;
   for (std::size_t i = 0; i < 8; ++i) {
-    c[i] = centre + Vec3((i & 1) ? half_extent.x() : -half_extent.x(),
-                         (i & 2) ? half_extent.y() : -half_extent.y(),
+    c[i] = centre + Vec3((i & 1) ? half_extent.x() : -half_extent.x(), (i & 2) ? half_extent.y() : -half_extent.y(),
                          (i & 4) ? half_extent.z() : -half_extent.z());
   }
   add_hexahedron(mesh, c);
@@ -174,8 +173,8 @@ TriangleMesh make_procedural_mesh(std::string_view kind, std::uint64_t seed) {
   if (kind == "truss_bridge") return truss_bridge(seed);
   if (kind == "tank_tower") return tank_tower(seed);
   if (kind == "city_grid") return city_grid(seed);
-  throw std::invalid_argument("unknown procedural kind '" + std::string(kind) + "' (known: " +
-                              procedural_kinds_list() + ")");
+  throw std::invalid_argument("unknown procedural kind '" + std::string(kind) + "' (known: " + procedural_kinds_list() +
+                              ")");
 }
 
 SceneConfig procedural_scene_config(std::string_view kind, std::uint64_t seed) {

@@ -119,8 +119,7 @@ class FieldReader {
   std::string prefix_;
 };
 
-SceneConfig parse_root(const YAML::Node& root, const std::filesystem::path& base_dir,
-                       const std::string& source) {
+SceneConfig parse_root(const YAML::Node& root, const std::filesystem::path& base_dir, const std::string& source) {
   if (!root.IsMap()) throw InputError(source, "yaml", "expected a mapping of scene fields at the top level");
   const FieldReader top(source, root, "");
   std::set<std::string> known{"name", "mesh", "procedural", "bounds", "root", "pois"};
@@ -202,15 +201,15 @@ void check_scene_config(const SceneConfig& c) {
   if (!c.bounds.min.allFinite() || !c.bounds.max.allFinite()) fail("bounds", "must be finite");
   for (int i = 0; i < 3; ++i) {
     if (!(c.bounds.min[i] < c.bounds.max[i])) {
-      fail("bounds", fmt::format("min must be below max on every axis; axis {} has min {} >= max {}",
-                                 "xyz"[i], c.bounds.min[i], c.bounds.max[i]));
+      fail("bounds", fmt::format("min must be below max on every axis; axis {} has min {} >= max {}", "xyz"[i],
+                                 c.bounds.min[i], c.bounds.max[i]));
     }
   }
   if (!c.root.allFinite()) fail("root", "must be finite");
   if (!c.bounds.contains(c.root)) {
-    fail("root", fmt::format("[{}, {}, {}] is outside the bounds [{}, {}, {}] .. [{}, {}, {}]",
-                             c.root.x(), c.root.y(), c.root.z(), c.bounds.min.x(), c.bounds.min.y(),
-                             c.bounds.min.z(), c.bounds.max.x(), c.bounds.max.y(), c.bounds.max.z()));
+    fail("root", fmt::format("[{}, {}, {}] is outside the bounds [{}, {}, {}] .. [{}, {}, {}]", c.root.x(), c.root.y(),
+                             c.root.z(), c.bounds.min.x(), c.bounds.min.y(), c.bounds.min.z(), c.bounds.max.x(),
+                             c.bounds.max.y(), c.bounds.max.z()));
   }
 }
 
@@ -220,8 +219,7 @@ SceneConfig parse_scene_config_text(std::string_view text, const std::filesystem
   try {
     root = YAML::Load(std::string(text));
   } catch (const YAML::Exception& e) {
-    throw InputError(source, "yaml",
-                     fmt::format("line {}, column {}: {}", e.mark.line + 1, e.mark.column + 1, e.msg));
+    throw InputError(source, "yaml", fmt::format("line {}, column {}: {}", e.mark.line + 1, e.mark.column + 1, e.msg));
   }
   return parse_root(root, base_dir, source);
 }

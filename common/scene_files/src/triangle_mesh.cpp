@@ -4,9 +4,9 @@
 #include <ostream>
 #include <string>
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include "ispars/params/input_error.hpp"
 
@@ -48,8 +48,7 @@ void TriangleMesh::scale(double factor) {
 namespace {
 
 // Walks the node tree, applying each node's accumulated transform to its meshes' vertices.
-void flatten_node(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent,
-                  TriangleMesh& out) {
+void flatten_node(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, TriangleMesh& out) {
   const aiMatrix4x4 transform = parent * node.mTransformation;
   for (unsigned m = 0; m < node.mNumMeshes; ++m) {
     const aiMesh& mesh = *scene.mMeshes[node.mMeshes[m]];
@@ -62,8 +61,7 @@ void flatten_node(const aiScene& scene, const aiNode& node, const aiMatrix4x4& p
     for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
       const aiFace& face = mesh.mFaces[f];
       if (face.mNumIndices != 3) continue;
-      out.triangles.push_back(
-          {offset + face.mIndices[0], offset + face.mIndices[1], offset + face.mIndices[2]});
+      out.triangles.push_back({offset + face.mIndices[0], offset + face.mIndices[1], offset + face.mIndices[2]});
     }
   }
   for (unsigned c = 0; c < node.mNumChildren; ++c) {
@@ -84,22 +82,18 @@ TriangleMesh load_triangle_mesh(const std::filesystem::path& path, const std::st
   }
 
   Assimp::Importer importer;
-  importer.SetPropertyInteger(
-      AI_CONFIG_PP_RVC_FLAGS,
-      aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS | aiComponent_COLORS |
-          aiComponent_TEXCOORDS | aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
-          aiComponent_TEXTURES | aiComponent_LIGHTS | aiComponent_CAMERAS |
-          aiComponent_MATERIALS);
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
-                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                                          aiComponent_COLORS | aiComponent_TEXCOORDS |
+                                                          aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
+                                                          aiComponent_TEXTURES | aiComponent_LIGHTS |
+                                                          aiComponent_CAMERAS | aiComponent_MATERIALS);
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   // Robotics meshes are Z-up; never let the COLLADA importer rotate them to Y-up.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                         aiProcess_RemoveComponent | aiProcess_SortByPType |
-                         aiProcess_DropNormals;
+  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_RemoveComponent |
+                         aiProcess_SortByPType | aiProcess_DropNormals;
   const aiScene* scene = importer.ReadFile(file, flags);
-  if (scene == nullptr || scene->mRootNode == nullptr ||
-      (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
+  if (scene == nullptr || scene->mRootNode == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
     std::string why = importer.GetErrorString();
     if (why.empty()) why = "no mesh data";
     for (char& c : why) {

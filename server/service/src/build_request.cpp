@@ -39,14 +39,16 @@ RoadmapRecipe requested_recipe(const std::string& name, const Scene& scene, cons
 
 std::string stale_store_reason(const std::string& name, const RoadmapRecipe& stored, const std::string& fingerprint) {
   if (!stored.scene_fingerprint.empty() && stored.scene_fingerprint != fingerprint) {
-    return fmt::format("the stored roadmap of scene '{}' was built on another version of the scene (its mesh, POIs "
-                       "or parameters changed: fingerprint {} stored, {} now); it is left untouched",
-                       name, stored.scene_fingerprint, fingerprint);
+    return fmt::format(
+        "the stored roadmap of scene '{}' was built on another version of the scene (its mesh, POIs "
+        "or parameters changed: fingerprint {} stored, {} now); it is left untouched",
+        name, stored.scene_fingerprint, fingerprint);
   }
   if (stored.builder_version != 0 && stored.builder_version != kBuilderVersion) {
-    return fmt::format("the stored roadmap of scene '{}' was made by builder version {}, and this ispars has "
-                       "version {}; it is left untouched",
-                       name, stored.builder_version, kBuilderVersion);
+    return fmt::format(
+        "the stored roadmap of scene '{}' was made by builder version {}, and this ispars has "
+        "version {}; it is left untouched",
+        name, stored.builder_version, kBuilderVersion);
   }
   return {};
 }

@@ -23,11 +23,17 @@ std::string utf8(const std::string& s) {
 }
 
 std::string begun_line(const LedgerEntry& e) {
-  return seal_json({{"begun", utf8(e.operation)}, {"client", utf8(e.client)}, {"seq", e.seq}, {"scene", utf8(e.scene)}}).dump() + "\n";
+  return seal_json({{"begun", utf8(e.operation)}, {"client", utf8(e.client)}, {"seq", e.seq}, {"scene", utf8(e.scene)}})
+             .dump() +
+         "\n";
 }
 
 std::string answer_line(const std::string& client, std::uint64_t seq, const LedgerAnswer& a) {
-  return seal_json({{"answered", a.ok}, {"client", utf8(client)}, {"seq", seq}, {"error", utf8(a.error)}, {"message", utf8(a.message)}})
+  return seal_json({{"answered", a.ok},
+                    {"client", utf8(client)},
+                    {"seq", seq},
+                    {"error", utf8(a.error)},
+                    {"message", utf8(a.message)}})
              .dump() +
          "\n";
 }

@@ -36,11 +36,12 @@ std::optional<std::uint64_t> parse(const std::optional<std::string>& text, const
 void mark_dropped(const std::filesystem::path& store_dir, std::uint64_t generation, FileSystem& fs) {
   const std::filesystem::path dir = marks_dir(store_dir.parent_path());
   if (fs.create_directories(dir)) fsync_directory_of(dir, fs);
-  write_file_atomically(mark_path(store_dir),
-                        seal_text(fmt::format("generation {}\ndropped by request: the fleet weighs this empty roadmap like "
-                                    "any copy, so older copies elsewhere do not serve the scene again\n",
-                                    generation)),
-                        fs);
+  write_file_atomically(
+      mark_path(store_dir),
+      seal_text(fmt::format("generation {}\ndropped by request: the fleet weighs this empty roadmap like "
+                            "any copy, so older copies elsewhere do not serve the scene again\n",
+                            generation)),
+      fs);
 }
 
 std::optional<std::uint64_t> dropped_generation(const std::filesystem::path& store_dir, const FileSystem& fs) {

@@ -58,11 +58,11 @@ void check_poi(const Scene& scene, const Aabb& box, const Vec3& p, std::size_t i
   const std::string field = fmt::format("task.pois[{}]", i);
   if (!p.allFinite()) throw InputError(kRequest, field, "is not a finite point");
   if (!box.contains(p)) {
-    throw InputError(kRequest, field,
-                     fmt::format("({:.3f}, {:.3f}, {:.3f}) is outside the structure's box ({:.3f}, {:.3f}, {:.3f}) to "
-                                 "({:.3f}, {:.3f}, {:.3f})",
-                                 p.x(), p.y(), p.z(), box.min.x(), box.min.y(), box.min.z(), box.max.x(),
-                                 box.max.y(), box.max.z()));
+    throw InputError(
+        kRequest, field,
+        fmt::format("({:.3f}, {:.3f}, {:.3f}) is outside the structure's box ({:.3f}, {:.3f}, {:.3f}) to "
+                    "({:.3f}, {:.3f}, {:.3f})",
+                    p.x(), p.y(), p.z(), box.min.x(), box.min.y(), box.min.z(), box.max.x(), box.max.y(), box.max.z()));
   }
   const double d = scene.collision().distance_to_surface(p);
   if (d > kTaskPoiSurfaceTolerance) {
@@ -174,8 +174,7 @@ std::vector<PoiId> live_targets(const Roadmap& roadmap, std::size_t scene_pois, 
     if (!out[id] && Cover::has(cover.root, id)) targets.push_back(static_cast<PoiId>(id));
   }
   if (targets.empty()) {
-    throw InputError(kRequest, "targets",
-                     "no POI but removed tasks' is seen from the root's component of the roadmap");
+    throw InputError(kRequest, "targets", "no POI but removed tasks' is seen from the root's component of the roadmap");
   }
   return targets;
 }

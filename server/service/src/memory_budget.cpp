@@ -46,18 +46,20 @@ std::string MemoryBudget::admission_problem(const std::string& scene, const Buil
   // A scene reserves its peak (its roadmap and one compaction fold of it), not its steady state:
   // every scene may fold at once.
   if (others + cost.peak_bytes > total_) {
-    return fmt::format("the roadmap would hold about {:.2f} GiB ({:.3g} vertices, {:.3g} edges expected) and {:.2f} GiB "
-                       "while its store compacts, more than this daemon's memory budget leaves: {:.2f} of {:.2f} GiB "
-                       "(other scenes hold {:.2f}); ask for fewer samples or a smaller dense_delta",
-                       cost.bytes / kGiB, cost.vertices, cost.edges, cost.peak_bytes / kGiB,
-                       std::max(0.0, total_ - others) / kGiB, total_ / kGiB, others / kGiB);
+    return fmt::format(
+        "the roadmap would hold about {:.2f} GiB ({:.3g} vertices, {:.3g} edges expected) and {:.2f} GiB "
+        "while its store compacts, more than this daemon's memory budget leaves: {:.2f} of {:.2f} GiB "
+        "(other scenes hold {:.2f}); ask for fewer samples or a smaller dense_delta",
+        cost.bytes / kGiB, cost.vertices, cost.edges, cost.peak_bytes / kGiB, std::max(0.0, total_ - others) / kGiB,
+        total_ / kGiB, others / kGiB);
   }
   if (count_leases && others + leased_ + cost.peak_bytes > total_) {
-    return fmt::format("busy: the roadmap would hold {:.1f} MiB at its peak, and this daemon's memory budget leaves "
-                       "{:.1f} of {:.1f} MiB now (other scenes reserve {:.1f}, running tours and snapshot encodings "
-                       "hold {:.1f} until they end); retry later",
-                       cost.peak_bytes / kMiB, std::max(0.0, total_ - others - leased_) / kMiB, total_ / kMiB,
-                       others / kMiB, leased_ / kMiB);
+    return fmt::format(
+        "busy: the roadmap would hold {:.1f} MiB at its peak, and this daemon's memory budget leaves "
+        "{:.1f} of {:.1f} MiB now (other scenes reserve {:.1f}, running tours and snapshot encodings "
+        "hold {:.1f} until they end); retry later",
+        cost.peak_bytes / kMiB, std::max(0.0, total_ - others - leased_) / kMiB, total_ / kMiB, others / kMiB,
+        leased_ / kMiB);
   }
   return "";
 }
@@ -77,10 +79,11 @@ void MemoryBudget::admit(const std::string& scene, const BuildCost& cost) {
     }
     const double others = reserved_locked() - (reserved_.count(scene) ? reserved_.at(scene) : 0.0);
     reserved_[scene] = cost.peak_bytes;
-    spdlog::info("scene '{}': admitted: about {:.1f} MiB held, {:.1f} MiB at its peak ({:.3g} vertices, {:.3g} edges "
-                 "expected); other scenes reserve {:.1f} MiB of the budget's {:.1f}, leases {:.1f}",
-                 scene, cost.bytes / kMiB, cost.peak_bytes / kMiB, cost.vertices, cost.edges, others / kMiB,
-                 total_ / kMiB, leased_ / kMiB);
+    spdlog::info(
+        "scene '{}': admitted: about {:.1f} MiB held, {:.1f} MiB at its peak ({:.3g} vertices, {:.3g} edges "
+        "expected); other scenes reserve {:.1f} MiB of the budget's {:.1f}, leases {:.1f}",
+        scene, cost.bytes / kMiB, cost.peak_bytes / kMiB, cost.vertices, cost.edges, others / kMiB, total_ / kMiB,
+        leased_ / kMiB);
     return;
   }
 }
@@ -97,10 +100,11 @@ void MemoryBudget::set_reserved(const std::string& scene, double bytes) {
 std::string MemoryBudget::lease_problem(double bytes, const std::string& what) const {
   const double reserved = reserved_locked();
   if (reserved + leased_ + bytes <= total_) return "";
-  return fmt::format("busy: {} would need about {:.1f} MiB of memory, and this daemon's memory budget leaves {:.1f} of "
-                     "{:.1f} MiB now (the loaded roadmaps reserve {:.1f}, running work holds {:.1f}); retry later",
-                     what, bytes / kMiB, std::max(0.0, total_ - reserved - leased_) / kMiB, total_ / kMiB,
-                     reserved / kMiB, leased_ / kMiB);
+  return fmt::format(
+      "busy: {} would need about {:.1f} MiB of memory, and this daemon's memory budget leaves {:.1f} of "
+      "{:.1f} MiB now (the loaded roadmaps reserve {:.1f}, running work holds {:.1f}); retry later",
+      what, bytes / kMiB, std::max(0.0, total_ - reserved - leased_) / kMiB, total_ / kMiB, reserved / kMiB,
+      leased_ / kMiB);
 }
 
 std::shared_ptr<MemoryLease> MemoryBudget::lease(double bytes, const std::string& what) {

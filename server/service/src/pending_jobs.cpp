@@ -1,10 +1,10 @@
 #include "ispars/service/pending_jobs.hpp"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
-#include <optional>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 
 #include "ispars/params/json_archive.hpp"
@@ -22,7 +22,10 @@ std::filesystem::path record_path(const std::filesystem::path& data_dir, const s
 }
 
 nlohmann::json to_json(const PendingJob& job) {
-  nlohmann::json j{{"scene", job.scene}, {"id", job.id}, {"target", job.target}, {"attempts", job.attempts},
+  nlohmann::json j{{"scene", job.scene},
+                   {"id", job.id},
+                   {"target", job.target},
+                   {"attempts", job.attempts},
                    {"stopped_cleanly", job.stopped_cleanly}};
   if (job.build) {
     const BuildRequest& b = *job.build;

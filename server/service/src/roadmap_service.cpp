@@ -12,8 +12,8 @@
 #include <thread>
 
 #include "ispars/params/input_error.hpp"
-#include "ispars/service/drop_mark.hpp"
 #include "ispars/roadmap/record_file.hpp"
+#include "ispars/service/drop_mark.hpp"
 #include "ispars/service/pending_jobs.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/service/scene_catalog.hpp"
@@ -62,7 +62,7 @@ void RoadmapService::stop() {
   stop_all_readers("the daemon is stopping");
   builds_.stop();  // running builds commit their current chunk and return
   tours_.stop();   // running tours stop early and report their best
-  try {  // the jobs left are resumed at the next start, and this stop does not count against them
+  try {            // the jobs left are resumed at the next start, and this stop does not count against them
     std::lock_guard lock(jobs_mutex_);
     mark_pending_jobs_stopped_cleanly(settings_.data_dir, fs_);
   } catch (const std::exception& e) {
@@ -128,8 +128,7 @@ std::shared_ptr<RoadmapSession> RoadmapService::session_or_null(const std::strin
 std::shared_ptr<RoadmapSession> RoadmapService::session(const std::string& scene) const {
   if (auto s = session_or_null(scene)) return s;
   if (!valid_scene_name(scene)) (void)scene_file(settings_.scene_dir, scene);  // names the bad name
-  throw InputError(kRequest, "scene",
-                   fmt::format("scene '{}' is not loaded on daemon {}", scene, settings_.server_id));
+  throw InputError(kRequest, "scene", fmt::format("scene '{}' is not loaded on daemon {}", scene, settings_.server_id));
 }
 
 SessionStatus RoadmapService::stats(const std::string& scene) const { return session(scene)->status(); }
@@ -175,8 +174,8 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
     if (const auto s = session_or_null(name)) events_.on_status(*s);
   };
   callbacks.admit_cost = [budget = budget_, name](const BuildCost& cost) { budget->admit(name, cost); };
-  auto session = std::make_shared<RoadmapSession>(name, std::move(scene), settings_.data_dir / name,
-                                                  settings_.limits, std::move(callbacks), fs_);
+  auto session = std::make_shared<RoadmapSession>(name, std::move(scene), settings_.data_dir / name, settings_.limits,
+                                                  std::move(callbacks), fs_);
   mark_unloaded(settings_.data_dir / name, false, fs_);
   budget_->set_reserved(name, session->expected_cost().peak_bytes);  // a stored roadmap is held whatever the budget
   {
@@ -238,7 +237,7 @@ void RoadmapService::yield(const std::string& scene, const std::atomic<bool>& gi
   // pass asks again.
   const auto deadline = std::chrono::steady_clock::now() + kYieldWait;
   for (;;) {
-    if (stopping_ || give_up) return;          // stop() reports every scene unloaded
+    if (stopping_ || give_up) return;         // stop() reports every scene unloaded
     if (session_or_null(scene) != s) return;  // unloaded (or unloaded and loaded again) meanwhile
     s->stop_readers(fmt::format("scene '{}' is being given up to its owner", scene));
     (void)s->cancel();
@@ -317,9 +316,10 @@ std::string fingerprint_problem(const RoadmapRecipe& recipe, const CurrentFinger
   if (recipe.scene_fingerprint.empty() || (now.fingerprint.empty() && now.problem.empty())) return "";
   if (!now.problem.empty()) return fmt::format("{}; its stored roadmap is not offered to the fleet", now.problem);
   if (now.fingerprint == recipe.scene_fingerprint) return "";
-  return fmt::format("its stored roadmap was built on another version of the scene file (fingerprint {} there, {} "
-                     "in this daemon's scene file): not offered to the fleet (restore the file, or build with replace)",
-                     recipe.scene_fingerprint, now.fingerprint);
+  return fmt::format(
+      "its stored roadmap was built on another version of the scene file (fingerprint {} there, {} "
+      "in this daemon's scene file): not offered to the fleet (restore the file, or build with replace)",
+      recipe.scene_fingerprint, now.fingerprint);
 }
 
 }  // namespace
@@ -338,9 +338,10 @@ StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const 
     try {
       const RoadmapRecipe recipe = RoadmapStore::read_recipe(entry.path());
       if (recipe.builder_version != 0 && recipe.builder_version != kBuilderVersion) {
-        out.unservable.push_back({name, fmt::format("its stored roadmap was made by builder version {}, and this daemon "
-                                                "has version {}: not offered to the fleet (rebuild or drop it)",
-                                                recipe.builder_version, kBuilderVersion)});
+        out.unservable.push_back(
+            {name, fmt::format("its stored roadmap was made by builder version {}, and this daemon "
+                               "has version {}: not offered to the fleet (rebuild or drop it)",
+                               recipe.builder_version, kBuilderVersion)});
         continue;
       }
       if (std::find(loaded.begin(), loaded.end(), name) != loaded.end()) continue;  // weighed live
@@ -348,8 +349,8 @@ StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const 
       if (damage.empty() && scrubbed) damage = scrubbed(name);
       if (!damage.empty()) {
         out.unservable.push_back({name, fmt::format("its stored roadmap is damaged: {}; not offered to the fleet "
-                                                "(drop it, or build with replace)",
-                                                damage)});
+                                                    "(drop it, or build with replace)",
+                                                    damage)});
         continue;
       }
       if (std::string problem = fingerprint_problem(recipe, current ? current->of(name) : CurrentFingerprint{});
@@ -360,8 +361,8 @@ StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const 
       const auto head = read_store_head(entry.path());
       const bool head_current = head && head->generation == recipe.generation;
       const std::uint64_t samples = head_current ? head->samples : 0;
-      out.served.push_back(
-          {name, recipe.generation, samples, samples, recipe.scene_fingerprint, false, head_current ? head->task_events : 0});
+      out.served.push_back({name, recipe.generation, samples, samples, recipe.scene_fingerprint, false,
+                            head_current ? head->task_events : 0});
     } catch (const std::exception& e) {
       out.unservable.push_back({name, fmt::format("its stored roadmap cannot be read: {}", e.what())});
     }
@@ -375,7 +376,8 @@ StoredListing list_stored_roadmaps(const std::filesystem::path& data_dir, const 
     out.served.push_back({mark.scene, mark.generation, 0, 0, "", false});
   }
   std::sort(out.scenes.begin(), out.scenes.end());
-  std::sort(out.served.begin(), out.served.end(), [](const ServedRoadmap& a, const ServedRoadmap& b) { return a.scene < b.scene; });
+  std::sort(out.served.begin(), out.served.end(),
+            [](const ServedRoadmap& a, const ServedRoadmap& b) { return a.scene < b.scene; });
   return out;
 }
 

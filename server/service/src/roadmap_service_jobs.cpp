@@ -27,8 +27,8 @@ void RoadmapService::extend(const std::string& scene, std::uint64_t samples) {
   accept(scene, std::nullopt, samples, 0);
 }
 
-void RoadmapService::accept(const std::string& scene, const std::optional<BuildRequest>& build,
-                            std::uint64_t samples, std::uint32_t attempts) {
+void RoadmapService::accept(const std::string& scene, const std::optional<BuildRequest>& build, std::uint64_t samples,
+                            std::uint32_t attempts) {
   const auto s = session(scene);
   PendingJob job{scene, next_job_id_++, build, 0, 0, attempts, std::nullopt};
   {
@@ -106,8 +106,8 @@ void RoadmapService::resume_pending_jobs() {
   for (const PendingJob& job : pending_jobs(settings_.data_dir, fs_)) {
     try {
       if (!job.stopped_cleanly && job.attempts >= kMaxResumes) {
-        throw std::runtime_error(fmt::format("resumed {} times already, and the daemon died under it each time",
-                                             job.attempts));
+        throw std::runtime_error(
+            fmt::format("resumed {} times already, and the daemon died under it each time", job.attempts));
       }
       const std::uint32_t attempts = job.stopped_cleanly ? job.attempts : job.attempts + 1;
       auto s = session_or_null(job.scene);
@@ -117,8 +117,8 @@ void RoadmapService::resume_pending_jobs() {
       if (!s) throw std::runtime_error("its scene is not loaded here (unloaded, or held by another daemon)");
       if (job.task) {
         const auto tasks = s->tasks();
-        const bool added = std::any_of(tasks.begin(), tasks.end(),
-                                       [&](const InspectionTask& t) { return t.name == job.task->name; });
+        const bool added =
+            std::any_of(tasks.begin(), tasks.end(), [&](const InspectionTask& t) { return t.name == job.task->name; });
         if (added) {
           forget_job(job.scene, job.id);
         } else {

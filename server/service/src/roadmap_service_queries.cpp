@@ -10,11 +10,11 @@
 
 #include "ispars/builders/build_cost.hpp"
 #include "ispars/builders/recipe_builder.hpp"
+#include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/inspection_graph.hpp"
+#include "ispars/service/roadmap_service.hpp"
 #include "ispars/tour/tour_bound.hpp"
 #include "ispars/tour/tour_closure.hpp"
-#include "ispars/params/input_error.hpp"
-#include "ispars/service/roadmap_service.hpp"
 #include "request_input.hpp"
 #include "roadmap_session_detail.hpp"
 
@@ -46,8 +46,7 @@ double tour_cost(const Roadmap& roadmap) {
   const auto tube = static_cast<double>(kCorridorSamples);
   const auto vertices = static_cast<double>(roadmap.vertex_count());
   const auto edges = static_cast<double>(roadmap.edge_count());
-  const double candidates =
-      std::min(vertices + tube, static_cast<double>(TourClosureOptions{}.max_candidates));
+  const double candidates = std::min(vertices + tube, static_cast<double>(TourClosureOptions{}.max_candidates));
   const TourBoundOptions lp;
   const double lp_bytes =
       roadmap.edge_count() > lp.max_edges ? 0.0 : static_cast<double>(lp.max_cut_nonzeros) * kLpBytesPerNonzero;
@@ -61,8 +60,8 @@ TourOutcome tour_outcome(FlownTour flown, const InspectionGraph& graph, const Ro
   TourOutcome o;
   for (const VertexId v : flown.search.tour.walk) o.waypoints.push_back(roadmap.position(v));
   const SegmentValid segment_valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
-  o.shortcut_validation = check_shortcut_tour(graph, roadmap.positions(), 0, flown.search.targets,
-                                              flown.roadmap_shortcut, segment_valid);
+  o.shortcut_validation =
+      check_shortcut_tour(graph, roadmap.positions(), 0, flown.search.targets, flown.roadmap_shortcut, segment_valid);
   o.flown_path = std::move(flown.stops);
   o.flown_sees = std::move(flown.check.sees);
   o.flown_cost = flown.cost;
@@ -130,18 +129,20 @@ SnapshotSlice RoadmapService::snapshot(const std::string& scene, std::uint64_t v
       poi_count = published.roadmap->poi_count();
     } else if (published.generation != generation || published.roadmap->version() < version ||
                (poi_count != 0 && published.roadmap->poi_count() != poi_count)) {
-      throw InputError(kRequest, "snapshot_version",
-                       fmt::format("version {} of roadmap generation {} is no longer available; start the snapshot again",
-                                   version, generation));
+      throw InputError(
+          kRequest, "snapshot_version",
+          fmt::format("version {} of roadmap generation {} is no longer available; start the snapshot again", version,
+                      generation));
     }
     // The encoding's worst case is leased before it is made, then only its size while it is kept.
-    const auto lease = budget_->lease(snapshot_cost(*published.roadmap), fmt::format("a snapshot of scene '{}'", scene));
+    const auto lease =
+        budget_->lease(snapshot_cost(*published.roadmap), fmt::format("a snapshot of scene '{}'", scene));
     // Stoppable between slices: a daemon that stops does not wait out a large roadmap's encoding.
     std::optional<std::string> made =
         encode_prefix(*published.roadmap, version, [this] { return !readers_stopped_.load(); });
     if (!made) {
-      throw InputError(kRequest, "scene", fmt::format("the snapshot of scene '{}' was stopped: the daemon is stopping",
-                                                      scene));
+      throw InputError(kRequest, "scene",
+                       fmt::format("the snapshot of scene '{}' was stopped: the daemon is stopping", scene));
     }
     auto encoded = std::make_unique<const std::string>(std::move(*made));
     lease->shrink_to(static_cast<double>(encoded->size()));
@@ -204,9 +205,8 @@ void RoadmapService::start_tour(const std::string& scene, TourRequest request, T
     ++tours_admitted_;
     running_tours_.emplace(scene, stop);  // a cancel on the scene stops it, queued or running
   }
-  const bool queued = tours_.submit([this, s, request = std::move(request), callbacks = std::move(callbacks), stop, lease] {
-    run_tour(s, request, callbacks, stop);
-  });
+  const bool queued = tours_.submit([this, s, request = std::move(request), callbacks = std::move(callbacks), stop,
+                                     lease] { run_tour(s, request, callbacks, stop); });
   if (!queued) {  // only when stopping
     release_tour(stop);
     throw InputError(kRequest, "scene", "the daemon is stopping");
@@ -232,7 +232,7 @@ void RoadmapService::run_tour(const std::shared_ptr<RoadmapSession>& session, co
     ~Release() { service.release_tour(stop); }
   } release{*this, stop};
   if (stopping_) stop->store(true);  // stop() began before the tour started
-  if (stop->load()) {  // cancelled while it waited for a worker: there is no tour to give
+  if (stop->load()) {                // cancelled while it waited for a worker: there is no tour to give
     if (callbacks.failed) {
       callbacks.failed(stopping_ ? "request: scene: the daemon stopped before the tour started"
                                  : "request: scene: the tour was cancelled before it started");
@@ -268,8 +268,8 @@ void RoadmapService::run_tour(const std::shared_ptr<RoadmapSession>& session, co
     const std::shared_ptr<const Scene> with_tasks = session->scene_with_tasks();
     const std::optional<RoadmapRecipe> recipe = session->status().recipe;
     const Scene scene = recipe ? session_detail::scene_for(*with_tasks, *recipe) : *with_tasks;
-    TourOutcome outcome = tour_outcome(fly_tour(scene, graph, published.roadmap->positions(), options), graph,
-                                       *published.roadmap, scene);
+    TourOutcome outcome =
+        tour_outcome(fly_tour(scene, graph, published.roadmap->positions(), options), graph, *published.roadmap, scene);
     if (callbacks.done) callbacks.done(std::move(outcome));
   } catch (const InputError& e) {
     if (callbacks.failed) callbacks.failed(e.what());

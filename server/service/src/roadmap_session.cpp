@@ -9,11 +9,11 @@
 #include <cmath>
 #include <thread>
 
+#include "ispars/builders/recipe_builder.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/service/drop_mark.hpp"
-#include "ispars/builders/recipe_builder.hpp"
-#include "roadmap_session_detail.hpp"
 #include "request_input.hpp"
+#include "roadmap_session_detail.hpp"
 
 namespace ispars {
 std::uint64_t session_detail::new_generation() {
@@ -36,18 +36,24 @@ PublishedRoadmap make_published(std::shared_ptr<const Roadmap> roadmap, std::uin
 
 std::string_view to_string(SessionState state) {
   switch (state) {
-    case SessionState::empty: return "empty";
-    case SessionState::idle: return "idle";
-    case SessionState::queued: return "queued";
-    case SessionState::replaying: return "replaying";
-    case SessionState::building: return "building";
-    case SessionState::failed: return "failed";
+    case SessionState::empty:
+      return "empty";
+    case SessionState::idle:
+      return "idle";
+    case SessionState::queued:
+      return "queued";
+    case SessionState::replaying:
+      return "replaying";
+    case SessionState::building:
+      return "building";
+    case SessionState::failed:
+      return "failed";
   }
   return "unknown";
 }
 
-RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::path store_dir,
-                               SessionLimits limits, SessionCallbacks callbacks, FileSystem& fs)
+RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::path store_dir, SessionLimits limits,
+                               SessionCallbacks callbacks, FileSystem& fs)
     : name_(std::move(name)),
       scene_(std::move(scene)),
       store_dir_(std::move(store_dir)),
@@ -71,8 +77,8 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
   }
   store_->set_compact_every(limits_.compact_every);
   if (recovery.recipe.scene != name_) {
-    throw std::runtime_error(fmt::format("store {} belongs to scene '{}', not '{}'", store_dir_.string(),
-                                         recovery.recipe.scene, name_));
+    throw std::runtime_error(
+        fmt::format("store {} belongs to scene '{}', not '{}'", store_dir_.string(), recovery.recipe.scene, name_));
   }
   if (std::string why = stale_store_reason(name_, recovery.recipe, fingerprint_); !why.empty()) {
     refuse_store(std::move(why));
@@ -92,14 +98,15 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
     dense_vertices_ = recovery.roadmaps.dense->vertex_count();
     dense_edges_ = recovery.roadmaps.dense->edge_count();
   }
-  recovery_note_ = fmt::format("recovered {} roadmap at version {} ({} samples, {} vertices, {} tasks; {} journal commits)",
-                               to_string(recipe_->method), published_.roadmap->version(), samples_done_,
-                               published_.roadmap->vertex_count(), tasks_.size(), recovery.journal_commits);
+  recovery_note_ =
+      fmt::format("recovered {} roadmap at version {} ({} samples, {} vertices, {} tasks; {} journal commits)",
+                  to_string(recipe_->method), published_.roadmap->version(), samples_done_,
+                  published_.roadmap->vertex_count(), tasks_.size(), recovery.journal_commits);
   if (recovery.torn_tail) {
-    torn_tail_note_ = fmt::format("cut a torn journal tail ({}) after commit {}; the cut bytes are kept in {}",
-                                  recovery.tail_problem, recovery.journal_commits,
-                                  recovery.tail_set_aside.empty() ? std::string("(nothing)")
-                                                                  : recovery.tail_set_aside.string());
+    torn_tail_note_ =
+        fmt::format("cut a torn journal tail ({}) after commit {}; the cut bytes are kept in {}", recovery.tail_problem,
+                    recovery.journal_commits,
+                    recovery.tail_set_aside.empty() ? std::string("(nothing)") : recovery.tail_set_aside.string());
     recovery_note_ += "; " + torn_tail_note_;
   }
   if (!resumable) recovered_ = std::move(recovery.roadmaps);
@@ -137,8 +144,8 @@ std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
     }
     if (recipe_ && !request.replace) {
       throw InputError(kRequest, "replace",
-                       fmt::format("scene '{}' already has a roadmap ({} samples); set replace to rebuild it",
-                                   name_, samples_done_));
+                       fmt::format("scene '{}' already has a roadmap ({} samples); set replace to rebuild it", name_,
+                                   samples_done_));
     }
     if (callbacks_.admit_cost) callbacks_.admit_cost(cost);  // the last check: nothing refuses after it
     // Increasing, even if the clock steps back, so replicas always see a new roadmap as new, and
@@ -216,17 +223,18 @@ Lock RoadmapSession::lock_idle_job(std::string_view what) const {
     const bool queued_or_running = busy();
     if (job.owns_lock() && !queued_or_running) return job;
     if (queued_or_running) {
-      throw InputError(kRequest, "scene", fmt::format("a build is running on scene '{}'; {} when it is idle", name_, what));
+      throw InputError(kRequest, "scene",
+                       fmt::format("a build is running on scene '{}'; {} when it is idle", name_, what));
     }
     if (std::chrono::steady_clock::now() >= deadline) {
-      throw InputError(kRequest, "scene", fmt::format("scene '{}' is busy with a verify or a drop; {} later", name_, what));
+      throw InputError(kRequest, "scene",
+                       fmt::format("scene '{}' is busy with a verify or a drop; {} later", name_, what));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
 }
 
-BuildCost RoadmapSession::estimate(const Scene& scene, const RoadmapRecipe& recipe,
-                                   std::uint64_t total_samples) const {
+BuildCost RoadmapSession::estimate(const Scene& scene, const RoadmapRecipe& recipe, std::uint64_t total_samples) const {
   std::call_once(free_fraction_once_, [&] { free_fraction_ = free_fraction(scene_); });
   return estimate_build_cost(scene, recipe, total_samples, free_fraction_);
 }

@@ -7,8 +7,8 @@
 #include "ispars/service/drop_mark.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/roadmap_store.hpp"
-#include "roadmap_session_detail.hpp"
 #include "request_input.hpp"
+#include "roadmap_session_detail.hpp"
 
 namespace ispars {
 
@@ -26,7 +26,8 @@ std::filesystem::path RoadmapSession::discard_store(const std::string& aside_why
   {
     std::lock_guard lock(mutex_);
     check_can_start("scene");
-    if (!recipe_ && damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
+    if (!recipe_ && damage_.empty())
+      throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
     discarding_ = true;  // no request is accepted while the store goes away
     store = std::move(store_);
     // A new generation: the empty roadmap is newer than the one discarded (replicas resync, and

@@ -11,9 +11,9 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "ispars/service/roadmap_session.hpp"
 #include "ispars/builders/poi_visibility.hpp"
 #include "ispars/builders/recipe_builder.hpp"
+#include "ispars/service/roadmap_session.hpp"
 #include "roadmap_session_detail.hpp"
 
 namespace ispars {
@@ -81,9 +81,10 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
     recovered_.reset();
     builder_ = resume_roadmap_builder(recipe.method, *build_scene_, recipe_build_options(recipe, limits_.build_threads),
                                       std::move(built));
-    spdlog::info("scene '{}': the {} builder resumed from its stored roadmaps at {} samples in {:.3f} s, nothing replayed",
-                 name_, to_string(recipe.method), builder_->samples(),
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    spdlog::info(
+        "scene '{}': the {} builder resumed from its stored roadmaps at {} samples in {:.3f} s, nothing replayed",
+        name_, to_string(recipe.method), builder_->samples(),
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     return;
   }
   {
@@ -107,8 +108,8 @@ void RoadmapSession::ensure_builder(const std::atomic<bool>& stopping) {
                       std::equal(builder->dense_ids().begin(), builder->dense_ids().end(),
                                  recovered_->dense_ids.begin(), recovered_->dense_ids.end());
     if (!same) {
-      throw std::runtime_error(fmt::format("replaying the recipe to {} samples did not reproduce the stored roadmap",
-                                           target));
+      throw std::runtime_error(
+          fmt::format("replaying the recipe to {} samples did not reproduce the stored roadmap", target));
     }
   }
   builder_ = std::move(builder);
@@ -143,29 +144,7 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
     if (job->task) starting_task_ = job->task;  // likewise a task, until it is committed
   }
   try {
-    prepare_job(*job, stopping);
-    if (job->task) {
-      {
-        std::lock_guard lock(mutex_);
-        state_ = SessionState::building;
-      }
-      notify_status();
-      add_task(*job, stopping);
-      end_job(*job, stopping);
-      notify_status();
-      return;
-    }
-    const std::uint64_t target = builder_->samples() + job->samples;
-    {
-      std::lock_guard lock(mutex_);
-      // A new roadmap's target shows from its first commit on, with its recipe: until then the
-      // status describes the old roadmap only (a takeover rebuilds from the status).
-      if (!job->build) samples_target_ = target;
-      state_ = SessionState::building;
-    }
-    notify_status();
-    grow(*job, target, stopping);
-    end_job(*job, stopping);
+    perform_job(*job, stopping);
   } catch (const ReplayInterrupted& e) {
     // The builder was being rebuilt from the recipe; the store and what is served are untouched.
     builder_.reset();
@@ -176,29 +155,59 @@ void RoadmapSession::run_job(const std::atomic<bool>& stopping) {
     state_ = SessionState::idle;
     cancel_ = false;
   } catch (const AdditionStopped& e) {
-    // Nothing of the task was committed: what the session serves is as before, and the scene is
-    // idle without the task.
-    const std::string why = fmt::format("task '{}' not added: {} ({})", job->task->name,
-                                        cancel_ ? "cancelled" : "the daemon is stopping", e.what());
-    if (e.builder_changed && !stopping) {
-      // The builder's roadmaps are part way: the store is reopened (as after a failure), so the
-      // next job resumes from what it holds.
-      fail_job(why);
-    } else {
-      // Unchanged, it goes on serving; changed, with the daemon stopping, it is dropped (the
-      // store is whole, and nothing is reopened on the way out).
-      if (e.builder_changed) builder_.reset();
-      std::lock_guard lock(mutex_);
-      last_error_ = why;
-      state_ = SessionState::failed;
-    }
-    std::lock_guard lock(mutex_);
-    if (state_ == SessionState::failed && last_error_ == why) state_ = recipe_ ? SessionState::idle : SessionState::empty;
-    cancel_ = false;
+    task_stopped(fmt::format("task '{}' not added: {} ({})", job->task->name,
+                             cancel_ ? "cancelled" : "the daemon is stopping", e.what()),
+                 e.builder_changed, stopping);
   } catch (const std::exception& e) {
     fail_job(job->task ? fmt::format("task '{}' not added: {}", job->task->name, e.what()) : e.what());
   }
   notify_status();
+}
+
+void RoadmapSession::perform_job(Job& job, const std::atomic<bool>& stopping) {
+  prepare_job(job, stopping);
+  if (job.task) {
+    {
+      std::lock_guard lock(mutex_);
+      state_ = SessionState::building;
+    }
+    notify_status();
+    add_task(job, stopping);
+    end_job(job, stopping);
+    notify_status();
+    return;
+  }
+  const std::uint64_t target = builder_->samples() + job.samples;
+  {
+    std::lock_guard lock(mutex_);
+    // A new roadmap's target shows from its first commit on, with its recipe: until then the
+    // status describes the old roadmap only (a takeover rebuilds from the status).
+    if (!job.build) samples_target_ = target;
+    state_ = SessionState::building;
+  }
+  notify_status();
+  grow(job, target, stopping);
+  end_job(job, stopping);
+}
+
+void RoadmapSession::task_stopped(const std::string& why, bool builder_changed, const std::atomic<bool>& stopping) {
+  // Nothing of the task was committed: what the session serves is as before, and the scene is
+  // idle without the task.
+  if (builder_changed && !stopping) {
+    // The builder's roadmaps are part way: the store is reopened (as after a failure), so the
+    // next job resumes from what it holds.
+    fail_job(why);
+  } else {
+    // Unchanged, it goes on serving; changed, with the daemon stopping, it is dropped (the
+    // store is whole, and nothing is reopened on the way out).
+    if (builder_changed) builder_.reset();
+    std::lock_guard lock(mutex_);
+    last_error_ = why;
+    state_ = SessionState::failed;
+  }
+  std::lock_guard lock(mutex_);
+  if (state_ == SessionState::failed && last_error_ == why) state_ = recipe_ ? SessionState::idle : SessionState::empty;
+  cancel_ = false;
 }
 
 std::optional<RoadmapSession::Job> RoadmapSession::take_job(const std::atomic<bool>& stopping) {
@@ -380,8 +389,8 @@ void RoadmapSession::fail_job(std::string error) {
     tasks_ = std::move(recovery->tasks);
     recipe_ = recovery->recipe;
     samples_done_ = recovery->roadmaps.samples;
-    published_ = make_published(std::make_shared<const Roadmap>(recovery->roadmaps.roadmap), recipe_->generation,
-                                samples_done_);
+    published_ =
+        make_published(std::make_shared<const Roadmap>(recovery->roadmaps.roadmap), recipe_->generation, samples_done_);
     dense_vertices_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->vertex_count() : 0;
     dense_edges_ = recovery->roadmaps.dense ? recovery->roadmaps.dense->edge_count() : 0;
     recovered_ = std::move(recovery->roadmaps);

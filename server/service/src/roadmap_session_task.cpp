@@ -68,7 +68,8 @@ void RoadmapSession::add_task(Job& job, const std::atomic<bool>& stopping) {
   store_->commit(commit);  // durable: from here on the task is the roadmap's
   job.roadmap_version = view.roadmap->version();
   job.dense_version = view.dense ? view.dense->version() : 0;
-  auto copy = make_published(std::make_shared<const Roadmap>(*view.roadmap), job.recipe.generation, builder_->samples());
+  auto copy =
+      make_published(std::make_shared<const Roadmap>(*view.roadmap), job.recipe.generation, builder_->samples());
   {
     std::lock_guard lock(mutex_);
     tasks_.push_back(task);

@@ -3,12 +3,12 @@
 
 #include <fmt/format.h>
 
+#include "ispars/builders/recipe_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/service/roadmap_session.hpp"
-#include "ispars/builders/recipe_builder.hpp"
-#include "roadmap_session_detail.hpp"
 #include "request_input.hpp"
+#include "roadmap_session_detail.hpp"
 
 namespace ispars {
 
@@ -25,11 +25,11 @@ VerificationReport RoadmapSession::verify(std::chrono::milliseconds budget) cons
     return verify_locked(keep_going);
   } catch (const VerificationStopped&) {
     const std::string why = pass->keep_going() ? std::string() : pass->why_stopped();
-    throw InputError(kRequest, "scene",
-                     fmt::format("the verify of scene '{}' was stopped: {}", name_,
-                                 why == "its time ran out"
-                                     ? fmt::format("its budget of {:.1f} s ran out", budget.count() / 1000.0)
-                                     : why));
+    throw InputError(
+        kRequest, "scene",
+        fmt::format(
+            "the verify of scene '{}' was stopped: {}", name_,
+            why == "its time ran out" ? fmt::format("its budget of {:.1f} s ran out", budget.count() / 1000.0) : why));
   }
 }
 

@@ -1,16 +1,16 @@
 #include "ispars/service/roadmap_store.hpp"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <iterator>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -77,8 +77,8 @@ void apply_commit(BuiltRoadmaps& r, const BuildCommit& commit) {
       if (id >= dense_after) throw std::runtime_error("commit dense id out of range");
     }
   }
-  // Every part fits: applied in place, the task's POIs first (its guards see them) (a copy of the dense roadmap per commit made a restart's
-  // recovery cost its size times its journal's length).
+  // Every part fits: applied in place, the task's POIs first (its guards see them) (a copy of the dense roadmap per
+  // commit made a restart's recovery cost its size times its journal's length).
   apply_checked_batch(r.roadmap, commit.roadmap);
   if (dense_present) {
     apply_checked_batch(*r.dense, commit.dense);
@@ -159,8 +159,8 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
   BuiltRoadmaps& r = recovered.roadmaps;
   const bool has_snapshot = fs.exists(snapshot_path(dir));
   if (has_snapshot) {
-    const RecordReplay snapshot =
-        read_record_file(snapshot_path(dir), kSnapshot, [](const std::string&) { return std::string(); }, fs);
+    const RecordReplay snapshot = read_record_file(
+        snapshot_path(dir), kSnapshot, [](const std::string&) { return std::string(); }, fs);
     if (auto problem = snapshot_damage(dir, snapshot)) throw StoreDamage(*problem);
     const BuildCommit whole = decode_commit(snapshot.payloads.front());
     apply_commit(r, whole);
@@ -175,25 +175,28 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
   std::size_t commits = 0;
   const auto replay = [&](const std::filesystem::path& path) {
     commits = 0;
-    return read_record_file(path, kJournal, [&](const std::string& payload) {
-      try {
-        const BuildCommit commit = decode_commit(payload);
-        if (has_snapshot && snapshot_holds(commit, snapshot_samples, snapshot_tasks)) return std::string();
-        // A task's commit is checked before the roadmaps change (the others leave the tasks be:
-        // no copy of every task's POIs per commit).
-        std::vector<InspectionTask> tasks;
-        if (commit.changes_tasks()) {
-          tasks = recovered.tasks;
-          fold_tasks(tasks, commit);
-        }
-        apply_commit(r, commit);
-        if (commit.changes_tasks()) recovered.tasks = std::move(tasks);
-        ++commits;
-        return std::string();
-      } catch (const std::runtime_error& e) {
-        return std::string("unusable commit: ") + e.what();
-      }
-    }, fs, RecordKeep::count);
+    return read_record_file(
+        path, kJournal,
+        [&](const std::string& payload) {
+          try {
+            const BuildCommit commit = decode_commit(payload);
+            if (has_snapshot && snapshot_holds(commit, snapshot_samples, snapshot_tasks)) return std::string();
+            // A task's commit is checked before the roadmaps change (the others leave the tasks be:
+            // no copy of every task's POIs per commit).
+            std::vector<InspectionTask> tasks;
+            if (commit.changes_tasks()) {
+              tasks = recovered.tasks;
+              fold_tasks(tasks, commit);
+            }
+            apply_commit(r, commit);
+            if (commit.changes_tasks()) recovered.tasks = std::move(tasks);
+            ++commits;
+            return std::string();
+          } catch (const std::runtime_error& e) {
+            return std::string("unusable commit: ") + e.what();
+          }
+        },
+        fs, RecordKeep::count);
   };
   if (fs.exists(old_journal_path(dir))) {
     // A rotated journal was whole: anything but whole records in it is damage.
@@ -202,7 +205,8 @@ std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_cou
   }
   const RecordReplay journal = replay(journal_path(dir));
   // Not a crash's torn tail: stop before the writer would cut it, and say where.
-  if (const auto damaged = journal_damage(dir, journal, fs)) throw StoreDamage(damage_text(journal_path(dir), *damaged, fs));
+  if (const auto damaged = journal_damage(dir, journal, fs))
+    throw StoreDamage(damage_text(journal_path(dir), *damaged, fs));
   recovered.journal_commits = commits;
   recovered.torn_tail = journal.torn_tail;
   recovered.tail_problem = journal.tail_problem;
@@ -216,9 +220,10 @@ std::uint64_t recover_checked(const std::filesystem::path& dir, std::size_t poi_
   try {
     return recover_into(dir, poi_count, recovered, fs);
   } catch (const RecordMagicMismatch& e) {
-    throw StoreDamage(fmt::format("{} is damaged at byte 0: {}; left untouched for inspection (drop the scene's "
-                                  "roadmap, or build with replace, to discard it)",
-                                  dir.string(), e.what()));
+    throw StoreDamage(
+        fmt::format("{} is damaged at byte 0: {}; left untouched for inspection (drop the scene's "
+                    "roadmap, or build with replace, to discard it)",
+                    dir.string(), e.what()));
   }
 }
 
@@ -254,7 +259,8 @@ void RoadmapStore::commit(const BuildCommit& commit) {
   if (!replaces_.empty()) take_place();
   samples_ = commit.samples;
   if (commit.changes_tasks()) task_events_ = commit.task_count;
-  write_store_head(dir_, {recipe_.generation, samples_, journal_->size(), task_events_}, fs_);  // after the commit is durable
+  write_store_head(dir_, {recipe_.generation, samples_, journal_->size(), task_events_},
+                   fs_);                    // after the commit is durable
   if (!compacting_) wait_for_compaction();  // joins a finished fold; throws its failure
   if (journal_commits_ >= compact_every_) start_compaction();
 }
@@ -265,8 +271,8 @@ void write_store_head(const std::filesystem::path& dir, const StoreHead& head, F
   const std::filesystem::path tmp = dir / "head.tmp";
   try {
     auto file = fs.open(tmp, FileSystem::Open::truncated);
-    file->append(seal_text(
-        fmt::format("{} {} {} {}\n", head.generation, head.samples, head.journal_bytes, head.task_events)));
+    file->append(
+        seal_text(fmt::format("{} {} {} {}\n", head.generation, head.samples, head.journal_bytes, head.task_events)));
     if (durable) file->sync();
     file.reset();
     fs.rename(tmp, dir / "head");

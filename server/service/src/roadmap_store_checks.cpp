@@ -15,10 +15,11 @@ namespace ispars {
 namespace store_files {
 
 std::string damage_text(const std::filesystem::path& path, const RecordReplay& replay, const FileSystem& fs) {
-  return fmt::format("{} is damaged at byte {} (commit {}): {}; the {} bytes from there on are left untouched for "
-                     "inspection (drop the scene's roadmap, or build with replace, to discard them)",
-                     path.string(), replay.valid_bytes, replay.records + 1, replay.tail_problem,
-                     fs.file_size(path).value_or(replay.valid_bytes) - replay.valid_bytes);
+  return fmt::format(
+      "{} is damaged at byte {} (commit {}): {}; the {} bytes from there on are left untouched for "
+      "inspection (drop the scene's roadmap, or build with replace, to discard them)",
+      path.string(), replay.valid_bytes, replay.records + 1, replay.tail_problem,
+      fs.file_size(path).value_or(replay.valid_bytes) - replay.valid_bytes);
 }
 
 std::optional<RecordReplay> journal_damage(const std::filesystem::path& dir, const RecordReplay& journal,
@@ -37,7 +38,8 @@ std::optional<RecordReplay> journal_damage(const std::filesystem::path& dir, con
 std::optional<std::string> snapshot_damage(const std::filesystem::path& dir, const RecordReplay& snapshot) {
   if (snapshot.records == 1 && !snapshot.torn_tail) return std::nullopt;
   return fmt::format("{} is damaged at byte {}: {}; left untouched for inspection", snapshot_path(dir).string(),
-                     snapshot.valid_bytes, snapshot.tail_problem.empty() ? "not exactly one record" : snapshot.tail_problem);
+                     snapshot.valid_bytes,
+                     snapshot.tail_problem.empty() ? "not exactly one record" : snapshot.tail_problem);
 }
 
 }  // namespace store_files
@@ -73,8 +75,8 @@ std::string store_quick_problem(const std::filesystem::path& dir) {
   const auto size = std::filesystem::file_size(journal_path(dir), ec);
   const auto head = read_store_head(dir);
   if (head && head->journal_bytes > 0 && (ec || size < head->journal_bytes)) {
-    return fmt::format("{} has {} bytes, and its head says {} were durable", journal_path(dir).string(),
-                       ec ? 0 : size, head->journal_bytes);
+    return fmt::format("{} has {} bytes, and its head says {} were durable", journal_path(dir).string(), ec ? 0 : size,
+                       head->journal_bytes);
   }
   return {};
 }

@@ -43,8 +43,8 @@ BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::func
   BuildCommit whole;
   const bool has_snapshot = fs.exists(snapshot_path(dir));
   if (has_snapshot) {
-    const RecordReplay snapshot =
-        read_record_file(snapshot_path(dir), kSnapshot, [](const std::string&) { return std::string(); }, fs);
+    const RecordReplay snapshot = read_record_file(
+        snapshot_path(dir), kSnapshot, [](const std::string&) { return std::string(); }, fs);
     if (snapshot.payloads.size() != 1 || snapshot.torn_tail) {
       throw StoreDamage(fmt::format("{} is damaged at byte {}: {}; left untouched for inspection",
                                     snapshot_path(dir).string(), snapshot.valid_bytes,
@@ -53,8 +53,8 @@ BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::func
     try {
       whole = decode_commit(snapshot.payloads.front());
     } catch (const std::runtime_error& e) {
-      throw StoreDamage(fmt::format("{} is damaged: {}; left untouched for inspection", snapshot_path(dir).string(),
-                                    e.what()));
+      throw StoreDamage(
+          fmt::format("{} is damaged: {}; left untouched for inspection", snapshot_path(dir).string(), e.what()));
     }
   }
   stop_if_asked();
@@ -63,35 +63,38 @@ BuildCommit RoadmapStore::fold(const std::filesystem::path& dir, const std::func
   try {
     fold_tasks(tasks, whole);
   } catch (const std::runtime_error& e) {
-    throw StoreDamage(fmt::format("{} is damaged: {}; left untouched for inspection", snapshot_path(dir).string(),
-                                  e.what()));
+    throw StoreDamage(
+        fmt::format("{} is damaged: {}; left untouched for inspection", snapshot_path(dir).string(), e.what()));
   }
   const std::uint64_t snapshot_tasks = task_events(tasks);
   const std::filesystem::path old = old_journal_path(dir);
-  const RecordReplay journal = read_record_file(old, kJournal, [&](const std::string& payload) -> std::string {
-    stop_if_asked();
-    try {
-      BuildCommit commit = decode_commit(payload);
-      // Commits the snapshot holds already (an earlier fold wrote it, then stopped): skip them.
-      if (has_snapshot && snapshot_holds(commit, snapshot_samples, snapshot_tasks)) return {};
-      if (commit.samples < whole.samples) throw std::runtime_error("it goes back in samples");
-      fold_tasks(tasks, commit);  // throws, changing nothing, when its task events do not follow
-      append_batch(whole.roadmap, std::move(commit.roadmap));
-      append_batch(whole.dense, std::move(commit.dense));
-      append_all(whole.new_dense_ids, std::move(commit.new_dense_ids));
-      whole.samples = commit.samples;
-      return {};
-    } catch (const RecordWriteStopped&) {
-      throw;
-    } catch (const std::runtime_error& e) {
-      return std::string("unusable commit: ") + e.what();
-    }
-  }, fs, RecordKeep::count);
+  const RecordReplay journal = read_record_file(
+      old, kJournal,
+      [&](const std::string& payload) -> std::string {
+        stop_if_asked();
+        try {
+          BuildCommit commit = decode_commit(payload);
+          // Commits the snapshot holds already (an earlier fold wrote it, then stopped): skip them.
+          if (has_snapshot && snapshot_holds(commit, snapshot_samples, snapshot_tasks)) return {};
+          if (commit.samples < whole.samples) throw std::runtime_error("it goes back in samples");
+          fold_tasks(tasks, commit);  // throws, changing nothing, when its task events do not follow
+          append_batch(whole.roadmap, std::move(commit.roadmap));
+          append_batch(whole.dense, std::move(commit.dense));
+          append_all(whole.new_dense_ids, std::move(commit.new_dense_ids));
+          whole.samples = commit.samples;
+          return {};
+        } catch (const RecordWriteStopped&) {
+          throw;
+        } catch (const std::runtime_error& e) {
+          return std::string("unusable commit: ") + e.what();
+        }
+      },
+      fs, RecordKeep::count);
   if (journal.torn_tail) {
     // A journal is whole when it is rotated (a failed append is cut back first): any bad byte in
     // it is damage, not a crash's torn tail.
-    throw StoreDamage(fmt::format("{} is damaged at byte {} (commit {}): {}; left untouched for inspection", old.string(),
-                                  journal.valid_bytes, journal.records + 1, journal.tail_problem));
+    throw StoreDamage(fmt::format("{} is damaged at byte {} (commit {}): {}; left untouched for inspection",
+                                  old.string(), journal.valid_bytes, journal.records + 1, journal.tail_problem));
   }
   set_tasks(whole, tasks);
   return whole;

@@ -13,7 +13,8 @@
 namespace ispars::store_files {
 
 /// What a record file's damage is, in words: where, in which record, and that it is left as it is.
-[[nodiscard]] std::string damage_text(const std::filesystem::path& path, const RecordReplay& replay, const FileSystem& fs);
+[[nodiscard]] std::string damage_text(const std::filesystem::path& path, const RecordReplay& replay,
+                                      const FileSystem& fs);
 
 /// Whether journal.log as read (`journal`) is damaged, not torn by a crash: a record refused, or a
 /// bad record inside the bytes the store's head says were durable (and the file still holds):
@@ -24,6 +25,7 @@ namespace ispars::store_files {
                                                          const FileSystem& fs);
 
 /// A snapshot holds exactly one whole record; else what is wrong, in words.
-[[nodiscard]] std::optional<std::string> snapshot_damage(const std::filesystem::path& dir, const RecordReplay& snapshot);
+[[nodiscard]] std::optional<std::string> snapshot_damage(const std::filesystem::path& dir,
+                                                         const RecordReplay& snapshot);
 
 }  // namespace ispars::store_files

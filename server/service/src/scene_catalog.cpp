@@ -37,8 +37,7 @@ std::filesystem::path scene_file(const std::filesystem::path& scene_dir, std::st
       if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
     }
     throw InputError("request", "scene",
-                     fmt::format("'{}' is not a scene name (1-64 of A-Z a-z 0-9 _ - ., not starting with '.')",
-                                 shown));
+                     fmt::format("'{}' is not a scene name (1-64 of A-Z a-z 0-9 _ - ., not starting with '.')", shown));
   }
   const std::filesystem::path file = scene_dir / (std::string(name) + ".yaml");
   std::error_code ec;

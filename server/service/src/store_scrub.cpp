@@ -9,7 +9,11 @@ namespace ispars {
 
 StoreScrub::StoreScrub(std::filesystem::path data_dir, Held held, std::shared_ptr<MemoryBudget> budget,
                        std::chrono::milliseconds period, const FileSystem& fs)
-    : data_dir_(std::move(data_dir)), held_(std::move(held)), budget_(std::move(budget)), period_(period), fs_(fs),
+    : data_dir_(std::move(data_dir)),
+      held_(std::move(held)),
+      budget_(std::move(budget)),
+      period_(period),
+      fs_(fs),
       thread_([this] { run(); }) {}
 
 StoreScrub::~StoreScrub() { stop(); }

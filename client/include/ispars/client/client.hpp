@@ -79,8 +79,8 @@ class ParticipantUser {
 /// comes back under the same participant and does not authenticate again within 10 s (Debian's
 /// Fast DDS 2.9.1 cannot while the peer keeps its old session), it replaces its participant (at
 /// most once in 30 s), keeping what it knows, its calls, and its participant's users
-/// (docs/service.md, "A stall under security"). A change request sent before a rejoin is not sent again after it (the daemon could
-/// not tell it from a new one): its call fails naming the rejoin.
+/// (docs/service.md, "A stall under security"). A change request sent before a rejoin is not sent again after it (the
+/// daemon could not tell it from a new one): its call fails naming the rejoin.
 class Client {
  public:
   /// Joins the domain (throws std::runtime_error when the participant cannot be created).
@@ -156,7 +156,8 @@ class Client {
 
  private:
   TourReply tour(const std::string& scene, double budget, std::uint64_t seed, const std::vector<std::uint32_t>& targets,
-                 const std::string& task, const std::function<void(double seconds, double cost, double bound)>& progress);
+                 const std::string& task,
+                 const std::function<void(double seconds, double cost, double bound)>& progress);
   class Impl;
   /// Sends requests as messages (wire_calls.hpp), for this class and the seam's free functions.
   friend struct WireAccess;

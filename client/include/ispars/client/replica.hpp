@@ -28,8 +28,8 @@ struct ReplicaEvent {
 /// drops its oldest: the gap they leave is detected as any gap is, and the replica resyncs from a
 /// fresh snapshot. The newest batch is always kept.
 struct ReplicaQueueLimits {
-  std::size_t batches = 1024;       ///< 1 .. 1,000,000
-  std::size_t bytes = 256u << 20;   ///< 64 KiB .. 64 GiB, counted as the batches' array payloads
+  std::size_t batches = 1024;      ///< 1 .. 1,000,000
+  std::size_t bytes = 256u << 20;  ///< 64 KiB .. 64 GiB, counted as the batches' array payloads
 };
 
 class RoadmapReplica {

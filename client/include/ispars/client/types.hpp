@@ -32,13 +32,13 @@ enum class SceneState {
 /// recipe that makes the roadmap again.
 struct SceneStatus {
   std::string scene;
-  std::string server_id;            ///< the owner
-  std::uint64_t status_seq = 0;     ///< increases with every status the owner issues
+  std::string server_id;         ///< the owner
+  std::uint64_t status_seq = 0;  ///< increases with every status the owner issues
   SceneState state = SceneState::empty;
   std::string method;
-  std::string variant;              ///< spars, ispars: the rule set ("stretch" or "alg1")
+  std::string variant;  ///< spars, ispars: the rule set ("stretch" or "alg1")
   std::uint64_t seed = 0;
-  std::uint64_t generation = 0;     ///< changes when the roadmap is rebuilt or dropped
+  std::uint64_t generation = 0;  ///< changes when the roadmap is rebuilt or dropped
   std::uint64_t samples_done = 0;
   std::uint64_t samples_target = 0;
   std::uint64_t version = 0;
@@ -57,9 +57,9 @@ struct SceneStatus {
   std::uint64_t stretch_slack_after = 0;  ///< the sample from which the slack applies (0: the first)
   double p_accept = 0;
   std::string last_error;
-  std::string scene_fingerprint;    ///< of the scene file the roadmap was built on (empty: no roadmap)
+  std::string scene_fingerprint;  ///< of the scene file the roadmap was built on (empty: no roadmap)
   std::uint32_t builder_version = 0;
-  std::uint32_t tasks = 0;          ///< inspection tasks added to the roadmap (poi_count includes theirs)
+  std::uint32_t tasks = 0;  ///< inspection tasks added to the roadmap (poi_count includes theirs)
   /// A build accepted and not started (queued): the generation it makes (the recipe fields
   /// above are its recipe, samples_target its samples); 0 when none waits.
   std::uint64_t accepted_generation = 0;
@@ -87,24 +87,24 @@ struct SceneEntry {
 struct StoredRoadmap {
   std::string scene;
   std::uint64_t generation = 0;
-  std::uint64_t samples = 0;      ///< committed to the daemon's store
-  std::uint64_t target = 0;       ///< accepted (a running or handed-over job), >= samples
+  std::uint64_t samples = 0;  ///< committed to the daemon's store
+  std::uint64_t target = 0;   ///< accepted (a running or handed-over job), >= samples
   std::uint32_t builder_version = 0;
-  std::string fingerprint;        ///< of the scene file it was built on
-  std::string yielded_to;         ///< handed to that daemon: not a candidate while it lives
+  std::string fingerprint;  ///< of the scene file it was built on
+  std::string yielded_to;   ///< handed to that daemon: not a candidate while it lives
 };
 
 /// A daemon on the domain, as it announces itself.
 struct DaemonInfo {
   std::string server_id;
-  std::uint16_t protocol = 0;     ///< its protocol version
+  std::uint16_t protocol = 0;  ///< its protocol version
   std::string host;
   std::int32_t pid = 0;
-  std::string version;            ///< its release ("0.1.0")
+  std::string version;                 ///< its release ("0.1.0")
   std::vector<std::string> available;  ///< scene names in its scene directory
   std::vector<std::string> loaded;     ///< scenes it owns (claimed, loading or loaded)
   std::vector<std::string> stored;     ///< scenes with a roadmap in its data directory
-  std::uint64_t joined_ms = 0;    ///< when it joined the domain (ms since the Unix epoch)
+  std::uint64_t joined_ms = 0;         ///< when it joined the domain (ms since the Unix epoch)
   std::uint32_t builder_version = 0;
   std::vector<StoredRoadmap> roadmaps;
 };
@@ -150,22 +150,22 @@ struct Tour {
   double cost = 0;                  ///< the walk's length
   std::uint32_t covered = 0;        ///< targets seen
   std::uint32_t target_count = 0;
-  double lower_bound = 0;           ///< proven: no roadmap tour seeing the targets is shorter (0: none)
-  bool valid = false;               ///< the walk and the shortcut path passed independent validations
-  std::vector<double> trace;        ///< seconds, cost, ... at each improvement
-  std::vector<double> bound_trace;  ///< seconds, bound, ... at each rise of the proven bound
-  bool bound_complete = false;      ///< the LP bound was solved over all its cuts
-  std::uint64_t version = 0;        ///< the roadmap version searched
+  double lower_bound = 0;                     ///< proven: no roadmap tour seeing the targets is shorter (0: none)
+  bool valid = false;                         ///< the walk and the shortcut path passed independent validations
+  std::vector<double> trace;                  ///< seconds, cost, ... at each improvement
+  std::vector<double> bound_trace;            ///< seconds, bound, ... at each rise of the proven bound
+  bool bound_complete = false;                ///< the LP bound was solved over all its cuts
+  std::uint64_t version = 0;                  ///< the roadmap version searched
   std::vector<std::uint32_t> shortcut_stops;  ///< the walk's vertices the shortcut tour keeps, in order
-  std::vector<Vec3> shortcut_path;  ///< their positions: the tour as flown
-  double shortcut_cost = 0;         ///< its length (<= cost; every target still seen from a stop)
+  std::vector<Vec3> shortcut_path;            ///< their positions: the tour as flown
+  double shortcut_cost = 0;                   ///< its length (<= cost; every target still seen from a stop)
   /// The flown tour: the shortcut improved by corridor densification and viewpoint refinement (its
   /// stops need not be roadmap vertices), closed at the root, straight checked segments between.
   std::vector<Vec3> flown_path;
   std::vector<std::vector<std::uint32_t>> flown_sees;  ///< per stop: the target POI ids it sees
-  double flown_cost = 0;            ///< its length (<= shortcut_cost)
-  std::vector<TourStage> stages;    ///< the pipeline's stages, in order
-  std::uint64_t graph_vertices = 0;  ///< the graph the flown tour was last searched on
+  double flown_cost = 0;                               ///< its length (<= shortcut_cost)
+  std::vector<TourStage> stages;                       ///< the pipeline's stages, in order
+  std::uint64_t graph_vertices = 0;                    ///< the graph the flown tour was last searched on
   std::uint64_t graph_edges = 0;
 };
 

@@ -10,7 +10,9 @@ DenseBuilder::DenseBuilder(const Scene& scene, const BuildOptions& options)
 }
 
 DenseBuilder::DenseBuilder(const Scene& scene, const BuildOptions& options, Roadmap roadmap, std::size_t samples)
-    : scene_(&scene), options_(options), rng_(options.seed),
+    : scene_(&scene),
+      options_(options),
+      rng_(options.seed),
       prm_(scene, scene.config().dense_delta, std::move(roadmap)) {
   skip_samples(rng_, samples);
   samples_ = samples;

@@ -22,9 +22,9 @@ void check_override_scale(const Scene& scene, const RoadmapRecipe& recipe, const
                      fmt::format("{} is larger than the scene's diagonal ({:.4g})", recipe.sparse_delta, diagonal));
   }
   if (recipe.sparse_delta > 50 * recipe.dense_delta) {
-    throw InputError(file, "overrides.sparse_delta",
-                     fmt::format("must be at most 50 times dense_delta (got {} and {})", recipe.sparse_delta,
-                                 recipe.dense_delta));
+    throw InputError(
+        file, "overrides.sparse_delta",
+        fmt::format("must be at most 50 times dense_delta (got {} and {})", recipe.sparse_delta, recipe.dense_delta));
   }
 }
 
@@ -86,9 +86,7 @@ VerificationReport verify_recipe_roadmaps(const Scene& scene, const RoadmapRecip
   return report;
 }
 
-bool promises_invariant(BuildMethod method) {
-  return method == BuildMethod::ispars || method == BuildMethod::ispars2;
-}
+bool promises_invariant(BuildMethod method) { return method == BuildMethod::ispars || method == BuildMethod::ispars2; }
 
 std::uint64_t broken_promises(const VerificationReport& report, bool invariant_promised) {
   const bool counted = invariant_promised && report.invariant_samples == 0;

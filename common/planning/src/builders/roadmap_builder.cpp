@@ -17,13 +17,16 @@ std::size_t RoadmapBuilder::add_pois(const Scene&, const std::function<bool()>&)
 std::unique_ptr<RoadmapBuilder> make_roadmap_builder(BuildMethod method, const Scene& scene,
                                                      const BuildOptions& options) {
   switch (method) {
-    case BuildMethod::dense: return std::make_unique<DenseBuilder>(scene, options);
+    case BuildMethod::dense:
+      return std::make_unique<DenseBuilder>(scene, options);
     case BuildMethod::spars:
       return std::make_unique<SparsBuilder>(scene, options, SparsRules::for_variant(options.variant, false));
     case BuildMethod::ispars:
       return std::make_unique<SparsBuilder>(scene, options, SparsRules::for_variant(options.variant, true));
-    case BuildMethod::irisc: return std::make_unique<IriscBuilder>(scene, options);
-    case BuildMethod::ispars2: return std::make_unique<SparsBuilder>(scene, options, SparsRules::dense_free());
+    case BuildMethod::irisc:
+      return std::make_unique<IriscBuilder>(scene, options);
+    case BuildMethod::ispars2:
+      return std::make_unique<SparsBuilder>(scene, options, SparsRules::dense_free());
   }
   return nullptr;
 }
@@ -32,9 +35,7 @@ bool takes_pois(BuildMethod method) {
   return method == BuildMethod::spars || method == BuildMethod::ispars || method == BuildMethod::ispars2;
 }
 
-bool resumes_from_roadmap(BuildMethod method) {
-  return method == BuildMethod::ispars2 || method == BuildMethod::dense;
-}
+bool resumes_from_roadmap(BuildMethod method) { return method == BuildMethod::ispars2 || method == BuildMethod::dense; }
 
 bool resumes_without_replay(BuildMethod method) { return method != BuildMethod::irisc; }
 
@@ -70,14 +71,16 @@ void check_dense_pair(const BuiltRoadmaps& built, const Scene& scene) {
 std::unique_ptr<RoadmapBuilder> resume_roadmap_builder(BuildMethod method, const Scene& scene,
                                                        const BuildOptions& options, BuiltRoadmaps built) {
   if (!resumes_without_replay(method)) {
-    throw std::invalid_argument(std::string(to_string(method)) + " keeps more than its roadmaps: it is replayed, not resumed");
+    throw std::invalid_argument(std::string(to_string(method)) +
+                                " keeps more than its roadmaps: it is replayed, not resumed");
   }
   if (!starts_at_root(built.roadmap, scene)) {
     throw std::invalid_argument("the roadmap to resume does not start with the scene's root");
   }
   const std::size_t samples = built.samples;
   switch (method) {
-    case BuildMethod::dense: return std::make_unique<DenseBuilder>(scene, options, std::move(built.roadmap), samples);
+    case BuildMethod::dense:
+      return std::make_unique<DenseBuilder>(scene, options, std::move(built.roadmap), samples);
     case BuildMethod::ispars2:
       return std::make_unique<SparsBuilder>(scene, options, SparsRules::dense_free(), std::move(built));
     case BuildMethod::spars:
@@ -85,7 +88,8 @@ std::unique_ptr<RoadmapBuilder> resume_roadmap_builder(BuildMethod method, const
       check_dense_pair(built, scene);
       return std::make_unique<SparsBuilder>(
           scene, options, SparsRules::for_variant(options.variant, method == BuildMethod::ispars), std::move(built));
-    case BuildMethod::irisc: break;
+    case BuildMethod::irisc:
+      break;
   }
   throw std::invalid_argument("no builder resumes this method");
 }

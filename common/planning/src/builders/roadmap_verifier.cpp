@@ -16,7 +16,10 @@ namespace {
 class InvariantCheck {
  public:
   InvariantCheck(const Scene& scene, const Roadmap& sparse)
-      : scene_(scene), sparse_(sparse), delta_(scene.config().sparse_delta), grid_(delta_),
+      : scene_(scene),
+        sparse_(sparse),
+        delta_(scene.config().sparse_delta),
+        grid_(delta_),
         cover_(sparse.visibility_table().words()) {
     for (VertexId s = 0; s < sparse.vertex_count(); ++s) grid_.insert(s, sparse.position(s));
   }
@@ -26,12 +29,13 @@ class InvariantCheck {
     std::fill(cover_.begin(), cover_.end(), 0);
     grid_.within(q, delta_, sparse_.positions(), near_);
     for (const auto& [distance, s] : near_) {
-      if (!has_outside(seen, cover_)) break;  // already witnessed in full
+      if (!has_outside(seen, cover_)) break;                   // already witnessed in full
       if (!has_outside(sparse_.visible(s), cover_)) continue;  // adds nothing: skip the segment
       if (distance == 0.0 || scene_.segment_valid(sparse_.position(s), q)) unite(cover_, sparse_.visible(s));
     }
     std::uint64_t out = 0;
-    for (std::size_t w = 0; w < seen.size(); ++w) out += static_cast<std::uint64_t>(std::popcount(seen[w] & ~cover_[w]));
+    for (std::size_t w = 0; w < seen.size(); ++w)
+      out += static_cast<std::uint64_t>(std::popcount(seen[w] & ~cover_[w]));
     return out;
   }
 
@@ -124,8 +128,9 @@ VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& spars
                                         std::uint64_t seed, const VerifyKeepGoing& keep_going) {
   VerificationReport report;
   Rng rng(seed);
-  check_samples(scene, sparse, samples, keep_going,
-                [&]() -> std::optional<Vec3> { return scene.sample_valid_configuration(rng); }, report);
+  check_samples(
+      scene, sparse, samples, keep_going,
+      [&]() -> std::optional<Vec3> { return scene.sample_valid_configuration(rng); }, report);
   report.invariant_samples = samples;
   return report;
 }
@@ -134,11 +139,14 @@ VerificationReport verify_drawn_samples(const Scene& scene, const Roadmap& spars
                                         std::size_t samples, const VerifyKeepGoing& keep_going) {
   VerificationReport report;
   Rng stream(seed);
-  check_samples(scene, sparse, samples, keep_going, [&]() -> std::optional<Vec3> {
-    const Vec3 q = stream.uniform_in(scene.config().bounds);
-    if (!scene.point_valid(q)) return std::nullopt;
-    return q;
-  }, report);
+  check_samples(
+      scene, sparse, samples, keep_going,
+      [&]() -> std::optional<Vec3> {
+        const Vec3 q = stream.uniform_in(scene.config().bounds);
+        if (!scene.point_valid(q)) return std::nullopt;
+        return q;
+      },
+      report);
   report.invariant_drawn = samples;
   return report;
 }

@@ -74,7 +74,9 @@ RouteStretchReport measure_route_stretch(const Scene& scene, const Roadmap& spar
   const std::vector<VertexId> viewpoints = viewpoints_of(sparse);
   report.viewpoints = viewpoints.size();
   const std::size_t step =
-      options.max_sources == 0 ? 1 : std::max<std::size_t>(1, (viewpoints.size() + options.max_sources - 1) / options.max_sources);
+      options.max_sources == 0
+          ? 1
+          : std::max<std::size_t>(1, (viewpoints.size() + options.max_sources - 1) / options.max_sources);
   std::vector<char> is_source(sparse.vertex_count(), 0);
   for (std::size_t i = 0; i < viewpoints.size(); i += step) is_source[viewpoints[i]] = 1;
 

@@ -31,7 +31,8 @@ std::size_t SparsBuilder::first_long_route(VertexId from, std::span<const Vertex
   // search stops as soon as the first long target in order is known, or every target is short.
   const double limit = *std::max_element(bounds.begin(), bounds.end());
   open_targets_.clear();  // (position, bound, index) of the targets not decided yet
-  for (std::size_t k = 0; k < targets.size(); ++k) open_targets_.push_back({sparse_.position(targets[k]), bounds[k], k});
+  for (std::size_t k = 0; k < targets.size(); ++k)
+    open_targets_.push_back({sparse_.position(targets[k]), bounds[k], k});
   target_state_.assign(targets.size(), TargetState::open);
   const auto useful = [&](VertexId v, double d) {
     const Vec3& p = sparse_.position(v);
@@ -133,8 +134,7 @@ bool SparsBuilder::witnessed_pairs(VertexId through) {
     std::size_t done = 0;
     while (done < todo.size()) {
       const std::span<const VertexId> rest(todo.data() + done, todo.size() - done);
-      const std::size_t k =
-          first_long_route(w[i], rest, std::span<const double>(bounds.data() + done, rest.size()));
+      const std::size_t k = first_long_route(w[i], rest, std::span<const double>(bounds.data() + done, rest.size()));
       if (k == rest.size()) break;
       // Repair: the direct edge when its segment is valid, otherwise the route through q.
       const VertexId far = rest[k];

@@ -3,9 +3,9 @@
 // vertices with G_d, the seed's stream drawn again without (ispars2).
 
 #include <algorithm>
+#include <stdexcept>
 #include <thread>
 #include <vector>
-#include <stdexcept>
 
 #include "ispars/builders/poi_visibility.hpp"
 #include "ispars/builders/spars_builder.hpp"

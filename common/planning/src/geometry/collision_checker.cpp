@@ -71,8 +71,7 @@ bool nearest_probe_callback(RTCPointQueryFunctionArguments* args) {
 
 }  // namespace
 
-CollisionChecker::CollisionChecker(std::shared_ptr<const EmbreeScene> scene, Aabb bounds,
-                                   double robot_radius)
+CollisionChecker::CollisionChecker(std::shared_ptr<const EmbreeScene> scene, Aabb bounds, double robot_radius)
     : scene_(std::move(scene)), bounds_(bounds), radius_(robot_radius) {}
 
 bool CollisionChecker::point_valid(const Vec3& q) const {

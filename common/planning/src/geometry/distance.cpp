@@ -16,8 +16,7 @@ bool is_degenerate(const Triangle& t) {
 }
 
 double edges_distance_squared(const Vec3& p, const Triangle& t) {
-  return std::min({point_segment_distance_squared(p, t.a, t.b),
-                   point_segment_distance_squared(p, t.b, t.c),
+  return std::min({point_segment_distance_squared(p, t.a, t.b), point_segment_distance_squared(p, t.b, t.c),
                    point_segment_distance_squared(p, t.c, t.a)});
 }
 
@@ -93,8 +92,7 @@ double point_segment_distance_squared(const Vec3& p, const Vec3& a, const Vec3& 
   return (p - (a + s * ab)).squaredNorm();
 }
 
-double segment_segment_distance_squared(const Vec3& p0, const Vec3& p1, const Vec3& q0,
-                                        const Vec3& q1) {
+double segment_segment_distance_squared(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
   const Vec3 d1 = p1 - p0;
   const Vec3 d2 = q1 - q0;
   const Vec3 r = p0 - q0;
@@ -127,8 +125,7 @@ double segment_segment_distance_squared(const Vec3& p0, const Vec3& p1, const Ve
   return ((p0 + s * d1) - (q0 + u * d2)).squaredNorm();
 }
 
-std::optional<RayTriangleHit> ray_plane_crossing(const Vec3& origin, const Vec3& direction,
-                                                 const Triangle& t) {
+std::optional<RayTriangleHit> ray_plane_crossing(const Vec3& origin, const Vec3& direction, const Triangle& t) {
   if (is_degenerate(t)) return std::nullopt;
   // Barycentric coordinates from signed volumes, solved in double.
   const Vec3 e1 = t.b - t.a;
@@ -152,8 +149,7 @@ bool segment_intersects_triangle(const Vec3& s0, const Vec3& s1, const Triangle&
 
 double segment_triangle_distance_squared(const Vec3& s0, const Vec3& s1, const Triangle& t) {
   if (segment_intersects_triangle(s0, s1, t)) return 0.0;
-  double best = std::min(point_triangle_distance_squared(s0, t),
-                         point_triangle_distance_squared(s1, t));
+  double best = std::min(point_triangle_distance_squared(s0, t), point_triangle_distance_squared(s1, t));
   best = std::min(best, segment_segment_distance_squared(s0, s1, t.a, t.b));
   best = std::min(best, segment_segment_distance_squared(s0, s1, t.b, t.c));
   best = std::min(best, segment_segment_distance_squared(s0, s1, t.c, t.a));

@@ -36,18 +36,17 @@ EmbreeScene::EmbreeScene(const TriangleMesh& mesh) : triangles_(to_triangles(mes
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
 
   RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-      mesh.vertices.size()));
-  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-      mesh.triangles.size()));
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                               3 * sizeof(float), mesh.vertices.size()));
+  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(unsigned), mesh.triangles.size()));
   throw_on_device_error(device_, "buffer allocation");
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     std::memcpy(vertices + 3 * i, mesh.vertices[i].data(), 3 * sizeof(float));
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) indices[3 * t + static_cast<std::size_t>(k)] = mesh.triangles[t][static_cast<std::size_t>(k)];
+    for (int k = 0; k < 3; ++k)
+      indices[3 * t + static_cast<std::size_t>(k)] = mesh.triangles[t][static_cast<std::size_t>(k)];
   }
   rtcCommitGeometry(geometry);
   rtcAttachGeometryByID(scene_, geometry, 0);

@@ -21,20 +21,16 @@ struct PoiCloud {
 };
 
 struct VisibilityOracle::KdTree {
-  using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PoiCloud>,
-                                                    PoiCloud, 3, PoiId>;
+  using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PoiCloud>, PoiCloud, 3, PoiId>;
   PoiCloud cloud;
   Index index;
   explicit KdTree(const std::vector<Vec3>& points)
       : cloud{&points}, index(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {}
 };
 
-VisibilityOracle::VisibilityOracle(std::shared_ptr<const EmbreeScene> scene,
-                                   std::vector<Vec3> pois, double sensor_range)
-    : scene_(std::move(scene)),
-      pois_(std::move(pois)),
-      range_(sensor_range),
-      tree_(std::make_unique<KdTree>(pois_)) {}
+VisibilityOracle::VisibilityOracle(std::shared_ptr<const EmbreeScene> scene, std::vector<Vec3> pois,
+                                   double sensor_range)
+    : scene_(std::move(scene)), pois_(std::move(pois)), range_(sensor_range), tree_(std::make_unique<KdTree>(pois_)) {}
 
 VisibilityOracle::~VisibilityOracle() = default;
 

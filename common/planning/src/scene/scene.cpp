@@ -5,14 +5,12 @@
 #include <fmt/format.h>
 
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/scene_file.hpp"
 #include "ispars/scene/procedural.hpp"
+#include "ispars/scene/scene_file.hpp"
 
 namespace ispars {
 
-Scene Scene::load(const std::filesystem::path& yaml_path) {
-  return build(parse_scene_config(yaml_path));
-}
+Scene Scene::load(const std::filesystem::path& yaml_path) { return build(parse_scene_config(yaml_path)); }
 
 Scene Scene::with_roadmap_parameters(double dense_delta, double sparse_delta, double stretch,
                                      const std::string& source) const {
@@ -50,17 +48,14 @@ Scene Scene::build(const SceneConfig& config, TriangleMesh mesh) {
   scene.config_ = std::make_shared<const SceneConfig>(config);
   scene.mesh_ = std::make_shared<const TriangleMesh>(std::move(mesh));
   scene.embree_ = std::make_shared<const EmbreeScene>(*scene.mesh_);
-  scene.collision_ =
-      std::make_shared<const CollisionChecker>(scene.embree_, config.bounds, config.robot_radius);
-  scene.visibility_ =
-      std::make_shared<const VisibilityOracle>(scene.embree_, std::move(pois), config.sensor_range);
+  scene.collision_ = std::make_shared<const CollisionChecker>(scene.embree_, config.bounds, config.robot_radius);
+  scene.visibility_ = std::make_shared<const VisibilityOracle>(scene.embree_, std::move(pois), config.sensor_range);
 
   const double distance = scene.collision_->distance_to_surface(config.root);
   if (!(distance > config.robot_radius)) {
     throw InputError(config.source, "root",
                      fmt::format("[{}, {}, {}] is in collision: {:.3f} m from the mesh, robot_radius {}",
-                                 config.root.x(), config.root.y(), config.root.z(), distance,
-                                 config.robot_radius));
+                                 config.root.x(), config.root.y(), config.root.z(), distance, config.robot_radius));
   }
   return scene;
 }

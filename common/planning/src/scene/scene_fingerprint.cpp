@@ -43,7 +43,8 @@ std::string scene_fingerprint(const Scene& scene) {
   const SceneConfig& c = scene.config();
   h.vec(c.bounds.min);
   h.vec(c.bounds.max);
-  for (const double v : {c.scale, c.robot_radius, c.sensor_range, c.dense_delta, c.sparse_delta, c.stretch}) h.number(v);
+  for (const double v : {c.scale, c.robot_radius, c.sensor_range, c.dense_delta, c.sparse_delta, c.stretch})
+    h.number(v);
   h.vec(c.root);
   char text[17];
   std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h.value()));

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <limits>
 
-#include "ispars/search/graph_search.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/search/graph_search.hpp"
 
 namespace ispars {
 namespace {
@@ -17,8 +17,7 @@ struct Join {
 };
 
 // Every roadmap vertex within `radius` of p reachable by a free segment, nearest first.
-std::vector<Join> joins(const Scene& scene, const Roadmap& roadmap, const Vec3& p, double radius,
-                        const char* field) {
+std::vector<Join> joins(const Scene& scene, const Roadmap& roadmap, const Vec3& p, double radius, const char* field) {
   if (!p.allFinite()) throw InputError("path", field, "must be three finite numbers");
   if (!scene.config().bounds.contains(p)) {
     throw InputError("path", field, fmt::format("[{}, {}, {}] is outside the scene bounds", p.x(), p.y(), p.z()));
@@ -32,9 +31,8 @@ std::vector<Join> joins(const Scene& scene, const Roadmap& roadmap, const Vec3& 
     const double d = (positions[v] - p).norm();
     if (d <= radius) near.push_back({v, d});
   }
-  std::sort(near.begin(), near.end(), [](const Join& a, const Join& b) {
-    return a.cost < b.cost || (a.cost == b.cost && a.vertex < b.vertex);
-  });
+  std::sort(near.begin(), near.end(),
+            [](const Join& a, const Join& b) { return a.cost < b.cost || (a.cost == b.cost && a.vertex < b.vertex); });
   std::vector<Join> free;
   for (const Join& j : near) {
     if (scene.segment_valid(p, positions[j.vertex])) free.push_back(j);

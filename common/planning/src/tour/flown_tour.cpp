@@ -14,17 +14,16 @@ namespace ispars {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr double kSearchShare = 0.5;      // of a timed budget: the roadmap search; rounds share the rest
-constexpr double kCorridorOfRound = 0.8;  // of a timed round: its corridor (refinement ends sooner)
-constexpr double kRoundPays = 1e-3;      // a corridor round that gains less ends them
+constexpr double kSearchShare = 0.5;         // of a timed budget: the roadmap search; rounds share the rest
+constexpr double kCorridorOfRound = 0.8;     // of a timed round: its corridor (refinement ends sooner)
+constexpr double kRoundPays = 1e-3;          // a corridor round that gains less ends them
 constexpr double kCorridorBuildShare = 0.5;  // of a timed round: drawing and joining (then the search)
 
 // One run of the pipeline: the incumbent flown path (positions, and each stop's vertex in the
 // graph it was last searched on) and the stages so far.
 class FlownRun {
  public:
-  FlownRun(const Scene& scene, const InspectionGraph& graph, std::span<const Vec3> positions,
-           const FlownTourOptions& o)
+  FlownRun(const Scene& scene, const InspectionGraph& graph, std::span<const Vec3> positions, const FlownTourOptions& o)
       : scene_(scene), graph_(graph), positions_(positions), o_(o), valid_([&scene](const Vec3& a, const Vec3& b) {
           return scene.segment_valid(a, b);
         }) {}
@@ -91,9 +90,12 @@ class FlownRun {
 
   [[nodiscard]] bool has_corridor() const {
     switch (o_.corridor_source) {
-      case CorridorSource::fresh: return corridor_density() > 0.0;
-      case CorridorSource::samples: return !o_.corridor_samples.empty();
-      case CorridorSource::stream: return o_.build_samples > 0;
+      case CorridorSource::fresh:
+        return corridor_density() > 0.0;
+      case CorridorSource::samples:
+        return !o_.corridor_samples.empty();
+      case CorridorSource::stream:
+        return o_.build_samples > 0;
     }
     return false;
   }

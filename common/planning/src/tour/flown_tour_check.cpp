@@ -13,7 +13,8 @@ FlownTourCheck check_flown_tour(const Scene& scene, const Vec3& root, std::span<
   const auto fail = [&c](std::string why) {
     if (c.problem.empty()) c.problem = std::move(why);
   };
-  if (stops.empty() || stops.front() != root || stops.back() != root) fail("the tour does not start and end at the root");
+  if (stops.empty() || stops.front() != root || stops.back() != root)
+    fail("the tour does not start and end at the root");
   for (std::size_t i = 0; i < stops.size(); ++i) {
     const Vec3& q = stops[i];
     if (!scene.config().bounds.contains(q) || !scene.point_valid(q)) {

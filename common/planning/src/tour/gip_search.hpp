@@ -208,7 +208,8 @@ class Chain {
           }
         }
         if (needed) continue;
-        const double saving = c_.d(s.seq[i - 1], v) + c_.d(v, s.seq[(i + 1) % m]) - c_.d(s.seq[i - 1], s.seq[(i + 1) % m]);
+        const double saving =
+            c_.d(s.seq[i - 1], v) + c_.d(v, s.seq[(i + 1) % m]) - c_.d(s.seq[i - 1], s.seq[(i + 1) % m]);
         if (saving > best_saving) {
           best_saving = saving;
           best_i = i;
@@ -233,7 +234,8 @@ class Chain {
           if (dd == a) continue;
           const double delta = c_.d(a, cc) + c_.d(b, dd) - c_.d(a, b) - c_.d(cc, dd);
           if (delta < -kEps) {
-            std::reverse(s.seq.begin() + static_cast<std::ptrdiff_t>(i + 1), s.seq.begin() + static_cast<std::ptrdiff_t>(j + 1));
+            std::reverse(s.seq.begin() + static_cast<std::ptrdiff_t>(i + 1),
+                         s.seq.begin() + static_cast<std::ptrdiff_t>(j + 1));
             s.cost += delta;
             improved = any = true;
             break;

@@ -11,13 +11,13 @@
 #include <optional>
 #include <thread>
 
-#include "ispars/search/graph_search.hpp"
-#include "ispars/params/input_error.hpp"
+#include "gip_search.hpp"
 #include "ispars/geometry/random.hpp"
+#include "ispars/params/input_error.hpp"
+#include "ispars/search/graph_search.hpp"
 #include "ispars/tour/quick_tour.hpp"
 #include "ispars/tour/tour_bound.hpp"
 #include "ispars/tour/tour_closure.hpp"
-#include "gip_search.hpp"
 
 namespace ispars {
 namespace {
@@ -39,7 +39,8 @@ void dijkstra_to(const InspectionGraph& g, VertexId source, std::vector<double>&
   dijkstra(g, std::span<const SearchSource>(&from, 1), dist, parent, [stop_at](VertexId v) { return v == stop_at; });
 }
 
-std::vector<PoiId> choose_targets(const InspectionGraph& g, const GipOptions& o, const std::vector<VertexId>& component) {
+std::vector<PoiId> choose_targets(const InspectionGraph& g, const GipOptions& o,
+                                  const std::vector<VertexId>& component) {
   std::vector<char> seen(g.poi_count(), 0);
   for (const VertexId v : component) {
     for (const PoiId p : g.visible(v)) seen[p] = 1;
@@ -102,23 +103,26 @@ InspectionTour expand(const InspectionGraph& g, const Closure& c, const std::vec
 // The root and budget checked; a root with no edges refused unless it sees every target itself.
 void check_options(const InspectionGraph& g, const GipOptions& o) {
   if (o.root >= g.vertex_count()) {
-    throw InputError("tour", "root", fmt::format("vertex {} is not in the graph ({} vertices)", o.root, g.vertex_count()));
+    throw InputError("tour", "root",
+                     fmt::format("vertex {} is not in the graph ({} vertices)", o.root, g.vertex_count()));
   }
   if (!(o.budget_seconds >= 0.0) || !std::isfinite(o.budget_seconds)) {
-    throw InputError("tour", "budget", fmt::format("must be a finite number of seconds >= 0, got {}", o.budget_seconds));
+    throw InputError("tour", "budget",
+                     fmt::format("must be a finite number of seconds >= 0, got {}", o.budget_seconds));
   }
   for (const VertexId v : o.initial_walk) {
     if (v >= g.vertex_count()) {
-      throw InputError("tour", "initial_walk", fmt::format("vertex {} is not in the graph ({} vertices)", v, g.vertex_count()));
+      throw InputError("tour", "initial_walk",
+                       fmt::format("vertex {} is not in the graph ({} vertices)", v, g.vertex_count()));
     }
   }
   if (!g.neighbors(o.root).empty()) return;
   const auto sees = g.visible(o.root);
   const bool root_suffices =
-      o.targets ? !o.targets->empty() && std::all_of(o.targets->begin(), o.targets->end(), [&](PoiId p) {
-        return std::binary_search(sees.begin(), sees.end(), p);
-      })
-                : !sees.empty();
+      o.targets
+          ? !o.targets->empty() && std::all_of(o.targets->begin(), o.targets->end(),
+                                               [&](PoiId p) { return std::binary_search(sees.begin(), sees.end(), p); })
+          : !sees.empty();
   if (!root_suffices) {
     throw InputError("tour", "root", fmt::format("the root (vertex {}) has no edges: no tour can leave it", o.root));
   }
@@ -154,8 +158,8 @@ class GipRun {
     result_.distance_rows = c.rows();
     finish_bound();
     if (best_.seq.empty() && !quick_) {
-      throw std::runtime_error(fmt::format(
-          "tour: stopped before a first tour was found ({} of {} distance rows computed)", c.rows(), c.n));
+      throw std::runtime_error(
+          fmt::format("tour: stopped before a first tour was found ({} of {} distance rows computed)", c.rows(), c.n));
     }
     result_.tour = best_.seq.empty() ? *quick_ : expand(g_, c, best_.seq);
     return finish();

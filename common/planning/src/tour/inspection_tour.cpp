@@ -33,7 +33,8 @@ TourValidation validate_tour(const InspectionGraph& graph, VertexId root, const 
   }
   v.recomputed_cost = cost;
   v.cost_matches = v.steps_are_edges && std::abs(cost - tour.cost) <= 1e-9 * std::max(1.0, std::abs(cost));
-  if (v.steps_are_edges && !v.cost_matches) fail(fmt::format("stated cost {} but the edges sum to {}", tour.cost, cost));
+  if (v.steps_are_edges && !v.cost_matches)
+    fail(fmt::format("stated cost {} but the edges sum to {}", tour.cost, cost));
   std::vector<char> seen(graph.poi_count(), 0);
   if (v.steps_are_edges) {
     for (const VertexId x : tour.walk) {

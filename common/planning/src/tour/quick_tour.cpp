@@ -14,7 +14,8 @@ constexpr double kUnreached = std::numeric_limits<double>::infinity();
 // (without `source`) and returns v, or kNoVertex when stopped or nothing qualifies.
 class LocalSearch {
  public:
-  explicit LocalSearch(const InspectionGraph& g) : g_(g), dist_(g.vertex_count(), kUnreached), parent_(g.vertex_count()) {}
+  explicit LocalSearch(const InspectionGraph& g)
+      : g_(g), dist_(g.vertex_count(), kUnreached), parent_(g.vertex_count()) {}
 
   template <class Done>
   VertexId walk_to(VertexId source, Done&& done, std::vector<VertexId>& walk, const std::atomic<bool>* stop) {
@@ -90,7 +91,8 @@ std::optional<InspectionTour> nearest_viewpoint_tour(const InspectionGraph& g, V
     for (std::size_t i = from; i < tour.walk.size(); ++i) see(tour.walk[i]);
     at = next;
   }
-  if (at != root && search.walk_to(at, [&](VertexId v) { return v == root; }, tour.walk, stop) == kNoVertex) {
+  if (at != root && search.walk_to(
+                        at, [&](VertexId v) { return v == root; }, tour.walk, stop) == kNoVertex) {
     return std::nullopt;
   }
   for (std::size_t i = 1; i < tour.walk.size(); ++i) tour.cost += g.edge_cost(tour.walk[i - 1], tour.walk[i]);

@@ -1,8 +1,8 @@
 #include "ispars/tour/tour_bound.hpp"
 
+#include <fmt/format.h>
 #include <ClpEventHandler.hpp>
 #include <ClpSimplex.hpp>
-#include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
@@ -94,19 +94,69 @@ std::size_t drop_idle_cuts(ClpSimplex& lp, std::vector<std::uint64_t>& row_signa
   return idle.size();
 }
 
+// The LP's cut rows: each cut queued once (by its signature) and added in rounds, within a cap
+// on the LP's nonzeros.
+class CutRows {
+ public:
+  CutRows(const CutGraph& g, std::size_t max_nonzeros) : g_(g), max_nonzeros_(max_nonzeros) {}
+
+  // Queues the cut of S = {v : in_s[v]}, unless it is empty, known, or past the cap (then full).
+  void queue(const ClpSimplex& lp, const std::vector<char>& in_s) {
+    std::vector<int> columns = cut_columns(g_, in_s);
+    if (columns.empty()) return;
+    if (static_cast<std::size_t>(lp.getNumElements()) + columns_.size() + columns.size() > max_nonzeros_) {
+      full = true;
+      return;
+    }
+    const std::uint64_t sig = signature(columns);
+    if (!known_.insert(sig).second) return;
+    row_signature_.push_back(sig);
+    columns_.insert(columns_.end(), columns.begin(), columns.end());
+    starts_.push_back(static_cast<int>(columns_.size()));
+  }
+
+  // Adds the queued cuts to `lp` (each: the edges across it carry at least 2); how many.
+  int flush(ClpSimplex& lp, TourBoundResult& result) {
+    const int added = static_cast<int>(starts_.size()) - 1;
+    if (added > 0) {
+      const std::vector<double> row_lower(static_cast<std::size_t>(added), 2.0);
+      const std::vector<double> row_upper(static_cast<std::size_t>(added), COIN_DBL_MAX);
+      const std::vector<double> ones(columns_.size(), 1.0);
+      lp.addRows(added, row_lower.data(), row_upper.data(), starts_.data(), columns_.data(), ones.data());
+      result.cuts += static_cast<std::size_t>(added);
+      result.peak_nonzeros = std::max(result.peak_nonzeros, static_cast<std::size_t>(lp.getNumElements()));
+    }
+    starts_.assign(1, 0);
+    columns_.clear();
+    return added;
+  }
+
+  // Drops the cuts that do not bind; how many.
+  std::size_t drop_idle(ClpSimplex& lp) { return drop_idle_cuts(lp, row_signature_, known_); }
+
+  bool full = false;  ///< this round's cuts reached the cap
+
+ private:
+  const CutGraph& g_;
+  std::size_t max_nonzeros_;
+  std::unordered_set<std::uint64_t> known_;
+  std::vector<std::uint64_t> row_signature_;  // of each LP row, in row order
+  std::vector<int> starts_{0}, columns_;
+};
+
 }  // namespace
 
 TourBoundResult lp_tour_bound(const InspectionGraph& graph, const TourBoundOptions& o) {
   const auto t0 = Clock::now();
-  const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
-                                 std::max(0.0, std::min(o.budget_seconds, 1e7))));
+  const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(
+                                 std::chrono::duration<double>(std::max(0.0, std::min(o.budget_seconds, 1e7))));
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   const auto stopped = [&] { return (o.should_stop && o.should_stop()) || Clock::now() >= deadline; };
   TourBoundResult result;
 
   if (graph.edge_count() > o.max_edges) {  // checked before copying anything
-    result.skipped = fmt::format("the graph has {} edges, more than the LP's limit of {}", graph.edge_count(),
-                                 o.max_edges);
+    result.skipped =
+        fmt::format("the graph has {} edges, more than the LP's limit of {}", graph.edge_count(), o.max_edges);
     return result;
   }
   const CutGraph g = CutGraph::of_component(graph, o.root, o.targets);
@@ -124,48 +174,17 @@ TourBoundResult lp_tour_bound(const InspectionGraph& graph, const TourBoundOptio
   const std::vector<double> lower(costs.size(), 0.0), upper(costs.size(), COIN_DBL_MAX);
   lp.addColumns(static_cast<int>(costs.size()), lower.data(), upper.data(), costs.data(), nullptr, nullptr, nullptr);
 
-  std::unordered_set<std::uint64_t> known;
-  std::vector<std::uint64_t> row_signature;  // of each LP row, in row order
-  std::vector<int> row_starts{0}, row_columns;
-  bool full = false;  // this round's cuts reached the cap
-  const auto queue_cut = [&](const std::vector<char>& in_s) {
-    std::vector<int> columns = cut_columns(g, in_s);
-    if (columns.empty()) return;
-    if (static_cast<std::size_t>(lp.getNumElements()) + row_columns.size() + columns.size() > o.max_cut_nonzeros) {
-      full = true;
-      return;
-    }
-    const std::uint64_t sig = signature(columns);
-    if (!known.insert(sig).second) return;
-    row_signature.push_back(sig);
-    row_columns.insert(row_columns.end(), columns.begin(), columns.end());
-    row_starts.push_back(static_cast<int>(row_columns.size()));
-  };
-  const auto flush_cuts = [&] {
-    const int added = static_cast<int>(row_starts.size()) - 1;
-    if (added > 0) {
-      const std::vector<double> row_lower(static_cast<std::size_t>(added), 2.0);
-      const std::vector<double> row_upper(static_cast<std::size_t>(added), COIN_DBL_MAX);
-      const std::vector<double> ones(row_columns.size(), 1.0);
-      lp.addRows(added, row_lower.data(), row_upper.data(), row_starts.data(), row_columns.data(), ones.data());
-      result.cuts += static_cast<std::size_t>(added);
-      result.peak_nonzeros = std::max(result.peak_nonzeros, static_cast<std::size_t>(lp.getNumElements()));
-    }
-    row_starts.assign(1, 0);
-    row_columns.clear();
-    return added;
-  };
-
+  CutRows rows(g, o.max_cut_nonzeros);
   // Start from the cut around the root and the cut around each group.
   std::vector<char> in_s(g.vertex_count, 0);
   in_s[g.root] = 1;
-  queue_cut(in_s);
+  rows.queue(lp, in_s);
   for (const auto& group : g.groups) {
     std::fill(in_s.begin(), in_s.end(), 1);
     for (const std::uint32_t v : group) in_s[v] = 0;
-    queue_cut(in_s);
+    rows.queue(lp, in_s);
   }
-  flush_cuts();
+  rows.flush(lp, result);
 
   MaxFlow flow(g);
   while (!stopped()) {
@@ -180,21 +199,21 @@ TourBoundResult lp_tour_bound(const InspectionGraph& graph, const TourBoundOptio
     }
     // Past half the cap, the cuts that do not bind make room for new ones.
     if (static_cast<std::size_t>(lp.getNumElements()) > o.max_cut_nonzeros / 2) {
-      result.dropped += drop_idle_cuts(lp, row_signature, known);
+      result.dropped += rows.drop_idle(lp);
     }
-    full = false;
+    rows.full = false;
     // Separation: a group the root sends less than 2 units of flow to, on capacities x.
     flow.set_capacities(lp.primalColumnSolution());
     for (const auto& group : g.groups) {
       if (stopped()) break;
       if (flow.max_flow_to(group, 2.0) >= 2.0 - 1e-6) continue;
-      queue_cut(flow.source_side());
-      queue_cut(flow.sink_side_complement());
+      rows.queue(lp, flow.source_side());
+      rows.queue(lp, flow.sink_side_complement());
     }
     if (stopped()) break;
-    if (flush_cuts() == 0) {
-      result.complete = !full;
-      result.capped = full;  // the cuts that bind fill the cap: the bound stands as proven
+    if (rows.flush(lp, result) == 0) {
+      result.complete = !rows.full;
+      result.capped = rows.full;  // the cuts that bind fill the cap: the bound stands as proven
       break;
     }
   }

@@ -15,10 +15,9 @@ constexpr double kNoRoute = std::numeric_limits<double>::infinity();
 // The candidates' order under each of thinning's three rankings: richest first (most targets
 // seen); nearest the root first; nearest an anchor first (the root, and every target's richest
 // and nearest viewers: the cheapest detours from where a tour goes anyway). Ties: lowest index.
-std::vector<std::vector<std::size_t>> rankings(const InspectionGraph& graph,
-                                               const std::vector<VertexId>& vertex,
-                                               const std::vector<std::vector<std::uint32_t>>& sees,
-                                               std::size_t targets, const std::vector<double>& from_root,
+std::vector<std::vector<std::size_t>> rankings(const InspectionGraph& graph, const std::vector<VertexId>& vertex,
+                                               const std::vector<std::vector<std::uint32_t>>& sees, std::size_t targets,
+                                               const std::vector<double>& from_root,
                                                const std::function<bool(VertexId)>& stopped) {
   std::vector<std::size_t> order(vertex.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;

@@ -42,8 +42,8 @@ class Tube {
   /// volume, a point uniform in it, kept with probability 1 / (capsules containing it).
   [[nodiscard]] std::optional<Vec3> draw(Rng& rng) const {
     const double at = rng.uniform01() * capsule_volume();
-    const auto i = static_cast<std::size_t>(std::upper_bound(cumulative_.begin(), cumulative_.end(), at) -
-                                            cumulative_.begin());
+    const auto i =
+        static_cast<std::size_t>(std::upper_bound(cumulative_.begin(), cumulative_.end(), at) - cumulative_.begin());
     const std::size_t k = std::min(i, cumulative_.size() - 1);
     const Vec3 q = in_capsule(stops_[k], stops_[k + 1], rng);
     std::size_t containing = 0;
@@ -142,11 +142,12 @@ class TubeIndex {
 void check_arguments(const InspectionGraph& base, std::span<const Vec3> base_positions, std::span<const Vec3> stops,
                      std::span<const VertexId> stop_vertices, const CorridorOptions& o) {
   if (base_positions.size() < base.vertex_count()) {
-    throw std::invalid_argument(fmt::format("corridor: {} positions for {} vertices", base_positions.size(),
-                                            base.vertex_count()));
+    throw std::invalid_argument(
+        fmt::format("corridor: {} positions for {} vertices", base_positions.size(), base.vertex_count()));
   }
   if (stops.size() != stop_vertices.size() || stops.empty()) {
-    throw std::invalid_argument(fmt::format("corridor: {} stops with {} vertex ids", stops.size(), stop_vertices.size()));
+    throw std::invalid_argument(
+        fmt::format("corridor: {} stops with {} vertex ids", stops.size(), stop_vertices.size()));
   }
   if (stop_vertices.front() != 0 || stop_vertices.back() != 0) {
     throw std::invalid_argument("corridor: the flown path must begin and end at vertex 0, the root");
@@ -281,7 +282,8 @@ CorridorGraph corridor_graph(const Scene& scene, const InspectionGraph& base, st
     out.walk.push_back(stop_vertices[i] != kNoVertex ? stop_vertices[i] : g.add(scene, stops[i]));
   }
   for (std::size_t i = 0; i + 1 < stops.size(); ++i) {
-    if (out.walk[i] != out.walk[i + 1]) g.edges.push_back({out.walk[i], out.walk[i + 1], (stops[i + 1] - stops[i]).norm()});
+    if (out.walk[i] != out.walk[i + 1])
+      g.edges.push_back({out.walk[i], out.walk[i + 1], (stops[i + 1] - stops[i]).norm()});
   }
   if (o.source == CorridorSource::fresh) {
     add_fresh(scene, stops, o, start, g, out);

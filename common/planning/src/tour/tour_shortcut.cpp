@@ -37,8 +37,8 @@ Stops make_stops(const InspectionGraph& graph, std::span<const PoiId> targets, s
 
 // The farthest j such that stops i+1 .. j-1 can all go with every target still seen.
 // `count` is how many kept stops see each target now.
-std::size_t farthest_by_coverage(const Stops& s, const std::vector<std::size_t>& count, std::size_t i,
-                                 std::size_t last, std::vector<std::size_t>& removed) {
+std::size_t farthest_by_coverage(const Stops& s, const std::vector<std::size_t>& count, std::size_t i, std::size_t last,
+                                 std::vector<std::size_t>& removed) {
   std::size_t j = i + 1;
   std::vector<std::uint32_t> touched;
   for (; j < last; ++j) {  // may stop j go too?
@@ -101,8 +101,8 @@ ShortcutTour shortcut_tour(const InspectionGraph& graph, std::span<const Vec3> p
                            const SegmentValid& segment_valid, const ShortcutOptions& options) {
   if (tour.walk.empty()) throw std::invalid_argument("shortcut_tour: the walk is empty");
   if (positions.size() < graph.vertex_count()) {
-    throw std::invalid_argument(fmt::format("shortcut_tour: {} positions for {} vertices", positions.size(),
-                                            graph.vertex_count()));
+    throw std::invalid_argument(
+        fmt::format("shortcut_tour: {} positions for {} vertices", positions.size(), graph.vertex_count()));
   }
   const auto deadline = std::chrono::steady_clock::now() +
                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(

@@ -14,7 +14,7 @@
 namespace ispars {
 namespace {
 
-constexpr double kGain = 1e-9;  // a change must shorten the path by more than this
+constexpr double kGain = 1e-9;          // a change must shorten the path by more than this
 constexpr std::size_t kChordSteps = 4;  // the first draws of a stop: toward its neighbours' chord
 
 // The path's stops with the targets each sees (indices into `targets`), and how many stops see
@@ -77,8 +77,10 @@ class RefinedPath {
         const double after = (stops_[j] - stops_[i]).norm() + (stops_[j + 1] - stops_[i + 1]).norm();
         if (after >= before - kGain) continue;
         if (!joinable(stops_[i], stops_[j], r) || !joinable(stops_[i + 1], stops_[j + 1], r)) continue;
-        std::reverse(stops_.begin() + static_cast<std::ptrdiff_t>(i + 1), stops_.begin() + static_cast<std::ptrdiff_t>(j + 1));
-        std::reverse(sees_.begin() + static_cast<std::ptrdiff_t>(i + 1), sees_.begin() + static_cast<std::ptrdiff_t>(j + 1));
+        std::reverse(stops_.begin() + static_cast<std::ptrdiff_t>(i + 1),
+                     stops_.begin() + static_cast<std::ptrdiff_t>(j + 1));
+        std::reverse(sees_.begin() + static_cast<std::ptrdiff_t>(i + 1),
+                     sees_.begin() + static_cast<std::ptrdiff_t>(j + 1));
         ++r.reversed;
       }
     }

@@ -4,9 +4,9 @@
 // its reply reader) shares it, so a daemon answers a request to the reader of the same prefix.
 // The prefix is plain RTPS (12 bytes), so any vendor's client can compute its own.
 
+#include <fastdds/rtps/common/InstanceHandle.h>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/rtps/common/GuidPrefix_t.hpp>
-#include <fastdds/rtps/common/InstanceHandle.h>
 
 #include <string>
 

@@ -225,7 +225,7 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
     return restored;
   }
 
-  static constexpr std::size_t kMaxHeld = 1024;  // refused samples kept for recheck(), at most
+  static constexpr std::size_t kMaxHeld = 1024;    // refused samples kept for recheck(), at most
   static constexpr std::size_t kMaxDeparted = 64;  // writers that left, kept in case they return
   struct Held {
     Message message;
@@ -241,7 +241,7 @@ class LatestSamples final : public eprosima::fastdds::dds::DataReaderListener {
   std::map<std::string, Message> latest_;
   std::map<std::string, std::string> senders_;
   std::map<std::string, std::set<std::string>> writers_;  // live participants that wrote each key
-  std::map<std::string, Held> held_;  // refused by accept_, latest per key
+  std::map<std::string, Held> held_;                      // refused by accept_, latest per key
   struct Departed {
     std::string key;
     Message message;

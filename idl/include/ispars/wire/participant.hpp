@@ -1,9 +1,9 @@
 #pragma once
 // Creating DDS participants the same way in the daemon, the clients, the tests and benchmarks.
 
+#include <fastdds/dds/core/policy/QosPolicies.hpp>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
-#include <fastdds/dds/core/policy/QosPolicies.hpp>
 
 #include <chrono>
 #include <functional>
@@ -82,7 +82,7 @@ class PeerWatch {
 
 /// A reader another participant announced (or withdrew), as discovery reports it.
 struct RemoteReader {
-  std::string identity;                 ///< Its participant's GUID prefix (identity_of).
+  std::string identity;  ///< Its participant's GUID prefix (identity_of).
   std::string topic;
   std::vector<std::string> partitions;  ///< Its subscriber's partitions.
   bool present = true;                  ///< False when it left (or its participant did).

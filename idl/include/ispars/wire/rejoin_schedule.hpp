@@ -44,7 +44,7 @@ class RejoinSchedule {
   Clock::duration grace_;
   std::optional<Clock::time_point> last_;
   std::optional<PeerWatch::Peer> retry_;
-  std::string deferred_said_;  // the prefix whose deferral was last reported
+  std::string deferred_said_;          // the prefix whose deferral was last reported
   std::set<std::string> first_tried_;  // first meetings a rejoin was made for (bounded)
 };
 

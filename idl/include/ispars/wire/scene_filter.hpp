@@ -30,9 +30,9 @@ bool register_scene_filter(eprosima::fastdds::dds::DomainParticipant* participan
 
 /// Makes a filtered topic named `name` over `updates` that passes `scene`'s batches only
 /// (registering the filter first). Null when DDS refused.
-eprosima::fastdds::dds::ContentFilteredTopic* scene_filtered_topic(eprosima::fastdds::dds::DomainParticipant* participant,
-                                                                   eprosima::fastdds::dds::Topic* updates,
-                                                                   const std::string& name, const std::string& scene);
+eprosima::fastdds::dds::ContentFilteredTopic* scene_filtered_topic(
+    eprosima::fastdds::dds::DomainParticipant* participant, eprosima::fastdds::dds::Topic* updates,
+    const std::string& name, const std::string& scene);
 
 /// The scene a serialized UpdateBatch names (its first member); nullopt-like empty view with
 /// `ok` false when the bytes cannot hold one.

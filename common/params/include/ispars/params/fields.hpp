@@ -96,9 +96,11 @@ void check(const Object& object, std::string_view source, std::string_view prefi
     using M = std::remove_cvref_t<decltype(member)>;
     if constexpr (is_optional<M>::value) {
       if (!member) return;
-      if (std::string p = problem(spec, *member); !p.empty()) throw InputError(std::string(source), std::string(prefix) + std::string(spec.name), p);
+      if (std::string p = problem(spec, *member); !p.empty())
+        throw InputError(std::string(source), std::string(prefix) + std::string(spec.name), p);
     } else {
-      if (std::string p = problem(spec, member); !p.empty()) throw InputError(std::string(source), std::string(prefix) + std::string(spec.name), p);
+      if (std::string p = problem(spec, member); !p.empty())
+        throw InputError(std::string(source), std::string(prefix) + std::string(spec.name), p);
     }
   });
 }
@@ -157,8 +159,8 @@ template <class Object>
   const Object object{};
   visit(object, [&](const auto& spec, const auto& member) {
     using T = value_type_of<decltype(member)>;
-    out += "\n  " + std::string(spec.name) + " (" + std::string(type_name<T>()) + "): " + std::string(spec.doc) +
-           "; " + range_text(spec);
+    out += "\n  " + std::string(spec.name) + " (" + std::string(type_name<T>()) + "): " + std::string(spec.doc) + "; " +
+           range_text(spec);
   });
   return out;
 }

@@ -37,10 +37,12 @@ T json_value(const Spec<T>& spec, const nlohmann::json& v, std::string_view sour
     if (!v.is_number()) fail("expected a number, got " + v.dump());
     value = v.get<double>();
   } else {
-    if (v.is_number_float() && v.get<double>() != std::floor(v.get<double>())) fail("must be " + range_text(spec) + ", got " + v.dump());
+    if (v.is_number_float() && v.get<double>() != std::floor(v.get<double>()))
+      fail("must be " + range_text(spec) + ", got " + v.dump());
     if (!v.is_number() || (v.is_number_integer() && !v.is_number_unsigned()) || v.get<double>() < 0.0 ||
         v.get<double>() > static_cast<double>(spec.max)) {
-      fail(v.is_number() ? "must be " + range_text(spec) + ", got " + v.dump() : "expected a whole number, got " + v.dump());
+      fail(v.is_number() ? "must be " + range_text(spec) + ", got " + v.dump()
+                         : "expected a whole number, got " + v.dump());
     }
     value = v.is_number_unsigned() ? static_cast<T>(v.get<std::uint64_t>()) : static_cast<T>(v.get<double>());
   }

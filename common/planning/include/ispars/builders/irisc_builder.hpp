@@ -1,8 +1,8 @@
 #pragma once
 // The IRIS-C baseline: the coverage-informed RRG of IRIS (Fu, Salzman, Alterovitz 2021).
 
-#include "ispars/geometry/point_grid.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/geometry/point_grid.hpp"
 
 namespace ispars {
 

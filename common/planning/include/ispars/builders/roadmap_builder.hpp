@@ -1,8 +1,8 @@
 #pragma once
 // Incremental roadmap construction: Dense (delta-PRM), SPARS, Inspection-SPARS and IRIS-C.
 
-#include <functional>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>

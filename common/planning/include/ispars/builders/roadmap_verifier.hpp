@@ -48,8 +48,8 @@ struct VerificationStopped : std::runtime_error {
 
 /// verify_roadmap on both graphs, plus: sparse vertex i is dense vertex dense_ids[i], and the
 /// local inspection-coverage invariant over every dense vertex.
-[[nodiscard]] VerificationReport verify_sparse_pair(const Scene& scene, const Roadmap& sparse,
-                                                    const Roadmap& dense, std::span<const VertexId> dense_ids,
+[[nodiscard]] VerificationReport verify_sparse_pair(const Scene& scene, const Roadmap& sparse, const Roadmap& dense,
+                                                    std::span<const VertexId> dense_ids,
                                                     const VerifyKeepGoing& keep_going = {});
 
 /// Invariant 1 on `samples` fresh valid samples q drawn from `seed` (independent of the build's

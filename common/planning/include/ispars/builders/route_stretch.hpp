@@ -44,9 +44,9 @@ struct RouteStretchReport {
   std::size_t sources = 0;     ///< Viewpoints whose pairs were measured.
   /// [k, k + 1) Delta for k < options.bins, then [bins, inf).
   std::vector<StretchBin> bins;
-  StretchBin within_3_delta;   ///< [0, 3) Delta together.
-  StretchBin beyond_3_delta;   ///< [3, inf) Delta together.
-  StretchBin all;              ///< Every pair.
+  StretchBin within_3_delta;  ///< [0, 3) Delta together.
+  StretchBin beyond_3_delta;  ///< [3, inf) Delta together.
+  StretchBin all;             ///< Every pair.
 };
 
 struct RouteStretchOptions {

@@ -5,8 +5,9 @@
 // the path through q between two members of a sample's W(q). They bound no farther pair, which
 // Theorem 1's proof would also need (docs/sparse-stretch.md; measured in docs/results/stretch.md).
 
-#include <functional>
 #include <cstdint>
+#include <functional>
+#include <limits>
 #include <map>
 #include <span>
 #include <utility>
@@ -14,9 +15,9 @@
 
 #include "ispars/builders/delta_prm.hpp"
 #include "ispars/builders/known_routes.hpp"
-#include "ispars/search/dense_search.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/builders/sample_batch.hpp"
+#include "ispars/search/dense_search.hpp"
 
 namespace ispars {
 
@@ -68,23 +69,23 @@ struct SparsAdmissions {
 
   /// Edges of G_s by the rule that added them.
   std::uint64_t bridge_edges = 0;
-  std::uint64_t interface_edges = 0;   ///< Direct, and the two through q.
-  std::uint64_t shortcut_edges = 0;    ///< Direct, and along (and at the ends of) added paths.
-  std::uint64_t join_edges = 0;        ///< Sparse-vertex join.
-  std::uint64_t witness_edges = 0;     ///< Witnessed pairs, direct and through q.
+  std::uint64_t interface_edges = 0;  ///< Direct, and the two through q.
+  std::uint64_t shortcut_edges = 0;   ///< Direct, and along (and at the ends of) added paths.
+  std::uint64_t join_edges = 0;       ///< Sparse-vertex join.
+  std::uint64_t witness_edges = 0;    ///< Witnessed pairs, direct and through q.
   /// Vertices added along shortcut paths (not counted in shortcut_path, which counts paths).
   std::uint64_t shortcut_path_vertices = 0;
 };
 
 /// One application of the shortcut criterion, kept so that tests and reports can check it.
 struct ShortcutRecord {
-  VertexId v = kNoVertex;       ///< rep(q), the sparse vertex whose interfaces are compared.
-  VertexId vp = kNoVertex;      ///< v': the interface q supports.
-  VertexId vpp = kNoVertex;     ///< v'': the other interface of v.
-  double sparse_length = 0.0;   ///< (|v - v'| + |v - v''|) / 2 for this very pair.
-  double dense_length = 0.0;    ///< Shortest dense route from q to a support of v|v''.
-  bool direct_edge = false;     ///< Fixed by the edge v'-v''; otherwise by `path`.
-  std::vector<VertexId> path;   ///< Sparse vertices of the added smoothed route, in order.
+  VertexId v = kNoVertex;          ///< rep(q), the sparse vertex whose interfaces are compared.
+  VertexId vp = kNoVertex;         ///< v': the interface q supports.
+  VertexId vpp = kNoVertex;        ///< v'': the other interface of v.
+  double sparse_length = 0.0;      ///< (|v - v'| + |v - v''|) / 2 for this very pair.
+  double dense_length = 0.0;       ///< Shortest dense route from q to a support of v|v''.
+  bool direct_edge = false;        ///< Fixed by the edge v'-v''; otherwise by `path`.
+  std::vector<VertexId> path;      ///< Sparse vertices of the added smoothed route, in order.
   VertexId front_rep = kNoVertex;  ///< rep of the route's first dense vertex when it was added.
   VertexId back_rep = kNoVertex;   ///< rep of the route's last dense vertex when it was added.
 };
@@ -144,6 +145,20 @@ class SparsBuilder final : public RoadmapBuilder {
   VertexId admit();
   // The dense shortcut (spars_shortcut.cpp).
   void shortcut_test(VertexId q);
+  /// A pair shortcut_test weighs: q supports the interface v|vp; vpp is a sparse neighbour of v,
+  /// not vp and not adjacent to it, with a known interface v|vpp. The sparse route between the
+  /// interfaces through v is estimated with midpoints; the dense one is the shortest from q to a
+  /// support of v|vpp.
+  struct ShortcutCandidate {
+    VertexId vp;
+    VertexId vpp;
+    double sparse_length;
+    double dense_length = std::numeric_limits<double>::infinity();
+    VertexId support = kNoVertex;
+  };
+  [[nodiscard]] std::vector<ShortcutCandidate> shortcut_candidates(VertexId q, VertexId v) const;
+  void find_dense_supports(VertexId q, VertexId v, std::vector<ShortcutCandidate>& candidates);
+  void add_shortcut(VertexId q, VertexId v, const ShortcutCandidate& c);
   std::vector<VertexId> smooth(const std::vector<VertexId>& dense_path) const;
   VertexId interface_neighbor(VertexId dense_vertex, VertexId rep) const;
   // The sparse-vertex stretch rules (spars_stretch.cpp).
@@ -202,7 +217,7 @@ class SparsBuilder final : public RoadmapBuilder {
   SparsRules rules_;
   double sparse_delta_;
   double stretch_;
-  double stretch_slack_;  // metres: options_.stretch_slack times Delta
+  double stretch_slack_;    // metres: options_.stretch_slack times Delta
   double slack_now_ = 0.0;  // slack_at(the sample being stepped)
   // The stretch bounds' slack for sample `index` of the stream: stretch_slack_ from
   // options_.stretch_slack_after on, else 0.
@@ -217,9 +232,9 @@ class SparsBuilder final : public RoadmapBuilder {
   std::vector<VertexId> dense_of_sparse_;
   std::vector<VertexId> sparse_of_dense_;
 
-  std::vector<VertexId> rep_;           // per dense vertex
-  std::vector<double> rep_distance_;    // per dense vertex
-  std::vector<VertexId> support_rep_;   // the rep under which partners_ are registered
+  std::vector<VertexId> rep_;                    // per dense vertex
+  std::vector<double> rep_distance_;             // per dense vertex
+  std::vector<VertexId> support_rep_;            // the rep under which partners_ are registered
   std::vector<std::vector<VertexId>> partners_;  // per dense vertex: v' of the interfaces it supports
   std::vector<std::map<VertexId, std::vector<VertexId>>> supports_;  // per sparse v: v' -> dense ids
 
@@ -247,8 +262,8 @@ class SparsBuilder final : public RoadmapBuilder {
   std::vector<OpenTarget> open_targets_;  // first_long_route's scratch
   enum class TargetState : std::uint8_t { open, short_route, long_route };
   std::vector<TargetState> target_state_;  // first_long_route's scratch, by target index
-  std::vector<double> among_w_;  // witnessed_pairs' scratch: known routes between members of W
-  KnownRoutes known_routes_;  // edges and routes found: searches the stretch rules can skip
+  std::vector<double> among_w_;            // witnessed_pairs' scratch: known routes between members of W
+  KnownRoutes known_routes_;               // edges and routes found: searches the stretch rules can skip
 };
 
 }  // namespace ispars

@@ -21,8 +21,7 @@ inline constexpr double kPoiStandoff = 1e-3;
 /// Immutable after construction; every query is const and thread-safe.
 class VisibilityOracle {
  public:
-  VisibilityOracle(std::shared_ptr<const EmbreeScene> scene, std::vector<Vec3> pois,
-                   double sensor_range);
+  VisibilityOracle(std::shared_ptr<const EmbreeScene> scene, std::vector<Vec3> pois, double sensor_range);
   ~VisibilityOracle();
   VisibilityOracle(const VisibilityOracle&) = delete;
   VisibilityOracle& operator=(const VisibilityOracle&) = delete;

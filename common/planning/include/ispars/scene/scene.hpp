@@ -9,9 +9,9 @@
 #include "ispars/geometry/check_counters.hpp"
 #include "ispars/geometry/collision_checker.hpp"
 #include "ispars/geometry/random.hpp"
-#include "ispars/scene/scene_config.hpp"
 #include "ispars/geometry/triangle_mesh.hpp"
 #include "ispars/geometry/visibility.hpp"
+#include "ispars/scene/scene_config.hpp"
 
 namespace ispars {
 
@@ -48,12 +48,8 @@ class Scene {
 
   /// Shorthands for the three queries of the paper.
   [[nodiscard]] bool point_valid(const Vec3& q) const { return collision_->point_valid(q); }
-  [[nodiscard]] bool segment_valid(const Vec3& a, const Vec3& b) const {
-    return collision_->segment_valid(a, b);
-  }
-  void visible_pois(const Vec3& q, std::vector<PoiId>& out) const {
-    visibility_->visible_pois(q, out);
-  }
+  [[nodiscard]] bool segment_valid(const Vec3& a, const Vec3& b) const { return collision_->segment_valid(a, b); }
+  void visible_pois(const Vec3& q, std::vector<PoiId>& out) const { visibility_->visible_pois(q, out); }
 
   /// A uniform sample of the sampling box that passes the point check, drawn from rng (at most
   /// `max_attempts` draws; throws std::runtime_error when none is valid).

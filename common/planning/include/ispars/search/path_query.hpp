@@ -11,9 +11,9 @@ namespace ispars {
 
 /// A collision-free path from start to goal.
 struct RoadmapPath {
-  std::vector<Vec3> waypoints;      ///< start, the roadmap vertices in order, goal.
-  std::vector<VertexId> vertices;   ///< The roadmap vertices used.
-  double length = 0.0;              ///< Sum of the segment lengths.
+  std::vector<Vec3> waypoints;     ///< start, the roadmap vertices in order, goal.
+  std::vector<VertexId> vertices;  ///< The roadmap vertices used.
+  double length = 0.0;             ///< Sum of the segment lengths.
 };
 
 /// The shortest path from `start` to `goal` through `roadmap`, entering and leaving it by free
@@ -23,7 +23,7 @@ struct RoadmapPath {
 /// (file "path", field "from" or "to") when a point is non-finite, outside the scene's bounds, in
 /// collision, or has no free segment to a vertex within the radius, and (field "to") when the two
 /// joins lie in different components.
-[[nodiscard]] RoadmapPath plan_path(const Scene& scene, const Roadmap& roadmap, const Vec3& start,
-                                    const Vec3& goal, double join_radius);
+[[nodiscard]] RoadmapPath plan_path(const Scene& scene, const Roadmap& roadmap, const Vec3& start, const Vec3& goal,
+                                    double join_radius);
 
 }  // namespace ispars

@@ -44,9 +44,9 @@ struct FlownTourOptions {
   /// vertices (`corridor_samples`); or the build's stream drawn again (build_seed, build_samples).
   CorridorSource corridor_source = CorridorSource::fresh;
   std::span<const Vec3> corridor_samples;
-  std::uint64_t build_seed = 0;     ///< With CorridorSource::stream.
-  double corridor_radius = 0.0;     ///< r: the tube's radius; 0: Delta / 2 (the scene's sparse_delta / 2).
-  double join_radius = 0.0;         ///< 0: 2 Delta, a sparse edge's reach.
+  std::uint64_t build_seed = 0;  ///< With CorridorSource::stream.
+  double corridor_radius = 0.0;  ///< r: the tube's radius; 0: Delta / 2 (the scene's sparse_delta / 2).
+  double join_radius = 0.0;      ///< 0: 2 Delta, a sparse edge's reach.
   /// Tube samples per cubic metre; 0: `density_factor` times the build's (build_samples over the
   /// sampling box's volume).
   double corridor_density = 0.0;
@@ -60,7 +60,7 @@ struct FlownTourOptions {
   /// With search.max_iterations > 0: each corridor search's iterations per thread (at most the
   /// roadmap search's). It starts from the incumbent, so it needs far fewer.
   std::uint64_t corridor_iterations = 500;
-  bool refine = true;               ///< Viewpoint refinement and 2-opt.
+  bool refine = true;  ///< Viewpoint refinement and 2-opt.
   /// Its draws and passes (its seed, stop and budget are set here).
   RefineOptions refine_options{96, 30};
 };
@@ -74,19 +74,19 @@ struct FlownStage {
 
 /// The flown tour and how each stage got it there.
 struct FlownTour {
-  std::vector<Vec3> stops;          ///< Closed: front() == back() == the root. Straight segments between.
-  double cost = 0.0;                ///< Its length.
-  double walk_cost = 0.0;           ///< The roadmap walk's (stage 1's search).
+  std::vector<Vec3> stops;  ///< Closed: front() == back() == the root. Straight segments between.
+  double cost = 0.0;        ///< Its length.
+  double walk_cost = 0.0;   ///< The roadmap walk's (stage 1's search).
   std::vector<FlownStage> stages;
-  GipResult search;                 ///< Stage 1: the walk, its targets, trace and proven bound (on roadmap walks).
-  ShortcutTour roadmap_shortcut;    ///< Stage 1's shortcut of the walk (its stops are roadmap vertices).
-  std::size_t graph_vertices = 0;   ///< Of the graph the flown tour was last searched on.
+  GipResult search;                ///< Stage 1: the walk, its targets, trace and proven bound (on roadmap walks).
+  ShortcutTour roadmap_shortcut;   ///< Stage 1's shortcut of the walk (its stops are roadmap vertices).
+  std::size_t graph_vertices = 0;  ///< Of the graph the flown tour was last searched on.
   std::size_t graph_edges = 0;
   std::size_t corridor_samples = 0;  ///< Tube samples of the corridor rounds that shortened the tour.
   std::size_t segments_checked = 0;  ///< By shortcuts, corridors and refinement.
-  RefineResult refined;             ///< The last refinement's.
-  FlownTourCheck check;             ///< The independent check; its `sees` says what each stop sees.
-  bool stopped = false;             ///< The stop or the budget cut a stage short (the tour is still sound).
+  RefineResult refined;              ///< The last refinement's.
+  FlownTourCheck check;              ///< The independent check; its `sees` says what each stop sees.
+  bool stopped = false;              ///< The stop or the budget cut a stage short (the tour is still sound).
 };
 
 /// Runs the pipeline on `graph` (the roadmap's, root 0; positions[v] places vertex v) in `scene`

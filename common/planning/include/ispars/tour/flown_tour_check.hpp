@@ -20,7 +20,7 @@ struct FlownTourCheck {
   double recomputed_cost = 0.0;  ///< The sum of the segments' lengths.
   std::size_t missing_targets = 0;
   std::vector<std::vector<PoiId>> sees;  ///< Per stop (the closing one too): the targets it sees, ascending.
-  std::string problem;  ///< The first failure, in words.
+  std::string problem;                   ///< The first failure, in words.
   [[nodiscard]] bool valid() const { return problem.empty(); }
 };
 

@@ -55,19 +55,19 @@ struct GipResult {
   InspectionTour tour;
   std::vector<PoiId> targets;
   std::vector<std::pair<double, double>> trace;  ///< (seconds, best cost) at each improvement.
-  std::optional<double> lower_bound;             ///< Proven: no tour in the graph is shorter (never over a thinned set).
+  std::optional<double> lower_bound;  ///< Proven: no tour in the graph is shorter (never over a thinned set).
   std::vector<std::pair<double, double>> bound_trace;  ///< (seconds, proven bound) at each rise.
-  bool bound_complete = false;                   ///< The LP was solved over all its cuts.
-  std::size_t bound_rounds = 0;                  ///< LP solves.
-  std::size_t bound_cuts = 0;                    ///< LP rows added.
-  std::size_t bound_dropped = 0;                 ///< LP rows dropped at its size cap (tour_bound.hpp).
-  std::size_t bound_peak_nonzeros = 0;           ///< The LP's constraint nonzeros at their most.
-  std::string bound_note;                        ///< Why no LP bound was computed, when none was.
+  bool bound_complete = false;                         ///< The LP was solved over all its cuts.
+  std::size_t bound_rounds = 0;                        ///< LP solves.
+  std::size_t bound_cuts = 0;                          ///< LP rows added.
+  std::size_t bound_dropped = 0;                       ///< LP rows dropped at its size cap (tour_bound.hpp).
+  std::size_t bound_peak_nonzeros = 0;                 ///< The LP's constraint nonzeros at their most.
+  std::string bound_note;                              ///< Why no LP bound was computed, when none was.
   double seconds = 0.0;
-  std::uint64_t iterations = 0;                  ///< Large-neighbourhood iterations, all threads.
-  std::size_t candidates = 0;                    ///< Vertices of the metric closure.
-  std::size_t distance_rows = 0;                 ///< Dijkstra rows computed (tour_closure.hpp).
-  std::size_t thinned = 0;                       ///< Target-seeing vertices left out (tour_closure.hpp).
+  std::uint64_t iterations = 0;   ///< Large-neighbourhood iterations, all threads.
+  std::size_t candidates = 0;     ///< Vertices of the metric closure.
+  std::size_t distance_rows = 0;  ///< Dijkstra rows computed (tour_closure.hpp).
+  std::size_t thinned = 0;        ///< Target-seeing vertices left out (tour_closure.hpp).
   TourValidation validation;
 };
 

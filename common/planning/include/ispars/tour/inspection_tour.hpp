@@ -17,13 +17,13 @@ struct InspectionTour {
 
 /// What validate_tour found; valid() when every check holds.
 struct TourValidation {
-  bool closed = false;         ///< Starts and ends at the root.
+  bool closed = false;  ///< Starts and ends at the root.
   bool steps_are_edges = false;
   bool covers_targets = false;
-  bool cost_matches = false;   ///< The stated cost equals the sum of the steps' edge costs.
+  bool cost_matches = false;  ///< The stated cost equals the sum of the steps' edge costs.
   double recomputed_cost = 0.0;
   std::size_t missing_targets = 0;
-  std::string problem;         ///< The first failure, in words.
+  std::string problem;  ///< The first failure, in words.
   [[nodiscard]] bool valid() const { return closed && steps_are_edges && covers_targets && cost_matches; }
 };
 

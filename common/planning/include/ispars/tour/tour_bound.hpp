@@ -47,16 +47,16 @@ struct TourBoundOptions {
 };
 
 struct TourBoundResult {
-  double bound = 0.0;       ///< Proven: no tour seeing every target is shorter.
-  bool complete = false;    ///< No violated cut is left: the LP optimum over all cuts.
-  std::size_t rounds = 0;   ///< LP solves.
-  std::size_t cuts = 0;     ///< Rows added.
-  std::size_t dropped = 0;  ///< Rows dropped at the size cap (their dual was 0).
+  double bound = 0.0;             ///< Proven: no tour seeing every target is shorter.
+  bool complete = false;          ///< No violated cut is left: the LP optimum over all cuts.
+  std::size_t rounds = 0;         ///< LP solves.
+  std::size_t cuts = 0;           ///< Rows added.
+  std::size_t dropped = 0;        ///< Rows dropped at the size cap (their dual was 0).
   std::size_t peak_nonzeros = 0;  ///< The LP's constraint nonzeros at their most.
-  bool capped = false;      ///< The cap stopped the rounds: the cuts that bind fill it.
-  double seconds = 0.0;     ///< Wall time of the rounds (the bound depends on it: a budget stops them).
+  bool capped = false;            ///< The cap stopped the rounds: the cuts that bind fill it.
+  double seconds = 0.0;           ///< Wall time of the rounds (the bound depends on it: a budget stops them).
   std::vector<std::pair<double, double>> trace;  ///< (seconds, bound) at each rise.
-  std::string skipped;      ///< Non-empty when no LP was solved, and why.
+  std::string skipped;                           ///< Non-empty when no LP was solved, and why.
 };
 
 /// Runs the cutting-plane loop until no cut is violated, the budget ends or should_stop() holds.

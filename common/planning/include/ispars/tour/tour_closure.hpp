@@ -30,10 +30,10 @@ struct ClosureStopped : std::runtime_error {
 };
 
 struct TourClosureOptions {
-  unsigned threads = 1;                 ///< For the rows computed ahead.
-  std::size_t max_candidates = 8000;    ///< Above this, thin the candidates.
-  std::size_t rows_ahead_up_to = 3000;  ///< Compute every row ahead when there are at most this many.
-  std::function<bool()> should_stop;    ///< Refuses lazy rows (ClosureStopped) and stops rows ahead.
+  unsigned threads = 1;                   ///< For the rows computed ahead.
+  std::size_t max_candidates = 8000;      ///< Above this, thin the candidates.
+  std::size_t rows_ahead_up_to = 3000;    ///< Compute every row ahead when there are at most this many.
+  std::function<bool()> should_stop;      ///< Refuses lazy rows (ClosureStopped) and stops rows ahead.
   std::function<bool()> stop_rows_ahead;  ///< Stops rows ahead only (a budget): the rest come on first use.
 };
 
@@ -57,11 +57,11 @@ class TourClosure {
     if (!complete_ && rows_[a].load(std::memory_order_acquire) == nullptr) (void)row(a);
   }
 
-  std::size_t n = 0;                                 ///< Candidates.
-  std::vector<VertexId> vertex;                      ///< candidate -> graph vertex
-  std::vector<std::vector<std::uint32_t>> sees;      ///< candidate -> local target ids, ascending
-  std::vector<std::vector<std::uint32_t>> seen_by;   ///< local target -> candidates, ascending
-  std::size_t thinned = 0;                           ///< Viewers left out by thinning.
+  std::size_t n = 0;                                ///< Candidates.
+  std::vector<VertexId> vertex;                     ///< candidate -> graph vertex
+  std::vector<std::vector<std::uint32_t>> sees;     ///< candidate -> local target ids, ascending
+  std::vector<std::vector<std::uint32_t>> seen_by;  ///< local target -> candidates, ascending
+  std::size_t thinned = 0;                          ///< Viewers left out by thinning.
   /// Proven lower bound on every tour from the root that sees every target: the largest, over
   /// targets, of the cheapest round trip from the root to a vertex of the component seeing it,
   /// over all such vertices (computed before thinning, with one Dijkstra from the root).

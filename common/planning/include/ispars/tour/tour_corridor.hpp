@@ -3,8 +3,9 @@
 // loses to a dense one is where its viewpoints are, not how it routes between them; so around
 // the tour it already flies (a tube of radius r around its straight segments) the corridor adds
 // samples (fresh draws at a chosen density, the dense pair's vertices, or the build's stream drawn
-// again) and joins each, within a sparse edge's reach, to its nearest vertices by checked segments. The roadmap itself is left untouched: the corridor lives in the
-// tour's own graph, a copy of the roadmap's graph with the tube's vertices after it.
+// again) and joins each, within a sparse edge's reach, to its nearest vertices by checked segments. The roadmap itself
+// is left untouched: the corridor lives in the tour's own graph, a copy of the roadmap's graph with the tube's vertices
+// after it.
 
 #include <atomic>
 #include <cstddef>
@@ -39,13 +40,13 @@ struct CorridorOptions {
   /// At most this many fresh draws (the density is lowered to fit), or tube samples kept from
   /// `samples` or the stream (the first ones, in their order).
   std::size_t max_samples = 20'000;
-  std::span<const Vec3> samples;       ///< With CorridorSource::samples.
-  std::uint64_t stream_seed = 0;       ///< With CorridorSource::stream: the build's seed
-  std::uint64_t stream_count = 0;      ///< and its sample count.
+  std::span<const Vec3> samples;   ///< With CorridorSource::samples.
+  std::uint64_t stream_seed = 0;   ///< With CorridorSource::stream: the build's seed
+  std::uint64_t stream_count = 0;  ///< and its sample count.
   /// Each new vertex is joined to at most this many vertices, its nearest within join_radius
   /// (bounds the corridor's edges and checks to max_joins per vertex; 0: no bound).
   std::size_t max_joins = 0;
-  std::uint64_t seed = 1;            ///< The draws' stream: the same input gives the same graph.
+  std::uint64_t seed = 1;  ///< The draws' stream: the same input gives the same graph.
   /// When set and true, no more samples are drawn or joined (the graph so far is returned, still
   /// sound: `stopped` says so).
   const std::atomic<bool>* stop = nullptr;
@@ -58,12 +59,12 @@ struct CorridorOptions {
 /// edge, and each new vertex is joined to every vertex within join_radius whose segment is valid.
 struct CorridorGraph {
   InspectionGraph graph;
-  std::vector<Vec3> positions;   ///< Of every vertex of `graph`.
-  std::vector<VertexId> walk;    ///< The flown path as a closed walk of `graph`, from vertex 0.
-  std::size_t samples = 0;       ///< Tube samples added (valid, and not a base vertex's position).
-  std::size_t draws = 0;         ///< Tube samples drawn, or found in the tube.
+  std::vector<Vec3> positions;  ///< Of every vertex of `graph`.
+  std::vector<VertexId> walk;   ///< The flown path as a closed walk of `graph`, from vertex 0.
+  std::size_t samples = 0;      ///< Tube samples added (valid, and not a base vertex's position).
+  std::size_t draws = 0;        ///< Tube samples drawn, or found in the tube.
   std::size_t segments_checked = 0;
-  bool stopped = false;          ///< `stop` ended the joins early.
+  bool stopped = false;  ///< `stop` ended the joins early.
 };
 
 /// The corridor around the flown path `stops` (closed: front == back == base vertex 0's

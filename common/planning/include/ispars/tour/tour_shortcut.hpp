@@ -14,17 +14,17 @@
 #include <span>
 #include <vector>
 
-#include "ispars/roadmap/vec.hpp"
 #include "ispars/roadmap/inspection_graph.hpp"
+#include "ispars/roadmap/vec.hpp"
 #include "ispars/tour/inspection_tour.hpp"
 
 namespace ispars {
 
 /// A tour shortened by straight segments: closed (front == back == the root's stop).
 struct ShortcutTour {
-  std::vector<VertexId> stops;  ///< Walk vertices kept, in flying order.
-  std::vector<Vec3> path;       ///< Their positions.
-  double cost = 0.0;            ///< Sum of the straight steps' lengths.
+  std::vector<VertexId> stops;       ///< Walk vertices kept, in flying order.
+  std::vector<Vec3> path;            ///< Their positions.
+  double cost = 0.0;                 ///< Sum of the straight steps' lengths.
   std::size_t segments_checked = 0;  ///< Calls to segment_valid.
   std::size_t shortcuts = 0;         ///< Stretches replaced by one segment.
   bool stopped = false;              ///< `stop` or the budget ended it: the path is shortened only in part.

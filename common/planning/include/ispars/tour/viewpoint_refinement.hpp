@@ -4,8 +4,9 @@
 // vertex. Each stop is drawn again where it would shorten the tour (inside the prolate spheroid
 // with foci at its two neighbours, as Informed RRT* samples): straight toward its neighbours'
 // chord, near where it is, and anywhere in the spheroid; it moves to the best draw that is valid,
-// joined to both neighbours by valid segments, and sees every target no other stop sees. A stop whose targets all stay seen goes when its neighbours can be
-// joined. Then 2-opt over the stops, with checked segments. Repeated until a pass gains nothing.
+// joined to both neighbours by valid segments, and sees every target no other stop sees. A stop whose targets all stay
+// seen goes when its neighbours can be joined. Then 2-opt over the stops, with checked segments. Repeated until a pass
+// gains nothing.
 //
 // Every change is checked against the scene (point, segments, visibility), so the path stays
 // closed, collision-free and seeing every target, and its length never grows.
@@ -22,9 +23,9 @@
 namespace ispars {
 
 struct RefineOptions {
-  std::size_t draws = 24;   ///< Candidate positions per stop per pass.
-  std::size_t passes = 8;   ///< At most this many passes (fewer when one gains nothing).
-  std::uint64_t seed = 1;   ///< The draws' stream: the same input gives the same path.
+  std::size_t draws = 24;  ///< Candidate positions per stop per pass.
+  std::size_t passes = 8;  ///< At most this many passes (fewer when one gains nothing).
+  std::uint64_t seed = 1;  ///< The draws' stream: the same input gives the same path.
   /// When set and true, refinement stops after the current stop (the path is still sound).
   const std::atomic<bool>* stop = nullptr;
   /// When > 0, refinement stops as `stop` does once this many seconds have passed.
@@ -38,7 +39,7 @@ struct RefineResult {
   std::size_t passes = 0;
   std::size_t segments_checked = 0;
   std::size_t visibility_queries = 0;
-  bool stopped = false;      ///< `stop` or the budget ended it.
+  bool stopped = false;  ///< `stop` or the budget ended it.
 };
 
 /// The length of a path of straight segments.

@@ -21,20 +21,18 @@ struct ReferenceSight {
 /// Brute-force collision, clearance and visibility over all triangles, in double precision.
 class BruteForceGeometry {
  public:
-  BruteForceGeometry(std::vector<Triangle> triangles, Aabb bounds, double robot_radius,
-                     std::vector<Vec3> pois, double sensor_range);
+  BruteForceGeometry(std::vector<Triangle> triangles, Aabb bounds, double robot_radius, std::vector<Vec3> pois,
+                     double sensor_range);
 
   [[nodiscard]] bool point_valid(const Vec3& q) const;
   [[nodiscard]] bool segment_valid(const Vec3& a, const Vec3& b) const;
   [[nodiscard]] double distance_to_surface(const Vec3& q) const;
   /// Exact distance from the segment [a, b] to the nearest triangle.
   [[nodiscard]] double segment_distance_to_surface(const Vec3& a, const Vec3& b) const;
-  [[nodiscard]] ReferenceSight line_of_sight(const Vec3& q, PoiId id,
-                                             double tolerance = 1e-5) const;
+  [[nodiscard]] ReferenceSight line_of_sight(const Vec3& q, PoiId id, double tolerance = 1e-5) const;
   /// chi(q) by scanning every POI and casting against every triangle; `ambiguous` (if given)
   /// receives the ids whose sight line is in the tolerance band.
-  [[nodiscard]] std::vector<PoiId> visible_pois(const Vec3& q,
-                                                std::vector<PoiId>* ambiguous = nullptr) const;
+  [[nodiscard]] std::vector<PoiId> visible_pois(const Vec3& q, std::vector<PoiId>* ambiguous = nullptr) const;
 
   [[nodiscard]] const std::vector<Triangle>& triangles() const { return triangles_; }
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "ispars/roadmap/vec.hpp"
-#include "ispars/roadmap/roadmap.hpp"
 #include "ispars/geometry/triangle_mesh.hpp"
+#include "ispars/roadmap/roadmap.hpp"
+#include "ispars/roadmap/vec.hpp"
 
 namespace ispars {
 
@@ -31,7 +31,9 @@ struct Image {
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> rgb;
-  [[nodiscard]] const std::uint8_t* pixel(int x, int y) const { return &rgb[3 * (static_cast<std::size_t>(y) * width + x)]; }
+  [[nodiscard]] const std::uint8_t* pixel(int x, int y) const {
+    return &rgb[3 * (static_cast<std::size_t>(y) * width + x)];
+  }
 };
 
 /// The edges of a graph to draw, by vertex position.
@@ -44,14 +46,14 @@ struct DrawnGraph {
 struct RenderRequest {
   int width = 1600;
   int height = 1200;
-  std::optional<Camera> camera;           ///< Default: framing_camera of the mesh and the tour.
+  std::optional<Camera> camera;  ///< Default: framing_camera of the mesh and the tour.
   std::span<const Vec3> pois;
-  std::vector<bool> poi_seen;             ///< Per POI: green seen, red unseen (empty: all purple, unknown).
-  std::optional<DrawnGraph> roadmap;      ///< Drawn blue, with its vertices.
-  std::optional<DrawnGraph> dense;        ///< Drawn faint grey, under the roadmap.
-  std::span<const Vec3> tour;             ///< A closed walk's positions, drawn thick orange.
-  std::size_t max_edges = 2'000'000;      ///< At most this many edges of each graph are drawn.
-  int threads = 0;                        ///< Ray-casting threads (0: every core).
+  std::vector<bool> poi_seen;         ///< Per POI: green seen, red unseen (empty: all purple, unknown).
+  std::optional<DrawnGraph> roadmap;  ///< Drawn blue, with its vertices.
+  std::optional<DrawnGraph> dense;    ///< Drawn faint grey, under the roadmap.
+  std::span<const Vec3> tour;         ///< A closed walk's positions, drawn thick orange.
+  std::size_t max_edges = 2'000'000;  ///< At most this many edges of each graph are drawn.
+  int threads = 0;                    ///< Ray-casting threads (0: every core).
 };
 
 /// What render_scene drew.

@@ -43,6 +43,17 @@ enum class SparsVariant { stretch, alg1 };
 /// `stretch` rules of spars and ispars, and ispars2.
 [[nodiscard]] bool reads_stretch_slack(BuildMethod method, SparsVariant variant);
 
+/// The parameters of a recipe a build may override, in their one order, for a struct with a member
+/// of each name: RoadmapRecipe (the values) and RecipeOverrides (build_request.hpp, each optional).
+void describe_recipe_parameters(auto& self, auto&& field) {
+  field(kDenseDelta, self.dense_delta);
+  field(kSparseDelta, self.sparse_delta);
+  field(kStretch, self.stretch);
+  field(kStretchSlack, self.stretch_slack);
+  field(kStretchSlackAfter, self.stretch_slack_after);
+  field(kPAccept, self.p_accept);
+}
+
 /// What a roadmap is built from: enough to rebuild it exactly.
 struct RoadmapRecipe {
   std::string scene;
@@ -52,9 +63,9 @@ struct RoadmapRecipe {
   /// spars and ispars: the rule set. A recipe.json without one predates the variants and was
   /// built with Alg. 1's rules, so it reads as alg1 (and replays byte for byte).
   SparsVariant variant = SparsVariant::stretch;
-  double dense_delta = 0.0;   ///< delta used (the scene's, or an override)
-  double sparse_delta = 0.0;  ///< Delta used
-  double stretch = 0.0;       ///< t used
+  double dense_delta = 0.0;      ///< delta used (the scene's, or an override)
+  double sparse_delta = 0.0;     ///< Delta used
+  double stretch = 0.0;          ///< t used
   std::uint64_t generation = 0;  ///< Distinguishes successive roadmaps of one scene.
   /// scene_fingerprint() of the scene it was built on; empty in stores that predate it (then
   /// unchecked).
@@ -69,14 +80,7 @@ struct RoadmapRecipe {
   std::uint64_t stretch_slack_after = 0;
 
   /// The recipe's parameters (roadmap_parameters.hpp), in recipe.json under their names.
-  static void describe(auto& self, auto&& field) {
-    field(kDenseDelta, self.dense_delta);
-    field(kSparseDelta, self.sparse_delta);
-    field(kStretch, self.stretch);
-    field(kStretchSlack, self.stretch_slack);
-    field(kStretchSlackAfter, self.stretch_slack_after);
-    field(kPAccept, self.p_accept);
-  }
+  static void describe(auto& self, auto&& field) { describe_recipe_parameters(self, field); }
 };
 
 /// Whether two recipes build the same roadmap: method, seed, the variant where the method has

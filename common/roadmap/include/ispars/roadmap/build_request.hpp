@@ -23,14 +23,7 @@ struct RecipeOverrides {
   std::optional<std::uint64_t> stretch_slack_after;
   std::optional<double> p_accept;
 
-  static void describe(auto& self, auto&& field) {
-    field(kDenseDelta, self.dense_delta);
-    field(kSparseDelta, self.sparse_delta);
-    field(kStretch, self.stretch);
-    field(kStretchSlack, self.stretch_slack);
-    field(kStretchSlackAfter, self.stretch_slack_after);
-    field(kPAccept, self.p_accept);
-  }
+  static void describe(auto& self, auto&& field) { describe_recipe_parameters(self, field); }
   [[nodiscard]] bool any() const {
     return dense_delta || sparse_delta || stretch || stretch_slack || stretch_slack_after || p_accept;
   }

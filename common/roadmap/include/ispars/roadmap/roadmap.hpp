@@ -15,8 +15,8 @@
 #include <span>
 #include <vector>
 
-#include "ispars/roadmap/vec.hpp"
 #include "ispars/roadmap/poi_set.hpp"
+#include "ispars/roadmap/vec.hpp"
 
 namespace ispars {
 
@@ -60,7 +60,8 @@ class NeighborList {
     using pointer = void;
     using reference = Neighbor;
     iterator() = default;
-    iterator(const VertexId* at, const Vec3* positions, const Vec3* from) : at_(at), positions_(positions), from_(from) {}
+    iterator(const VertexId* at, const Vec3* positions, const Vec3* from)
+        : at_(at), positions_(positions), from_(from) {}
     Neighbor operator*() const { return {*at_, (*from_ - positions_[*at_]).norm()}; }
     iterator& operator++() {
       ++at_;
@@ -172,9 +173,7 @@ class Roadmap {
   /// The neighbours of v, in the order their edges were added.
   [[nodiscard]] std::span<const VertexId> neighbor_ids(VertexId v) const { return adjacency_[v]; }
   /// The neighbours of v with the cost of each edge.
-  [[nodiscard]] NeighborList neighbors(VertexId v) const {
-    return {adjacency_[v], positions_.data(), &positions_[v]};
-  }
+  [[nodiscard]] NeighborList neighbors(VertexId v) const { return {adjacency_[v], positions_.data(), &positions_[v]}; }
   /// Edge i (in the order added) with its cost.
   [[nodiscard]] RoadmapEdge edge(std::size_t i) const { return edges()[i]; }
   /// Every edge with its cost, in the order added.
@@ -220,7 +219,7 @@ class Roadmap {
   std::vector<std::vector<VertexId>> adjacency_;
   std::vector<EdgeEnds> edges_;
   std::vector<std::uint32_t> edges_before_;  // per vertex: the edge count when it was added
-  std::vector<VertexId> parent_;  // union-find, by size, with path halving on writes
+  std::vector<VertexId> parent_;             // union-find, by size, with path halving on writes
   std::vector<std::uint32_t> size_;
   std::size_t components_ = 0;
 };

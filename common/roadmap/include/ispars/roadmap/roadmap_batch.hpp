@@ -20,9 +20,9 @@ struct RoadmapBatch {
   std::uint64_t from_version = 0;  ///< The roadmap's version before the batch.
   std::uint64_t to_version = 0;    ///< ... and after it.
   std::vector<RoadmapChange> changes;
-  std::vector<Vec3> positions;                  ///< For each vertex change, in order.
-  std::vector<std::vector<PoiId>> visible;      ///< For each vertex change, in order.
-  std::vector<RoadmapEdge> edges;               ///< For each edge change, in order.
+  std::vector<Vec3> positions;              ///< For each vertex change, in order.
+  std::vector<std::vector<PoiId>> visible;  ///< For each vertex change, in order.
+  std::vector<RoadmapEdge> edges;           ///< For each edge change, in order.
 };
 
 /// The batch of every change of `roadmap` after `version`.

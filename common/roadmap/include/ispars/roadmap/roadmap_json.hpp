@@ -5,8 +5,8 @@
 
 #include <filesystem>
 #include <span>
-#include <vector>
 #include <string>
+#include <vector>
 
 #include "ispars/roadmap/inspection_graph.hpp"
 #include "ispars/roadmap/roadmap.hpp"

@@ -10,12 +10,10 @@
 
 namespace ispars {
 
-inline constexpr params::Spec<double> kDenseDelta{"dense_delta", 0.0, 1e6,
-                                                  "delta, the dense roadmap's connection radius in metres",
-                                                  params::Lower::open};
-inline constexpr params::Spec<double> kSparseDelta{"sparse_delta", 0.0, 1e6,
-                                                   "Delta, the sparse roadmap's visibility radius in metres",
-                                                   params::Lower::open};
+inline constexpr params::Spec<double> kDenseDelta{
+    "dense_delta", 0.0, 1e6, "delta, the dense roadmap's connection radius in metres", params::Lower::open};
+inline constexpr params::Spec<double> kSparseDelta{
+    "sparse_delta", 0.0, 1e6, "Delta, the sparse roadmap's visibility radius in metres", params::Lower::open};
 inline constexpr params::Spec<double> kStretch{"stretch", 1.0, 100.0, "t, the spanner's stretch factor"};
 inline constexpr params::Spec<double> kStretchSlack{
     "stretch_slack", 0.0, 1.0,
@@ -25,8 +23,8 @@ inline constexpr params::Spec<std::uint64_t> kStretchSlackAfter{
     "stretch_slack_after", 0, 1'000'000'000'000,
     "the sample from which stretch_slack applies (default 0: from the first; the samples before it grow the "
     "roadmap no slack grows)"};
-inline constexpr params::Spec<double> kPAccept{"p_accept", 0.0, 1.0,
-                                               "IRIS-C: probability of admitting a state that adds no POI (default 0.2)"};
+inline constexpr params::Spec<double> kPAccept{
+    "p_accept", 0.0, 1.0, "IRIS-C: probability of admitting a state that adds no POI (default 0.2)"};
 
 /// The samples one build or extend request may ask for, whoever sends it. Its upper bound is
 /// 2^53, so that a count survives every JSON reader's double; a daemon's `max_samples` setting

@@ -16,8 +16,8 @@ namespace ispars {
 /// `count` points uniform by area on the mesh surface (optionally skipping ground triangles),
 /// from `seed` alone: the same points, bit for bit, on every machine.
 /// Throws std::invalid_argument when no triangle with positive area is eligible.
-[[nodiscard]] std::vector<Vec3> sample_pois_on_surface(const TriangleMesh& mesh, std::size_t count,
-                                                       std::uint64_t seed, bool skip_ground);
+[[nodiscard]] std::vector<Vec3> sample_pois_on_surface(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed,
+                                                       bool skip_ground);
 
 /// Reads POIs from a text file, one "x y z" per line; blank lines and '#' comments are skipped.
 /// Throws InputError naming the file, `field` and the line at fault.

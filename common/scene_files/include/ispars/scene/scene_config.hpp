@@ -55,9 +55,9 @@ inline constexpr params::Spec<double> kSensorRange{"sensor_range", 0.0, 1e6, "ho
 
 /// A parsed and checked scene file. Every number is finite and in its valid range.
 struct SceneConfig {
-  std::string source;    ///< The YAML file it came from (for error messages).
-  std::string name;      ///< A short name for reports.
-  std::filesystem::path mesh;                ///< Resolved mesh path; empty when procedural.
+  std::string source;          ///< The YAML file it came from (for error messages).
+  std::string name;            ///< A short name for reports.
+  std::filesystem::path mesh;  ///< Resolved mesh path; empty when procedural.
   std::optional<ProceduralSource> procedural;
   double scale = 1.0;
   Aabb bounds;
@@ -86,8 +86,7 @@ struct SceneConfig {
 [[nodiscard]] SceneConfig parse_scene_config(const std::filesystem::path& yaml_path);
 
 /// The same from text; relative paths resolve against `base_dir`, errors name `source`.
-[[nodiscard]] SceneConfig parse_scene_config_text(std::string_view text,
-                                                  const std::filesystem::path& base_dir,
+[[nodiscard]] SceneConfig parse_scene_config_text(std::string_view text, const std::filesystem::path& base_dir,
                                                   const std::string& source);
 
 /// Checks the numeric invariants of a config built in code (the parser calls it too).

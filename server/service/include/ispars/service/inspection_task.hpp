@@ -36,8 +36,8 @@ inline constexpr double kTaskPoiSurfaceTolerance = 0.01;
 /// Checks `task` before it is added to `scene` (the scene with `tasks`' POIs). Throws InputError
 /// (file "request") naming the field at fault: task.name (its form, or a task of that name
 /// exists and is not removed), task.pois (none, more than kMaxTaskPois), task (the scene holds
-/// kMaxTasks tasks, removed ones included: their POIs keep their ids), or task.pois[i] (not finite, outside the mesh's bounding box grown by
-/// kTaskPoiSurfaceTolerance, or farther than that from its surface).
+/// kMaxTasks tasks, removed ones included: their POIs keep their ids), or task.pois[i] (not finite, outside the mesh's
+/// bounding box grown by kTaskPoiSurfaceTolerance, or farther than that from its surface).
 void check_task(const Scene& scene, std::span<const InspectionTask> tasks, const InspectionTask& task);
 
 /// `count` POIs uniform by area on `scene`'s surface from `seed` alone, with the scene's own

@@ -5,8 +5,8 @@
 // fit beside the other scenes' reservations is refused before it starts. Work that holds memory
 // for a while and then gives it back (a tour's distance rows, a snapshot's encoding) takes a
 // *lease* of its worst case from what the reservations and the other leases leave, and is refused
-// as busy when that is too little; a build is admitted only beside the leases held too. All estimates, not measurements of the heap: ispars-bench peak
-// measures how they compare (docs/results/service.md). Safe from many threads.
+// as busy when that is too little; a build is admitted only beside the leases held too. All estimates, not measurements
+// of the heap: ispars-bench peak measures how they compare (docs/results/service.md). Safe from many threads.
 
 #include <cstddef>
 #include <functional>
@@ -42,7 +42,9 @@ class MemoryLease {
 class MemoryBudget : public std::enable_shared_from_this<MemoryBudget> {
  public:
   /// `bytes`: the whole budget (infinity: none).
-  static std::shared_ptr<MemoryBudget> make(double bytes) { return std::shared_ptr<MemoryBudget>(new MemoryBudget(bytes)); }
+  static std::shared_ptr<MemoryBudget> make(double bytes) {
+    return std::shared_ptr<MemoryBudget>(new MemoryBudget(bytes));
+  }
 
   /// Reserves `cost.peak_bytes` for `scene` in place of what it reserved before. Throws InputError
   /// ("request: samples: ...", naming the sizes and what the budget leaves) when that does not fit

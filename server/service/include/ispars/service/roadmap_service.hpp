@@ -21,14 +21,14 @@
 #include <string>
 #include <vector>
 
+#include "ispars/service/memory_budget.hpp"
+#include "ispars/service/roadmap_session.hpp"
+#include "ispars/service/scene_fingerprints.hpp"
+#include "ispars/service/store_scrub.hpp"
+#include "ispars/service/worker_pool.hpp"
 #include "ispars/tour/flown_tour.hpp"
 #include "ispars/tour/gip_solver.hpp"
 #include "ispars/tour/tour_shortcut.hpp"
-#include "ispars/service/memory_budget.hpp"
-#include "ispars/service/store_scrub.hpp"
-#include "ispars/service/roadmap_session.hpp"
-#include "ispars/service/scene_fingerprints.hpp"
-#include "ispars/service/worker_pool.hpp"
 
 namespace ispars {
 
@@ -36,13 +36,13 @@ struct PendingJob;  // pending_jobs.hpp
 
 /// Where a service finds scenes and keeps roadmaps, and what it allows.
 struct ServiceSettings {
-  std::string server_id;              ///< This service's name in messages ("daemon X").
-  std::filesystem::path scene_dir;    ///< The only directory scenes load from.
-  std::filesystem::path data_dir;     ///< One store directory per scene.
-  SessionLimits limits;               ///< Per session: samples per request, compaction, build threads.
-  unsigned build_workers = 2;         ///< Builds running at once (each on its own thread).
-  unsigned tour_workers = 2;          ///< Tours running at once.
-  std::size_t tours_per_worker = 2;   ///< Tours admitted (queued or running) per tour worker.
+  std::string server_id;             ///< This service's name in messages ("daemon X").
+  std::filesystem::path scene_dir;   ///< The only directory scenes load from.
+  std::filesystem::path data_dir;    ///< One store directory per scene.
+  SessionLimits limits;              ///< Per session: samples per request, compaction, build threads.
+  unsigned build_workers = 2;        ///< Builds running at once (each on its own thread).
+  unsigned tour_workers = 2;         ///< Tours running at once.
+  std::size_t tours_per_worker = 2;  ///< Tours admitted (queued or running) per tour worker.
   /// Memory the roadmaps of all loaded scenes may be expected to hold together at their peaks, with
   /// the snapshot encodings and tours running (memory_budget.hpp); what would not fit is refused.
   double memory_budget_bytes = std::numeric_limits<double>::infinity();
@@ -61,12 +61,12 @@ struct SceneListing {
 /// A roadmap the service can serve, as the fleet weighs it (docs/fleet.md).
 struct ServedRoadmap {
   std::string scene;
-  std::uint64_t generation = 0;  ///< Of the roadmap (of the empty one after a drop; 0: never built).
-  std::uint64_t samples = 0;     ///< Committed.
-  std::uint64_t target = 0;      ///< Accepted: a queued or running job's target, else `samples`.
-  std::string fingerprint;       ///< Of the scene file it was built on (empty when unknown).
-  bool held = false;             ///< Loaded here; else stored only.
-  std::uint64_t task_events = 0; ///< Its tasks added and removed: weighed after the samples.
+  std::uint64_t generation = 0;   ///< Of the roadmap (of the empty one after a drop; 0: never built).
+  std::uint64_t samples = 0;      ///< Committed.
+  std::uint64_t target = 0;       ///< Accepted: a queued or running job's target, else `samples`.
+  std::string fingerprint;        ///< Of the scene file it was built on (empty when unknown).
+  bool held = false;              ///< Loaded here; else stored only.
+  std::uint64_t task_events = 0;  ///< Its tasks added and removed: weighed after the samples.
 };
 
 /// A stored roadmap this service cannot serve, and why (another builder version, an unreadable
@@ -126,15 +126,15 @@ inline constexpr std::size_t kMaxTourTargets = 1'000'000;
 /// A finished tour: the search's result on the roadmap version it searched, and that tour
 /// shortcut by the scene's collision checker (tour_shortcut.hpp): the path a robot would fly.
 struct TourOutcome {
-  GipResult result;             ///< The roadmap search: its walk, trace and proven bound.
-  std::vector<Vec3> waypoints;  ///< The walk's positions.
-  ShortcutTour shortcut;        ///< The walk shortcut (its stops are roadmap vertices).
+  GipResult result;                        ///< The roadmap search: its walk, trace and proven bound.
+  std::vector<Vec3> waypoints;             ///< The walk's positions.
+  ShortcutTour shortcut;                   ///< The walk shortcut (its stops are roadmap vertices).
   ShortcutValidation shortcut_validation;  ///< check_shortcut_tour's independent check of it.
   /// The flown tour (flown_tour.hpp): stops, what each sees (from its independent check), length.
   std::vector<Vec3> flown_path;
   std::vector<std::vector<PoiId>> flown_sees;
   double flown_cost = 0.0;
-  bool flown_valid = false;     ///< check_flown_tour passed.
+  bool flown_valid = false;  ///< check_flown_tour passed.
   std::vector<FlownStage> stages;
   std::size_t graph_vertices = 0;  ///< The graph the flown tour was last searched on.
   std::size_t graph_edges = 0;
@@ -155,7 +155,7 @@ struct SnapshotSlice {
   std::uint64_t version = 0;
   std::uint32_t chunk_index = 0;
   std::uint32_t chunk_count = 0;
-  std::size_t poi_count = 0;  ///< The roadmap's POIs (the scene's, then its tasks').
+  std::size_t poi_count = 0;                   ///< The roadmap's POIs (the scene's, then its tasks').
   std::shared_ptr<const std::string> encoded;  ///< The whole encoding; this slice is [begin, end).
   std::size_t begin = 0;
   std::size_t end = 0;
@@ -273,15 +273,15 @@ class RoadmapService {
   void run_tour(const std::shared_ptr<RoadmapSession>& session, const TourRequest& request,
                 const TourCallbacks& callbacks, const std::shared_ptr<std::atomic<bool>>& stop);
   void release_tour(const std::shared_ptr<std::atomic<bool>>& stop);  // its admission and stop flag
-  std::size_t stop_tours(const std::string& scene);  // every scene when empty
+  std::size_t stop_tours(const std::string& scene);                   // every scene when empty
 
   const ServiceSettings settings_;
   const ServiceEvents events_;
   FileSystem& fs_;
   std::atomic<bool> stopping_{false};
   std::atomic<bool> readers_stopped_{false};  // stop_all_readers was called: the daemon is stopping
-  std::atomic<std::uint64_t> next_job_id_;  // from the clock at start: unlike a previous run's ids
-  std::mutex jobs_mutex_;  // a job's acceptance and its record; every read-compare-remove of one
+  std::atomic<std::uint64_t> next_job_id_;    // from the clock at start: unlike a previous run's ids
+  std::mutex jobs_mutex_;                     // a job's acceptance and its record; every read-compare-remove of one
 
   mutable std::mutex sessions_mutex_;
   std::map<std::string, std::shared_ptr<RoadmapSession>> sessions_;

@@ -15,21 +15,21 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <shared_mutex>
 #include <optional>
+#include <shared_mutex>
 #include <string>
 #include <string_view>
 
 #include "ispars/builders/build_cost.hpp"
-#include "ispars/search/path_query.hpp"
 #include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
+#include "ispars/scene/scene.hpp"
+#include "ispars/search/path_query.hpp"
 #include "ispars/service/build_request.hpp"
 #include "ispars/service/inspection_task.hpp"
 #include "ispars/service/reader_gate.hpp"
 #include "ispars/service/roadmap_store.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
-#include "ispars/scene/scene.hpp"
 
 namespace ispars {
 
@@ -57,8 +57,8 @@ struct SessionStatus {
   std::size_t components = 0;
   std::size_t dense_vertices = 0;
   std::size_t dense_edges = 0;
-  std::size_t poi_count = 0;  ///< The scene's POIs and its tasks'.
-  std::size_t tasks = 0;      ///< Inspection tasks added to the roadmap (not removed).
+  std::size_t poi_count = 0;      ///< The scene's POIs and its tasks'.
+  std::size_t tasks = 0;          ///< Inspection tasks added to the roadmap (not removed).
   std::uint64_t task_events = 0;  ///< Tasks added, plus tasks removed (task_events).
   std::size_t pois_covered = 0;
   std::size_t pois_covered_root = 0;
@@ -84,7 +84,6 @@ struct PublishedRoadmap {
 /// Publishes `roadmap`: computes its coverage figures.
 [[nodiscard]] PublishedRoadmap make_published(std::shared_ptr<const Roadmap> roadmap, std::uint64_t generation,
                                               std::uint64_t samples);
-
 
 /// A verify running longer than this is stopped and answered with an error naming the budget.
 inline constexpr std::chrono::milliseconds kVerifyBudget{300'000};
@@ -208,6 +207,9 @@ class RoadmapSession {
   };
   std::optional<Job> take_job(const std::atomic<bool>& stopping);
   void prepare_job(Job& job, const std::atomic<bool>& stopping);
+  void perform_job(Job& job, const std::atomic<bool>& stopping);  // a task's addition, or the growth
+  // A task's addition stopped (`builder_changed`: part of it reached the builder): why, as logged.
+  void task_stopped(const std::string& why, bool builder_changed, const std::atomic<bool>& stopping);
   void grow(Job& job, std::uint64_t target, const std::atomic<bool>& stopping);
   void add_task(Job& job, const std::atomic<bool>& stopping);  // roadmap_session_task.cpp
   // Takes the store's recovered roadmaps with their tasks: every vertex then sees the tasks'
@@ -219,7 +221,7 @@ class RoadmapSession {
   // Whether the published roadmap is the builder's, of `generation` (the job's last copy).
   [[nodiscard]] bool published_is_builders(std::uint64_t generation) const;
   [[nodiscard]] std::uint64_t samples_done() const;  // takes mutex_
-  void check_can_start(const char* field) const;  // with mutex_ held
+  void check_can_start(const char* field) const;     // with mutex_ held
   // Marks the stored roadmap unusable (`why`): FAILED, nothing served, files untouched.
   void refuse_store(std::string why);
   std::filesystem::path discard_store(const std::string& aside_why);  // drop (empty why) or set aside
@@ -263,16 +265,16 @@ class RoadmapSession {
   std::optional<RoadmapRecipe> pending_recipe_;  // a queued build's recipe
   std::optional<RoadmapRecipe> starting_build_;  // a started build's, until its first commit
   std::uint64_t starting_samples_ = 0;
-  std::optional<InspectionTask> pending_task_;   // a queued task
-  std::optional<InspectionTask> starting_task_;  // a started task's, until it is committed
+  std::optional<InspectionTask> pending_task_;                // a queued task
+  std::optional<InspectionTask> starting_task_;               // a started task's, until it is committed
   [[nodiscard]] const InspectionTask* accepted_task() const;  // pending or starting, not committed; mutex_ held
-  std::vector<InspectionTask> tasks_;            // the roadmap's tasks, as stored
-  std::shared_ptr<const Scene> scene_with_tasks_;  // scene_ with tasks_' POIs (immutable, swapped)
+  std::vector<InspectionTask> tasks_;                         // the roadmap's tasks, as stored
+  std::shared_ptr<const Scene> scene_with_tasks_;             // scene_ with tasks_' POIs (immutable, swapped)
   bool closed_ = false;
   bool discarding_ = false;  // a drop or set aside is removing the store
   std::string last_error_;
   std::string fingerprint_;  // scene_fingerprint(scene_), recorded in every recipe built here
-  std::string damage_;  // the stored roadmap could not be opened (StoreDamage): nothing was read or changed
+  std::string damage_;       // the stored roadmap could not be opened (StoreDamage): nothing was read or changed
   std::size_t dense_vertices_ = 0;
   std::size_t dense_edges_ = 0;
   PublishedRoadmap published_;

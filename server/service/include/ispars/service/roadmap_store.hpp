@@ -32,9 +32,9 @@
 #include <thread>
 #include <vector>
 
+#include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/record_file.hpp"
 #include "ispars/roadmap/roadmap.hpp"
-#include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/service/inspection_task.hpp"
 
@@ -164,7 +164,7 @@ class RoadmapStore {
 
  private:
   RoadmapStore(std::filesystem::path dir, RoadmapRecipe recipe, FileSystem& fs);
-  void take_place();  // a replacing store: swaps itself with the store at replaces_
+  void take_place();        // a replacing store: swaps itself with the store at replaces_
   void start_compaction();  // rotates the journal (if no journal.old) and starts the fold thread
   void fold_in_background();
   void stop_compaction();  // asks a running fold to stop, and joins it

@@ -65,7 +65,7 @@ class StoreScrub {
   bool stopping_ = false;
   std::uint64_t passes_ = 0;
   std::map<std::string, Verdict> verdicts_;  // scene -> the last read (bounded by the scenes on disk)
-  std::thread thread_;  // last: started once the rest is made
+  std::thread thread_;                       // last: started once the rest is made
 };
 
 }  // namespace ispars
