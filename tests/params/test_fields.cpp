@@ -13,16 +13,16 @@
 namespace ispars::params {
 namespace {
 
-constexpr Spec<double> kRadius{"radius", 0.0, 10.0, "the radius", Lower::open};
-constexpr Spec<std::uint64_t> kCount{"count", 0, 100, "the count"};
-constexpr Spec<double> kUnused{"unused", 0.0, 1.0, "declared by no target"};
+constexpr Spec<double> kTankRadius{"radius", 0.0, 10.0, "the radius", Lower::open};
+constexpr Spec<std::uint64_t> kTankCount{"count", 0, 100, "the count"};
+constexpr Spec<double> kStrayUnused{"unused", 0.0, 1.0, "declared by no target"};
 
 struct Tank {
   double radius = 1.0;
   std::uint64_t count = 3;
   static void describe(auto& self, auto&& field) {
-    field(kRadius, self.radius);
-    field(kCount, self.count);
+    field(kTankRadius, self.radius);
+    field(kTankCount, self.count);
   }
 };
 
@@ -30,17 +30,17 @@ struct TankOverrides {
   std::optional<double> radius;
   std::optional<std::uint64_t> count;
   static void describe(auto& self, auto&& field) {
-    field(kRadius, self.radius);
-    field(kCount, self.count);
+    field(kTankRadius, self.radius);
+    field(kTankCount, self.count);
   }
 };
 
 struct Stray {
   std::optional<double> unused;
-  static void describe(auto& self, auto&& field) { field(kUnused, self.unused); }
+  static void describe(auto& self, auto&& field) { field(kStrayUnused, self.unused); }
 };
 
-std::string error_of(auto&& f) {
+std::string fields_error_of(auto&& f) {
   try {
     f();
   } catch (const InputError& e) {
@@ -59,13 +59,15 @@ TEST(ParamFields, NamesCountsAndHelpComeFromTheDeclarations) {
 
 TEST(ParamFields, TheCheckNamesTheFirstMemberOutOfRangeAndSkipsAbsentOnes) {
   Tank t;
-  EXPECT_EQ(error_of([&] { check(t, "tank.yaml"); }), "");
+  EXPECT_EQ(fields_error_of([&] { check(t, "tank.yaml"); }), "");
   t.radius = 0.0;
-  EXPECT_EQ(error_of([&] { check(t, "tank.yaml", "tank."); }), "tank.yaml: tank.radius: must be in (0, 10], got 0");
+  EXPECT_EQ(fields_error_of([&] { check(t, "tank.yaml", "tank."); }),
+            "tank.yaml: tank.radius: must be in (0, 10], got 0");
   TankOverrides o;
-  EXPECT_EQ(error_of([&] { check(o, "request"); }), "") << "absent optionals are not checked";
+  EXPECT_EQ(fields_error_of([&] { check(o, "request"); }), "") << "absent optionals are not checked";
   o.count = 101;
-  EXPECT_EQ(error_of([&] { check(o, "request"); }), "request: count: must be a whole number in [0, 100], got 101");
+  EXPECT_EQ(fields_error_of([&] { check(o, "request"); }),
+            "request: count: must be a whole number in [0, 100], got 101");
 }
 
 TEST(ParamFields, TextSetsTheNamedMemberAsDeclaredOrNamesWhatIsWrong) {
@@ -73,11 +75,11 @@ TEST(ParamFields, TextSetsTheNamedMemberAsDeclaredOrNamesWhatIsWrong) {
   set_text(o, "count", "7", "--set");
   EXPECT_EQ(o.count, 7u);
   EXPECT_FALSE(o.radius);
-  EXPECT_EQ(error_of([&] { set_text(o, "count", "-7", "--set"); }),
+  EXPECT_EQ(fields_error_of([&] { set_text(o, "count", "-7", "--set"); }),
             "--set: count: must be a whole number in [0, 100], got -7");
-  EXPECT_EQ(error_of([&] { set_text(o, "colour", "1", "--set"); }),
+  EXPECT_EQ(fields_error_of([&] { set_text(o, "colour", "1", "--set"); }),
             "--set: colour: unknown parameter (expected one of radius, count)");
-  EXPECT_LT(error_of([&] { set_text(o, std::string(10'000, 'x'), "1", "--set"); }).size(), 200u)
+  EXPECT_LT(fields_error_of([&] { set_text(o, std::string(10'000, 'x'), "1", "--set"); }).size(), 200u)
       << "a long unknown name is cut, not echoed";
   EXPECT_EQ(o.count, 7u) << "a refused value changes nothing";
 }

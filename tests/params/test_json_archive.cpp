@@ -11,23 +11,23 @@
 namespace ispars::params {
 namespace {
 
-constexpr Spec<double> kRadius{"radius", 0.0, 10.0, "the radius", Lower::open};
-constexpr Spec<std::uint64_t> kCount{"count", 0, 1'000'000'000'000, "the count"};
-constexpr Spec<bool> kOpen{"open", false, true, "whether it is open"};
+constexpr Spec<double> kValveRadius{"radius", 0.0, 10.0, "the radius", Lower::open};
+constexpr Spec<std::uint64_t> kValveCount{"count", 0, 1'000'000'000'000, "the count"};
+constexpr Spec<bool> kValveOpen{"open", false, true, "whether it is open"};
 
 struct Valve {
   std::optional<double> radius;
   std::optional<std::uint64_t> count;
   bool open = false;
   static void describe(auto& self, auto&& field) {
-    field(kRadius, self.radius);
-    field(kCount, self.count);
-    field(kOpen, self.open);
+    field(kValveRadius, self.radius);
+    field(kValveCount, self.count);
+    field(kValveOpen, self.open);
   }
   bool operator==(const Valve&) const = default;
 };
 
-std::string read_error(const std::string& text) {
+std::string valve_read_error(const std::string& text) {
   Valve v;
   try {
     read_json(nlohmann::json::parse(text), v, "valve.json");
@@ -54,14 +54,15 @@ TEST(ParamJson, ACountWrittenAsAWholeRealReadsTheSameAndEveryBadValueIsNamed) {
   Valve v;
   read_json(nlohmann::json::parse(R"({"count": 20000.0})"), v, "valve.json");
   EXPECT_EQ(v.count, 20000u);
-  EXPECT_EQ(read_error(R"({"count": 2.5})"),
+  EXPECT_EQ(valve_read_error(R"({"count": 2.5})"),
             "valve.json: count: must be a whole number in [0, 1000000000000], got 2.5");
-  EXPECT_EQ(read_error(R"({"count": -1})"), "valve.json: count: must be a whole number in [0, 1000000000000], got -1");
-  EXPECT_EQ(read_error(R"({"count": "5"})"), "valve.json: count: expected a whole number, got \"5\"");
-  EXPECT_EQ(read_error(R"({"radius": 0})"), "valve.json: radius: must be in (0, 10], got 0");
-  EXPECT_EQ(read_error(R"({"radius": true})"), "valve.json: radius: expected a number, got true");
-  EXPECT_EQ(read_error(R"({"open": 1})"), "valve.json: open: expected true or false, got 1");
-  EXPECT_EQ(read_error(R"([1])"), "valve.json: : expected a JSON object");
+  EXPECT_EQ(valve_read_error(R"({"count": -1})"),
+            "valve.json: count: must be a whole number in [0, 1000000000000], got -1");
+  EXPECT_EQ(valve_read_error(R"({"count": "5"})"), "valve.json: count: expected a whole number, got \"5\"");
+  EXPECT_EQ(valve_read_error(R"({"radius": 0})"), "valve.json: radius: must be in (0, 10], got 0");
+  EXPECT_EQ(valve_read_error(R"({"radius": true})"), "valve.json: radius: expected a number, got true");
+  EXPECT_EQ(valve_read_error(R"({"open": 1})"), "valve.json: open: expected true or false, got 1");
+  EXPECT_EQ(valve_read_error(R"([1])"), "valve.json: : expected a JSON object");
 }
 
 }  // namespace

@@ -129,14 +129,14 @@ TEST(GipSolver, BadInputIsNamed) {
   const std::vector<RoadmapEdge> split = {{0, 1, 1.0}, {2, 3, 1.0}};
   const InspectionGraph g = InspectionGraph::from_edges(4, split, {{}, {0}, {1}, {2}}, 4);
   GipOptions o;
-  o.targets = std::vector<PoiId>{};
+  o.targets.emplace();  // emplace: GCC 12's -Wmaybe-uninitialized misreads an assignment here (unity builds)
   expect(g, o, "tour: targets: the target set is empty");
-  o.targets = std::vector<PoiId>{0, 9};
+  o.targets->assign({0, 9});
   expect(g, o, "unknown POI ids (the first: 9");
   GipOptions warm;
   warm.initial_walk = {0, 1, 7, 0};
   expect(g, warm, "tour: initial_walk: vertex 7 is not in the graph (4 vertices)");
-  o.targets = std::vector<PoiId>{0, 1};
+  o.targets->assign({0, 1});
   expect(g, o, "1 targets are seen by no vertex reachable from the root (the first: POI 1)");
   o.targets = std::vector<PoiId>{0};
   o.max_iterations = 20;
