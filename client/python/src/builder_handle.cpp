@@ -58,8 +58,7 @@ BuilderHandle::BuilderHandle(std::shared_ptr<Scene> scene, const std::string& me
 
 std::uint64_t BuilderHandle::extend(std::int64_t samples, const std::shared_ptr<StopFlag>& stop,
                                     const py::object& progress) {
-  if (const std::string p = params::problem(kSamples, static_cast<std::uint64_t>(std::max<std::int64_t>(samples, 0)));
-      samples < 1 || !p.empty()) {
+  if (samples < 1 || !params::problem(kSamples, static_cast<std::uint64_t>(samples)).empty()) {
     throw InputError(kBuild, "samples", fmt::format("must be {}, got {}", params::range_text(kSamples), samples));
   }
   const Busy busy(busy_);

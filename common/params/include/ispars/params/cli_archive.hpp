@@ -19,7 +19,7 @@ CLI::Option* add_flag(CLI::App& command, const Spec<T>& spec, Member& member) {
   const std::string flag = flag_name(spec.name);
   auto* option = command.add_option_function<std::string>(
       flag,
-      [&spec, &member, flag](const std::string& text) {
+      [spec, &member, flag](const std::string& text) {  // spec by value: a temporary declaration is safe
         const Parsed<T> parsed = parse(spec, text);
         if (!parsed.problem.empty()) throw CLI::ValidationError(flag, parsed.problem);
         member = parsed.value;

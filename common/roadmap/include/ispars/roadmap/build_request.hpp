@@ -24,8 +24,11 @@ struct RecipeOverrides {
   std::optional<double> p_accept;
 
   static void describe(auto& self, auto&& field) { describe_recipe_parameters(self, field); }
+  /// Whether any override is given (read from the declarations, so a new one counts too).
   [[nodiscard]] bool any() const {
-    return dense_delta || sparse_delta || stretch || stretch_slack || stretch_slack_after || p_accept;
+    bool given = false;
+    describe(*this, [&](const auto&, const auto& member) { given = given || member.has_value(); });
+    return given;
   }
   bool operator==(const RecipeOverrides&) const = default;
 };
