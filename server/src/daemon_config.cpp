@@ -167,4 +167,10 @@ std::vector<std::string> changed_needing_restart(const DaemonConfig& running, Da
   return out;
 }
 
+std::string host_name() {
+  char buffer[256] = {};
+  if (::gethostname(buffer, sizeof(buffer) - 1) != 0) return "host";
+  return buffer;
+}
+
 }  // namespace ispars::server

@@ -53,6 +53,9 @@ struct DaemonConfig {
   std::uint32_t discovery_wait_ms = 1000;
 };
 
+/// This machine's host name ("host" when it cannot be read).
+[[nodiscard]] std::string host_name();
+
 /// The memory budget in bytes: config.memory_budget_mb, or half of physical memory when 0.
 [[nodiscard]] double memory_budget_bytes(const DaemonConfig& config);
 

@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "daemon.hpp"
+#include "daemon_inbox.hpp"
 #include "ispars/wire/daemon_trust.hpp"
 #include "ispars/wire/identity.hpp"
 #include "ispars/wire/safe_type.hpp"
@@ -37,7 +37,7 @@ wire::ParticipantOptions participant_options(const DaemonConfig& c) {
 
 }  // namespace
 
-DdsEndpoints::DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint64_t joined_ms)
+DdsEndpoints::DdsEndpoints(DaemonInbox& daemon, const DaemonConfig& config, std::uint64_t joined_ms)
     : daemon_(daemon),
       server_id_(config.server_id),
       participant_(participant_options(config)),
@@ -156,7 +156,7 @@ void DdsEndpoints::stop_requests() { accepting_ = false; }
 namespace {
 
 template <class Request>
-void take_requests(fdds::DataReader* reader, Daemon& daemon, const std::string& server_id,
+void take_requests(fdds::DataReader* reader, DaemonInbox& daemon, const std::string& server_id,
                    const std::atomic<bool>& accepting, ReplyRoutes& routes) {
   Request request;
   fdds::SampleInfo info;

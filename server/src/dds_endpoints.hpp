@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "daemon_config.hpp"
+#include "daemon_inbox.hpp"
 #include "ispars.h"
 #include "ispars/wire/latest_samples.hpp"
 #include "ispars/wire/participant.hpp"
@@ -30,13 +31,11 @@
 
 namespace ispars::server {
 
-class Daemon;
-
 /// The daemon's DDS entities: requests in; replies, updates, statuses and announcements out.
 class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
                            public eprosima::fastdds::dds::DataWriterListener {
  public:
-  DdsEndpoints(Daemon& daemon, const DaemonConfig& config, std::uint64_t joined_ms);
+  DdsEndpoints(DaemonInbox& daemon, const DaemonConfig& config, std::uint64_t joined_ms);
   ~DdsEndpoints() override;
 
   /// Writes a reply once the client's reply route is ready (reply_routes.hpp), waiting at most
@@ -84,7 +83,7 @@ class DdsEndpoints final : public eprosima::fastdds::dds::DataReaderListener,
                               const eprosima::fastdds::dds::PublicationMatchedStatus& info) override;
 
  private:
-  Daemon& daemon_;
+  DaemonInbox& daemon_;
   std::string server_id_;
   wire::Participant participant_;
   eprosima::fastdds::dds::TypeSupport query_type_, change_type_, reply_type_, update_type_, status_type_, daemon_type_,

@@ -35,7 +35,7 @@ sigset_t block_stop_signals() {
 }
 
 // The daemon hears its own probe samples through the transport, not through a shortcut inside
-// the process: its health (daemon_operator.cpp, self_probe.hpp) then covers its sockets and
+// the process: its health (operator_endpoints.cpp, self_probe.hpp) then covers its sockets and
 // receive threads. Not under DDS Security: there a daemon never heard its own announcements
 // through the transport (measured with Fast DDS 2.9.1: /healthz went 503; the cause was not looked
 // into), so a secured daemon keeps in-process delivery and has no probe.

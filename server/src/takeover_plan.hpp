@@ -3,7 +3,7 @@
 // the scene over): continue the former owner's roadmap from its own copy when it has one, keep a
 // copy newer than the former owner's, and never replace a copy without setting it aside. Each
 // decision carries the sentence the log and `ispars scenes list` show. Pure: the daemon carries
-// the plan out (daemon_fleet.cpp).
+// the plan out (fleet_takeover.cpp).
 
 #include <cstdint>
 #include <optional>

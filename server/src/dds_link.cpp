@@ -11,14 +11,17 @@
 // fleet's rule (it does not take the scenes of daemons it has not heard yet). Replicas see a new
 // update writer and resync.
 
+#include "dds_link.hpp"
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <mutex>
 #include <utility>
 
-#include "daemon.hpp"
 #include "dds_endpoints.hpp"
+#include "stop_signal.hpp"
 
 namespace ispars::server {
 namespace {
@@ -31,13 +34,53 @@ constexpr std::chrono::milliseconds kRejoinOverlap{15000};
 
 }  // namespace
 
-std::vector<msg::DaemonInfo> Daemon::other_daemons() const {
+DdsLink::DdsLink(const DaemonConfig& config, Factory make, StopSignal& stop)
+    : config_(config), make_(std::move(make)), stop_(stop) {}
+
+DdsLink::~DdsLink() { close(); }
+
+void DdsLink::open() {
+  auto first = make_();
+  std::unique_lock lock(mutex_);
+  endpoints_ = std::move(first);
+}
+
+void DdsLink::close() {
+  std::unique_ptr<DdsEndpoints> gone;
+  {
+    std::unique_lock lock(mutex_);
+    gone = std::move(endpoints_);
+  }
+  gone.reset();  // outside the lock: its callbacks may be waiting for it
+}
+
+std::vector<msg::DaemonInfo> DdsLink::other_daemons() const {
   std::vector<msg::DaemonInfo> out;
-  with_dds([&](DdsEndpoints& d) { out = d.other_daemons(); });
+  with([&](DdsEndpoints& d) { out = d.other_daemons(); });
   return out;
 }
 
-void Daemon::rejoin_if_a_peer_returned() {
+void DdsLink::send_reply(const msg::Reply& reply) {
+  with([&](DdsEndpoints& d) { d.send_reply(reply); });
+}
+void DdsLink::publish_tour_progress(const msg::TourProgress& progress) {
+  with([&](DdsEndpoints& d) { d.publish_tour_progress(progress); });
+}
+void DdsLink::publish_update(const msg::UpdateBatch& batch) {
+  with([&](DdsEndpoints& d) { d.publish_update(batch); });
+}
+void DdsLink::retire_updates(const std::string& scene) {
+  with([&](DdsEndpoints& d) { d.retire_updates(scene); });
+}
+void DdsLink::publish_status(const msg::SceneStatus& status) {
+  with([&](DdsEndpoints& d) { d.publish_status(status); });
+}
+void DdsLink::publish_tasks(const std::string& scene, std::uint64_t generation, std::uint64_t events,
+                            const std::function<std::vector<msg::SceneTask>()>& tasks) {
+  with([&](DdsEndpoints& d) { d.publish_tasks(scene, generation, events, tasks); });
+}
+
+void DdsLink::rejoin_if_due() {
   // Only under DDS Security, whose sessions are what cannot be made again: without it Fast DDS
   // meets a returning peer by itself (PartitionTest, plain), and a rejoin would only make churn
   // (a plain 10-round partition run with rejoins left its replica behind in round 6). A client
@@ -56,7 +99,7 @@ void Daemon::rejoin_if_a_peer_returned() {
   }
   if (config_.security.empty()) return;
   wire::RejoinSchedule::Decision decision;
-  with_dds([&](DdsEndpoints& d) { decision = rejoin_schedule_.poll(d.peers(), std::chrono::steady_clock::now()); });
+  with([&](DdsEndpoints& d) { decision = schedule_.poll(d.peers(), std::chrono::steady_clock::now()); });
   if (decision.given_up) {
     spdlog::warn(
         "{} did not authenticate with this daemon's participant before the last rejoin either; no "
@@ -67,30 +110,13 @@ void Daemon::rejoin_if_a_peer_returned() {
     spdlog::warn(
         "{}; rejoined {:.0f} s ago, so again {:.0f} s after that unless it authenticates, leaves or "
         "rejoins itself meanwhile",
-        rejoin_schedule_.reason(*decision.deferred), std::chrono::duration<double>(decision.since_last).count(),
-        std::chrono::duration<double>(rejoin_schedule_.period()).count());
+        schedule_.reason(*decision.deferred), std::chrono::duration<double>(decision.since_last).count(),
+        std::chrono::duration<double>(schedule_.period()).count());
   }
-  if (decision.now) rejoin(rejoin_schedule_.reason(*decision.now));
+  if (decision.now) rejoin(schedule_.reason(*decision.now));
 }
 
-void Daemon::mark_version(const std::string& scene, const RoadmapSession& session) {
-  // The new update writer keeps none of the batches the old one wrote: a replica that missed the
-  // last of them would hear nothing that tells it. An empty batch at the roadmap's version does:
-  // one behind sees a gap and resyncs; one up to date takes it for a duplicate.
-  const SessionStatus status = session.status();
-  if (!status.recipe) return;
-  msg::UpdateBatch mark;
-  mark.scene(scene);
-  mark.server_id(config_.server_id);
-  mark.generation(session.published().generation);
-  mark.from_version(status.version);
-  mark.to_version(status.version);
-  mark.samples_done(status.samples_done);
-  mark.first_edge(static_cast<std::uint32_t>(status.edges));
-  with_dds([&](DdsEndpoints& d) { d.publish_update(mark); });
-}
-
-void Daemon::rejoin(const std::string& why) {
+void DdsLink::rejoin(const std::string& why) {
   const auto start = std::chrono::steady_clock::now();
   spdlog::warn("rejoining DDS domain {} with a new participant: {}", config_.domain, why);
   // Made before the old one leaves (a rejoin is not a leave): peers that meet the new participant
@@ -98,13 +124,13 @@ void Daemon::rejoin(const std::string& why) {
   // scenes over (read as "left while holding" when the old one left first: CI, 2026-11-27).
   std::unique_ptr<DdsEndpoints> old;
   try {
-    auto fresh = std::make_unique<DdsEndpoints>(*this, config_, joined_ms_);
-    std::unique_lock lock(dds_mutex_);
-    old = std::move(dds_);
-    dds_ = std::move(fresh);
+    auto fresh = make_();
+    std::unique_lock lock(mutex_);
+    old = std::move(endpoints_);
+    endpoints_ = std::move(fresh);
   } catch (const std::exception& e) {
     spdlog::error("rejoining DDS domain {} failed: {}; the old participant stays, trying again in {:.0f} s",
-                  config_.domain, e.what(), std::chrono::duration<double>(rejoin_schedule_.period()).count());
+                  config_.domain, e.what(), std::chrono::duration<double>(schedule_.period()).count());
     return;
   }
   std::vector<std::string> heard;  // the daemons the old participant heard, which must hear the new one
@@ -112,25 +138,17 @@ void Daemon::rejoin(const std::string& why) {
     old->stop_requests();  // requests are answered by the new participant alone
     for (const msg::DaemonInfo& d : old->other_daemons()) heard.push_back(d.server_id().to_string());
   }
-  announce();
-  for (const std::string& scene : service_->loaded_scenes()) {
-    try {
-      const auto session = service_->session(scene);
-      publish_status(*session);
-      mark_version(scene, *session);
-    } catch (const std::exception&) {
-      // unloaded meanwhile
-    }
-  }
+  if (hooks_.announce) hooks_.announce();
+  if (hooks_.republish) hooks_.republish();
   const bool all_heard = overlap_until_heard(heard);
-  old.reset();  // peers see the old participant leave, and keep the new one's announcement
-  announce();   // the latest announcement everywhere is the new participant's
+  old.reset();                             // peers see the old participant leave, and keep the new one's announcement
+  if (hooks_.announce) hooks_.announce();  // the latest announcement everywhere is the new participant's
   spdlog::info("rejoined DDS domain {} in {:.2f} s; {} other daemons heard{}", config_.domain,
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), other_daemons().size(),
                all_heard ? "" : " (not every daemon the old participant heard)");
 }
 
-bool Daemon::overlap_until_heard(const std::vector<std::string>& heard) {
+bool DdsLink::overlap_until_heard(const std::vector<std::string>& heard) {
   // At least kRejoinListen (the fleet's rule waits as long: it must not take the scenes of daemons
   // not heard yet), then until the new participant hears every daemon the old one heard, at most
   // kRejoinOverlap. A daemon heard has authenticated the new participant, and its announcement
@@ -143,17 +161,11 @@ bool Daemon::overlap_until_heard(const std::vector<std::string>& heard) {
       return std::any_of(now.begin(), now.end(), [&](const msg::DaemonInfo& d) { return d.server_id() == id; });
     });
   };
-  std::unique_lock lock(fleet_mutex_);
-  while (!fleet_stop_) {
+  while (!stop_.stopped()) {
     const auto elapsed = std::chrono::steady_clock::now() - start;
     if (elapsed >= kRejoinOverlap) break;
-    if (elapsed >= listen) {
-      lock.unlock();
-      const bool done = all_heard();
-      lock.lock();
-      if (done) return true;
-    }
-    fleet_wake_.wait_for(lock, std::chrono::milliseconds(100), [this] { return fleet_stop_; });
+    if (elapsed >= listen && all_heard()) return true;
+    if (!stop_.idle_for(std::chrono::milliseconds(100))) break;
   }
   return all_heard();
 }

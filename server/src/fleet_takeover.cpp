@@ -1,23 +1,15 @@
-// isparsd in a fleet of daemons: joining (listening for the others before claiming anything,
-// refusing an id another daemon announces), then a thread that applies the ownership rule
-// (docs/fleet.md) as the fleet changes: a scene held here that another daemon outweighs is handed
-// over to it with the work accepted here, and a scene whose holder left or handed it here is
-// taken over: this daemon's own copy continued when it is the same roadmap, the former owner's
-// rebuilt from its recipe otherwise (builds are deterministic), an older copy set aside.
+// Taking a scene over: this daemon's own copy continued when it is the same roadmap, the former
+// owner's rebuilt from its recipe otherwise (builds are deterministic), an older copy set aside;
+// and the task changes of a copy handed here, or continued, carried in.
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include <signal.h>
-#include <unistd.h>
-
-#include <chrono>
+#include <algorithm>
 #include <optional>
-#include <thread>
 
-#include "daemon.hpp"
-#include "dds_endpoints.hpp"
-#include "ispars/params/input_error.hpp"
+#include "dds_link.hpp"
+#include "fleet_member.hpp"
 #include "ispars/wire/scene_owner.hpp"
 #include "status_message.hpp"
 #include "takeover_plan.hpp"
@@ -25,11 +17,6 @@
 
 namespace ispars::server {
 namespace {
-
-constexpr std::chrono::milliseconds kFleetPeriod{100};     // how often the rule is re-applied
-constexpr std::chrono::seconds kReannouncePeriod{5};       // after another participant announced this id
-constexpr std::chrono::seconds kListingPeriod{2};          // how often scene files and stored roadmaps are rescanned
-constexpr std::chrono::seconds kSamplesAnnouncePeriod{1};  // held roadmaps' committed samples, at most this often
 
 // The samples of the roadmap `status` describes: its target while it was still building, and
 // the target a stopping daemon's job had accepted (idle, the job recorded to resume); a queued
@@ -41,101 +28,7 @@ std::uint64_t samples_to_rebuild(const msg::SceneStatus& status) {
 
 }  // namespace
 
-void Daemon::join_fleet() {
-  // Announced at once (holding nothing), so that a daemon started at the same instant with the
-  // same id sees this one as this one sees it. Announcements are transient-local: every live
-  // daemon's reaches a new reader once discovery has matched them, which on one host takes
-  // milliseconds and on a network a little more.
-  announce();
-  std::this_thread::sleep_for(std::chrono::milliseconds(config_.discovery_wait_ms));
-  if (dds_->id_announced_elsewhere()) {
-    throw ServerIdTaken(
-        fmt::format("server id '{}' is already announced on DDS domain {} by another running "
-                    "daemon; give each daemon its own server_id",
-                    config_.server_id, config_.domain));
-  }
-}
-
-void Daemon::fleet_changed(const msg::DaemonInfo* announcement) {
-  if (announcement && claims_) claims_->observe(*announcement);
-  fleet_wake_.notify_all();
-}
-
-void Daemon::status_seen(const msg::SceneStatus& status) {
-  if (claims_) claims_->observe(status);
-}
-
-void Daemon::task_seen(const msg::SceneTask& task) { task_board_.seen(task); }
-
-void Daemon::watch_fleet() {
-  auto last_reannounce = std::chrono::steady_clock::now() - kReannouncePeriod;
-  auto last_listing = std::chrono::steady_clock::now();
-  std::unique_lock lock(fleet_mutex_);
-  while (!fleet_stop_) {
-    fleet_wake_.wait_for(lock, kFleetPeriod);
-    if (fleet_stop_) break;
-    lock.unlock();
-    // At most every few seconds: two running daemons with one id would otherwise answer each
-    // other's announcements without end.
-    std::string older;
-    bool contested = false;
-    with_dds([&](DdsEndpoints& d) {
-      older = d.older_namesake();
-      contested = d.take_id_contested();
-    });
-    if (!older.empty() && !displaced_.exchange(true)) {
-      // Discovery slower than the wait at start: two daemons with one id ran. The one that
-      // joined first keeps serving; this one stops as if told to.
-      spdlog::error(
-          "server id '{}' is also announced by a daemon that joined DDS domain {} before this one ({}); "
-          "this daemon stops: give each daemon its own server_id",
-          config_.server_id, config_.domain, older);
-      ::kill(::getpid(), SIGTERM);
-    }
-    if (contested && std::chrono::steady_clock::now() - last_reannounce >= kReannouncePeriod) {
-      last_reannounce = std::chrono::steady_clock::now();
-      spdlog::error("another participant on DDS domain {} announces this daemon's server id '{}'; announcing again",
-                    config_.domain, config_.server_id);
-      announce();
-    }
-    // A scene file added or removed, or a roadmap stored, reaches the fleet within kListingPeriod.
-    if (std::chrono::steady_clock::now() - last_listing >= kListingPeriod) {
-      last_listing = std::chrono::steady_clock::now();
-      if (refresh_listing()) announce();
-    }
-    rejoin_if_a_peer_returned();
-    for (const ContestedScene& contest : claims_->contested()) {
-      if (!takeovers_.running(contest.scene)) give_up(contest);  // else looked at once it ends
-    }
-    start_takeovers(claims_->orphans());
-    merge_handed_tasks();
-    announce_if_fresher();
-    lock.lock();
-  }
-}
-
-void Daemon::give_up(const ContestedScene& contest) {
-  std::uint64_t accepted = 0, task_events = 0;
-  try {
-    const SessionStatus st = service_->stats(contest.scene);
-    accepted = std::max(st.samples_done, st.samples_target);
-    task_events = st.task_events;  // with a task addition acknowledged and not committed
-  } catch (const std::exception&) {
-    return;  // unloaded meanwhile
-  }
-  {
-    // Announced with this daemon's copy from the moment the scene is released: the winner takes
-    // it over, continuing to `accepted`, and no daemon weighs this copy while the winner lives.
-    listing_.hand_over(
-        contest.scene, {contest.winner, accepted, task_events},
-        fmt::format("handed over to daemon {} ({}); this daemon's copy is kept", contest.winner, contest.why));
-  }
-  spdlog::warn("scene '{}' is handed over to daemon {}: {}; the {} samples accepted here go with it", contest.scene,
-               contest.winner, contest.why, accepted);
-  service_->yield(contest.scene, leaving_);
-}
-
-void Daemon::start_takeovers(std::vector<OrphanScene> orphans) {
+void FleetMember::start_takeovers(std::vector<OrphanScene> orphans) {
   for (OrphanScene& orphan : orphans) {
     // A scene taken over now is reported again after its retry period, should this one fail.
     if (takeovers_.running(orphan.scene)) continue;
@@ -143,7 +36,7 @@ void Daemon::start_takeovers(std::vector<OrphanScene> orphans) {
     waiting_takeovers_.push_back(std::move(orphan));
   }
   if (waiting_takeovers_.empty()) return;
-  const std::vector<msg::DaemonInfo> others = other_daemons();
+  const std::vector<msg::DaemonInfo> others = dds_.other_daemons();
   const std::vector<std::string> claimed = claims_->claimed();
   for (auto it = waiting_takeovers_.begin(); it != waiting_takeovers_.end();) {
     // One that waited for a runner may be stale: held elsewhere now, or taken over here.
@@ -158,7 +51,7 @@ void Daemon::start_takeovers(std::vector<OrphanScene> orphans) {
   }
 }
 
-void Daemon::take_over(const OrphanScene& orphan) {
+void FleetMember::take_over(const OrphanScene& orphan) {
   spdlog::warn("daemon {} {} scene '{}'; this daemon takes it over", orphan.former_owner,
                orphan.handed_over ? "handed over" : "left while holding", orphan.scene);
   const auto held = takeover_gate_.hold(orphan.scene);  // until the former owner's work is resumed here
@@ -211,7 +104,7 @@ void Daemon::take_over(const OrphanScene& orphan) {
   }
 }
 
-void Daemon::failed_takeover(const OrphanScene& orphan, const std::string& what) {
+void FleetMember::failed_takeover(const OrphanScene& orphan, const std::string& what) {
   // Not held empty: the claim is released (so no user starts a new lineage on an empty scene
   // thinking it served), the reason is in the scenes list, and the takeover is tried again.
   // Declined until the retry, and before the release is announced: the rule names the next
@@ -237,29 +130,9 @@ void Daemon::failed_takeover(const OrphanScene& orphan, const std::string& what)
   announce();
 }
 
-void Daemon::announce_if_fresher() {
-  std::vector<ServedRoadmap> held = service_->held_roadmaps();
-  const auto now = std::chrono::steady_clock::now();
-  bool at_once = held.size() != last_held_.size();
-  bool samples = false;
-  for (std::size_t i = 0; !at_once && i < held.size(); ++i) {
-    const ServedRoadmap& a = held[i];
-    const ServedRoadmap& b = last_held_[i];
-    at_once =
-        a.scene != b.scene || a.generation != b.generation || a.target != b.target || a.task_events != b.task_events;
-    samples = samples || a.samples != b.samples;
-  }
-  // A new roadmap or a new job is announced at once (the fleet weighs it); committed samples at
-  // most once a second (each commit would otherwise be an announcement).
-  if (!at_once && !(samples && now - last_held_announce_ >= kSamplesAnnouncePeriod)) return;
-  last_held_ = std::move(held);
-  last_held_announce_ = now;
-  announce();
-}
-
-void Daemon::merge_handed_tasks() {
+void FleetMember::merge_handed_tasks() {
   std::optional<std::vector<ServedRoadmap>> held;  // read only when some copy with tasks was handed here
-  for (const msg::DaemonInfo& d : other_daemons()) {
+  for (const msg::DaemonInfo& d : dds_.other_daemons()) {
     for (const msg::StoredRoadmap& r : d.roadmaps()) {
       const std::string scene = r.scene().to_string();
       if (r.yielded_to().to_string() != config_.server_id || r.task_events() == 0 || wire::holds(d, scene)) continue;
@@ -292,8 +165,8 @@ void Daemon::merge_handed_tasks() {
   }
 }
 
-bool Daemon::apply_task_merge(const std::string& scene, const std::string& from,
-                              std::span<const InspectionTask> theirs) {
+bool FleetMember::apply_task_merge(const std::string& scene, const std::string& from,
+                                   std::span<const InspectionTask> theirs) {
   // One change a pass: an addition is a job, and the scene takes one job at a time.
   try {
     const auto session = service_->session(scene);

@@ -4,74 +4,73 @@
 
 #include <fmt/format.h>
 
-#include "daemon.hpp"
-#include "dds_endpoints.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/wire/build_args.hpp"
 #include "ispars/wire/convert.hpp"
 #include "request_codec.hpp"
+#include "request_router.hpp"
 
 namespace ispars::server {
 
-bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
+bool RequestRouter::answer(const msg::QueryRequest& request, msg::Reply& reply) {
   const std::string scene = request.scene().to_string();
-  if (!scene.empty()) (void)takeover_gate_.wait(scene);  // not the empty roadmap of a takeover half done
+  if (!scene.empty()) (void)parts_.gate.wait(scene);  // not the empty roadmap of a takeover half done
   const msg::QueryArgs& args = request.args();
   switch (args._d()) {
     case msg::LIST_SCENES: {
       msg::SceneList list;
-      for (const SceneListing& l : service_->list_scenes()) {
+      for (const SceneListing& l : parts_.service.list_scenes()) {
         msg::SceneEntry e;
         e.scene(l.name);
         e.loaded(l.loaded);
         e.has_roadmap(l.has_roadmap);
-        e.server_id(config_.server_id);
-        e.note(listing_.note(l.name));
+        e.server_id(parts_.server_id);
+        e.note(parts_.note(l.name));
         list.scenes().push_back(e);
       }
       reply.body().list_scenes(std::move(list));
       return true;
     }
     case msg::STATS:
-      reply.status(status_message(*service_->session(scene)));
+      reply.status(parts_.statuses.status_message(*parts_.service.session(scene)));
       return true;
     case msg::PATH: {
       const RoadmapPath path =
-          service_->path(scene, wire::from_message(args.path().from()), wire::from_message(args.path().to()));
+          parts_.service.path(scene, wire::from_message(args.path().from()), wire::from_message(args.path().to()));
       reply.body().path(to_message(path));
-      reply.status(status_message(*service_->session(scene)));
+      reply.status(parts_.statuses.status_message(*parts_.service.session(scene)));
       return true;
     }
     case msg::SNAPSHOT: {
       const msg::SnapshotArgs& a = args.snapshot();
       const SnapshotSlice slice =
-          service_->snapshot(scene, a.version(), a.generation(), a.chunk_index(), a.poi_count());
+          parts_.service.snapshot(scene, a.version(), a.generation(), a.chunk_index(), a.poi_count());
       if (slice.chunk_index != 0) {
         reply.body().snapshot(to_message(slice, nullptr));
         return true;
       }
-      const auto session = service_->session(scene);
-      reply.status(status_message(*session));
+      const auto session = parts_.service.session(scene);
+      reply.status(parts_.statuses.status_message(*session));
       // POIs only append: the scene with tasks read after the roadmap holds at least its POIs.
       reply.body().snapshot(to_message(slice, session->scene_with_tasks().get()));
       return true;
     }
     case msg::VERIFY: {
-      const VerifyOutcome v = service_->verify(scene);
-      reply.message(verify_summary(v, service_->stats(scene).dense_vertices));
+      const VerifyOutcome v = parts_.service.verify(scene);
+      reply.message(verify_summary(v, parts_.service.stats(scene).dense_vertices));
       reply.body().verify(to_message(v));
-      reply.status(status_message(*service_->session(scene)));
+      reply.status(parts_.statuses.status_message(*parts_.service.session(scene)));
       return true;
     }
     case msg::TOUR:
       start_tour(request, reply);
       return false;
     case msg::TASK_LIST: {
-      const auto session = service_->session(scene);
+      const auto session = parts_.service.session(scene);
       const std::vector<InspectionTask> tasks = session->tasks();  // before the roadmap: it has their POIs
       const PublishedRoadmap published = session->published();
       reply.body().task_list(to_message(task_coverage(*published.roadmap, session->scene().pois().size(), tasks)));
-      reply.status(status_message(*session));
+      reply.status(parts_.statuses.status_message(*session));
       return true;
     }
     default:
@@ -83,62 +82,60 @@ bool Daemon::answer(const msg::QueryRequest& request, msg::Reply& reply) {
   }
 }
 
-bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
+bool RequestRouter::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
   const std::string scene = request.scene().to_string();
-  if (!scene.empty()) (void)takeover_gate_.wait(scene);
+  if (!scene.empty()) (void)parts_.gate.wait(scene);
   const msg::ChangeArgs& args = request.args();
   switch (args._d()) {
     case msg::LOAD_SCENE: {
-      const auto [s, loaded_now] = service_->load(scene);
+      const auto [s, loaded_now] = parts_.service.load(scene);
       reply.message(!loaded_now                  ? fmt::format("scene '{}' was already loaded", scene)
                     : s->recovery_note().empty() ? fmt::format("loaded scene '{}'", scene)
                                                  : s->recovery_note());
-      reply.status(status_message(*s));
+      reply.status(parts_.statuses.status_message(*s));
       return true;
     }
     case msg::UNLOAD_SCENE:
-      service_->unload(scene);
+      parts_.service.unload(scene);
       reply.message(fmt::format("unloaded scene '{}' (its stored roadmap stays on disk)", scene));
       return true;
     case msg::BUILD: {
       const msg::BuildArgs& a = args.build();
-      service_->build(scene, wire::from_message(a, "request"));
+      parts_.service.build(scene, wire::from_message(a, "request"));
       reply.message(fmt::format("building {} on '{}': {} samples, seed {}", a.method().to_string(), scene, a.samples(),
                                 a.seed()));
       break;
     }
     case msg::EXTEND:
-      service_->extend(scene, args.extend().samples());
+      parts_.service.extend(scene, args.extend().samples());
       reply.message(fmt::format("extending '{}' by {} samples", scene, args.extend().samples()));
       break;
     case msg::CANCEL: {
-      const CancelOutcome c = service_->cancel(scene);
+      const CancelOutcome c = parts_.service.cancel(scene);
       reply.message(fmt::format("{}; {} tour{} stopped (each replies with its best tour so far)",
                                 c.build_cancelled ? "cancelling the build after the current chunk" : "no build running",
                                 c.tours_stopped, c.tours_stopped == 1 ? "" : "s"));
       break;
     }
     case msg::TASK_ADD: {
-      InspectionTask task = task_from(args.task_add(), service_->session(scene)->scene());
+      InspectionTask task = task_from(args.task_add(), parts_.service.session(scene)->scene());
       const std::string name = task.name;
       const std::size_t pois = task.pois.size();
-      const std::size_t count = service_->add_task(scene, std::move(task));
+      const std::size_t count = parts_.service.add_task(scene, std::move(task));
       reply.message(fmt::format("adding task '{}' ({} POIs) to the roadmap of '{}'; the scene will have {} task{}",
                                 name, pois, scene, count, count == 1 ? "" : "s"));
       break;
     }
     case msg::TASK_REMOVE: {
       const std::string name = args.task_remove().name().to_string();
-      const std::size_t left = service_->remove_task(scene, name);
+      const std::size_t left = parts_.service.remove_task(scene, name);
       reply.message(fmt::format("removed task '{}' from the roadmap of '{}'; {} task{} left", name, scene, left,
                                 left == 1 ? "" : "s"));
       break;
     }
     case msg::DROP:
-      service_->drop(scene);
-      with_dds([&](DdsEndpoints& d) {
-        d.retire_updates(scene);
-      });  // replicas drop their copy; the kept batches are released
+      parts_.service.drop(scene);
+      parts_.out.retire_updates(scene);  // replicas drop their copy; the kept batches are released
       reply.message(fmt::format("dropped the roadmap of '{}'", scene));
       break;
     default:
@@ -149,11 +146,11 @@ bool Daemon::answer(const msg::ChangeRequest& request, msg::Reply& reply) {
               "the query topic",
               operation_name(args._d())));
   }
-  reply.status(status_message(*service_->session(scene)));
+  reply.status(parts_.statuses.status_message(*parts_.service.session(scene)));
   return true;
 }
 
-void Daemon::start_tour(const msg::QueryRequest& request, const msg::Reply& header) {
+void RequestRouter::start_tour(const msg::QueryRequest& request, const msg::Reply& header) {
   const msg::TourArgs& a = request.args().tour();
   TourRequest tour;
   if (a.targets().size() > msg::MAX_TOUR_TARGETS) {
@@ -175,7 +172,7 @@ void Daemon::start_tour(const msg::QueryRequest& request, const msg::Reply& head
     progress.seconds(seconds);
     progress.cost(cost);
     progress.lower_bound(bound);
-    with_dds([&](DdsEndpoints& d) { d.publish_tour_progress(progress); });
+    parts_.out.publish_tour_progress(progress);
   };
   callbacks.done = [this, header, scene, taken](TourOutcome outcome) {
     msg::Reply reply = header;
@@ -184,7 +181,7 @@ void Daemon::start_tour(const msg::QueryRequest& request, const msg::Reply& head
                               r.tour.covered.size(), r.targets.size(), r.iterations, r.seconds));
     reply.body().tour(to_message(outcome));
     try {
-      reply.status(status_message(*service_->session(scene)));
+      reply.status(parts_.statuses.status_message(*parts_.service.session(scene)));
     } catch (const std::exception&) {
       // unloaded meanwhile: the tour still stands, on the version it names
     }
@@ -196,7 +193,7 @@ void Daemon::start_tour(const msg::QueryRequest& request, const msg::Reply& head
     reply.error(error);
     finish(reply, taken);
   };
-  service_->start_tour(scene, std::move(tour), std::move(callbacks));
+  parts_.service.start_tour(scene, std::move(tour), std::move(callbacks));
 }
 
 }  // namespace ispars::server
