@@ -42,7 +42,7 @@ Daemon::Daemon(DaemonConfig config)
           config_, [this] { return std::make_unique<DdsEndpoints>(*this, config_, joined_ms_); }, stop_),
       statuses_(config_.server_id, dds_, metrics_, leaving_),
       fleet_(config_, dds_, stop_, leaving_, joined_ms_),
-      operator_(config_, metrics_, dds_, stop_, leaving_) {
+      operator_(config_, metrics_, dds_, stop_, leaving_, [this](DaemonGauges& g) { fleet_.fill_gauges(g); }) {
   lock_data_dir();
   std::unique_ptr<RequestLedger> ledger;
   try {
@@ -104,10 +104,13 @@ void Daemon::serve(std::unique_ptr<RequestLedger> ledger) {
       RequestRouter::Parts{config_.server_id, config_.request_queue, *service_, statuses_, dds_, metrics_,
                            fleet_.gate(), [this](const std::string& scene) { return fleet_.note(scene); }},
       std::move(ledger));
-  serving_ = router_.get();
+  {
+    std::unique_lock lock(receiving_);
+    serving_ = router_.get();
+  }
   dds_.set_hooks({[this] { fleet_.announce(); }, [this] { republish(); }});
   fleet_.start();
-  operator_.start_serving(router_->quick_lane(), [this](DaemonGauges& g) { fill_gauges(g); });
+  operator_.start_serving(router_->quick_lane(), [this](DaemonGauges& g) { fill_service_gauges(g); });
 }
 
 void Daemon::shutdown() {
@@ -118,7 +121,11 @@ void Daemon::shutdown() {
   // Each step is named for the stop watchdog's line, should the stop hang there.
   note_stop_step("the request readers' stop");
   dds_.with([](DdsEndpoints& d) { d.stop_requests(); });
-  serving_ = nullptr;
+  {
+    // Waits for the DDS callbacks inside receive(): none reaches the router or the service later.
+    std::unique_lock lock(receiving_);
+    serving_ = nullptr;
+  }
   stop_.stop();
   note_stop_step("the fleet thread and the takeovers running");
   fleet_.stop();
@@ -137,7 +144,7 @@ void Daemon::shutdown() {
   service_.reset();
   note_stop_step("the DDS endpoints' and participant's deletion");
   dds_.close();
-  router_.reset();  // after the DDS callbacks that may still hold it
+  router_.reset();
   note_stop_step("the data directory's lock");
   if (lock_fd_ >= 0) ::close(lock_fd_);
   lock_fd_ = -1;
@@ -145,11 +152,13 @@ void Daemon::shutdown() {
 }
 
 void Daemon::receive(msg::QueryRequest request) {
-  if (RequestRouter* router = serving_.load()) router->receive(std::move(request));
+  std::shared_lock lock(receiving_);
+  if (serving_) serving_->receive(std::move(request));
 }
 
 void Daemon::receive(msg::ChangeRequest request) {
-  if (RequestRouter* router = serving_.load()) router->receive(std::move(request));
+  std::shared_lock lock(receiving_);
+  if (serving_) serving_->receive(std::move(request));
 }
 
 ServiceSettings Daemon::service_settings() const {
@@ -191,7 +200,7 @@ void Daemon::republish() {
   }
 }
 
-void Daemon::fill_gauges(DaemonGauges& g) const {
+void Daemon::fill_service_gauges(DaemonGauges& g) const {
   for (const std::string& scene : service_->loaded_scenes()) {
     try {
       const SessionStatus s = service_->stats(scene);
@@ -203,7 +212,6 @@ void Daemon::fill_gauges(DaemonGauges& g) const {
   }
   g.memory_reserved_bytes = service_->budget().reserved();
   g.memory_leased_bytes = service_->budget().leased();
-  fleet_.fill_gauges(g);
 }
 
 }  // namespace ispars::server

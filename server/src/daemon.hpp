@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <shared_mutex>
 #include <string>
 
 #include "daemon_config.hpp"
@@ -60,8 +61,10 @@ class Daemon final : public DaemonInbox {
   [[nodiscard]] ServiceSettings service_settings() const;
   ServiceEvents service_events();
   void republish();  // every held scene's status and version, from a new participant
-  void fill_gauges(DaemonGauges& gauges) const;
+  void fill_service_gauges(DaemonGauges& gauges) const;
 
+  // Declared in the order they are made; shutdown() stops and releases them in the reverse
+  // order explicitly (the metrics endpoint and the DDS link before the service they read).
   DaemonConfig config_;
   int lock_fd_ = -1;
   std::atomic<bool> leaving_{false};  // shutting down
@@ -74,7 +77,8 @@ class Daemon final : public DaemonInbox {
   OperatorEndpoints operator_;
   std::unique_ptr<RoadmapService> service_;
   std::unique_ptr<RequestRouter> router_;
-  std::atomic<RequestRouter*> serving_{nullptr};  // router_ while requests are taken
+  std::shared_mutex receiving_;       // held shared by each receive(); alone when serving_ is cleared
+  RequestRouter* serving_ = nullptr;  // router_ while requests are taken
   bool shut_down_ = false;
 };
 

@@ -24,8 +24,8 @@ constexpr std::chrono::seconds kSelfHearingLimit{10};
 }  // namespace
 
 OperatorEndpoints::OperatorEndpoints(const DaemonConfig& config, DaemonMetrics& metrics, DdsLink& dds, StopSignal& stop,
-                                     const std::atomic<bool>& leaving)
-    : config_(config), metrics_(metrics), dds_(dds), stop_(stop), leaving_(leaving) {}
+                                     const std::atomic<bool>& leaving, Gauges fleet)
+    : config_(config), metrics_(metrics), dds_(dds), stop_(stop), leaving_(leaving), fleet_gauges_(std::move(fleet)) {}
 
 OperatorEndpoints::~OperatorEndpoints() {
   stop();
@@ -40,8 +40,8 @@ void OperatorEndpoints::open_metrics() {
   spdlog::info("metrics on http://{}:{}/metrics, health on /healthz", at.host, endpoint_->port());
 }
 
-void OperatorEndpoints::start_serving(WorkerPool& quick_lane, Gauges gauges) {
-  gauges_ = std::move(gauges);
+void OperatorEndpoints::start_serving(WorkerPool& quick_lane, Gauges service) {
+  service_gauges_ = std::move(service);
   last_progress_ = Clock::now().time_since_epoch().count();
   serving_ = true;
   // READY before the first ping: the watchdog thread may run before this thread is scheduled again.
@@ -127,7 +127,7 @@ std::string OperatorEndpoints::metrics_text() const {
   DaemonGauges g;
   // serving_ first: until it is set, the service and the endpoints are being made on another thread.
   if (serving_) {
-    if (gauges_) gauges_(g);
+    if (service_gauges_) service_gauges_(g);
     dds_.with([&](DdsEndpoints& d) {
       g.update_subscribers = d.update_subscribers();
       g.reply_clients = d.reply_clients();
@@ -135,6 +135,7 @@ std::string OperatorEndpoints::metrics_text() const {
       g.other_daemons = d.other_daemons().size();
     });
   }
+  if (fleet_gauges_) fleet_gauges_(g);
   g.resident_bytes = resident_memory_bytes();
   g.memory_budget_bytes = memory_budget_bytes(config_);
   return metrics_.render(g);

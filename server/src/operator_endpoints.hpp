@@ -24,10 +24,11 @@ class StopSignal;
 /// The daemon's face to systemd and to a metrics scraper, and its health watchdog thread.
 class OperatorEndpoints {
  public:
-  /// Fills the service's and the fleet's part of a scrape; called only while serving.
+  /// Fills a part of a scrape from another part of the daemon (any thread).
   using Gauges = std::function<void(DaemonGauges&)>;
+  /// `fleet` fills the fleet's part of every scrape (it exists from the start).
   OperatorEndpoints(const DaemonConfig& config, DaemonMetrics& metrics, DdsLink& dds, StopSignal& stop,
-                    const std::atomic<bool>& leaving);
+                    const std::atomic<bool>& leaving, Gauges fleet);
   ~OperatorEndpoints();
   OperatorEndpoints(const OperatorEndpoints&) = delete;
   OperatorEndpoints& operator=(const OperatorEndpoints&) = delete;
@@ -36,8 +37,8 @@ class OperatorEndpoints {
   /// Until serving, a scrape sees only the counters, and /healthz says 503.
   void open_metrics();
   /// READY, then the health watchdog on its own thread, probing `quick_lane` (which outlives
-  /// stop()) and reading `gauges` for scrapes.
-  void start_serving(WorkerPool& quick_lane, Gauges gauges);
+  /// stop()); scrapes read `service` from now on, while serving.
+  void start_serving(WorkerPool& quick_lane, Gauges service);
   /// STOPPING with `why`: /healthz says 503 from now on.
   void stopping(const std::string& why);
   /// Joins the watchdog thread (the StopSignal raised first).
@@ -60,7 +61,8 @@ class OperatorEndpoints {
   DdsLink& dds_;
   StopSignal& stop_;
   const std::atomic<bool>& leaving_;
-  Gauges gauges_;
+  Gauges fleet_gauges_;
+  Gauges service_gauges_;
   SystemdNotifier notifier_;
   std::unique_ptr<MetricsEndpoint> endpoint_;
   std::atomic<bool> serving_{false};

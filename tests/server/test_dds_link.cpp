@@ -97,8 +97,9 @@ TEST_F(DdsLinkTest, AStopEndsARejoinsOverlapAtOnce) {
   ASSERT_TRUE(eventually([&] { return republished_ == 1; }, 30s, "the new participant republishes"));
   const auto stopped = std::chrono::steady_clock::now();
   stop_.stop();
-  // Without the stop the overlap lasts its listening time (3 s) at least.
-  EXPECT_TRUE(eventually([&] { return done.load(); }, 1s, "the rejoin ends within a second of the stop"));
+  // Without the stop the overlap lasts its listening time (3 s) at least; the bound leaves room
+  // for the old participant's deletion on a loaded machine.
+  EXPECT_TRUE(eventually([&] { return done.load(); }, 2500ms, "the rejoin ends well within its listening time"));
   fleet.join();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - stopped).count();
   RecordProperty("rejoin_stop_seconds", std::to_string(seconds));

@@ -59,18 +59,24 @@ TEST(StopSignal, AWakeEndsAWaitForButNotASleep) {
 
 TEST(StopSignal, AStopEndsEveryWaitNowAndLater) {
   StopSignal signal;
-  std::atomic<int> ended{0};
+  std::atomic<int> waiting{0}, ended{0};
   std::thread fleet([&] {
+    ++waiting;
     while (signal.wait_for(60s)) {
     }
     ++ended;
   });
   std::thread health([&] {
+    ++waiting;
     while (signal.idle_for(60s)) {
     }
     ++ended;
   });
+  ASSERT_TRUE(eventually([&] { return waiting == 2; }, 30s, "both threads reach their waits"));
+  // Inside their waits now (a wait that returned early would be taken again, never end the loop).
+  ASSERT_TRUE(test::throughout([&] { return ended == 0; }, 100ms, "both threads wait"));
   signal.stop();
+  // The waits run 60 s: only the stop's notification ends them within this bound.
   EXPECT_TRUE(eventually([&] { return ended == 2; }, 30s, "both waits end at the stop"));
   fleet.join();
   health.join();
