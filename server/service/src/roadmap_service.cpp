@@ -25,8 +25,9 @@ RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events, F
       events_(std::move(events)),
       fs_(fs),
       budget_(MemoryBudget::make(settings_.memory_budget_bytes)),
+      snapshots_(budget_, [this] { return !readers_stopped_.load(); }),
       builds_(std::max(1u, settings_.build_workers)),
-      tours_(std::max(1u, settings_.tour_workers)) {
+      tours_(settings_.tour_workers, settings_.tours_per_worker, budget_, stopping_) {
   if (!std::filesystem::is_directory(settings_.scene_dir)) {
     throw std::runtime_error("scene directory " + settings_.scene_dir.string() + " does not exist");
   }
@@ -34,7 +35,7 @@ RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events, F
   if (fs_.create_directories(settings_.data_dir)) fsync_directory_of(settings_.data_dir, fs_);
   remove_dropped_stores(settings_.data_dir, fs_);
   next_job_id_ = static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
-  budget_->set_reclaimer([this] { drop_kept_snapshots(); });
+  budget_->set_reclaimer([this] { snapshots_.drop_all(); });
   if (settings_.scrub_period.count() > 0) {
     // Sessions held and being loaded are left alone: their stores are written.
     scrub_ = std::make_unique<StoreScrub>(
@@ -58,10 +59,10 @@ std::string RoadmapService::scrub_problem(const std::string& scene) const {
 void RoadmapService::stop() {
   if (stopping_.exchange(true)) return;
   if (scrub_) scrub_->stop();
-  stop_tours("");
+  tours_.stop("");
   stop_all_readers("the daemon is stopping");
   builds_.stop();  // running builds commit their current chunk and return
-  tours_.stop();   // running tours stop early and report their best
+  tours_.close();  // running tours stop early and report their best
   try {            // the jobs left are resumed at the next start, and this stop does not count against them
     std::lock_guard lock(jobs_mutex_);
     mark_pending_jobs_stopped_cleanly(settings_.data_dir, fs_);
@@ -231,7 +232,7 @@ void RoadmapService::stop_all_readers(const std::string& why) {
 void RoadmapService::yield(const std::string& scene, const std::atomic<bool>& give_up) {
   const auto s = session_or_null(scene);
   if (!s) return;
-  stop_tours(scene);
+  tours_.stop(scene);
   // A running build stops after its current chunk (within half a second), a queued one and any
   // verify at once. Bounded: a scene that will not close in kYieldWait stays, and the fleet's next
   // pass asks again.
@@ -385,7 +386,7 @@ CancelOutcome RoadmapService::cancel(const std::string& scene) {
   const auto s = session(scene);
   CancelOutcome out;
   out.build_cancelled = s->cancel();
-  out.tours_stopped = stop_tours(scene);
+  out.tours_stopped = tours_.stop(scene);
   forget_job(scene, 0);  // cancelled: never resumed, whether it ends before the daemon stops or not
   return out;
 }
@@ -394,16 +395,6 @@ void RoadmapService::drop(const std::string& scene) {
   session(scene)->drop();
   forget_job(scene, 0);
   budget_->set_reserved(scene, 0.0);
-}
-
-std::size_t RoadmapService::stop_tours(const std::string& scene) {
-  std::lock_guard lock(tours_mutex_);
-  std::size_t stopped = 0;
-  for (auto& [name, flag] : running_tours_) {
-    if (!scene.empty() && name != scene) continue;
-    if (!flag->exchange(true)) ++stopped;
-  }
-  return stopped;
 }
 
 }  // namespace ispars

@@ -24,11 +24,10 @@
 #include "ispars/service/memory_budget.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/scene_fingerprints.hpp"
+#include "ispars/service/snapshot_cache.hpp"
 #include "ispars/service/store_scrub.hpp"
+#include "ispars/service/tour_desk.hpp"
 #include "ispars/service/worker_pool.hpp"
-#include "ispars/tour/flown_tour.hpp"
-#include "ispars/tour/gip_solver.hpp"
-#include "ispars/tour/tour_shortcut.hpp"
 
 namespace ispars {
 
@@ -112,55 +111,6 @@ struct ServiceEvents {
   /// service stopped.
   std::function<void(const std::string& scene)> release;
 };
-
-/// A tour request in typed form.
-struct TourRequest {
-  std::vector<PoiId> targets;   ///< Empty: every POI seen from the root's component.
-  double budget_seconds = 1.0;  ///< In (0, kMaxTourBudget].
-  std::uint64_t seed = 1;
-  std::string task;  ///< Not empty: the targets are this task's POIs seen from the root's component.
-};
-inline constexpr double kMaxTourBudget = 3600.0;
-inline constexpr std::size_t kMaxTourTargets = 1'000'000;
-
-/// A finished tour: the search's result on the roadmap version it searched, and that tour
-/// shortcut by the scene's collision checker (tour_shortcut.hpp): the path a robot would fly.
-struct TourOutcome {
-  GipResult result;                        ///< The roadmap search: its walk, trace and proven bound.
-  std::vector<Vec3> waypoints;             ///< The walk's positions.
-  ShortcutTour shortcut;                   ///< The walk shortcut (its stops are roadmap vertices).
-  ShortcutValidation shortcut_validation;  ///< check_shortcut_tour's independent check of it.
-  /// The flown tour (flown_tour.hpp): stops, what each sees (from its independent check), length.
-  std::vector<Vec3> flown_path;
-  std::vector<std::vector<PoiId>> flown_sees;
-  double flown_cost = 0.0;
-  bool flown_valid = false;  ///< check_flown_tour passed.
-  std::vector<FlownStage> stages;
-  std::size_t graph_vertices = 0;  ///< The graph the flown tour was last searched on.
-  std::size_t graph_edges = 0;
-  std::uint64_t version = 0;
-};
-
-/// How a tour reports: progress as it improves (best cost and proven bound so far, 0: none yet;
-/// from two threads), then exactly one of done or failed, on a tour worker.
-struct TourCallbacks {
-  std::function<void(double seconds, double cost, double bound)> progress;
-  std::function<void(TourOutcome outcome)> done;
-  std::function<void(const std::string& error)> failed;
-};
-
-/// One slice of a roadmap encoded at one version, for transfer in bounded chunks.
-struct SnapshotSlice {
-  std::uint64_t generation = 0;
-  std::uint64_t version = 0;
-  std::uint32_t chunk_index = 0;
-  std::uint32_t chunk_count = 0;
-  std::size_t poi_count = 0;                   ///< The roadmap's POIs (the scene's, then its tasks').
-  std::shared_ptr<const std::string> encoded;  ///< The whole encoding; this slice is [begin, end).
-  std::size_t begin = 0;
-  std::size_t end = 0;
-};
-inline constexpr std::size_t kSnapshotChunkBytes = 1024 * 1024;
 
 /// A verification and whether the roadmap's method promises Invariant 1 (only Inspection-SPARS).
 struct VerifyOutcome {
@@ -270,10 +220,6 @@ class RoadmapService {
   void record(const std::shared_ptr<RoadmapSession>& session, const PendingJob& job);  // jobs_mutex_ held
   void schedule(const std::shared_ptr<RoadmapSession>& session, std::uint64_t job_id);
   void forget_job(const std::string& scene, std::uint64_t job_id);  // 0: whichever
-  void run_tour(const std::shared_ptr<RoadmapSession>& session, const TourRequest& request,
-                const TourCallbacks& callbacks, const std::shared_ptr<std::atomic<bool>>& stop);
-  void release_tour(const std::shared_ptr<std::atomic<bool>>& stop);  // its admission and stop flag
-  std::size_t stop_tours(const std::string& scene);                   // every scene when empty
 
   const ServiceSettings settings_;
   const ServiceEvents events_;
@@ -287,27 +233,12 @@ class RoadmapService {
   std::map<std::string, std::shared_ptr<RoadmapSession>> sessions_;
   std::set<std::string> loading_;  // names being loaded (reserved)
 
-  struct EncodedSnapshot {
-    std::string scene;
-    std::uint64_t generation = 0;
-    std::uint64_t version = 0;
-    std::size_t poi_count = 0;
-    std::shared_ptr<const std::string> bytes;  // holds its lease of the budget
-    std::chrono::steady_clock::time_point used;
-  };
-  std::mutex snapshots_mutex_;
-  std::vector<EncodedSnapshot> snapshots_;  // the few most recent, oldest first
-  void drop_kept_snapshots();               // the budget's reclaimer: kept encodings give their leases back
-
   const std::shared_ptr<MemoryBudget> budget_;
+  SnapshotCache snapshots_;            // the budget's reclaimer drops its kept encodings
   std::unique_ptr<StoreScrub> scrub_;  // made last in the constructor, stopped first in stop()
 
-  std::mutex tours_mutex_;
-  std::size_t tours_admitted_ = 0;
-  std::multimap<std::string, std::shared_ptr<std::atomic<bool>>> running_tours_;  // stop flags by scene
-
   server::WorkerPool builds_;
-  server::WorkerPool tours_;
+  TourDesk tours_;
 };
 
 }  // namespace ispars
