@@ -26,7 +26,7 @@ RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events, F
       fs_(fs),
       budget_(MemoryBudget::make(settings_.memory_budget_bytes)),
       snapshots_(budget_, [this] { return !readers_stopped_.load(); }),
-      builds_(std::max(1u, settings_.build_workers)),
+      jobs_(settings_.build_workers, settings_.data_dir, fs_, stopping_),
       tours_(settings_.tour_workers, settings_.tours_per_worker, budget_, stopping_) {
   if (!std::filesystem::is_directory(settings_.scene_dir)) {
     throw std::runtime_error("scene directory " + settings_.scene_dir.string() + " does not exist");
@@ -34,7 +34,6 @@ RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events, F
   // A data directory made here is durable before anything in it is (its name is in its parent).
   if (fs_.create_directories(settings_.data_dir)) fsync_directory_of(settings_.data_dir, fs_);
   remove_dropped_stores(settings_.data_dir, fs_);
-  next_job_id_ = static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
   budget_->set_reclaimer([this] { snapshots_.drop_all(); });
   if (settings_.scrub_period.count() > 0) {
     // Sessions held and being loaded are left alone: their stores are written.
@@ -61,14 +60,9 @@ void RoadmapService::stop() {
   if (scrub_) scrub_->stop();
   tours_.stop("");
   stop_all_readers("the daemon is stopping");
-  builds_.stop();  // running builds commit their current chunk and return
-  tours_.close();  // running tours stop early and report their best
-  try {            // the jobs left are resumed at the next start, and this stop does not count against them
-    std::lock_guard lock(jobs_mutex_);
-    mark_pending_jobs_stopped_cleanly(settings_.data_dir, fs_);
-  } catch (const std::exception& e) {
-    spdlog::error("the pending jobs could not be marked as stopped cleanly ({}): their next resume counts", e.what());
-  }
+  jobs_.stop_workers();  // running builds commit their current chunk and return
+  tours_.close();        // running tours stop early and report their best
+  jobs_.mark_stopped_cleanly();
   std::vector<std::string> names;
   {
     std::lock_guard lock(sessions_mutex_);
@@ -254,7 +248,7 @@ void RoadmapService::yield(const std::string& scene, const std::atomic<bool>& gi
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }
-  forget_job(scene, 0);  // the owner builds it now
+  jobs_.forget(scene, 0);  // the owner builds it now
   forget(scene, /*given_up=*/true);
   spdlog::warn("scene '{}' given up to its owner (its stored roadmap stays)", scene);
 }
@@ -387,13 +381,13 @@ CancelOutcome RoadmapService::cancel(const std::string& scene) {
   CancelOutcome out;
   out.build_cancelled = s->cancel();
   out.tours_stopped = tours_.stop(scene);
-  forget_job(scene, 0);  // cancelled: never resumed, whether it ends before the daemon stops or not
+  jobs_.forget(scene, 0);  // cancelled: never resumed, whether it ends before the daemon stops or not
   return out;
 }
 
 void RoadmapService::drop(const std::string& scene) {
   session(scene)->drop();
-  forget_job(scene, 0);
+  jobs_.forget(scene, 0);
   budget_->set_reserved(scene, 0.0);
 }
 

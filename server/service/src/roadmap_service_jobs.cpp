@@ -1,7 +1,6 @@
-// The service's build jobs: each accepted build or extend is recorded as it is accepted, runs on
-// a build worker, and is forgotten when it ends, unless the daemon is stopping: then the record
-// stays, and the next start resumes it (at most kMaxResumes times after the daemon died under it;
-// resumes after clean stops are not counted).
+// The service's build jobs (JobQueue: each recorded as it is accepted, forgotten when it ends), and
+// the resume at start of those recorded before the last stop: at most kMaxResumes times after the
+// daemon died under a job; resumes after clean stops are not counted.
 
 #include <spdlog/spdlog.h>
 
@@ -29,20 +28,7 @@ void RoadmapService::extend(const std::string& scene, std::uint64_t samples) {
 
 void RoadmapService::accept(const std::string& scene, const std::optional<BuildRequest>& build, std::uint64_t samples,
                             std::uint32_t attempts) {
-  const auto s = session(scene);
-  PendingJob job{scene, next_job_id_++, build, 0, 0, attempts, std::nullopt};
-  {
-    // One step: a cancel's or an ended job's removal of the record comes before or after it.
-    std::lock_guard lock(jobs_mutex_);
-    if (build) {
-      job.generation = s->request_build(*build);
-      job.target = build->samples;
-    } else {
-      job.target = s->request_extend(samples);
-    }
-    record(s, job);
-  }
-  schedule(s, job.id);
+  jobs_.accept(session(scene), scene, build, samples, attempts);
 }
 
 std::size_t RoadmapService::add_task(const std::string& scene, InspectionTask task) {
@@ -54,52 +40,7 @@ std::size_t RoadmapService::remove_task(const std::string& scene, const std::str
 }
 
 std::size_t RoadmapService::accept_task(const std::string& scene, InspectionTask task, std::uint32_t attempts) {
-  const auto s = session(scene);
-  PendingJob job{scene, next_job_id_++, std::nullopt, 0, 0, attempts, task};
-  std::size_t after = 0;
-  {
-    std::lock_guard lock(jobs_mutex_);
-    after = s->request_task(std::move(task));
-    record(s, job);
-  }
-  schedule(s, job.id);
-  return after;
-}
-
-void RoadmapService::record(const std::shared_ptr<RoadmapSession>& session, const PendingJob& job) {
-  try {
-    save_pending_job(settings_.data_dir, job, fs_);
-  } catch (const std::exception& e) {
-    (void)session->cancel();  // queued, so cancelled at once: nothing touched
-    throw InputError(kRequest, "scene",
-                     fmt::format("the job on scene '{}' could not be recorded: {}", job.scene, e.what()));
-  }
-}
-
-void RoadmapService::forget_job(const std::string& scene, std::uint64_t job_id) {
-  std::lock_guard lock(jobs_mutex_);
-  try {
-    forget_pending_job(settings_.data_dir, scene, job_id, fs_);
-  } catch (const std::exception& e) {  // the record stays: the next start finds its job done
-    spdlog::error("scene '{}': the finished job's record could not be removed: {}", scene, e.what());
-  }
-}
-
-void RoadmapService::schedule(const std::shared_ptr<RoadmapSession>& session, std::uint64_t job_id) {
-  builds_.submit([this, session, job_id] {
-    spdlog::info("scene '{}': job started", session->name());
-    session->run_job(stopping_);
-    const SessionStatus st = session->status();
-    if (st.state == SessionState::failed) {
-      spdlog::error("scene '{}': job failed: {}", session->name(), st.last_error);
-    } else {
-      spdlog::info("scene '{}': job ended at {} samples, {} vertices, {} edges{}", session->name(), st.samples_done,
-                   st.vertices, st.edges, st.last_error.empty() ? "" : " (" + st.last_error + ")");
-    }
-    // Done, cancelled or failed: forgotten (unless a later job of the scene has recorded itself
-    // meanwhile). Stopped by the daemon stopping: resumed at its start.
-    if (!stopping_) forget_job(session->name(), job_id);
-  });
+  return jobs_.accept_task(session(scene), scene, std::move(task), attempts);
 }
 
 void RoadmapService::resume_pending_jobs() {
@@ -120,7 +61,7 @@ void RoadmapService::resume_pending_jobs() {
         const bool added =
             std::any_of(tasks.begin(), tasks.end(), [&](const InspectionTask& t) { return t.name == job.task->name; });
         if (added) {
-          forget_job(job.scene, job.id);
+          jobs_.forget(job.scene, job.id);
         } else {
           spdlog::info("scene '{}': resuming the addition of task '{}'", job.scene, job.task->name);
           (void)accept_task(job.scene, *job.task, attempts);
@@ -143,11 +84,11 @@ void RoadmapService::resume_pending_jobs() {
                      job.target);
         accept(job.scene, std::nullopt, job.target - st.samples_done, attempts);
       } else {
-        forget_job(job.scene, job.id);
+        jobs_.forget(job.scene, job.id);
       }
     } catch (const std::exception& e) {
       spdlog::error("scene '{}': the job recorded before the last stop is not resumed: {}", job.scene, e.what());
-      forget_job(job.scene, job.id);
+      jobs_.forget(job.scene, job.id);
     }
   }
 }

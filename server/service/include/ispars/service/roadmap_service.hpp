@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "ispars/service/job_queue.hpp"
 #include "ispars/service/memory_budget.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/scene_fingerprints.hpp"
@@ -213,21 +214,16 @@ class RoadmapService {
   std::shared_ptr<RoadmapSession> session_or_null(const std::string& scene) const;
   std::shared_ptr<RoadmapSession> open_session(const std::string& scene);
   void forget(const std::string& scene, bool given_up);  // erases a closed session; events
-  // Jobs (roadmap_service_jobs.cpp): accepted and recorded as one step, under jobs_mutex_.
+  // Jobs (roadmap_service_jobs.cpp): accepted and recorded as one step by the JobQueue.
   void accept(const std::string& scene, const std::optional<BuildRequest>& build, std::uint64_t samples,
               std::uint32_t attempts);
   std::size_t accept_task(const std::string& scene, InspectionTask task, std::uint32_t attempts);
-  void record(const std::shared_ptr<RoadmapSession>& session, const PendingJob& job);  // jobs_mutex_ held
-  void schedule(const std::shared_ptr<RoadmapSession>& session, std::uint64_t job_id);
-  void forget_job(const std::string& scene, std::uint64_t job_id);  // 0: whichever
 
   const ServiceSettings settings_;
   const ServiceEvents events_;
   FileSystem& fs_;
   std::atomic<bool> stopping_{false};
   std::atomic<bool> readers_stopped_{false};  // stop_all_readers was called: the daemon is stopping
-  std::atomic<std::uint64_t> next_job_id_;    // from the clock at start: unlike a previous run's ids
-  std::mutex jobs_mutex_;                     // a job's acceptance and its record; every read-compare-remove of one
 
   mutable std::mutex sessions_mutex_;
   std::map<std::string, std::shared_ptr<RoadmapSession>> sessions_;
@@ -237,7 +233,7 @@ class RoadmapService {
   SnapshotCache snapshots_;            // the budget's reclaimer drops its kept encodings
   std::unique_ptr<StoreScrub> scrub_;  // made last in the constructor, stopped first in stop()
 
-  server::WorkerPool builds_;
+  JobQueue jobs_;
   TourDesk tours_;
 };
 
