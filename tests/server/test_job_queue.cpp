@@ -21,9 +21,8 @@ using test::eventually;
 class JobQueueTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    test::write_tank_scenes(dir_.path(), {"s0"});
-    service_ = std::make_unique<RoadmapService>(test::unit_service_settings(dir_.path(), "unit"), ServiceEvents{});
-    session_ = service_->load("s0").first;
+    service_ = test::service_with_s0(dir_.path(), 0);
+    session_ = service_->session("s0");
   }
   static BuildRequest build(std::uint64_t samples) {
     BuildRequest r;

@@ -15,15 +15,7 @@ namespace {
 
 class SnapshotCacheTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    test::write_tank_scenes(dir_.path(), {"s0"});
-    service_ = std::make_unique<RoadmapService>(test::unit_service_settings(dir_.path(), "unit"), ServiceEvents{});
-    (void)service_->load("s0");
-    BuildRequest r;
-    r.samples = 800;
-    service_->build("s0", r);
-    (void)test::wait_idle(*service_, "s0");
-  }
+  void SetUp() override { service_ = test::service_with_s0(dir_.path(), 800); }
   static std::string error_of(const std::function<void()>& f) {
     try {
       f();

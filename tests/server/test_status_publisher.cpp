@@ -15,11 +15,7 @@ namespace {
 
 class StatusPublisherTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    test::write_tank_scenes(dir_.path(), {"s0"});
-    service_ = std::make_unique<RoadmapService>(test::unit_service_settings(dir_.path(), "unit"), ServiceEvents{});
-    (void)service_->load("s0");
-  }
+  void SetUp() override { service_ = test::service_with_s0(dir_.path(), 0); }
   void build(std::uint64_t samples) {
     BuildRequest r;
     r.samples = samples;

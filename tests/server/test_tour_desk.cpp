@@ -21,15 +21,7 @@ using test::eventually;
 
 class TourDeskTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    test::write_tank_scenes(dir_.path(), {"s0"});
-    service_ = std::make_unique<RoadmapService>(test::unit_service_settings(dir_.path(), "unit"), ServiceEvents{});
-    (void)service_->load("s0");
-    BuildRequest r;
-    r.samples = 1500;
-    service_->build("s0", r);
-    (void)test::wait_idle(*service_, "s0");
-  }
+  void SetUp() override { service_ = test::service_with_s0(dir_.path(), 1500); }
   // Callbacks that count progress with a tour, and record how each tour ended.
   TourCallbacks callbacks() {
     TourCallbacks c;

@@ -5,9 +5,11 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <memory>
 #include <string>
 
 #include "ispars/service/roadmap_service.hpp"
+#include "server/service_waits.hpp"
 
 namespace ispars::test {
 
@@ -28,6 +30,21 @@ inline ServiceSettings unit_service_settings(const std::filesystem::path& dir, c
   s.build_workers = 1;
   s.tour_workers = 1;
   return s;
+}
+
+/// A service "unit" over DIR with scene s0 written and loaded and, when `samples` > 0, built to
+/// that many samples (Inspection-SPARS, seed 1) and idle.
+inline std::unique_ptr<RoadmapService> service_with_s0(const std::filesystem::path& dir, std::uint64_t samples) {
+  write_tank_scenes(dir, {"s0"});
+  auto service = std::make_unique<RoadmapService>(unit_service_settings(dir, "unit"), ServiceEvents{});
+  (void)service->load("s0");
+  if (samples > 0) {
+    BuildRequest r;
+    r.samples = samples;
+    service->build("s0", r);
+    (void)wait_idle(*service, "s0");
+  }
+  return service;
 }
 
 }  // namespace ispars::test
