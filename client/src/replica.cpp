@@ -37,7 +37,10 @@ namespace fdds = eprosima::fastdds::dds;
 // rejoins the domain, the reader is made again on the new participant and the replica resyncs.
 class RoadmapReplica::Impl final : public fdds::DataReaderListener, public ParticipantUser {
  public:
-  Impl(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change, ReplicaQueueLimits limits)
+  // Why a snapshot is taken (ReplicaResyncs counts each); none: it need not be.
+  enum class Resync { none, first, gap, moved, lag, rejoin };
+
+  Impl(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change, ReplicaLimits limits)
       : client_(client),
         scene_(std::move(scene)),
         on_change_(std::move(on_change)),
@@ -133,7 +136,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
     }
   }
 
-  static ReplicaQueueLimits checked(const ReplicaQueueLimits& limits) {
+  static ReplicaLimits checked(const ReplicaLimits& limits) {
     if (limits.batches < 1 || limits.batches > 1'000'000) {
       throw std::invalid_argument("replica queue limit: batches must be in 1..1000000, not " +
                                   std::to_string(limits.batches));
@@ -141,6 +144,10 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
     if (limits.bytes < (std::size_t{64} << 10) || limits.bytes > (std::size_t{64} << 30)) {
       throw std::invalid_argument("replica queue limit: bytes must be in 65536..68719476736, not " +
                                   std::to_string(limits.bytes));
+    }
+    if (limits.lag < std::chrono::milliseconds(100) || limits.lag > std::chrono::hours(1)) {
+      throw std::invalid_argument("replica limit: lag must be in 100..3600000 ms, not " +
+                                  std::to_string(limits.lag.count()));
     }
     return limits;
   }
@@ -165,12 +172,12 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
     // Wait until the update reader has matched a writer, so no batch after the snapshot is missed.
     for (int i = 0; i < 400 && !stopping() && !matched(); ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    bool need_sync = true;
+    Resync need_sync = Resync::first;
     while (!stopping()) {
-      if (take_rejoined()) need_sync = true;  // the client's new participant: batches may be missing
-      if (need_sync) {
-        need_sync = !resync();
-        if (need_sync) {
+      if (take_rejoined()) need_sync = Resync::rejoin;  // the client's new participant: batches may be missing
+      if (need_sync != Resync::none) {
+        if (resync(need_sync)) need_sync = Resync::none;
+        if (need_sync != Resync::none) {
           std::unique_lock lock(mutex_);
           wake_.wait_for(lock, std::chrono::milliseconds(500), [&] { return stopping_; });
           continue;
@@ -185,21 +192,21 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
       }
       if (owner_dropped_or_unloaded()) {
         forget_roadmap();
-        need_sync = true;  // a later build or load brings it back
+        need_sync = Resync::first;  // a later build or load brings it back
         continue;
       }
       // At most once a second: while two daemons still both hold the scene their statuses alternate.
-      if (std::chrono::steady_clock::now() - moved_at_ > std::chrono::seconds(1) && behind_owner(batches.empty())) {
-        moved_at_ = std::chrono::steady_clock::now();
-        lag_since_.reset();
-        need_sync = true;  // no batch may come to say so (the owner is idle)
-        continue;
+      if (std::chrono::steady_clock::now() - moved_at_ > std::chrono::seconds(1)) {
+        if (const Resync behind = behind_owner(batches.empty()); behind != Resync::none) {
+          moved_at_ = std::chrono::steady_clock::now();
+          lag_since_.reset();
+          need_sync = behind;  // no batch may come to say so (the owner is idle)
+          continue;
+        }
       }
       for (const msg::UpdateBatch& b : batches) {
-        if (!apply(b)) {
-          need_sync = true;
-          break;
-        }
+        need_sync = apply(b);
+        if (need_sync != Resync::none) break;
       }
     }
   }
@@ -214,8 +221,9 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
     return std::exchange(rejoined_, false);
   }
 
-  // Takes a snapshot, then applies every queued batch after it. False when it failed.
-  bool resync() {
+  // Takes a snapshot (counted under `why`), then applies every queued batch after it. False when
+  // it failed.
+  bool resync(Resync why) {
     try {
       Snapshot s = client_.snapshot(scene_);
       {
@@ -227,6 +235,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
         root_ = s.root;
         pois_ = std::move(s.pois);
         ++snapshots_;
+        count(why);
         last_error_.clear();
         samples_ = s.status.samples_done;
       }
@@ -258,31 +267,32 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
   // only from the daemon it names) shows: it is another daemon's than the one this replica copied,
   // or of another roadmap (the fleet moved the scene, say to the fresher of two holders after a
   // partition healed, and this replica may hold the loser's copy), or its version has been ahead
-  // of the replica's for kLagLimit (a batch was lost, and an idle owner writes no other).
+  // of the replica's for the lag limit (a batch was lost, and an idle owner writes no other).
   // `quiet`: no batch arrived since the last look (a replica busy applying batches is not behind).
-  bool behind_owner(bool quiet) {
+  // Why it must resync, or none.
+  Resync behind_owner(bool quiet) {
     std::string owner;
     std::uint64_t generation = 0, version = 0;
     {
       std::lock_guard lock(state_mutex_);
-      if (snapshots_ == 0) return false;
+      if (snapshots_ == 0) return Resync::none;
       owner = owner_;
       generation = generation_;
       version = roadmap_.version();
     }
     const auto status = client_.latest_status(scene_);
-    if (!status || status->state == SceneState::unloaded || status->state == SceneState::empty) return false;
+    if (!status || status->state == SceneState::unloaded || status->state == SceneState::empty) return Resync::none;
     // Holding nothing (a snapshot of a scene just claimed, before its roadmap was published)
     // while the status shows a built roadmap.
-    if (generation == 0) return status->generation != 0;
-    if (status->server_id != owner || status->generation != generation) return true;
+    if (generation == 0) return status->generation != 0 ? Resync::first : Resync::none;
+    if (status->server_id != owner || status->generation != generation) return Resync::moved;
     const auto now = std::chrono::steady_clock::now();
     if (!quiet || status->version <= version) {
       lag_since_.reset();
-      return false;
+      return Resync::none;
     }
     if (!lag_since_) lag_since_ = now;
-    return now - *lag_since_ >= kLagLimit;
+    return now - *lag_since_ >= limits_.lag ? Resync::lag : Resync::none;
   }
 
   // The roadmap was dropped or its scene unloaded: the copy is no longer what any daemon serves.
@@ -300,30 +310,53 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
     notify(true);
   }
 
-  // Applies one batch; false when it shows a gap or another generation (resync needed).
-  bool apply(const msg::UpdateBatch& b) {
+  // Applies one batch; why the replica must resync instead (a gap, another generation), or none.
+  Resync apply(const msg::UpdateBatch& b) {
     {
       std::lock_guard lock(state_mutex_);
-      if (retired_.count(b.generation()) > 0) return true;  // a late batch of a replaced roadmap
+      if (retired_.count(b.generation()) > 0) return Resync::none;  // a late batch of a replaced roadmap
       // Another roadmap (a rebuild) or another publisher (the scene moved): resync from the owner.
-      if (b.generation() != generation_ || b.server_id() != owner_) return false;
+      if (b.generation() != generation_ || b.server_id() != owner_) return Resync::moved;
       // A task added POIs, which the vertices held here may see too: only a snapshot tells.
-      if (b.poi_count() > roadmap_.poi_count()) return false;
+      if (b.poi_count() > roadmap_.poi_count()) return Resync::moved;
       const std::uint64_t version = roadmap_.version();
-      if (b.to_version() <= version) return true;     // already in the snapshot: a duplicate
-      if (b.from_version() != version) return false;  // a gap
+      if (b.to_version() <= version) return Resync::none;  // already in the snapshot: a duplicate
+      if (b.from_version() != version) return Resync::gap;
       try {
         apply_batch(roadmap_, wire::from_message(b));
       } catch (const std::runtime_error& e) {
         last_error_ = e.what();
-        return false;
+        return Resync::gap;
       }
       ++batches_;
       samples_ = b.samples_done();
     }
     state_changed_.notify_all();
     notify(false);
-    return true;
+    return Resync::none;
+  }
+
+  // With state_mutex_ held.
+  void count(Resync why) {
+    switch (why) {
+      case Resync::none:
+        break;
+      case Resync::first:
+        ++resyncs_.first;
+        break;
+      case Resync::gap:
+        ++resyncs_.gap;
+        break;
+      case Resync::moved:
+        ++resyncs_.moved;
+        break;
+      case Resync::lag:
+        ++resyncs_.lag;
+        break;
+      case Resync::rejoin:
+        ++resyncs_.rejoin;
+        break;
+    }
   }
 
   void notify(bool resynced) {
@@ -339,7 +372,7 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
   Client& client_;
   const std::string scene_;
   const std::function<void(const ReplicaEvent&)> on_change_;
-  const ReplicaQueueLimits limits_;
+  const ReplicaLimits limits_;
   fdds::TypeSupport type_;
 
   std::mutex mutex_;  // the reader, the inbox and stopping
@@ -353,7 +386,6 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
   // status has shown a later version than this replica's.
   std::chrono::steady_clock::time_point moved_at_{};
   std::optional<std::chrono::steady_clock::time_point> lag_since_;
-  static constexpr std::chrono::seconds kLagLimit{2};
   std::condition_variable wake_;
   std::deque<msg::UpdateBatch> inbox_;
   std::size_t inbox_bytes_ = 0;
@@ -374,11 +406,12 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
   std::size_t snapshots_ = 0;
   std::size_t batches_ = 0;
   std::size_t retirements_ = 0;
+  ReplicaResyncs resyncs_;
   std::string last_error_;
 };
 
 RoadmapReplica::RoadmapReplica(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change,
-                               ReplicaQueueLimits limits)
+                               ReplicaLimits limits)
     : impl_(std::make_unique<Impl>(client, std::move(scene), std::move(on_change), limits)) {}
 RoadmapReplica::~RoadmapReplica() = default;
 
@@ -411,6 +444,10 @@ std::size_t RoadmapReplica::batches_applied() const {
   return impl_->batches_;
 }
 std::size_t RoadmapReplica::batches_of_other_scenes() const { return impl_->other_scenes_.load(); }
+ReplicaResyncs RoadmapReplica::resyncs() const {
+  std::lock_guard lock(impl_->state_mutex_);
+  return impl_->resyncs_;
+}
 std::size_t RoadmapReplica::batches_dropped() const {
   std::lock_guard lock(impl_->mutex_);
   return impl_->dropped_;

@@ -105,7 +105,7 @@ TEST_F(ReplicaTest, AReplicaThatFallsBehindDropsItsOldestBatchesAndResyncsToTheS
         released_cv.notify_all();
         released_cv.wait(lock, [&] { return released; });
       },
-      client::ReplicaQueueLimits{2, 64u << 10});
+      client::ReplicaLimits{2, 64u << 10});
   build_followed(client, replica, "s0");
   const std::size_t snapshots = replica.snapshots_taken();
   {
@@ -129,12 +129,15 @@ TEST_F(ReplicaTest, AReplicaThatFallsBehindDropsItsOldestBatchesAndResyncsToTheS
   ASSERT_TRUE(replica.wait_for(extended.generation, extended.version, std::chrono::seconds(30)))
       << replica.last_error();
   EXPECT_GT(replica.snapshots_taken(), snapshots) << "the dropped batches did not lead to a resync";
+  EXPECT_GT(replica.resyncs().gap, 0u) << "the resync was not counted as a gap's";
   const client::Snapshot snapshot = client.snapshot("s0");
   EXPECT_EQ(snapshot.version, extended.version);
   EXPECT_EQ(roadmap_digest(replica.roadmap()), roadmap_digest(snapshot.roadmap));
-  EXPECT_THROW(client::RoadmapReplica(client, "s0", {}, client::ReplicaQueueLimits{0, 64u << 10}),
-               std::invalid_argument);
-  EXPECT_THROW(client::RoadmapReplica(client, "s0", {}, client::ReplicaQueueLimits{2, 1000}), std::invalid_argument);
+  EXPECT_THROW(client::RoadmapReplica(client, "s0", {}, client::ReplicaLimits{0, 64u << 10}), std::invalid_argument);
+  EXPECT_THROW(client::RoadmapReplica(client, "s0", {}, client::ReplicaLimits{2, 1000}), std::invalid_argument);
+  EXPECT_THROW(
+      client::RoadmapReplica(client, "s0", {}, client::ReplicaLimits{2, 64u << 10, std::chrono::milliseconds(99)}),
+      std::invalid_argument);
 }
 
 TEST_F(ReplicaTest, AnUnloadEmptiesTheReplicaAndALoadBringsItBack) {

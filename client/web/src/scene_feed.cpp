@@ -1,6 +1,7 @@
 #include "scene_feed.hpp"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -88,8 +89,8 @@ void append_roadmap_messages(const Roadmap& roadmap, std::uint64_t generation, c
 SceneFeed::SceneFeed(client::Client& client, std::string scene, DrawLimits limits)
     : client_(client), scene_(std::move(scene)), limits_(limits) {
   (void)client_.stats(scene_);  // throws, naming the problem, when no daemon holds the scene
-  replica_ =
-      std::make_unique<client::RoadmapReplica>(client_, scene_, [this](const client::ReplicaEvent&) { on_change(); });
+  replica_ = std::make_unique<client::RoadmapReplica>(client_, scene_,
+                                                      [this](const client::ReplicaEvent& e) { on_change(e); });
   replica_ready_ = replica_.get();
 }
 
@@ -98,7 +99,13 @@ SceneFeed::~SceneFeed() {
   replica_.reset();  // joins the replica's thread
 }
 
-void SceneFeed::on_change() { ++changes_; }
+void SceneFeed::on_change(const client::ReplicaEvent& event) {
+  ++changes_;
+  if (event.resynced) {  // rare (a sync from a snapshot), and what an operator asks about first
+    spdlog::info("ispars-web: scene {}: synced from a snapshot at version {} of roadmap {} ({} vertices)", scene_,
+                 event.version, event.generation, event.vertices);
+  }
+}
 
 std::shared_ptr<const Roadmap> SceneFeed::current(std::uint64_t& generation) {
   std::lock_guard lock(copy_mutex_);

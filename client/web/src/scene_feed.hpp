@@ -64,7 +64,7 @@ class SceneFeed {
   [[nodiscard]] const std::string& scene() const { return scene_; }
 
  private:
-  void on_change();
+  void on_change(const client::ReplicaEvent& event);
   // The replica as of its last change, copied when a browser first asks after that change (at
   // most one copy per change and per browser tick, none while no browser watches), with its
   // generation.

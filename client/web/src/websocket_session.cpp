@@ -1,6 +1,8 @@
 // The viewer's WebSocket side: one session per browser, streaming a scene's roadmap as it grows,
 // its status, and tours on request.
 
+#include <spdlog/spdlog.h>
+
 #include "web_server_impl.hpp"
 
 namespace ispars::web {
@@ -55,7 +57,10 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       } catch (const std::exception& e) {
         std::string m = error_message(e.what());
         net::post(self->ws_.get_executor(), [self, m = std::move(m)]() mutable {
-          if (m != self->follow_error_) self->send(m);
+          if (m != self->follow_error_) {
+            spdlog::info("ispars-web: cannot follow scene {} yet (asking again every 2 s): {}", self->scene_, m);
+            self->send(m);
+          }
           self->follow_error_ = std::move(m);
           self->timer_.expires_after(std::chrono::seconds(2));
           self->timer_.async_wait([self](beast::error_code ec) {

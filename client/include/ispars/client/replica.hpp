@@ -24,12 +24,25 @@ struct ReplicaEvent {
 };
 
 /// How much a replica queues while its thread is busy (a slow `on_change`, a snapshot in
-/// flight). Past either bound the oldest queued batches are dropped, as the daemon's kept history
-/// drops its oldest: the gap they leave is detected as any gap is, and the replica resyncs from a
-/// fresh snapshot. The newest batch is always kept.
-struct ReplicaQueueLimits {
-  std::size_t batches = 1024;      ///< 1 .. 1,000,000
-  std::size_t bytes = 256u << 20;  ///< 64 KiB .. 64 GiB, counted as the batches' array payloads
+/// flight), and how long it trusts the batch stream. Past either queue bound the oldest queued
+/// batches are dropped, as the daemon's kept history drops its oldest: the gap they leave is
+/// detected as any gap is, and the replica resyncs from a fresh snapshot. The newest batch is
+/// always kept. The owner's status showing a later version than the replica's for `lag` while no
+/// batch arrives (a batch lost for good, and an idle owner writes no other to show the gap) also
+/// resyncs it.
+struct ReplicaLimits {
+  std::size_t batches = 1024;           ///< 1 .. 1,000,000
+  std::size_t bytes = 256u << 20;       ///< 64 KiB .. 64 GiB, counted as the batches' array payloads
+  std::chrono::milliseconds lag{2000};  ///< 100 ms .. 1 h
+};
+
+/// Why a replica took each of its snapshots, counted.
+struct ReplicaResyncs {
+  std::size_t first = 0;   ///< The first sync, and the first after a drop or unload emptied it.
+  std::size_t gap = 0;     ///< A batch showed a gap (lost on the way, or dropped from the queue).
+  std::size_t moved = 0;   ///< A batch or status of another roadmap or owner: a rebuild, new POIs, a move.
+  std::size_t lag = 0;     ///< The owner's status stayed ahead for ReplicaLimits::lag, no batch arriving.
+  std::size_t rejoin = 0;  ///< The client joined the domain again (a new participant).
 };
 
 class RoadmapReplica {
@@ -38,7 +51,7 @@ class RoadmapReplica {
   /// takes the first snapshot. `on_change` runs on the replica's own thread. Throws
   /// std::invalid_argument naming a limit out of its range.
   RoadmapReplica(Client& client, std::string scene, std::function<void(const ReplicaEvent&)> on_change = {},
-                 ReplicaQueueLimits limits = {});
+                 ReplicaLimits limits = {});
   ~RoadmapReplica();
   RoadmapReplica(const RoadmapReplica&) = delete;
   RoadmapReplica& operator=(const RoadmapReplica&) = delete;
@@ -59,6 +72,8 @@ class RoadmapReplica {
   [[nodiscard]] std::size_t batches_of_other_scenes() const;
   /// Batches dropped from a full queue (each drop leads to a resync).
   [[nodiscard]] std::size_t batches_dropped() const;
+  /// Why each snapshot was taken (their sum is snapshots_taken(), failed attempts not counted).
+  [[nodiscard]] ReplicaResyncs resyncs() const;
   /// The scene's root and POIs (from the first snapshot).
   [[nodiscard]] Vec3 root() const;
   [[nodiscard]] std::vector<Vec3> pois() const;
