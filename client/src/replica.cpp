@@ -1,41 +1,22 @@
 #include "ispars/client/replica.hpp"
 
-#include <fastdds/dds/domain/DomainParticipant.hpp>
-#include <fastdds/dds/subscriber/DataReader.hpp>
-#include <fastdds/dds/subscriber/DataReaderListener.hpp>
-#include <fastdds/dds/subscriber/SampleInfo.hpp>
-#include <fastdds/dds/subscriber/Subscriber.hpp>
-#include <fastdds/dds/topic/TypeSupport.hpp>
-
-#include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <mutex>
 #include <optional>
 #include <set>
-#include <stdexcept>
 #include <string>
 #include <thread>
 
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/wire/convert.hpp"
-#include "ispars/wire/identity.hpp"
-#include "ispars/wire/participant.hpp"
-#include "ispars/wire/safe_type.hpp"
-#include "ispars/wire/scene_filter.hpp"
-#include "ispars/wire/topics.hpp"
-#include "isparsPubSubTypes.h"
+#include "replica_inbox.hpp"
 
 namespace ispars::client {
-namespace fdds = eprosima::fastdds::dds;
-
-// DDS delivers updates on its receive thread, which must never block (a snapshot request made
-// there would wait for a reply that same thread has to deliver). The listener only queues; the
-// replica's own thread applies batches and resyncs.
-//
-// Its update reader lives on the client's participant (a ParticipantUser): when the client
-// rejoins the domain, the reader is made again on the new participant and the replica resyncs.
-class RoadmapReplica::Impl final : public fdds::DataReaderListener, public ParticipantUser {
+// The replica's own thread applies the batches its inbox (replica_inbox.hpp) queued, and resyncs
+// when they show a gap, another roadmap or a rejoin, or the owner's status shows it behind.
+class RoadmapReplica::Impl {
  public:
   // Why a snapshot is taken (ReplicaResyncs counts each); none: it need not be.
   enum class Resync { none, first, gap, moved, lag, rejoin };
@@ -44,152 +25,31 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
       : client_(client),
         scene_(std::move(scene)),
         on_change_(std::move(on_change)),
-        limits_(checked(limits)),
-        type_(new wire::SafeType<msg::UpdateBatchPubSubType>()) {
-    client_.add_participant_user(*this);  // attach(): throws when the reader cannot be made
+        limits_(checked_limits(limits)),
+        inbox_(client_, scene_, limits_) {
     thread_ = std::thread([this] { run(); });
   }
 
-  ~Impl() override {
-    {
-      std::lock_guard lock(mutex_);
-      stopping_ = true;
-    }
-    wake_.notify_all();
+  ~Impl() {
+    inbox_.stop();
     thread_.join();
-    client_.remove_participant_user(*this);
-  }
-
-  void attach(wire::Participant& participant) override {
-    fdds::DomainParticipant* p = participant.get();
-    fdds::Topic* topic = wire::find_or_create_topic(p, type_, wire::kUpdatesTopic);
-    // This scene's batches only (wire/scene_filter.hpp); a name of its own, as several replicas
-    // may share the participant.
-    static std::atomic<std::uint64_t> filters{0};
-    const std::string name = std::string(wire::kUpdatesTopic) + "@" + scene_ + "#" + std::to_string(++filters);
-    fdds::ContentFilteredTopic* filtered = topic ? wire::scene_filtered_topic(p, topic, name, scene_) : nullptr;
-    fdds::Subscriber* subscriber = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-    if (!filtered || !subscriber) {
-      if (filtered) p->delete_contentfilteredtopic(filtered);
-      if (subscriber) p->delete_subscriber(subscriber);
-      throw std::runtime_error("cannot subscribe to roadmap updates");
-    }
-    fdds::DataReader* reader =
-        subscriber->create_datareader(filtered, wire::updates_reader_qos(), this, fdds::StatusMask::data_available());
-    if (!reader) {
-      p->delete_subscriber(subscriber);
-      p->delete_contentfilteredtopic(filtered);
-      throw std::runtime_error("cannot create the update reader");
-    }
-    std::lock_guard lock(mutex_);
-    subscriber_ = subscriber;
-    reader_ = reader;
-    filtered_ = filtered;
-    rejoined_ = attached_ > 0;  // a new participant: batches may have been missed
-    ++attached_;
-    wake_.notify_all();
-  }
-
-  void detach(wire::Participant& participant) override {
-    fdds::Subscriber* subscriber = nullptr;
-    fdds::DataReader* reader = nullptr;
-    fdds::ContentFilteredTopic* filtered = nullptr;
-    {
-      std::lock_guard lock(mutex_);
-      subscriber = std::exchange(subscriber_, nullptr);
-      reader = std::exchange(reader_, nullptr);
-      filtered = std::exchange(filtered_, nullptr);
-    }
-    if (!reader) return;
-    reader->set_listener(nullptr);
-    subscriber->delete_datareader(reader);
-    participant->delete_subscriber(subscriber);
-    participant->delete_contentfilteredtopic(filtered);
-  }
-
-  // Whether the update reader has matched a writer (false while detached).
-  bool matched() {
-    std::lock_guard lock(mutex_);
-    if (!reader_) return false;
-    fdds::SubscriptionMatchedStatus status;
-    reader_->get_subscription_matched_status(status);
-    return status.current_count > 0;
-  }
-
-  void on_data_available(fdds::DataReader* reader) override {
-    msg::UpdateBatch batch;
-    fdds::SampleInfo info;
-    while (reader->take_next_sample(&batch, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data) continue;
-      if (batch.scene() != scene_) {  // the filter lets none through: counted, to show it
-        other_scenes_.fetch_add(1);
-        continue;
-      }
-      // Only from the participant that announces the daemon the batch names (transport
-      // identity): a forged batch never makes the replica resync.
-      if (!client_.written_by_daemon(batch.server_id().to_string(), wire::sender_identity(info))) continue;
-      {
-        std::lock_guard lock(mutex_);
-        queue(std::move(batch));
-      }
-      wake_.notify_all();
-    }
-  }
-
-  static ReplicaLimits checked(const ReplicaLimits& limits) {
-    if (limits.batches < 1 || limits.batches > 1'000'000) {
-      throw std::invalid_argument("replica queue limit: batches must be in 1..1000000, not " +
-                                  std::to_string(limits.batches));
-    }
-    if (limits.bytes < (std::size_t{64} << 10) || limits.bytes > (std::size_t{64} << 30)) {
-      throw std::invalid_argument("replica queue limit: bytes must be in 65536..68719476736, not " +
-                                  std::to_string(limits.bytes));
-    }
-    if (limits.lag < std::chrono::milliseconds(100) || limits.lag > std::chrono::hours(1)) {
-      throw std::invalid_argument("replica limit: lag must be in 100..3600000 ms, not " +
-                                  std::to_string(limits.lag.count()));
-    }
-    return limits;
-  }
-
-  static std::size_t payload_bytes(const msg::UpdateBatch& b) {
-    return b.order().size() + b.vertices().size() * sizeof(msg::Vertex) + b.edges().size() * sizeof(msg::Edge);
-  }
-
-  // With mutex_ held. Queues `batch`, then drops the oldest queued batches past the limits (never
-  // the newest): the next batch applied then shows a gap, and the replica resyncs.
-  void queue(msg::UpdateBatch batch) {
-    inbox_bytes_ += payload_bytes(batch);
-    inbox_.push_back(std::move(batch));
-    while (inbox_.size() > 1 && (inbox_.size() > limits_.batches || inbox_bytes_ > limits_.bytes)) {
-      inbox_bytes_ -= payload_bytes(inbox_.front());
-      inbox_.pop_front();
-      ++dropped_;
-    }
   }
 
   void run() {
     // Wait until the update reader has matched a writer, so no batch after the snapshot is missed.
-    for (int i = 0; i < 400 && !stopping() && !matched(); ++i)
+    for (int i = 0; i < 400 && !inbox_.stopping() && !inbox_.matched(); ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     Resync need_sync = Resync::first;
-    while (!stopping()) {
-      if (take_rejoined()) need_sync = Resync::rejoin;  // the client's new participant: batches may be missing
+    while (!inbox_.stopping()) {
+      if (inbox_.take_rejoined()) need_sync = Resync::rejoin;  // the client's new participant: batches may be missing
       if (need_sync != Resync::none) {
         if (resync(need_sync)) need_sync = Resync::none;
         if (need_sync != Resync::none) {
-          std::unique_lock lock(mutex_);
-          wake_.wait_for(lock, std::chrono::milliseconds(500), [&] { return stopping_; });
+          (void)inbox_.pause(std::chrono::milliseconds(500));
           continue;
         }
       }
-      std::deque<msg::UpdateBatch> batches;
-      {
-        std::unique_lock lock(mutex_);
-        wake_.wait_for(lock, kStatusPeriod, [&] { return stopping_ || !inbox_.empty(); });
-        batches.swap(inbox_);
-        inbox_bytes_ = 0;
-      }
+      const std::deque<msg::UpdateBatch> batches = inbox_.take(kStatusPeriod);
       if (owner_dropped_or_unloaded()) {
         forget_roadmap();
         need_sync = Resync::first;  // a later build or load brings it back
@@ -209,16 +69,6 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
         if (need_sync != Resync::none) break;
       }
     }
-  }
-
-  bool stopping() {
-    std::lock_guard lock(mutex_);
-    return stopping_;
-  }
-
-  bool take_rejoined() {
-    std::lock_guard lock(mutex_);
-    return std::exchange(rejoined_, false);
   }
 
   // Takes a snapshot (counted under `why`), then applies every queued batch after it. False when
@@ -373,25 +223,12 @@ class RoadmapReplica::Impl final : public fdds::DataReaderListener, public Parti
   const std::string scene_;
   const std::function<void(const ReplicaEvent&)> on_change_;
   const ReplicaLimits limits_;
-  fdds::TypeSupport type_;
-
-  std::mutex mutex_;  // the reader, the inbox and stopping
-  fdds::Subscriber* subscriber_ = nullptr;
-  fdds::DataReader* reader_ = nullptr;
-  fdds::ContentFilteredTopic* filtered_ = nullptr;
-  std::atomic<std::size_t> other_scenes_{0};  // batches of other scenes that reached the reader
-  std::size_t attached_ = 0;                  // participants attached to so far
-  bool rejoined_ = false;                     // attached to a new participant since the last look
   // The replica's thread's: the last resync behind_owner() asked for, and since when the owner's
   // status has shown a later version than this replica's.
   std::chrono::steady_clock::time_point moved_at_{};
   std::optional<std::chrono::steady_clock::time_point> lag_since_;
-  std::condition_variable wake_;
-  std::deque<msg::UpdateBatch> inbox_;
-  std::size_t inbox_bytes_ = 0;
-  std::size_t dropped_ = 0;                                       // batches dropped from a full inbox
   static constexpr std::chrono::milliseconds kStatusPeriod{100};  // how often the status is looked at
-  bool stopping_ = false;
+  ReplicaInbox inbox_;
   std::thread thread_;
 
   mutable std::mutex state_mutex_;  // the replica itself
@@ -443,15 +280,12 @@ std::size_t RoadmapReplica::batches_applied() const {
   std::lock_guard lock(impl_->state_mutex_);
   return impl_->batches_;
 }
-std::size_t RoadmapReplica::batches_of_other_scenes() const { return impl_->other_scenes_.load(); }
+std::size_t RoadmapReplica::batches_of_other_scenes() const { return impl_->inbox_.other_scenes(); }
 ReplicaResyncs RoadmapReplica::resyncs() const {
   std::lock_guard lock(impl_->state_mutex_);
   return impl_->resyncs_;
 }
-std::size_t RoadmapReplica::batches_dropped() const {
-  std::lock_guard lock(impl_->mutex_);
-  return impl_->dropped_;
-}
+std::size_t RoadmapReplica::batches_dropped() const { return impl_->inbox_.dropped(); }
 Vec3 RoadmapReplica::root() const {
   std::lock_guard lock(impl_->state_mutex_);
   return impl_->root_;

@@ -143,10 +143,21 @@ std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
       out.push_back(std::move(message));
     }
   }
+  log_sync_error();
   std::uint64_t generation = 0;
   const std::shared_ptr<const Roadmap> roadmap = current(generation);
   if (roadmap) append_roadmap_messages(*roadmap, generation, limits_, cursor, out);
   return out;
+}
+
+void SceneFeed::log_sync_error() {
+  client::RoadmapReplica* replica = replica_ready_;
+  if (replica == nullptr || replica->snapshots_taken() > 0) return;
+  std::string why = replica->last_error();
+  std::lock_guard lock(mutex_);
+  if (why.empty() || why == logged_sync_error_) return;
+  spdlog::warn("ispars-web: scene {}: no snapshot yet (trying again): {}", scene_, why);
+  logged_sync_error_ = std::move(why);
 }
 
 std::string SceneFeed::tasks_message() {

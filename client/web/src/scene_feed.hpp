@@ -65,6 +65,8 @@ class SceneFeed {
 
  private:
   void on_change(const client::ReplicaEvent& event);
+  // Logs why the replica's first sync failed, once per reason (the page stays blank meanwhile).
+  void log_sync_error();
   // The replica as of its last change, copied when a browser first asks after that change (at
   // most one copy per change and per browser tick, none while no browser watches), with its
   // generation.
@@ -77,6 +79,7 @@ class SceneFeed {
   DrawLimits limits_;
   mutable std::mutex mutex_;
   std::optional<client::SceneStatus> last_status_;    // the last status seen from a live daemon
+  std::string logged_sync_error_;                     // the last sync failure logged
   std::atomic<std::uint64_t> changes_{0};             // the replica's changes so far
   std::mutex copy_mutex_;                             // one copy at a time; the others then share it
   std::uint64_t copied_changes_ = ~std::uint64_t{0};  // changes_ when roadmap_ was copied
