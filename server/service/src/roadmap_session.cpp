@@ -11,7 +11,7 @@
 
 #include "ispars/builders/recipe_builder.hpp"
 #include "ispars/params/input_error.hpp"
-#include "ispars/service/drop_mark.hpp"
+#include "ispars/service/session_recovery.hpp"
 #include "request_input.hpp"
 #include "roadmap_session_detail.hpp"
 
@@ -24,14 +24,6 @@ std::uint64_t session_detail::new_generation() {
 
 Scene session_detail::scene_for(const Scene& scene, const RoadmapRecipe& recipe) {
   return recipe_scene(scene, recipe, kRequest);
-}
-
-PublishedRoadmap make_published(std::shared_ptr<const Roadmap> roadmap, std::uint64_t generation,
-                                std::uint64_t samples) {
-  PublishedRoadmap p{std::move(roadmap), generation, samples};
-  p.pois_covered = p.roadmap->covered_pois();
-  p.pois_covered_root = p.roadmap->vertex_count() > 0 ? p.roadmap->covered_pois_in_component_of(0) : 0;
-  return p;
 }
 
 std::string_view to_string(SessionState state) {
@@ -63,53 +55,27 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
   published_.roadmap = std::make_shared<const Roadmap>(scene_.pois().size());
   scene_with_tasks_ = std::make_shared<const Scene>(scene_);
   fingerprint_ = scene_fingerprint(scene_);  // of the scene file's POIs: a task is not an edit of the scene
-  if (!fs_.exists(store_dir_)) {
+  RecoveredSession r = recover_session(name_, scene_, fingerprint_, store_dir_, limits_, fs_);
+  if (!r.refused.empty()) {
+    refuse_store(std::move(r.refused));
+    return;
+  }
+  if (!r.recipe) {
     // Dropped here before: the empty roadmap keeps the drop's generation, which the fleet weighs.
-    if (const auto dropped = dropped_generation(store_dir_, fs_)) published_.generation = *dropped;
+    if (r.dropped_generation) published_.generation = *r.dropped_generation;
     return;
   }
-  StoreRecovery recovery;
-  try {
-    store_ = RoadmapStore::open(store_dir_, scene_.pois().size(), recovery, fs_);
-  } catch (const StoreDamage& e) {
-    refuse_store(e.what());
-    return;
-  }
-  store_->set_compact_every(limits_.compact_every);
-  if (recovery.recipe.scene != name_) {
-    throw std::runtime_error(
-        fmt::format("store {} belongs to scene '{}', not '{}'", store_dir_.string(), recovery.recipe.scene, name_));
-  }
-  if (std::string why = stale_store_reason(name_, recovery.recipe, fingerprint_); !why.empty()) {
-    refuse_store(std::move(why));
-    return;
-  }
-  scene_with_tasks_ = complete_tasks(recovery);
-  tasks_ = std::move(recovery.tasks);
-  recipe_ = recovery.recipe;
-  samples_done_ = samples_target_ = recovery.roadmaps.samples;
-  // A method that resumes from its roadmap needs no other copy: the published one is moved in,
-  // and a builder is resumed from a copy of it when a job needs one.
-  const bool resumable = resumes_from_roadmap(recipe_->method);
-  published_ = make_published(resumable ? std::make_shared<const Roadmap>(std::move(recovery.roadmaps.roadmap))
-                                        : std::make_shared<const Roadmap>(recovery.roadmaps.roadmap),
-                              recipe_->generation, recovery.roadmaps.samples);
-  if (recovery.roadmaps.dense) {
-    dense_vertices_ = recovery.roadmaps.dense->vertex_count();
-    dense_edges_ = recovery.roadmaps.dense->edge_count();
-  }
-  recovery_note_ =
-      fmt::format("recovered {} roadmap at version {} ({} samples, {} vertices, {} tasks; {} journal commits)",
-                  to_string(recipe_->method), published_.roadmap->version(), samples_done_,
-                  published_.roadmap->vertex_count(), tasks_.size(), recovery.journal_commits);
-  if (recovery.torn_tail) {
-    torn_tail_note_ =
-        fmt::format("cut a torn journal tail ({}) after commit {}; the cut bytes are kept in {}", recovery.tail_problem,
-                    recovery.journal_commits,
-                    recovery.tail_set_aside.empty() ? std::string("(nothing)") : recovery.tail_set_aside.string());
-    recovery_note_ += "; " + torn_tail_note_;
-  }
-  if (!resumable) recovered_ = std::move(recovery.roadmaps);
+  store_ = std::move(r.store);
+  scene_with_tasks_ = std::move(r.scene_with_tasks);
+  tasks_ = std::move(r.tasks);
+  recipe_ = std::move(r.recipe);
+  samples_done_ = samples_target_ = r.published.samples;
+  published_ = std::move(r.published);
+  dense_vertices_ = r.dense_vertices;
+  dense_edges_ = r.dense_edges;
+  recovery_note_ = std::move(r.note);
+  torn_tail_note_ = std::move(r.torn_tail_note);
+  recovered_ = std::move(r.resume_from);
   state_ = SessionState::idle;
 }
 

@@ -14,6 +14,7 @@
 #include "ispars/builders/poi_visibility.hpp"
 #include "ispars/builders/recipe_builder.hpp"
 #include "ispars/service/roadmap_session.hpp"
+#include "ispars/service/session_recovery.hpp"
 #include "roadmap_session_detail.hpp"
 
 namespace ispars {
@@ -374,7 +375,7 @@ void RoadmapSession::fail_job(std::string error) {
   }
   if (recovery) {
     try {
-      with_tasks = complete_tasks(*recovery);
+      with_tasks = complete_tasks(scene_, *recovery, limits_.build_threads);
     } catch (const std::exception& e) {
       error += std::string("; the stored tasks' POIs could not be seen: ") + e.what();
       recovery.reset();

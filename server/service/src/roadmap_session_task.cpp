@@ -1,7 +1,6 @@
 // Inspection tasks on a session's roadmap: the request (checked and queued like an extend), the
 // job that adds the task's POIs (RoadmapBuilder::add_pois, then one commit holding the task and
-// its guards), a task's removal (one commit, made at once), and what recovery adds to a stored
-// roadmap's vertices for its tasks.
+// its guards), a task's removal (one commit, made at once).
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -157,15 +156,6 @@ void RoadmapSession::adopt_tasks(std::vector<InspectionTask> tasks) {
 std::size_t RoadmapSession::live_tasks() const {
   const auto live = std::count_if(tasks_.begin(), tasks_.end(), [](const InspectionTask& t) { return !t.removed; });
   return static_cast<std::size_t>(live);
-}
-
-std::shared_ptr<const Scene> RoadmapSession::complete_tasks(StoreRecovery& recovery) const {
-  if (recovery.tasks.empty()) return std::make_shared<const Scene>(scene_);
-  auto with_tasks = std::make_shared<const Scene>(scene_.with_more_pois(task_pois(recovery.tasks)));
-  const auto first = static_cast<PoiId>(scene_.pois().size());
-  see_new_pois(recovery.roadmaps.roadmap, *with_tasks, first, limits_.build_threads);
-  if (recovery.roadmaps.dense) see_new_pois(*recovery.roadmaps.dense, *with_tasks, first, limits_.build_threads);
-  return with_tasks;
 }
 
 }  // namespace ispars

@@ -28,6 +28,7 @@
 #include "ispars/search/path_query.hpp"
 #include "ispars/service/build_request.hpp"
 #include "ispars/service/inspection_task.hpp"
+#include "ispars/service/published_roadmap.hpp"
 #include "ispars/service/reader_gate.hpp"
 #include "ispars/service/roadmap_store.hpp"
 
@@ -70,20 +71,6 @@ struct SessionStatus {
   /// samples are samples_target. The fleet's status and announcement carry it from acceptance.
   std::optional<RoadmapRecipe> accepted;
 };
-
-/// A published roadmap: immutable, shared by every reader that holds it, with its coverage
-/// figures computed once when it is published (not on every status query).
-struct PublishedRoadmap {
-  std::shared_ptr<const Roadmap> roadmap;
-  std::uint64_t generation = 0;
-  std::uint64_t samples = 0;
-  std::size_t pois_covered = 0;
-  std::size_t pois_covered_root = 0;
-};
-
-/// Publishes `roadmap`: computes its coverage figures.
-[[nodiscard]] PublishedRoadmap make_published(std::shared_ptr<const Roadmap> roadmap, std::uint64_t generation,
-                                              std::uint64_t samples);
 
 /// A verify running longer than this is stopped and answered with an error naming the budget.
 inline constexpr std::chrono::milliseconds kVerifyBudget{300'000};
@@ -212,10 +199,7 @@ class RoadmapSession {
   void task_stopped(const std::string& why, bool builder_changed, const std::atomic<bool>& stopping);
   void grow(Job& job, std::uint64_t target, const std::atomic<bool>& stopping);
   void add_task(Job& job, const std::atomic<bool>& stopping);  // roadmap_session_task.cpp
-  // Takes the store's recovered roadmaps with their tasks: every vertex then sees the tasks'
-  // POIs it sees (the store has no scene). Called without mutex_; returns the scene with tasks.
-  [[nodiscard]] std::shared_ptr<const Scene> complete_tasks(StoreRecovery& recovery) const;
-  [[nodiscard]] std::size_t live_tasks() const;  // tasks_ not removed; with mutex_ held
+  [[nodiscard]] std::size_t live_tasks() const;                // tasks_ not removed; with mutex_ held
   void end_job(const Job& job, const std::atomic<bool>& stopping);
   void fail_job(std::string error);
   // Whether the published roadmap is the builder's, of `generation` (the job's last copy).

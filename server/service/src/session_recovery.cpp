@@ -1,0 +1,80 @@
+#include "ispars/service/session_recovery.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+#include <utility>
+
+#include "ispars/builders/poi_visibility.hpp"
+#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/service/drop_mark.hpp"
+
+namespace ispars {
+
+std::shared_ptr<const Scene> complete_tasks(const Scene& scene, StoreRecovery& recovery, unsigned threads) {
+  if (recovery.tasks.empty()) return std::make_shared<const Scene>(scene);
+  auto with_tasks = std::make_shared<const Scene>(scene.with_more_pois(task_pois(recovery.tasks)));
+  const auto first = static_cast<PoiId>(scene.pois().size());
+  see_new_pois(recovery.roadmaps.roadmap, *with_tasks, first, threads);
+  if (recovery.roadmaps.dense) see_new_pois(*recovery.roadmaps.dense, *with_tasks, first, threads);
+  return with_tasks;
+}
+
+namespace {
+
+std::string torn_tail_note(const StoreRecovery& recovery) {
+  if (!recovery.torn_tail) return {};
+  return fmt::format("cut a torn journal tail ({}) after commit {}; the cut bytes are kept in {}",
+                     recovery.tail_problem, recovery.journal_commits,
+                     recovery.tail_set_aside.empty() ? std::string("(nothing)") : recovery.tail_set_aside.string());
+}
+
+}  // namespace
+
+RecoveredSession recover_session(const std::string& name, const Scene& scene, const std::string& fingerprint,
+                                 const std::filesystem::path& store_dir, const SessionLimits& limits, FileSystem& fs) {
+  RecoveredSession r;
+  if (!fs.exists(store_dir)) {
+    r.dropped_generation = dropped_generation(store_dir, fs);
+    return r;
+  }
+  StoreRecovery recovery;
+  try {
+    r.store = RoadmapStore::open(store_dir, scene.pois().size(), recovery, fs);
+  } catch (const StoreDamage& e) {
+    r.refused = e.what();
+    return r;
+  }
+  r.store->set_compact_every(limits.compact_every);
+  if (recovery.recipe.scene != name) {
+    throw std::runtime_error(
+        fmt::format("store {} belongs to scene '{}', not '{}'", store_dir.string(), recovery.recipe.scene, name));
+  }
+  if (std::string why = stale_store_reason(name, recovery.recipe, fingerprint); !why.empty()) {
+    r.store.reset();
+    r.refused = std::move(why);
+    return r;
+  }
+  r.scene_with_tasks = complete_tasks(scene, recovery, limits.build_threads);
+  r.tasks = std::move(recovery.tasks);
+  r.recipe = recovery.recipe;
+  // A method that resumes from its roadmap needs no other copy: the published one is moved in,
+  // and a builder is resumed from a copy of it when a job needs one.
+  const bool resumable = resumes_from_roadmap(r.recipe->method);
+  r.published = make_published(resumable ? std::make_shared<const Roadmap>(std::move(recovery.roadmaps.roadmap))
+                                         : std::make_shared<const Roadmap>(recovery.roadmaps.roadmap),
+                               r.recipe->generation, recovery.roadmaps.samples);
+  if (recovery.roadmaps.dense) {
+    r.dense_vertices = recovery.roadmaps.dense->vertex_count();
+    r.dense_edges = recovery.roadmaps.dense->edge_count();
+  }
+  r.note = fmt::format("recovered {} roadmap at version {} ({} samples, {} vertices, {} tasks; {} journal commits)",
+                       to_string(r.recipe->method), r.published.roadmap->version(), r.published.samples,
+                       r.published.roadmap->vertex_count(), r.tasks.size(), recovery.journal_commits);
+  r.torn_tail_note = torn_tail_note(recovery);
+  if (!r.torn_tail_note.empty()) r.note += "; " + r.torn_tail_note;
+  if (!resumable) r.resume_from = std::move(recovery.roadmaps);
+  return r;
+}
+
+}  // namespace ispars
