@@ -31,9 +31,10 @@ constexpr std::uint32_t kLocalParticipants = 32;
 // following it; without security the replica caught up). A short lease turns any stall of that
 // length (a loaded machine, a paused VM) into such a split; 20 s is Fast DDS's own default.
 
-fdds::DomainParticipantQos localhost_qos(const std::string& name, bool secure) {
+fdds::DomainParticipantQos localhost_qos(const ParticipantOptions& options) {
+  const bool secure = !options.security.empty();
   fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
-  qos.name(name);
+  qos.name(options.name);
   qos.transport().use_builtin_transports = false;
   // UDP alone, no shared memory transport: with Fast DDS 2.9.1's, a participant on a loaded host
   // could stop hearing its peers for good (a port marked broken and made anew, "Port ... Zombie.
@@ -56,7 +57,7 @@ fdds::DomainParticipantQos localhost_qos(const std::string& name, bool secure) {
   // noticed in seconds rather than the default 20.
   auto& discovery = qos.wire_protocol().builtin.discovery_config;
   discovery.leaseDuration_announcementperiod = eprosima::fastrtps::Duration_t(0, 250'000'000);
-  discovery.leaseDuration = eprosima::fastrtps::Duration_t(secure ? kSecureLeaseSeconds : kLeaseSeconds, 0);
+  discovery.leaseDuration = eprosima::fastrtps::Duration_t(lease_seconds(options.lease_seconds, secure), 0);
   return qos;
 }
 
@@ -210,6 +211,10 @@ Participant::Participant(const ParticipantOptions& options, fdds::DomainParticip
   if (options.domain < 0 || options.domain > 232) {
     throw std::runtime_error("DDS domain " + std::to_string(options.domain) + " is out of range (0..232)");
   }
+  if (options.lease_seconds > kMaxLeaseSeconds) {
+    throw std::runtime_error("a participant lease of " + std::to_string(options.lease_seconds) +
+                             " s is out of range (0 for the default, or 1.." + std::to_string(kMaxLeaseSeconds) + ")");
+  }
   // Without a listener of the caller's, this one logs participant events; discovery and
   // authentication callbacks come whatever the mask, and no entity status reaches it.
   if (!options.security.empty()) peers_ = std::make_shared<PeerWatch>(PeerWatch::FirstMeetings{options.name});
@@ -224,7 +229,7 @@ Participant::Participant(const ParticipantOptions& options, fdds::DomainParticip
   const auto mask = events_ ? fdds::StatusMask::none() : fdds::StatusMask::all();
   fdds::DomainParticipantQos qos;
   if (options.profile_file.empty()) {
-    qos = localhost_qos(options.name, !options.security.empty());
+    qos = localhost_qos(options);
   } else {
     if (factory->load_XML_profiles_file(options.profile_file) != ReturnCode_t::RETCODE_OK) {
       throw std::runtime_error("cannot load the Fast DDS profiles file " + options.profile_file);

@@ -31,6 +31,8 @@ struct DaemonConfig {
   std::string profile_name = "ispars";
   /// A DDS Security identity directory (deploy/security/make-keystore.sh); empty: no security.
   std::string security;
+  /// The participant's lease in seconds with the built-in settings; 0: 3, or 20 under security.
+  unsigned lease_s = 0;
   std::string log_level = "info";
   /// Where the log goes: empty for standard output (the journal under systemd), else this file,
   /// rotated at log_file_mb (4 older files kept) and reopened on SIGHUP.

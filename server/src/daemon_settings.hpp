@@ -18,6 +18,7 @@
 #include "daemon_config.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
+#include "ispars/wire/participant_options.hpp"
 
 namespace ispars::server {
 
@@ -91,6 +92,10 @@ void visit_settings(Visitor&& visit) {
   visit(TextSetting<std::string>{&C::security, "security",
                                  "DDS Security identity directory (deploy/security/make-keystore.sh); default: none",
                                  4096, true});
+  visit(IntegerSetting<unsigned>{&C::lease_s, "lease_s",
+                                 "seconds a peer waits on this daemon's silence before dropping it, with the "
+                                 "built-in settings (0: 3, or 20 under DDS Security; a profiles file sets its own)",
+                                 0, wire::kMaxLeaseSeconds});
   visit(TextSetting<std::string>{&C::log_level, "log_level", "trace, debug, info, warn, error, critical or off", 16,
                                  false, &log_level_rule, true});
   visit(TextSetting<std::string>{&C::server_id, "server_id", "this daemon's unique id on the domain (default HOST-PID)",

@@ -31,6 +31,7 @@ wire::ParticipantOptions participant_options(const DaemonConfig& c) {
   o.profile_file = c.profile_file;
   o.profile_name = c.profile_name;
   o.security = c.security;
+  o.lease_seconds = c.lease_s;
   o.name = wire::daemon_participant_name(c.server_id);
   return o;
 }

@@ -94,7 +94,7 @@ void DdsLink::rejoin_if_due() {
     rejoin(
         fmt::format("this daemon stood still for {:.1f} s (stopped, or its machine stalled), past its peers' "
                     "lease of {} s",
-                    static_cast<double>(ms) / 1000.0, wire::kLeaseSeconds));
+                    static_cast<double>(ms) / 1000.0, wire::lease_seconds(config_.lease_s, !config_.security.empty())));
     return;
   }
   if (config_.security.empty()) return;

@@ -74,7 +74,7 @@ void OperatorEndpoints::watch_health(WorkerPool& quick_lane) {
     // and its peers have dropped it; the fleet thread rejoins.
     // (Plain DDS: under DDS Security the lease is longer and the peers' rejoins handle it.)
     if (const auto gap = Clock::now() - last_tick;
-        config_.security.empty() && gap > std::chrono::seconds(wire::kLeaseSeconds)) {
+        config_.security.empty() && gap > std::chrono::seconds(wire::lease_seconds(config_.lease_s, false))) {
       dds_.note_stood_still(std::chrono::duration_cast<std::chrono::milliseconds>(gap).count());
       stop_.wake();
     }

@@ -23,6 +23,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The daemons' and clients' lease here: shorter than the secured default (20 s), which the stall
+// need not wait out to test what follows it.
+constexpr std::chrono::seconds kStallLease{8};
+
 int stall_rounds() {
   const char* v = std::getenv("ISPARS_STALL_ROUNDS");
   return v != nullptr ? std::max(1, std::atoi(v)) : 2;
@@ -40,14 +44,16 @@ class StallTest : public ServiceTest {
   std::unique_ptr<DaemonProcess> start_secure(const std::string& id) {
     return std::make_unique<DaemonProcess>(
         ISPARS_DAEMON, domain_, dir_.path() / ("data-" + id), scene_dir_, id,
-        std::vector<std::string>{"--security", identity(id), "--metrics", "127.0.0.1:0"}, identity("probe"),
-        std::vector<std::string>{}, std::chrono::seconds(60));
+        std::vector<std::string>{"--security", identity(id), "--metrics", "127.0.0.1:0", "--lease-s",
+                                 std::to_string(kStallLease.count())},
+        identity("probe"), std::vector<std::string>{}, std::chrono::seconds(60));
   }
   // A new client (a new participant, so no session of an earlier one is reused) that has heard
   // both daemons within 10 s, or nullptr.
   std::unique_ptr<Client> fresh_client() const {
     auto o = client_options(domain_);
     o.participant.security = identity("op");
+    o.participant.lease_seconds = static_cast<unsigned>(kStallLease.count());
     auto client = std::make_unique<Client>(o);
     if (eventually([&] { return client->daemons().size() == 2; }, std::chrono::seconds(10), "the client hears both")) {
       return client;
@@ -85,7 +91,7 @@ TEST_F(StallTest, AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner)
     const std::string other = owner == "a" ? "b" : "a";
     ASSERT_TRUE(fleet_connected(daemons, std::chrono::seconds(60))) << daemons["a"]->log() << daemons["b"]->log();
     ASSERT_EQ(::kill(daemons[owner]->pid(), SIGSTOP), 0);
-    std::this_thread::sleep_for(kSecureLease + std::chrono::seconds(5));  // the fault: past the lease
+    std::this_thread::sleep_for(kStallLease + std::chrono::seconds(5));  // the fault: past the lease
     // The other daemon dropped the stalled one and took the scene over.
     const std::string log = daemons[other]->log();
     EXPECT_NE(log.rfind("daemon " + owner + " left while holding scene 's0'"), std::string::npos) << log;
@@ -107,7 +113,7 @@ TEST_F(StallTest, AnOwnerStalledPastItsLeaseRejoinsAndTheFleetSettlesOnOneOwner)
     ASSERT_TRUE(settled) << "still " << held.size() << " holders of s0 120 s after " << owner << " resumed";
     const double heal_s = std::chrono::duration<double>(since - resumed).count();
     std::printf("stall round %d: %s stopped %lld s; one owner (%s) %.2f s after it resumed\n", round, owner.c_str(),
-                static_cast<long long>((kSecureLease + std::chrono::seconds(5)).count()), held[0].c_str(), heal_s);
+                static_cast<long long>((kStallLease + std::chrono::seconds(5)).count()), held[0].c_str(), heal_s);
     owner = held[0];
     client.reset();
     for (int attempt = 0; attempt < 3 && !client; ++attempt) client = fresh_client();

@@ -32,6 +32,7 @@ max_samples: 1000
 snapshot_compact_every: 7
 preload: [a, b]
 request_queue: 9
+lease_s: 12
 memory_budget_mb: 2048
 log_file: logs/isparsd.log
 log_file_mb: 8
@@ -51,6 +52,7 @@ metrics: 127.0.0.1:9464
   EXPECT_EQ(c.snapshot_compact_every, 7u);
   EXPECT_EQ(c.preload, (std::vector<std::string>{"a", "b"}));
   EXPECT_EQ(c.request_queue, 9u);
+  EXPECT_EQ(c.lease_s, 12u);
   EXPECT_EQ(c.memory_budget_mb, 2048u);
   EXPECT_EQ(c.log_file, dir.path() / "logs" / "isparsd.log");
   EXPECT_EQ(c.log_file_mb, 8u);
@@ -79,6 +81,8 @@ TEST(DaemonConfig, BadValuesAreNamed) {
   expect("memory_budget_mb: 8\n", "memory_budget_mb: must be 0 (half of this machine's memory) or in 16..");
   expect("request_queue: 0\n", "request_queue: must be in 1..100000, got 0");
   expect("request_queue: 100001\n", "request_queue: must be in 1..100000");
+  expect("lease_s: 601\n", "lease_s: must be in 0..600, got 601");
+  expect("lease_s: -1\n", "lease_s: must be in 0..600");
   expect("server_id: " + std::string(65, 'x') + "\n", "server_id: is longer than 64 characters");
   expect("log_level: chatty\n", "log_level: 'chatty' is not one of");
   expect("[1, 2]\n", "yaml: the config must be a mapping");
@@ -211,7 +215,7 @@ TEST(DaemonSettings, EveryDefaultIsWithinItsBounds) {
       EXPECT_LE(std::string(defaults.*s.field).size(), s.max_length) << s.key;
     }
   });
-  EXPECT_EQ(settings, 19u);
+  EXPECT_EQ(settings, 20u);
 }
 
 // A SIGHUP names each setting it cannot apply: every one declared without on_sighup, changed
@@ -240,7 +244,7 @@ TEST(DaemonSettings, EverySettingChangedButNotAppliedOnSighupIsNamed) {
       ++named;
     }
   });
-  EXPECT_EQ(named, 16u) << "all but log_level, log_file and log_file_mb";
+  EXPECT_EQ(named, 17u) << "all but log_level, log_file and log_file_mb";
   DaemonConfig with_id = running;
   with_id.server_id = "d1";
   EXPECT_TRUE(changed_needing_restart(with_id, running).empty()) << "no server_id: the default the daemon holds";

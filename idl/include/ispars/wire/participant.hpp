@@ -92,11 +92,6 @@ struct RemoteReader {
 /// take note (creating or deleting DDS entities there deadlocks with DDS's own locks).
 using ReaderWatch = std::function<void(const RemoteReader&)>;
 
-/// The built-in profile's participant lease in seconds (a peer silent this long is dropped).
-inline constexpr int kLeaseSeconds = 3;
-/// The same under DDS Security, longer (participant.cpp says why).
-inline constexpr int kSecureLeaseSeconds = 20;
-
 /// What a daemon's participant name starts with ("isparsd ID"): peers tell a daemon by it.
 inline constexpr std::string_view kDaemonNamePrefix = "isparsd ";
 /// The participant name of daemon `server_id`.

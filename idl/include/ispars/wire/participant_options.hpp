@@ -5,6 +5,19 @@
 
 namespace ispars::wire {
 
+/// The built-in profile's participant lease in seconds (a peer silent this long is dropped).
+inline constexpr int kLeaseSeconds = 3;
+/// The same under DDS Security, longer (participant.cpp says why).
+inline constexpr int kSecureLeaseSeconds = 20;
+/// The longest lease a participant may ask for.
+inline constexpr unsigned kMaxLeaseSeconds = 600;
+/// The lease of a participant with the built-in settings that asked for `configured` seconds
+/// (0: the default, kSecureLeaseSeconds when `secure`, else kLeaseSeconds).
+[[nodiscard]] inline int lease_seconds(unsigned configured, bool secure) {
+  if (configured != 0) return static_cast<int>(configured);
+  return secure ? kSecureLeaseSeconds : kLeaseSeconds;
+}
+
 /// How to join a DDS domain.
 struct ParticipantOptions {
   int domain = 0;
@@ -20,6 +33,10 @@ struct ParticipantOptions {
   /// permissions.p7s, ca.pem, governance.p7s). Empty: no DDS Security, and a secured daemon
   /// neither sees nor hears this participant.
   std::string security;
+  /// The participant's lease in seconds with the built-in settings (a peer silent this long
+  /// drops it), 1..600; 0: 3 s, or 20 s under DDS Security (lease_seconds). A profiles file
+  /// sets its own.
+  unsigned lease_seconds = 0;
 };
 
 }  // namespace ispars::wire
