@@ -55,10 +55,11 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
           self->tick();
         });
       } catch (const std::exception& e) {
-        std::string m = error_message(e.what());
-        net::post(self->ws_.get_executor(), [self, m = std::move(m)]() mutable {
+        std::string why = e.what();
+        std::string m = error_message(why);
+        net::post(self->ws_.get_executor(), [self, why = std::move(why), m = std::move(m)]() mutable {
           if (m != self->follow_error_) {
-            spdlog::info("ispars-web: cannot follow scene {} yet (asking again every 2 s): {}", self->scene_, m);
+            spdlog::info("ispars-web: cannot follow scene {} yet (asking again every 2 s): {}", self->scene_, why);
             self->send(m);
           }
           self->follow_error_ = std::move(m);
