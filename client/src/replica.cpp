@@ -188,25 +188,14 @@ class RoadmapReplica::Impl {
 
   // With state_mutex_ held.
   void count(Resync why) {
-    switch (why) {
-      case Resync::none:
-        break;
-      case Resync::first:
-        ++resyncs_.first;
-        break;
-      case Resync::gap:
-        ++resyncs_.gap;
-        break;
-      case Resync::moved:
-        ++resyncs_.moved;
-        break;
-      case Resync::lag:
-        ++resyncs_.lag;
-        break;
-      case Resync::rejoin:
-        ++resyncs_.rejoin;
-        break;
-    }
+    // ReplicaResyncs' counter of each Resync, in the enum's order.
+    static constexpr std::size_t ReplicaResyncs::*kCounters[] = {nullptr,
+                                                                 &ReplicaResyncs::first,
+                                                                 &ReplicaResyncs::gap,
+                                                                 &ReplicaResyncs::moved,
+                                                                 &ReplicaResyncs::lag,
+                                                                 &ReplicaResyncs::rejoin};
+    if (why != Resync::none) ++(resyncs_.*kCounters[static_cast<std::size_t>(why)]);
   }
 
   void notify(bool resynced) {

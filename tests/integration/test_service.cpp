@@ -110,7 +110,9 @@ TEST_F(ServiceTest, LateJoinerReplicaEqualsTheServersSnapshot) {
   (void)eventually([&] { return client.stats("s0").samples_done > 0; }, std::chrono::seconds(4), "the build commits");
   // The lag fallback (a resync once the owner's status has been ahead for 2 s with no batch
   // arriving) out of the way: this replica reaches each version by batches, or says why not.
-  client::RoadmapReplica late(late_client, "s0", {}, client::ReplicaLimits{1024, 256u << 20, std::chrono::minutes(5)});
+  client::ReplicaLimits trust_batches;
+  trust_batches.lag = std::chrono::minutes(5);
+  client::RoadmapReplica late(late_client, "s0", {}, trust_batches);
   const auto done = client.wait_idle("s0", {}, kLong);
   ASSERT_EQ(done.state, SceneState::idle) << done.last_error;
   ASSERT_TRUE(late.wait_for(done.generation, done.version, std::chrono::seconds(30))) << late.last_error();

@@ -151,6 +151,7 @@ std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
 }
 
 void SceneFeed::log_sync_error() {
+  if (changes_.load() > 0) return;  // synced once (a change follows the first snapshot): nothing to say
   client::RoadmapReplica* replica = replica_ready_;
   if (replica == nullptr || replica->snapshots_taken() > 0) return;
   std::string why = replica->last_error();
