@@ -39,7 +39,7 @@ class SessionRecoveryTest : public RoadmapSessionTest {
 
 TEST_F(SessionRecoveryTest, NoStoreRecoversNothingAndADropsGenerationIsKept) {
   RecoveredSession none = recover(scene());
-  EXPECT_FALSE(none.recipe);
+  EXPECT_FALSE(none.stored);
   EXPECT_TRUE(none.refused.empty());
   EXPECT_FALSE(none.store);
   EXPECT_FALSE(none.dropped_generation);
@@ -52,24 +52,25 @@ TEST_F(SessionRecoveryTest, NoStoreRecoversNothingAndADropsGenerationIsKept) {
   }
   ASSERT_NE(dropped, 0u);
   RecoveredSession after = recover(scene());
-  EXPECT_FALSE(after.recipe);
+  EXPECT_FALSE(after.stored);
   EXPECT_EQ(after.dropped_generation, dropped);
 }
 
 TEST_F(SessionRecoveryTest, AStoredRoadmapIsRecoveredWithItsTasksPoisSeen) {
   const std::uint64_t digest = store(1500, 30);
   RecoveredSession r = recover(scene());
-  ASSERT_TRUE(r.recipe);
+  ASSERT_TRUE(r.stored);
   EXPECT_TRUE(r.refused.empty());
   ASSERT_TRUE(r.store);
-  EXPECT_EQ(r.recipe->method, BuildMethod::ispars);
-  EXPECT_EQ(r.published.samples, 1500u);
-  EXPECT_EQ(r.published.generation, r.recipe->generation);
-  EXPECT_EQ(roadmap_digest(*r.published.roadmap), digest) << "the recovered roadmap is not the one stored";
-  ASSERT_EQ(r.tasks.size(), 1u);
-  EXPECT_EQ(r.tasks[0].name, "welds");
-  EXPECT_EQ(r.scene_with_tasks->pois().size(), scene().pois().size() + 30);
-  EXPECT_EQ(r.published.roadmap->poi_count(), scene().pois().size() + 30);
+  const StoredRoadmap& s = *r.stored;
+  EXPECT_EQ(s.recipe.method, BuildMethod::ispars);
+  EXPECT_EQ(s.published.samples, 1500u);
+  EXPECT_EQ(s.published.generation, s.recipe.generation);
+  EXPECT_EQ(roadmap_digest(*s.published.roadmap), digest) << "the recovered roadmap is not the one stored";
+  ASSERT_EQ(s.tasks.size(), 1u);
+  EXPECT_EQ(s.tasks[0].name, "welds");
+  EXPECT_EQ(s.scene_with_tasks->pois().size(), scene().pois().size() + 30);
+  EXPECT_EQ(s.published.roadmap->poi_count(), scene().pois().size() + 30);
   EXPECT_EQ(r.resume_from.has_value(), !resumes_from_roadmap(BuildMethod::ispars));
   EXPECT_NE(r.note.find("recovered ispars roadmap at version"), std::string::npos) << r.note;
   EXPECT_NE(r.note.find("1 tasks"), std::string::npos) << r.note;
@@ -84,7 +85,7 @@ TEST_F(SessionRecoveryTest, ADamagedStoreIsRefusedAndLeftAsItIs) {
   RecoveredSession r = recover(scene());
   EXPECT_NE(r.refused.find("snapshot.bin is damaged"), std::string::npos) << r.refused;
   EXPECT_FALSE(r.store);
-  EXPECT_FALSE(r.recipe);
+  EXPECT_FALSE(r.stored);
   EXPECT_EQ(bytes_of(snapshot), "ISPSNP01 damaged");
   EXPECT_EQ(bytes_of(dir_.path() / "tower" / "journal.log"), journal);
 }
@@ -96,11 +97,11 @@ TEST_F(SessionRecoveryTest, AStoreOfAnotherVersionOfTheSceneIsRefusedAndReleased
   RecoveredSession refused = recover(edited);
   EXPECT_NE(refused.refused.find("was built on another version of the scene"), std::string::npos) << refused.refused;
   EXPECT_FALSE(refused.store) << "a refused store stays open (and locked)";
-  EXPECT_FALSE(refused.recipe);
+  EXPECT_FALSE(refused.stored);
   // Untouched, and released: the scene as it was recovers it at once.
   RecoveredSession again = recover(scene());
-  ASSERT_TRUE(again.recipe) << again.refused;
-  EXPECT_EQ(roadmap_digest(*again.published.roadmap), digest);
+  ASSERT_TRUE(again.stored) << again.refused;
+  EXPECT_EQ(roadmap_digest(*again.stored->published.roadmap), digest);
 }
 
 TEST_F(SessionRecoveryTest, AnotherScenesStoreIsAnError) {

@@ -1,6 +1,5 @@
 #pragma once
-// What the session's source files share (roadmap_session.cpp: requests and queries;
-// roadmap_session_job.cpp: the build job; roadmap_session_discard.cpp: drop and unload).
+// What the session's source files share (the session, its record and its build job).
 
 #include <cstdint>
 

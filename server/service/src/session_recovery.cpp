@@ -11,6 +11,8 @@
 
 namespace ispars {
 
+namespace {
+
 std::shared_ptr<const Scene> complete_tasks(const Scene& scene, StoreRecovery& recovery, unsigned threads) {
   if (recovery.tasks.empty()) return std::make_shared<const Scene>(scene);
   auto with_tasks = std::make_shared<const Scene>(scene.with_more_pois(task_pois(recovery.tasks)));
@@ -19,8 +21,6 @@ std::shared_ptr<const Scene> complete_tasks(const Scene& scene, StoreRecovery& r
   if (recovery.roadmaps.dense) see_new_pois(*recovery.roadmaps.dense, *with_tasks, first, threads);
   return with_tasks;
 }
-
-namespace {
 
 std::string torn_tail_note(const StoreRecovery& recovery) {
   if (!recovery.torn_tail) return {};
@@ -55,26 +55,33 @@ RecoveredSession recover_session(const std::string& name, const Scene& scene, co
     r.refused = std::move(why);
     return r;
   }
-  r.scene_with_tasks = complete_tasks(scene, recovery, limits.build_threads);
-  r.tasks = std::move(recovery.tasks);
-  r.recipe = recovery.recipe;
-  // A method that resumes from its roadmap needs no other copy: the published one is moved in,
-  // and a builder is resumed from a copy of it when a job needs one.
-  const bool resumable = resumes_from_roadmap(r.recipe->method);
-  r.published = make_published(resumable ? std::make_shared<const Roadmap>(std::move(recovery.roadmaps.roadmap))
-                                         : std::make_shared<const Roadmap>(recovery.roadmaps.roadmap),
-                               r.recipe->generation, recovery.roadmaps.samples);
-  if (recovery.roadmaps.dense) {
-    r.dense_vertices = recovery.roadmaps.dense->vertex_count();
-    r.dense_edges = recovery.roadmaps.dense->edge_count();
-  }
+  r.stored = serve_recovery(scene, recovery, limits.build_threads, r.resume_from);
+  const StoredRoadmap& stored = *r.stored;
   r.note = fmt::format("recovered {} roadmap at version {} ({} samples, {} vertices, {} tasks; {} journal commits)",
-                       to_string(r.recipe->method), r.published.roadmap->version(), r.published.samples,
-                       r.published.roadmap->vertex_count(), r.tasks.size(), recovery.journal_commits);
+                       to_string(stored.recipe.method), stored.published.roadmap->version(), stored.published.samples,
+                       stored.published.roadmap->vertex_count(), stored.tasks.size(), recovery.journal_commits);
   r.torn_tail_note = torn_tail_note(recovery);
   if (!r.torn_tail_note.empty()) r.note += "; " + r.torn_tail_note;
-  if (!resumable) r.resume_from = std::move(recovery.roadmaps);
   return r;
+}
+
+StoredRoadmap serve_recovery(const Scene& scene, StoreRecovery& recovery, unsigned threads,
+                             std::optional<BuiltRoadmaps>& resume_from) {
+  StoredRoadmap s;
+  s.scene_with_tasks = complete_tasks(scene, recovery, threads);
+  s.tasks = std::move(recovery.tasks);
+  s.recipe = recovery.recipe;
+  if (recovery.roadmaps.dense)
+    s.dense = {recovery.roadmaps.dense->vertex_count(), recovery.roadmaps.dense->edge_count()};
+  // A method that resumes from its roadmap needs no other copy: the published one is moved in,
+  // and a builder is resumed from a copy of it when a job needs one.
+  const bool resumable = resumes_from_roadmap(s.recipe.method);
+  s.published = make_published(resumable ? std::make_shared<const Roadmap>(std::move(recovery.roadmaps.roadmap))
+                                         : std::make_shared<const Roadmap>(recovery.roadmaps.roadmap),
+                               s.recipe.generation, recovery.roadmaps.samples);
+  resume_from.reset();
+  if (!resumable) resume_from = std::move(recovery.roadmaps);
+  return s;
 }
 
 }  // namespace ispars

@@ -2,17 +2,18 @@
 // One scene's roadmap as the service holds it: the scene, its persistent roadmap, and the build
 // job that grows it. Knows nothing of DDS: the server calls it and forwards its callbacks.
 //
-// Requests (build, extend, cancel, drop) are checked and recorded at once; the job itself runs
-// on a worker thread that calls run_job(). Queries read immutable published copies, so they are
-// served from a consistent version while the job runs. Each chunk of samples is committed to the
-// store (durable), then published to readers, then announced through the callbacks.
+// Requests (build, extend, task, cancel, drop) are checked and recorded at once in the session's
+// SessionRecord; the job itself runs on a worker thread that calls run_job(), which hands it to
+// the BuildJob. Queries read the record's immutable published copies, so they are served from a
+// consistent version while the job runs. Each chunk of samples is committed to the store
+// (durable), then published to readers, then announced through the callbacks. The store's
+// recovery at load is recover_session()'s.
 
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -26,51 +27,15 @@
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/scene/scene.hpp"
 #include "ispars/search/path_query.hpp"
+#include "ispars/service/build_job.hpp"
 #include "ispars/service/build_request.hpp"
 #include "ispars/service/inspection_task.hpp"
 #include "ispars/service/published_roadmap.hpp"
 #include "ispars/service/reader_gate.hpp"
 #include "ispars/service/roadmap_store.hpp"
+#include "ispars/service/session_record.hpp"
 
 namespace ispars {
-
-/// What a scene's roadmap is doing.
-enum class SessionState : std::uint8_t {
-  empty,      ///< No roadmap.
-  idle,       ///< A roadmap, no job.
-  queued,     ///< A job waits for a worker.
-  replaying,  ///< Rebuilding the builder from the recipe after a restart (before an extend).
-  building,   ///< A job is adding samples.
-  failed,     ///< The last job failed; the roadmap is as last committed.
-};
-[[nodiscard]] std::string_view to_string(SessionState state);
-
-/// A consistent summary of a session.
-struct SessionStatus {
-  std::string scene;
-  SessionState state = SessionState::empty;
-  std::optional<RoadmapRecipe> recipe;  ///< Set when there is a roadmap.
-  std::uint64_t samples_done = 0;
-  std::uint64_t samples_target = 0;
-  std::uint64_t version = 0;  ///< Version of the published roadmap.
-  std::size_t vertices = 0;
-  std::size_t edges = 0;
-  std::size_t components = 0;
-  std::size_t dense_vertices = 0;
-  std::size_t dense_edges = 0;
-  std::size_t poi_count = 0;      ///< The scene's POIs and its tasks'.
-  std::size_t tasks = 0;          ///< Inspection tasks added to the roadmap (not removed).
-  std::uint64_t task_events = 0;  ///< Tasks added, plus tasks removed (task_events).
-  std::size_t pois_covered = 0;
-  std::size_t pois_covered_root = 0;
-  std::string last_error;
-  /// The published roadmap's generation: the recipe's, or the empty roadmap's after a drop
-  /// (0: never built or dropped here).
-  std::uint64_t generation = 0;
-  /// A build accepted and not started (queued): its recipe (with the generation it makes); its
-  /// samples are samples_target. The fleet's status and announcement carry it from acceptance.
-  std::optional<RoadmapRecipe> accepted;
-};
 
 /// A verify running longer than this is stopped and answered with an error naming the budget.
 inline constexpr std::chrono::milliseconds kVerifyBudget{300'000};
@@ -79,8 +44,7 @@ inline constexpr std::chrono::milliseconds kVerifyBudget{300'000};
 struct SessionCallbacks {
   /// A committed batch of the roadmap (called on the job's thread, in order), and the roadmap's
   /// POI count after it (a task's commit widens it).
-  std::function<void(const RoadmapBatch& batch, std::uint64_t generation, std::uint64_t samples, std::size_t poi_count)>
-      on_commit;
+  CommitCallback on_commit;
   /// The status changed (state, progress or counts).
   std::function<void(const SessionStatus& status)> on_status;
   /// Called with the estimate of the roadmap a build or extend would make, as the last check
@@ -179,43 +143,15 @@ class RoadmapSession {
   [[nodiscard]] const std::string& torn_tail_note() const { return torn_tail_note_; }
 
  private:
-  SessionStatus status_locked() const;
-  void notify_status();
-  RoadmapsView live_view() const;
-  void ensure_builder(const std::atomic<bool>& stopping);
-  // The phases of run_job (roadmap_session_job.cpp).
-  struct Job {
-    std::optional<RoadmapRecipe> build;  // a new roadmap's recipe; none for an extend
-    std::optional<InspectionTask> task;  // a task to add (samples is then 0)
-    std::uint64_t samples = 0;           // samples to add
-    RoadmapRecipe recipe;                // the recipe the job grows
-    std::uint64_t roadmap_version = 0;   // the last commit's versions
-    std::uint64_t dense_version = 0;
-  };
-  std::optional<Job> take_job(const std::atomic<bool>& stopping);
-  void prepare_job(Job& job, const std::atomic<bool>& stopping);
-  void perform_job(Job& job, const std::atomic<bool>& stopping);  // a task's addition, or the growth
-  // A task's addition stopped (`builder_changed`: part of it reached the builder): why, as logged.
-  void task_stopped(const std::string& why, bool builder_changed, const std::atomic<bool>& stopping);
-  void grow(Job& job, std::uint64_t target, const std::atomic<bool>& stopping);
-  void add_task(Job& job, const std::atomic<bool>& stopping);  // roadmap_session_task.cpp
-  [[nodiscard]] std::size_t live_tasks() const;                // tasks_ not removed; with mutex_ held
-  void end_job(const Job& job, const std::atomic<bool>& stopping);
-  void fail_job(std::string error);
-  // Whether the published roadmap is the builder's, of `generation` (the job's last copy).
-  [[nodiscard]] bool published_is_builders(std::uint64_t generation) const;
-  [[nodiscard]] std::uint64_t samples_done() const;  // takes mutex_
-  void check_can_start(const char* field) const;     // with mutex_ held
-  // Marks the stored roadmap unusable (`why`): FAILED, nothing served, files untouched.
-  void refuse_store(std::string why);
-  std::filesystem::path discard_store(const std::string& aside_why);  // drop (empty why) or set aside
-  // `scene`: the scene with the tasks the roadmap will have.
-  BuildCost estimate(const Scene& scene, const RoadmapRecipe& recipe, std::uint64_t total_samples) const;
   // Takes job_mutex_ (shared or alone) once no job is queued or running; a job that has just
   // turned idle still holds it while it publishes its last status, so this waits for it briefly.
   // Throws InputError, naming `what`, when a job is queued or running.
   template <typename Lock>
   Lock lock_idle_job(std::string_view what) const;
+  std::filesystem::path discard_store(const std::string& aside_why);  // drop (empty why) or set aside
+  // `scene`: the scene with the tasks the roadmap will have.
+  BuildCost estimate(const Scene& scene, const RoadmapRecipe& recipe, std::uint64_t total_samples) const;
+  [[nodiscard]] SessionRecord::Admit admit() const;  // callbacks_.admit_cost of estimate(); none unset
   [[nodiscard]] VerificationReport verify_locked(const VerifyKeepGoing& keep_going) const;  // job lock held
 
   const std::string name_;
@@ -224,45 +160,18 @@ class RoadmapSession {
   const SessionLimits limits_;
   const SessionCallbacks callbacks_;
   FileSystem& fs_;
+  const std::string fingerprint_;  // scene_fingerprint(scene_), recorded in every recipe built here
   mutable std::once_flag free_fraction_once_;
   mutable double free_fraction_ = 1.0;  // of the scene's sampling box, measured on first need
 
-  // Whoever touches the builder holds this: run_job and drop alone, verify shared with other verifies.
+  SessionRecord record_;
+  // Whoever touches job_ holds this: run_job and the writers alone, verify and a task's removal
+  // shared (a removal's commit is the store's only other writer; removal_mutex_ orders them).
   mutable std::shared_mutex job_mutex_;
+  BuildJob job_;
   // Verifies, which a writer (unload, drop, a job) stops before it takes job_mutex_ alone.
   const std::unique_ptr<ReaderGate> readers_ = std::make_unique<ReaderGate>();
-  // Owned by the job thread (under job_mutex_):
-  std::unique_ptr<Scene> build_scene_;
-  std::unique_ptr<RoadmapBuilder> builder_;
-  std::unique_ptr<RoadmapStore> store_;
-  std::optional<BuiltRoadmaps> recovered_;  // the stored roadmaps until a builder resumes from them
-  // Task removals, one at a time: each commits to the store outside mutex_ (a disk wait under
-  // the lock every status read takes would hold up STATS).
   std::mutex removal_mutex_;
-
-  mutable std::mutex mutex_;  // guards everything below
-  SessionState state_ = SessionState::empty;
-  std::optional<RoadmapRecipe> recipe_;
-  std::uint64_t samples_done_ = 0;
-  std::uint64_t samples_target_ = 0;
-  std::uint64_t pending_samples_ = 0;
-  std::optional<RoadmapRecipe> pending_recipe_;  // a queued build's recipe
-  std::optional<RoadmapRecipe> starting_build_;  // a started build's, until its first commit
-  std::uint64_t starting_samples_ = 0;
-  std::optional<InspectionTask> pending_task_;                // a queued task
-  std::optional<InspectionTask> starting_task_;               // a started task's, until it is committed
-  [[nodiscard]] const InspectionTask* accepted_task() const;  // pending or starting, not committed; mutex_ held
-  std::vector<InspectionTask> tasks_;                         // the roadmap's tasks, as stored
-  std::shared_ptr<const Scene> scene_with_tasks_;             // scene_ with tasks_' POIs (immutable, swapped)
-  bool closed_ = false;
-  bool discarding_ = false;  // a drop or set aside is removing the store
-  std::string last_error_;
-  std::string fingerprint_;  // scene_fingerprint(scene_), recorded in every recipe built here
-  std::string damage_;       // the stored roadmap could not be opened (StoreDamage): nothing was read or changed
-  std::size_t dense_vertices_ = 0;
-  std::size_t dense_edges_ = 0;
-  PublishedRoadmap published_;
-  std::atomic<bool> cancel_{false};
   std::string recovery_note_;
   std::string torn_tail_note_;
 };

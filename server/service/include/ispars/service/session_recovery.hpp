@@ -17,10 +17,11 @@
 #include "ispars/service/inspection_task.hpp"
 #include "ispars/service/published_roadmap.hpp"
 #include "ispars/service/roadmap_store.hpp"
+#include "ispars/service/session_record.hpp"
 
 namespace ispars {
 
-/// What recover_session() found in a scene's store directory. With no recipe and nothing
+/// What recover_session() found in a scene's store directory. With nothing stored and nothing
 /// refused, the directory held no store.
 struct RecoveredSession {
   /// Why the stored roadmap is not served (damage, or a roadmap of another version of the scene
@@ -29,23 +30,20 @@ struct RecoveredSession {
   /// No store: the generation of a drop made there before, which the empty roadmap keeps.
   std::optional<std::uint64_t> dropped_generation;
   std::unique_ptr<RoadmapStore> store;  ///< Open for writing (compacting every limits.compact_every).
-  std::optional<RoadmapRecipe> recipe;
-  std::vector<InspectionTask> tasks;
-  std::shared_ptr<const Scene> scene_with_tasks;  ///< The scene with the tasks' POIs.
-  PublishedRoadmap published;                     ///< The stored roadmap, every vertex seeing its tasks' POIs.
-  std::size_t dense_vertices = 0;
-  std::size_t dense_edges = 0;
+  std::optional<StoredRoadmap> stored;  ///< The stored roadmap, as the session serves it.
   /// The stored roadmaps, for a method whose builder cannot resume from the published roadmap.
   std::optional<BuiltRoadmaps> resume_from;
   std::string note;            ///< What was recovered, for the log.
   std::string torn_tail_note;  ///< What a torn journal tail cut off and where it was kept; empty if none.
 };
 
-/// `scene` with the stored tasks' POIs, and every roadmap in `recovery` made to see those of
-/// them its vertices see (the store has no scene: a vertex built before a task does not know its
-/// POIs), on `threads` threads.
-[[nodiscard]] std::shared_ptr<const Scene> complete_tasks(const Scene& scene, StoreRecovery& recovery,
-                                                          unsigned threads);
+/// The roadmap `recovery` holds (of `scene` as loaded), as a session serves it: `scene` with the
+/// stored tasks' POIs, and the roadmaps made to see those of them their vertices see (the store
+/// has no scene: a vertex built before a task does not know its POIs), on `threads` threads. The
+/// roadmaps go to `resume_from` for a method whose builder cannot resume from the published
+/// roadmap; the published copy takes them over otherwise.
+[[nodiscard]] StoredRoadmap serve_recovery(const Scene& scene, StoreRecovery& recovery, unsigned threads,
+                                           std::optional<BuiltRoadmaps>& resume_from);
 
 /// Opens the store of scene `name` (`scene` as loaded, its fingerprint `fingerprint`) in
 /// `store_dir` on `fs`, and recovers its roadmap. Throws std::runtime_error when the store is

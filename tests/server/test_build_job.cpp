@@ -1,24 +1,108 @@
-// A session's build job (roadmap_session_job.cpp): how a builder comes back after a restart, and
-// what readers are served when a job ends.
+// A session's build job (BuildJob): on a record of its own, what a build commits, records and
+// announces, and how a failure is recorded; through a session, how a builder comes back after a
+// restart, and what readers are served when a job ends.
 
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <thread>
 
+#include "ispars/roadmap/roadmap_batch.hpp"
+#include "ispars/service/build_job.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
 namespace {
 
+// A job over a record of its own, with no session around it.
+struct JobBench {
+  const Scene& scene = test::shared_scene("demo_tank_tower");
+  test::TempDir dir;
+  const std::string name = "tower";
+  const std::filesystem::path store_dir = dir.path() / "tower";
+  const SessionLimits limits;
+  SessionRecord record{name, scene, {}};
+
+  void accept(std::uint64_t samples, std::uint64_t seed) {
+    BuildRequest request;
+    request.method = BuildMethod::ispars;
+    request.samples = samples;
+    request.seed = seed;
+    record.accept_build(requested_recipe(name, scene, request, limits), request, {});
+  }
+};
+
+std::uint64_t reference_digest(const Scene& scene, std::uint64_t samples, std::uint64_t seed) {
+  BuildOptions options;
+  options.seed = seed;
+  auto builder = make_roadmap_builder(BuildMethod::ispars, scene, options);
+  builder->extend(samples);
+  return roadmap_digest(builder->roadmap());
+}
+
+// Each chunk is durable before the record shows it, and recorded before it is announced: a
+// follower told of a batch finds it in the status and the store, and the batches rebuild the
+// roadmap readers are served.
+TEST(BuildJob, EachChunkIsStoredThenRecordedThenAnnounced) {
+  JobBench b;
+  Roadmap replica(b.scene.pois().size());
+  std::size_t batches = 0;
+  BuildJob job(JobSite{b.name, b.scene, b.store_dir, b.limits, disk()}, b.record,
+               [&](const RoadmapBatch& batch, std::uint64_t, std::uint64_t samples, std::size_t poi_count) {
+                 ++batches;
+                 EXPECT_EQ(poi_count, b.scene.pois().size());
+                 EXPECT_EQ(b.record.status().samples_done, samples) << "announced before it was recorded";
+                 EXPECT_EQ(RoadmapStore::read(b.store_dir, b.scene.pois().size()).roadmaps.samples, samples)
+                     << "announced before it was stored";
+                 apply_batch(replica, batch);
+               });
+  job.run(std::atomic<bool>{false});
+  EXPECT_EQ(batches, 0u) << "a job ran with nothing queued";
+  EXPECT_EQ(job.store(), nullptr);
+  b.accept(3000, 5);
+  job.run(std::atomic<bool>{false});
+  const SessionStatus s = b.record.status();
+  EXPECT_EQ(s.state, SessionState::idle);
+  EXPECT_EQ(s.samples_done, 3000u);
+  EXPECT_GE(batches, 2u);
+  const std::uint64_t digest = reference_digest(b.scene, 3000, 5);
+  EXPECT_EQ(roadmap_digest(*b.record.published().roadmap), digest);
+  EXPECT_EQ(roadmap_digest(replica), digest);
+  ASSERT_NE(job.store(), nullptr);
+  const std::optional<RoadmapsView> held = job.roadmaps();
+  ASSERT_TRUE(held) << "an ispars builder is kept between jobs";
+  EXPECT_EQ(held->samples, 3000u);
+}
+
+// A build whose store cannot be made fails, saying why, and the record shows what the directory
+// holds: no roadmap.
+TEST(BuildJob, AStoreThatCannotBeMadeFailsTheBuildNamedAndTheRecordAgrees) {
+  JobBench b;
+  { std::ofstream(b.dir.path() / "not-a-dir") << "x"; }
+  const std::filesystem::path blocked = b.dir.path() / "not-a-dir" / "tower";
+  BuildJob job(JobSite{b.name, b.scene, blocked, b.limits, disk()}, b.record, {});
+  b.accept(500, 1);
+  job.run(std::atomic<bool>{false});
+  const SessionStatus s = b.record.status();
+  EXPECT_EQ(s.state, SessionState::failed);
+  EXPECT_FALSE(s.recipe);
+  EXPECT_EQ(s.vertices, 0u);
+  EXPECT_NE(s.last_error.find("not-a-dir"), std::string::npos) << s.last_error;
+  EXPECT_EQ(job.store(), nullptr);
+  EXPECT_FALSE(job.roadmaps());
+  EXPECT_FALSE(b.record.busy());
+}
+
 // A cancel that lands just after a commit whose chunk took no copy for readers (the copy is
 // decided before the cancel, and only every quarter second or so) ends the loop there: readers
 // must still get that last commit, as the status's samples say. CI's kill -9 campaign saw a
 // snapshot one chunk older than the status after such a cancel.
-TEST(RoadmapSessionJob, ACancelRightAfterACommitLeavesReadersThatCommitNotAnOlderOne) {
+TEST(BuildJob, ACancelRightAfterACommitLeavesReadersThatCommitNotAnOlderOne) {
   const Scene& scene = test::shared_scene("demo_tank_tower");
   for (const BuildMethod method : {BuildMethod::ispars, BuildMethod::dense, BuildMethod::ispars2}) {
     SCOPED_TRACE(std::string(to_string(method)));
@@ -57,7 +141,7 @@ TEST(RoadmapSessionJob, ACancelRightAfterACommitLeavesReadersThatCommitNotAnOlde
 // A stopped build keeps its committed chunks, and a reopened session goes on exactly. The dense
 // pair resumes from its stored roadmaps and never replays; IRIS-C replays its recipe, and a stop
 // during that replay leaves the scene idle as it was (not failed).
-TEST(RoadmapSessionJob, AStoppedBuildGoesOnExactlyResumedOrForIrisCReplayed) {
+TEST(BuildJob, AStoppedBuildGoesOnExactlyResumedOrForIrisCReplayed) {
   const Scene& scene = test::shared_scene("demo_tank_tower");
   test::TempDir dir;
   std::atomic<bool> never{false};
@@ -135,7 +219,7 @@ TEST(RoadmapSessionJob, AStoppedBuildGoesOnExactlyResumedOrForIrisCReplayed) {
 // sample is drawn after it. (The status said "queued" in that window, so the cancel emptied a
 // queue the job had already left, and the job then ran to its end: CI's kill -9 campaign found
 // "a build is running" right after its cancel.)
-TEST(RoadmapSessionJob, ACancelWhileTheBuilderResumesStopsTheJob) {
+TEST(BuildJob, ACancelWhileTheBuilderResumesStopsTheJob) {
   const Scene& scene = test::shared_scene("demo_tank_tower");
   test::TempDir dir;
   std::atomic<bool> never{false};
@@ -167,7 +251,7 @@ TEST(RoadmapSessionJob, ACancelWhileTheBuilderResumesStopsTheJob) {
 // An extend is acknowledged with its target, and the status says so from then on, while it waits
 // for a worker (the fleet's announcement and a takeover continue to it: docs/fleet.md); a cancel
 // or a stop before it starts takes the target back.
-TEST(RoadmapSessionJob, AQueuedExtendsTargetIsInTheStatusUntilItIsCancelledOrStopped) {
+TEST(BuildJob, AQueuedExtendsTargetIsInTheStatusUntilItIsCancelledOrStopped) {
   const Scene& scene = test::shared_scene("demo_tank_tower");
   test::TempDir dir;
   std::atomic<bool> never{false};
