@@ -38,14 +38,7 @@ RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events, F
   if (settings_.scrub_period.count() > 0) {
     // Sessions held and being loaded are left alone: their stores are written.
     scrub_ = std::make_unique<StoreScrub>(
-        settings_.data_dir,
-        [this] {
-          std::lock_guard lock(sessions_mutex_);
-          std::vector<std::string> out(loading_.begin(), loading_.end());
-          for (const auto& [name, s] : sessions_) out.push_back(name);
-          return out;
-        },
-        budget_, settings_.scrub_period, fs_);
+        settings_.data_dir, [this] { return scenes_.held_or_loading(); }, budget_, settings_.scrub_period, fs_);
   }
 }
 
@@ -63,12 +56,7 @@ void RoadmapService::stop() {
   jobs_.stop_workers();  // running builds commit their current chunk and return
   tours_.close();        // running tours stop early and report their best
   jobs_.mark_stopped_cleanly();
-  std::vector<std::string> names;
-  {
-    std::lock_guard lock(sessions_mutex_);
-    for (const auto& [name, s] : sessions_) names.push_back(name);
-  }
-  for (const auto& name : names) {
+  for (const auto& name : scenes_.names()) {
     if (events_.release) events_.release(name);
     if (events_.on_unloaded) events_.on_unloaded(name, /*given_up=*/false);
   }
@@ -92,13 +80,12 @@ void RoadmapService::load_stored_roadmaps() {
 
 std::vector<SceneListing> RoadmapService::list_scenes() const {
   std::vector<SceneListing> out;
-  std::lock_guard lock(sessions_mutex_);
   for (const std::string& name : list_scene_names(settings_.scene_dir)) {
     SceneListing e;
     e.name = name;
-    if (const auto it = sessions_.find(name); it != sessions_.end()) {
+    if (const auto session = scenes_.find(name)) {
       e.loaded = true;
-      e.has_roadmap = it->second->status().recipe.has_value();
+      e.has_roadmap = session->status().recipe.has_value();
     } else {
       e.has_roadmap = fs_.exists(settings_.data_dir / name / "recipe.json");
     }
@@ -107,17 +94,10 @@ std::vector<SceneListing> RoadmapService::list_scenes() const {
   return out;
 }
 
-std::vector<std::string> RoadmapService::loaded_scenes() const {
-  std::lock_guard lock(sessions_mutex_);
-  std::vector<std::string> out;
-  for (const auto& [name, s] : sessions_) out.push_back(name);
-  return out;
-}
+std::vector<std::string> RoadmapService::loaded_scenes() const { return scenes_.names(); }
 
 std::shared_ptr<RoadmapSession> RoadmapService::session_or_null(const std::string& scene) const {
-  std::lock_guard lock(sessions_mutex_);
-  const auto it = sessions_.find(scene);
-  return it == sessions_.end() ? nullptr : it->second;
+  return scenes_.find(scene);
 }
 
 std::shared_ptr<RoadmapSession> RoadmapService::session(const std::string& scene) const {
@@ -135,20 +115,7 @@ RoadmapPath RoadmapService::path(const std::string& scene, const Vec3& from, con
 std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& name) {
   (void)scene_file(settings_.scene_dir, name);  // names a bad name before anything is reserved
   // Reserve the name: two concurrent loads must not both open the scene's store.
-  {
-    std::lock_guard lock(sessions_mutex_);
-    if (sessions_.count(name) || !loading_.insert(name).second) {
-      throw InputError(kRequest, "scene", fmt::format("scene '{}' is already loaded or being loaded", name));
-    }
-  }
-  struct Unreserve {
-    RoadmapService& service;
-    const std::string& name;
-    ~Unreserve() {
-      std::lock_guard lock(service.sessions_mutex_);
-      service.loading_.erase(name);
-    }
-  } unreserve{*this, name};
+  const auto reservation = scenes_.reserve(name);
   if (events_.claim) events_.claim(name);
   struct Unclaim {
     const ServiceEvents& events;
@@ -173,10 +140,7 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
                                                   std::move(callbacks), fs_);
   mark_unloaded(settings_.data_dir / name, false, fs_);
   budget_->set_reserved(name, session->expected_cost().peak_bytes);  // a stored roadmap is held whatever the budget
-  {
-    std::lock_guard lock(sessions_mutex_);
-    sessions_.emplace(name, session);
-  }
+  reservation->add(session);
   unclaim.held = true;
   if (!session->recovery_note().empty()) spdlog::info("scene '{}': {}", name, session->recovery_note());
   if (!session->torn_tail_note().empty()) spdlog::warn("scene '{}': {}", name, session->torn_tail_note());
@@ -219,8 +183,7 @@ void RoadmapService::stop_readers(const std::string& scene, const std::string& w
 
 void RoadmapService::stop_all_readers(const std::string& why) {
   readers_stopped_ = true;  // snapshot encodings stop too (at their next slice)
-  std::lock_guard lock(sessions_mutex_);
-  for (const auto& [name, s] : sessions_) s->stop_readers(why);
+  for (const auto& s : scenes_.sessions()) s->stop_readers(why);
 }
 
 void RoadmapService::yield(const std::string& scene, const std::atomic<bool>& give_up) {
@@ -257,23 +220,15 @@ void RoadmapService::forget(const std::string& scene, bool given_up) {
   // The claim goes first: a load racing this one then claims anew instead of reusing a claim
   // about to be released.
   if (events_.release) events_.release(scene);
-  {
-    std::lock_guard lock(sessions_mutex_);
-    sessions_.erase(scene);
-  }
+  scenes_.erase(scene);
   budget_->set_reserved(scene, 0.0);
   if (events_.on_unloaded) events_.on_unloaded(scene, given_up);
   if (events_.on_scenes_changed) events_.on_scenes_changed();
 }
 
 std::vector<ServedRoadmap> RoadmapService::held_roadmaps() const {
-  std::vector<std::shared_ptr<RoadmapSession>> sessions;
-  {
-    std::lock_guard lock(sessions_mutex_);
-    for (const auto& [name, s] : sessions_) sessions.push_back(s);
-  }
   std::vector<ServedRoadmap> out;
-  for (const auto& s : sessions) {
+  for (const auto& s : scenes_.sessions()) {
     const SessionStatus st = s->status();
     ServedRoadmap r{s->name(), s->published().generation, 0, 0, "", true};
     if (!st.recipe && r.generation == 0) continue;  // nothing built (or a store it refused): no copy

@@ -1,7 +1,7 @@
 #pragma once
-// The roadmap service without its transport: the scenes a daemon holds (one RoadmapSession each),
-// every operation a client may ask for in typed form, build jobs and tours on the service's own
-// worker pools, and tour admission. The DDS layer (server/src) decodes a request, calls one of
+// The roadmap service without its transport: the scenes a daemon holds (a SceneRegistry of one
+// RoadmapSession each), every operation a client may ask for in typed form, build jobs and tours
+// on the service's own worker pools, and tour admission. The DDS layer (server/src) decodes a request, calls one of
 // these functions, and encodes what it returns; unit tests call them directly.
 //
 // Every operation checks its arguments here, once, and throws InputError (file "request", the
@@ -13,11 +13,8 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -25,6 +22,7 @@
 #include "ispars/service/memory_budget.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/scene_fingerprints.hpp"
+#include "ispars/service/scene_registry.hpp"
 #include "ispars/service/snapshot_cache.hpp"
 #include "ispars/service/store_scrub.hpp"
 #include "ispars/service/tour_desk.hpp"
@@ -225,9 +223,7 @@ class RoadmapService {
   std::atomic<bool> stopping_{false};
   std::atomic<bool> readers_stopped_{false};  // stop_all_readers was called: the daemon is stopping
 
-  mutable std::mutex sessions_mutex_;
-  std::map<std::string, std::shared_ptr<RoadmapSession>> sessions_;
-  std::set<std::string> loading_;  // names being loaded (reserved)
+  SceneRegistry scenes_;
 
   const std::shared_ptr<MemoryBudget> budget_;
   SnapshotCache snapshots_;            // the budget's reclaimer drops its kept encodings
