@@ -71,6 +71,12 @@ fdds::DataReaderQos request_reply_reader_qos() {
 fdds::DataWriterQos updates_writer_qos() {
   fdds::DataWriterQos qos = reliable(fdds::DATAWRITER_QOS_DEFAULT, fdds::TRANSIENT_LOCAL_DURABILITY_QOS, kUpdatesKept);
   qos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
+  // No writer-side filtering: Fast DDS 2.9.1 sizes a sample's fragments before it adds the
+  // filter's information to their inline QoS, so a batch past one datagram would never reach a
+  // filtered reader in another process (tests/wire/test_scene_filter.cpp). Each replica's reader
+  // filters on its own side, before any sample reaches the application.
+  qos.writer_resource_limits().reader_filters_allocation.initial = 0;
+  qos.writer_resource_limits().reader_filters_allocation.maximum = 0;
   return qos;
 }
 

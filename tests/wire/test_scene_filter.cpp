@@ -1,9 +1,18 @@
-// The scene filter on roadmap updates over real Fast DDS (localhost, a domain of this process's
-// own): batches of every size around one UDP datagram's, and one of seven datagrams, reach every
-// filtered reader of their scene whole, however many follow it, and no reader of another scene.
-// (Fast DDS 2.9.1 sizes a sample's fragments before the writer adds its filter information to
-// them; these tests show that the room it keeps is enough for three filtered readers.)
+// The scene filter on roadmap updates over real Fast DDS (localhost UDP, a domain of this
+// process's own): batches of every size around one UDP datagram's, and one of seven datagrams,
+// reach every filtered reader of their scene whole, however many follow it, and no reader of
+// another scene. Intraprocess delivery is off, so samples cross the transport as they do between
+// a daemon and its clients (within one process Fast DDS hands them over in memory, which hid the
+// fault below).
+//
+// Fast DDS 2.9.1 sizes a sample's fragments before a writer that filters for its readers adds
+// the filter's information to the sample's inline QoS, and every fragment carries it: a batch
+// past one datagram then never fits a message, and never reaches a filtered reader in another
+// process ("Cannot add RTPS submesage to the CDRMessage. Buffer too small"). The updates writer
+// therefore leaves the filtering to each reader (updates_writer_qos); these tests fail when it
+// filters.
 
+#include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <gtest/gtest.h>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -66,6 +75,18 @@ msg::UpdateBatch large_batch(const std::string& scene, std::uint32_t vertex_coun
 
 // The daemon's side (its updates writer, the filter registered as DdsEndpoints does) and a
 // client's (filtered readers, as RoadmapReplica makes them), on two participants.
+// Intraprocess delivery off while it lives (read by Fast DDS as endpoints match).
+struct OverTheTransport {
+  OverTheTransport() {
+    eprosima::fastrtps::LibrarySettingsAttributes off = before;
+    off.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
+    eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(off);
+  }
+  ~OverTheTransport() { eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(before); }
+  const eprosima::fastrtps::LibrarySettingsAttributes before =
+      eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings();
+};
+
 class SceneFilterTest : public ::testing::Test {
  protected:
   SceneFilterTest() : domain_(client::random_domain()), writer_side_({domain_, "", "ispars", "filter writer", ""}) {
@@ -103,6 +124,7 @@ class SceneFilterTest : public ::testing::Test {
     return status.current_count == readers;
   }
 
+  OverTheTransport over_the_transport_;  // first: before any participant
   int domain_;
   Participant writer_side_;
   std::vector<std::unique_ptr<Participant>> readers_;

@@ -1,9 +1,9 @@
 #pragma once
 // A content filter on roadmap updates by scene: a replica of one scene subscribes through a
-// filtered topic and receives no other scene's batches. The daemon registers the same filter, so
-// its updates writer evaluates each reader's filter and sends other scenes' batches to no reader
-// of one scene (Fast DDS's writer-side filtering; a reader past the writer's 32 filtered readers
-// is filtered on its own side instead, still before any sample reaches the application).
+// filtered topic and receives no other scene's batches: its reader evaluates the filter before
+// any sample reaches the application. The daemon registers the same filter class, but its updates
+// writer does not filter for its readers (updates_writer_qos says why), so every batch crosses the
+// network to each client that follows a scene.
 //
 // The filter reads only a batch's scene, the first member of UpdateBatch (its key), from the
 // serialized sample (XCDR1, either byte order). A sample too short to hold one passes, and the
