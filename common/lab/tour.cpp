@@ -76,7 +76,9 @@ nlohmann::json stages_json(const std::vector<FlownStage>& stages) {
 
 }  // namespace
 
-int run_tour(const TourCommandOptions& options) {
+namespace {
+
+RoadmapFileGraph read_tour_input(const TourCommandOptions& options) {
   if (options.roadmap.empty() == options.iris.empty()) {
     throw InputError("tour", "input", "give either a roadmap file or --iris PREFIX");
   }
@@ -89,6 +91,11 @@ int run_tour(const TourCommandOptions& options) {
   } else {
     input = read_roadmap_file_graph(options.roadmap, options.graph);
   }
+  return input;
+}
+
+// The solver's options; with `live`, its progress shown on one line of stderr.
+GipOptions solver_options(const TourCommandOptions& options, bool live) {
   GipOptions solve;
   solve.budget_seconds = options.budget;
   solve.seed = options.seed;
@@ -96,108 +103,138 @@ int run_tour(const TourCommandOptions& options) {
   solve.max_iterations = options.iterations;
   solve.lp_bound = options.bound == "lp";
   if (!options.targets.empty()) solve.targets = read_targets(options.targets);
-  const bool live = !options.json && ::isatty(STDERR_FILENO);
-  if (live) {
-    // Both callbacks run under the solver's locks, but on different threads.
-    auto shown = std::make_shared<std::pair<double, double>>(INFINITY, 0.0);
-    auto mutex = std::make_shared<std::mutex>();
-    const auto show = [shown, mutex](double t, double cost, double bound) {
-      std::lock_guard lock(*mutex);
-      if (cost >= 0) shown->first = cost;
-      if (bound >= 0) shown->second = bound;
-      std::cerr << fmt::format("\r{:8.2f} s  best tour {:.6g}  bound {:.6g}   ", t, shown->first, shown->second)
-                << std::flush;
-    };
-    solve.on_improvement = [show](double t, double cost) { show(t, cost, -1.0); };
-    solve.on_bound = [show](double t, double bound) { show(t, -1.0, bound); };
-  }
-  std::optional<FlownTour> flown = fly_with_scene(options, input, solve);
-  const GipResult r = flown ? flown->search : solve_gip(input.graph, solve);
-  if (live) std::cerr << '\n';
-  const std::optional<ShortcutTour> shortcut =
-      flown ? std::optional<ShortcutTour>(flown->roadmap_shortcut) : std::nullopt;
+  if (!live) return solve;
+  // Both callbacks run under the solver's locks, but on different threads.
+  auto shown = std::make_shared<std::pair<double, double>>(INFINITY, 0.0);
+  auto mutex = std::make_shared<std::mutex>();
+  const auto show = [shown, mutex](double t, double cost, double bound) {
+    std::lock_guard lock(*mutex);
+    if (cost >= 0) shown->first = cost;
+    if (bound >= 0) shown->second = bound;
+    std::cerr << fmt::format("\r{:8.2f} s  best tour {:.6g}  bound {:.6g}   ", t, shown->first, shown->second)
+              << std::flush;
+  };
+  solve.on_improvement = [show](double t, double cost) { show(t, cost, -1.0); };
+  solve.on_bound = [show](double t, double bound) { show(t, -1.0, bound); };
+  return solve;
+}
 
+// What one tour run found, as the command reports it.
+struct TourRun {
+  const RoadmapFileGraph& input;
+  const GipResult& r;
+  const std::optional<FlownTour>& flown;
   nlohmann::json trace = nlohmann::json::array();
-  for (const auto& [t, c] : r.trace) trace.push_back({t, c});
+};
+
+nlohmann::json summary_json(const TourRun& run) {
+  const GipResult& r = run.r;
+  const std::optional<FlownTour>& flown = run.flown;
+  const ShortcutTour* shortcut = flown ? &flown->roadmap_shortcut : nullptr;
   nlohmann::json bound_trace = nlohmann::json::array();
   for (const auto& [t, b] : r.bound_trace) bound_trace.push_back({t, b});
   const nlohmann::json lower = r.lower_bound ? nlohmann::json(*r.lower_bound) : nlohmann::json();
-  const nlohmann::json out = {
-      {"cost", r.tour.cost},
-      {"covered", r.tour.covered.size()},
-      {"targets", r.targets.size()},
-      {"seconds", r.seconds},
-      {"lower_bound", lower},
-      {"valid", r.validation.valid()},
-      {"trace", trace},
-      {"bound_trace", bound_trace},
-      {"bound_complete", r.bound_complete},
-      {"bound_rounds", r.bound_rounds},
-      {"bound_cuts", r.bound_cuts},
-      {"bound_dropped", r.bound_dropped},
-      {"bound_peak_nonzeros", r.bound_peak_nonzeros},
-      {"bound_note", r.bound_note},
-      {"gap", r.lower_bound && r.tour.cost > 0 ? (r.tour.cost - *r.lower_bound) / r.tour.cost : 0.0},
-      {"walk_steps", r.tour.walk.size() - 1},
-      {"shortcut_cost", shortcut ? nlohmann::json(shortcut->cost) : nlohmann::json()},
-      {"shortcut_steps", shortcut ? shortcut->stops.size() - 1 : 0},
-      {"shortcut_segments_checked", shortcut ? shortcut->segments_checked : 0},
-      {"flown_cost", flown ? nlohmann::json(flown->cost) : nlohmann::json()},
-      {"flown_steps", flown ? flown->stops.size() - 1 : 0},
-      {"stages", flown ? stages_json(flown->stages) : nlohmann::json::array()},
-      {"graph_vertices", flown ? flown->graph_vertices : input.graph.vertex_count()},
-      {"graph_edges", flown ? flown->graph_edges : input.graph.edge_count()},
-      {"candidates", r.candidates},
-      {"iterations", r.iterations},
-      {"vertices", input.graph.vertex_count()},
-      {"edges", input.graph.edge_count()}};
-  if (!options.out.empty()) {
-    nlohmann::json file = {{"cost", r.tour.cost},  {"walk", r.tour.walk},           {"covered", r.tour.covered},
-                           {"targets", r.targets}, {"valid", r.validation.valid()}, {"trace", trace}};
-    if (!input.positions.empty()) {
-      nlohmann::json positions = nlohmann::json::array();
-      for (const VertexId v : r.tour.walk) positions.push_back(to_json(input.positions[v]));
-      file["positions"] = std::move(positions);
-      nlohmann::json path = nlohmann::json::array();  // what render draws: the flown tour, or the walk
-      if (flown) {
-        for (const Vec3& p : flown->stops) path.push_back(to_json(p));
-      } else {
-        path = file["positions"];
-      }
-      file["path"] = std::move(path);
+  const InspectionGraph& graph = run.input.graph;
+  return {{"cost", r.tour.cost},
+          {"covered", r.tour.covered.size()},
+          {"targets", r.targets.size()},
+          {"seconds", r.seconds},
+          {"lower_bound", lower},
+          {"valid", r.validation.valid()},
+          {"trace", run.trace},
+          {"bound_trace", bound_trace},
+          {"bound_complete", r.bound_complete},
+          {"bound_rounds", r.bound_rounds},
+          {"bound_cuts", r.bound_cuts},
+          {"bound_dropped", r.bound_dropped},
+          {"bound_peak_nonzeros", r.bound_peak_nonzeros},
+          {"bound_note", r.bound_note},
+          {"gap", r.lower_bound && r.tour.cost > 0 ? (r.tour.cost - *r.lower_bound) / r.tour.cost : 0.0},
+          {"walk_steps", r.tour.walk.size() - 1},
+          {"shortcut_cost", shortcut ? nlohmann::json(shortcut->cost) : nlohmann::json()},
+          {"shortcut_steps", shortcut ? shortcut->stops.size() - 1 : 0},
+          {"shortcut_segments_checked", shortcut ? shortcut->segments_checked : 0},
+          {"flown_cost", flown ? nlohmann::json(flown->cost) : nlohmann::json()},
+          {"flown_steps", flown ? flown->stops.size() - 1 : 0},
+          {"stages", flown ? stages_json(flown->stages) : nlohmann::json::array()},
+          {"graph_vertices", flown ? flown->graph_vertices : graph.vertex_count()},
+          {"graph_edges", flown ? flown->graph_edges : graph.edge_count()},
+          {"candidates", r.candidates},
+          {"iterations", r.iterations},
+          {"vertices", graph.vertex_count()},
+          {"edges", graph.edge_count()}};
+}
+
+// The tour file (--out): the walk, and with positions what render draws.
+void write_tour_file(const std::string& out, const TourRun& run) {
+  const GipResult& r = run.r;
+  nlohmann::json file = {{"cost", r.tour.cost},  {"walk", r.tour.walk},           {"covered", r.tour.covered},
+                         {"targets", r.targets}, {"valid", r.validation.valid()}, {"trace", run.trace}};
+  if (!run.input.positions.empty()) {
+    nlohmann::json positions = nlohmann::json::array();
+    for (const VertexId v : r.tour.walk) positions.push_back(to_json(run.input.positions[v]));
+    file["positions"] = std::move(positions);
+    nlohmann::json path = nlohmann::json::array();  // what render draws: the flown tour, or the walk
+    if (run.flown) {
+      for (const Vec3& p : run.flown->stops) path.push_back(to_json(p));
+    } else {
+      path = file["positions"];
     }
-    std::ofstream f(options.out);
-    if (!f) throw InputError(options.out, "--out", "cannot open for writing");
-    f << file.dump() << '\n';
-    if (!f) throw InputError(options.out, "--out", "write failed");
+    file["path"] = std::move(path);
   }
+  std::ofstream f(out);
+  if (!f) throw InputError(out, "--out", "cannot open for writing");
+  f << file.dump() << '\n';
+  if (!f) throw InputError(out, "--out", "write failed");
+}
+
+void print_summary(const TourRun& run) {
+  const GipResult& r = run.r;
+  const std::optional<FlownTour>& flown = run.flown;
+  std::cout << fmt::format("graph: {} vertices, {} edges; {} targets, {} candidate vertices\n",
+                           run.input.graph.vertex_count(), run.input.graph.edge_count(), r.targets.size(),
+                           r.candidates);
+  std::cout << fmt::format("tour: cost {:.6g}, {} steps, covers {}/{} targets, {}\n", r.tour.cost,
+                           r.tour.walk.size() - 1, r.tour.covered.size(), r.targets.size(),
+                           r.validation.valid() ? "valid" : "INVALID: " + r.validation.problem);
+  if (flown) {
+    const ShortcutTour& shortcut = flown->roadmap_shortcut;
+    std::cout << fmt::format("shortcut tour: cost {:.6g} ({:.1f}% shorter), {} straight steps\n", shortcut.cost,
+                             100.0 * (1.0 - shortcut.cost / r.tour.cost), shortcut.stops.size() - 1);
+    std::cout << fmt::format(
+        "flown tour: cost {:.6g} ({:.1f}% shorter than the walk), {} straight steps, searched "
+        "last on {} vertices and {} edges, {} segments checked\n",
+        flown->cost, 100.0 * (1.0 - flown->cost / r.tour.cost), flown->stops.size() - 1, flown->graph_vertices,
+        flown->graph_edges, flown->segments_checked);
+  }
+  if (r.lower_bound) {
+    std::cout << fmt::format("proven lower bound {:.6g} (gap {:.1f}%){}\n", *r.lower_bound,
+                             100.0 * (r.tour.cost - *r.lower_bound) / r.tour.cost,
+                             r.bound_complete ? ", the LP solved over all its cuts"
+                             : !r.bound_note.empty()
+                                 ? "; no LP bound: " + r.bound_note
+                                 : fmt::format(", LP after {} rounds and {} cuts", r.bound_rounds, r.bound_cuts));
+  }
+  std::cout << fmt::format("{} improvements in {:.2f} s, {} search iterations\n", r.trace.size(), r.seconds,
+                           r.iterations);
+}
+
+}  // namespace
+
+int run_tour(const TourCommandOptions& options) {
+  const RoadmapFileGraph input = read_tour_input(options);
+  const bool live = !options.json && ::isatty(STDERR_FILENO);
+  const GipOptions solve = solver_options(options, live);
+  const std::optional<FlownTour> flown = fly_with_scene(options, input, solve);
+  const GipResult r = flown ? flown->search : solve_gip(input.graph, solve);
+  if (live) std::cerr << '\n';
+  TourRun run{input, r, flown};
+  for (const auto& [t, c] : r.trace) run.trace.push_back({t, c});
+  if (!options.out.empty()) write_tour_file(options.out, run);
   if (options.json) {
-    std::cout << out.dump() << std::endl;
+    std::cout << summary_json(run).dump() << std::endl;
   } else {
-    std::cout << fmt::format("graph: {} vertices, {} edges; {} targets, {} candidate vertices\n",
-                             input.graph.vertex_count(), input.graph.edge_count(), r.targets.size(), r.candidates);
-    std::cout << fmt::format("tour: cost {:.6g}, {} steps, covers {}/{} targets, {}\n", r.tour.cost,
-                             r.tour.walk.size() - 1, r.tour.covered.size(), r.targets.size(),
-                             r.validation.valid() ? "valid" : "INVALID: " + r.validation.problem);
-    if (flown) {
-      std::cout << fmt::format("shortcut tour: cost {:.6g} ({:.1f}% shorter), {} straight steps\n", shortcut->cost,
-                               100.0 * (1.0 - shortcut->cost / r.tour.cost), shortcut->stops.size() - 1);
-      std::cout << fmt::format(
-          "flown tour: cost {:.6g} ({:.1f}% shorter than the walk), {} straight steps, searched "
-          "last on {} vertices and {} edges, {} segments checked\n",
-          flown->cost, 100.0 * (1.0 - flown->cost / r.tour.cost), flown->stops.size() - 1, flown->graph_vertices,
-          flown->graph_edges, flown->segments_checked);
-    }
-    if (r.lower_bound) {
-      std::cout << fmt::format("proven lower bound {:.6g} (gap {:.1f}%){}\n", *r.lower_bound,
-                               100.0 * (r.tour.cost - *r.lower_bound) / r.tour.cost,
-                               r.bound_complete ? ", the LP solved over all its cuts"
-                               : !r.bound_note.empty()
-                                   ? "; no LP bound: " + r.bound_note
-                                   : fmt::format(", LP after {} rounds and {} cuts", r.bound_rounds, r.bound_cuts));
-    }
-    std::cout << fmt::format("{} improvements in {:.2f} s, {} search iterations\n", r.trace.size(), r.seconds,
-                             r.iterations);
+    print_summary(run);
   }
   return r.validation.valid() ? 0 : 1;
 }

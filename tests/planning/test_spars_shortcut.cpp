@@ -1,4 +1,4 @@
-// The dense shortcut of SPARS (Alg. 1, lines 24-26; spars_shortcut.cpp) on hand-placed samples:
+// The dense shortcut of SPARS (Alg. 1, lines 24-26; spars_spanner.cpp) on hand-placed samples:
 // root 0 and guard 1 at (5, 0, 0), joined only through bridge 2 at (2.5, 1.5, 0), so the
 // interfaces 2|0 and 2|1 exist and 0, 1 are not adjacent. A sample q with rep 2 that supports
 // 2|0 compares (|2 - 0| + |2 - 1|) / 2 with t times its dense route to a support of 2|1.

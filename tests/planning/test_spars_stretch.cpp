@@ -1,4 +1,4 @@
-// The sparse-vertex stretch rules (spars_stretch.cpp) and bridges by edge: short pairs of sparse
+// The sparse-vertex stretch rules (spars_spanner.cpp) and bridges by edge: short pairs of sparse
 // vertices, where Alg. 1 read literally leaves long detours (an inspection guard with no edges,
 // interfaces bounded only through rep(q)). Each property is checked on the default rule set and
 // shown to fail on the literal one, so the check itself can fail.

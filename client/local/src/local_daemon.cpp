@@ -19,6 +19,7 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <thread>
 
 extern char** environ;  // NOLINT: the process environment (POSIX)
@@ -111,6 +112,41 @@ std::filesystem::path make_keystore(const std::string& script, const std::filesy
   return dir;
 }
 
+namespace {
+
+// The value after `flag` in `args`, or nullptr.
+const std::string* flag_value(const std::vector<std::string>& args, std::string_view flag) {
+  const auto it = std::find(args.begin(), args.end(), flag);
+  return it != args.end() && it + 1 != args.end() ? &*(it + 1) : nullptr;
+}
+
+bool has_flag(const std::vector<std::string>& args, std::string_view flag) {
+  return std::find(args.begin(), args.end(), flag) != args.end();
+}
+
+// The daemon's command line: `prefix`, the program, its identity and folders, then the test's
+// own flags after the defaults they may override.
+std::vector<std::string> daemon_command(const std::string& daemon_binary, int domain,
+                                        const std::filesystem::path& data_dir, const std::filesystem::path& scene_dir,
+                                        const std::string& server_id, const std::vector<std::string>& extra_args,
+                                        const std::vector<std::string>& prefix) {
+  std::vector<std::string> args = prefix;
+  args.insert(args.end(), {daemon_binary, "--domain", std::to_string(domain), "--data-dir", data_dir.string(),
+                           "--scene-dir", scene_dir.string(), "--server-id", server_id});
+  // Debug logs unless the caller sets the level itself, or through a config file (which a flag
+  // would override).
+  if (!has_flag(extra_args, "--log-level") && !has_flag(extra_args, "--config")) {
+    args.insert(args.end(), {"--log-level", "debug"});
+  }
+  // One daemon per test mostly: listening 300 ms for others is plenty on localhost (fleet tests
+  // that start several at once pass their own).
+  if (!has_flag(extra_args, "--discovery-wait-ms")) args.insert(args.end(), {"--discovery-wait-ms", "300"});
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  return args;
+}
+
+}  // namespace
+
 LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::filesystem::path data_dir,
                          std::filesystem::path scene_dir, std::string server_id, std::vector<std::string> extra_args,
                          const std::string& probe_security, const std::vector<std::string>& environment,
@@ -119,27 +155,27 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
     : domain_(domain), server_id_(std::move(server_id)) {
   log_path_ = data_dir.parent_path() /
               (server_id_ + "-" + data_dir.filename().string() + "-" + std::to_string(::getpid()) + ".log");
-  std::vector<std::string> args = {daemon_binary,      "--domain",        std::to_string(domain),
-                                   "--data-dir",       data_dir.string(), "--scene-dir",
-                                   scene_dir.string(), "--server-id",     server_id_};
-  // Debug logs unless the caller sets the level itself, or through a config file (which a flag
-  // would override).
-  if (std::find(extra_args.begin(), extra_args.end(), "--log-level") == extra_args.end() &&
-      std::find(extra_args.begin(), extra_args.end(), "--config") == extra_args.end()) {
-    args.insert(args.end(), {"--log-level", "debug"});
-  }
-  // One daemon per test mostly: listening 300 ms for others is plenty on localhost (fleet tests
-  // that start several at once pass their own).
-  if (std::find(extra_args.begin(), extra_args.end(), "--discovery-wait-ms") == extra_args.end()) {
-    args.insert(args.end(), {"--discovery-wait-ms", "300"});
-  }
-  args.insert(args.end(), extra_args.begin(), extra_args.end());
-  args.insert(args.begin(), command_prefix.begin(), command_prefix.end());
   // A daemon told to log to a file says "serving" there, not on its output.
-  if (const auto it = std::find(extra_args.begin(), extra_args.end(), "--log-file");
-      it != extra_args.end() && it + 1 != extra_args.end()) {
-    own_log_path_ = *(it + 1);
-  }
+  if (const std::string* file = flag_value(extra_args, "--log-file")) own_log_path_ = *file;
+  // A restart on the same data directory appends to the same log: only what this run writes counts.
+  std::error_code size_error;
+  const auto earlier = std::filesystem::file_size(log_path_, size_error);
+  const std::size_t log_start = size_error ? 0 : static_cast<std::size_t>(earlier);
+  spawn(daemon_command(daemon_binary, domain, data_dir, scene_dir, server_id_, extra_args, command_prefix),
+        environment);
+  // Ready when it says it serves (it announces itself earlier, while it listens for the other
+  // daemons) and a client sees its announcement.
+  ClientOptions probe_options = local_client_options(domain);
+  probe_options.participant.security = probe_security;
+  // A daemon on another discovery (a Discovery Server profile, say) is probed the same way.
+  if (const std::string* file = flag_value(extra_args, "--profile-file"))
+    probe_options.participant.profile_file = *file;
+  if (!probe_profile_file.empty()) probe_options.participant.profile_file = probe_profile_file;
+  probe_options.timeout = std::chrono::seconds(1);  // each look at the announcements
+  wait_until_serving(probe_options, log_start, ready_within);
+}
+
+void LocalDaemon::spawn(std::vector<std::string> args, const std::vector<std::string>& environment) {
   // Everything the child needs is made before fork: after it, only async-signal-safe calls.
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
@@ -151,10 +187,6 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
   for (std::string& v : variables) envp.push_back(v.data());
   envp.push_back(nullptr);
   const std::string log_path = log_path_.string();
-  // A restart on the same data directory appends to the same log: only what this run writes counts.
-  std::error_code size_error;
-  const auto earlier = std::filesystem::file_size(log_path_, size_error);
-  const std::size_t log_start = size_error ? 0 : static_cast<std::size_t>(earlier);
   pid_ = ::fork();
   if (pid_ < 0) throw std::runtime_error("fork failed");
   if (pid_ == 0) {
@@ -169,17 +201,10 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
     ::execve(argv[0], argv.data(), envp.data());
     ::_exit(127);
   }
-  // Ready when it says it serves (it announces itself earlier, while it listens for the other
-  // daemons) and a client sees its announcement.
-  ClientOptions probe_options = local_client_options(domain);
-  probe_options.participant.security = probe_security;
-  // A daemon on another discovery (a Discovery Server profile, say) is probed the same way.
-  if (const auto it = std::find(extra_args.begin(), extra_args.end(), "--profile-file");
-      it != extra_args.end() && it + 1 != extra_args.end()) {
-    probe_options.participant.profile_file = *(it + 1);
-  }
-  if (!probe_profile_file.empty()) probe_options.participant.profile_file = probe_profile_file;
-  probe_options.timeout = std::chrono::seconds(1);  // each look at the announcements
+}
+
+void LocalDaemon::wait_until_serving(const ClientOptions& probe_options, std::size_t log_start,
+                                     std::chrono::seconds ready_within) {
   auto probe = std::make_unique<Client>(probe_options);
   const auto deadline = std::chrono::steady_clock::now() + ready_within;
   std::optional<std::chrono::steady_clock::time_point> serving_since;

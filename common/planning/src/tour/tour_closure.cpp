@@ -86,25 +86,7 @@ std::vector<std::size_t> thin(const std::vector<std::vector<std::size_t>>& ranks
 TourClosure::TourClosure(const InspectionGraph& graph, VertexId root, const std::vector<PoiId>& targets,
                          const std::vector<VertexId>& component, const TourClosureOptions& options)
     : graph_(&graph), should_stop_(options.should_stop) {
-  std::vector<std::int64_t> local(graph.poi_count(), -1);
-  for (std::size_t t = 0; t < targets.size(); ++t) local[targets[t]] = static_cast<std::int64_t>(t);
-  vertex.push_back(root);
-  for (const VertexId v : component) {
-    if (v == root) continue;
-    for (const PoiId p : graph.visible(v)) {
-      if (local[p] >= 0) {
-        vertex.push_back(v);
-        break;
-      }
-    }
-  }
-  sees.resize(vertex.size());
-  for (std::size_t i = 0; i < vertex.size(); ++i) {
-    for (const PoiId p : graph.visible(vertex[i])) {
-      if (local[p] >= 0) sees[i].push_back(static_cast<std::uint32_t>(local[p]));
-    }
-    std::sort(sees[i].begin(), sees[i].end());
-  }
+  collect_candidates(root, targets, component);
   // The simple bound, over every viewer (before any thinning): each target needs a round trip
   // from the root to some vertex that sees it.
   // These searches end early on should_stop() (checked every 4,096 settled vertices): a stopped
@@ -125,29 +107,10 @@ TourClosure::TourClosure(const InspectionGraph& graph, VertexId root, const std:
   for (const double c : cheapest) simple_bound = std::max(simple_bound, c);
   if (was_stopped) simple_bound = 0.0;  // distances past the stop are not shortest: no bound
   if (vertex.size() > options.max_candidates) {
-    const std::vector<std::size_t> kept = thin(rankings(graph, vertex, sees, targets.size(), from_root, stopped), sees,
-                                               targets.size(), options.max_candidates);
-    thinned = vertex.size() - kept.size();
-    std::vector<VertexId> kept_vertex;
-    std::vector<std::vector<std::uint32_t>> kept_sees;
-    for (const std::size_t i : kept) {
-      kept_vertex.push_back(vertex[i]);
-      kept_sees.push_back(std::move(sees[i]));
-    }
-    vertex = std::move(kept_vertex);
-    sees = std::move(kept_sees);
+    keep_candidates(thin(rankings(graph, vertex, sees, targets.size(), from_root, stopped), sees, targets.size(),
+                         options.max_candidates));
   }
-  n = vertex.size();
-  is_candidate_.assign(graph.vertex_count(), 0);
-  for (const VertexId v : vertex) is_candidate_[v] = 1;
-  seen_by.resize(targets.size());
-  for (std::size_t i = 0; i < n; ++i) {
-    for (const auto t : sees[i]) seen_by[t].push_back(static_cast<std::uint32_t>(i));
-  }
-  rows_ = std::make_unique<std::atomic<const double*>[]>(n);
-  for (std::size_t i = 0; i < n; ++i) rows_[i].store(nullptr);
-  storage_.resize(n);
-
+  index_candidates(targets.size());
   if (n > options.rows_ahead_up_to) {  // rows on first use; the root's is in hand already
     if (!was_stopped) {
       storage_[0] = std::make_unique<double[]>(n);
@@ -157,6 +120,60 @@ TourClosure::TourClosure(const InspectionGraph& graph, VertexId root, const std:
     }
     return;
   }
+  compute_rows_ahead(options);
+}
+
+void TourClosure::collect_candidates(VertexId root, const std::vector<PoiId>& targets,
+                                     const std::vector<VertexId>& component) {
+  // The root, then every vertex of the component that sees a target.
+  const InspectionGraph& graph = *graph_;
+  std::vector<std::int64_t> local(graph.poi_count(), -1);
+  for (std::size_t t = 0; t < targets.size(); ++t) local[targets[t]] = static_cast<std::int64_t>(t);
+  vertex.push_back(root);
+  for (const VertexId v : component) {
+    if (v == root) continue;
+    for (const PoiId p : graph.visible(v)) {
+      if (local[p] >= 0) {
+        vertex.push_back(v);
+        break;
+      }
+    }
+  }
+  sees.resize(vertex.size());
+  for (std::size_t i = 0; i < vertex.size(); ++i) {
+    for (const PoiId p : graph.visible(vertex[i])) {
+      if (local[p] >= 0) sees[i].push_back(static_cast<std::uint32_t>(local[p]));
+    }
+    std::sort(sees[i].begin(), sees[i].end());
+  }
+}
+
+void TourClosure::keep_candidates(const std::vector<std::size_t>& kept) {
+  thinned = vertex.size() - kept.size();
+  std::vector<VertexId> kept_vertex;
+  std::vector<std::vector<std::uint32_t>> kept_sees;
+  for (const std::size_t i : kept) {
+    kept_vertex.push_back(vertex[i]);
+    kept_sees.push_back(std::move(sees[i]));
+  }
+  vertex = std::move(kept_vertex);
+  sees = std::move(kept_sees);
+}
+
+void TourClosure::index_candidates(std::size_t target_count) {
+  n = vertex.size();
+  is_candidate_.assign(graph_->vertex_count(), 0);
+  for (const VertexId v : vertex) is_candidate_[v] = 1;
+  seen_by.resize(target_count);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (const auto t : sees[i]) seen_by[t].push_back(static_cast<std::uint32_t>(i));
+  }
+  rows_ = std::make_unique<std::atomic<const double*>[]>(n);
+  for (std::size_t i = 0; i < n; ++i) rows_[i].store(nullptr);
+  storage_.resize(n);
+}
+
+void TourClosure::compute_rows_ahead(const TourClosureOptions& options) {
   matrix_ = std::make_unique<double[]>(n * n);
   std::atomic<std::size_t> next{0};
   const auto work = [&] {

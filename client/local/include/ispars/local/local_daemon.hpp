@@ -80,6 +80,13 @@ class LocalDaemon {
   [[nodiscard]] pid_t pid() const { return pid_; }
 
  private:
+  // Forks and runs `args` (the program first) with the environment plus `environment`, its
+  // output appended to log_path_.
+  void spawn(std::vector<std::string> args, const std::vector<std::string>& environment);
+  // Returns once the log says it serves (from byte `log_start` on) and `probe_options`' client
+  // sees it; kills it and throws when it exits or is not seen within `ready_within`.
+  void wait_until_serving(const ClientOptions& probe_options, std::size_t log_start, std::chrono::seconds ready_within);
+
   pid_t pid_ = -1;
   bool stop_timed_out_ = false;
   int domain_;

@@ -1,6 +1,6 @@
 #pragma once
 // Routes between pairs of sparse vertices found so far, so that the stretch rules skip the
-// searches they already answered (spars_stretch.cpp).
+// searches they already answered (spars_spanner.cpp).
 
 #include <cstdint>
 #include <vector>

@@ -143,7 +143,7 @@ class SparsBuilder final : public RoadmapBuilder {
   bool inspection_test() const;
   /// The current sample q as a sparse vertex: added (AddGuard) on the first call.
   VertexId admit();
-  // The dense shortcut (spars_shortcut.cpp).
+  // The dense shortcut (spars_spanner.cpp).
   void shortcut_test(VertexId q);
   /// A pair shortcut_test weighs: q supports the interface v|vp; vpp is a sparse neighbour of v,
   /// not vp and not adjacent to it, with a known interface v|vpp. The sparse route between the
@@ -161,7 +161,7 @@ class SparsBuilder final : public RoadmapBuilder {
   void add_shortcut(VertexId q, VertexId v, const ShortcutCandidate& c);
   std::vector<VertexId> smooth(const std::vector<VertexId>& dense_path) const;
   VertexId interface_neighbor(VertexId dense_vertex, VertexId rep) const;
-  // The sparse-vertex stretch rules (spars_stretch.cpp).
+  // The sparse-vertex stretch rules (spars_spanner.cpp).
   /// Joins sparse vertex s to the members of `reachable` (W(s), nearest first) whose sparse
   /// route from s exceeds t |s - w|.
   void vertex_join(VertexId s, const std::vector<VertexId>& reachable);

@@ -71,6 +71,12 @@ class TourClosure {
   [[nodiscard]] std::size_t rows() const { return row_count_.load(); }
 
  private:
+  // The constructor's steps: the candidates and what each sees, thinning to `kept`, the tables
+  // over the candidates, and every row computed ahead (on options.threads threads).
+  void collect_candidates(VertexId root, const std::vector<PoiId>& targets, const std::vector<VertexId>& component);
+  void keep_candidates(const std::vector<std::size_t>& kept);
+  void index_candidates(std::size_t target_count);
+  void compute_rows_ahead(const TourClosureOptions& options);
   const double* row(std::size_t a) const;
   void compute_row(std::size_t a, std::vector<double>& scratch) const;
 
