@@ -37,8 +37,7 @@ class RoadmapReplica::Impl {
 
   void run() {
     // Wait until the update reader has matched a writer, so no batch after the snapshot is missed.
-    for (int i = 0; i < 400 && !inbox_.stopping() && !inbox_.matched(); ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    (void)inbox_.wait_matched(std::chrono::seconds(4));
     Resync need_sync = Resync::first;
     while (!inbox_.stopping()) {
       if (inbox_.take_rejoined()) need_sync = Resync::rejoin;  // the client's new participant: batches may be missing

@@ -65,7 +65,8 @@ void ReplicaInbox::attach(wire::Participant& participant) {
     throw std::runtime_error("cannot subscribe to roadmap updates");
   }
   fdds::DataReader* reader =
-      subscriber->create_datareader(filtered, wire::updates_reader_qos(), this, fdds::StatusMask::data_available());
+      subscriber->create_datareader(filtered, wire::updates_reader_qos(), this,
+                                    fdds::StatusMask::data_available() << fdds::StatusMask::subscription_matched());
   if (!reader) {
     p->delete_subscriber(subscriber);
     p->delete_contentfilteredtopic(filtered);
@@ -92,17 +93,27 @@ void ReplicaInbox::detach(wire::Participant& participant) {
   }
   if (!reader) return;
   reader->set_listener(nullptr);
+  {
+    std::lock_guard lock(mutex_);
+    matched_writers_ = 0;  // the next participant's reader matches anew
+  }
   subscriber->delete_datareader(reader);
   participant->delete_subscriber(subscriber);
   participant->delete_contentfilteredtopic(filtered);
 }
 
-bool ReplicaInbox::matched() {
-  std::lock_guard lock(mutex_);
-  if (!reader_) return false;
-  fdds::SubscriptionMatchedStatus status;
-  reader_->get_subscription_matched_status(status);
-  return status.current_count > 0;
+void ReplicaInbox::on_subscription_matched(fdds::DataReader*, const fdds::SubscriptionMatchedStatus& status) {
+  {
+    std::lock_guard lock(mutex_);
+    matched_writers_ = status.current_count;
+  }
+  wake_.notify_all();
+}
+
+bool ReplicaInbox::wait_matched(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  wake_.wait_for(lock, timeout, [&] { return stopping_ || (reader_ != nullptr && matched_writers_ > 0); });
+  return reader_ != nullptr && matched_writers_ > 0;
 }
 
 void ReplicaInbox::on_data_available(fdds::DataReader* reader) {

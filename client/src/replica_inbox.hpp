@@ -11,6 +11,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <deque>
 #include <mutex>
 #include <string>
@@ -40,9 +41,12 @@ class ReplicaInbox final : public eprosima::fastdds::dds::DataReaderListener, pu
   void attach(wire::Participant& participant) override;
   void detach(wire::Participant& participant) override;
   void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
+  void on_subscription_matched(eprosima::fastdds::dds::DataReader* reader,
+                               const eprosima::fastdds::dds::SubscriptionMatchedStatus& status) override;
 
-  /// Whether the reader has matched a writer (false while detached).
-  [[nodiscard]] bool matched();
+  /// Waits until the reader has matched a writer, `timeout` has passed or stop() was called;
+  /// whether it has matched one (false while detached).
+  bool wait_matched(std::chrono::milliseconds timeout);
   /// The batches queued, once there is one or `timeout` has passed or stop() was called.
   [[nodiscard]] std::deque<msg::UpdateBatch> take(std::chrono::milliseconds timeout);
   /// Waits `timeout` unless stop() is called; false once it was.
@@ -71,6 +75,7 @@ class ReplicaInbox final : public eprosima::fastdds::dds::DataReaderListener, pu
   eprosima::fastdds::dds::ContentFilteredTopic* filtered_ = nullptr;
   std::atomic<std::size_t> other_scenes_{0};  // batches of other scenes that reached the reader
   std::size_t attached_ = 0;                  // participants attached to so far
+  std::int32_t matched_writers_ = 0;          // the reader's, as its listener last heard
   bool rejoined_ = false;                     // attached to a new participant since the last look
   std::deque<msg::UpdateBatch> inbox_;
   std::size_t inbox_bytes_ = 0;
