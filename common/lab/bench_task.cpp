@@ -10,7 +10,7 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
-#include "ispars/scene/poi_sampling.hpp"
+#include "ispars/scene_files/poi_sampling.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
 #include "tour_support.hpp"

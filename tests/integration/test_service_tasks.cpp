@@ -9,7 +9,7 @@
 
 #include "integration/service_fixture.hpp"
 #include "ispars/client/replica.hpp"
-#include "ispars/scene/poi_sampling.hpp"
+#include "ispars/scene_files/poi_sampling.hpp"
 
 namespace ispars::test {
 namespace {

@@ -5,8 +5,8 @@
 #include <thread>
 
 #include "ispars/geometry/check_counters.hpp"
-#include "ispars/scene/procedural.hpp"
 #include "ispars/scene/scene.hpp"
+#include "ispars/scene_files/procedural.hpp"
 
 namespace ispars {
 namespace {

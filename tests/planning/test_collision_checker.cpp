@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "ispars/reference/brute_force.hpp"
-#include "ispars/scene/procedural.hpp"
+#include "ispars/scene_files/procedural.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

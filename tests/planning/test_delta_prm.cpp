@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "ispars/builders/delta_prm.hpp"
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -7,7 +7,7 @@
 
 #include "ispars/builders/delta_prm.hpp"
 #include "ispars/builders/dense_builder.hpp"
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

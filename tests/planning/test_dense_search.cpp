@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 #include "ispars/search/dense_search.hpp"
 #include "ispars/search/graph_search.hpp"
 

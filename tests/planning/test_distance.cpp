@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "ispars/geometry/distance.hpp"
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 
 namespace ispars {
 namespace {

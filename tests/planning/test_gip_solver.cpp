@@ -7,8 +7,8 @@
 #include <limits>
 #include <queue>
 
-#include "ispars/geometry/random.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/scene_files/random.hpp"
 #include "ispars/tour/gip_solver.hpp"
 #include "support/gip_reference.hpp"
 

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 #include "ispars/search/dense_search.hpp"
 #include "ispars/search/graph_search.hpp"
 

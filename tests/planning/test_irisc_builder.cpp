@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "ispars/builders/irisc_builder.hpp"
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -9,7 +9,7 @@
 #include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
-#include "ispars/scene/procedural.hpp"
+#include "ispars/scene_files/procedural.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/procedural.hpp"
 #include "ispars/scene/scene.hpp"
+#include "ispars/scene_files/procedural.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "ispars/scene/scene.hpp"
-#include "ispars/scene/scene_config.hpp"
 #include "ispars/scene/scene_fingerprint.hpp"
+#include "ispars/scene_files/scene_config.hpp"
 
 namespace ispars {
 namespace {

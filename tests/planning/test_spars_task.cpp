@@ -13,7 +13,7 @@
 #include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/builders/spars_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
-#include "ispars/scene/poi_sampling.hpp"
+#include "ispars/scene_files/poi_sampling.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

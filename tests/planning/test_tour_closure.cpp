@@ -7,7 +7,7 @@
 
 #include <algorithm>
 
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 #include "ispars/search/graph_search.hpp"
 #include "ispars/tour/gip_solver.hpp"
 #include "ispars/tour/tour_closure.hpp"

@@ -11,7 +11,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 #include "ispars/tour/tour_corridor.hpp"
 #include "support/test_support.hpp"
 

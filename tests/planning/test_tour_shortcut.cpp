@@ -7,7 +7,7 @@
 #include <chrono>
 #include <thread>
 
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 #include "ispars/tour/gip_solver.hpp"
 #include "ispars/tour/tour_shortcut.hpp"
 

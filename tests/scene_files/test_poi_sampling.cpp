@@ -4,8 +4,8 @@
 
 #include "ispars/params/input_error.hpp"
 #include "ispars/reference/brute_force.hpp"
-#include "ispars/scene/poi_sampling.hpp"
-#include "ispars/scene/procedural.hpp"
+#include "ispars/scene_files/poi_sampling.hpp"
+#include "ispars/scene_files/procedural.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -4,8 +4,8 @@
 
 #include <map>
 
-#include "ispars/scene/procedural.hpp"
 #include "ispars/scene/scene.hpp"
+#include "ispars/scene_files/procedural.hpp"
 
 namespace ispars {
 namespace {

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/scene_config.hpp"
+#include "ispars/scene_files/scene_config.hpp"
 
 namespace ispars {
 namespace {

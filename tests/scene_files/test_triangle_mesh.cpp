@@ -5,9 +5,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "ispars/geometry/triangle_mesh.hpp"
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/procedural.hpp"
+#include "ispars/scene_files/procedural.hpp"
+#include "ispars/scene_files/triangle_mesh.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {

@@ -6,7 +6,7 @@
 #include <queue>
 #include <vector>
 
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 
 namespace ispars::test {
 

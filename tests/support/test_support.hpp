@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "ispars/builders/sample_batch.hpp"
-#include "ispars/geometry/random.hpp"
 #include "ispars/roadmap/roadmap.hpp"
 #include "ispars/scene/scene.hpp"
+#include "ispars/scene_files/random.hpp"
 
 namespace ispars::test {
 

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/scene_file.hpp"
+#include "ispars/scene_files/scene_file.hpp"
 
 namespace ispars::web {
 

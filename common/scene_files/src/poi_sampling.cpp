@@ -1,4 +1,4 @@
-#include "ispars/scene/poi_sampling.hpp"
+#include "ispars/scene_files/poi_sampling.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "ispars/geometry/random.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/scene_files/random.hpp"
 
 namespace ispars {
 

@@ -1,4 +1,4 @@
-#include "ispars/scene/procedural.hpp"
+#include "ispars/scene_files/procedural.hpp"
 
 #include <array>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 
 namespace ispars {
 namespace {

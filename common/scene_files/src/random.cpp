@@ -1,4 +1,4 @@
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "ispars/scene/scene_config.hpp"
+#include "ispars/scene_files/scene_config.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -10,7 +10,7 @@
 
 #include "ispars/params/fields.hpp"
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/procedural.hpp"
+#include "ispars/scene_files/procedural.hpp"
 
 namespace ispars {
 namespace {

@@ -1,10 +1,10 @@
-#include "ispars/scene/scene_file.hpp"
+#include "ispars/scene_files/scene_file.hpp"
 
 #include <stdexcept>
 
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/poi_sampling.hpp"
-#include "ispars/scene/procedural.hpp"
+#include "ispars/scene_files/poi_sampling.hpp"
+#include "ispars/scene_files/procedural.hpp"
 
 namespace ispars {
 

@@ -1,4 +1,4 @@
-#include "ispars/geometry/triangle_mesh.hpp"
+#include "ispars/scene_files/triangle_mesh.hpp"
 
 #include <cmath>
 #include <ostream>

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/poi_sampling.hpp"
+#include "ispars/scene_files/poi_sampling.hpp"
 #include "ispars/service/scene_catalog.hpp"
 #include "request_input.hpp"
 

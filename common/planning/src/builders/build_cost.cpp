@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 
 namespace ispars {
 

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "ispars/geometry/point_grid.hpp"
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 
 namespace ispars {
 namespace {

@@ -5,8 +5,8 @@
 #include <fmt/format.h>
 
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/procedural.hpp"
-#include "ispars/scene/scene_file.hpp"
+#include "ispars/scene_files/procedural.hpp"
+#include "ispars/scene_files/scene_file.hpp"
 
 namespace ispars {
 

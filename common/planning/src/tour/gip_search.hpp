@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 #include "ispars/tour/tour_closure.hpp"
 
 namespace ispars::gip_search {

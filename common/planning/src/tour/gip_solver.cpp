@@ -12,8 +12,8 @@
 #include <thread>
 
 #include "gip_search.hpp"
-#include "ispars/geometry/random.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/scene_files/random.hpp"
 #include "ispars/search/graph_search.hpp"
 #include "ispars/tour/quick_tour.hpp"
 #include "ispars/tour/tour_bound.hpp"

@@ -12,7 +12,7 @@
 #include <utility>
 
 #include "ispars/geometry/point_grid.hpp"
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 
 namespace ispars {
 namespace {

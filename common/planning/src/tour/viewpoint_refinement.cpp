@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "ispars/geometry/random.hpp"
+#include "ispars/scene_files/random.hpp"
 
 namespace ispars {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <vector>
 
-#include "ispars/geometry/random.hpp"
 #include "ispars/scene/scene.hpp"
+#include "ispars/scene_files/random.hpp"
 
 namespace ispars {
 

@@ -7,7 +7,7 @@
 #include <embree3/rtcore.h>
 
 #include "ispars/geometry/distance.hpp"
-#include "ispars/geometry/triangle_mesh.hpp"
+#include "ispars/scene_files/triangle_mesh.hpp"
 
 namespace ispars {
 

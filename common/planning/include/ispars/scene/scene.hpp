@@ -8,10 +8,10 @@
 
 #include "ispars/geometry/check_counters.hpp"
 #include "ispars/geometry/collision_checker.hpp"
-#include "ispars/geometry/random.hpp"
-#include "ispars/geometry/triangle_mesh.hpp"
 #include "ispars/geometry/visibility.hpp"
-#include "ispars/scene/scene_config.hpp"
+#include "ispars/scene_files/random.hpp"
+#include "ispars/scene_files/scene_config.hpp"
+#include "ispars/scene_files/triangle_mesh.hpp"
 
 namespace ispars {
 

@@ -3,8 +3,8 @@
 
 #include <memory>
 
-#include "ispars/geometry/triangle_mesh.hpp"
 #include "ispars/roadmap/vec.hpp"
+#include "ispars/scene_files/triangle_mesh.hpp"
 
 namespace ispars {
 

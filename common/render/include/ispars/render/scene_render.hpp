@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "ispars/geometry/triangle_mesh.hpp"
 #include "ispars/roadmap/roadmap.hpp"
 #include "ispars/roadmap/vec.hpp"
+#include "ispars/scene_files/triangle_mesh.hpp"
 
 namespace ispars {
 

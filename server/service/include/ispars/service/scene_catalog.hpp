@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "ispars/scene/scene_config.hpp"
+#include "ispars/scene_files/scene_config.hpp"
 
 namespace ispars {
 

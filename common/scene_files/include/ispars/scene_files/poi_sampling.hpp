@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "ispars/geometry/triangle_mesh.hpp"
+#include "ispars/scene_files/triangle_mesh.hpp"
 
 namespace ispars {
 

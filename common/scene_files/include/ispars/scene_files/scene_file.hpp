@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <vector>
 
-#include "ispars/geometry/triangle_mesh.hpp"
-#include "ispars/scene/scene_config.hpp"
+#include "ispars/scene_files/scene_config.hpp"
+#include "ispars/scene_files/triangle_mesh.hpp"
 
 namespace ispars {
 
