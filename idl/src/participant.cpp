@@ -208,12 +208,13 @@ std::optional<PeerWatch::Peer> PeerWatch::take_unhealed(Clock::time_point now, C
 
 Participant::Participant(const ParticipantOptions& options, fdds::DomainParticipantListener* listener) {
   auto* factory = fdds::DomainParticipantFactory::get_instance();
-  if (options.domain < 0 || options.domain > 232) {
-    throw std::runtime_error("DDS domain " + std::to_string(options.domain) + " is out of range (0..232)");
+  // Checked as declared (participant_options.hpp), once more here: a program may fill the options
+  // in code, past any flag or file.
+  if (std::string why = params::problem(kDomain, options.domain); !why.empty()) {
+    throw std::runtime_error("participant domain: " + why);
   }
-  if (options.lease_seconds > kMaxLeaseSeconds) {
-    throw std::runtime_error("a participant lease of " + std::to_string(options.lease_seconds) +
-                             " s is out of range (0 for the default, or 1.." + std::to_string(kMaxLeaseSeconds) + ")");
+  if (std::string why = params::problem(kLease, options.lease_seconds); !why.empty()) {
+    throw std::runtime_error("participant lease_s: " + why);
   }
   // Without a listener of the caller's, this one logs participant events; discovery and
   // authentication callbacks come whatever the mask, and no entity status reaches it.

@@ -67,8 +67,8 @@ Daemon::Daemon(DaemonConfig config)
   spdlog::info(
       "isparsd {} serving on DDS domain {} (scenes from {}, data in {}, {} build workers, memory budget "
       "{:.1f} GiB, protocol {})",
-      config_.server_id, config_.domain, config_.scene_dir.string(), config_.data_dir.string(), config_.workers,
-      memory_budget_bytes(config_) / (1024.0 * 1024.0 * 1024.0), msg::PROTOCOL_VERSION);
+      config_.server_id, config_.participant.domain, config_.scene_dir.string(), config_.data_dir.string(),
+      config_.workers, memory_budget_bytes(config_) / (1024.0 * 1024.0 * 1024.0), msg::PROTOCOL_VERSION);
 }
 
 Daemon::~Daemon() { shutdown(); }

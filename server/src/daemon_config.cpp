@@ -11,6 +11,7 @@
 #include <type_traits>
 
 #include "daemon_settings.hpp"
+#include "ispars/params/fields.hpp"
 #include "ispars/params/input_error.hpp"
 
 namespace ispars::server {
@@ -20,30 +21,29 @@ namespace {
 // Reads each declared setting from a config file's mapping, checking it as it arrives.
 struct YamlReader {
   const YAML::Node& root;
-  DaemonConfig& config;
   const std::string& source;
   std::filesystem::path base;  // relative paths are resolved against the file's directory
 
-  template <class T>
-  void operator()(const IntegerSetting<T>& s) {
-    if (const YAML::Node v = root[std::string(s.key)]) {
-      config.*s.field = checked_integer(s, read<std::int64_t>(v, s.key), source, std::string(s.key));
+  template <class T, class Member>
+  void operator()(const params::Spec<T>& s, Member& member) const {
+    if (const YAML::Node v = root[std::string(s.name)]) {
+      member = checked_number(s, read<std::string>(v, s.name), source, std::string(s.name));
     }
   }
-  template <class T>
-  void operator()(const TextSetting<T>& s) {
-    if (const YAML::Node v = root[std::string(s.key)]) {
-      config.*s.field = checked_text(s, read<std::string>(v, s.key), base, source, std::string(s.key));
+  template <class Member>  // std::string or std::filesystem::path
+  void operator()(const params::TextSpec& s, Member& member) const {
+    if (const YAML::Node v = root[std::string(s.name)]) {
+      member = checked_text(s, read<std::string>(v, s.name), base, source, std::string(s.name));
     }
   }
-  void operator()(const ListSetting& s) {
-    if (const YAML::Node v = root[std::string(s.key)]) {
-      config.*s.field = checked_list(s, read<std::vector<std::string>>(v, s.key), source, std::string(s.key));
+  void operator()(const params::ListSpec& s, std::vector<std::string>& member) const {
+    if (const YAML::Node v = root[std::string(s.name)]) {
+      member = checked_list(s, read<std::vector<std::string>>(v, s.name), source, std::string(s.name));
     }
   }
-  void operator()(const AddressSetting& s) {
-    if (const YAML::Node v = root[std::string(s.key)]) {
-      config.*s.field = parse_listen_address(read<std::string>(v, s.key), source, std::string(s.key));
+  void operator()(const AddressSpec& s, std::optional<ListenAddress>& member) const {
+    if (const YAML::Node v = root[std::string(s.name)]) {
+      member = parse_listen_address(read<std::string>(v, s.name), source, std::string(s.name));
     }
   }
 
@@ -54,6 +54,29 @@ struct YamlReader {
     } catch (const YAML::Exception&) {
       throw InputError(source, std::string(key), fmt::format("has the wrong type (line {})", value.Mark().line + 1));
     }
+  }
+};
+
+// Writes each setting under its key.
+struct YamlWriter {
+  YAML::Emitter& out;
+
+  template <class T, class Member>
+  void operator()(const params::Spec<T>& s, const Member& member) const {
+    out << YAML::Key << std::string(s.name) << YAML::Value << member;
+  }
+  template <class Member>
+  void operator()(const params::TextSpec& s, const Member& member) const {
+    std::string text = std::filesystem::path(member).string();
+    if (s.path && !text.empty()) text = std::filesystem::absolute(text).lexically_normal().string();
+    out << YAML::Key << std::string(s.name) << YAML::Value << YAML::DoubleQuoted << text;
+  }
+  void operator()(const params::ListSpec& s, const std::vector<std::string>& member) const {
+    out << YAML::Key << std::string(s.name) << YAML::Value << YAML::Flow << member;
+  }
+  void operator()(const AddressSpec& s, const std::optional<ListenAddress>& member) const {
+    if (member)
+      out << YAML::Key << std::string(s.name) << YAML::Value << fmt::format("{}:{}", member->host, member->port);
   }
 };
 
@@ -73,37 +96,42 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
   if (!root || root.IsNull()) return config;
   if (!root.IsMap()) throw InputError(source, "yaml", "the config must be a mapping of keys to values");
   std::set<std::string> known;
-  visit_settings([&](const auto& setting) { known.insert(std::string(setting.key)); });
+  params::visit(config, [&](const auto& spec, const auto&) { known.insert(std::string(spec.name)); });
   for (const auto& item : root) {
     const std::string key = item.first.as<std::string>();
     if (!known.count(key)) throw InputError(source, key.substr(0, 64), "unknown key");
   }
   const YAML::Node& mapping = root;
-  visit_settings(YamlReader{mapping, config, source, path.parent_path()});
+  params::visit(config, YamlReader{mapping, source, path.parent_path()});
   return config;
 }
 
 std::string to_yaml(const DaemonConfig& config) {
   YAML::Emitter out;
   out << YAML::BeginMap;
-  visit_settings([&](const auto& s) {
-    using S = std::decay_t<decltype(s)>;
-    const std::string key(s.key);
-    if constexpr (std::is_same_v<S, AddressSetting>) {
-      if (const auto& a = config.*s.field)
-        out << YAML::Key << key << YAML::Value << fmt::format("{}:{}", a->host, a->port);
-    } else if constexpr (std::is_same_v<S, ListSetting>) {
-      out << YAML::Key << key << YAML::Value << YAML::Flow << config.*s.field;
-    } else if constexpr (requires { s.max_length; }) {
-      std::string text = std::filesystem::path(config.*s.field).string();
-      if (s.path && !text.empty()) text = std::filesystem::absolute(text).lexically_normal().string();
-      out << YAML::Key << key << YAML::Value << YAML::DoubleQuoted << text;
-    } else {
-      out << YAML::Key << key << YAML::Value << static_cast<std::int64_t>(config.*s.field);
-    }
-  });
+  params::visit(config, YamlWriter{out});
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
+}
+
+std::string checked_text(const params::TextSpec& spec, const std::string& text, const std::filesystem::path& base,
+                         const std::string& source, const std::string& field) {
+  if (text.size() > spec.max_length) {
+    throw InputError(source, field, fmt::format("is longer than {} characters", spec.max_length));
+  }
+  std::string typed = text;
+  if (spec.path && !text.empty()) {
+    const std::filesystem::path given(text);
+    typed = (given.is_absolute() ? given : base / given).string();
+  }
+  if (std::string why = params::problem(spec, typed); !why.empty()) throw InputError(source, field, std::move(why));
+  return typed;
+}
+
+std::vector<std::string> checked_list(const params::ListSpec& spec, std::vector<std::string> items,
+                                      const std::string& source, const std::string& field) {
+  if (std::string why = params::problem(spec, items); !why.empty()) throw InputError(source, field, std::move(why));
+  return items;
 }
 
 std::string flag_of(std::string_view key) {
@@ -117,7 +145,8 @@ std::string log_level_rule(const std::string& level) {
   return fmt::format("'{}' is not one of trace, debug, info, warn, error, critical, off", level);
 }
 
-std::string log_file_rule(const std::filesystem::path& file) {
+std::string log_file_rule(const std::string& text) {
+  const std::filesystem::path file(text);
   if (file.empty()) return {};
   const std::filesystem::path dir = file.parent_path().empty() ? "." : file.parent_path();
   std::error_code ec;
@@ -125,7 +154,7 @@ std::string log_file_rule(const std::filesystem::path& file) {
   return fmt::format("its directory {} does not exist", dir.string());
 }
 
-std::string memory_budget_rule(const std::uint64_t& mib) {
+std::string memory_budget_rule(std::uint64_t mib) {
   if (mib == 0 || mib >= 16) return {};
   return fmt::format("must be 0 (half of this machine's memory) or in 16..{}, got {}", 1ull << 30, mib);
 }
@@ -161,8 +190,8 @@ ListenAddress parse_listen_address(const std::string& text, const std::string& s
 std::vector<std::string> changed_needing_restart(const DaemonConfig& running, DaemonConfig fresh) {
   if (fresh.server_id.empty()) fresh.server_id = running.server_id;
   std::vector<std::string> out;
-  visit_settings([&](const auto& s) {
-    if (!s.on_sighup && !(running.*s.field == fresh.*s.field)) out.emplace_back(s.key);
+  (void)params::for_matching(running, fresh, [&](const auto& spec, const auto& was, const auto& now) {
+    if (spec.needs_restart && !(was == now)) out.emplace_back(spec.name);
   });
   return out;
 }

@@ -1,12 +1,11 @@
 #pragma once
-// isparsd's command-line flags: one per declared setting (daemon_settings.hpp), named after its
-// key, with its bounds and default in the help, applied over the config file's values and checked
-// as they are applied, naming the flag.
+// isparsd's command-line flags: one per declared setting (DaemonConfig::describe), named after
+// its key, with its range and default in the help, applied over the config file's values and
+// checked as they are applied, naming the flag.
 
 #include <CLI/CLI.hpp>
 
 #include <deque>
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,12 +26,11 @@ class DaemonFlags {
   void apply(DaemonConfig& config) const;
 
  private:
-  struct Staged {  // what CLI11 parsed for one setting (an integer as text: converted here)
+  struct Staged {  // what CLI11 parsed for one setting (a number as text: converted here)
     std::optional<std::string> text;
     std::vector<std::string> list;
   };
-  std::deque<Staged> staged_;  // a deque: CLI11 holds each element's address
-  std::vector<std::function<void(DaemonConfig&)>> appliers_;
+  std::deque<Staged> staged_;  // one per setting, in declaration order; a deque: CLI11 holds each address
 };
 
 }  // namespace ispars::server

@@ -26,12 +26,7 @@ namespace fdds = eprosima::fastdds::dds;
 namespace {
 
 wire::ParticipantOptions participant_options(const DaemonConfig& c) {
-  wire::ParticipantOptions o;
-  o.domain = c.domain;
-  o.profile_file = c.profile_file;
-  o.profile_name = c.profile_name;
-  o.security = c.security;
-  o.lease_seconds = c.lease_s;
+  wire::ParticipantOptions o = c.participant;
   o.name = wire::daemon_participant_name(c.server_id);
   return o;
 }
@@ -117,7 +112,7 @@ DdsEndpoints::DdsEndpoints(DaemonInbox& daemon, const DaemonConfig& config, std:
   // Without DDS Security the daemon delivers nothing inside its process (main.cpp): its probe
   // samples come back through its sockets. Under security its own announcements never came back
   // that way (measured), so there is no probe.
-  if (config.security.empty()) probe_ = std::make_unique<SelfProbe>(p, daemon_type_, own_identity_);
+  if (config.participant.security.empty()) probe_ = std::make_unique<SelfProbe>(p, daemon_type_, own_identity_);
   sender_ = std::thread([this] { send_pending_replies(); });
   // A client's route is made as soon as its reply reader is discovered, before its first request.
   participant_.watch_readers([this](const wire::RemoteReader& reader) {

@@ -94,10 +94,11 @@ void DdsLink::rejoin_if_due() {
     rejoin(
         fmt::format("this daemon stood still for {:.1f} s (stopped, or its machine stalled), past its peers' "
                     "lease of {} s",
-                    static_cast<double>(ms) / 1000.0, wire::lease_seconds(config_.lease_s, !config_.security.empty())));
+                    static_cast<double>(ms) / 1000.0,
+                    wire::lease_seconds(config_.participant.lease_seconds, !config_.participant.security.empty())));
     return;
   }
-  if (config_.security.empty()) return;
+  if (config_.participant.security.empty()) return;
   wire::RejoinSchedule::Decision decision;
   with([&](DdsEndpoints& d) { decision = schedule_.poll(d.peers(), std::chrono::steady_clock::now()); });
   if (decision.given_up) {
@@ -118,7 +119,7 @@ void DdsLink::rejoin_if_due() {
 
 void DdsLink::rejoin(const std::string& why) {
   const auto start = std::chrono::steady_clock::now();
-  spdlog::warn("rejoining DDS domain {} with a new participant: {}", config_.domain, why);
+  spdlog::warn("rejoining DDS domain {} with a new participant: {}", config_.participant.domain, why);
   // Made before the old one leaves (a rejoin is not a leave): peers that meet the new participant
   // while the old one still announces this daemon never see it gone, so none of them takes its
   // scenes over (read as "left while holding" when the old one left first: CI, 2026-11-27).
@@ -130,7 +131,7 @@ void DdsLink::rejoin(const std::string& why) {
     endpoints_ = std::move(fresh);
   } catch (const std::exception& e) {
     spdlog::error("rejoining DDS domain {} failed: {}; the old participant stays, trying again in {:.0f} s",
-                  config_.domain, e.what(), std::chrono::duration<double>(schedule_.period()).count());
+                  config_.participant.domain, e.what(), std::chrono::duration<double>(schedule_.period()).count());
     return;
   }
   std::vector<std::string> heard;  // the daemons the old participant heard, which must hear the new one
@@ -143,7 +144,7 @@ void DdsLink::rejoin(const std::string& why) {
   const bool all_heard = overlap_until_heard(heard);
   old.reset();                             // peers see the old participant leave, and keep the new one's announcement
   if (hooks_.announce) hooks_.announce();  // the latest announcement everywhere is the new participant's
-  spdlog::info("rejoined DDS domain {} in {:.2f} s; {} other daemons heard{}", config_.domain,
+  spdlog::info("rejoined DDS domain {} in {:.2f} s; {} other daemons heard{}", config_.participant.domain,
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), other_daemons().size(),
                all_heard ? "" : " (not every daemon the old participant heard)");
 }

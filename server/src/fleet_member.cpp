@@ -51,7 +51,7 @@ void FleetMember::join() {
     throw ServerIdTaken(
         fmt::format("server id '{}' is already announced on DDS domain {} by another running "
                     "daemon; give each daemon its own server_id",
-                    config_.server_id, config_.domain));
+                    config_.server_id, config_.participant.domain));
   }
 }
 
@@ -155,13 +155,13 @@ void FleetMember::check_namesakes(std::chrono::steady_clock::time_point& last_re
     spdlog::error(
         "server id '{}' is also announced by a daemon that joined DDS domain {} before this one ({}); "
         "this daemon stops: give each daemon its own server_id",
-        config_.server_id, config_.domain, older);
+        config_.server_id, config_.participant.domain, older);
     ::kill(::getpid(), SIGTERM);
   }
   if (contested && std::chrono::steady_clock::now() - last_reannounce >= kReannouncePeriod) {
     last_reannounce = std::chrono::steady_clock::now();
     spdlog::error("another participant on DDS domain {} announces this daemon's server id '{}'; announcing again",
-                  config_.domain, config_.server_id);
+                  config_.participant.domain, config_.server_id);
     announce();
   }
 }

@@ -40,7 +40,7 @@ sigset_t block_stop_signals() {
 // through the transport (measured with Fast DDS 2.9.1: /healthz went 503; the cause was not looked
 // into), so a secured daemon keeps in-process delivery and has no probe.
 void deliver_through_the_transport(const DaemonConfig& config) {
-  if (!config.security.empty()) return;
+  if (!config.participant.security.empty()) return;
   eprosima::fastrtps::LibrarySettingsAttributes library;
   library.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
   eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(library);
@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
   // The config: the file (read again on SIGHUP), then the flags over it.
   const auto configure = [&] {
     DaemonConfig config = config_file.empty() ? DaemonConfig{} : ispars::server::load_daemon_config(config_file);
-    if (config_file.empty()) config.domain = ispars::wire::domain_from_environment();
+    if (config_file.empty()) config.participant.domain = ispars::wire::domain_from_environment();
     flags.apply(config);
     return config;
   };

@@ -45,7 +45,7 @@ void OperatorEndpoints::start_serving(WorkerPool& quick_lane, Gauges service) {
   last_progress_ = Clock::now().time_since_epoch().count();
   serving_ = true;
   // READY before the first ping: the watchdog thread may run before this thread is scheduled again.
-  notifier_.ready(fmt::format("serving on DDS domain {} as {}", config_.domain, config_.server_id));
+  notifier_.ready(fmt::format("serving on DDS domain {} as {}", config_.participant.domain, config_.server_id));
   watchdog_ = std::thread([this, &quick_lane] { watch_health(quick_lane); });
 }
 
@@ -74,7 +74,8 @@ void OperatorEndpoints::watch_health(WorkerPool& quick_lane) {
     // and its peers have dropped it; the fleet thread rejoins.
     // (Plain DDS: under DDS Security the lease is longer and the peers' rejoins handle it.)
     if (const auto gap = Clock::now() - last_tick;
-        config_.security.empty() && gap > std::chrono::seconds(wire::lease_seconds(config_.lease_s, false))) {
+        config_.participant.security.empty() &&
+        gap > std::chrono::seconds(wire::lease_seconds(config_.participant.lease_seconds, false))) {
       dds_.note_stood_still(std::chrono::duration_cast<std::chrono::milliseconds>(gap).count());
       stop_.wake();
     }
@@ -153,7 +154,7 @@ void OperatorEndpoints::reload(DaemonConfig& config, const DaemonConfig& fresh) 
   spdlog::info("SIGHUP: {} (level {}){}", reopened ? "log reopened" : "log kept", config.log_level,
                later.empty() ? std::string()
                              : fmt::format("; changed but applied only at a restart: {}", fmt::join(later, ", ")));
-  notifier_.ready(fmt::format("serving on DDS domain {} as {}", config.domain, config.server_id));
+  notifier_.ready(fmt::format("serving on DDS domain {} as {}", config.participant.domain, config.server_id));
 }
 
 }  // namespace ispars::server

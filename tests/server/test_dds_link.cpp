@@ -33,7 +33,7 @@ struct QuietInbox final : DaemonInbox {
 class DdsLinkTest : public ::testing::Test {
  protected:
   DdsLinkTest() {
-    config_.domain = client::random_domain();  // locked for this process: no other test shares it
+    config_.participant.domain = client::random_domain();  // locked for this process: no other test shares it
     config_.server_id = "link-test";
     config_.discovery_wait_ms = 0;
   }

@@ -20,7 +20,7 @@ TEST(ParticipantOptions, ALeaseOutOfItsRangeIsRefusedByName) {
     Participant participant(options);
     FAIL() << "a lease of " << options.lease_seconds << " s was taken";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("lease of 601 s is out of range (0 for the default, or 1..600)"),
+    EXPECT_NE(std::string(e.what()).find("participant lease_s: must be a whole number in [0, 600], got 601"),
               std::string::npos)
         << e.what();
   }

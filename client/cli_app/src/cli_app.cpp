@@ -1,38 +1,37 @@
 #include "ispars/cli_app/cli_app.hpp"
-#include "ispars/cli_app/whole_number.hpp"
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <cctype>
 #include <iostream>
+
+#include "ispars/params/cli_archive.hpp"
+#include "ispars/wire/participant_options.hpp"
 
 namespace ispars::cli {
 namespace {
 
-// Where the daemons are and who this client is: flags, or ISPARS_* environment variables.
+// Where the daemons are and who this client is: flags, or ISPARS_* environment variables. The
+// participant's flags are its declared settings (participant_options.hpp), as the daemon's are.
 struct ConnectionArgs {
-  int domain = 0;
+  wire::ParticipantOptions participant;
   double timeout_s = 15;
-  std::string profile_file, profile_name = "ispars", security, server;
+  std::string server;
 
   void add(CLI::App& app) {
-    app.add_option("--domain", domain, "DDS domain id")->envname("ISPARS_DOMAIN")->check(whole_number(0, 232));
-    app.add_option("--profile-file", profile_file, "Fast DDS XML profiles file (default: built-in localhost only)")
-        ->envname("ISPARS_PROFILE_FILE");
-    app.add_option("--profile-name", profile_name, "participant profile in the profiles file");
-    app.add_option("--security", security,
-                   "DDS Security identity directory (deploy/security/make-keystore.sh); default: no security")
-        ->envname("ISPARS_SECURITY");
+    params::visit(participant, [&](const auto& spec, auto& member) {
+      std::string env = "ISPARS_" + std::string(spec.name);  // ISPARS_DOMAIN, ISPARS_PROFILE_FILE, ...
+      for (char& c : env) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      params::add_flag(app, spec, member)->envname(env);
+    });
     app.add_option("--timeout", timeout_s, "seconds to wait for a daemon and each reply")->check(CLI::PositiveNumber);
     app.add_option("--server", server, "the daemon to load a scene on, when several offer it");
   }
   [[nodiscard]] client::ClientOptions options() const {
     client::ClientOptions o;
     o.server = server;
-    o.participant.domain = domain;
-    o.participant.profile_file = profile_file;
-    o.participant.profile_name = profile_name;
-    o.participant.security = security;
+    o.participant = participant;
     o.participant.name = "ispars cli";
     o.timeout = std::chrono::milliseconds(static_cast<long>(timeout_s * 1000));
     return o;

@@ -72,11 +72,12 @@ std::string range_text(const Spec<T>& spec) {
 template <class T>
 std::string problem(const Spec<T>& spec, T value) {
   if constexpr (std::is_same_v<T, bool>) {
-    return {};
+    return spec.rule ? spec.rule(value) : std::string();
   } else {
     bool ok = value <= spec.max && (spec.lower == Lower::open ? value > spec.min : value >= spec.min);
     if constexpr (std::is_same_v<T, double>) ok = ok && std::isfinite(value);
-    return ok ? std::string() : fmt::format("must be {}, got {}", range_text(spec), value);
+    if (!ok) return fmt::format("must be {}, got {}", range_text(spec), value);
+    return spec.rule ? spec.rule(value) : std::string();
   }
 }
 
@@ -102,6 +103,7 @@ Parsed<T> parse(const Spec<T>& spec, std::string_view text) {
 ISPARS_PARAM_TYPE(double)
 ISPARS_PARAM_TYPE(std::uint64_t)
 ISPARS_PARAM_TYPE(std::uint32_t)
+ISPARS_PARAM_TYPE(int)
 ISPARS_PARAM_TYPE(bool)
 #undef ISPARS_PARAM_TYPE
 

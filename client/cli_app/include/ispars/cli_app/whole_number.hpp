@@ -1,5 +1,5 @@
 #pragma once
-// Whole-number flags of `ispars` that are no declared parameter (--domain, --edges, a tour's
+// Whole-number flags of `ispars` that are no declared parameter (--edges, a tour's
 // targets): read as params::parse reads a count, so "-5" is a negative number (not 2^64 - 5),
 // "1e3" and "2.5" are not whole numbers, and a refusal names the range in the same words as every
 // declared parameter's ("must be a whole number in [1, 1000], got -5").

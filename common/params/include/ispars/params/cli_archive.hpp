@@ -1,7 +1,8 @@
 #pragma once
 // A struct's declared parameters (fields.hpp) as CLI11 flags: `stretch_slack_after` becomes
 // --stretch-slack-after INT, read as its declaration says (a count as a signed whole number, then
-// range-checked) with the declared doc and range as its help. Header-only, so that only the
+// range-checked) with the declared doc and range as its help; a text parameter (text_spec.hpp)
+// becomes --name TEXT, checked against its length and rule. Header-only, so that only the
 // programs that parse flags need CLI11.
 
 #include <CLI/CLI.hpp>
@@ -10,6 +11,7 @@
 #include <string_view>
 
 #include "ispars/params/fields.hpp"
+#include "ispars/params/text_spec.hpp"
 
 namespace ispars::params {
 
@@ -26,6 +28,22 @@ CLI::Option* add_flag(CLI::App& command, const Spec<T>& spec, Member& member) {
       },
       std::string(spec.doc) + "; " + range_text(spec));
   option->type_name(std::string(type_name<T>()));
+  return option;
+}
+
+/// Declares the flag of the text parameter `spec` on `command`, checked and set into `member`
+/// (a std::string or a std::filesystem::path, taken as given: a relative path is the caller's).
+template <class Member>
+CLI::Option* add_flag(CLI::App& command, const TextSpec& spec, Member& member) {
+  const std::string flag = flag_name(spec.name);
+  auto* option = command.add_option_function<std::string>(
+      flag,
+      [spec, &member, flag](const std::string& text) {
+        if (std::string why = problem(spec, text); !why.empty()) throw CLI::ValidationError(flag, why);
+        member = text;
+      },
+      std::string(spec.doc));
+  option->type_name(spec.path ? "PATH" : "TEXT");
   return option;
 }
 

@@ -15,22 +15,27 @@ namespace ispars::params {
 /// "positive" for a bound of 0).
 enum class Lower { closed, open };
 
-/// The types a parameter may have: a real, a count (an unsigned integer, read as signed and then
-/// range-checked, so that -1 is refused rather than wrapped), or a switch.
+/// The types a parameter may have: a real, a count (an integer of at least 0, read as signed and
+/// then range-checked, so that -1 is refused rather than wrapped; an `int` count is an id such as
+/// a DDS domain), or a switch. Text and lists are declared by text_spec.hpp.
 template <class T>
-inline constexpr bool kParamType = std::is_same_v<T, double> || std::is_same_v<T, std::uint64_t> ||
-                                   std::is_same_v<T, std::uint32_t> || std::is_same_v<T, bool>;
+inline constexpr bool kParamType =
+    std::is_same_v<T, double> || std::is_same_v<T, std::uint64_t> || std::is_same_v<T, std::uint32_t> ||
+    std::is_same_v<T, int> || std::is_same_v<T, bool>;
 
 /// One parameter's declaration. Its default is the initialiser of the field it describes.
 template <class T>
 struct Spec {
-  static_assert(kParamType<T>, "a parameter is a double, a std::uint64_t, a std::uint32_t or a bool");
+  static_assert(kParamType<T>, "a parameter is a double, a std::uint64_t, a std::uint32_t, an int or a bool");
   std::string_view name;  ///< snake_case; its flag is --name-with-dashes
-  T min{};                ///< the least value accepted (excluded when lower is open)
+  T min{};                ///< the least value accepted (excluded when lower is open; at least 0 for a count)
   T max{};                ///< the largest value accepted (included)
   std::string_view doc;   ///< one line: what it is
   Lower lower = Lower::closed;
   bool needs_restart = false;  ///< a daemon setting a running daemon takes only on restart
+  /// What a value must be besides its range ("0 or at least 16"): why it is not, or empty.
+  std::string (*rule)(T value) = nullptr;
+  std::string_view alias = {};  ///< an older name, still accepted as a flag
 };
 
 /// The accepted values in words: "in [1, 100]", "in (0, 1000000]", "a whole number in [0, 5]",
@@ -38,7 +43,8 @@ struct Spec {
 template <class T>
 [[nodiscard]] std::string range_text(const Spec<T>& spec);
 
-/// Why `value` is not accepted ("must be in [1, 100], got 150"), or empty when it is.
+/// Why `value` is not accepted ("must be in [1, 100], got 150", or what the rule says), or empty
+/// when it is.
 template <class T>
 [[nodiscard]] std::string problem(const Spec<T>& spec, T value);
 
