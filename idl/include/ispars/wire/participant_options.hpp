@@ -24,7 +24,11 @@ inline constexpr std::uint32_t kMaxLeaseSeconds = 600;
 
 /// The participant's settings a user gives (a daemon's config and flags declare theirs by these).
 inline constexpr params::Spec<int> kDomain{
-    "domain", 0, 232, "DDS domain id; without a config file $ISPARS_DOMAIN is the default", params::Lower::closed,
+    "domain",
+    0,
+    232,
+    "DDS domain id; $ISPARS_DOMAIN when not given (a daemon's config file sets its own)",
+    params::Lower::closed,
     true};
 inline constexpr params::TextSpec kProfileFile{
     "profile_file", "Fast DDS XML profiles file (default: built-in localhost only)", 4096, true, true};
