@@ -213,7 +213,8 @@ TEST_F(ServiceTest, ALogFileOrMetricsAddressThatCannotBeUsedStopsTheStartWithIts
   }
   const auto [size_status, size_out] = run({"--log-file-mb", "0"});
   EXPECT_EQ(size_status, 2);
-  EXPECT_NE(size_out.find("isparsd: command line: --log-file-mb: must be a whole number in [1, 100000], got 0"), std::string::npos)
+  EXPECT_NE(size_out.find("isparsd: command line: --log-file-mb: must be a whole number in [1, 100000], got 0"),
+            std::string::npos)
       << size_out;
 }
 

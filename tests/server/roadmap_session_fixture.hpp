@@ -12,6 +12,17 @@
 
 namespace ispars {
 
+/// The digest of the roadmap an uninterrupted build of `samples` samples with `seed` makes:
+/// what a session's roadmap must equal however its job was cut and resumed.
+inline std::uint64_t uninterrupted_digest(const Scene& scene, std::uint64_t samples, std::uint64_t seed,
+                                          BuildMethod method = BuildMethod::ispars) {
+  BuildOptions options;
+  options.seed = seed;
+  auto builder = make_roadmap_builder(method, scene, options);
+  builder->extend(samples);
+  return roadmap_digest(builder->roadmap());
+}
+
 class RoadmapSessionTest : public ::testing::Test {
  protected:
   std::unique_ptr<RoadmapSession> open(SessionCallbacks callbacks = {}, SessionLimits limits = {}) {

@@ -14,6 +14,7 @@
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/service/build_job.hpp"
 #include "ispars/service/roadmap_session.hpp"
+#include "roadmap_session_fixture.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars {
@@ -36,14 +37,6 @@ struct JobBench {
     record.accept_build(requested_recipe(name, scene, request, limits), request, {});
   }
 };
-
-std::uint64_t reference_digest(const Scene& scene, std::uint64_t samples, std::uint64_t seed) {
-  BuildOptions options;
-  options.seed = seed;
-  auto builder = make_roadmap_builder(BuildMethod::ispars, scene, options);
-  builder->extend(samples);
-  return roadmap_digest(builder->roadmap());
-}
 
 // Each chunk is durable before the record shows it, and recorded before it is announced: a
 // follower told of a batch finds it in the status and the store, and the batches rebuild the
@@ -70,7 +63,7 @@ TEST(BuildJob, EachChunkIsStoredThenRecordedThenAnnounced) {
   EXPECT_EQ(s.state, SessionState::idle);
   EXPECT_EQ(s.samples_done, 3000u);
   EXPECT_GE(batches, 2u);
-  const std::uint64_t digest = reference_digest(b.scene, 3000, 5);
+  const std::uint64_t digest = uninterrupted_digest(b.scene, 3000, 5);
   EXPECT_EQ(roadmap_digest(*b.record.published().roadmap), digest);
   EXPECT_EQ(roadmap_digest(replica), digest);
   ASSERT_NE(job.store(), nullptr);
@@ -149,11 +142,7 @@ TEST(BuildJob, AStoppedBuildGoesOnExactlyResumedOrForIrisCReplayed) {
     return std::make_unique<RoadmapSession>("tower", scene, dir.path() / store, SessionLimits{}, std::move(callbacks));
   };
   const auto uninterrupted = [&](std::uint64_t samples, BuildMethod method) {
-    BuildOptions options;
-    options.seed = 9;
-    auto b = make_roadmap_builder(method, scene, options);
-    b->extend(samples);
-    return roadmap_digest(b->roadmap());
+    return uninterrupted_digest(scene, samples, 9, method);
   };
   for (const BuildMethod method : {BuildMethod::ispars, BuildMethod::irisc}) {
     SCOPED_TRACE(to_string(method));

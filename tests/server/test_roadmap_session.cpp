@@ -14,14 +14,6 @@
 namespace ispars {
 namespace {
 
-std::uint64_t uninterrupted(const Scene& scene, std::uint64_t samples, std::uint64_t seed) {
-  BuildOptions options;
-  options.seed = seed;
-  auto b = make_roadmap_builder(BuildMethod::ispars, scene, options);
-  b->extend(samples);
-  return roadmap_digest(b->roadmap());
-}
-
 TEST_F(RoadmapSessionTest, AJobCommitsBatchesThatReplayToThePublishedRoadmap) {
   Roadmap replica(scene().pois().size());
   std::uint64_t generation = 0;
@@ -43,7 +35,7 @@ TEST_F(RoadmapSessionTest, AJobCommitsBatchesThatReplayToThePublishedRoadmap) {
   const PublishedRoadmap p = session->published();
   EXPECT_EQ(p.generation, generation);
   EXPECT_EQ(roadmap_digest(replica), roadmap_digest(*p.roadmap));
-  EXPECT_EQ(roadmap_digest(*p.roadmap), uninterrupted(scene(), 4000, 3));
+  EXPECT_EQ(roadmap_digest(*p.roadmap), uninterrupted_digest(scene(), 4000, 3));
   EXPECT_GE(statuses, 3u);
   const VerificationReport report = session->verify(kVerifyBudget);
   EXPECT_TRUE(report.geometry_ok());
@@ -67,7 +59,7 @@ TEST_F(RoadmapSessionTest, BuildThreadsAndTheVariantReachTheBuilder) {
   auto b = make_roadmap_builder(BuildMethod::ispars, scene(), options);
   b->extend(3000);
   EXPECT_EQ(roadmap_digest(*session->published().roadmap), roadmap_digest(b->roadmap()));
-  EXPECT_NE(roadmap_digest(b->roadmap()), uninterrupted(scene(), 3000, 5)) << "the variants differ here";
+  EXPECT_NE(roadmap_digest(b->roadmap()), uninterrupted_digest(scene(), 3000, 5)) << "the variants differ here";
 }
 
 TEST_F(RoadmapSessionTest, ReadersOnOtherThreadsSeeConsistentVersionsWhileAJobRuns) {
@@ -96,7 +88,7 @@ TEST_F(RoadmapSessionTest, ReadersOnOtherThreadsSeeConsistentVersionsWhileAJobRu
   done = true;
   for (auto& t : readers) t.join();
   EXPECT_GT(reads.load(), 0u);
-  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), busy_samples(), 2));
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted_digest(scene(), busy_samples(), 2));
 }
 
 // A store damaged beyond a torn tail: the scene loads FAILED with the damage as its last error,
@@ -130,7 +122,7 @@ TEST_F(RoadmapSessionTest, ADamagedStoreLoadsFailedAndIsDiscardedOnlyWhenAsked) 
   session->request_build(ispars(800, 3));
   session->run_job(never_);
   EXPECT_EQ(session->status().state, SessionState::idle) << session->status().last_error;
-  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted(scene(), 800, 3));
+  EXPECT_EQ(roadmap_digest(*session->published().roadmap), uninterrupted_digest(scene(), 800, 3));
 }
 
 // The scene changed since its roadmap was built (here its delta): the stored roadmap is not
