@@ -7,7 +7,11 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -67,12 +71,20 @@ class NetnsFleetTest : public ServiceTest {
         "ISPARS_DOMAIN=" + std::to_string(domain_) + " ISPARS_PROFILE_FILE=" + lab_->profile(host).string();
     if (!keystore_.empty()) command += " ISPARS_SECURITY=" + (keystore_ / "identities" / ("op-" + host)).string();
     command += std::string(" ") + ISPARS_CLI + " " + args;
-    const NetnsLab::Result r = lab_->run(host, command + " --json");
-    const auto at = r.output.rfind("\n{");
-    const std::string last = at == std::string::npos ? r.output : r.output.substr(at + 1);
-    if (r.status != 0 || last.empty() || last[0] != '{') {
+    // Its warnings (a peer dropped as the client stops, say) go to a file of their own: on the
+    // output they could land after the JSON line, or inside it.
+    const std::filesystem::path warnings = dir_.path() / ("cli-" + host + ".err");
+    const NetnsLab::Result r = lab_->run(host, command + " --json 2> " + warnings.string());
+    std::string last;
+    std::istringstream lines(r.output);
+    for (std::string line; std::getline(lines, line);) {
+      if (!line.empty() && line[0] == '{') last = line;
+    }
+    if (r.status != 0 || last.empty()) {
+      std::ifstream err(warnings);
+      const std::string stderr_text{std::istreambuf_iterator<char>(err), std::istreambuf_iterator<char>()};
       throw std::runtime_error("ispars " + args + " on " + host + " failed (" + std::to_string(r.status) + "):\n" +
-                               r.output);
+                               r.output + stderr_text);
     }
     return nlohmann::json::parse(last);
   }
