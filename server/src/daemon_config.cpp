@@ -134,12 +134,6 @@ std::vector<std::string> checked_list(const params::ListSpec& spec, std::vector<
   return items;
 }
 
-std::string flag_of(std::string_view key) {
-  std::string flag = "--";
-  for (const char c : key) flag.push_back(c == '_' ? '-' : c);
-  return flag;
-}
-
 std::string log_level_rule(const std::string& level) {
   if (spdlog::level::from_str(level) != spdlog::level::off || level == "off") return {};
   return fmt::format("'{}' is not one of trace, debug, info, warn, error, critical, off", level);

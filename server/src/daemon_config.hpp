@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <optional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "daemon_settings.hpp"
@@ -97,9 +96,6 @@ struct DaemonConfig {
 /// takes only at a restart (each one declared needs_restart), in declaration order. A fresh
 /// config without a server_id asks for the default the running one already holds.
 [[nodiscard]] std::vector<std::string> changed_needing_restart(const DaemonConfig& running, DaemonConfig fresh);
-
-/// The flag of a setting: "--" and its key with dashes ("data_dir": "--data-dir").
-[[nodiscard]] std::string flag_of(std::string_view key);
 
 /// `config` as a config file (`isparsd --print-config`): every setting, paths made absolute, an
 /// unset listen address left out. Reading it back gives the same config.

@@ -15,9 +15,9 @@ constexpr const char* kCommandLine = "command line";
 
 template <class S>
 std::string names_of(const S& s) {
-  std::string names = flag_of(s.name);
+  std::string names = params::flag_name(s.name);
   if constexpr (requires { s.alias; }) {
-    if (!s.alias.empty()) names += "," + flag_of(s.alias);
+    if (!s.alias.empty()) names += "," + params::flag_name(s.alias);
   }
   return names;
 }
@@ -47,7 +47,7 @@ void DaemonFlags::apply(DaemonConfig& config) const {
   params::visit(config, [&](const auto& s, auto& member) {
     using S = std::decay_t<decltype(s)>;
     const Staged& staged = staged_[i++];
-    const std::string flag = flag_of(s.name);
+    const std::string flag = params::flag_name(s.name);
     if constexpr (std::is_same_v<S, params::ListSpec>) {
       std::vector<std::string> all = member;  // a list flag appends to the file's
       all.insert(all.end(), staged.list.begin(), staged.list.end());

@@ -148,15 +148,20 @@ void SessionRecord::take_stored(std::optional<StoredRoadmap> stored, SessionStat
     published_ = std::move(stored->published);
     dense_ = stored->dense;
   } else {
-    recipe_.reset();
-    tasks_.clear();
-    scene_with_tasks_ = std::make_shared<const Scene>(scene_);
-    published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), 0, 0);
-    dense_ = {};
+    forget_roadmap(0);
   }
   samples_done_ = samples_target_ = published_.samples;
   state_ = state;
   cancel_ = false;
+}
+
+void SessionRecord::forget_roadmap(std::uint64_t generation) {
+  recipe_.reset();
+  tasks_.clear();  // the tasks were the roadmap's: they go with it
+  scene_with_tasks_ = std::make_shared<const Scene>(scene_);
+  published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), generation, 0);
+  dense_ = {};
+  samples_done_ = samples_target_ = 0;
 }
 
 void SessionRecord::refuse(std::string why) {
@@ -171,6 +176,11 @@ void SessionRecord::refuse(std::string why) {
 void SessionRecord::keep_drop_generation(std::uint64_t generation) {
   std::lock_guard lock(mutex_);
   published_.generation = generation;
+}
+
+void SessionRecord::check_can_change() const {
+  check_can_start("scene");
+  if (!damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
 }
 
 void SessionRecord::check_can_start(const char* field) const {
@@ -215,8 +225,7 @@ std::uint64_t SessionRecord::accept_extend(std::uint64_t samples, const Admit& a
   std::uint64_t target = 0;
   {
     std::lock_guard lock(mutex_);
-    check_can_start("scene");
-    if (!damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
+    check_can_change();
     if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap to extend", name_));
     if (admit) admit(*scene_with_tasks_, *recipe_, samples_done_ + samples);
     pending_recipe_.reset();
@@ -236,8 +245,7 @@ std::size_t SessionRecord::accept_task(InspectionTask task, const Admit& admit) 
   std::size_t after = 0;
   {
     std::lock_guard lock(mutex_);
-    check_can_start("scene");
-    if (!damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
+    check_can_change();
     if (!recipe_) {
       throw InputError(kRequest, "scene",
                        fmt::format("scene '{}' has no roadmap: build one, then add tasks to it", name_));

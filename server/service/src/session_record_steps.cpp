@@ -31,8 +31,7 @@ void SessionRecord::adopt_tasks(std::vector<InspectionTask> tasks, std::shared_p
 
 std::pair<std::size_t, std::uint64_t> SessionRecord::check_removal(const std::string& name, bool store_open) const {
   std::lock_guard lock(mutex_);
-  check_can_start("scene");
-  if (!damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
+  check_can_change();
   if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap, and so no task", name_));
   const std::size_t index = live_task(tasks_, name);
   if (!store_open) {
@@ -78,12 +77,7 @@ void SessionRecord::discarded(std::uint64_t empty_generation) {
     discarding_ = false;
     damage_.clear();  // an explicit drop discards a damaged store too
     last_error_.clear();
-    recipe_.reset();
-    tasks_.clear();  // the tasks were the roadmap's: a drop forgets them with it
-    scene_with_tasks_ = std::make_shared<const Scene>(scene_);
-    samples_done_ = samples_target_ = 0;
-    dense_ = {};
-    published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), empty_generation, 0);
+    forget_roadmap(empty_generation);
     state_ = SessionState::empty;
   }
   notify();

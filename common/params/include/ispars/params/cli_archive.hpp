@@ -15,12 +15,14 @@
 
 namespace ispars::params {
 
-/// Declares the flag of `spec` on `command`, parsed into `member` (a T or a std::optional<T>).
+/// Declares the flag of `spec` on `command` (and of its alias, when it has one), parsed into
+/// `member` (a T or a std::optional<T>).
 template <class T, class Member>
 CLI::Option* add_flag(CLI::App& command, const Spec<T>& spec, Member& member) {
   const std::string flag = flag_name(spec.name);
+  const std::string names = spec.alias.empty() ? flag : flag + "," + flag_name(spec.alias);
   auto* option = command.add_option_function<std::string>(
-      flag,
+      names,
       [spec, &member, flag](const std::string& text) {  // spec by value: a temporary declaration is safe
         const Parsed<T> parsed = parse(spec, text);
         if (!parsed.problem.empty()) throw CLI::ValidationError(flag, parsed.problem);

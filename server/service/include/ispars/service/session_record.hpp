@@ -203,7 +203,10 @@ class SessionRecord {
  private:
   [[nodiscard]] SessionStatus status_locked() const;
   void check_can_start(const char* field) const;  // with mutex_ held
-  [[nodiscard]] std::size_t live_tasks() const;   // with mutex_ held
+  void check_can_change() const;                  // check_can_start, and no damage; with mutex_ held
+  // No roadmap: the scene's empty one of `generation`, no tasks; with mutex_ held.
+  void forget_roadmap(std::uint64_t generation);
+  [[nodiscard]] std::size_t live_tasks() const;  // with mutex_ held
   [[nodiscard]] const InspectionTask* accepted_task() const;
   [[nodiscard]] SessionState resting_state() const { return recipe_ ? SessionState::idle : SessionState::empty; }
 
