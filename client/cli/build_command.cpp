@@ -32,7 +32,7 @@ class BuildCommand final : public Command {
         if (eq == std::string::npos || eq == 0) throw CLI::ValidationError("--set", "'" + s + "' is not NAME=VALUE");
         params::set_text(args_.overrides, s.substr(0, eq), s.substr(eq + 1), "--set");
       }
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       throw CLI::ValidationError(e.file() == "--set" ? "--set " + e.field() : "--" + e.field(), e.problem());
     }
   }

@@ -8,8 +8,8 @@
 
 #include "ispars/cli_app/whole_number.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/render/scene_render.hpp"
-#include "ispars/scene/scene.hpp"
 
 namespace ispars::cli {
 
@@ -34,10 +34,10 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& args) {
 }
 
 int render_from_daemon(client::Client& client, const RenderArgs& args) {
-  Scene scene = [&] {
+  planning::Scene scene = [&] {
     try {
-      return Scene::load(args.scene_file);
-    } catch (const InputError& e) {
+      return planning::Scene::load(args.scene_file);
+    } catch (const params::InputError& e) {
       throw CLI::ValidationError("--scene-file", e.what());
     }
   }();
@@ -64,7 +64,7 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
     for (const auto& p : drawn) tour.emplace_back(p.x(), p.y(), p.z());
     tour_cost = r.flown_path.empty() ? r.cost : r.flown_cost;
   }
-  RenderRequest request;
+  render::RenderRequest request;
   request.width = args.width;
   request.height = args.height;
   request.max_edges = args.max_edges;
@@ -72,11 +72,11 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
     if (args.eye.size() != 3 || args.target.size() != 3) {
       throw CLI::ValidationError("--eye", "give --eye X Y Z and --target X Y Z together");
     }
-    request.camera = Camera{Vec3(args.eye[0], args.eye[1], args.eye[2]),
-                            Vec3(args.target[0], args.target[1], args.target[2]), Vec3::UnitZ(), 45.0};
+    request.camera = render::Camera{Vec3(args.eye[0], args.eye[1], args.eye[2]),
+                                    Vec3(args.target[0], args.target[1], args.target[2]), Vec3::UnitZ(), 45.0};
   }
   const Roadmap& g = snapshot.roadmap;
-  request.roadmap = DrawnGraph{g.positions(), g.edge_ends()};
+  request.roadmap = render::DrawnGraph{g.positions(), g.edge_ends()};
   // The POIs drawn: every POI the roadmap knows, or one task's (ids first .. first + count - 1).
   std::size_t first = 0, count = std::min(snapshot.pois.size(), g.poi_count());
   if (!args.task.empty()) {
@@ -97,10 +97,10 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
     }
   }
   request.tour = tour;
-  RenderResult result;
+  render::RenderResult result;
   try {
-    result = render_scene(scene.mesh(), request);
-    write_png(args.out, result.image);
+    result = render::render_scene(scene.mesh(), request);
+    render::write_png(args.out, result.image);
   } catch (const std::runtime_error& e) {
     throw CLI::ValidationError("--out", e.what());
   }

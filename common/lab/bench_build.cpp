@@ -17,15 +17,15 @@
 namespace ispars::lab {
 
 int run_bench_build(const BenchBuildOptions& options) {
-  const Scene base = Scene::load(options.scene);
+  const planning::Scene base = planning::Scene::load(options.scene);
   const LabBuild lab =
       make_lab_build(base, options.method, options.variant, options.request, options.threads, "ispars-lab bench build");
-  const Scene& scene = *lab.scene;
+  const planning::Scene& scene = *lab.scene;
   const auto& builder = lab.builder;
   const BuildMethod method = lab.recipe.method;
   const RoadmapRecipe& r = lab.recipe;
   const std::size_t samples = options.request.samples;
-  const CheckCounts start = scene.counts();
+  const planning::CheckCounts start = scene.counts();
   const double t0 = now_seconds();
   nlohmann::json rows = nlohmann::json::array();
   std::cout << fmt::format("{} ({} rules, stretch slack {} Delta from sample {}) on {}, seed {}, {} thread(s)\n",
@@ -35,12 +35,12 @@ int run_bench_build(const BenchBuildOptions& options) {
                            "seg/sample", "|V|", "|E|", "dense |E|", "peak MiB");
   std::size_t previous = 0;
   double previous_t = 0.0;
-  CheckCounts previous_checks;
+  planning::CheckCounts previous_checks;
   for (std::size_t k = 1; k <= options.checkpoints; ++k) {
     const std::size_t target = samples * k / options.checkpoints;
     builder->extend(target - previous);
     const double elapsed = now_seconds() - t0;
-    const CheckCounts checks = scene.counts() - start;
+    const planning::CheckCounts checks = scene.counts() - start;
     const double interval = static_cast<double>(target - previous);
     const double us_per_sample = interval > 0 ? 1e6 * (elapsed - previous_t) / interval : 0.0;
     const double segments_per_sample =

@@ -9,9 +9,9 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/reference/brute_force.hpp"
 #include "ispars/reference/fcl_checker.hpp"
-#include "ispars/scene/scene.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
 
@@ -23,7 +23,8 @@ struct Segment {
 };
 
 // Segments of length dense_delta from valid points, in random directions, ending in the box.
-std::vector<Segment> make_segments(const Scene& scene, Rng& rng, const std::vector<Vec3>& starts) {
+std::vector<Segment> make_segments(const planning::Scene& scene, scene_files::Rng& rng,
+                                   const std::vector<Vec3>& starts) {
   std::vector<Segment> segments;
   const double length = scene.config().dense_delta;
   for (const Vec3& a : starts) {
@@ -39,7 +40,7 @@ std::vector<Segment> make_segments(const Scene& scene, Rng& rng, const std::vect
 }
 
 // Valid configurations within sensor range of a random POI: where chi(q) has real work to do.
-std::vector<Vec3> make_near_points(const Scene& scene, Rng& rng, std::size_t count) {
+std::vector<Vec3> make_near_points(const planning::Scene& scene, scene_files::Rng& rng, std::size_t count) {
   std::vector<Vec3> points;
   const double range = scene.config().sensor_range;
   const auto& pois = scene.pois();
@@ -56,13 +57,13 @@ double ratio(double slow, double fast) { return fast > 0.0 ? slow / fast : 0.0; 
 }  // namespace
 
 int run_bench_geometry(const BenchGeometryOptions& options) {
-  const Scene scene = Scene::load(options.scene);
-  const SceneConfig& config = scene.config();
+  const planning::Scene scene = planning::Scene::load(options.scene);
+  const scene_files::SceneConfig& config = scene.config();
   const std::size_t n = options.queries;
   const std::size_t m = std::min(options.reference_queries, n);
   const std::size_t batch = 64;
 
-  Rng rng(options.seed);
+  scene_files::Rng rng(options.seed);
   std::vector<Vec3> box_points(n);
   for (auto& p : box_points) p = rng.uniform_in(config.bounds);
   std::vector<Vec3> valid_points(n);
@@ -70,21 +71,21 @@ int run_bench_geometry(const BenchGeometryOptions& options) {
   const std::vector<Segment> segments = make_segments(scene, rng, valid_points);
   const std::vector<Vec3> near_points = make_near_points(scene, rng, n);
 
-  const FclCollisionChecker fcl(scene.mesh(), config.bounds, config.robot_radius);
-  const BruteForceGeometry brute(scene.embree().triangles(), config.bounds, config.robot_radius, scene.pois(),
-                                 config.sensor_range);
-  const CollisionChecker& fast = scene.collision();
-  const VisibilityOracle& oracle = scene.visibility();
+  const reference::FclCollisionChecker fcl(scene.mesh(), config.bounds, config.robot_radius);
+  const reference::BruteForceGeometry brute(scene.embree().triangles(), config.bounds, config.robot_radius,
+                                            scene.pois(), config.sensor_range);
+  const planning::CollisionChecker& fast = scene.collision();
+  const planning::VisibilityOracle& oracle = scene.visibility();
 
   std::size_t sink = 0;
   std::vector<PoiId> chi;
 
   // Fast paths.
-  const CheckCounts before = scene.counts();
+  const planning::CheckCounts before = scene.counts();
   const double point_ns = median_ns_per_call(n, batch, [&](std::size_t i) { sink += fast.point_valid(box_points[i]); });
   const double segment_ns = median_ns_per_call(
       segments.size(), batch, [&](std::size_t i) { sink += fast.segment_valid(segments[i].a, segments[i].b); });
-  const CheckCounts before_chi = scene.counts();
+  const planning::CheckCounts before_chi = scene.counts();
   const double chi_t0 = now_seconds();
   const double chi_ns = median_ns_per_call(n, 1, [&](std::size_t i) {
     oracle.visible_pois(valid_points[i], chi);
@@ -92,7 +93,7 @@ int run_bench_geometry(const BenchGeometryOptions& options) {
   });
   const double chi_seconds = now_seconds() - chi_t0;
   const std::uint64_t chi_rays = (scene.counts() - before_chi).rays;
-  const CheckCounts before_near = scene.counts();
+  const planning::CheckCounts before_near = scene.counts();
   const double near_t0 = now_seconds();
   const double chi_near_ns = median_ns_per_call(n, 1, [&](std::size_t i) {
     oracle.visible_pois(near_points[i], chi);
@@ -103,7 +104,7 @@ int run_bench_geometry(const BenchGeometryOptions& options) {
   const double clearance_ns = median_ns_per_call(n, batch, [&](std::size_t i) {
     sink += static_cast<std::size_t>(fast.distance_to_surface(valid_points[i]) > 1.0);
   });
-  const CheckCounts fast_counts = scene.counts() - before;
+  const planning::CheckCounts fast_counts = scene.counts() - before;
 
   // FCL on the same queries.
   const double fcl_point_ns =

@@ -20,10 +20,10 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/reference/fcl_checker.hpp"
-#include "ispars/scene/scene.hpp"
 
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
@@ -72,7 +72,8 @@ struct OmplRun {
   bool capped = false;
 };
 
-OmplRun run_ompl_spars(const ispars::Scene& scene, const Checks& checks, unsigned dense_target, double cap_seconds) {
+OmplRun run_ompl_spars(const ispars::planning::Scene& scene, const Checks& checks, unsigned dense_target,
+                       double cap_seconds) {
   auto space = std::make_shared<ob::RealVectorStateSpace>(3);
   ob::RealVectorBounds bounds(3);
   for (int i = 0; i < 3; ++i) {
@@ -129,18 +130,18 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
   try {
-    const ispars::Scene loaded = ispars::Scene::load(scene_path);
-    const ispars::Scene scene =
+    const ispars::planning::Scene loaded = ispars::planning::Scene::load(scene_path);
+    const ispars::planning::Scene scene =
         delta > 0.0 ? loaded.with_roadmap_parameters(delta, 1.5 * delta, loaded.config().stretch, "--delta")
                     : loaded.with_roadmap_parameters(loaded.config().dense_delta, loaded.config().sparse_delta,
                                                      loaded.config().stretch, "scene");
     nlohmann::json ours = nlohmann::json::object();
     unsigned dense_target = 0;
     for (const ispars::SparsVariant variant : {ispars::SparsVariant::stretch, ispars::SparsVariant::alg1}) {
-      ispars::BuildOptions options;
+      ispars::planning::BuildOptions options;
       options.variant = variant;
       const auto t0 = std::chrono::steady_clock::now();
-      const auto builder = ispars::make_roadmap_builder(ispars::BuildMethod::ispars, scene, options);
+      const auto builder = ispars::planning::make_roadmap_builder(ispars::BuildMethod::ispars, scene, options);
       builder->extend(samples);
       const double seconds = seconds_since(t0);
       dense_target = static_cast<unsigned>(builder->dense()->vertex_count());
@@ -153,7 +154,7 @@ int main(int argc, char** argv) {
     }
     const Checks ours_checks{[&](const ispars::Vec3& q) { return scene.point_valid(q); },
                              [&](const ispars::Vec3& a, const ispars::Vec3& b) { return scene.segment_valid(a, b); }};
-    const ispars::FclCollisionChecker fcl(scene.mesh(), scene.config().bounds, scene.config().robot_radius);
+    const ispars::reference::FclCollisionChecker fcl(scene.mesh(), scene.config().bounds, scene.config().robot_radius);
     const Checks fcl_checks{[&](const ispars::Vec3& q) { return fcl.point_valid(q); },
                             [&](const ispars::Vec3& a, const ispars::Vec3& b) { return fcl.segment_valid(a, b); }};
     const double ours_seconds = ours["stretch"]["seconds"].get<double>();
@@ -199,7 +200,7 @@ int main(int argc, char** argv) {
                 << std::endl;
     }
     return capped ? 1 : 0;
-  } catch (const ispars::InputError& e) {
+  } catch (const ispars::params::InputError& e) {
     std::cerr << "ispars-ompl-bench: error: " << e.what() << '\n';
     return 2;
   }

@@ -9,7 +9,7 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
 #include "ispars/scene_files/poi_sampling.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
@@ -19,16 +19,16 @@ namespace ispars::lab {
 namespace {
 
 struct Timed {
-  std::unique_ptr<RoadmapBuilder> builder;
+  std::unique_ptr<planning::RoadmapBuilder> builder;
   double seconds = 0.0;
 };
 
-Timed build(const Scene& scene, const BenchTaskOptions& options) {
-  BuildOptions build;
+Timed build(const planning::Scene& scene, const BenchTaskOptions& options) {
+  planning::BuildOptions build;
   build.seed = options.seed;
   build.threads = options.threads;
   const double t0 = now_seconds();
-  Timed out{make_roadmap_builder(*parse_build_method(options.method), scene, build), 0.0};
+  Timed out{planning::make_roadmap_builder(*parse_build_method(options.method), scene, build), 0.0};
   out.builder->extend(options.samples);
   out.seconds = now_seconds() - t0;
   return out;
@@ -44,9 +44,10 @@ std::vector<PoiId> task_targets(std::span<const InspectionGraph* const> graphs, 
 }  // namespace
 
 int run_bench_task(const BenchTaskOptions& options) {
-  const Scene scene = Scene::load(options.scene);
-  const std::vector<Vec3> task = sample_pois_on_surface(scene.mesh(), options.pois, options.poi_seed, true);
-  const Scene widened = scene.with_more_pois(task);
+  const planning::Scene scene = planning::Scene::load(options.scene);
+  const std::vector<Vec3> task =
+      scene_files::sample_pois_on_surface(scene.mesh(), options.pois, options.poi_seed, true);
+  const planning::Scene widened = scene.with_more_pois(task);
   const auto first = static_cast<PoiId>(scene.pois().size());
 
   Timed added = build(scene, options);
@@ -67,7 +68,7 @@ int run_bench_task(const BenchTaskOptions& options) {
   const std::vector<PoiId> targets = task_targets(graphs, first);
   SolverWork work;
   work.iterations = options.iterations;
-  const std::vector<GipResult> tours = solve_each(graphs, targets, options.seed, work);
+  const std::vector<planning::GipResult> tours = solve_each(graphs, targets, options.seed, work);
   const double ratio = tours[0].tour.cost / tours[1].tour.cost;
   std::cout << fmt::format(
       "  tours of the task's {} POIs seen from the root, {} iterations each: added {:.6g}, "
@@ -76,7 +77,8 @@ int run_bench_task(const BenchTaskOptions& options) {
   nlohmann::json verified;
   if (options.verify && added.builder->dense() != nullptr) {
     const auto& b = *added.builder;
-    const VerificationReport r = verify_sparse_pair(widened, b.roadmap(), *b.dense(), b.dense_ids());
+    const planning::VerificationReport r =
+        planning::verify_sparse_pair(widened, b.roadmap(), *b.dense(), b.dense_ids());
     std::cout << fmt::format("  verify (every POI, every dense vertex): {} Invariant 1 violations, geometry {}\n",
                              r.invariant_violations, r.geometry_ok() ? "ok" : "NOT ok");
     verified = {{"invariant_violations", r.invariant_violations}, {"geometry_ok", r.geometry_ok()}};

@@ -12,8 +12,8 @@
 #include "commands.hpp"
 #include "experiment_support.hpp"
 #include "flags.hpp"
-#include "ispars/tour/gip_solver.hpp"
-#include "ispars/tour/tour_shortcut.hpp"
+#include "ispars/planning/tour/gip_solver.hpp"
+#include "ispars/planning/tour/tour_shortcut.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
 
@@ -29,7 +29,7 @@ struct StopRun {
 
 StopRun stop_after(const InspectionGraph& g, double at, std::uint64_t seed) {
   std::atomic<bool> stop{false};
-  GipOptions o;
+  planning::GipOptions o;
   o.budget_seconds = 3600.0;
   o.seed = seed;
   o.stop = &stop;
@@ -41,7 +41,7 @@ StopRun stop_after(const InspectionGraph& g, double at, std::uint64_t seed) {
     stop = true;
   });
   try {
-    const GipResult r = solve_gip(g, o);
+    const planning::GipResult r = planning::solve_gip(g, o);
     run.had_tour = r.validation.valid();
     run.message = fmt::format("tour {:.6g}", r.tour.cost);
   } catch (const std::exception& e) {
@@ -55,12 +55,12 @@ StopRun stop_after(const InspectionGraph& g, double at, std::uint64_t seed) {
 }  // namespace
 
 int run_bench_tour(const BenchTourOptions& options) {
-  const Scene scene = Scene::load(options.scene);
-  BuildOptions build;
+  const planning::Scene scene = planning::Scene::load(options.scene);
+  planning::BuildOptions build;
   build.seed = options.seed;
   build.threads = 2;
   const double b0 = now_seconds();
-  const auto builder = make_roadmap_builder(*parse_build_method(options.method), scene, build);
+  const auto builder = planning::make_roadmap_builder(*parse_build_method(options.method), scene, build);
   builder->extend(options.samples);
   const double build_seconds = now_seconds() - b0;
   const InspectionGraph g = InspectionGraph::from_roadmap(builder->roadmap());
@@ -69,17 +69,20 @@ int run_bench_tour(const BenchTourOptions& options) {
       "{} roadmap of {} samples on {}: {} vertices, {} edges, built in {:.1f} s; peak RSS {:.0f} MiB\n", options.method,
       options.samples, scene.config().name, g.vertex_count(), g.edge_count(), build_seconds, rss_graph);
 
-  GipOptions o;
+  planning::GipOptions o;
   o.budget_seconds = options.budget;
   o.seed = options.seed;
   const double t0 = now_seconds();
-  const GipResult r = solve_gip(g, o);
+  const planning::GipResult r = planning::solve_gip(g, o);
   const double wall = now_seconds() - t0;
   const double rss_tour = peak_rss_mib();
   // The shortcut the daemon gives every tour, with the scene's collision checker.
-  const SegmentValid segment_valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
+  const planning::SegmentValid segment_valid = [&scene](const Vec3& a, const Vec3& b) {
+    return scene.segment_valid(a, b);
+  };
   const double s0 = now_seconds();
-  const ShortcutTour shortcut = shortcut_tour(g, builder->roadmap().positions(), r.targets, r.tour, segment_valid);
+  const planning::ShortcutTour shortcut =
+      planning::shortcut_tour(g, builder->roadmap().positions(), r.targets, r.tour, segment_valid);
   const double shortcut_seconds = now_seconds() - s0;
   std::cout << fmt::format(
       "budget {:.1f} s: returned after {:.2f} s; first tour at {:.2f} s; best {:.6g} ({}), {} targets, {} candidates "

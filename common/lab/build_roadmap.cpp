@@ -9,10 +9,10 @@
 #include "commands.hpp"
 #include "experiment_support.hpp"
 #include "flags.hpp"
-#include "ispars/builders/roadmap_builder.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
-#include "ispars/builders/spars_builder.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "json_output.hpp"
@@ -33,9 +33,9 @@ nlohmann::json summary(const Roadmap& g) {
 
 void write_file(const std::string& path, const std::string& field, const std::string& text) {
   std::ofstream out(path);
-  if (!out) throw InputError(path, field, "cannot open for writing");
+  if (!out) throw params::InputError(path, field, "cannot open for writing");
   out << text;
-  if (!out) throw InputError(path, field, "write failed");
+  if (!out) throw params::InputError(path, field, "write failed");
 }
 
 void write_iris(const std::string& prefix, const Roadmap& g) {
@@ -99,14 +99,14 @@ void print_report(const nlohmann::json& out, const std::string& method) {
 }  // namespace
 
 int run_build(const BuildCommandOptions& options) {
-  const Scene base = Scene::load(options.scene);
+  const planning::Scene base = planning::Scene::load(options.scene);
   const LabBuild lab =
       make_lab_build(base, options.method, options.variant, options.request, options.threads, "ispars-lab build");
-  const Scene& scene = *lab.scene;
+  const planning::Scene& scene = *lab.scene;
   const auto& builder = lab.builder;
   const std::size_t samples = options.request.samples;
 
-  const CheckCounts before = scene.counts();
+  const planning::CheckCounts before = scene.counts();
   const double t0 = now_seconds();
   const bool show_progress = !options.json && ::isatty(STDERR_FILENO);
   const std::size_t chunk = std::max<std::size_t>(1, samples / 100);
@@ -118,7 +118,7 @@ int run_build(const BuildCommandOptions& options) {
   }
   if (show_progress) std::cerr << '\n';
   const double seconds = now_seconds() - t0;
-  const CheckCounts checks = scene.counts() - before;
+  const planning::CheckCounts checks = scene.counts() - before;
 
   nlohmann::json out = {{"scene", scene.config().name},
                         {"method", options.method},
@@ -130,7 +130,7 @@ int run_build(const BuildCommandOptions& options) {
                         {"roadmap", summary(builder->roadmap())},
                         {"checks", to_json(checks)}};
   if (const Roadmap* dense = builder->dense()) out["dense"] = summary(*dense);
-  if (const auto* spars = dynamic_cast<const SparsBuilder*>(builder.get())) {
+  if (const auto* spars = dynamic_cast<const planning::SparsBuilder*>(builder.get())) {
     const nlohmann::json causes = to_json(spars->admissions());
     out["variant"] = std::string(to_string(lab.recipe.variant));
     out["stretch_slack"] = lab.recipe.stretch_slack;
@@ -139,10 +139,10 @@ int run_build(const BuildCommandOptions& options) {
     out["edges_by_cause"] = causes["edges_by_cause"];
   }
   if (options.verify) {
-    const VerificationReport report =
+    const planning::VerificationReport report =
         builder->dense() != nullptr
-            ? verify_sparse_pair(scene, builder->roadmap(), *builder->dense(), builder->dense_ids())
-            : verify_roadmap(scene, builder->roadmap());
+            ? planning::verify_sparse_pair(scene, builder->roadmap(), *builder->dense(), builder->dense_ids())
+            : planning::verify_roadmap(scene, builder->roadmap());
     out["verification"] = {{"invalid_vertices", report.invalid_vertices},
                            {"invalid_edges", report.invalid_edges},
                            {"wrong_costs", report.wrong_costs},
@@ -154,8 +154,8 @@ int run_build(const BuildCommandOptions& options) {
   }
   if (options.fresh > 0) {
     // Fresh samples, not the build's: what the roadmap misses between the samples it drew.
-    const VerificationReport fresh =
-        verify_fresh_samples(scene, builder->roadmap(), options.fresh, lab.recipe.seed + 1);
+    const planning::VerificationReport fresh =
+        planning::verify_fresh_samples(scene, builder->roadmap(), options.fresh, lab.recipe.seed + 1);
     out["fresh_samples"] = {{"samples", fresh.invariant_samples},
                             {"samples_with_a_violation", fresh.invariant_vertices},
                             {"violations", fresh.invariant_violations}};

@@ -14,11 +14,11 @@
 #include "commands.hpp"
 #include "experiment_support.hpp"
 #include "flags.hpp"
-#include "ispars/builders/dense_builder.hpp"
-#include "ispars/builders/irisc_builder.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
-#include "ispars/tour/flown_tour_check.hpp"
-#include "ispars/tour/tour_shortcut.hpp"
+#include "ispars/planning/builders/dense_builder.hpp"
+#include "ispars/planning/builders/irisc_builder.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
+#include "ispars/planning/tour/flown_tour_check.hpp"
+#include "ispars/planning/tour/tour_shortcut.hpp"
 #include "tour_support.hpp"
 
 namespace ispars::lab {
@@ -38,14 +38,15 @@ std::string mean_cell(const std::vector<double>& v, int decimals) {
 
 // The flown length of each tour: its walk shortcut in `scene` (deterministic), checked by
 // re-deriving what each stop sees; a tour that fails the check stops the experiment.
-std::vector<double> flown_costs(const Scene& scene, std::span<const InspectionGraph* const> graphs,
+std::vector<double> flown_costs(const planning::Scene& scene, std::span<const InspectionGraph* const> graphs,
                                 const std::vector<std::vector<Vec3>>& positions, std::span<const PoiId> targets,
-                                const std::vector<GipResult>& tours, const std::vector<std::string>& names) {
-  const SegmentValid valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
+                                const std::vector<planning::GipResult>& tours, const std::vector<std::string>& names) {
+  const planning::SegmentValid valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
   std::vector<double> costs;
   for (std::size_t i = 0; i < tours.size(); ++i) {
-    const ShortcutTour sc = shortcut_tour(*graphs[i], positions[i], targets, tours[i].tour, valid);
-    const FlownTourCheck check = check_flown_tour(scene, positions[i][0], targets, sc.path, sc.cost);
+    const planning::ShortcutTour sc = planning::shortcut_tour(*graphs[i], positions[i], targets, tours[i].tour, valid);
+    const planning::FlownTourCheck check =
+        planning::check_flown_tour(scene, positions[i][0], targets, sc.path, sc.cost);
     if (!check.valid()) {
       throw std::runtime_error(fmt::format("{}: the flown tour failed its check: {}", names[i], check.problem));
     }
@@ -59,10 +60,11 @@ std::vector<double> flown_costs(const Scene& scene, std::span<const InspectionGr
 int run_experiment_ablation(const ExperimentOptions& options) {
   const PaperSetting& paper = paper_setting(options.scene);
   const std::size_t samples = options.samples > 0 ? options.samples : paper.samples;
-  const SceneConfig base = parse_scene_config(options.scenes_dir + "/" + options.scene + ".yaml");
+  const scene_files::SceneConfig base =
+      scene_files::parse_scene_config(options.scenes_dir + "/" + options.scene + ".yaml");
   const double delta =
       options.delta > 0.0 ? options.delta : calibrate_delta(base, samples, paper.degree, options.threads);
-  std::vector<SparsRules> rule_sets;
+  std::vector<planning::SparsRules> rule_sets;
   for (const std::string& name : options.rule_sets) rule_sets.push_back(parse_rule_set(name, "--rule-sets"));
   const SolverWork work{options.iterations, options.cap, options.jobs};
   std::cout << fmt::format(
@@ -83,8 +85,8 @@ int run_experiment_ablation(const ExperimentOptions& options) {
   for (std::uint64_t seed = 1; used.size() < options.seeds && seed <= 3 * options.seeds; ++seed) {
     std::map<std::string, Row> seed_rows;
     nlohmann::json seed_runs = nlohmann::json::array();
-    const Scene scene = Scene::build(scene_variant(base, paper.pois, seed, delta));
-    BuildOptions build;
+    const planning::Scene scene = planning::Scene::build(scene_variant(base, paper.pois, seed, delta));
+    planning::BuildOptions build;
     build.seed = seed;
     build.threads = options.threads;
     build.stretch_slack = options.stretch_slack;  // read by the stretch rules only
@@ -97,29 +99,31 @@ int run_experiment_ablation(const ExperimentOptions& options) {
     graphs.reserve(rule_sets.size() + baselines);
     graphs.push_back({});  // dense: filled from the first sparse build (same samples, same G_d)
     positions.push_back({});
-    IriscBuilder irisc(scene, build);
+    planning::IriscBuilder irisc(scene, build);
     irisc.extend(samples);
     graphs.push_back(InspectionGraph::from_roadmap(irisc.roadmap()));
     positions.emplace_back(irisc.roadmap().positions().begin(), irisc.roadmap().positions().end());
     if (options.wide) {
-      const Scene wide = Scene::build(scene_variant(base, paper.pois, seed, 3.0 * delta));
-      DenseBuilder dense_wide(wide, build);
+      const planning::Scene wide = planning::Scene::build(scene_variant(base, paper.pois, seed, 3.0 * delta));
+      planning::DenseBuilder dense_wide(wide, build);
       dense_wide.extend(samples);
       graphs.push_back(InspectionGraph::from_roadmap(dense_wide.roadmap()));
       positions.emplace_back(dense_wide.roadmap().positions().begin(), dense_wide.roadmap().positions().end());
     }
     for (std::size_t i = 0; i < rule_sets.size(); ++i) {
-      SparsBuilder b(scene, build, rule_sets[i]);
+      planning::SparsBuilder b(scene, build, rule_sets[i]);
       b.extend(samples);
       if (i == 0) {
         graphs[0] = InspectionGraph::from_roadmap(*b.dense());
         positions[0].assign(b.dense()->positions().begin(), b.dense()->positions().end());
       }
-      RouteStretchOptions ro;
+      planning::RouteStretchOptions ro;
       ro.big_delta = scene.config().sparse_delta;
       ro.stretch = scene.config().stretch;
-      const RouteStretchReport s = measure_route_stretch(scene, b.roadmap(), *b.dense(), b.dense_ids(), ro);
-      const VerificationReport v = verify_sparse_pair(scene, b.roadmap(), *b.dense(), b.dense_ids());
+      const planning::RouteStretchReport s =
+          planning::measure_route_stretch(scene, b.roadmap(), *b.dense(), b.dense_ids(), ro);
+      const planning::VerificationReport v =
+          planning::verify_sparse_pair(scene, b.roadmap(), *b.dense(), b.dense_ids());
       Row& row = seed_rows[options.rule_sets[i]];
       row.vertices.push_back(static_cast<double>(b.roadmap().vertex_count()));
       row.edges.push_back(static_cast<double>(b.roadmap().edge_count()));
@@ -170,7 +174,7 @@ int run_experiment_ablation(const ExperimentOptions& options) {
     }
     for (auto& run : seed_runs) runs.push_back(std::move(run));
     targets.push_back(static_cast<double>(common.size()));
-    const std::vector<GipResult> tours = solve_each(pointers, common, seed, work);
+    const std::vector<planning::GipResult> tours = solve_each(pointers, common, seed, work);
     const std::vector<double> flown = flown_costs(scene, pointers, positions, common, tours, names);
     for (std::size_t i = 0; i < tours.size(); ++i) {
       capped += hit_time_cap(tours[i], work);

@@ -21,11 +21,11 @@
 #include "commands.hpp"
 #include "experiment_support.hpp"
 #include "flags.hpp"
-#include "ispars/builders/dense_builder.hpp"
-#include "ispars/builders/irisc_builder.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
 #include "ispars/params/input_error.hpp"
-#include "ispars/tour/tour_shortcut.hpp"
+#include "ispars/planning/builders/dense_builder.hpp"
+#include "ispars/planning/builders/irisc_builder.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
+#include "ispars/planning/tour/tour_shortcut.hpp"
 #include "tour_support.hpp"
 
 namespace ispars::lab {
@@ -86,22 +86,24 @@ struct Runs {
 };
 
 // Each tour shortcut with the scene's collision checker; positions[i] places graphs[i]'s vertices.
-std::vector<ShortcutTour> shortcut_each(std::span<const InspectionGraph> graphs,
-                                        const std::vector<std::span<const Vec3>>& positions,
-                                        const std::vector<PoiId>& targets, const std::vector<GipResult>& tours,
-                                        const Scene& scene) {
-  const SegmentValid valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
-  std::vector<ShortcutTour> out;
+std::vector<planning::ShortcutTour> shortcut_each(std::span<const InspectionGraph> graphs,
+                                                  const std::vector<std::span<const Vec3>>& positions,
+                                                  const std::vector<PoiId>& targets,
+                                                  const std::vector<planning::GipResult>& tours,
+                                                  const planning::Scene& scene) {
+  const planning::SegmentValid valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
+  std::vector<planning::ShortcutTour> out;
   for (std::size_t i = 0; i < graphs.size(); ++i) {
-    out.push_back(shortcut_tour(graphs[i], positions[i], targets, tours[i].tour, valid));
-    const ShortcutValidation check = check_shortcut_tour(graphs[i], positions[i], 0, targets, out.back(), valid);
+    out.push_back(planning::shortcut_tour(graphs[i], positions[i], targets, tours[i].tour, valid));
+    const planning::ShortcutValidation check =
+        planning::check_shortcut_tour(graphs[i], positions[i], 0, targets, out.back(), valid);
     if (!check.valid()) throw std::runtime_error("a shortcut tour failed its check: " + check.problem);
   }
   return out;
 }
 
 // For each method (the first kPlotted), its shortcut tour over the best other method's.
-std::vector<double> over_best_other(const std::vector<ShortcutTour>& shortcuts) {
+std::vector<double> over_best_other(const std::vector<planning::ShortcutTour>& shortcuts) {
   std::vector<double> ratio;
   for (std::size_t i = 0; i < kPlotted; ++i) {
     double best = INFINITY;
@@ -140,7 +142,7 @@ std::string summary_row(const std::string& scene, double targets, std::size_t m,
 int run_experiment_anytime(const ExperimentOptions& options) {
   if (options.replot) {
     if (options.csv.empty() || options.png.empty()) {
-      throw InputError("experiment anytime", "--replot", "needs --csv (to read) and --png (to write)");
+      throw params::InputError("experiment anytime", "--replot", "needs --csv (to read) and --png (to write)");
     }
     plot(options.csv, options.png, "replotted from " + options.csv);
     return 0;
@@ -172,7 +174,8 @@ int run_experiment_anytime(const ExperimentOptions& options) {
   per_seed << '\n';
   std::size_t capped = 0;
   for (const PaperSetting& ps : paper_settings()) {
-    const SceneConfig base = parse_scene_config(options.scenes_dir + "/" + ps.scene + ".yaml");
+    const scene_files::SceneConfig base =
+        scene_files::parse_scene_config(options.scenes_dir + "/" + ps.scene + ".yaml");
     const double delta = calibrate_delta(base, ps.samples, ps.degree, options.threads);
     std::map<std::string, Runs> runs;
     std::vector<double> target_counts, dropped;
@@ -180,19 +183,19 @@ int run_experiment_anytime(const ExperimentOptions& options) {
     // The first `seeds` seeds whose roadmaps share a target; at most 3x as many are tried.
     std::vector<std::uint64_t> used, skipped;
     for (std::uint64_t seed = 1; used.size() < options.seeds && seed <= 3 * options.seeds; ++seed) {
-      const Scene scene = Scene::build(scene_variant(base, ps.pois, seed, delta));
-      BuildOptions build;
+      const planning::Scene scene = planning::Scene::build(scene_variant(base, ps.pois, seed, delta));
+      planning::BuildOptions build;
       build.seed = seed;
       build.threads = options.threads;
-      SparsBuilder stretch(scene, build, SparsRules::for_variant(SparsVariant::stretch, true));
-      SparsBuilder alg1(scene, build, SparsRules::for_variant(SparsVariant::alg1, true));
-      IriscBuilder irisc(scene, build);
+      planning::SparsBuilder stretch(scene, build, planning::SparsRules::for_variant(SparsVariant::stretch, true));
+      planning::SparsBuilder alg1(scene, build, planning::SparsRules::for_variant(SparsVariant::alg1, true));
+      planning::IriscBuilder irisc(scene, build);
       stretch.extend(ps.samples);
       alg1.extend(ps.samples);
       irisc.extend(ps.samples);
       // Dense-wide: the same sample stream, joined within 2 Delta = 3 delta (a sparse edge's reach).
-      const Scene wide_scene = Scene::build(scene_variant(base, ps.pois, seed, 3.0 * delta));
-      DenseBuilder wide(wide_scene, build);
+      const planning::Scene wide_scene = planning::Scene::build(scene_variant(base, ps.pois, seed, 3.0 * delta));
+      planning::DenseBuilder wide(wide_scene, build);
       wide.extend(ps.samples);
       const Roadmap& dense = *stretch.dense();  // both sparse builders drew the same G_d
       const std::vector<InspectionGraph> graphs{
@@ -206,9 +209,9 @@ int run_experiment_anytime(const ExperimentOptions& options) {
                                                          dense.positions()};
       std::vector<double> violations(graphs.size(), 0.0);
       violations[1] = static_cast<double>(
-          verify_sparse_pair(scene, stretch.roadmap(), dense, stretch.dense_ids()).invariant_violations);
-      violations[2] =
-          static_cast<double>(verify_sparse_pair(scene, alg1.roadmap(), dense, alg1.dense_ids()).invariant_violations);
+          planning::verify_sparse_pair(scene, stretch.roadmap(), dense, stretch.dense_ids()).invariant_violations);
+      violations[2] = static_cast<double>(
+          planning::verify_sparse_pair(scene, alg1.roadmap(), dense, alg1.dense_ids()).invariant_violations);
       std::vector<const InspectionGraph*> pointers;
       for (const InspectionGraph& g : graphs) pointers.push_back(&g);
       // I_t: the paper's (over the roadmaps proper), less the few POIs that Dense's root
@@ -226,18 +229,18 @@ int run_experiment_anytime(const ExperimentOptions& options) {
       used.push_back(seed);
       dropped.push_back(static_cast<double>(paper_targets - common.size()));
       target_counts.push_back(static_cast<double>(common.size()));
-      const std::vector<GipResult> tours = solve_each(pointers, common, seed, work);
-      const std::vector<ShortcutTour> shortcuts = shortcut_each(graphs, positions, common, tours, scene);
+      const std::vector<planning::GipResult> tours = solve_each(pointers, common, seed, work);
+      const std::vector<planning::ShortcutTour> shortcuts = shortcut_each(graphs, positions, common, tours, scene);
       const std::vector<double> shortcut_ratio = over_best_other(shortcuts);
       // The proven LP bound of the four roadmaps, on the same targets: it tells "the search got
       // stuck" (a gap) from "the roadmap holds no better tour" (none).
-      const std::vector<TourBoundResult> bounds =
+      const std::vector<planning::TourBoundResult> bounds =
           options.bound_seconds > 0.0 ? bound_each(std::span<const InspectionGraph* const>(pointers.data(), kPlotted),
                                                    common, options.bound_seconds, work.jobs)
-                                      : std::vector<TourBoundResult>(kPlotted);
+                                      : std::vector<planning::TourBoundResult>(kPlotted);
       per_seed << fmt::format("| {} | {} | {} |", ps.scene, seed, common.size());
       for (std::size_t i = 0; i < graphs.size(); ++i) {
-        const GipResult& r = tours[i];
+        const planning::GipResult& r = tours[i];
         capped += hit_time_cap(r, work);
         Runs& run = runs[roadmap_names()[i]];
         run.traces.push_back(r.trace);

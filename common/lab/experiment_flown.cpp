@@ -44,21 +44,21 @@ std::map<std::pair<std::string, std::uint64_t>, double> wide_tours_from(const st
   std::map<std::pair<std::string, std::uint64_t>, double> out;
   if (path.empty()) return out;
   std::ifstream in(path);
-  if (!in) throw InputError(path, "--wide-from", "cannot read it");
+  if (!in) throw params::InputError(path, "--wide-from", "cannot read it");
   nlohmann::json runs;
   std::string line;
   while (std::getline(in, line)) {  // the JSON is the output's last line
     if (!line.empty() && line.front() == '{') runs = nlohmann::json::parse(line, nullptr, false);
   }
   if (!runs.is_object() || !runs.contains("runs")) {
-    throw InputError(path, "--wide-from", "holds no experiment flown --json output");
+    throw params::InputError(path, "--wide-from", "holds no experiment flown --json output");
   }
   for (const auto& r : runs["runs"]) {
     if (r.value("row", "") != "dense-wide") continue;
     if (r.value("iterations", std::uint64_t{0}) != iterations) {
-      throw InputError(path, "--wide-from",
-                       fmt::format("{} seed {}: dense-wide ran {} iterations, not {}", r.value("scene", ""),
-                                   r.value("seed", 0), r.value("iterations", 0), iterations));
+      throw params::InputError(path, "--wide-from",
+                               fmt::format("{} seed {}: dense-wide ran {} iterations, not {}", r.value("scene", ""),
+                                           r.value("seed", 0), r.value("iterations", 0), iterations));
     }
     out[{r.at("scene").get<std::string>(), r.at("seed").get<std::uint64_t>()}] = r.at("shortcut_cost").get<double>();
   }
@@ -87,8 +87,8 @@ int run_experiment_flown(const ExperimentOptions& options) {
   for (const std::string& name : options.rows) {
     const auto& names = flown_row_names();
     if (std::find(names.begin(), names.end(), name) == names.end()) {
-      throw InputError("experiment flown", "--rows",
-                       fmt::format("no row '{}' (rows: {})", name, fmt::join(names, ", ")));
+      throw params::InputError("experiment flown", "--rows",
+                               fmt::format("no row '{}' (rows: {})", name, fmt::join(names, ", ")));
     }
   }
   const auto earlier_wide = wide_tours_from(options.wide_from, options.iterations);
@@ -107,7 +107,8 @@ int run_experiment_flown(const ExperimentOptions& options) {
         std::find(options.only_scenes.begin(), options.only_scenes.end(), ps.scene) == options.only_scenes.end()) {
       continue;
     }
-    const SceneConfig base = parse_scene_config(options.scenes_dir + "/" + ps.scene + ".yaml");
+    const scene_files::SceneConfig base =
+        scene_files::parse_scene_config(options.scenes_dir + "/" + ps.scene + ".yaml");
     const double delta = calibrate_delta(base, ps.samples, ps.degree, options.threads);
     std::map<std::string, RowRuns> runs;
     std::map<double, std::pair<std::vector<double>, std::vector<double>>> timed;  // budget -> flown, wide

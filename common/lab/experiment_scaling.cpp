@@ -51,7 +51,8 @@ void write_plot(const std::string& data, const std::string& png, const std::stri
 int run_experiment_scaling(const ExperimentOptions& options) {
   const std::vector<BuildMethod> methods{BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars,
                                          BuildMethod::irisc};
-  const SceneConfig base = parse_scene_config(options.scenes_dir + "/" + options.scene + ".yaml");
+  const scene_files::SceneConfig base =
+      scene_files::parse_scene_config(options.scenes_dir + "/" + options.scene + ".yaml");
   // Calibrated as in the paper's density: the water tower's Dense mean degree 7.36 at N = 4000.
   const double delta =
       options.delta > 0.0 ? options.delta : calibrate_delta(base, 4000, 2.0 * 14474 / 3933, options.threads);
@@ -62,14 +63,14 @@ int run_experiment_scaling(const ExperimentOptions& options) {
   // (method, N) -> per-seed values of each column
   std::map<std::pair<int, std::size_t>, std::vector<std::array<double, 5>>> table;
   for (std::uint64_t seed = 1; seed <= options.seeds; ++seed) {
-    const Scene scene = Scene::build(scene_variant(base, options.pois, seed, delta));
+    const planning::Scene scene = planning::Scene::build(scene_variant(base, options.pois, seed, delta));
     for (const BuildMethod m : methods) {
-      BuildOptions build;
+      planning::BuildOptions build;
       build.seed = seed;
       build.threads = options.threads;
-      const CheckCounts start = scene.counts();
+      const planning::CheckCounts start = scene.counts();
       const double t0 = now_seconds();
-      const auto builder = make_roadmap_builder(m, scene, build);
+      const auto builder = planning::make_roadmap_builder(m, scene, build);
       for (const std::size_t n : marks) {
         builder->extend(n - builder->samples());
         const RunFigures f = figures_of(*builder, scene.counts() - start, now_seconds() - t0);
@@ -107,7 +108,7 @@ int run_experiment_scaling(const ExperimentOptions& options) {
 
   if (!options.csv.empty()) {
     std::ofstream out(options.csv);
-    if (!out) throw InputError(options.csv, "--csv", "cannot open for writing");
+    if (!out) throw params::InputError(options.csv, "--csv", "cannot open for writing");
     out << csv;
     std::ofstream(options.csv + ".summary")
         << "# method blocks: N, mean sd of |V|, |E|, POIs covered (root), checks, seconds\n"

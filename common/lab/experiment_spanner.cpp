@@ -15,10 +15,10 @@
 #include "commands.hpp"
 #include "experiment_support.hpp"
 #include "flags.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
-#include "ispars/builders/spars_builder.hpp"
 #include "ispars/params/input_error.hpp"
-#include "ispars/search/graph_search.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
+#include "ispars/planning/search/graph_search.hpp"
 #include "timing.hpp"
 #include "tour_support.hpp"
 
@@ -31,7 +31,7 @@ struct RandomPairs {
 };
 
 // SPARS's general bound on random pairs of dense vertices in the root's component.
-RandomPairs random_pairs(const SparsBuilder& b, std::size_t pairs, std::uint64_t seed) {
+RandomPairs random_pairs(const planning::SparsBuilder& b, std::size_t pairs, std::uint64_t seed) {
   const Roadmap& dense = *b.dense();
   const Roadmap& sparse = b.roadmap();
   std::vector<VertexId> rooted;
@@ -40,19 +40,19 @@ RandomPairs random_pairs(const SparsBuilder& b, std::size_t pairs, std::uint64_t
   }
   RandomPairs r;
   if (rooted.size() < 2) return r;
-  Rng rng(seed);
+  scene_files::Rng rng(seed);
   std::vector<double> ratios;
   for (std::size_t i = 0; i < pairs; ++i) {
     const VertexId a = rooted[rng.below(rooted.size())];
     VertexId c = a;
     while (c == a) c = rooted[rng.below(rooted.size())];
-    const double dd = shortest_distances(dense, a)[c];
+    const double dd = planning::shortest_distances(dense, a)[c];
     const VertexId ra = b.representative(a);
     const VertexId rc = b.representative(c);
-    const double ds = ra == kNoVertex || rc == kNoVertex
-                          ? INFINITY
-                          : (dense.position(a) - sparse.position(ra)).norm() + shortest_distances(sparse, ra)[rc] +
-                                (sparse.position(rc) - dense.position(c)).norm();
+    const double ds = ra == kNoVertex || rc == kNoVertex ? INFINITY
+                                                         : (dense.position(a) - sparse.position(ra)).norm() +
+                                                               planning::shortest_distances(sparse, ra)[rc] +
+                                                               (sparse.position(rc) - dense.position(c)).norm();
     if (!std::isfinite(ds)) {
       ++r.disconnected;
       continue;
@@ -71,15 +71,16 @@ RandomPairs random_pairs(const SparsBuilder& b, std::size_t pairs, std::uint64_t
 // A rule set by name: "spars" is SPARS itself (Alg. 1 without its inspection test); anything
 // else as `experiment ablation` reads it (stretch, alg1, stretch+shortcut, ...), with the
 // inspection test.
-SparsRules spanner_rules(const std::string& name) {
-  if (name == "spars") return SparsRules::for_variant(SparsVariant::alg1, false);
+planning::SparsRules spanner_rules(const std::string& name) {
+  if (name == "spars") return planning::SparsRules::for_variant(SparsVariant::alg1, false);
   return parse_rule_set(name, "--variants");
 }
 
 }  // namespace
 
 int run_experiment_spanner(const ExperimentOptions& options) {
-  const SceneConfig base = parse_scene_config(options.scenes_dir + "/" + options.scene + ".yaml");
+  const scene_files::SceneConfig base =
+      scene_files::parse_scene_config(options.scenes_dir + "/" + options.scene + ".yaml");
   std::size_t samples = options.samples;
   std::size_t pois = options.pois;
   double delta = options.delta;
@@ -89,8 +90,9 @@ int run_experiment_spanner(const ExperimentOptions& options) {
     if (pois == 0) pois = paper.pois;
     if (delta == 0.0) delta = calibrate_delta(base, samples, paper.degree, options.threads);
   }
-  if (samples == 0) throw InputError("experiment spanner", "--samples", "give N, or --calibrate for the paper's N");
-  const Scene scene = Scene::build(scene_variant(base, pois, options.build_seed, delta));
+  if (samples == 0)
+    throw params::InputError("experiment spanner", "--samples", "give N, or --calibrate for the paper's N");
+  const planning::Scene scene = planning::Scene::build(scene_variant(base, pois, options.build_seed, delta));
   const double t = scene.config().stretch;
   const double big_delta = scene.config().sparse_delta;
   std::cout << fmt::format("# Route quality on {} (N = {}, K = {}, delta {:.3f}, Delta {:.3f}, t {}, seed {})\n",
@@ -99,23 +101,25 @@ int run_experiment_spanner(const ExperimentOptions& options) {
 
   nlohmann::json results = nlohmann::json::array();
   for (const std::string& name : options.variants) {
-    const SparsRules rules = spanner_rules(name);
-    BuildOptions build;
+    const planning::SparsRules rules = spanner_rules(name);
+    planning::BuildOptions build;
     build.seed = options.build_seed;
     build.threads = options.threads;
     const double t0 = now_seconds();
-    SparsBuilder builder(scene, build, rules);
+    planning::SparsBuilder builder(scene, build, rules);
     builder.extend(samples);
     const double seconds = now_seconds() - t0;
     const Roadmap& sparse = builder.roadmap();
     const Roadmap& dense = *builder.dense();
-    RouteStretchOptions ro;
+    planning::RouteStretchOptions ro;
     ro.big_delta = big_delta;
     ro.stretch = t;
     ro.max_sources = options.max_sources;
-    const RouteStretchReport stretch = measure_route_stretch(scene, sparse, dense, builder.dense_ids(), ro);
+    const planning::RouteStretchReport stretch =
+        planning::measure_route_stretch(scene, sparse, dense, builder.dense_ids(), ro);
     const RandomPairs rp = random_pairs(builder, options.pairs, options.seeds);
-    const VerificationReport verified = verify_sparse_pair(scene, sparse, dense, builder.dense_ids());
+    const planning::VerificationReport verified =
+        planning::verify_sparse_pair(scene, sparse, dense, builder.dense_ids());
 
     nlohmann::json r = to_json(builder.admissions());
     r["variant"] = name;

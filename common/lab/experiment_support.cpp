@@ -43,8 +43,9 @@ std::string mean_sd_cell(const std::vector<double>& values, int decimals) {
   return fmt::format("{:.{}f} +- {:.{}f}", m.mean, decimals, m.sd, decimals);
 }
 
-SceneConfig scene_variant(const SceneConfig& base, std::size_t pois, std::uint64_t poi_seed, double delta) {
-  SceneConfig c = base;
+scene_files::SceneConfig scene_variant(const scene_files::SceneConfig& base, std::size_t pois, std::uint64_t poi_seed,
+                                       double delta) {
+  scene_files::SceneConfig c = base;
   if (pois > 0) {
     c.pois.count = pois;
     c.pois.seed = poi_seed;
@@ -57,20 +58,21 @@ SceneConfig scene_variant(const SceneConfig& base, std::size_t pois, std::uint64
   return c;
 }
 
-double dense_mean_degree(const Scene& scene, std::size_t samples, unsigned threads) {
-  BuildOptions options;
+double dense_mean_degree(const planning::Scene& scene, std::size_t samples, unsigned threads) {
+  planning::BuildOptions options;
   options.seed = 1;
   options.threads = threads;
-  const auto builder = make_roadmap_builder(BuildMethod::dense, scene, options);
+  const auto builder = planning::make_roadmap_builder(BuildMethod::dense, scene, options);
   builder->extend(samples);
   const Roadmap& g = builder->roadmap();
   return 2.0 * static_cast<double>(g.edge_count()) / static_cast<double>(g.vertex_count());
 }
 
-double calibrate_delta(const SceneConfig& base, std::size_t samples, double target_degree, unsigned threads) {
+double calibrate_delta(const scene_files::SceneConfig& base, std::size_t samples, double target_degree,
+                       unsigned threads) {
   // POIs do not change the dense graph: use one, to keep chi(q) cheap.
   const auto degree_at = [&](double delta) {
-    return dense_mean_degree(Scene::build(scene_variant(base, 1, 1, delta)), samples, threads);
+    return dense_mean_degree(planning::Scene::build(scene_variant(base, 1, 1, delta)), samples, threads);
   };
   // Bracket by steps of 1.25 from the scene's own delta (cheap: evaluations stay near the
   // answer; a much larger delta makes a very dense, slow graph), then bisect geometrically.
@@ -96,7 +98,7 @@ double calibrate_delta(const SceneConfig& base, std::size_t samples, double targ
   return std::sqrt(lo * hi);
 }
 
-RunFigures figures_of(const RoadmapBuilder& builder, const CheckCounts& checks, double seconds) {
+RunFigures figures_of(const planning::RoadmapBuilder& builder, const planning::CheckCounts& checks, double seconds) {
   RunFigures f;
   const Roadmap& g = builder.roadmap();
   f.vertices = g.vertex_count();
@@ -114,7 +116,7 @@ RunFigures figures_of(const RoadmapBuilder& builder, const CheckCounts& checks, 
   return f;
 }
 
-nlohmann::json to_json(const SparsAdmissions& a) {
+nlohmann::json to_json(const planning::SparsAdmissions& a) {
   return {{"admissions",
            {{"guard", a.guard},
             {"bridge", a.bridge},
@@ -137,7 +139,7 @@ nlohmann::json to_json(const SparsAdmissions& a) {
 
 namespace {
 
-nlohmann::json stats_json(const StretchStats& s) {
+nlohmann::json stats_json(const planning::StretchStats& s) {
   const auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json("inf"); };
   return {{"pairs", s.pairs},
           {"disconnected", s.disconnected},
@@ -149,14 +151,14 @@ nlohmann::json stats_json(const StretchStats& s) {
           {"max_excess_Delta", number(s.max_excess)}};
 }
 
-nlohmann::json bin_json(const StretchBin& b) {
+nlohmann::json bin_json(const planning::StretchBin& b) {
   return {{"from_Delta", b.from},
           {"to_Delta", std::isfinite(b.to) ? nlohmann::json(b.to) : nlohmann::json("inf")},
           {"vs_dense", stats_json(b.vs_dense)},
           {"vs_segment", stats_json(b.vs_segment)}};
 }
 
-std::string stats_text(const StretchStats& s) {
+std::string stats_text(const planning::StretchStats& s) {
   if (s.pairs == 0) return "no pairs";
   return fmt::format(
       "{} pairs, median {:.3f}, p95 {:.3f}, p99 {:.3f}, max {:.3f}, {:.1f}% > t, "
@@ -167,9 +169,9 @@ std::string stats_text(const StretchStats& s) {
 
 }  // namespace
 
-nlohmann::json to_json(const RouteStretchReport& r) {
+nlohmann::json to_json(const planning::RouteStretchReport& r) {
   nlohmann::json bins = nlohmann::json::array();
-  for (const StretchBin& b : r.bins) bins.push_back(bin_json(b));
+  for (const planning::StretchBin& b : r.bins) bins.push_back(bin_json(b));
   return {{"viewpoints", r.viewpoints},
           {"sources", r.sources},
           {"bins", bins},
@@ -178,15 +180,15 @@ nlohmann::json to_json(const RouteStretchReport& r) {
           {"all", bin_json(r.all)}};
 }
 
-std::string stretch_lines(const RouteStretchReport& r) {
+std::string stretch_lines(const planning::RouteStretchReport& r) {
   std::string out;
-  const auto line = [&](const StretchBin& b) {
+  const auto line = [&](const planning::StretchBin& b) {
     const std::string range = std::isfinite(b.to) ? fmt::format("[{:.0f},{:.0f}) Delta", b.from, b.to)
                                                   : fmt::format("[{:.0f},inf) Delta", b.from);
     out += fmt::format("  {:<14} d_s/d_dense: {}\n  {:<14} d_s/|x-x'|:  {}\n", range, stats_text(b.vs_dense), "",
                        stats_text(b.vs_segment));
   };
-  for (const StretchBin& b : r.bins) line(b);
+  for (const planning::StretchBin& b : r.bins) line(b);
   line(r.within_3_delta);
   line(r.beyond_3_delta);
   line(r.all);
@@ -205,8 +207,8 @@ const PaperSetting& paper_setting(const std::string& scene) {
   for (const PaperSetting& s : paper_settings()) {
     if (scene == s.scene) return s;
   }
-  throw InputError("experiment", "--scene",
-                   "the paper's setting is known for water_tower, truss_bridge and caric_city only");
+  throw params::InputError("experiment", "--scene",
+                           "the paper's setting is known for water_tower, truss_bridge and caric_city only");
 }
 
 }  // namespace ispars::lab

@@ -11,7 +11,7 @@
 #include "commands.hpp"
 #include "experiment_support.hpp"
 #include "flags.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
 
@@ -81,7 +81,7 @@ int run_experiment_table(const ExperimentOptions& options) {
   std::cout << fmt::format("# Table II, reproduced ({} seeds; command: ispars-lab experiment table --seeds {})\n\n",
                            options.seeds, options.seeds);
   for (const TableScene& ts : table_scenes()) {
-    const SceneConfig base = parse_scene_config(options.scenes_dir + "/" + ts.name + ".yaml");
+    const scene_files::SceneConfig base = scene_files::parse_scene_config(options.scenes_dir + "/" + ts.name + ".yaml");
     const double calibrated = calibrate_delta(base, ts.samples, ts.paper_degree, options.threads);
     std::cout << fmt::format("## {} (N = {}, K = {})\n\n", ts.name, ts.samples, ts.pois);
     std::cout << fmt::format(
@@ -95,22 +95,22 @@ int run_experiment_table(const ExperimentOptions& options) {
       std::map<std::string, std::vector<RunFigures>> runs;
       std::map<std::string, std::vector<double>> violations;
       for (std::uint64_t seed = 1; seed <= options.seeds; ++seed) {
-        const Scene narrow = Scene::build(scene_variant(base, ts.pois, seed, delta));
-        const Scene wide = Scene::build(scene_variant(base, ts.pois, seed, 3.0 * delta));
+        const planning::Scene narrow = planning::Scene::build(scene_variant(base, ts.pois, seed, delta));
+        const planning::Scene wide = planning::Scene::build(scene_variant(base, ts.pois, seed, 3.0 * delta));
         for (const TableMethod& m : methods) {
-          const Scene& scene = m.wide ? wide : narrow;
-          BuildOptions build;
+          const planning::Scene& scene = m.wide ? wide : narrow;
+          planning::BuildOptions build;
           build.seed = seed;
           build.threads = options.threads;
           build.variant = m.variant;
-          const CheckCounts before = scene.counts();
+          const planning::CheckCounts before = scene.counts();
           const double t0 = now_seconds();
-          const auto builder = make_roadmap_builder(m.method, scene, build);
+          const auto builder = planning::make_roadmap_builder(m.method, scene, build);
           builder->extend(ts.samples);
           runs[m.name].push_back(figures_of(*builder, scene.counts() - before, now_seconds() - t0));
           if (builder->dense() != nullptr) {
             violations[m.name].push_back(static_cast<double>(
-                verify_sparse_pair(scene, builder->roadmap(), *builder->dense(), builder->dense_ids())
+                planning::verify_sparse_pair(scene, builder->roadmap(), *builder->dense(), builder->dense_ids())
                     .invariant_violations));
           }
         }

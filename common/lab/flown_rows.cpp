@@ -17,13 +17,13 @@ struct RowInput {
   std::span<const Vec3> positions;
   bool corridor = false;
   bool refine = false;
-  CorridorSource source = CorridorSource::fresh;
+  planning::CorridorSource source = planning::CorridorSource::fresh;
   std::span<const Vec3> samples = {};  // with CorridorSource::samples
 };
 
-FlownTourOptions row_options(const RowInput& in, const std::vector<PoiId>& targets, const SolverWork& work,
-                             std::uint64_t seed, std::size_t samples) {
-  FlownTourOptions o;
+planning::FlownTourOptions row_options(const RowInput& in, const std::vector<PoiId>& targets, const SolverWork& work,
+                                       std::uint64_t seed, std::size_t samples) {
+  planning::FlownTourOptions o;
   o.search.targets = targets;
   o.search.max_iterations = work.iterations;
   o.search.budget_seconds = work.cap_seconds;
@@ -49,7 +49,8 @@ FlownRow run_row(const SeedRoadmaps& roadmaps, const RowInput& in, const std::ve
   row.targets = targets.size();
   row.targets_lost = common.size() - targets.size();
   const auto start = std::chrono::steady_clock::now();
-  row.tour = fly_tour(roadmaps.scene, in.graph, in.positions, row_options(in, targets, work, seed, roadmaps.samples));
+  row.tour = planning::fly_tour(roadmaps.scene, in.graph, in.positions,
+                                row_options(in, targets, work, seed, roadmaps.samples));
   row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!row.tour.check.valid()) {
     throw std::runtime_error(fmt::format("{}: the flown tour failed its check: {}", in.name, row.tour.check.problem));
@@ -72,30 +73,31 @@ std::vector<RowInput> row_inputs(const SeedRoadmaps& r) {
   // The corridor from the build's own samples: the dense pair's vertices (ispars), or the seed's
   // stream drawn again (ispars2, whose sparse roadmap is ispars's byte for byte).
   rows.push_back({"ispars-flown/dense-samples", InspectionGraph::from_roadmap(ispars), ispars.positions(), true, true,
-                  CorridorSource::samples, r.ispars->dense()->positions()});
+                  planning::CorridorSource::samples, r.ispars->dense()->positions()});
   rows.push_back({"ispars-flown/stream", InspectionGraph::from_roadmap(ispars), ispars.positions(), true, true,
-                  CorridorSource::stream});
+                  planning::CorridorSource::stream});
   return rows;
 }
 
 }  // namespace
 
-SeedRoadmaps build_seed_roadmaps(const SceneConfig& base, const PaperSetting& ps, std::uint64_t seed, double delta,
-                                 unsigned threads) {
-  SeedRoadmaps r{Scene::build(scene_variant(base, ps.pois, seed, delta)),
-                 Scene::build(scene_variant(base, ps.pois, seed, 3.0 * delta)),
+SeedRoadmaps build_seed_roadmaps(const scene_files::SceneConfig& base, const PaperSetting& ps, std::uint64_t seed,
+                                 double delta, unsigned threads) {
+  SeedRoadmaps r{planning::Scene::build(scene_variant(base, ps.pois, seed, delta)),
+                 planning::Scene::build(scene_variant(base, ps.pois, seed, 3.0 * delta)),
                  nullptr,
                  nullptr,
                  nullptr,
                  ps.samples};
-  BuildOptions build;
+  planning::BuildOptions build;
   build.seed = seed;
   build.threads = threads;
-  r.ispars = std::make_unique<SparsBuilder>(r.scene, build, SparsRules::for_variant(SparsVariant::stretch, true));
+  r.ispars = std::make_unique<planning::SparsBuilder>(r.scene, build,
+                                                      planning::SparsRules::for_variant(SparsVariant::stretch, true));
   r.ispars->extend(ps.samples);
-  r.wide = std::make_unique<DenseBuilder>(r.wide_scene, build);
+  r.wide = std::make_unique<planning::DenseBuilder>(r.wide_scene, build);
   r.wide->extend(ps.samples);
-  r.random = std::make_unique<DenseBuilder>(r.wide_scene, build);
+  r.random = std::make_unique<planning::DenseBuilder>(r.wide_scene, build);
   const std::size_t wanted = r.ispars->roadmap().vertex_count();
   while (r.random->roadmap().vertex_count() < wanted) r.random->extend(1);
   return r;
@@ -139,9 +141,9 @@ std::pair<double, double> equal_time(const SeedRoadmaps& roadmaps, double budget
   const std::size_t which[2] = {kFlownRow, kDenseWideRow};
   run_jobs(2, 2, [&](std::size_t k) {
     const RowInput& in = inputs[which[k]];
-    FlownTourOptions o = row_options(in, common, SolverWork{0, budget, 1}, seed, roadmaps.samples);
+    planning::FlownTourOptions o = row_options(in, common, SolverWork{0, budget, 1}, seed, roadmaps.samples);
     try {
-      cost[k] = fly_tour(roadmaps.scene, in.graph, in.positions, o).cost;
+      cost[k] = planning::fly_tour(roadmaps.scene, in.graph, in.positions, o).cost;
     } catch (const std::runtime_error&) {
       // no tour within the budget: NaN
     }
@@ -178,7 +180,7 @@ std::string equal_time_row(const std::string& scene, double budget, const std::v
 
 nlohmann::json row_json(const std::string& scene, std::uint64_t seed, const FlownRow& row) {
   nlohmann::json stages = nlohmann::json::array();
-  for (const FlownStage& s : row.tour.stages)
+  for (const planning::FlownStage& s : row.tour.stages)
     stages.push_back({{"stage", s.name}, {"cost", s.cost}, {"seconds", s.seconds}});
   return {{"scene", scene},
           {"seed", seed},

@@ -12,27 +12,27 @@
 #include <nlohmann/json.hpp>
 
 #include "experiment_support.hpp"
-#include "ispars/builders/dense_builder.hpp"
-#include "ispars/builders/spars_builder.hpp"
-#include "ispars/scene/scene.hpp"
-#include "ispars/tour/flown_tour.hpp"
+#include "ispars/planning/builders/dense_builder.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
+#include "ispars/planning/scene/scene.hpp"
+#include "ispars/planning/tour/flown_tour.hpp"
 #include "tour_support.hpp"
 
 namespace ispars::lab {
 
 /// The roadmaps of one seed, calibrated as Table II.
 struct SeedRoadmaps {
-  Scene scene;                           ///< delta calibrated, Delta = 1.5 delta: Inspection-SPARS's
-  Scene wide_scene;                      ///< the same with delta = 2 Delta: Dense-wide's (the same geometry and POIs)
-  std::unique_ptr<SparsBuilder> ispars;  ///< the default rules
-  std::unique_ptr<DenseBuilder> wide;    ///< the same stream joined within 2 Delta
-  std::unique_ptr<DenseBuilder> random;  ///< the stream's first samples joined within 2 Delta, |V| = ispars's
-  std::size_t samples = 0;               ///< N
+  planning::Scene scene;       ///< delta calibrated, Delta = 1.5 delta: Inspection-SPARS's
+  planning::Scene wide_scene;  ///< the same with delta = 2 Delta: Dense-wide's (the same geometry and POIs)
+  std::unique_ptr<planning::SparsBuilder> ispars;  ///< the default rules
+  std::unique_ptr<planning::DenseBuilder> wide;    ///< the same stream joined within 2 Delta
+  std::unique_ptr<planning::DenseBuilder> random;  ///< the stream's first samples joined within 2 Delta, |V| = ispars's
+  std::size_t samples = 0;                         ///< N
 };
 
 /// Builds the roadmaps of `seed` for the paper's setting `ps` with the calibrated `delta`.
-[[nodiscard]] SeedRoadmaps build_seed_roadmaps(const SceneConfig& base, const PaperSetting& ps, std::uint64_t seed,
-                                               double delta, unsigned threads);
+[[nodiscard]] SeedRoadmaps build_seed_roadmaps(const scene_files::SceneConfig& base, const PaperSetting& ps,
+                                               std::uint64_t seed, double delta, unsigned threads);
 
 /// One row: a roadmap's tour through the pipeline.
 struct FlownRow {
@@ -40,7 +40,7 @@ struct FlownRow {
   std::size_t vertices = 0;      ///< Of the roadmap.
   std::size_t targets = 0;       ///< Targets toured.
   std::size_t targets_lost = 0;  ///< Of the common targets, those this roadmap does not reach.
-  FlownTour tour;
+  planning::FlownTour tour;
   double seconds = 0.0;  ///< The pipeline's wall time.
 };
 

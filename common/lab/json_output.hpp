@@ -3,7 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ispars/geometry/check_counters.hpp"
+#include "ispars/planning/geometry/check_counters.hpp"
 #include "ispars/roadmap/vec.hpp"
 
 namespace ispars::lab {
@@ -12,7 +12,7 @@ inline nlohmann::json to_json(const Vec3& p) { return nlohmann::json::array({p.x
 
 inline nlohmann::json to_json(const Aabb& box) { return {{"min", to_json(box.min)}, {"max", to_json(box.max)}}; }
 
-inline nlohmann::json to_json(const CheckCounts& c) {
+inline nlohmann::json to_json(const planning::CheckCounts& c) {
   return {{"point", c.point}, {"segment", c.segment}, {"rays", c.rays}};
 }
 

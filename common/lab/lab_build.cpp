@@ -17,13 +17,14 @@ void add_request_flags(CLI::App& command, std::string& method, std::string& vari
   params::add_flags(command, request.overrides);
 }
 
-LabBuild make_lab_build(const Scene& base, std::string_view method, std::string_view variant, BuildRequest request,
-                        unsigned threads, std::string_view file) {
+LabBuild make_lab_build(const planning::Scene& base, std::string_view method, std::string_view variant,
+                        BuildRequest request, unsigned threads, std::string_view file) {
   set_method(request, method, variant, file);
   LabBuild build;
   build.recipe = make_recipe(base.config().name, base, request, file);
-  build.scene = std::make_unique<Scene>(recipe_scene(base, build.recipe, file));
-  build.builder = make_roadmap_builder(build.recipe.method, *build.scene, recipe_build_options(build.recipe, threads));
+  build.scene = std::make_unique<planning::Scene>(planning::recipe_scene(base, build.recipe, file));
+  build.builder = planning::make_roadmap_builder(build.recipe.method, *build.scene,
+                                                 planning::recipe_build_options(build.recipe, threads));
   return build;
 }
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "ispars/builders/recipe_builder.hpp"
+#include "ispars/planning/builders/recipe_builder.hpp"
 
 namespace ispars::lab {
 
@@ -21,13 +21,13 @@ void add_request_flags(CLI::App& command, std::string& method, std::string& vari
 /// stretch) and its builder.
 struct LabBuild {
   RoadmapRecipe recipe;
-  std::unique_ptr<Scene> scene;  ///< held by address: the builder refers to it
-  std::unique_ptr<RoadmapBuilder> builder;
+  std::unique_ptr<planning::Scene> scene;  ///< held by address: the builder refers to it
+  std::unique_ptr<planning::RoadmapBuilder> builder;
 };
 
 /// The build `request` (method and variant given by name) asks for on `base`, on `threads`
 /// threads. Throws InputError (file `file`) naming the first bad choice, as make_recipe does.
-[[nodiscard]] LabBuild make_lab_build(const Scene& base, std::string_view method, std::string_view variant,
+[[nodiscard]] LabBuild make_lab_build(const planning::Scene& base, std::string_view method, std::string_view variant,
                                       BuildRequest request, unsigned threads, std::string_view file);
 
 }  // namespace ispars::lab

@@ -75,7 +75,7 @@ int run(int argc, char** argv) {
   }
   try {
     return lab.run();
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     std::cerr << "ispars-lab: error: " << e.what() << '\n';
     return 2;
   } catch (const std::exception& e) {

@@ -12,16 +12,16 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/render/scene_render.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
-#include "ispars/scene/scene.hpp"
 
 namespace ispars::lab {
 namespace {
 
 Vec3 vec3_option(const std::vector<double>& v, const char* name) {
   if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
-    throw InputError("command line", name, "needs three finite numbers");
+    throw params::InputError("command line", name, "needs three finite numbers");
   }
   return {v[0], v[1], v[2]};
 }
@@ -30,21 +30,22 @@ Vec3 vec3_option(const std::vector<double>& v, const char* name) {
 // else its walk's "positions".
 std::vector<Vec3> read_tour_positions(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw InputError(path, "--tour", "cannot open for reading");
+  if (!in) throw params::InputError(path, "--tour", "cannot open for reading");
   nlohmann::json file;
   try {
     file = nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(path, "json", e.what());
+    throw params::InputError(path, "json", e.what());
   }
   const char* field = file.contains("path") && file["path"].is_array() && !file["path"].empty() ? "path" : "positions";
   if (!file.contains(field) || !file[field].is_array()) {
-    throw InputError(path, "positions", "missing (write the tour with ispars-lab tour --out from a roadmap file)");
+    throw params::InputError(path, "positions",
+                             "missing (write the tour with ispars-lab tour --out from a roadmap file)");
   }
   std::vector<Vec3> walk;
   for (const auto& p : file[field]) {
     if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number()) {
-      throw InputError(path, field, "each position must be three numbers");
+      throw params::InputError(path, field, "each position must be three numbers");
     }
     walk.emplace_back(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
   }
@@ -55,13 +56,13 @@ std::vector<Vec3> read_tour_positions(const std::string& path) {
 
 int run_render(const RenderCommandOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
-  const Scene scene = Scene::load(options.scene);
-  RenderRequest request;
+  const planning::Scene scene = planning::Scene::load(options.scene);
+  render::RenderRequest request;
   request.width = options.width;
   request.height = options.height;
   request.max_edges = options.max_edges;
   if (!options.eye.empty() || !options.target.empty()) {
-    Camera camera;
+    render::Camera camera;
     camera.eye = vec3_option(options.eye, "--eye");
     camera.target = vec3_option(options.target, "--target");
     camera.fov_degrees = options.fov;
@@ -76,7 +77,7 @@ int run_render(const RenderCommandOptions& options) {
   };
   if (!options.roadmap.empty()) {
     roadmap = read_roadmap_file_graph(options.roadmap, "roadmap");
-    request.roadmap = DrawnGraph{roadmap->positions, ends_of(roadmap->graph, roadmap_ends)};
+    request.roadmap = render::DrawnGraph{roadmap->positions, ends_of(roadmap->graph, roadmap_ends)};
     request.poi_seen.assign(scene.pois().size(), false);
     for (VertexId v = 0; v < roadmap->graph.vertex_count(); ++v) {
       for (const PoiId p : roadmap->graph.visible(v)) {
@@ -85,21 +86,21 @@ int run_render(const RenderCommandOptions& options) {
     }
     if (options.dense) {
       dense = read_roadmap_file_graph(options.roadmap, "dense");
-      request.dense = DrawnGraph{dense->positions, ends_of(dense->graph, dense_ends)};
+      request.dense = render::DrawnGraph{dense->positions, ends_of(dense->graph, dense_ends)};
     }
   } else if (options.dense) {
-    throw InputError("command line", "--dense", "needs --roadmap (the file holds the dense graph)");
+    throw params::InputError("command line", "--dense", "needs --roadmap (the file holds the dense graph)");
   }
   std::vector<Vec3> tour;
   if (!options.tour.empty()) tour = read_tour_positions(options.tour);
   request.tour = tour;
   const auto t1 = std::chrono::steady_clock::now();
-  const RenderResult result = render_scene(scene.mesh(), request);
+  const render::RenderResult result = render::render_scene(scene.mesh(), request);
   const auto t2 = std::chrono::steady_clock::now();
   try {
-    write_png(options.out, result.image);
+    render::write_png(options.out, result.image);
   } catch (const std::runtime_error& e) {
-    throw InputError(options.out, "--out", e.what());
+    throw params::InputError(options.out, "--out", e.what());
   }
   const double load_s = std::chrono::duration<double>(t1 - t0).count();
   const double render_s = std::chrono::duration<double>(t2 - t1).count();

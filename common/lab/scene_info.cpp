@@ -7,7 +7,7 @@
 
 #include "commands.hpp"
 #include "flags.hpp"
-#include "ispars/scene/scene.hpp"
+#include "ispars/planning/scene/scene.hpp"
 #include "json_output.hpp"
 #include "timing.hpp"
 
@@ -15,15 +15,15 @@ namespace ispars::lab {
 
 int run_scene_info(const SceneInfoOptions& options) {
   const double t0 = now_seconds();
-  const Scene scene = Scene::load(options.scene);
+  const planning::Scene scene = planning::Scene::load(options.scene);
   const double load_seconds = now_seconds() - t0;
-  const SceneConfig& config = scene.config();
+  const scene_files::SceneConfig& config = scene.config();
 
   const double root_distance = scene.collision().distance_to_surface(config.root);
   const std::vector<PoiId> root_chi = scene.visibility().visible_pois(config.root);
 
   // POIs seen from at least one of N random valid configurations.
-  Rng rng(options.seed);
+  scene_files::Rng rng(options.seed);
   std::vector<char> seen(scene.pois().size(), 0);
   std::vector<PoiId> chi;
   std::size_t draws = 0;

@@ -14,11 +14,11 @@
 #include "commands.hpp"
 #include "flags.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/scene/scene.hpp"
+#include "ispars/planning/tour/flown_tour.hpp"
+#include "ispars/planning/tour/gip_solver.hpp"
+#include "ispars/planning/tour/tour_shortcut.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
-#include "ispars/scene/scene.hpp"
-#include "ispars/tour/flown_tour.hpp"
-#include "ispars/tour/gip_solver.hpp"
-#include "ispars/tour/tour_shortcut.hpp"
 #include "json_output.hpp"
 
 namespace ispars::lab {
@@ -27,7 +27,7 @@ namespace {
 // POI ids, whitespace-separated; '#' starts a comment.
 std::vector<PoiId> read_targets(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw InputError(path, "--targets", "cannot open for reading");
+  if (!in) throw params::InputError(path, "--targets", "cannot open for reading");
   std::vector<PoiId> targets;
   std::string line;
   for (std::size_t number = 1; std::getline(in, line); ++number) {
@@ -42,35 +42,36 @@ std::vector<PoiId> read_targets(const std::string& path) {
         used = 0;
       }
       if (used != word.size() || word[0] == '-' || id > std::numeric_limits<PoiId>::max()) {
-        throw InputError(path, fmt::format("line {}", number), fmt::format("'{}' is not a POI id", word));
+        throw params::InputError(path, fmt::format("line {}", number), fmt::format("'{}' is not a POI id", word));
       }
       targets.push_back(static_cast<PoiId>(id));
     }
   }
-  if (targets.empty()) throw InputError(path, "--targets", "no POI id in the file");
+  if (targets.empty()) throw params::InputError(path, "--targets", "no POI id in the file");
   return targets;
 }
 
 // The daemon's pipeline (flown_tour.hpp) on the roadmap, when its scene is given.
-std::optional<FlownTour> fly_with_scene(const TourCommandOptions& options, const RoadmapFileGraph& input,
-                                        const GipOptions& search) {
+std::optional<planning::FlownTour> fly_with_scene(const TourCommandOptions& options, const RoadmapFileGraph& input,
+                                                  const planning::GipOptions& search) {
   if (options.scene.empty()) return std::nullopt;
-  const Scene scene = Scene::build(parse_scene_config(options.scene));
+  const planning::Scene scene = planning::Scene::build(scene_files::parse_scene_config(options.scene));
   if (input.positions.empty() || (input.positions[0] - scene.config().root).norm() > 1e-6) {
-    throw InputError(options.scene, "--scene",
-                     "its root is not the roadmap's root (vertex 0): not the roadmap's scene");
+    throw params::InputError(options.scene, "--scene",
+                             "its root is not the roadmap's root (vertex 0): not the roadmap's scene");
   }
-  FlownTourOptions flown;
+  planning::FlownTourOptions flown;
   flown.search = search;
   flown.build_samples = options.build_samples;
-  FlownTour t = fly_tour(scene, input.graph, input.positions, flown);
+  planning::FlownTour t = planning::fly_tour(scene, input.graph, input.positions, flown);
   if (!t.check.valid()) throw std::runtime_error("tour: the flown tour failed its check: " + t.check.problem);
   return t;
 }
 
-nlohmann::json stages_json(const std::vector<FlownStage>& stages) {
+nlohmann::json stages_json(const std::vector<planning::FlownStage>& stages) {
   nlohmann::json out = nlohmann::json::array();
-  for (const FlownStage& s : stages) out.push_back({{"stage", s.name}, {"cost", s.cost}, {"seconds", s.seconds}});
+  for (const planning::FlownStage& s : stages)
+    out.push_back({{"stage", s.name}, {"cost", s.cost}, {"seconds", s.seconds}});
   return out;
 }
 
@@ -80,10 +81,10 @@ namespace {
 
 RoadmapFileGraph read_tour_input(const TourCommandOptions& options) {
   if (options.roadmap.empty() == options.iris.empty()) {
-    throw InputError("tour", "input", "give either a roadmap file or --iris PREFIX");
+    throw params::InputError("tour", "input", "give either a roadmap file or --iris PREFIX");
   }
   if (!options.scene.empty() && !options.iris.empty()) {
-    throw InputError("tour", "--scene", "shortcuts need a roadmap file's positions; IRIS files have none");
+    throw params::InputError("tour", "--scene", "shortcuts need a roadmap file's positions; IRIS files have none");
   }
   RoadmapFileGraph input;
   if (!options.iris.empty()) {
@@ -95,8 +96,8 @@ RoadmapFileGraph read_tour_input(const TourCommandOptions& options) {
 }
 
 // The solver's options; with `live`, its progress shown on one line of stderr.
-GipOptions solver_options(const TourCommandOptions& options, bool live) {
-  GipOptions solve;
+planning::GipOptions solver_options(const TourCommandOptions& options, bool live) {
+  planning::GipOptions solve;
   solve.budget_seconds = options.budget;
   solve.seed = options.seed;
   solve.threads = options.threads;
@@ -122,15 +123,15 @@ GipOptions solver_options(const TourCommandOptions& options, bool live) {
 // What one tour run found, as the command reports it.
 struct TourRun {
   const RoadmapFileGraph& input;
-  const GipResult& r;
-  const std::optional<FlownTour>& flown;
+  const planning::GipResult& r;
+  const std::optional<planning::FlownTour>& flown;
   nlohmann::json trace = nlohmann::json::array();
 };
 
 nlohmann::json summary_json(const TourRun& run) {
-  const GipResult& r = run.r;
-  const std::optional<FlownTour>& flown = run.flown;
-  const ShortcutTour* shortcut = flown ? &flown->roadmap_shortcut : nullptr;
+  const planning::GipResult& r = run.r;
+  const std::optional<planning::FlownTour>& flown = run.flown;
+  const planning::ShortcutTour* shortcut = flown ? &flown->roadmap_shortcut : nullptr;
   nlohmann::json bound_trace = nlohmann::json::array();
   for (const auto& [t, b] : r.bound_trace) bound_trace.push_back({t, b});
   const nlohmann::json lower = r.lower_bound ? nlohmann::json(*r.lower_bound) : nlohmann::json();
@@ -167,7 +168,7 @@ nlohmann::json summary_json(const TourRun& run) {
 
 // The tour file (--out): the walk, and with positions what render draws.
 void write_tour_file(const std::string& out, const TourRun& run) {
-  const GipResult& r = run.r;
+  const planning::GipResult& r = run.r;
   nlohmann::json file = {{"cost", r.tour.cost},  {"walk", r.tour.walk},           {"covered", r.tour.covered},
                          {"targets", r.targets}, {"valid", r.validation.valid()}, {"trace", run.trace}};
   if (!run.input.positions.empty()) {
@@ -183,14 +184,14 @@ void write_tour_file(const std::string& out, const TourRun& run) {
     file["path"] = std::move(path);
   }
   std::ofstream f(out);
-  if (!f) throw InputError(out, "--out", "cannot open for writing");
+  if (!f) throw params::InputError(out, "--out", "cannot open for writing");
   f << file.dump() << '\n';
-  if (!f) throw InputError(out, "--out", "write failed");
+  if (!f) throw params::InputError(out, "--out", "write failed");
 }
 
 void print_summary(const TourRun& run) {
-  const GipResult& r = run.r;
-  const std::optional<FlownTour>& flown = run.flown;
+  const planning::GipResult& r = run.r;
+  const std::optional<planning::FlownTour>& flown = run.flown;
   std::cout << fmt::format("graph: {} vertices, {} edges; {} targets, {} candidate vertices\n",
                            run.input.graph.vertex_count(), run.input.graph.edge_count(), r.targets.size(),
                            r.candidates);
@@ -198,7 +199,7 @@ void print_summary(const TourRun& run) {
                            r.tour.walk.size() - 1, r.tour.covered.size(), r.targets.size(),
                            r.validation.valid() ? "valid" : "INVALID: " + r.validation.problem);
   if (flown) {
-    const ShortcutTour& shortcut = flown->roadmap_shortcut;
+    const planning::ShortcutTour& shortcut = flown->roadmap_shortcut;
     std::cout << fmt::format("shortcut tour: cost {:.6g} ({:.1f}% shorter), {} straight steps\n", shortcut.cost,
                              100.0 * (1.0 - shortcut.cost / r.tour.cost), shortcut.stops.size() - 1);
     std::cout << fmt::format(
@@ -224,9 +225,9 @@ void print_summary(const TourRun& run) {
 int run_tour(const TourCommandOptions& options) {
   const RoadmapFileGraph input = read_tour_input(options);
   const bool live = !options.json && ::isatty(STDERR_FILENO);
-  const GipOptions solve = solver_options(options, live);
-  const std::optional<FlownTour> flown = fly_with_scene(options, input, solve);
-  const GipResult r = flown ? flown->search : solve_gip(input.graph, solve);
+  const planning::GipOptions solve = solver_options(options, live);
+  const std::optional<planning::FlownTour> flown = fly_with_scene(options, input, solve);
+  const planning::GipResult r = flown ? flown->search : planning::solve_gip(input.graph, solve);
   if (live) std::cerr << '\n';
   TourRun run{input, r, flown};
   for (const auto& [t, c] : r.trace) run.trace.push_back({t, c});

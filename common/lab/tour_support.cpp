@@ -44,47 +44,48 @@ InspectionGraph with_viewpoints(const Roadmap& dense, std::span<const VertexId> 
                                      dense.visibility_table().poi_count());
 }
 
-std::vector<GipResult> solve_each(std::span<const InspectionGraph* const> graphs, const std::vector<PoiId>& targets,
-                                  std::uint64_t seed, const SolverWork& work) {
-  std::vector<GipResult> results(graphs.size());
+std::vector<planning::GipResult> solve_each(std::span<const InspectionGraph* const> graphs,
+                                            const std::vector<PoiId>& targets, std::uint64_t seed,
+                                            const SolverWork& work) {
+  std::vector<planning::GipResult> results(graphs.size());
   run_jobs(graphs.size(), work.jobs, [&](std::size_t i) {
-    GipOptions solve;
+    planning::GipOptions solve;
     solve.targets = targets;
     solve.budget_seconds = work.cap_seconds;
     solve.max_iterations = work.iterations;
     solve.seed = seed;
     solve.lp_bound = false;  // bounds are measured on their own (bound_each), not on the search's time
-    GipResult r = solve_gip(*graphs[i], solve);
+    planning::GipResult r = planning::solve_gip(*graphs[i], solve);
     if (!r.validation.valid()) throw std::runtime_error("invalid tour: " + r.validation.problem);
     results[i] = std::move(r);
   });
   return results;
 }
 
-std::vector<TourBoundResult> bound_each(std::span<const InspectionGraph* const> graphs,
-                                        const std::vector<PoiId>& targets, double seconds, unsigned jobs) {
-  std::vector<TourBoundResult> results(graphs.size());
+std::vector<planning::TourBoundResult> bound_each(std::span<const InspectionGraph* const> graphs,
+                                                  const std::vector<PoiId>& targets, double seconds, unsigned jobs) {
+  std::vector<planning::TourBoundResult> results(graphs.size());
   run_jobs(graphs.size(), jobs, [&](std::size_t i) {
-    TourBoundOptions options;
+    planning::TourBoundOptions options;
     options.targets = targets;
     options.budget_seconds = seconds;
-    results[i] = lp_tour_bound(*graphs[i], options);
+    results[i] = planning::lp_tour_bound(*graphs[i], options);
   });
   return results;
 }
 
-bool hit_time_cap(const GipResult& result, const SolverWork& work) {
+bool hit_time_cap(const planning::GipResult& result, const SolverWork& work) {
   return work.iterations > 0 && result.iterations < work.iterations && result.seconds >= work.cap_seconds;
 }
 
-SparsRules parse_rule_set(const std::string& name, const std::string& field) {
+planning::SparsRules parse_rule_set(const std::string& name, const std::string& field) {
   const auto bad = [&](const std::string& why) {
-    return InputError("experiment", field, "rule set '" + name + "': " + why);
+    return params::InputError("experiment", field, "rule set '" + name + "': " + why);
   };
   const std::size_t cut = name.find_first_of("+-");
   const auto variant = parse_spars_variant(name.substr(0, cut));
   if (!variant) throw bad("must start with alg1 or stretch");
-  SparsRules rules = SparsRules::for_variant(*variant, true);
+  planning::SparsRules rules = planning::SparsRules::for_variant(*variant, true);
   std::size_t at = cut;
   while (at != std::string::npos) {
     const bool on = name[at] == '+';

@@ -13,10 +13,10 @@
 #include <thread>
 #include <vector>
 
-#include "ispars/builders/spars_builder.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
+#include "ispars/planning/tour/gip_solver.hpp"
+#include "ispars/planning/tour/tour_bound.hpp"
 #include "ispars/roadmap/inspection_graph.hpp"
-#include "ispars/tour/gip_solver.hpp"
-#include "ispars/tour/tour_bound.hpp"
 
 namespace ispars::lab {
 
@@ -70,20 +70,21 @@ struct SolverWork {
 
 /// Solves each graph for `targets` with `work`; throws std::runtime_error on a solver failure or
 /// an invalid tour. result[i] belongs to graphs[i].
-[[nodiscard]] std::vector<GipResult> solve_each(std::span<const InspectionGraph* const> graphs,
-                                                const std::vector<PoiId>& targets, std::uint64_t seed,
-                                                const SolverWork& work);
+[[nodiscard]] std::vector<planning::GipResult> solve_each(std::span<const InspectionGraph* const> graphs,
+                                                          const std::vector<PoiId>& targets, std::uint64_t seed,
+                                                          const SolverWork& work);
 
 /// The LP lower bound (tour_bound.hpp) of each graph for `targets`, `seconds` of wall clock
 /// each, `jobs` graphs at a time. result[i] belongs to graphs[i].
-[[nodiscard]] std::vector<TourBoundResult> bound_each(std::span<const InspectionGraph* const> graphs,
-                                                      const std::vector<PoiId>& targets, double seconds, unsigned jobs);
+[[nodiscard]] std::vector<planning::TourBoundResult> bound_each(std::span<const InspectionGraph* const> graphs,
+                                                                const std::vector<PoiId>& targets, double seconds,
+                                                                unsigned jobs);
 
 /// True when the run stopped at the wall-clock cap, before its iteration cap.
-[[nodiscard]] bool hit_time_cap(const GipResult& result, const SolverWork& work);
+[[nodiscard]] bool hit_time_cap(const planning::GipResult& result, const SolverWork& work);
 
 /// A rule set by name: "alg1" or "stretch", then any of "+R" / "-R" with R in join, witness,
 /// shortcut (e.g. "alg1+join", "stretch+shortcut"). Throws InputError (field `field`) otherwise.
-[[nodiscard]] SparsRules parse_rule_set(const std::string& name, const std::string& field);
+[[nodiscard]] planning::SparsRules parse_rule_set(const std::string& name, const std::string& field);
 
 }  // namespace ispars::lab

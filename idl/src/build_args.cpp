@@ -65,9 +65,10 @@ BuildRequest from_message(const msg::BuildArgs& args, std::string_view file) {
   msg::RecipeOverrides m = args.overrides();
   const std::uint32_t known = (std::uint32_t{1} << params::field_count<RecipeOverrides>()) - 1;
   if ((m.present() & ~known) != 0) {
-    throw InputError(std::string(file), "overrides",
-                     "presence bit " + std::to_string(std::countr_zero(m.present() & ~known)) +
-                         " names an override this daemon does not know (" + params::names<RecipeOverrides>() + ")");
+    throw params::InputError(std::string(file), "overrides",
+                             "presence bit " + std::to_string(std::countr_zero(m.present() & ~known)) +
+                                 " names an override this daemon does not know (" + params::names<RecipeOverrides>() +
+                                 ")");
   }
   each_override(request.overrides, m, [&](auto& member, const auto& slot, std::uint32_t bit) {
     if ((m.present() & bit) != 0) member = slot;

@@ -50,7 +50,7 @@ Daemon::Daemon(DaemonConfig config)
     operator_.open_metrics();  // first of all: a port in use stops the start
     dds_.open();
     fleet_.join();  // the other daemons seen, this one's id unique, claims possible
-    service_ = std::make_unique<RoadmapService>(service_settings(), service_events());
+    service_ = std::make_unique<service::RoadmapService>(service_settings(), service_events());
     fleet_.attach(service_.get());
   } catch (...) {
     operator_.close_metrics();  // first: its thread reads the DDS link
@@ -161,8 +161,8 @@ void Daemon::receive(msg::ChangeRequest request) {
   if (serving_) serving_->receive(std::move(request));
 }
 
-ServiceSettings Daemon::service_settings() const {
-  ServiceSettings settings;
+service::ServiceSettings Daemon::service_settings() const {
+  service::ServiceSettings settings;
   settings.server_id = config_.server_id;
   settings.scene_dir = config_.scene_dir;
   settings.data_dir = config_.data_dir;
@@ -176,13 +176,13 @@ ServiceSettings Daemon::service_settings() const {
   return settings;
 }
 
-ServiceEvents Daemon::service_events() {
-  ServiceEvents events;
+service::ServiceEvents Daemon::service_events() {
+  service::ServiceEvents events;
   events.on_commit = [this](const std::string& scene, const RoadmapBatch& batch, std::uint64_t generation,
                             std::uint64_t samples, std::size_t poi_count) {
     statuses_.publish_commit(scene, batch, generation, samples, poi_count);
   };
-  events.on_status = [this](const RoadmapSession& session) { statuses_.publish_status(session); };
+  events.on_status = [this](const service::RoadmapSession& session) { statuses_.publish_status(session); };
   events.on_unloaded = [this](const std::string& scene, bool given_up) { statuses_.publish_unloaded(scene, given_up); };
   events.on_scenes_changed = [this] { fleet_.announce(); };
   events.claim = [this](const std::string& scene) { fleet_.claim(scene); };
@@ -203,7 +203,7 @@ void Daemon::republish() {
 void Daemon::fill_service_gauges(DaemonGauges& g) const {
   for (const std::string& scene : service_->loaded_scenes()) {
     try {
-      const SessionStatus s = service_->stats(scene);
+      const service::SessionStatus s = service_->stats(scene);
       g.scenes.push_back(
           {scene, std::string(to_string(s.state)), s.samples_done, s.vertices, s.edges, s.poi_count, s.pois_covered});
     } catch (const std::exception&) {

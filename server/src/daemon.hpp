@@ -58,8 +58,8 @@ class Daemon final : public DaemonInbox {
  private:
   void lock_data_dir();
   void serve(std::unique_ptr<RequestLedger> ledger);  // stored roadmaps, preloads, pending jobs, then serving
-  [[nodiscard]] ServiceSettings service_settings() const;
-  ServiceEvents service_events();
+  [[nodiscard]] service::ServiceSettings service_settings() const;
+  service::ServiceEvents service_events();
   void republish();  // every held scene's status and version, from a new participant
   void fill_service_gauges(DaemonGauges& gauges) const;
 
@@ -75,7 +75,7 @@ class Daemon final : public DaemonInbox {
   StatusPublisher statuses_;
   FleetMember fleet_;
   OperatorEndpoints operator_;
-  std::unique_ptr<RoadmapService> service_;
+  std::unique_ptr<service::RoadmapService> service_;
   std::unique_ptr<RequestRouter> router_;
   std::shared_mutex receiving_;       // held shared by each receive(); alone when serving_ is cleared
   RequestRouter* serving_ = nullptr;  // router_ while requests are taken

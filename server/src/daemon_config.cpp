@@ -52,7 +52,8 @@ struct YamlReader {
     try {
       return value.as<T>();
     } catch (const YAML::Exception&) {
-      throw InputError(source, std::string(key), fmt::format("has the wrong type (line {})", value.Mark().line + 1));
+      throw params::InputError(source, std::string(key),
+                               fmt::format("has the wrong type (line {})", value.Mark().line + 1));
     }
   }
 };
@@ -88,18 +89,18 @@ DaemonConfig load_daemon_config(const std::filesystem::path& path) {
   try {
     root = YAML::LoadFile(source);
   } catch (const YAML::BadFile&) {
-    throw InputError(source, "file", "cannot be read");
+    throw params::InputError(source, "file", "cannot be read");
   } catch (const YAML::Exception& e) {
-    throw InputError(source, "yaml", e.what());
+    throw params::InputError(source, "yaml", e.what());
   }
   DaemonConfig config;
   if (!root || root.IsNull()) return config;
-  if (!root.IsMap()) throw InputError(source, "yaml", "the config must be a mapping of keys to values");
+  if (!root.IsMap()) throw params::InputError(source, "yaml", "the config must be a mapping of keys to values");
   std::set<std::string> known;
   params::visit(config, [&](const auto& spec, const auto&) { known.insert(std::string(spec.name)); });
   for (const auto& item : root) {
     const std::string key = item.first.as<std::string>();
-    if (!known.count(key)) throw InputError(source, key.substr(0, 64), "unknown key");
+    if (!known.count(key)) throw params::InputError(source, key.substr(0, 64), "unknown key");
   }
   const YAML::Node& mapping = root;
   params::visit(config, YamlReader{mapping, source, path.parent_path()});
@@ -117,20 +118,22 @@ std::string to_yaml(const DaemonConfig& config) {
 std::string checked_text(const params::TextSpec& spec, const std::string& text, const std::filesystem::path& base,
                          const std::string& source, const std::string& field) {
   if (text.size() > spec.max_length) {
-    throw InputError(source, field, fmt::format("is longer than {} characters", spec.max_length));
+    throw params::InputError(source, field, fmt::format("is longer than {} characters", spec.max_length));
   }
   std::string typed = text;
   if (spec.path && !text.empty()) {
     const std::filesystem::path given(text);
     typed = (given.is_absolute() ? given : base / given).string();
   }
-  if (std::string why = params::problem(spec, typed); !why.empty()) throw InputError(source, field, std::move(why));
+  if (std::string why = params::problem(spec, typed); !why.empty())
+    throw params::InputError(source, field, std::move(why));
   return typed;
 }
 
 std::vector<std::string> checked_list(const params::ListSpec& spec, std::vector<std::string> items,
                                       const std::string& source, const std::string& field) {
-  if (std::string why = params::problem(spec, items); !why.empty()) throw InputError(source, field, std::move(why));
+  if (std::string why = params::problem(spec, items); !why.empty())
+    throw params::InputError(source, field, std::move(why));
   return items;
 }
 
@@ -164,8 +167,8 @@ double memory_budget_bytes(const DaemonConfig& config) {
 ListenAddress parse_listen_address(const std::string& text, const std::string& source, const std::string& field) {
   const auto colon = text.rfind(':');
   const auto bad = [&](const std::string& why) {
-    return InputError(source, field,
-                      fmt::format("'{}' {}; write ADDRESS:PORT, e.g. 127.0.0.1:9464", text.substr(0, 64), why));
+    return params::InputError(source, field,
+                              fmt::format("'{}' {}; write ADDRESS:PORT, e.g. 127.0.0.1:9464", text.substr(0, 64), why));
   };
   if (text.size() > 64 || colon == std::string::npos) throw bad("is not an address and a port");
   ListenAddress out;

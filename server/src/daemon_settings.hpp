@@ -84,7 +84,7 @@ template <class T>
 T checked_number(const params::Spec<T>& spec, const std::string& text, const std::string& source,
                  const std::string& field) {
   params::Parsed<T> parsed = params::parse(spec, text);
-  if (!parsed.problem.empty()) throw InputError(source, field, std::move(parsed.problem));
+  if (!parsed.problem.empty()) throw params::InputError(source, field, std::move(parsed.problem));
   return parsed.value;
 }
 

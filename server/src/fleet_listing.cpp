@@ -14,18 +14,19 @@ FleetListing::FleetListing(std::filesystem::path scene_dir, std::filesystem::pat
 
 bool FleetListing::refresh(const std::optional<std::vector<std::string>>& loaded,
                            const std::function<std::string(const std::string&)>& scrubbed) {
-  std::vector<std::string> available = list_scene_names(scene_dir_);
-  StoredListing listing;
-  if (loaded) listing = list_stored_roadmaps(data_dir_, *loaded, &fingerprints_, scrubbed);
-  const auto same = [](const std::vector<ServedRoadmap>& a, const std::vector<ServedRoadmap>& b) {
-    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const ServedRoadmap& x, const ServedRoadmap& y) {
-      return x.scene == y.scene && x.generation == y.generation && x.samples == y.samples &&
-             x.task_events == y.task_events;
-    });
+  std::vector<std::string> available = service::list_scene_names(scene_dir_);
+  service::StoredListing listing;
+  if (loaded) listing = service::list_stored_roadmaps(data_dir_, *loaded, &fingerprints_, scrubbed);
+  const auto same = [](const std::vector<service::ServedRoadmap>& a, const std::vector<service::ServedRoadmap>& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(),
+                      [](const service::ServedRoadmap& x, const service::ServedRoadmap& y) {
+                        return x.scene == y.scene && x.generation == y.generation && x.samples == y.samples &&
+                               x.task_events == y.task_events;
+                      });
   };
   std::lock_guard lock(mutex_);
   std::map<std::string, std::string> unservable;
-  for (const UnservableStore& u : listing.unservable) {
+  for (const service::UnservableStore& u : listing.unservable) {
     auto& note = notes_[u.scene];
     if (note != u.why) spdlog::warn("scene '{}': {}", u.scene, u.why);
     note = u.why;
@@ -42,16 +43,16 @@ bool FleetListing::refresh(const std::optional<std::vector<std::string>>& loaded
   return true;
 }
 
-void FleetListing::describe(msg::DaemonInfo& info, std::vector<ServedRoadmap> held) const {
+void FleetListing::describe(msg::DaemonInfo& info, std::vector<service::ServedRoadmap> held) const {
   std::lock_guard lock(mutex_);
   for (const std::string& name : available_) info.available().push_back(name);
   for (const std::string& name : stored_) info.stored().push_back(name);
-  for (const ServedRoadmap& r : stored_roadmaps_) {
+  for (const service::ServedRoadmap& r : stored_roadmaps_) {
     const bool is_held =
-        std::any_of(held.begin(), held.end(), [&](const ServedRoadmap& h) { return h.scene == r.scene; });
+        std::any_of(held.begin(), held.end(), [&](const service::ServedRoadmap& h) { return h.scene == r.scene; });
     if (!is_held) held.push_back(r);  // a scene loaded since the listing: the live figures count
   }
-  for (const ServedRoadmap& r : held) {
+  for (const service::ServedRoadmap& r : held) {
     msg::StoredRoadmap m;
     m.scene(r.scene);
     m.generation(r.generation);

@@ -35,7 +35,7 @@ class FleetListing {
   /// Fills `info`'s scene files, stored scenes and roadmaps: `held` (the roadmaps held now), then
   /// the stored ones not held; a scene handed over and not held again names its winner and the
   /// samples accepted here.
-  void describe(msg::DaemonInfo& info, std::vector<ServedRoadmap> held) const;
+  void describe(msg::DaemonInfo& info, std::vector<service::ServedRoadmap> held) const;
 
   /// What a daemon had accepted of a scene when it handed it over: the winner carries it.
   struct Handover {
@@ -67,11 +67,12 @@ class FleetListing {
  private:
   const std::filesystem::path scene_dir_;
   const std::filesystem::path data_dir_;
-  SceneFingerprints fingerprints_;  // the scene files' as they are now: a stored copy built on another is not offered
+  service::SceneFingerprints
+      fingerprints_;  // the scene files' as they are now: a stored copy built on another is not offered
   mutable std::mutex mutex_;
   std::vector<std::string> available_;
   std::vector<std::string> stored_;
-  std::vector<ServedRoadmap> stored_roadmaps_;  // stored, not loaded
+  std::vector<service::ServedRoadmap> stored_roadmaps_;  // stored, not loaded
   std::map<std::string, Handover> handed_over_;
   std::map<std::string, std::string> notes_;
   std::map<std::string, std::string> unservable_;                          // as last listed, with why

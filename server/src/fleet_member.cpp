@@ -101,7 +101,7 @@ msg::DaemonInfo FleetMember::self_info() const {
   info.pid(static_cast<std::int32_t>(::getpid()));
   info.joined_ms(joined_ms_);
   info.builder_version(kBuilderVersion);
-  listing_.describe(info, service_ ? service_->held_roadmaps() : std::vector<ServedRoadmap>{});
+  listing_.describe(info, service_ ? service_->held_roadmaps() : std::vector<service::ServedRoadmap>{});
   // Claimed scenes (being loaded or loaded) are announced as held: no other daemon claims them.
   for (const std::string& name : claims_->claimed()) info.loaded().push_back(name);
   return info;
@@ -169,7 +169,7 @@ void FleetMember::check_namesakes(std::chrono::steady_clock::time_point& last_re
 void FleetMember::give_up(const ContestedScene& contest) {
   std::uint64_t accepted = 0, task_events = 0;
   try {
-    const SessionStatus st = service_->stats(contest.scene);
+    const service::SessionStatus st = service_->stats(contest.scene);
     accepted = std::max(st.samples_done, st.samples_target);
     task_events = st.task_events;  // with a task addition acknowledged and not committed
   } catch (const std::exception&) {
@@ -186,13 +186,13 @@ void FleetMember::give_up(const ContestedScene& contest) {
 }
 
 void FleetMember::announce_if_fresher() {
-  std::vector<ServedRoadmap> held = service_->held_roadmaps();
+  std::vector<service::ServedRoadmap> held = service_->held_roadmaps();
   const auto now = std::chrono::steady_clock::now();
   bool at_once = held.size() != last_held_.size();
   bool samples = false;
   for (std::size_t i = 0; !at_once && i < held.size(); ++i) {
-    const ServedRoadmap& a = held[i];
-    const ServedRoadmap& b = last_held_[i];
+    const service::ServedRoadmap& a = held[i];
+    const service::ServedRoadmap& b = last_held_[i];
     at_once =
         a.scene != b.scene || a.generation != b.generation || a.target != b.target || a.task_events != b.task_events;
     samples = samples || a.samples != b.samples;

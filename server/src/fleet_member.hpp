@@ -55,7 +55,7 @@ class FleetMember {
   /// another announces this daemon's id.
   void join();
   /// The service whose scenes this daemon holds, once it exists (before start()); null once it is gone.
-  void attach(RoadmapService* service) { service_ = service; }
+  void attach(service::RoadmapService* service) { service_ = service; }
   /// The fleet thread; stop() joins it and the takeovers running (after the StopSignal is raised).
   void start();
   void stop();
@@ -97,14 +97,15 @@ class FleetMember {
   void merge_handed_tasks();
   /// Applies the first change of merge_tasks(`scene`'s tasks, `theirs`) (an addition is a job:
   /// one a pass); true when there was none left to apply (or it cannot be, logged).
-  bool apply_task_merge(const std::string& scene, const std::string& from, std::span<const InspectionTask> theirs);
+  bool apply_task_merge(const std::string& scene, const std::string& from,
+                        std::span<const service::InspectionTask> theirs);
 
   const DaemonConfig& config_;
   DdsLink& dds_;
   StopSignal& stop_;
   const std::atomic<bool>& leaving_;
   const std::uint64_t joined_ms_;
-  RoadmapService* service_ = nullptr;
+  service::RoadmapService* service_ = nullptr;
   std::unique_ptr<SceneClaims> claims_;              // DDS callbacks read it
   TaskBoard task_board_;                             // other daemons' tasks, for a takeover's rebuild
   std::map<std::string, std::string> tasks_merged_;  // scene -> the lists last merged (fleet thread)
@@ -112,15 +113,15 @@ class FleetMember {
   /// the scene is idle (merge_tasks; the counts of task events of two histories do not compare).
   struct CarriedTasks {
     std::string from;
-    std::vector<InspectionTask> tasks;
+    std::vector<service::InspectionTask> tasks;
   };
   std::mutex carried_mutex_;
   std::map<std::string, CarriedTasks> carried_tasks_;  // scene -> (written by takeovers, merged by the fleet thread)
   std::vector<OrphanScene> waiting_takeovers_;         // for a free runner (fleet thread)
   TakeoverGate takeover_gate_;
-  std::mutex announce_mutex_;             // announcements written in the order they were made
-  FleetListing listing_;                  // scene files, stored roadmaps, handovers and notes, as announced
-  std::vector<ServedRoadmap> last_held_;  // held roadmaps as last announced (announce_if_fresher)
+  std::mutex announce_mutex_;                      // announcements written in the order they were made
+  FleetListing listing_;                           // scene files, stored roadmaps, handovers and notes, as announced
+  std::vector<service::ServedRoadmap> last_held_;  // held roadmaps as last announced (announce_if_fresher)
   std::chrono::steady_clock::time_point last_held_announce_{};
   TakeoverRunner takeovers_;
   std::thread thread_;

@@ -113,7 +113,7 @@ void FleetMember::failed_takeover(const OrphanScene& orphan, const std::string& 
   listing_.decline(orphan.scene, std::chrono::steady_clock::now() + retry);
   bool released = false;
   try {
-    const SessionStatus st = service_->stats(orphan.scene);
+    const service::SessionStatus st = service_->stats(orphan.scene);
     if (!st.recipe) {
       service_->unload(orphan.scene);
       released = true;
@@ -131,14 +131,14 @@ void FleetMember::failed_takeover(const OrphanScene& orphan, const std::string& 
 }
 
 void FleetMember::merge_handed_tasks() {
-  std::optional<std::vector<ServedRoadmap>> held;  // read only when some copy with tasks was handed here
+  std::optional<std::vector<service::ServedRoadmap>> held;  // read only when some copy with tasks was handed here
   for (const msg::DaemonInfo& d : dds_.other_daemons()) {
     for (const msg::StoredRoadmap& r : d.roadmaps()) {
       const std::string scene = r.scene().to_string();
       if (r.yielded_to().to_string() != config_.server_id || r.task_events() == 0 || wire::holds(d, scene)) continue;
       if (!held) held = service_->held_roadmaps();
       const auto mine =
-          std::find_if(held->begin(), held->end(), [&](const ServedRoadmap& h) { return h.scene == scene; });
+          std::find_if(held->begin(), held->end(), [&](const service::ServedRoadmap& h) { return h.scene == scene; });
       if (mine == held->end() || mine->generation != r.generation()) continue;
       const std::string from = d.server_id().to_string();
       const std::string key = fmt::format("{} {} {} {}", from, r.generation(), r.task_events(), mine->task_events);
@@ -166,7 +166,7 @@ void FleetMember::merge_handed_tasks() {
 }
 
 bool FleetMember::apply_task_merge(const std::string& scene, const std::string& from,
-                                   std::span<const InspectionTask> theirs) {
+                                   std::span<const service::InspectionTask> theirs) {
   // One change a pass: an addition is a job, and the scene takes one job at a time.
   try {
     const auto session = service_->session(scene);

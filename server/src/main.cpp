@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
     const int status = serve(std::move(config), configure, stop_signals);
     ispars::server::note_stop_step("the process's exit (static destructors: Fast DDS's participant factory)");
     return status;
-  } catch (const ispars::InputError& e) {
+  } catch (const ispars::params::InputError& e) {
     std::cerr << "isparsd: " << e.what() << "\n";
     return 2;
   } catch (const ispars::server::ServerIdTaken& e) {

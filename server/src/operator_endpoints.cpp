@@ -40,7 +40,7 @@ void OperatorEndpoints::open_metrics() {
   spdlog::info("metrics on http://{}:{}/metrics, health on /healthz", at.host, endpoint_->port());
 }
 
-void OperatorEndpoints::start_serving(WorkerPool& quick_lane, Gauges service) {
+void OperatorEndpoints::start_serving(service::WorkerPool& quick_lane, Gauges service) {
   service_gauges_ = std::move(service);
   last_progress_ = Clock::now().time_since_epoch().count();
   serving_ = true;
@@ -60,7 +60,7 @@ void OperatorEndpoints::stop() {
 
 void OperatorEndpoints::close_metrics() { endpoint_.reset(); }
 
-void OperatorEndpoints::watch_health(WorkerPool& quick_lane) {
+void OperatorEndpoints::watch_health(service::WorkerPool& quick_lane) {
   // The quick lane answers STATS and CANCEL: when it stops finishing work, the daemon is wedged,
   // and systemd (WatchdogSec) should restart it. A probe keeps a job there while nothing else
   // runs; the lane counts as alive while its finished-job count moves. Its own thread, so that a

@@ -38,7 +38,7 @@ class OperatorEndpoints {
   void open_metrics();
   /// READY, then the health watchdog on its own thread, probing `quick_lane` (which outlives
   /// stop()); scrapes read `service` from now on, while serving.
-  void start_serving(WorkerPool& quick_lane, Gauges service);
+  void start_serving(service::WorkerPool& quick_lane, Gauges service);
   /// STOPPING with `why`: /healthz says 503 from now on.
   void stopping(const std::string& why);
   /// Joins the watchdog thread (the StopSignal raised first).
@@ -53,7 +53,7 @@ class OperatorEndpoints {
   [[nodiscard]] std::string metrics_text() const;
 
  private:
-  void watch_health(WorkerPool& quick_lane);  // its own thread: probes the quick lane, pings WATCHDOG
+  void watch_health(service::WorkerPool& quick_lane);  // its own thread: probes the quick lane, pings WATCHDOG
   void probe_dds();
 
   const DaemonConfig& config_;

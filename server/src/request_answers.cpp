@@ -19,7 +19,7 @@ bool RequestRouter::answer(const msg::QueryRequest& request, msg::Reply& reply) 
   switch (args._d()) {
     case msg::LIST_SCENES: {
       msg::SceneList list;
-      for (const SceneListing& l : parts_.service.list_scenes()) {
+      for (const service::SceneListing& l : parts_.service.list_scenes()) {
         msg::SceneEntry e;
         e.scene(l.name);
         e.loaded(l.loaded);
@@ -35,7 +35,7 @@ bool RequestRouter::answer(const msg::QueryRequest& request, msg::Reply& reply) 
       reply.status(parts_.statuses.status_message(*parts_.service.session(scene)));
       return true;
     case msg::PATH: {
-      const RoadmapPath path =
+      const planning::RoadmapPath path =
           parts_.service.path(scene, wire::from_message(args.path().from()), wire::from_message(args.path().to()));
       reply.body().path(to_message(path));
       reply.status(parts_.statuses.status_message(*parts_.service.session(scene)));
@@ -43,7 +43,7 @@ bool RequestRouter::answer(const msg::QueryRequest& request, msg::Reply& reply) 
     }
     case msg::SNAPSHOT: {
       const msg::SnapshotArgs& a = args.snapshot();
-      const SnapshotSlice slice =
+      const service::SnapshotSlice slice =
           parts_.service.snapshot(scene, a.version(), a.generation(), a.chunk_index(), a.poi_count());
       if (slice.chunk_index != 0) {
         reply.body().snapshot(to_message(slice, nullptr));
@@ -56,7 +56,7 @@ bool RequestRouter::answer(const msg::QueryRequest& request, msg::Reply& reply) 
       return true;
     }
     case msg::VERIFY: {
-      const VerifyOutcome v = parts_.service.verify(scene);
+      const service::VerifyOutcome v = parts_.service.verify(scene);
       reply.message(verify_summary(v, parts_.service.stats(scene).dense_vertices));
       reply.body().verify(to_message(v));
       reply.status(parts_.statuses.status_message(*parts_.service.session(scene)));
@@ -67,14 +67,15 @@ bool RequestRouter::answer(const msg::QueryRequest& request, msg::Reply& reply) 
       return false;
     case msg::TASK_LIST: {
       const auto session = parts_.service.session(scene);
-      const std::vector<InspectionTask> tasks = session->tasks();  // before the roadmap: it has their POIs
-      const PublishedRoadmap published = session->published();
-      reply.body().task_list(to_message(task_coverage(*published.roadmap, session->scene().pois().size(), tasks)));
+      const std::vector<service::InspectionTask> tasks = session->tasks();  // before the roadmap: it has their POIs
+      const service::PublishedRoadmap published = session->published();
+      reply.body().task_list(
+          to_message(service::task_coverage(*published.roadmap, session->scene().pois().size(), tasks)));
       reply.status(parts_.statuses.status_message(*session));
       return true;
     }
     default:
-      throw InputError(
+      throw params::InputError(
           "request", "operation",
           fmt::format("{} is not a query (list, stats, path, snapshot, verify, tour, task list); changes go on the "
                       "change topic",
@@ -111,14 +112,14 @@ bool RequestRouter::answer(const msg::ChangeRequest& request, msg::Reply& reply)
       reply.message(fmt::format("extending '{}' by {} samples", scene, args.extend().samples()));
       break;
     case msg::CANCEL: {
-      const CancelOutcome c = parts_.service.cancel(scene);
+      const service::CancelOutcome c = parts_.service.cancel(scene);
       reply.message(fmt::format("{}; {} tour{} stopped (each replies with its best tour so far)",
                                 c.build_cancelled ? "cancelling the build after the current chunk" : "no build running",
                                 c.tours_stopped, c.tours_stopped == 1 ? "" : "s"));
       break;
     }
     case msg::TASK_ADD: {
-      InspectionTask task = task_from(args.task_add(), parts_.service.session(scene)->scene());
+      service::InspectionTask task = task_from(args.task_add(), parts_.service.session(scene)->scene());
       const std::string name = task.name;
       const std::size_t pois = task.pois.size();
       const std::size_t count = parts_.service.add_task(scene, std::move(task));
@@ -139,7 +140,7 @@ bool RequestRouter::answer(const msg::ChangeRequest& request, msg::Reply& reply)
       reply.message(fmt::format("dropped the roadmap of '{}'", scene));
       break;
     default:
-      throw InputError(
+      throw params::InputError(
           "request", "operation",
           fmt::format(
               "{} is not a change (load, unload, build, extend, cancel, drop, task add, task remove); queries go on "
@@ -152,10 +153,10 @@ bool RequestRouter::answer(const msg::ChangeRequest& request, msg::Reply& reply)
 
 void RequestRouter::start_tour(const msg::QueryRequest& request, const msg::Reply& header) {
   const msg::TourArgs& a = request.args().tour();
-  TourRequest tour;
+  service::TourRequest tour;
   if (a.targets().size() > msg::MAX_TOUR_TARGETS) {
-    throw InputError("request", "targets",
-                     fmt::format("{} given; at most {}", a.targets().size(), msg::MAX_TOUR_TARGETS));
+    throw params::InputError("request", "targets",
+                             fmt::format("{} given; at most {}", a.targets().size(), msg::MAX_TOUR_TARGETS));
   }
   tour.targets.assign(a.targets().begin(), a.targets().end());
   tour.budget_seconds = a.budget();
@@ -163,7 +164,7 @@ void RequestRouter::start_tour(const msg::QueryRequest& request, const msg::Repl
   tour.task = a.task().to_string();
   const std::string scene = request.scene().to_string();
   const auto taken = std::chrono::steady_clock::now();
-  TourCallbacks callbacks;
+  service::TourCallbacks callbacks;
   callbacks.progress = [this, header, scene](double seconds, double cost, double bound) {
     msg::TourProgress progress;
     progress.client_id(header.client_id());
@@ -174,9 +175,9 @@ void RequestRouter::start_tour(const msg::QueryRequest& request, const msg::Repl
     progress.lower_bound(bound);
     parts_.out.publish_tour_progress(progress);
   };
-  callbacks.done = [this, header, scene, taken](TourOutcome outcome) {
+  callbacks.done = [this, header, scene, taken](service::TourOutcome outcome) {
     msg::Reply reply = header;
-    const GipResult& r = outcome.result;
+    const planning::GipResult& r = outcome.result;
     reply.message(fmt::format("tour of cost {:.6g} covering {}/{} targets, {} iterations in {:.1f} s", r.tour.cost,
                               r.tour.covered.size(), r.targets.size(), r.iterations, r.seconds));
     reply.body().tour(to_message(outcome));

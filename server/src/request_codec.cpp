@@ -14,7 +14,7 @@ std::string operation_name(msg::Operation operation) {
   return name != "unknown" ? name : fmt::format("operation {}", static_cast<int>(operation));
 }
 
-msg::VerifyResult to_message(const VerifyOutcome& v) {
+msg::VerifyResult to_message(const service::VerifyOutcome& v) {
   msg::VerifyResult m;
   m.violations(v.violations());
   m.invalid_vertices(v.report.invalid_vertices);
@@ -27,8 +27,8 @@ msg::VerifyResult to_message(const VerifyOutcome& v) {
   return m;
 }
 
-msg::TourResult to_message(const TourOutcome& o) {
-  const GipResult& r = o.result;
+msg::TourResult to_message(const service::TourOutcome& o) {
+  const planning::GipResult& r = o.result;
   msg::TourResult m;
   m.walk(std::vector<std::uint32_t>(r.tour.walk.begin(), r.tour.walk.end()));
   for (const Vec3& p : o.waypoints) m.waypoints().push_back(wire::to_message(p));
@@ -48,7 +48,7 @@ msg::TourResult to_message(const TourOutcome& o) {
     m.flown_sees_offsets().push_back(static_cast<std::uint32_t>(m.flown_sees().size()));
   }
   m.flown_cost(o.flown_cost);
-  for (const FlownStage& s : o.stages) {
+  for (const planning::FlownStage& s : o.stages) {
     msg::TourStage stage;
     stage.name(s.name);
     stage.cost(s.cost);
@@ -70,8 +70,8 @@ msg::TourResult to_message(const TourOutcome& o) {
   return m;
 }
 
-std::string verify_summary(const VerifyOutcome& v, std::size_t dense_vertices) {
-  const VerificationReport& r = v.report;
+std::string verify_summary(const service::VerifyOutcome& v, std::size_t dense_vertices) {
+  const planning::VerificationReport& r = v.report;
   const std::string checked_on =
       r.invariant_drawn > 0
           ? fmt::format("{} of the {} samples the build drew (drawn again)", r.invariant_vertices, r.invariant_drawn)
@@ -88,28 +88,28 @@ std::string verify_summary(const VerifyOutcome& v, std::size_t dense_vertices) {
       v.invariant_promised ? "" : "; Invariant 1 is not promised by this method");
 }
 
-msg::PathResult to_message(const RoadmapPath& path) {
+msg::PathResult to_message(const planning::RoadmapPath& path) {
   msg::PathResult result;
   for (const Vec3& p : path.waypoints) result.waypoints().push_back(wire::to_message(p));
   result.length(path.length);
   return result;
 }
 
-InspectionTask task_from(const msg::TaskAddArgs& args, const Scene& scene) {
-  InspectionTask task;
+service::InspectionTask task_from(const msg::TaskAddArgs& args, const planning::Scene& scene) {
+  service::InspectionTask task;
   task.name = args.name().to_string();
   if (args.pois().size() > msg::MAX_TASK_POIS) {
-    throw InputError("request", "task.pois",
-                     fmt::format("{} POIs; a task has at most {}", args.pois().size(), msg::MAX_TASK_POIS));
+    throw params::InputError("request", "task.pois",
+                             fmt::format("{} POIs; a task has at most {}", args.pois().size(), msg::MAX_TASK_POIS));
   }
   if (!args.pois().empty() && args.sample() != 0) {
-    throw InputError("request", "task.sample", "give the task's POIs or a count to sample, not both");
+    throw params::InputError("request", "task.sample", "give the task's POIs or a count to sample, not both");
   }
   if (args.pois().empty() && args.sample() == 0) {
-    throw InputError("request", "task.pois", "a task has at least one POI: give them, or a count to sample");
+    throw params::InputError("request", "task.pois", "a task has at least one POI: give them, or a count to sample");
   }
   if (args.sample() != 0) {
-    task.pois = sample_task_pois(scene, args.sample(), args.sample_seed());
+    task.pois = service::sample_task_pois(scene, args.sample(), args.sample_seed());
   } else {
     task.pois.reserve(args.pois().size());
     for (const msg::Point& p : args.pois()) task.pois.push_back(wire::from_message(p));
@@ -117,9 +117,9 @@ InspectionTask task_from(const msg::TaskAddArgs& args, const Scene& scene) {
   return task;
 }
 
-msg::TaskList to_message(std::span<const TaskCoverage> tasks) {
+msg::TaskList to_message(std::span<const service::TaskCoverage> tasks) {
   msg::TaskList list;
-  for (const TaskCoverage& t : tasks) {
+  for (const service::TaskCoverage& t : tasks) {
     msg::TaskEntry e;
     e.name(t.name);
     e.first_poi(static_cast<std::uint32_t>(t.first_poi));
@@ -131,7 +131,7 @@ msg::TaskList to_message(std::span<const TaskCoverage> tasks) {
   return list;
 }
 
-msg::SnapshotChunk to_message(const SnapshotSlice& slice, const Scene* first) {
+msg::SnapshotChunk to_message(const service::SnapshotSlice& slice, const planning::Scene* first) {
   msg::SnapshotChunk chunk;
   chunk.generation(slice.generation);
   chunk.version(slice.version);

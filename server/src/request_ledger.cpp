@@ -53,7 +53,7 @@ void RequestLedger::begin(const msg::ChangeRequest& request) {
 void RequestLedger::answered(const msg::Reply& reply) {
   if (!kept(reply.body()._d())) return;
   ledger_.answer(reply.client_id().to_string(), reply.request_seq(),
-                 LedgerAnswer{reply.ok(), reply.error(), reply.message()});
+                 service::LedgerAnswer{reply.ok(), reply.error(), reply.message()});
 }
 
 }  // namespace ispars::server

@@ -32,7 +32,7 @@ class RequestLedger {
   void answered(const msg::Reply& reply);
 
  private:
-  ChangeLedger ledger_;
+  service::ChangeLedger ledger_;
 };
 
 }  // namespace ispars::server

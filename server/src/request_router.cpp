@@ -99,7 +99,7 @@ void RequestRouter::dispatch(Request request) {
       break;
   }
   const bool slow = slow_operation(request.args()._d());
-  WorkerPool& lane = slow ? slow_lane_ : quick_lane_;
+  service::WorkerPool& lane = slow ? slow_lane_ : quick_lane_;
   // A change goes ahead of the reads waiting in its lane, and a drop stops the scene's running
   // verifies now. A drop is quick work once they stop (its store goes in a rename and a removal),
   // so it takes the quick lane: in the slow one it waited for a free thread behind snapshot
@@ -118,7 +118,7 @@ void RequestRouter::dispatch(Request request) {
 }
 
 template <class Request>
-void RequestRouter::refuse_busy(const Request& request, const WorkerPool& lane, const char* lane_name) {
+void RequestRouter::refuse_busy(const Request& request, const service::WorkerPool& lane, const char* lane_name) {
   spdlog::warn("{} #{} {} refused: the {} lane holds {} requests", request.client_id().to_string(),
                request.request_seq(), wire::to_string(request.args()._d()), lane_name, lane.max_queued());
   msg::Reply reply = reply_to(request, parts_.server_id);
@@ -141,19 +141,20 @@ void RequestRouter::handle(const Request& request) {
   bool now = true;
   try {
     if (request.protocol() != msg::PROTOCOL_VERSION) {
-      throw InputError("request", "protocol",
-                       fmt::format("this daemon speaks ispars protocol {}, the request protocol {}; use a client "
-                                   "of the same release",
-                                   msg::PROTOCOL_VERSION, request.protocol()));
+      throw params::InputError(
+          "request", "protocol",
+          fmt::format("this daemon speaks ispars protocol {}, the request protocol {}; use a client "
+                      "of the same release",
+                      msg::PROTOCOL_VERSION, request.protocol()));
     }
     if (request.request_seq() == 0) {
-      throw InputError("request", "request_seq", "0 is reserved (the route-open reply); start at 1");
+      throw params::InputError("request", "request_seq", "0 is reserved (the route-open reply); start at 1");
     }
     if constexpr (std::is_same_v<Request, msg::ChangeRequest>) {
       if (RequestLedger::kept(operation)) ledger_->begin(request);  // durable before anything changes
     }
     now = answer(request, reply);
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     reply.ok(false);
     reply.error(e.what());
     spdlog::info("{} #{} {} '{}': {}", client, request.request_seq(), wire::to_string(operation), scene.substr(0, 64),

@@ -29,7 +29,7 @@ class RequestRouter {
   struct Parts {
     std::string server_id;
     std::size_t request_queue = 256;
-    RoadmapService& service;
+    service::RoadmapService& service;
     StatusPublisher& statuses;
     DaemonOutbox& out;
     DaemonMetrics& metrics;
@@ -48,13 +48,13 @@ class RequestRouter {
   /// Requests being answered finish; queued ones are dropped (their clients retry elsewhere).
   void stop();
   /// The quick lane, whose progress the health watchdog reads.
-  [[nodiscard]] WorkerPool& quick_lane() { return quick_lane_; }
+  [[nodiscard]] service::WorkerPool& quick_lane() { return quick_lane_; }
 
  private:
   template <class Request>
   void dispatch(Request request);
   template <class Request>
-  void refuse_busy(const Request& request, const WorkerPool& lane, const char* lane_name);
+  void refuse_busy(const Request& request, const service::WorkerPool& lane, const char* lane_name);
   template <class Request>
   void handle(const Request& request);
   /// Fills `reply` from the service (request_answers.cpp). False when the reply is sent later (a tour).
@@ -67,8 +67,8 @@ class RequestRouter {
   Parts parts_;
   std::unique_ptr<RequestLedger> ledger_;
   ReplyCache cache_;
-  WorkerPool quick_lane_;
-  WorkerPool slow_lane_;
+  service::WorkerPool quick_lane_;
+  service::WorkerPool slow_lane_;
 };
 
 }  // namespace ispars::server

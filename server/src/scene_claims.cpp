@@ -46,7 +46,7 @@ void SceneClaims::claim(const std::string& scene) {
     remember_holders(others, &others);
   }
   if (const std::string holder = wire::holder_of(scene, others); !holder.empty()) {
-    throw InputError(kRequest, "scene", fmt::format("scene '{}' is owned by daemon {}", scene, holder));
+    throw params::InputError(kRequest, "scene", fmt::format("scene '{}' is owned by daemon {}", scene, holder));
   }
   std::vector<msg::DaemonInfo> everyone = others;
   everyone.push_back(fleet_.self());
@@ -62,10 +62,11 @@ void SceneClaims::claim(const std::string& scene) {
                                       "by rendezvous weight",
                                 f.generation, f.samples)
                     : fmt::format("it has the freshest copy: generation {}, {} samples", f.generation, f.samples);
-    throw InputError(kRequest, "scene",
-                     fmt::format("scene '{}' belongs to daemon {} by the fleet's rule ({}); load it there (ispars "
-                                 "does by itself)",
-                                 scene, assigned, why));
+    throw params::InputError(
+        kRequest, "scene",
+        fmt::format("scene '{}' belongs to daemon {} by the fleet's rule ({}); load it there (ispars "
+                    "does by itself)",
+                    scene, assigned, why));
   }
   {
     std::lock_guard lock(mutex_);
@@ -81,10 +82,11 @@ void SceneClaims::claim(const std::string& scene) {
     if (id != self_ && wire::holds(d, scene) && wire::outweighs(scene, d, me, now)) {
       release(scene);
       fleet_.announce();
-      throw InputError(kRequest, "scene",
-                       fmt::format("daemon {} claimed scene '{}' at the same moment and outranks this one: the scene "
-                                   "is owned by daemon {}",
-                                   id, scene, id));
+      throw params::InputError(
+          kRequest, "scene",
+          fmt::format("daemon {} claimed scene '{}' at the same moment and outranks this one: the scene "
+                      "is owned by daemon {}",
+                      id, scene, id));
     }
   }
 }

@@ -2,25 +2,25 @@
 
 namespace ispars::server {
 
-msg::SceneState to_message(SessionState state) {
+msg::SceneState to_message(service::SessionState state) {
   switch (state) {
-    case SessionState::empty:
+    case service::SessionState::empty:
       return msg::SCENE_EMPTY;
-    case SessionState::idle:
+    case service::SessionState::idle:
       return msg::SCENE_IDLE;
-    case SessionState::queued:
+    case service::SessionState::queued:
       return msg::SCENE_QUEUED;
-    case SessionState::replaying:
+    case service::SessionState::replaying:
       return msg::SCENE_REPLAYING;
-    case SessionState::building:
+    case service::SessionState::building:
       return msg::SCENE_BUILDING;
-    case SessionState::failed:
+    case service::SessionState::failed:
       return msg::SCENE_FAILED;
   }
   return msg::SCENE_FAILED;
 }
 
-msg::SceneStatus to_message(const SessionStatus& s, const std::string& server_id, std::uint64_t generation) {
+msg::SceneStatus to_message(const service::SessionStatus& s, const std::string& server_id, std::uint64_t generation) {
   msg::SceneStatus m;
   m.scene(s.scene);
   m.server_id(server_id);

@@ -7,7 +7,8 @@ namespace ispars::server {
 namespace {
 
 // The tasks of a scene as the fleet reads them (ispars/tasks), for its status's roadmap.
-std::vector<msg::SceneTask> task_messages(const std::vector<InspectionTask>& tasks, const msg::SceneStatus& status) {
+std::vector<msg::SceneTask> task_messages(const std::vector<service::InspectionTask>& tasks,
+                                          const msg::SceneStatus& status) {
   std::vector<msg::SceneTask> out;
   for (std::size_t i = 0; i < tasks.size(); ++i) {
     msg::SceneTask m;
@@ -34,7 +35,7 @@ std::uint64_t StatusPublisher::next_seq() const {
   return ++seq_;
 }
 
-msg::SceneStatus StatusPublisher::status_message(const RoadmapSession& session) const {
+msg::SceneStatus StatusPublisher::status_message(const service::RoadmapSession& session) const {
   // Stamped under one lock with the reading, so a later stamp is never an older state.
   std::lock_guard lock(stamp_mutex_);
   msg::SceneStatus m = to_message(session.status(), server_id_, session.published().generation);
@@ -42,7 +43,7 @@ msg::SceneStatus StatusPublisher::status_message(const RoadmapSession& session) 
   return m;
 }
 
-void StatusPublisher::publish_status(const RoadmapSession& session) {
+void StatusPublisher::publish_status(const service::RoadmapSession& session) {
   std::lock_guard lock(publish_mutex_);
   const msg::SceneStatus status = status_message(session);
   metrics_.observe_samples(status.scene().to_string(), status.samples_done());
@@ -74,11 +75,11 @@ void StatusPublisher::publish_commit(const std::string& scene, const RoadmapBatc
   out_.publish_update(update);
 }
 
-void StatusPublisher::republish(const std::string& scene, const RoadmapSession& session) {
+void StatusPublisher::republish(const std::string& scene, const service::RoadmapSession& session) {
   publish_status(session);
   // An empty batch at the roadmap's version: one behind sees a gap and resyncs; one up to date
   // takes it for a duplicate.
-  const SessionStatus status = session.status();
+  const service::SessionStatus status = session.status();
   if (!status.recipe) return;
   msg::UpdateBatch mark;
   mark.scene(scene);

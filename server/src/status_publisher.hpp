@@ -22,9 +22,9 @@ class StatusPublisher {
   StatusPublisher(std::string server_id, DaemonOutbox& out, DaemonMetrics& metrics, const std::atomic<bool>& leaving);
 
   /// `session`'s status, stamped with the next sequence number.
-  [[nodiscard]] msg::SceneStatus status_message(const RoadmapSession& session) const;
+  [[nodiscard]] msg::SceneStatus status_message(const service::RoadmapSession& session) const;
   /// Publishes `session`'s status (and its tasks when they changed).
-  void publish_status(const RoadmapSession& session);
+  void publish_status(const service::RoadmapSession& session);
   /// `scene` left this daemon: its updates are retired and, unless it was given up to another
   /// daemon (whose statuses are the scene's now), an UNLOADED status follows.
   void publish_unloaded(const std::string& scene, bool given_up);
@@ -33,7 +33,7 @@ class StatusPublisher {
                       std::uint64_t samples, std::size_t poi_count);
   /// For a new participant: `session`'s status, then an empty batch at its roadmap's version
   /// (the new update writer keeps none of the old one's batches; a replica behind sees the gap).
-  void republish(const std::string& scene, const RoadmapSession& session);
+  void republish(const std::string& scene, const service::RoadmapSession& session);
 
  private:
   std::uint64_t next_seq() const;

@@ -12,12 +12,12 @@ TakeoverPlan keep(std::string outcome, bool refused = false) {
   return plan;
 }
 
-std::string copy_words(const SessionStatus& mine) {
+std::string copy_words(const service::SessionStatus& mine) {
   return fmt::format("generation {}, {} samples", mine.recipe->generation, mine.samples_done);
 }
 
 // A continued copy with fewer task events than the former owner's, whose tasks did not arrive.
-std::string missing_tasks(const SessionStatus& mine, const FormerRoadmap& former) {
+std::string missing_tasks(const service::SessionStatus& mine, const FormerRoadmap& former) {
   if (mine.task_events >= former.task_events) return "";
   return fmt::format(
       "; daemon {}'s roadmap had {} task events to this copy's {}, whose tasks did not reach this "
@@ -35,7 +35,7 @@ std::string task_words(const FormerRoadmap& former) {
         former.task_events, former.owner);
   }
   std::string names;
-  for (const InspectionTask& t : *former.tasks) {
+  for (const service::InspectionTask& t : *former.tasks) {
     if (t.removed) continue;
     names += (names.empty() ? "" : ", ") + t.name;
   }
@@ -45,7 +45,8 @@ std::string task_words(const FormerRoadmap& former) {
 
 // The plan when the former owner held no roadmap: nothing to continue, but a drop it made after
 // this daemon's copy was built sets that copy aside.
-TakeoverPlan plan_without_roadmap(const std::string& scene, const SessionStatus& mine, const FormerRoadmap& former) {
+TakeoverPlan plan_without_roadmap(const std::string& scene, const service::SessionStatus& mine,
+                                  const FormerRoadmap& former) {
   if (former.generation > 0 && mine.recipe && mine.recipe->generation < former.generation) {
     TakeoverPlan plan =
         keep(fmt::format("scene '{}' taken over from {}, which dropped its roadmap (generation {}) "
@@ -59,8 +60,8 @@ TakeoverPlan plan_without_roadmap(const std::string& scene, const SessionStatus&
 
 }  // namespace
 
-TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, const std::string& my_fingerprint,
-                           const FormerRoadmap& former) {
+TakeoverPlan plan_takeover(const std::string& scene, const service::SessionStatus& mine,
+                           const std::string& my_fingerprint, const FormerRoadmap& former) {
   if (!former.recipe) return plan_without_roadmap(scene, mine, former);
   if (!mine.recipe && mine.generation > former.recipe->generation) {
     return keep(
@@ -113,8 +114,8 @@ TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine, 
   }
   TakeoverPlan plan;
   plan.action = TakeoverPlan::Action::rebuild;
-  plan.request = rebuild_request(theirs, former.samples);
-  plan.set_aside = mine.recipe.has_value() || mine.state == SessionState::failed;
+  plan.request = service::rebuild_request(theirs, former.samples);
+  plan.set_aside = mine.recipe.has_value() || mine.state == service::SessionState::failed;
   plan.request.replace = plan.set_aside;
   if (former.tasks) plan.tasks = *former.tasks;
   plan.outcome = fmt::format(

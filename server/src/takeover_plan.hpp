@@ -29,7 +29,7 @@ struct FormerRoadmap {
   /// Its inspection tasks' events (added, plus removed), from its last status.
   std::uint64_t task_events = 0;
   /// Those tasks, in order, when all of them reached this daemon (ispars/tasks); none otherwise.
-  std::optional<std::vector<InspectionTask>> tasks;
+  std::optional<std::vector<service::InspectionTask>> tasks;
 };
 
 /// One takeover's decision.
@@ -43,7 +43,7 @@ struct TakeoverPlan {
   std::uint64_t extend_by = 0;
   BuildRequest request;
   /// With `rebuild`: the former owner's tasks, given to the scene before it is built (adopt_tasks).
-  std::vector<InspectionTask> tasks;
+  std::vector<service::InspectionTask> tasks;
   bool set_aside = false;  ///< This daemon's copy goes to DATA_DIR/.aside first (never deleted).
   bool refused = false;    ///< The former owner's roadmap cannot be continued here (named in `outcome`).
   std::string outcome;     ///< What was decided and why, in a sentence for the log and the scenes list.
@@ -53,7 +53,7 @@ struct TakeoverPlan {
 /// (`mine`, with its generation) and the fingerprint of its scene file. A drop counts as a copy
 /// of its generation with no samples: a later drop on either side wins over an earlier build on
 /// the other (the earlier copy here is set aside, never served again, never deleted).
-[[nodiscard]] TakeoverPlan plan_takeover(const std::string& scene, const SessionStatus& mine,
+[[nodiscard]] TakeoverPlan plan_takeover(const std::string& scene, const service::SessionStatus& mine,
                                          const std::string& my_fingerprint, const FormerRoadmap& former);
 
 }  // namespace ispars::server

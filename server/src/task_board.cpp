@@ -14,8 +14,8 @@ void TaskBoard::seen(const msg::SceneTask& t) {
   const bool finite = std::all_of(t.pois().begin(), t.pois().end(), [](const msg::Point& p) {
     return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
   });
-  if (t.index() >= kMaxTasks || t.pois().size() > kMaxTaskPois || t.pois().empty() ||
-      !valid_task_name(t.name().to_string()) || !finite || scene.size() > 64) {
+  if (t.index() >= service::kMaxTasks || t.pois().size() > service::kMaxTaskPois || t.pois().empty() ||
+      !service::valid_task_name(t.name().to_string()) || !finite || scene.size() > 64) {
     spdlog::warn("ignored task {} of scene '{}' from daemon {}: out of bounds", t.index(), scene.substr(0, 64),
                  t.server_id().to_string().substr(0, 64));
     return;
@@ -35,10 +35,11 @@ std::size_t TaskBoard::size() const {
   return tasks_.size();
 }
 
-std::optional<std::vector<InspectionTask>> TaskBoard::tasks_of(const std::string& scene, const std::string& server,
-                                                               std::uint64_t generation, std::uint64_t events,
-                                                               std::optional<std::size_t> task_pois) const {
-  std::vector<InspectionTask> out;
+std::optional<std::vector<service::InspectionTask>> TaskBoard::tasks_of(const std::string& scene,
+                                                                        const std::string& server,
+                                                                        std::uint64_t generation, std::uint64_t events,
+                                                                        std::optional<std::size_t> task_pois) const {
+  std::vector<service::InspectionTask> out;
   std::lock_guard lock(mutex_);
   for (auto it = tasks_.lower_bound({scene, server, 0});
        it != tasks_.end() && std::get<0>(it->first) == scene && std::get<1>(it->first) == server; ++it) {
@@ -48,7 +49,7 @@ std::optional<std::vector<InspectionTask>> TaskBoard::tasks_of(const std::string
     out.push_back(it->second.task);
   }
   std::size_t pois = 0;
-  for (const InspectionTask& t : out) pois += t.pois.size();
+  for (const service::InspectionTask& t : out) pois += t.pois.size();
   if (task_events(out) != events || (task_pois && pois != *task_pois)) return std::nullopt;
   return out;
 }

@@ -32,14 +32,14 @@ class TaskBoard {
   /// plus removed) are `events` and whose POIs number `task_pois` in all (if known). Nothing otherwise
   /// (some did not arrive). Two daemons' lists are kept apart: the two sides of a partition
   /// publish different tasks at one index.
-  [[nodiscard]] std::optional<std::vector<InspectionTask>> tasks_of(const std::string& scene, const std::string& server,
-                                                                    std::uint64_t generation, std::uint64_t events,
-                                                                    std::optional<std::size_t> task_pois) const;
+  [[nodiscard]] std::optional<std::vector<service::InspectionTask>> tasks_of(
+      const std::string& scene, const std::string& server, std::uint64_t generation, std::uint64_t events,
+      std::optional<std::size_t> task_pois) const;
 
  private:
   struct Entry {
     std::uint64_t generation = 0;
-    InspectionTask task;
+    service::InspectionTask task;
   };
   mutable std::mutex mutex_;
   std::map<std::tuple<std::string, std::string, std::uint32_t>, Entry> tasks_;  // by (scene, server, index)

@@ -13,7 +13,7 @@ namespace ispars::server {
 /// What the winner does to carry the loser's task changes: the tasks to add, then the names to
 /// remove. Empty when the loser changed nothing the winner lacks.
 struct TaskMerge {
-  std::vector<InspectionTask> add;
+  std::vector<service::InspectionTask> add;
   std::vector<std::string> remove;
   [[nodiscard]] bool empty() const { return add.empty() && remove.empty(); }
 };
@@ -23,6 +23,7 @@ struct TaskMerge {
 /// is added (with the loser's POIs); a task the loser removed that the winner still holds with
 /// the same POIs is removed. A task the winner removed stays removed, and one it holds under a
 /// name the loser used for other POIs is kept: the winner's acknowledged change stands.
-[[nodiscard]] TaskMerge merge_tasks(std::span<const InspectionTask> mine, std::span<const InspectionTask> theirs);
+[[nodiscard]] TaskMerge merge_tasks(std::span<const service::InspectionTask> mine,
+                                    std::span<const service::InspectionTask> theirs);
 
 }  // namespace ispars::server

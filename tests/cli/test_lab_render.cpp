@@ -27,7 +27,7 @@ class LabRender : public LabCli {
   std::string scene_, roadmap_, tour_;
 };
 
-int count(const ispars::Image& image, bool (*is)(const std::uint8_t*)) {
+int count(const ispars::render::Image& image, bool (*is)(const std::uint8_t*)) {
   int n = 0;
   for (int y = 0; y < image.height; ++y) {
     for (int x = 0; x < image.width; ++x) n += is(image.pixel(x, y)) ? 1 : 0;
@@ -46,7 +46,7 @@ TEST_F(LabRender, DrawsTheRoadmapItsDensePairAndTheTourWithTheFilesCounts) {
   EXPECT_EQ(json["roadmap_edges_drawn"], json["roadmap_edges"]);
   EXPECT_EQ(json["dense_edges_drawn"], file["graphs"]["dense"]["edges"].size());
   EXPECT_EQ(json["tour_steps"].get<std::size_t>() + 1, nlohmann::json::parse(slurp(tour_))["positions"].size());
-  const ispars::Image image = ispars::read_png(png.string());
+  const ispars::render::Image image = ispars::render::read_png(png.string());
   EXPECT_EQ(image.width, 320);
   EXPECT_EQ(image.height, 240);
   // The tour's orange and the roadmap's blue are both in the picture.

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include "ispars/builders/recipe_builder.hpp"
 #include "ispars/params/cli_archive.hpp"
+#include "ispars/planning/builders/recipe_builder.hpp"
 
 #include "lab_cli_fixture.hpp"
 
@@ -41,11 +41,11 @@ std::string daemon_problem(const std::string& flags) {
   } catch (const CLI::ParseError& e) {
     return std::string(e.what()).substr(std::string(e.what()).find(": ") + 2);  // the flag's own check
   }
-  const Scene scene = Scene::load(kScene);
+  const planning::Scene scene = planning::Scene::load(kScene);
   try {
     set_method(request, method, variant, "request");
     (void)make_recipe("tower", scene, request, "request");
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     return e.problem();
   }
   return "";

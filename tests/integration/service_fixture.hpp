@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
-#include "ispars/builders/roadmap_builder.hpp"
 #include "ispars/client/client.hpp"
 #include "ispars/client/wire_calls.hpp"
 #include "ispars/local/local_daemon.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
-#include "ispars/scene/scene.hpp"
 #include "ispars/wire/participant.hpp"
 #include "support/eventually.hpp"
 #include "support/test_support.hpp"
@@ -146,12 +146,12 @@ inline SceneStatus idle_on(Client& client, const std::string& scene, const std::
 inline std::uint64_t reference_digest(const std::filesystem::path& scene_file, std::uint64_t samples,
                                       std::uint64_t seed, BuildMethod method = BuildMethod::ispars,
                                       double stretch_slack = 0.0, std::uint64_t stretch_slack_after = 0) {
-  const Scene scene = Scene::load(scene_file);
-  BuildOptions options;
+  const planning::Scene scene = planning::Scene::load(scene_file);
+  planning::BuildOptions options;
   options.seed = seed;
   options.stretch_slack = stretch_slack;
   options.stretch_slack_after = stretch_slack_after;
-  const auto builder = make_roadmap_builder(method, scene, options);
+  const auto builder = planning::make_roadmap_builder(method, scene, options);
   builder->extend(samples);
   return roadmap_digest(builder->roadmap());
 }

@@ -168,7 +168,7 @@ TEST_F(CliTest, RenderDrawsTheDaemonsRoadmapAndTourOverTheLocalSceneFile) {
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string edges = std::to_string(stats["edges"].get<std::size_t>());
   EXPECT_NE(r.out.find(edges + " of " + edges + " edges drawn, a tour of"), std::string::npos) << r.out;
-  const Image image = read_png(png.string());
+  const render::Image image = render::read_png(png.string());
   EXPECT_EQ(image.width, 320);
   int orange = 0;
   for (int y = 0; y < image.height; ++y) {

@@ -21,21 +21,21 @@ namespace {
 // The uninterrupted in-process builds, one per seed, extended as the checks need.
 class References {
  public:
-  explicit References(std::filesystem::path scene_file) : scene_(Scene::load(scene_file)) {}
+  explicit References(std::filesystem::path scene_file) : scene_(planning::Scene::load(scene_file)) {}
   std::uint64_t digest(std::uint64_t seed, std::uint64_t samples) {
     auto& builder = builders_[seed];
     if (!builder || builder->samples() > samples) {
-      BuildOptions options;
+      planning::BuildOptions options;
       options.seed = seed;
-      builder = make_roadmap_builder(BuildMethod::ispars, scene_, options);
+      builder = planning::make_roadmap_builder(BuildMethod::ispars, scene_, options);
     }
     builder->extend(samples - builder->samples());
     return roadmap_digest(builder->roadmap());
   }
 
  private:
-  Scene scene_;
-  std::map<std::uint64_t, std::unique_ptr<RoadmapBuilder>> builders_;
+  planning::Scene scene_;
+  std::map<std::uint64_t, std::unique_ptr<planning::RoadmapBuilder>> builders_;
 };
 
 class CrashTest : public ServiceTest {

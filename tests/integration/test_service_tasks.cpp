@@ -18,12 +18,12 @@ namespace {
 // POIs added afterwards (what the daemon's `--sample count --seed seed` adds).
 std::uint64_t task_reference(const std::filesystem::path& scene_file, BuildMethod method, std::uint64_t samples,
                              std::size_t count, std::uint64_t seed) {
-  const Scene scene = Scene::load(scene_file);
-  const Scene widened =
-      scene.with_more_pois(sample_pois_on_surface(scene.mesh(), count, seed, scene.config().pois.skip_ground));
-  BuildOptions options;
+  const planning::Scene scene = planning::Scene::load(scene_file);
+  const planning::Scene widened = scene.with_more_pois(
+      scene_files::sample_pois_on_surface(scene.mesh(), count, seed, scene.config().pois.skip_ground));
+  planning::BuildOptions options;
   options.seed = 1;
-  const auto builder = make_roadmap_builder(method, scene, options);
+  const auto builder = planning::make_roadmap_builder(method, scene, options);
   builder->extend(samples);
   builder->add_pois(widened);
   return roadmap_digest(builder->roadmap());

@@ -48,7 +48,7 @@ TEST_F(ServiceTest, ToursAreSearchedByTheDaemonWithProgressAndValidated) {
   // The shortcut tour, checked here with the test's own copy of the scene: its stops are walk
   // vertices, each step an edge or a segment the collision checker accepts, every target still
   // seen from a stop, and its length the sum of its steps, never above the walk's.
-  const Scene scene = Scene::load(scene_dir_ / "s0.yaml");
+  const planning::Scene scene = planning::Scene::load(scene_dir_ / "s0.yaml");
   ASSERT_GE(r.shortcut_stops.size(), 2u);
   ASSERT_EQ(r.shortcut_path.size(), r.shortcut_stops.size());
   EXPECT_EQ(r.shortcut_stops.front(), 0u);

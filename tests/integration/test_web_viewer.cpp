@@ -101,7 +101,7 @@ TEST_F(WebViewerTest, FourBrowsersFollowABuildAndDrawWhatStatsSays) {
   // The drawing is there: in the page's canvas and in the screenshot.
   EXPECT_GT(result["drawn_pixels"]["drawn"].get<double>(), 0.03 * result["drawn_pixels"]["total"].get<double>())
       << result;
-  const Image image = read_png(shot.string());
+  const render::Image image = render::read_png(shot.string());
   std::size_t drawn = 0;
   for (int y = 0; y < image.height; ++y) {
     for (int x = 0; x < image.width; ++x) {

@@ -43,7 +43,7 @@ struct Stray {
 std::string fields_error_of(auto&& f) {
   try {
     f();
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     return e.what();
   }
   return "";

@@ -31,7 +31,7 @@ std::string valve_read_error(const std::string& text) {
   Valve v;
   try {
     read_json(nlohmann::json::parse(text), v, "valve.json");
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     return e.what();
   }
   return "";

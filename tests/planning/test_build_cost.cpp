@@ -3,11 +3,11 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/builders/build_cost.hpp"
-#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/build_cost.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 struct Case {
@@ -73,4 +73,4 @@ TEST(BuildCost, AHugeDeltaCountsEveryPairAndMoreSamplesNeverCostLess) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

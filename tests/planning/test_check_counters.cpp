@@ -4,11 +4,11 @@
 
 #include <thread>
 
-#include "ispars/geometry/check_counters.hpp"
-#include "ispars/scene/scene.hpp"
+#include "ispars/planning/geometry/check_counters.hpp"
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/scene_files/procedural.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 TEST(CheckCounters, CountEveryCallAcrossThreads) {
@@ -28,7 +28,7 @@ TEST(CheckCounters, CountEveryCallAcrossThreads) {
 }
 
 TEST(CheckCounters, SceneCountsItsQueries) {
-  const Scene scene = Scene::build(procedural_scene_config("tank_tower", 1));
+  const Scene scene = Scene::build(scene_files::procedural_scene_config("tank_tower", 1));
   const CheckCounts before = scene.counts();
   (void)scene.point_valid(Vec3(8, 0, 3));
   (void)scene.point_valid(Vec3(8, 1, 3));
@@ -44,4 +44,4 @@ TEST(CheckCounters, SceneCountsItsQueries) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

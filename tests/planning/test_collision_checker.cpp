@@ -12,7 +12,7 @@
 #include "ispars/scene_files/procedural.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // Decisions may differ only where the exact distance is within this of the radius: there the
@@ -34,23 +34,24 @@ const Scene& scene_for(const std::string& name) {
   if (name.rfind(prefix, 0) == 0) {
     static std::map<std::string, std::unique_ptr<Scene>> cache;
     auto& slot = cache[name];
-    if (!slot) slot = std::make_unique<Scene>(Scene::build(procedural_scene_config(name.substr(prefix.size()), 3)));
+    if (!slot)
+      slot = std::make_unique<Scene>(Scene::build(scene_files::procedural_scene_config(name.substr(prefix.size()), 3)));
     return *slot;
   }
   return test::shared_scene(name);
 }
 
-BruteForceGeometry reference_for(const Scene& scene) {
-  return BruteForceGeometry(scene.embree().triangles(), scene.config().bounds, scene.config().robot_radius,
-                            scene.pois(), scene.config().sensor_range);
+reference::BruteForceGeometry reference_for(const Scene& scene) {
+  return reference::BruteForceGeometry(scene.embree().triangles(), scene.config().bounds, scene.config().robot_radius,
+                                       scene.pois(), scene.config().sensor_range);
 }
 
 class CollisionAgreement : public ::testing::TestWithParam<AgreementCase> {};
 
 TEST_P(CollisionAgreement, PointChecksMatchBruteForce) {
   const Scene& scene = scene_for(GetParam().scene);
-  const BruteForceGeometry brute = reference_for(scene);
-  Rng rng(11);
+  const reference::BruteForceGeometry brute = reference_for(scene);
+  scene_files::Rng rng(11);
   const auto points = test::mixed_query_points(scene, rng, test::scaled(GetParam().points));
   std::size_t disagreements = 0;
   std::size_t in_band = 0;
@@ -80,8 +81,8 @@ TEST_P(CollisionAgreement, PointChecksMatchBruteForce) {
 
 TEST_P(CollisionAgreement, SegmentChecksMatchBruteForce) {
   const Scene& scene = scene_for(GetParam().scene);
-  const BruteForceGeometry brute = reference_for(scene);
-  Rng rng(12);
+  const reference::BruteForceGeometry brute = reference_for(scene);
+  scene_files::Rng rng(12);
   const auto segments = test::mixed_query_segments(scene, rng, test::scaled(GetParam().segments));
   const double r = scene.config().robot_radius;
   std::size_t invalid = 0;
@@ -110,10 +111,10 @@ INSTANTIATE_TEST_SUITE_P(
 // A scene with one triangle, for exact hand-made cases.
 Scene single_triangle_scene(const Triangle& t, double radius) {
   // Plus a far-away tile in a corner, so POIs have surface to be sampled on.
-  TriangleMesh mesh;
+  scene_files::TriangleMesh mesh;
   mesh.vertices = {t.a.cast<float>(), t.b.cast<float>(), t.c.cast<float>(), {-9, -9, -9}, {-8, -9, -9}, {-9, -8, -9}};
   mesh.triangles = {{0, 1, 2}, {3, 4, 5}};
-  SceneConfig config;
+  scene_files::SceneConfig config;
   config.source = "test";
   config.bounds = {Vec3(-10, -10, -10), Vec3(10, 10, 10)};
   config.robot_radius = radius;
@@ -122,7 +123,7 @@ Scene single_triangle_scene(const Triangle& t, double radius) {
   config.sparse_delta = 1.5;
   config.stretch = 1.05;
   config.root = Vec3(9, 9, 9);
-  config.pois = PoiSource{1, 1, false, {}};
+  config.pois = scene_files::PoiSource{1, 1, false, {}};
   return Scene::build(config, mesh);
 }
 
@@ -169,7 +170,7 @@ TEST(CollisionChecker, ZeroLengthSegmentIsAPointCheck) {
 
 TEST(CollisionChecker, ConcurrentQueriesGiveTheSameAnswers) {
   const Scene& scene = test::shared_scene("radio_tower");
-  Rng rng(5);
+  scene_files::Rng rng(5);
   const auto segments = test::mixed_query_segments(scene, rng, 4000);
   std::vector<char> serial(segments.size());
   for (std::size_t i = 0; i < segments.size(); ++i) serial[i] = scene.segment_valid(segments[i].a, segments[i].b);
@@ -187,4 +188,4 @@ TEST(CollisionChecker, ConcurrentQueriesGiveTheSameAnswers) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

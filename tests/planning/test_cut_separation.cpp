@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/tour/cut_separation.hpp"
+#include "ispars/planning/tour/cut_separation.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 using Local = std::vector<std::uint32_t>;
@@ -112,4 +112,4 @@ TEST(MaxFlow, EdgesAtZeroAreNotInTheSupport) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

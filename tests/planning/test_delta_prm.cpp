@@ -7,11 +7,11 @@
 #include <utility>
 #include <vector>
 
-#include "ispars/builders/delta_prm.hpp"
+#include "ispars/planning/builders/delta_prm.hpp"
 #include "ispars/scene_files/random.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // open_scene's wall: the square x = 2.5, |y|, |z| <= 1, robot radius 0.1.
@@ -71,7 +71,7 @@ TEST(DeltaPrm, EdgesAreExactlyTheValidPairsWithinDelta) {
   const Scene& scene = wall_scene();
   const double delta = 0.8;
   DeltaPrm prm(scene, delta);
-  Rng rng(7);
+  scene_files::Rng rng(7);
   const std::vector<PoiId> none;
   std::vector<Vec3> points;
   while (points.size() < 150) {
@@ -133,4 +133,4 @@ TEST(DeltaPrm, WithinIsNearestFirstAndInclusive) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

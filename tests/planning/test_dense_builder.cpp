@@ -5,19 +5,19 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/builders/delta_prm.hpp"
-#include "ispars/builders/dense_builder.hpp"
+#include "ispars/planning/builders/delta_prm.hpp"
+#include "ispars/planning/builders/dense_builder.hpp"
 #include "ispars/scene_files/random.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // open_scene with its wall, sampled in a small box around it (|x|, |y|, |z| <= 3), so that
 // samples are dense enough for edges and some fall within the robot radius of the wall.
 Scene small_box_scene() {
   const Scene base = test::open_scene(1.0, 2.0, true);
-  SceneConfig config = base.config();
+  scene_files::SceneConfig config = base.config();
   config.bounds = {Vec3(-3, -3, -3), Vec3(3, 3, 3)};
   return Scene::build(config, base.mesh());
 }
@@ -61,7 +61,7 @@ TEST(DenseBuilder, ExtendInsertsTheValidSamplesOfTheSeededStream) {
   EXPECT_EQ(extended.samples(), 300u);
 
   DenseBuilder stepped(scene, options);
-  Rng rng(options.seed);
+  scene_files::Rng rng(options.seed);
   std::size_t invalid = 0;
   for (int i = 0; i < 300; ++i) {
     const Vec3 q = rng.uniform_in(scene.config().bounds);
@@ -76,7 +76,7 @@ TEST(DenseBuilder, ExtendInsertsTheValidSamplesOfTheSeededStream) {
   // The same points inserted into a bare DeltaPrm after the root give the same graph again.
   DeltaPrm prm(scene, scene.config().dense_delta);
   prm.insert(scene.config().root, scene.visibility().visible_pois(scene.config().root));
-  Rng again(options.seed);
+  scene_files::Rng again(options.seed);
   for (int i = 0; i < 300; ++i) {
     const Vec3 q = again.uniform_in(scene.config().bounds);
     if (scene.point_valid(q)) prm.insert(q, scene.visibility().visible_pois(q));
@@ -105,4 +105,4 @@ TEST(DenseBuilder, ResumedBuilderHoldsTheGivenRoadmapAndGoesOnInTheStream) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -7,11 +7,11 @@
 #include <utility>
 #include <vector>
 
+#include "ispars/planning/search/dense_search.hpp"
+#include "ispars/planning/search/graph_search.hpp"
 #include "ispars/scene_files/random.hpp"
-#include "ispars/search/dense_search.hpp"
-#include "ispars/search/graph_search.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 using Settled = std::pair<double, VertexId>;
@@ -108,7 +108,7 @@ TEST(DenseSearch, ANewSearchForgetsTheLastOneAndGrowsWithTheGraph) {
 }
 
 TEST(DenseSearch, AgreesWithDijkstraOnRandomGraphs) {
-  Rng rng(5);
+  scene_files::Rng rng(5);
   for (int trial = 0; trial < 10; ++trial) {
     std::vector<Vec3> points;
     std::vector<std::pair<VertexId, VertexId>> edges;
@@ -142,4 +142,4 @@ TEST(DenseSearch, AgreesWithDijkstraOnRandomGraphs) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -4,13 +4,13 @@
 
 #include <cmath>
 
-#include "ispars/geometry/distance.hpp"
+#include "ispars/planning/geometry/distance.hpp"
 #include "ispars/scene_files/random.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
-Triangle random_triangle(Rng& rng) {
+Triangle random_triangle(scene_files::Rng& rng) {
   return {rng.uniform_in({Vec3(-1, -1, -1), Vec3(1, 1, 1)}), rng.uniform_in({Vec3(-1, -1, -1), Vec3(1, 1, 1)}),
           rng.uniform_in({Vec3(-1, -1, -1), Vec3(1, 1, 1)})};
 }
@@ -34,7 +34,7 @@ double longest_edge(const Triangle& t) {
 }
 
 TEST(Distance, PointTriangleMatchesSampling) {
-  Rng rng(1);
+  scene_files::Rng rng(1);
   for (int k = 0; k < 300; ++k) {
     const Triangle t = random_triangle(rng);
     const Vec3 p = rng.uniform_in({Vec3(-2, -2, -2), Vec3(2, 2, 2)});
@@ -47,7 +47,7 @@ TEST(Distance, PointTriangleMatchesSampling) {
 }
 
 TEST(Distance, ClosestPointLiesOnTheTriangle) {
-  Rng rng(2);
+  scene_files::Rng rng(2);
   for (int k = 0; k < 1000; ++k) {
     const Triangle t = random_triangle(rng);
     const Vec3 p = rng.uniform_in({Vec3(-2, -2, -2), Vec3(2, 2, 2)});
@@ -58,7 +58,7 @@ TEST(Distance, ClosestPointLiesOnTheTriangle) {
 }
 
 TEST(Distance, SegmentTriangleMatchesSamplingAlongTheSegment) {
-  Rng rng(3);
+  scene_files::Rng rng(3);
   int intersecting = 0;
   for (int k = 0; k < 300; ++k) {
     const Triangle t = random_triangle(rng);
@@ -85,7 +85,7 @@ TEST(Distance, SegmentTriangleMatchesSamplingAlongTheSegment) {
 }
 
 TEST(Distance, SegmentSegmentMatchesSampling) {
-  Rng rng(4);
+  scene_files::Rng rng(4);
   for (int k = 0; k < 300; ++k) {
     const Vec3 p0 = rng.uniform_in({Vec3(-1, -1, -1), Vec3(1, 1, 1)});
     const Vec3 p1 = rng.uniform_in({Vec3(-1, -1, -1), Vec3(1, 1, 1)});
@@ -133,4 +133,4 @@ TEST(Distance, RayPlaneCrossingReportsMargin) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -9,11 +9,11 @@
 #include <stdexcept>
 #include <thread>
 
-#include "ispars/builders/spars_builder.hpp"
-#include "ispars/tour/flown_tour.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
+#include "ispars/planning/tour/flown_tour.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 constexpr std::size_t kSamples = 3000;
@@ -103,4 +103,4 @@ TEST(FlownTour, AnotherScenesRoadmapIsRefused) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -4,10 +4,10 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/tour/flown_tour_check.hpp"
+#include "ispars/planning/tour/flown_tour_check.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // A stop that sees every POI of the open scene (its POIs lie on the far tile at z = 40).
@@ -83,4 +83,4 @@ TEST(FlownTourCheck, AWrongCostAndAStopInCollisionFail) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

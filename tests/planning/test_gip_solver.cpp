@@ -8,11 +8,11 @@
 #include <queue>
 
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/tour/gip_solver.hpp"
 #include "ispars/scene_files/random.hpp"
-#include "ispars/tour/gip_solver.hpp"
 #include "support/gip_reference.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 using test::exact_optimum;
@@ -111,7 +111,7 @@ TEST(GipSolver, BadInputIsNamed) {
     try {
       (void)solve_gip(g, o);
       ADD_FAILURE() << "accepted: " << needle;
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
     }
   };
@@ -146,4 +146,4 @@ TEST(GipSolver, BadInputIsNamed) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

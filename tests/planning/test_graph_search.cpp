@@ -4,15 +4,15 @@
 
 #include <cmath>
 
+#include "ispars/planning/search/dense_search.hpp"
+#include "ispars/planning/search/graph_search.hpp"
 #include "ispars/scene_files/random.hpp"
-#include "ispars/search/dense_search.hpp"
-#include "ispars/search/graph_search.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 Roadmap random_graph(std::uint64_t seed, int vertices, int edges) {
-  Rng rng(seed);
+  scene_files::Rng rng(seed);
   Roadmap g(0);
   for (int i = 0; i < vertices; ++i) g.add_vertex(rng.uniform_in({Vec3(0, 0, 0), Vec3(10, 10, 10)}), {});
   for (int i = 0; i < edges; ++i) {
@@ -82,4 +82,4 @@ TEST(GraphSearch, DenseSearchStopsAtTheBound) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -5,10 +5,10 @@
 
 #include <string>
 
-#include "ispars/tour/inspection_tour.hpp"
+#include "ispars/planning/tour/inspection_tour.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // The triangle 0-1 (1), 1-2 (2), 2-0 (3.5), a parallel 0-1 (0.75) and a pendant 2-3 (1);
@@ -103,4 +103,4 @@ TEST(InspectionTour, TheProblemIsTheFirstFailure) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -6,11 +6,11 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/builders/irisc_builder.hpp"
+#include "ispars/planning/builders/irisc_builder.hpp"
 #include "ispars/scene_files/random.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // open_scene (with its wall at x = 2.5 when asked) with two POIs read from a file, at (2, 0, 0)
@@ -19,7 +19,7 @@ namespace {
 Scene poi_scene(double delta, double big_delta, bool wall) {
   static const test::TempDir dir;
   const Scene base = test::open_scene(delta, big_delta, wall);
-  SceneConfig config = base.config();
+  scene_files::SceneConfig config = base.config();
   config.sensor_range = 1.2;
   config.pois.file = dir.write("pois.txt", "2 0 0\n-2 0 0\n");
   return Scene::build(config, base.mesh());
@@ -95,7 +95,7 @@ TEST(IriscBuilder, DropsAnInvalidStateAndABlockedSteeringSegment) {
 TEST(IriscBuilder, EdgesAreExactlyTheValidPairsWithinRadius) {
   const Scene scene = poi_scene(0.7, 1.2, true);
   IriscBuilder b(scene, with_p_accept(1.0));
-  Rng rng(3);
+  scene_files::Rng rng(3);
   for (int i = 0; i < 400; ++i) b.step(Vec3(rng.uniform(-1, 5), rng.uniform(-2, 2), rng.uniform(-2, 2)));
   const Roadmap& g = b.roadmap();
   ASSERT_GT(g.vertex_count(), 30u);
@@ -117,4 +117,4 @@ TEST(IriscBuilder, EdgesAreExactlyTheValidPairsWithinRadius) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

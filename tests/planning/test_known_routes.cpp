@@ -7,12 +7,12 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "ispars/builders/known_routes.hpp"
-#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/known_routes.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 TEST(KnownRoutes, RemembersPairsInEitherOrderAndKeepsTheShorterRoute) {
@@ -76,4 +76,4 @@ TEST(KnownRoutes, ATinyCacheGrowsTheSameRoadmapAsALargeOne) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -9,10 +9,10 @@
 #include <string>
 
 #include "ispars/params/input_error.hpp"
-#include "ispars/search/path_query.hpp"
+#include "ispars/planning/search/path_query.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 const Scene& wall_scene() {
@@ -35,13 +35,13 @@ Roadmap over_the_wall() {
 }
 
 // Runs plan_path and returns the InputError it throws ("" fields when it does not throw).
-InputError error_of(const Roadmap& r, const Vec3& from, const Vec3& to, double radius = 2.0) {
+params::InputError error_of(const Roadmap& r, const Vec3& from, const Vec3& to, double radius = 2.0) {
   try {
     (void)plan_path(wall_scene(), r, from, to, radius);
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     return e;
   }
-  return InputError("", "", "no error");
+  return params::InputError("", "", "no error");
 }
 
 using test::mentions;
@@ -93,20 +93,20 @@ TEST(PathQuery, BadPointsAreNamedByTheirField) {
   const Roadmap r = over_the_wall();
   const Vec3 good(0.5, 0, 0);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const InputError not_finite = error_of(r, Vec3(nan, 0, 0), good);
+  const params::InputError not_finite = error_of(r, Vec3(nan, 0, 0), good);
   EXPECT_EQ(not_finite.file(), "path");
   EXPECT_EQ(not_finite.field(), "from");
   EXPECT_TRUE(mentions(not_finite.problem(), "finite")) << not_finite.what();
 
-  const InputError collision = error_of(r, good, Vec3(2.5, 0, 0));
+  const params::InputError collision = error_of(r, good, Vec3(2.5, 0, 0));
   EXPECT_EQ(collision.field(), "to");
   EXPECT_TRUE(mentions(collision.problem(), "in collision")) << collision.what();
 
-  const InputError outside = error_of(r, Vec3(60, 0, 0), good);
+  const params::InputError outside = error_of(r, Vec3(60, 0, 0), good);
   EXPECT_EQ(outside.field(), "from");
   EXPECT_TRUE(mentions(outside.problem(), "outside the scene bounds")) << outside.what();
 
-  const InputError lonely = error_of(r, good, Vec3(20, 20, 0));
+  const params::InputError lonely = error_of(r, good, Vec3(20, 20, 0));
   EXPECT_EQ(lonely.field(), "to");
   EXPECT_TRUE(mentions(lonely.problem(), "no free segment to a roadmap vertex within Delta = 2 (0 vertices"))
       << lonely.what();
@@ -115,18 +115,18 @@ TEST(PathQuery, BadPointsAreNamedByTheirField) {
 TEST(PathQuery, AllJoinsBlockedIsNamedWithTheVerticesWithinDelta) {
   Roadmap r(wall_scene().pois().size());
   r.add_vertex(Vec3(3, 0, 0), std::vector<PoiId>{});
-  const InputError e = error_of(r, Vec3(2, 0, 0), Vec3(3.5, 0, 0));
+  const params::InputError e = error_of(r, Vec3(2, 0, 0), Vec3(3.5, 0, 0));
   EXPECT_EQ(e.field(), "from");
   EXPECT_TRUE(mentions(e.problem(), "(1 vertices within it)")) << e.what();
 }
 
 TEST(PathQuery, JoinsInDifferentComponentsHaveNoPath) {
   const Roadmap r = over_the_wall();
-  const InputError e = error_of(r, Vec3(0, -4.5, 0), Vec3(4.5, 0, 0));
+  const params::InputError e = error_of(r, Vec3(0, -4.5, 0), Vec3(4.5, 0, 0));
   EXPECT_EQ(e.file(), "path");
   EXPECT_EQ(e.field(), "to");
   EXPECT_TRUE(mentions(e.problem(), "different component")) << e.what();
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -4,14 +4,14 @@
 
 #include <cmath>
 
-#include "ispars/geometry/point_grid.hpp"
+#include "ispars/planning/geometry/point_grid.hpp"
 #include "ispars/scene_files/random.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 TEST(PointGrid, RadiusQueriesMatchAScanInOrder) {
-  Rng rng(4);
+  scene_files::Rng rng(4);
   std::vector<Vec3> points;
   PointGrid grid(1.5);
   for (std::uint32_t i = 0; i < 3000; ++i) {
@@ -45,4 +45,4 @@ TEST(PointGrid, TheRadiusIsInclusive) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -5,9 +5,9 @@
 
 #include <atomic>
 
-#include "ispars/tour/quick_tour.hpp"
+#include "ispars/planning/tour/quick_tour.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // The line 0 - 1 - ... - n-1 with the given edge costs (costs.size() == n - 1).
@@ -99,4 +99,4 @@ TEST(QuickTour, AStopSetBeforehandGivesNothingOnALargeGraph) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -4,12 +4,12 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/builders/recipe_builder.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/builders/recipe_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 const Scene& tower() { return test::shared_scene("demo_tank_tower"); }
@@ -20,7 +20,7 @@ std::string refusal_of(std::string_view method, std::string_view variant) {
     request.samples = 100;
     set_method(request, method, variant, "call");
     (void)make_recipe("t", tower(), request, "call");
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     return e.what();
   }
   return "accepted";
@@ -44,21 +44,21 @@ TEST(RecipeBuilder, ChoicesAreParsedAndRefusedByFieldUnderTheCallersFile) {
 }
 
 TEST(RecipeBuilder, TheSampleCountIsCheckedAgainstItsDeclaredRange) {
-  EXPECT_THROW((void)make_recipe("t", tower(), request(0), "call"), InputError);
-  EXPECT_THROW((void)make_recipe("t", tower(), request(kSamples.max + 1), "call"), InputError);
+  EXPECT_THROW((void)make_recipe("t", tower(), request(0), "call"), params::InputError);
+  EXPECT_THROW((void)make_recipe("t", tower(), request(kSamples.max + 1), "call"), params::InputError);
   EXPECT_NO_THROW((void)make_recipe("t", tower(), request(kSamples.max), "call"));
 }
 
 TEST(RecipeBuilder, OverridesAreCheckedByRangeThenByTheScenesScale) {
   BuildRequest c = request();
   c.overrides.p_accept = 1.5;
-  EXPECT_THROW((void)make_recipe("t", tower(), c, "call"), InputError);
+  EXPECT_THROW((void)make_recipe("t", tower(), c, "call"), params::InputError);
   c.overrides = {};
   c.overrides.sparse_delta = 1e5;
   try {
     (void)make_recipe("t", tower(), c, "call");
     FAIL() << "a Delta larger than the scene was accepted";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_EQ(e.file(), "call");
     EXPECT_EQ(e.field(), "overrides.sparse_delta");
   }
@@ -112,4 +112,4 @@ TEST(RecipeBuilder, BrokenPromisesCountInvariantViolationsOnlyWherePromisedAndNo
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

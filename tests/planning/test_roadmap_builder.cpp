@@ -6,13 +6,13 @@
 #include <memory>
 #include <string>
 
-#include "ispars/builders/roadmap_builder.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/scene_files/procedural.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 const std::vector<BuildMethod> kMethods{BuildMethod::dense, BuildMethod::spars, BuildMethod::ispars,
@@ -89,9 +89,9 @@ TEST(RoadmapBuilder, ThreadCountDoesNotChangeTheRoadmap) {
 
 TEST(RoadmapBuilder, EveryMethodBuildsCleanRoadmapsOnProceduralScenes) {
   // Also the "no exceptions on any input" guard: several seeds, every kind, zero samples too.
-  for (const auto& kind : procedural_kinds()) {
+  for (const auto& kind : scene_files::procedural_kinds()) {
     for (std::uint64_t seed : {1, 2}) {
-      const Scene scene = Scene::build(procedural_scene_config(kind, seed));
+      const Scene scene = Scene::build(scene_files::procedural_scene_config(kind, seed));
       for (const BuildMethod m : kMethods) {
         BuildOptions options;
         options.seed = seed;
@@ -113,9 +113,9 @@ TEST(RoadmapBuilder, EveryMethodBuildsCleanRoadmapsOnProceduralScenes) {
 TEST(RoadmapBuilder, AllSamplesInvalidLeavesTheRoot) {
   // A robot almost as wide as the hollow box it sits in: only a 0.1 m cube around the centre is
   // valid, so practically every sample is dropped; nothing breaks.
-  TriangleMesh mesh;
-  add_box(mesh, Vec3(0, 0, 0), Vec3(10, 10, 10));
-  SceneConfig config = procedural_scene_config("city_grid", 1);
+  scene_files::TriangleMesh mesh;
+  scene_files::add_box(mesh, Vec3(0, 0, 0), Vec3(10, 10, 10));
+  scene_files::SceneConfig config = scene_files::procedural_scene_config("city_grid", 1);
   config.procedural.reset();
   config.bounds = {Vec3(-10.2, -10.2, -10.2), Vec3(10.2, 10.2, 10.2)};
   config.robot_radius = 9.9;
@@ -130,4 +130,4 @@ TEST(RoadmapBuilder, AllSamplesInvalidLeavesTheRoot) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

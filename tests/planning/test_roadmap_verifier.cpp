@@ -2,11 +2,11 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/builders/roadmap_builder.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 TEST(RoadmapVerifier, ABuiltPairIsCleanAndAStopIsHeardWithin256Steps) {
@@ -37,4 +37,4 @@ TEST(RoadmapVerifier, ABuiltPairIsCleanAndAStopIsHeardWithin256Steps) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

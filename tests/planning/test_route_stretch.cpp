@@ -4,10 +4,10 @@
 
 #include <cmath>
 
-#include "ispars/builders/route_stretch.hpp"
+#include "ispars/planning/builders/route_stretch.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 TEST(RouteStretch, BinsAndRatiosMatchAHandComputedRoadmap) {
@@ -109,4 +109,4 @@ TEST(RouteStretch, PairsOutsideTheDenseComponentAreNotComparedAndSourcesCanBeCap
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -4,10 +4,10 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/builders/sample_batch.hpp"
+#include "ispars/planning/builders/sample_batch.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // open_scene's wall (x = 2.5, |y|, |z| <= 1), sampled in |x|, |y|, |z| <= 3, with two POIs by it
@@ -17,7 +17,7 @@ const Scene& wall_box_scene() {
   static const test::TempDir dir;
   static const Scene scene = [] {
     const Scene base = test::open_scene(1.0, 2.0, true);
-    SceneConfig config = base.config();
+    scene_files::SceneConfig config = base.config();
     config.bounds = {Vec3(-3, -3, -3), Vec3(3, 3, 3)};
     config.sensor_range = 1.2;
     config.pois.file = dir.write("pois.txt", "2 0 0\n2.7 0 0\n");
@@ -28,7 +28,7 @@ const Scene& wall_box_scene() {
 
 TEST(SampleBatch, SamplesAreTheRngsDrawsCheckedOneByOne) {
   const Scene& scene = wall_box_scene();
-  Rng rng(17), reference(17);
+  scene_files::Rng rng(17), reference(17);
   std::vector<PreparedSample> out;
   prepare_samples(scene, rng, 400, 1, out);
   ASSERT_EQ(out.size(), 400u);
@@ -52,7 +52,7 @@ TEST(SampleBatch, SamplesAreTheRngsDrawsCheckedOneByOne) {
 TEST(SampleBatch, AReusedBatchIsOverwrittenWhole) {
   const Scene& scene = wall_box_scene();
   std::vector<PreparedSample> out(500, PreparedSample{Vec3(9, 9, 9), true, {0, 1}});
-  Rng rng(3);
+  scene_files::Rng rng(3);
   prepare_samples(scene, rng, 300, 1, out);
   ASSERT_EQ(out.size(), 300u);
   for (const PreparedSample& s : out) {
@@ -69,11 +69,11 @@ TEST(SampleBatch, AReusedBatchIsOverwrittenWhole) {
 TEST(SampleBatch, AnyThreadCountGivesTheSameBatch) {
   const Scene& scene = wall_box_scene();
   std::vector<PreparedSample> one;
-  Rng a(29);
+  scene_files::Rng a(29);
   prepare_samples(scene, a, 1000, 1, one);
   const std::uint64_t next = a.next_u64();
   for (const unsigned threads : {0u, 2u, 3u, 8u}) {
-    Rng b(29);
+    scene_files::Rng b(29);
     std::vector<PreparedSample> many;
     prepare_samples(scene, b, 1000, threads, many);
     ASSERT_EQ(many.size(), one.size());
@@ -89,7 +89,7 @@ TEST(SampleBatch, AnyThreadCountGivesTheSameBatch) {
 TEST(SampleBatch, SkipSamplesLeavesTheRngWherePrepareSamplesDoes) {
   const Scene& scene = wall_box_scene();
   for (const std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{257}}) {
-    Rng prepared(41), skipped(41);
+    scene_files::Rng prepared(41), skipped(41);
     std::vector<PreparedSample> out;
     prepare_samples(scene, prepared, count, 2, out);
     skip_samples(skipped, count);
@@ -98,4 +98,4 @@ TEST(SampleBatch, SkipSamplesLeavesTheRngWherePrepareSamplesDoes) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -7,11 +7,11 @@
 #include <sstream>
 
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/scene.hpp"
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/scene_files/procedural.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 TEST(Scene, ShippedScenesLoadWithTheDocumentedTriangleCountsAndClearances) {
@@ -47,10 +47,10 @@ TEST(Scene, SameFileSamePois) {
 class SceneFiles : public ::testing::Test {
  protected:
   void SetUp() override {
-    TriangleMesh cube;
-    add_box(cube, Vec3(0, 0, 2), Vec3(1, 1, 1));
+    scene_files::TriangleMesh cube;
+    scene_files::add_box(cube, Vec3(0, 0, 2), Vec3(1, 1, 1));
     std::ostringstream obj;
-    write_obj(cube, obj);
+    scene_files::write_obj(cube, obj);
     dir_.write("cube.obj", obj.str());
   }
 
@@ -75,7 +75,7 @@ class SceneFiles : public ::testing::Test {
     try {
       (void)Scene::load(yaml);
       ADD_FAILURE() << "loaded";
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       EXPECT_EQ(e.file(), file);
       EXPECT_EQ(e.field(), field);
       EXPECT_NE(e.problem().find(fragment), std::string::npos) << e.what();
@@ -131,4 +131,4 @@ TEST_F(SceneFiles, MissingPoiFileIsNamed) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

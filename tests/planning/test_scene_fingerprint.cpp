@@ -3,16 +3,16 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/scene/scene.hpp"
-#include "ispars/scene/scene_fingerprint.hpp"
+#include "ispars/planning/scene/scene.hpp"
+#include "ispars/planning/scene/scene_fingerprint.hpp"
 #include "ispars/scene_files/scene_config.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 Scene procedural(int seed) {
-  return Scene::build(
-      parse_scene_config_text("procedural: {kind: tank_tower, seed: " + std::to_string(seed) + "}", ".", "test.yaml"));
+  return Scene::build(scene_files::parse_scene_config_text(
+      "procedural: {kind: tank_tower, seed: " + std::to_string(seed) + "}", ".", "test.yaml"));
 }
 
 TEST(SceneFingerprint, EqualForTheSameSceneAndDifferentForAnyChange) {
@@ -21,7 +21,7 @@ TEST(SceneFingerprint, EqualForTheSameSceneAndDifferentForAnyChange) {
   EXPECT_EQ(fa.size(), 16u);
   EXPECT_EQ(scene_fingerprint(procedural(1)), fa) << "built twice, the same scene";
   EXPECT_NE(scene_fingerprint(procedural(2)), fa) << "another mesh";
-  const SceneConfig& c = a.config();
+  const scene_files::SceneConfig& c = a.config();
   EXPECT_NE(scene_fingerprint(a.with_roadmap_parameters(c.dense_delta * 1.01, c.sparse_delta, c.stretch, "t")), fa);
   EXPECT_NE(scene_fingerprint(a.with_roadmap_parameters(c.dense_delta, c.sparse_delta * 1.01, c.stretch, "t")), fa);
   EXPECT_NE(scene_fingerprint(a.with_roadmap_parameters(c.dense_delta, c.sparse_delta, c.stretch * 1.01, "t")), fa);
@@ -29,4 +29,4 @@ TEST(SceneFingerprint, EqualForTheSameSceneAndDifferentForAnyChange) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -3,13 +3,13 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/builders/roadmap_verifier.hpp"
-#include "ispars/builders/spars_builder.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
+#include "ispars/planning/search/graph_search.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
-#include "ispars/search/graph_search.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // The default rule set (variant stretch), or Alg. 1 read literally.
@@ -378,4 +378,4 @@ TEST(SparsBuilder, ADensePairThatDoesNotFitIsNotResumed) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -7,13 +7,13 @@
 #include <stdexcept>
 #include <string>
 
-#include "ispars/builders/roadmap_builder.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
-#include "ispars/builders/spars_builder.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 class DenseFreeOnSharedScenes : public ::testing::TestWithParam<std::string> {};
@@ -209,4 +209,4 @@ TEST(DenseFree, AStretchSlackFromASampleOnLeavesTheRoadmapBeforeItAsWithoutASlac
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

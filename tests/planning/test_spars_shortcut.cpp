@@ -8,10 +8,10 @@
 
 #include <cmath>
 
-#include "ispars/builders/spars_builder.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 using test::valid_at;
@@ -141,4 +141,4 @@ TEST(SparsShortcut, SamePairInViewIsJoinedByEdgeNotThroughQ) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -8,12 +8,12 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "ispars/builders/roadmap_verifier.hpp"
-#include "ispars/builders/spars_builder.hpp"
-#include "ispars/search/graph_search.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
+#include "ispars/planning/search/graph_search.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 SparsRules rules(SparsVariant variant) { return SparsRules::for_variant(variant, true); }
@@ -59,7 +59,7 @@ StepRun check_every_step(const Scene& scene, SparsVariant variant, std::size_t w
   options.stretch_slack = slack;
   SparsBuilder b(scene, options, rules(variant));
   b.extend(warmup);
-  Rng rng(7);
+  scene_files::Rng rng(7);
   StepRun run;
   for (const Vec3& q : test::mixed_query_points(scene, rng, steps)) {
     const std::size_t dense_before = b.dense()->vertex_count();
@@ -211,4 +211,4 @@ TEST(SparsRules, EachVariantIsDeterministicAndThreadIndependent) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -8,15 +8,15 @@
 #include <utility>
 #include <vector>
 
-#include "ispars/builders/poi_visibility.hpp"
-#include "ispars/builders/roadmap_builder.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
-#include "ispars/builders/spars_builder.hpp"
+#include "ispars/planning/builders/poi_visibility.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/scene_files/poi_sampling.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 constexpr std::size_t kSamples = 3000;
@@ -30,7 +30,7 @@ BuildOptions options_with(unsigned threads) {
 
 // `count` new POIs on the scene's surface, from a seed of their own.
 std::vector<Vec3> task_pois(const Scene& scene, std::size_t count) {
-  return sample_pois_on_surface(scene.mesh(), count, 77, true);
+  return scene_files::sample_pois_on_surface(scene.mesh(), count, 77, true);
 }
 
 // The sparse and dense roadmaps' digests.
@@ -97,7 +97,7 @@ TEST(SparsTask, InvariantOneHoldsForTheNewPoisAndAfterLaterSamples) {
 TEST(SparsTask, TheSameAdditionGivesTheSameRoadmapWithAnyThreadCount) {
   const Scene& scene = test::shared_scene("truss_bridge");
   const Scene widened = scene.with_more_pois(task_pois(scene, 40));
-  const Scene wider = widened.with_more_pois(sample_pois_on_surface(scene.mesh(), 30, 78, true));
+  const Scene wider = widened.with_more_pois(scene_files::sample_pois_on_surface(scene.mesh(), 30, 78, true));
   std::vector<std::pair<std::uint64_t, std::uint64_t>> seen;
   for (const unsigned threads : {1u, 2u}) {
     auto b = make_roadmap_builder(BuildMethod::ispars, scene, options_with(threads));
@@ -278,4 +278,4 @@ TEST(SparsTask, AnAdditionStoppedBeforeTheInspectionTestLeavesTheBuilderAsItWas)
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

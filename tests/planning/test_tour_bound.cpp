@@ -7,12 +7,12 @@
 #include <chrono>
 #include <numeric>
 
-#include "ispars/tour/cut_separation.hpp"
-#include "ispars/tour/gip_solver.hpp"
-#include "ispars/tour/tour_bound.hpp"
+#include "ispars/planning/tour/cut_separation.hpp"
+#include "ispars/planning/tour/gip_solver.hpp"
+#include "ispars/planning/tour/tour_bound.hpp"
 #include "support/gip_reference.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 std::vector<PoiId> all_pois(std::size_t pois) {
@@ -159,4 +159,4 @@ TEST(CutSeparation, GroupsAreLocalDeduplicatedAndSkipWhatTheRootSees) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

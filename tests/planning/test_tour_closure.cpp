@@ -7,13 +7,13 @@
 
 #include <algorithm>
 
+#include "ispars/planning/search/graph_search.hpp"
+#include "ispars/planning/tour/gip_solver.hpp"
+#include "ispars/planning/tour/tour_closure.hpp"
 #include "ispars/scene_files/random.hpp"
-#include "ispars/search/graph_search.hpp"
-#include "ispars/tour/gip_solver.hpp"
-#include "ispars/tour/tour_closure.hpp"
 #include "support/gip_reference.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // The review's star: the root, `near` vertices at cost 1 each seeing one POI, and `far` vertices
@@ -48,7 +48,7 @@ InspectionGraph with_decoys(const InspectionGraph& small, std::size_t pois, std:
   for (VertexId v = 0; v < small.vertex_count(); ++v) {
     visible.emplace_back(small.visible(v).begin(), small.visible(v).end());
   }
-  Rng rng(seed);
+  scene_files::Rng rng(seed);
   for (std::size_t i = 0; i < decoys; ++i) {
     const auto v = static_cast<VertexId>(visible.size());
     edges.push_back({0, v, reach * (1.0 + rng.uniform01())});
@@ -141,7 +141,7 @@ TEST(TourClosure, RowsOnFirstUseAndAheadAreTheWholeGraphsShortestPaths) {
   // half of a 40 x 40 grid with random weights, so shortest paths between them often cross the
   // right half, whose vertices are no candidates and are settled late or never.
   const std::size_t side = 40;
-  Rng rng(7);
+  scene_files::Rng rng(7);
   std::vector<RoadmapEdge> edges;
   const auto at = [&](std::size_t x, std::size_t y) { return static_cast<VertexId>(y * side + x); };
   for (std::size_t y = 0; y < side; ++y) {
@@ -177,4 +177,4 @@ TEST(TourClosure, RowsOnFirstUseAndAheadAreTheWholeGraphsShortestPaths) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

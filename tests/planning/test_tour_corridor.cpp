@@ -11,11 +11,11 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "ispars/planning/tour/tour_corridor.hpp"
 #include "ispars/scene_files/random.hpp"
-#include "ispars/tour/tour_corridor.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 double distance_to_path(const Vec3& q, const std::vector<Vec3>& stops) {
@@ -108,7 +108,7 @@ std::vector<Vec3> expected_found(const Scene& scene, const std::vector<Vec3>& ca
 
 TEST(TourCorridor, GivenSamplesAndTheStreamKeepExactlyThoseInTheTube) {
   const Scene scene = test::open_scene(1.0, 1.5, /*wall=*/true);
-  Rng rng(7);
+  scene_files::Rng rng(7);
   // A base graph: the root and 20 random vertices, a path through some of them (long diagonal
   // segments included), then candidates: random ones, ones near the path, and the base's own.
   std::vector<Vec3> positions{Vec3(0, 0, 0)};
@@ -148,7 +148,7 @@ TEST(TourCorridor, GivenSamplesAndTheStreamKeepExactlyThoseInTheTube) {
   o.source = CorridorSource::stream;
   o.stream_seed = 11;
   o.stream_count = 40'000;
-  Rng stream(11);
+  scene_files::Rng stream(11);
   std::vector<Vec3> drawn;
   for (int i = 0; i < 40'000; ++i) drawn.push_back(stream.uniform_in(scene.config().bounds));
   const std::vector<Vec3> from_stream = expected_found(scene, drawn, stops, base, o.radius, o.max_samples);
@@ -175,4 +175,4 @@ TEST(TourCorridor, BadArgumentsAreRefused) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -7,11 +7,11 @@
 #include <chrono>
 #include <thread>
 
+#include "ispars/planning/tour/gip_solver.hpp"
+#include "ispars/planning/tour/tour_shortcut.hpp"
 #include "ispars/scene_files/random.hpp"
-#include "ispars/tour/gip_solver.hpp"
-#include "ispars/tour/tour_shortcut.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // Refuses every segment that passes within `radius` of `centre` (a ball obstacle).
@@ -91,7 +91,7 @@ TEST(TourShortcut, NoSegmentCrossesWhatTheCheckerRefuses) {
 
 TEST(TourShortcut, SolvedToursShortenDeterministicallyAndStayValid) {
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
-    Rng rng(seed);
+    scene_files::Rng rng(seed);
     const std::size_t n = 150, pois = 25;
     std::vector<Vec3> at;
     for (std::size_t i = 0; i < n; ++i) at.emplace_back(rng.uniform01(), rng.uniform01(), rng.uniform01());
@@ -153,4 +153,4 @@ TEST(TourShortcut, ABudgetEndsShorteningWithAValidPathWithinAWindowOfChecks) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

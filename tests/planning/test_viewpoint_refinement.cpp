@@ -6,11 +6,11 @@
 
 #include <stdexcept>
 
-#include "ispars/tour/flown_tour_check.hpp"
-#include "ispars/tour/viewpoint_refinement.hpp"
+#include "ispars/planning/tour/flown_tour_check.hpp"
+#include "ispars/planning/tour/viewpoint_refinement.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 std::vector<PoiId> all_pois(const Scene& scene) {
@@ -91,4 +91,4 @@ TEST(ViewpointRefinement, AnOpenPathOrAnUnseenTargetIsRefused) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -8,11 +8,11 @@
 #include "ispars/reference/brute_force.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // Valid configurations within sensor range of a random POI, where chi(q) is not trivially empty.
-std::vector<Vec3> near_structure_configurations(const Scene& scene, Rng& rng, std::size_t count) {
+std::vector<Vec3> near_structure_configurations(const Scene& scene, scene_files::Rng& rng, std::size_t count) {
   std::vector<Vec3> out;
   while (out.size() < count) {
     const Vec3& poi = scene.pois()[rng.below(scene.pois().size())];
@@ -26,9 +26,9 @@ class VisibilityAgreement : public ::testing::TestWithParam<std::pair<std::strin
 
 TEST_P(VisibilityAgreement, ChiMatchesBruteForceOutsideTheToleranceBand) {
   const Scene& scene = test::shared_scene(GetParam().first);
-  const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds, scene.config().robot_radius,
-                                 scene.pois(), scene.config().sensor_range);
-  Rng rng(21);
+  const reference::BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds,
+                                            scene.config().robot_radius, scene.pois(), scene.config().sensor_range);
+  scene_files::Rng rng(21);
   const auto configurations = near_structure_configurations(scene, rng, test::scaled(GetParam().second));
   std::size_t visible_total = 0;
   std::size_t blocked_total = 0;
@@ -68,7 +68,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, VisibilityAgreement,
 
 TEST(Visibility, PoisInRangeMatchesAScanIncludingTheBoundary) {
   const Scene& scene = test::shared_scene("water_tower");
-  Rng rng(3);
+  scene_files::Rng rng(3);
   std::vector<PoiId> found;
   const double range = scene.config().sensor_range;
   for (int i = 0; i < 500; ++i) {
@@ -84,10 +84,10 @@ TEST(Visibility, PoisInRangeMatchesAScanIncludingTheBoundary) {
 
 // A wall at z = 0 over a floor at z = -2; POIs on the floor, one of them under the wall.
 Scene wall_scene(const test::TempDir& dir) {
-  TriangleMesh mesh;
+  scene_files::TriangleMesh mesh;
   mesh.vertices = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, {-4, -4, -2}, {4, -4, -2}, {4, 4, -2}, {-4, 4, -2}};
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
-  SceneConfig config;
+  scene_files::SceneConfig config;
   config.source = "test";
   config.bounds = {Vec3(-5, -5, -5), Vec3(5, 5, 5)};
   config.robot_radius = 0.1;
@@ -114,7 +114,7 @@ TEST(Visibility, WallBlocksSightAndRangeLimitsIt) {
 
 TEST(Visibility, ConcurrentChiEqualsSerial) {
   const Scene& scene = test::shared_scene("truss_bridge");
-  Rng rng(9);
+  scene_files::Rng rng(9);
   std::vector<Vec3> qs;
   for (int i = 0; i < 2000; ++i) qs.push_back(scene.sample_valid_configuration(rng));
   std::vector<std::vector<PoiId>> serial(qs.size());
@@ -131,4 +131,4 @@ TEST(Visibility, ConcurrentChiEqualsSerial) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::planning

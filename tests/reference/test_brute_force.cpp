@@ -4,13 +4,13 @@
 
 #include "ispars/reference/brute_force.hpp"
 
-namespace ispars {
+namespace ispars::reference {
 namespace {
 
 BruteForceGeometry unit_square_reference() {
   // A unit square in z = 0, a POI above it and one under it.
-  const std::vector<Triangle> triangles{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0)},
-                                        {Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}};
+  const std::vector<planning::Triangle> triangles{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0)},
+                                                  {Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)}};
   return BruteForceGeometry(triangles, {Vec3(-5, -5, -5), Vec3(5, 5, 5)}, 0.25, {Vec3(0.5, 0.5, 1), Vec3(0.3, 0.6, -1)},
                             3.0);
 }
@@ -40,4 +40,4 @@ TEST(BruteForce, LineOfSightAndTheToleranceBand) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::reference

@@ -8,17 +8,17 @@
 #include "ispars/reference/fcl_checker.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::reference {
 namespace {
 
 TEST(FclCollisionChecker, AgreesWithReferenceOnRealMeshes) {
   for (const std::string name : {"water_tower", "truss_bridge"}) {
-    const Scene& scene = test::shared_scene(name);
+    const planning::Scene& scene = test::shared_scene(name);
     const double r = scene.config().robot_radius;
     const FclCollisionChecker fcl(scene.mesh(), scene.config().bounds, r);
     const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds, r, scene.pois(),
                                    scene.config().sensor_range);
-    Rng rng(31);
+    scene_files::Rng rng(31);
     // FCL works to its own tolerance (GJK/EPA); compare where the answer is clear by 1e-6 m.
     for (const Vec3& p : test::mixed_query_points(scene, rng, test::scaled(1500))) {
       const double d = brute.distance_to_surface(p);
@@ -34,4 +34,4 @@ TEST(FclCollisionChecker, AgreesWithReferenceOnRealMeshes) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::reference

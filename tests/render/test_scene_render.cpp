@@ -10,12 +10,12 @@
 #include "ispars/render/scene_render.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::render {
 namespace {
 
 // A 2 x 2 square in the plane z = 0, seen from straight above.
-TriangleMesh square() {
-  TriangleMesh mesh;
+scene_files::TriangleMesh square() {
+  scene_files::TriangleMesh mesh;
   mesh.vertices = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
   return mesh;
@@ -42,7 +42,7 @@ RenderRequest request_of(const Camera& camera) {
 }
 
 TEST(SceneRender, TheMeshIsShadedWhereItIsAndTheSkyElsewhere) {
-  const TriangleMesh mesh = square();
+  const scene_files::TriangleMesh mesh = square();
   const RenderResult out = render_scene(mesh, request_of(above()));
   ASSERT_EQ(out.image.width, 160);
   ASSERT_EQ(out.image.height, 120);
@@ -54,7 +54,7 @@ TEST(SceneRender, TheMeshIsShadedWhereItIsAndTheSkyElsewhere) {
 }
 
 TEST(SceneRender, AnEdgeInFrontOfTheMeshIsDrawnAndOneBehindItIsNot) {
-  const TriangleMesh mesh = square();
+  const scene_files::TriangleMesh mesh = square();
   const std::vector<Vec3> positions = {{-0.8, 0, 0.5}, {0.8, 0, 0.5}, {-0.8, 0, -0.5}, {0.8, 0, -0.5}};
   const std::vector<EdgeEnds> in_front = {{0, 1}};
   const std::vector<EdgeEnds> behind = {{2, 3}};
@@ -68,11 +68,11 @@ TEST(SceneRender, AnEdgeInFrontOfTheMeshIsDrawnAndOneBehindItIsNot) {
   EXPECT_EQ(back.roadmap_edges_drawn, 1u);
   EXPECT_EQ(blue_pixels_in_middle_row(back.image), 0) << "an edge under the square showed through it";
   // Without the mesh the same edge is in plain view.
-  EXPECT_GT(blue_pixels_in_middle_row(render_scene(TriangleMesh{}, r).image), 30);  // about 42
+  EXPECT_GT(blue_pixels_in_middle_row(render_scene(scene_files::TriangleMesh{}, r).image), 30);  // about 42
 }
 
 TEST(SceneRender, PoisShowSeenGreenAndUnseenRed) {
-  const TriangleMesh mesh = square();
+  const scene_files::TriangleMesh mesh = square();
   const std::vector<Vec3> pois = {{-0.5, 0, 0}, {0.5, 0, 0}};
   RenderRequest r = request_of(above());
   r.pois = pois;
@@ -128,11 +128,11 @@ TEST(SceneRender, BadSizesAndCamerasAreRefusedByName) {
   try {
     (void)render_scene(square(), r);
     FAIL();
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_EQ(e.field(), "width");
   }
   r = request_of(Camera{Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3::UnitZ(), 45.0});
-  EXPECT_THROW((void)render_scene(square(), r), InputError);
+  EXPECT_THROW((void)render_scene(square(), r), params::InputError);
   r = request_of(Camera{Vec3(0, 0, 5), Vec3::Zero(), Vec3::UnitZ(), 45.0});  // up along the view: still drawn
   EXPECT_NO_THROW((void)render_scene(square(), r));
 }
@@ -157,4 +157,4 @@ TEST(SceneRender, PngFilesRoundTripAndAnUnwritablePathIsNamed) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::render

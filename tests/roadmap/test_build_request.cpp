@@ -52,11 +52,11 @@ TEST(BuildRequestTypes, MethodAndVariantAreReadByNameAndABadOneIsNamed) {
   try {
     set_method(r, "fast", "", "request");
     FAIL();
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_EQ(e.field(), "method");
     EXPECT_EQ(e.problem(), "'fast' is not one of dense, spars, ispars, irisc, ispars2");
   }
-  EXPECT_THROW(set_method(r, "ispars", "loose", "request"), InputError);
+  EXPECT_THROW(set_method(r, "ispars", "loose", "request"), params::InputError);
   EXPECT_EQ(request_of("irisc", 5).samples, 5u);
 }
 

@@ -19,14 +19,14 @@ using test::mentions;
 
 // The InputError `f` throws; fails the test when it throws none.
 template <class F>
-InputError error_of(F&& f) {
+params::InputError error_of(F&& f) {
   try {
     f();
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     return e;
   }
   ADD_FAILURE() << "no InputError";
-  return InputError("", "", "");
+  return params::InputError("", "", "");
 }
 
 std::vector<VertexId> neighbor_ids(const InspectionGraph& g, VertexId v) {
@@ -59,21 +59,21 @@ TEST(InspectionGraph, FromEdgesNamesBadInput) {
   const auto build = [](std::vector<RoadmapEdge> edges, std::vector<std::vector<PoiId>> visible) {
     return [edges, visible] { (void)InspectionGraph::from_edges(2, edges, visible, 2); };
   };
-  const InputError lists = error_of(build({}, {{}}));
+  const params::InputError lists = error_of(build({}, {{}}));
   EXPECT_EQ(lists.field(), "visible");
   EXPECT_TRUE(mentions(lists.problem(), "one POI list per vertex")) << lists.what();
 
-  const InputError beyond = error_of(build({{0, 2, 1.0}}, {{}, {}}));
+  const params::InputError beyond = error_of(build({{0, 2, 1.0}}, {{}, {}}));
   EXPECT_EQ(beyond.field(), "edges");
   EXPECT_TRUE(mentions(beyond.problem(), "edge 0-2 names a vertex beyond 2")) << beyond.what();
 
   for (const double cost : {-1.0, std::numeric_limits<double>::infinity(), std::nan("")}) {
-    const InputError bad_cost = error_of(build({{0, 1, cost}}, {{}, {}}));
+    const params::InputError bad_cost = error_of(build({{0, 1, cost}}, {{}, {}}));
     EXPECT_EQ(bad_cost.field(), "edges");
     EXPECT_TRUE(mentions(bad_cost.problem(), "edge 0-1 has cost")) << bad_cost.what();
   }
 
-  const InputError poi = error_of(build({}, {{0}, {2}}));
+  const params::InputError poi = error_of(build({}, {{0}, {2}}));
   EXPECT_EQ(poi.field(), "visible");
   EXPECT_TRUE(mentions(poi.problem(), "POI 2 is beyond the 2 POIs")) << poi.what();
 }
@@ -127,7 +127,7 @@ TEST(InspectionGraph, ReadIrisReadsVerticesPoisAndValidEdges) {
 }
 
 // The error read_iris throws for these files.
-InputError iris_error(const std::string& vertices, const std::string& edges) {
+params::InputError iris_error(const std::string& vertices, const std::string& edges) {
   const IrisFiles files(vertices, edges);
   return error_of([&] { (void)InspectionGraph::read_iris(files.prefix, false); });
 }
@@ -146,7 +146,7 @@ TEST(InspectionGraph, ReadIrisNamesTheVertexFileLineAndProblem) {
       {"0 0 0 1.5\n", "line 1", "a POI id is not an integer"},
   };
   for (const Case& c : cases) {
-    const InputError e = iris_error(c.vertices, "");
+    const params::InputError e = iris_error(c.vertices, "");
     EXPECT_TRUE(mentions(e.file(), "g_vertex")) << e.what();
     EXPECT_EQ(e.field(), c.field) << e.what();
     EXPECT_TRUE(mentions(e.problem(), c.problem)) << e.what();
@@ -165,7 +165,7 @@ TEST(InspectionGraph, ReadIrisNamesTheEdgeFileLineAndProblem) {
       {"0 1 1 0 0 0 -2\n", "line 1", "cost -2"},  // checked even on an edge left out
   };
   for (const Case& c : cases) {
-    const InputError e = iris_error(kVertices, c.edges);
+    const params::InputError e = iris_error(kVertices, c.edges);
     EXPECT_TRUE(mentions(e.file(), "g_edge")) << e.what();
     EXPECT_EQ(e.field(), c.field) << e.what();
     EXPECT_TRUE(mentions(e.problem(), c.problem)) << e.what();
@@ -174,12 +174,12 @@ TEST(InspectionGraph, ReadIrisNamesTheEdgeFileLineAndProblem) {
 
 TEST(InspectionGraph, ReadIrisNamesAMissingFile) {
   const test::TempDir dir;
-  const InputError no_vertex = error_of([&] { (void)InspectionGraph::read_iris(dir.path() / "none", false); });
+  const params::InputError no_vertex = error_of([&] { (void)InspectionGraph::read_iris(dir.path() / "none", false); });
   EXPECT_TRUE(mentions(no_vertex.file(), "none_vertex")) << no_vertex.what();
   EXPECT_EQ(no_vertex.field(), "file");
   EXPECT_EQ(no_vertex.problem(), "cannot be read");
   dir.write("half_vertex", "0 0 0\n");
-  const InputError no_edge = error_of([&] { (void)InspectionGraph::read_iris(dir.path() / "half", false); });
+  const params::InputError no_edge = error_of([&] { (void)InspectionGraph::read_iris(dir.path() / "half", false); });
   EXPECT_TRUE(mentions(no_edge.file(), "half_edge")) << no_edge.what();
   EXPECT_EQ(no_edge.problem(), "cannot be read");
 }
@@ -189,7 +189,7 @@ TEST(InspectionGraph, ReadIrisNamesAMissingFile) {
 // instead of the line being refused. Disabled: the parser reads the index with >> into an
 // integer and does not check that the token ended there (inspection_graph.cpp, read_iris).
 TEST(InspectionGraph, ReadIrisRefusesAVertexIndexThatIsNotAnInteger) {
-  const InputError e = iris_error("0.5 1 2\n", "");
+  const params::InputError e = iris_error("0.5 1 2\n", "");
   EXPECT_EQ(e.field(), "line 1") << e.what();
 }
 

@@ -6,7 +6,7 @@
 #include <limits>
 #include <memory>
 
-#include "ispars/builders/spars_builder.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "support/test_support.hpp"
 
@@ -14,7 +14,7 @@ namespace ispars {
 namespace {
 
 // Builds Inspection-SPARS in `batches` steps, keeping each step's batch.
-std::vector<RoadmapBatch> build_batches(SparsBuilder& builder, int batches) {
+std::vector<RoadmapBatch> build_batches(planning::SparsBuilder& builder, int batches) {
   std::vector<RoadmapBatch> out;
   std::uint64_t version = builder.roadmap().version();
   out.push_back(batch_since(builder.roadmap(), 0));  // the root
@@ -31,13 +31,13 @@ class RoadmapBatchTest : public ::testing::Test {
  protected:
   void build(const std::string& scene_name, int batches) {
     scene_ = &test::shared_scene(scene_name);
-    builder_ =
-        std::make_unique<SparsBuilder>(*scene_, BuildOptions{}, SparsRules::for_variant(SparsVariant::stretch, true));
+    builder_ = std::make_unique<planning::SparsBuilder>(*scene_, planning::BuildOptions{},
+                                                        planning::SparsRules::for_variant(SparsVariant::stretch, true));
     batches_ = build_batches(*builder_, batches);
   }
 
-  const Scene* scene_ = nullptr;
-  std::unique_ptr<SparsBuilder> builder_;
+  const planning::Scene* scene_ = nullptr;
+  std::unique_ptr<planning::SparsBuilder> builder_;
   std::vector<RoadmapBatch> batches_;
 };
 

@@ -70,7 +70,7 @@ TEST(RoadmapJson, WithoutDenseThereIsNoDenseGraph) {
   try {
     (void)read_roadmap_file_graph(file, "dense");
     ADD_FAILURE() << "read a dense graph that was not written";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_EQ(e.field(), "graphs.dense");
     EXPECT_TRUE(mentions(e.problem(), "missing")) << e.what();
   }
@@ -86,17 +86,17 @@ TEST(RoadmapJson, AnEmptyRoadmapRoundTrips) {
 }
 
 // The InputError reading `text` as a roadmap file throws for graph "roadmap".
-InputError error_for(const std::string& text) {
+params::InputError error_for(const std::string& text) {
   const test::TempDir dir;
   const auto file = dir.write("bad.json", text);
   try {
     (void)read_roadmap_file_graph(file, "roadmap");
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_TRUE(mentions(e.file(), "bad.json")) << e.what();
     return e;
   }
   ADD_FAILURE() << "no InputError for " << text;
-  return InputError("", "", "");
+  return params::InputError("", "", "");
 }
 
 TEST(RoadmapJson, MalformedFilesAreNamedByField) {
@@ -129,7 +129,7 @@ TEST(RoadmapJson, MalformedFilesAreNamedByField) {
        "graphs.roadmap", "malformed"},
   };
   for (const Case& c : cases) {
-    const InputError e = error_for(c.text);
+    const params::InputError e = error_for(c.text);
     EXPECT_EQ(e.field(), c.field) << c.text << "\n" << e.what();
     EXPECT_TRUE(mentions(e.problem(), c.problem)) << c.text << "\n" << e.what();
   }
@@ -140,7 +140,7 @@ TEST(RoadmapJson, AMissingFileIsNamed) {
   try {
     (void)read_roadmap_file_graph(dir.path() / "none.json", "roadmap");
     ADD_FAILURE() << "read a file that does not exist";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_TRUE(mentions(e.file(), "none.json"));
     EXPECT_EQ(e.field(), "file");
     EXPECT_EQ(e.problem(), "cannot be read");
@@ -153,10 +153,10 @@ TEST(RoadmapJson, AMissingFileIsNamed) {
 // ids are unsigned integers (is_number_unsigned) before get<VertexId>() / get<PoiId>().
 TEST(RoadmapJson, FractionalIdsAreRefused) {
   const std::string pois = R"("pois":[[0,0,0],[1,1,1]],)";
-  const InputError edge = error_for("{" + pois + R"("graphs": {"roadmap": {"vertices": [[0,0,0],[1,0,0]],
+  const params::InputError edge = error_for("{" + pois + R"("graphs": {"roadmap": {"vertices": [[0,0,0],[1,0,0]],
       "visible": [[],[]], "edges": [[0, 1.5, 1.0]]}}})");
   EXPECT_EQ(edge.field(), "graphs.roadmap") << edge.what();
-  const InputError poi = error_for("{" + pois + R"("graphs": {"roadmap": {"vertices": [[0,0,0],[1,0,0]],
+  const params::InputError poi = error_for("{" + pois + R"("graphs": {"roadmap": {"vertices": [[0,0,0],[1,0,0]],
       "visible": [[1.5],[]], "edges": []}}})");
   EXPECT_EQ(poi.field(), "graphs.roadmap") << poi.what();
 }

@@ -8,7 +8,7 @@
 #include "ispars/scene_files/procedural.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 namespace {
 
 TriangleMesh two_triangles_one_to_three() {
@@ -39,8 +39,8 @@ TEST(PoiSampling, UniformWithinATriangle) {
 }
 
 TEST(PoiSampling, PointsLieOnTheSurface) {
-  const Scene& scene = test::shared_scene("radio_tower");
-  const BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds, 0.1, {}, 1.0);
+  const planning::Scene& scene = test::shared_scene("radio_tower");
+  const reference::BruteForceGeometry brute(scene.embree().triangles(), scene.config().bounds, 0.1, {}, 1.0);
   for (const Vec3& p : scene.pois()) EXPECT_LT(brute.distance_to_surface(p), 1e-5);
 }
 
@@ -59,7 +59,7 @@ TEST(PoiSampling, WaterTowerPoisMatchAnIndependentReimplementation) {
   // the OBJ's float vertices. A change to the sampler, the RNG or the mesh loader shows here.
   // Tolerance: assimp's fast float parser can land one float ulp (1.9e-6 m at z = 18 m) away
   // from Python's correctly rounded parse; any real change moves POIs by far more.
-  const Scene& scene = test::shared_scene("water_tower");
+  const planning::Scene& scene = test::shared_scene("water_tower");
   const std::vector<Vec3> expected{Vec3(1.519487180847, -1.437400629040, 17.877937316895),
                                    Vec3(0.204113917629, -0.731102625475, 15.539602692372),
                                    Vec3(-1.814561961650, -1.622060824413, 18.322766533775)};
@@ -98,14 +98,14 @@ TEST(PoiFile, BadLinesAreNamed) {
     try {
       (void)read_poi_file(file);
       ADD_FAILURE() << "accepted: " << bad;
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       EXPECT_EQ(e.field(), "pois.file");
       EXPECT_NE(e.problem().find("line 2"), std::string::npos) << e.what();
     }
   }
-  EXPECT_THROW((void)read_poi_file(dir.write("empty.txt", "# nothing\n")), InputError);
-  EXPECT_THROW((void)read_poi_file(dir.path() / "missing.txt"), InputError);
+  EXPECT_THROW((void)read_poi_file(dir.write("empty.txt", "# nothing\n")), params::InputError);
+  EXPECT_THROW((void)read_poi_file(dir.path() / "missing.txt"), params::InputError);
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::scene_files

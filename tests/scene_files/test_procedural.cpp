@@ -4,10 +4,10 @@
 
 #include <map>
 
-#include "ispars/scene/scene.hpp"
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/scene_files/procedural.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 namespace {
 
 TEST(Procedural, SameSeedSameMeshOtherSeedOtherMesh) {
@@ -25,7 +25,7 @@ TEST(Procedural, SameSeedSameMeshOtherSeedOtherMesh) {
 TEST(Procedural, ScenesBuildWithValidRootsInsideTheirBounds) {
   for (const auto& kind : procedural_kinds()) {
     for (std::uint64_t seed = 0; seed < 8; ++seed) {
-      const Scene scene = Scene::build(procedural_scene_config(kind, seed));  // checks the root
+      const planning::Scene scene = planning::Scene::build(procedural_scene_config(kind, seed));  // checks the root
       const Aabb mesh_box = scene.mesh().bounds();
       const Aabb& box = scene.config().bounds;
       // The structure fits in the sampling box with room for the robot to fly around it.
@@ -60,4 +60,4 @@ TEST(Procedural, BoxAndBeamAreClosed) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::scene_files

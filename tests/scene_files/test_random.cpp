@@ -6,7 +6,7 @@
 
 #include "ispars/scene_files/random.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 namespace {
 
 TEST(Rng, StreamIsFixedBySeed) {
@@ -52,4 +52,4 @@ TEST(Rng, UnitVectorsAreUnitAndCentred) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::scene_files

@@ -5,7 +5,7 @@
 #include "ispars/params/input_error.hpp"
 #include "ispars/scene_files/scene_config.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 namespace {
 
 const std::string kValid = R"(
@@ -38,7 +38,7 @@ std::string without(const std::string& key) { return with(key, ""); }
 std::string expect_error(const std::string& text, const std::string& field) {
   try {
     (void)parse(text);
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_EQ(e.file(), "s.yaml");
     EXPECT_EQ(e.field(), field) << e.what();
     EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "not one line: " << e.what();
@@ -158,11 +158,11 @@ TEST(SceneConfig, MissingFileIsNamed) {
   try {
     (void)parse_scene_config("/nonexistent/scene.yaml");
     FAIL();
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_EQ(e.file(), "/nonexistent/scene.yaml");
     EXPECT_EQ(e.field(), "file");
   }
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::scene_files

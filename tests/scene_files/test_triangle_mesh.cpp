@@ -10,14 +10,14 @@
 #include "ispars/scene_files/triangle_mesh.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 namespace {
 
 void expect_mesh_error(const std::filesystem::path& path, const std::string& fragment) {
   try {
     (void)load_triangle_mesh(path);
     ADD_FAILURE() << "loaded " << path;
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_EQ(e.file(), path.string());
     EXPECT_EQ(e.field(), "mesh");
     EXPECT_NE(e.problem().find(fragment), std::string::npos) << e.what();
@@ -96,4 +96,4 @@ TEST(TriangleMesh, ScaleAndAppend) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::scene_files

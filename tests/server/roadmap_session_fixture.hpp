@@ -10,15 +10,15 @@
 #include "ispars/service/roadmap_session.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// The digest of the roadmap an uninterrupted build of `samples` samples with `seed` makes:
 /// what a session's roadmap must equal however its job was cut and resumed.
-inline std::uint64_t uninterrupted_digest(const Scene& scene, std::uint64_t samples, std::uint64_t seed,
+inline std::uint64_t uninterrupted_digest(const planning::Scene& scene, std::uint64_t samples, std::uint64_t seed,
                                           BuildMethod method = BuildMethod::ispars) {
-  BuildOptions options;
+  planning::BuildOptions options;
   options.seed = seed;
-  auto builder = make_roadmap_builder(method, scene, options);
+  auto builder = planning::make_roadmap_builder(method, scene, options);
   builder->extend(samples);
   return roadmap_digest(builder->roadmap());
 }
@@ -28,7 +28,7 @@ class RoadmapSessionTest : public ::testing::Test {
   std::unique_ptr<RoadmapSession> open(SessionCallbacks callbacks = {}, SessionLimits limits = {}) {
     return std::make_unique<RoadmapSession>("tower", scene(), dir_.path() / "tower", limits, std::move(callbacks));
   }
-  static const Scene& scene() { return test::shared_scene("demo_tank_tower"); }
+  static const planning::Scene& scene() { return test::shared_scene("demo_tank_tower"); }
   // A roadmap whose verify runs long enough to be caught running: 20,000 samples, and 5,000 in
   // the sanitizer pass (ISPARS_TEST_QUERY_SCALE), where builds and verifies run about 10x slower.
   static std::uint64_t busy_samples() { return std::max<std::size_t>(5000, test::scaled(20000)); }
@@ -43,4 +43,4 @@ class RoadmapSessionTest : public ::testing::Test {
   std::atomic<bool> never_{false};
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

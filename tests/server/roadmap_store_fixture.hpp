@@ -13,7 +13,7 @@
 #include "ispars/service/roadmap_store.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 inline std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -24,7 +24,9 @@ inline void spit(const std::filesystem::path& p, const std::string& bytes) {
   std::ofstream(p, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
-inline RoadmapsView view(const RoadmapBuilder& b) { return {b.samples(), &b.roadmap(), b.dense(), b.dense_ids()}; }
+inline RoadmapsView view(const planning::RoadmapBuilder& b) {
+  return {b.samples(), &b.roadmap(), b.dense(), b.dense_ids()};
+}
 
 // A committed state of the build: what recovery must reproduce.
 struct Committed {
@@ -48,9 +50,9 @@ class RoadmapStoreTest : public ::testing::Test {
   }
   // Builds in `commits` steps of `step` samples, committing each; returns every committed state.
   std::vector<Committed> build_and_commit(RoadmapStore& store, int commits, std::size_t step) {
-    BuildOptions options;
+    planning::BuildOptions options;
     options.seed = recipe_.seed;
-    builder_ = make_roadmap_builder(BuildMethod::ispars, *scene_, options);
+    builder_ = planning::make_roadmap_builder(BuildMethod::ispars, *scene_, options);
     std::vector<Committed> states;
     std::uint64_t v = 0, dv = 0;
     for (int i = 0; i < commits; ++i) {
@@ -73,10 +75,10 @@ class RoadmapStoreTest : public ::testing::Test {
     EXPECT_EQ(r.roadmaps.dense_ids.size(), c.ids);
   }
 
-  const Scene* scene_ = nullptr;
+  const planning::Scene* scene_ = nullptr;
   RoadmapRecipe recipe_;
-  std::unique_ptr<RoadmapBuilder> builder_;
+  std::unique_ptr<planning::RoadmapBuilder> builder_;
   test::TempDir dir_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

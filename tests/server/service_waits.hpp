@@ -10,13 +10,13 @@
 namespace ispars::test {
 
 /// `scene`'s status once no job runs or waits on it (a failure of the test after a minute).
-inline SessionStatus wait_idle(const RoadmapService& service, const std::string& scene) {
-  SessionStatus s;
+inline service::SessionStatus wait_idle(const service::RoadmapService& service, const std::string& scene) {
+  service::SessionStatus s;
   EXPECT_TRUE(eventually(
       [&] {
         s = service.stats(scene);
-        return s.state != SessionState::queued && s.state != SessionState::building &&
-               s.state != SessionState::replaying;
+        return s.state != service::SessionState::queued && s.state != service::SessionState::building &&
+               s.state != service::SessionState::replaying;
       },
       std::chrono::seconds(60), scene + " has no job", std::chrono::milliseconds(5)));
   return s;

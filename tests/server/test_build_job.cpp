@@ -17,12 +17,12 @@
 #include "roadmap_session_fixture.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 // A job over a record of its own, with no session around it.
 struct JobBench {
-  const Scene& scene = test::shared_scene("demo_tank_tower");
+  const planning::Scene& scene = test::shared_scene("demo_tank_tower");
   test::TempDir dir;
   const std::string name = "tower";
   const std::filesystem::path store_dir = dir.path() / "tower";
@@ -96,7 +96,7 @@ TEST(BuildJob, AStoreThatCannotBeMadeFailsTheBuildNamedAndTheRecordAgrees) {
 // must still get that last commit, as the status's samples say. CI's kill -9 campaign saw a
 // snapshot one chunk older than the status after such a cancel.
 TEST(BuildJob, ACancelRightAfterACommitLeavesReadersThatCommitNotAnOlderOne) {
-  const Scene& scene = test::shared_scene("demo_tank_tower");
+  const planning::Scene& scene = test::shared_scene("demo_tank_tower");
   for (const BuildMethod method : {BuildMethod::ispars, BuildMethod::dense, BuildMethod::ispars2}) {
     SCOPED_TRACE(std::string(to_string(method)));
     test::TempDir dir;
@@ -122,9 +122,9 @@ TEST(BuildJob, ACancelRightAfterACommitLeavesReadersThatCommitNotAnOlderOne) {
     ASSERT_LT(status.samples_done, 100'000u);
     const PublishedRoadmap published = session->published();
     EXPECT_EQ(published.samples, status.samples_done);
-    BuildOptions options;
+    planning::BuildOptions options;
     options.seed = 4;
-    auto reference = make_roadmap_builder(method, scene, options);
+    auto reference = planning::make_roadmap_builder(method, scene, options);
     reference->extend(status.samples_done);
     EXPECT_EQ(roadmap_digest(*published.roadmap), roadmap_digest(reference->roadmap()))
         << "readers were served an older roadmap than the status's " << status.samples_done << " samples";
@@ -135,7 +135,7 @@ TEST(BuildJob, ACancelRightAfterACommitLeavesReadersThatCommitNotAnOlderOne) {
 // pair resumes from its stored roadmaps and never replays; IRIS-C replays its recipe, and a stop
 // during that replay leaves the scene idle as it was (not failed).
 TEST(BuildJob, AStoppedBuildGoesOnExactlyResumedOrForIrisCReplayed) {
-  const Scene& scene = test::shared_scene("demo_tank_tower");
+  const planning::Scene& scene = test::shared_scene("demo_tank_tower");
   test::TempDir dir;
   std::atomic<bool> never{false};
   const auto open = [&](SessionCallbacks callbacks, const std::string& store) {
@@ -209,7 +209,7 @@ TEST(BuildJob, AStoppedBuildGoesOnExactlyResumedOrForIrisCReplayed) {
 // queue the job had already left, and the job then ran to its end: CI's kill -9 campaign found
 // "a build is running" right after its cancel.)
 TEST(BuildJob, ACancelWhileTheBuilderResumesStopsTheJob) {
-  const Scene& scene = test::shared_scene("demo_tank_tower");
+  const planning::Scene& scene = test::shared_scene("demo_tank_tower");
   test::TempDir dir;
   std::atomic<bool> never{false};
   BuildRequest request;
@@ -241,7 +241,7 @@ TEST(BuildJob, ACancelWhileTheBuilderResumesStopsTheJob) {
 // for a worker (the fleet's announcement and a takeover continue to it: docs/fleet.md); a cancel
 // or a stop before it starts takes the target back.
 TEST(BuildJob, AQueuedExtendsTargetIsInTheStatusUntilItIsCancelledOrStopped) {
-  const Scene& scene = test::shared_scene("demo_tank_tower");
+  const planning::Scene& scene = test::shared_scene("demo_tank_tower");
   test::TempDir dir;
   std::atomic<bool> never{false};
   RoadmapSession session("tower", scene, dir.path() / "tower", SessionLimits{}, {});
@@ -270,4 +270,4 @@ TEST(BuildJob, AQueuedExtendsTargetIsInTheStatusUntilItIsCancelledOrStopped) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

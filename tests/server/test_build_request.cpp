@@ -7,10 +7,10 @@
 #include "ispars/service/build_request.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
-const Scene& tower() { return test::shared_scene("demo_tank_tower"); }
+const planning::Scene& tower() { return test::shared_scene("demo_tank_tower"); }
 
 BuildRequest asking(std::uint64_t samples) {
   BuildRequest r;
@@ -23,14 +23,14 @@ BuildRequest asking(std::uint64_t samples) {
 std::string refusal(const BuildRequest& request, const SessionLimits& limits = {}) {
   try {
     (void)requested_recipe("tower", tower(), request, limits);
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     return e.what();
   }
   return "accepted";
 }
 
 TEST(BuildRequest, TheRecipeTakesTheScenesParametersUnlessOverridden) {
-  const SceneConfig& c = tower().config();
+  const scene_files::SceneConfig& c = tower().config();
   const RoadmapRecipe plain = requested_recipe("tower", tower(), asking(100), {});
   EXPECT_EQ(plain.scene, "tower");
   EXPECT_EQ(plain.method, BuildMethod::ispars);
@@ -55,12 +55,12 @@ TEST(BuildRequest, SamplesAreAtLeastOneAndAtMostTheLimit) {
   EXPECT_EQ(refusal(asking(1000), limits), "accepted");
   EXPECT_NE(refusal(asking(1001), limits).find("samples: 1001 is more than this daemon allows per request (1000)"),
             std::string::npos);
-  EXPECT_THROW(check_samples(0, limits), InputError);
+  EXPECT_THROW(check_samples(0, limits), params::InputError);
   EXPECT_NO_THROW(check_samples(1, limits));
 }
 
 TEST(BuildRequest, OverridesOffTheScenesScaleAreRefusedByName) {
-  const SceneConfig& c = tower().config();
+  const scene_files::SceneConfig& c = tower().config();
   BuildRequest r = asking(100);
   r.overrides.dense_delta = 1e-6;
   EXPECT_NE(refusal(r).find("overrides.dense_delta: 1e-06 is too small for this scene"), std::string::npos)
@@ -108,4 +108,4 @@ TEST(BuildRequest, AStoredRoadmapOfAnotherSceneVersionOrBuilderIsStale) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

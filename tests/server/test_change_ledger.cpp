@@ -9,7 +9,7 @@
 #include "support/power_cut_fs.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 using test::PowerCut;
@@ -126,4 +126,4 @@ TEST(ChangeLedger, TheFileIsRewrittenToItsNewestRequestsAndDamageIsKeptAside) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

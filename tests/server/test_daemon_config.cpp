@@ -69,7 +69,7 @@ TEST(DaemonConfig, BadValuesAreNamed) {
     try {
       (void)load_daemon_config(path);
       ADD_FAILURE() << "accepted: " << text;
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
     }
   };
@@ -99,7 +99,7 @@ TEST(DaemonConfig, BadValuesAreNamed) {
   expect("metrics: '127.0.0.1:'\n", "has no port in 0..65535");
   expect("metrics: 127.0.0.1:+80\n", "has no port in 0..65535");
   expect("metrics: " + std::string(70, '1') + ":80\n", "is not an address and a port");
-  EXPECT_THROW((void)load_daemon_config(dir.path() / "missing.yaml"), InputError);
+  EXPECT_THROW((void)load_daemon_config(dir.path() / "missing.yaml"), params::InputError);
 }
 
 TEST(DaemonConfig, AListenAddressIsAnIpv4AddressAndAPort) {
@@ -109,9 +109,9 @@ TEST(DaemonConfig, AListenAddressIsAnIpv4AddressAndAPort) {
   const ListenAddress local = parse_listen_address("127.0.0.1:65535", "isparsd", "metrics");
   EXPECT_EQ(local.host, "127.0.0.1");
   EXPECT_EQ(local.port, 65535);
-  EXPECT_THROW((void)parse_listen_address("127.0.0.256:80", "isparsd", "metrics"), InputError);
-  EXPECT_THROW((void)parse_listen_address("[::1]:80", "isparsd", "metrics"), InputError);
-  EXPECT_THROW((void)parse_listen_address(":80", "isparsd", "metrics"), InputError);
+  EXPECT_THROW((void)parse_listen_address("127.0.0.256:80", "isparsd", "metrics"), params::InputError);
+  EXPECT_THROW((void)parse_listen_address("[::1]:80", "isparsd", "metrics"), params::InputError);
+  EXPECT_THROW((void)parse_listen_address(":80", "isparsd", "metrics"), params::InputError);
 }
 
 // Parses `args` as isparsd's flags and applies them over `config`.
@@ -150,7 +150,7 @@ TEST(DaemonFlags, BadValuesAreNamedByTheirFlag) {
     try {
       (void)with_flags(args);
       ADD_FAILURE() << "accepted: " << args[0] << " " << args[1];
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
     }
   };

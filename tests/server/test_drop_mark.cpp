@@ -6,7 +6,7 @@
 
 #include "support/power_cut_fs.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 const std::filesystem::path kData = "/data";
@@ -89,4 +89,4 @@ TEST(DropMark, APowerCutAnywhereLeavesTheOldMarkOrTheNewOneAndAReturnedMarkSurvi
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

@@ -20,8 +20,8 @@ std::vector<std::string> as_strings(const Sequence& seq) {
   return out;
 }
 
-ServedRoadmap served(const std::string& scene, std::uint64_t samples, bool held) {
-  ServedRoadmap r;
+service::ServedRoadmap served(const std::string& scene, std::uint64_t samples, bool held) {
+  service::ServedRoadmap r;
   r.scene = scene;
   r.generation = 7;
   r.samples = samples;
@@ -53,7 +53,7 @@ TEST(FleetListing, AHandedOverSceneNamesItsWinnerUntilItIsHeldAgain) {
   FleetListing listing(dir.path() / "scenes", dir.path() / "data");
   listing.hand_over("s0", {"d2", 5000, 3}, "handed over to daemon d2");
   msg::DaemonInfo info;
-  ServedRoadmap stored = served("s0", 3000, false);
+  service::ServedRoadmap stored = served("s0", 3000, false);
   stored.task_events = 2;  // a third, acknowledged and queued, was cancelled by the handover
   listing.describe(info, {stored});
   ASSERT_EQ(info.roadmaps().size(), 1u);

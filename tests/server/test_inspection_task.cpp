@@ -7,15 +7,16 @@
 #include "ispars/service/inspection_task.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
-const Scene& tank_tower() { return test::shared_scene("demo_tank_tower"); }
+const planning::Scene& tank_tower() { return test::shared_scene("demo_tank_tower"); }
 
-std::string field_of(const Scene& scene, const std::vector<InspectionTask>& tasks, const InspectionTask& task) {
+std::string field_of(const planning::Scene& scene, const std::vector<InspectionTask>& tasks,
+                     const InspectionTask& task) {
   try {
     check_task(scene, tasks, task);
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     return e.field();
   }
   return "(accepted)";
@@ -60,8 +61,8 @@ TEST(InspectionTask, SampledPoisLieOnTheSurfaceAndEachRuleNamesItsField) {
     full.push_back({name.insert(0, 1, 't'), {pois[0]}});
   }
   EXPECT_EQ(field_of(tank_tower(), full, {"one-more", {pois[0]}}), "task");
-  EXPECT_THROW((void)sample_task_pois(tank_tower(), 0, 1), InputError);
-  EXPECT_THROW((void)sample_task_pois(tank_tower(), kMaxTaskPois + 1, 1), InputError);
+  EXPECT_THROW((void)sample_task_pois(tank_tower(), 0, 1), params::InputError);
+  EXPECT_THROW((void)sample_task_pois(tank_tower(), kMaxTaskPois + 1, 1), params::InputError);
 }
 
 TEST(InspectionTask, CoverageAndTargetsCountOnlyTheTasksOwnPois) {
@@ -83,8 +84,8 @@ TEST(InspectionTask, CoverageAndTargetsCountOnlyTheTasksOwnPois) {
   EXPECT_EQ(c[1].covered, 2u);
   EXPECT_EQ(c[1].covered_root, 0u);
   EXPECT_EQ(task_targets(roadmap, scene_pois, tasks, "a"), (std::vector<PoiId>{3, 4}));
-  EXPECT_THROW((void)task_targets(roadmap, scene_pois, tasks, "b"), InputError) << "none seen from the root";
-  EXPECT_THROW((void)task_targets(roadmap, scene_pois, tasks, "c"), InputError) << "no such task";
+  EXPECT_THROW((void)task_targets(roadmap, scene_pois, tasks, "b"), params::InputError) << "none seen from the root";
+  EXPECT_THROW((void)task_targets(roadmap, scene_pois, tasks, "c"), params::InputError) << "no such task";
 }
 
 // Vertex 0 (the root) sees scene POI 0 and POIs 3-4 (task a); vertex 1, in its component, sees
@@ -112,13 +113,13 @@ TEST(InspectionTask, ARemovedTaskLeavesEveryTargetSetAndFreesItsName) {
   try {
     (void)task_targets(roadmap, 3, tasks, "a");
     ADD_FAILURE() << "a removed task's targets";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_EQ(e.field(), "task");
     EXPECT_NE(std::string(e.what()).find("task 'a' was removed already"), std::string::npos) << e.what();
   }
   EXPECT_EQ(live_task(tasks, "b"), 1u);
-  EXPECT_THROW((void)live_task(tasks, "a"), InputError);
-  EXPECT_THROW((void)live_task(tasks, "nope"), InputError);
+  EXPECT_THROW((void)live_task(tasks, "a"), params::InputError);
+  EXPECT_THROW((void)live_task(tasks, "nope"), params::InputError);
   // The name is free again; the new task is the live one of that name.
   const InspectionTask again{"a", sample_task_pois(tank_tower(), 3, 1)};
   EXPECT_EQ(field_of(tank_tower(), tasks, again), "(accepted)");
@@ -128,8 +129,8 @@ TEST(InspectionTask, ARemovedTaskLeavesEveryTargetSetAndFreesItsName) {
   Roadmap only_a(3 + 2);
   only_a.add_vertex(Vec3::Zero(), std::vector<PoiId>{3});
   std::vector<InspectionTask> one{{"a", {Vec3::Zero(), Vec3::Zero()}, true}};
-  EXPECT_THROW((void)live_targets(only_a, 3, one), InputError);
+  EXPECT_THROW((void)live_targets(only_a, 3, one), params::InputError);
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

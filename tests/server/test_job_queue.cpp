@@ -12,7 +12,7 @@
 #include "support/eventually.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 using namespace std::chrono_literals;
@@ -76,7 +76,7 @@ TEST_F(JobQueueTest, ARefusedRequestRecordsNothing) {
   try {
     queue.accept(session_, "s0", std::nullopt, 100, 0);  // an extend with no roadmap to extend
     ADD_FAILURE() << "an extend without a roadmap was accepted";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("request:"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(records().empty());
@@ -84,4 +84,4 @@ TEST_F(JobQueueTest, ARefusedRequestRecordsNothing) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

@@ -13,11 +13,11 @@
 #include "server/service_waits.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
-BuildCost cost_of(double held, double peak) {
-  BuildCost c;
+planning::BuildCost cost_of(double held, double peak) {
+  planning::BuildCost c;
   c.vertices = 10;
   c.edges = 20;
   c.bytes = held;
@@ -28,7 +28,7 @@ BuildCost cost_of(double held, double peak) {
 std::string refusal(const std::function<void()>& call) {
   try {
     call();
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     return e.what();
   }
   return "";
@@ -149,4 +149,4 @@ TEST(MemoryBudgetService, SnapshotsAndToursAreRefusedAsBusyWhenTheBudgetHasNoRoo
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

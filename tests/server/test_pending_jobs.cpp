@@ -8,7 +8,7 @@
 #include "ispars/service/pending_jobs.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 TEST(PendingJobs, ARecordRoundTripsAndIsForgottenOnlyByItsOwnJob) {
@@ -97,4 +97,4 @@ TEST(PendingJobs, ARecordThatFailsItsChecksumIsNotResumed) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

@@ -4,7 +4,7 @@
 
 #include "ispars/service/reader_gate.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -47,4 +47,4 @@ TEST(ReaderGate, StopAllStopsTheRunningOnesOnlyAndADeadlineStopsItsReader) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

@@ -14,7 +14,7 @@ namespace ispars::server {
 namespace {
 
 TEST(RequestCodec, ATourReplyCarriesTheWalkTheShortcutTheBoundAndTheTraces) {
-  TourOutcome o;
+  service::TourOutcome o;
   o.result.tour.walk = {0, 3, 0};
   o.result.tour.cost = 8.5;
   o.result.tour.covered = {1, 2};
@@ -82,7 +82,7 @@ TEST(RequestCodec, ATourReplyCarriesTheWalkTheShortcutTheBoundAndTheTraces) {
 }
 
 TEST(RequestCodec, AVerifyReplyCarriesEachCountAndThePromise) {
-  VerifyOutcome v;
+  service::VerifyOutcome v;
   v.report.invalid_vertices = 1;
   v.report.invalid_edges = 2;
   v.report.wrong_costs = 3;
@@ -103,7 +103,7 @@ TEST(RequestCodec, AVerifyReplyCarriesEachCountAndThePromise) {
 }
 
 TEST(RequestCodec, AVerifySummaryNamesEachCountAndWhatInvariantOneWasCheckedOn) {
-  VerifyOutcome v;
+  service::VerifyOutcome v;
   v.report.invalid_edges = 2;
   v.report.invariant_violations = 5;
   v.report.invariant_vertices = 6;
@@ -126,7 +126,7 @@ TEST(RequestCodec, AVerifySummaryNamesEachCountAndWhatInvariantOneWasCheckedOn) 
 }
 
 TEST(RequestCodec, APathAndSnapshotChunksAreEncodedWhole) {
-  RoadmapPath path;
+  planning::RoadmapPath path;
   path.waypoints = {Vec3(0, 0, 1), Vec3(3, 4, 1)};
   path.length = 5.0;
   const msg::PathResult p = to_message(path);
@@ -134,8 +134,8 @@ TEST(RequestCodec, APathAndSnapshotChunksAreEncodedWhole) {
   EXPECT_EQ(p.waypoints()[1].x(), 3.0);
   EXPECT_EQ(p.length(), 5.0);
 
-  const Scene& scene = test::shared_scene("demo_tank_tower");
-  SnapshotSlice slice;
+  const planning::Scene& scene = test::shared_scene("demo_tank_tower");
+  service::SnapshotSlice slice;
   slice.generation = 9;
   slice.version = 4;
   slice.chunk_count = 2;

@@ -20,7 +20,8 @@ class RequestRouterTest : public ::testing::Test {
  protected:
   void SetUp() override {
     test::write_tank_scenes(dir_.path(), {"s0", "s1"});
-    service_ = std::make_unique<RoadmapService>(test::unit_service_settings(dir_.path(), "d1"), ServiceEvents{});
+    service_ = std::make_unique<service::RoadmapService>(test::unit_service_settings(dir_.path(), "d1"),
+                                                         service::ServiceEvents{});
   }
   std::unique_ptr<RequestRouter> router(std::size_t queue = 16) {
     return std::make_unique<RequestRouter>(
@@ -73,7 +74,7 @@ class RequestRouterTest : public ::testing::Test {
   DaemonMetrics metrics_;
   std::atomic<bool> leaving_{false};
   TakeoverGate gate_;
-  std::unique_ptr<RoadmapService> service_;
+  std::unique_ptr<service::RoadmapService> service_;
   StatusPublisher statuses_{"d1", out_, metrics_, leaving_};
 };
 

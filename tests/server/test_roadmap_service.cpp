@@ -17,7 +17,7 @@
 #include "support/eventually.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 using namespace std::chrono_literals;
@@ -101,12 +101,12 @@ TEST_F(RoadmapServiceTest, OperationsRunWithoutDdsAndReportThroughEvents) {
   apply_batch(copy, decode_batch(slice.encoded->substr(slice.begin, slice.end - slice.begin)));
   EXPECT_EQ(roadmap_digest(copy), roadmap_digest(*service.session("s0")->published().roadmap));
   service.unload("s0");
-  EXPECT_THROW((void)service.stats("s0"), InputError);
+  EXPECT_THROW((void)service.stats("s0"), params::InputError);
   EXPECT_TRUE(service.list_scenes()[0].has_roadmap) << "the store stays on disk";
   EXPECT_EQ(unloaded, std::vector<std::string>{"s0"});
   // A restart's reload skips an unloaded scene; a load brings its stored roadmap back as it was.
   service.load_stored_roadmaps();
-  EXPECT_THROW((void)service.stats("s0"), InputError);
+  EXPECT_THROW((void)service.stats("s0"), params::InputError);
   EXPECT_TRUE(service.load("s0").second);
   EXPECT_EQ(service.stats("s0").samples_done, 2000u);
 }
@@ -117,7 +117,7 @@ TEST_F(RoadmapServiceTest, RefusalsNameTheFieldAndChangeNothing) {
     try {
       call();
       ADD_FAILURE() << "not refused: " << needle;
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
     }
   };
@@ -154,7 +154,7 @@ TEST_F(RoadmapServiceTest, BuildsPastTheMemoryBudgetAreRefusedBeforeAnyMemoryGro
     try {
       service.build(scene, request);
       ADD_FAILURE() << "accepted a build past the budget";
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       EXPECT_NE(std::string(e.what()).find("request: samples: the roadmap would hold about"), std::string::npos)
           << e.what();
       EXPECT_NE(std::string(e.what()).find("more than this daemon's memory budget leaves"), std::string::npos)
@@ -183,7 +183,7 @@ TEST_F(RoadmapServiceTest, BuildsPastTheMemoryBudgetAreRefusedBeforeAnyMemoryGro
     RoadmapRecipe recipe;
     recipe.dense_delta = scene->scene().config().dense_delta;
     recipe.sparse_delta = scene->scene().config().sparse_delta;
-    return estimate_build_cost(scene->scene(), recipe, samples, free_fraction(scene->scene())).peak_bytes;
+    return planning::estimate_build_cost(scene->scene(), recipe, samples, free_fraction(scene->scene())).peak_bytes;
   };
   std::uint64_t fits_beside = 2000, too_many = 10'000'000;
   ASSERT_LE(cost_of(fits_beside) + held, s.memory_budget_bytes);
@@ -200,7 +200,7 @@ TEST_F(RoadmapServiceTest, BuildsPastTheMemoryBudgetAreRefusedBeforeAnyMemoryGro
   try {
     service.extend("s1", 50'000'000);
     ADD_FAILURE() << "an extend past the budget was accepted";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("memory budget"), std::string::npos) << e.what();
   }
 }
@@ -235,7 +235,7 @@ TEST_F(RoadmapServiceTest, ToursAreAdmittedUpToTheBoundAndCancelAndStopEndThem) 
   try {
     service.start_tour("s0", tour, callbacks());
     ADD_FAILURE() << "a second tour was admitted past the bound";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("busy: 1 tours are queued or running"), std::string::npos) << e.what();
   }
   // Cancelled once it has a tour (its first progress report), so that it ends with its best: a
@@ -259,7 +259,7 @@ TEST_F(RoadmapServiceTest, ToursAreAdmittedUpToTheBoundAndCancelAndStopEndThem) 
         try {
           service.start_tour("s0", tour, callbacks());
           return true;
-        } catch (const InputError&) {
+        } catch (const params::InputError&) {
           return false;
         }
       },
@@ -274,9 +274,9 @@ TEST_F(RoadmapServiceTest, ToursAreAdmittedUpToTheBoundAndCancelAndStopEndThem) 
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 TEST_F(RoadmapServiceTest, AYieldedSceneStopsItsBuildsAndLeavesWithoutAnUnloadedMark) {
@@ -377,9 +377,9 @@ TEST_F(RoadmapServiceTest, AYieldIsNotHeldUpByLoopingVerifies) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 // A recorded job is resumed at the next start, with its attempt counted; one resumed three times
@@ -468,7 +468,7 @@ TEST_F(RoadmapServiceTest, ASnapshotEncodingStopsWhenTheReadersAreStopped) {
   try {
     (void)service.snapshot("s0", 0, 0, 0, 0);
     ADD_FAILURE() << "a snapshot was encoded after the stop";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("the snapshot of scene 's0' was stopped: the daemon is stopping"),
               std::string::npos)
         << e.what();
@@ -476,4 +476,4 @@ TEST_F(RoadmapServiceTest, ASnapshotEncodingStopsWhenTheReadersAreStopped) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

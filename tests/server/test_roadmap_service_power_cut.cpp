@@ -30,7 +30,7 @@
 #include "support/power_cut_fs.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 using namespace std::chrono_literals;
@@ -106,7 +106,7 @@ class ServicePowerCutTest : public ::testing::Test {
   void SetUp() override {
     std::filesystem::create_directories(dir_.path() / "scenes");
     std::ofstream(dir_.path() / "scenes" / "s0.yaml") << "procedural: {kind: tank_tower, seed: 3}\n";
-    const Scene scene = Scene::build(load_scene_config(dir_.path() / "scenes", "s0"));
+    const planning::Scene scene = planning::Scene::build(load_scene_config(dir_.path() / "scenes", "s0"));
     for (const char* name : {"a", "b", "c"}) tasks_.push_back({name, sample_task_pois(scene, 12, name[0]), false});
   }
   ServiceSettings settings() const {
@@ -288,4 +288,4 @@ TEST_F(ServicePowerCutTest, WithoutFsyncTheSameCutsLoseAcknowledgedChanges) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

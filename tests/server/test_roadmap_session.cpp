@@ -11,7 +11,7 @@
 #include "roadmap_session_fixture.hpp"
 #include "support/eventually.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 TEST_F(RoadmapSessionTest, AJobCommitsBatchesThatReplayToThePublishedRoadmap) {
@@ -37,7 +37,7 @@ TEST_F(RoadmapSessionTest, AJobCommitsBatchesThatReplayToThePublishedRoadmap) {
   EXPECT_EQ(roadmap_digest(replica), roadmap_digest(*p.roadmap));
   EXPECT_EQ(roadmap_digest(*p.roadmap), uninterrupted_digest(scene(), 4000, 3));
   EXPECT_GE(statuses, 3u);
-  const VerificationReport report = session->verify(kVerifyBudget);
+  const planning::VerificationReport report = session->verify(kVerifyBudget);
   EXPECT_TRUE(report.geometry_ok());
   EXPECT_EQ(report.invariant_violations, 0u);
 }
@@ -53,10 +53,10 @@ TEST_F(RoadmapSessionTest, BuildThreadsAndTheVariantReachTheBuilder) {
   session->run_job(never_);
   ASSERT_TRUE(session->status().recipe);
   EXPECT_EQ(session->status().recipe->variant, SparsVariant::alg1);
-  BuildOptions options;
+  planning::BuildOptions options;
   options.seed = 5;
   options.variant = SparsVariant::alg1;
-  auto b = make_roadmap_builder(BuildMethod::ispars, scene(), options);
+  auto b = planning::make_roadmap_builder(BuildMethod::ispars, scene(), options);
   b->extend(3000);
   EXPECT_EQ(roadmap_digest(*session->published().roadmap), roadmap_digest(b->roadmap()));
   EXPECT_NE(roadmap_digest(b->roadmap()), uninterrupted_digest(scene(), 3000, 5)) << "the variants differ here";
@@ -112,8 +112,8 @@ TEST_F(RoadmapSessionTest, ADamagedStoreLoadsFailedAndIsDiscardedOnlyWhenAsked) 
   EXPECT_NE(session->status().last_error.find("snapshot.bin is damaged"), std::string::npos)
       << session->status().last_error;
   EXPECT_EQ(session->published().roadmap->vertex_count(), 0u);
-  EXPECT_THROW(session->request_build(ispars(800, 3)), InputError);  // without replace
-  EXPECT_THROW(session->request_extend(100), InputError);
+  EXPECT_THROW(session->request_build(ispars(800, 3)), params::InputError);  // without replace
+  EXPECT_THROW(session->request_extend(100), params::InputError);
   EXPECT_EQ(bytes_of(snapshot), "ISPSNP01 damaged");
   EXPECT_EQ(bytes_of(journal), journal_before);
   session->drop();
@@ -134,16 +134,17 @@ TEST_F(RoadmapSessionTest, ARoadmapOfAnotherVersionOfTheSceneLoadsFailedUntilReb
     session->run_job(never_);
     ASSERT_EQ(session->status().state, SessionState::idle);
   }
-  const SceneConfig& c = scene().config();
-  const Scene edited = scene().with_roadmap_parameters(c.dense_delta * 0.9, c.sparse_delta, c.stretch, "edited");
+  const scene_files::SceneConfig& c = scene().config();
+  const planning::Scene edited =
+      scene().with_roadmap_parameters(c.dense_delta * 0.9, c.sparse_delta, c.stretch, "edited");
   auto session =
       std::make_unique<RoadmapSession>("tower", edited, dir_.path() / "tower", SessionLimits{}, SessionCallbacks{});
   EXPECT_EQ(session->status().state, SessionState::failed);
   EXPECT_NE(session->status().last_error.find("was built on another version of the scene"), std::string::npos)
       << session->status().last_error;
   EXPECT_EQ(session->published().roadmap->vertex_count(), 0u);
-  EXPECT_THROW(session->request_extend(100), InputError);
-  EXPECT_THROW(session->request_build(ispars(800, 5)), InputError);
+  EXPECT_THROW(session->request_extend(100), params::InputError);
+  EXPECT_THROW(session->request_build(ispars(800, 5)), params::InputError);
   EXPECT_TRUE(std::filesystem::exists(dir_.path() / "tower" / "recipe.json"));
   BuildRequest replace = ispars(800, 5);
   replace.replace = true;
@@ -196,8 +197,8 @@ TEST_F(RoadmapSessionTest, VerifyAndDropRightAfterAJobTurnsIdleWaitForItsLastSta
   job.join();
   // A queued job is still refused by name.
   session->request_extend(100);
-  EXPECT_THROW((void)session->verify(kVerifyBudget), InputError);
-  EXPECT_THROW(session->drop(), InputError);
+  EXPECT_THROW((void)session->verify(kVerifyBudget), params::InputError);
+  EXPECT_THROW(session->drop(), params::InputError);
   session->run_job(never_);
   idle_seen = false;
   session->request_extend(100);
@@ -231,11 +232,11 @@ TEST_F(RoadmapSessionTest, CancellingAQueuedReplaceKeepsTheOldRoadmap) {
 TEST_F(RoadmapSessionTest, AClosedSessionAcceptsNoJobs) {
   auto session = open();
   session->request_build(ispars(100));
-  EXPECT_THROW(session->close(), InputError);  // queued
+  EXPECT_THROW(session->close(), params::InputError);  // queued
   session->run_job(never_);
   session->close();
-  EXPECT_THROW(session->request_extend(10), InputError);
-  EXPECT_THROW(session->request_build(ispars(10)), InputError);
+  EXPECT_THROW(session->request_extend(10), params::InputError);
+  EXPECT_THROW(session->request_build(ispars(10)), params::InputError);
 }
 
 TEST_F(RoadmapSessionTest, BadAndConflictingRequestsAreRefusedByName) {
@@ -246,7 +247,7 @@ TEST_F(RoadmapSessionTest, BadAndConflictingRequestsAreRefusedByName) {
     try {
       f();
       ADD_FAILURE() << "no error for " << needle;
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
     }
   };
@@ -304,16 +305,16 @@ TEST_F(RoadmapSessionTest, PathsAreFreeJoinedWithinDeltaAndMeasured) {
   auto session = open();
   session->request_build(ispars(6000));
   session->run_job(never_);
-  const Scene& s = scene();
+  const planning::Scene& s = scene();
   const auto p = session->published();
   const double radius = s.config().sparse_delta;
-  Rng rng(5);
+  scene_files::Rng rng(5);
   int answered = 0;
   for (int i = 0; i < 40; ++i) {
     const Vec3 a = s.sample_valid_configuration(rng);
     const Vec3 b = s.sample_valid_configuration(rng);
     try {
-      const RoadmapPath path = session->path(a, b);
+      const planning::RoadmapPath path = session->path(a, b);
       ++answered;
       ASSERT_GE(path.waypoints.size(), 2u);
       EXPECT_EQ(path.waypoints.front(), a);
@@ -331,7 +332,7 @@ TEST_F(RoadmapSessionTest, PathsAreFreeJoinedWithinDeltaAndMeasured) {
           EXPECT_TRUE(p.roadmap->has_edge(path.vertices[k - 1], path.vertices[k]));
         }
       }
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       // Only the documented refusals: no free join within Delta, or different components.
       const std::string what = e.what();
       EXPECT_TRUE(what.find("no free segment") != std::string::npos ||
@@ -340,8 +341,8 @@ TEST_F(RoadmapSessionTest, PathsAreFreeJoinedWithinDeltaAndMeasured) {
     }
   }
   EXPECT_GT(answered, 10);
-  EXPECT_THROW((void)session->path(Vec3(std::nan(""), 0, 0), Vec3(0, 0, 1)), InputError);
-  EXPECT_THROW((void)session->path(Vec3(0, 0, 1), Vec3(1e6, 0, 0)), InputError);
+  EXPECT_THROW((void)session->path(Vec3(std::nan(""), 0, 0), Vec3(0, 0, 1)), params::InputError);
+  EXPECT_THROW((void)session->path(Vec3(0, 0, 1), Vec3(1e6, 0, 0)), params::InputError);
 }
 
 // A Dense session drops its builder when a job ends (the published copy is the last commit) and
@@ -356,13 +357,13 @@ TEST_F(RoadmapSessionTest, ADenseSessionResumesFromItsPublishedRoadmapBetweenJob
   session->request_extend(700);
   session->run_job(never_);
   EXPECT_EQ(session->status().samples_done, 2200u);
-  BuildOptions options;
+  planning::BuildOptions options;
   options.seed = 4;
-  const auto reference = make_roadmap_builder(BuildMethod::dense, scene(), options);
+  const auto reference = planning::make_roadmap_builder(BuildMethod::dense, scene(), options);
   reference->extend(2200);
   EXPECT_EQ(roadmap_digest(*session->published().roadmap), roadmap_digest(reference->roadmap()));
   EXPECT_TRUE(session->verify(kVerifyBudget).geometry_ok());
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

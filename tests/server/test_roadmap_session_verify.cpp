@@ -14,7 +14,7 @@
 #include "roadmap_session_fixture.hpp"
 #include "support/eventually.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 // Four readers looping verify never hold a writer up: the verifies running when a drop, then
@@ -29,7 +29,7 @@ TEST_F(RoadmapSessionTest, LoopingVerifiesNeverHoldOffADropOrAnUnload) {
   try {
     (void)session->verify(std::chrono::milliseconds(1));
     ADD_FAILURE() << "a 1 ms budget was not enforced";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("was stopped: its budget of 0.0 s ran out"), std::string::npos) << e.what();
   }
   std::atomic<bool> done{false};
@@ -51,7 +51,7 @@ TEST_F(RoadmapSessionTest, LoopingVerifiesNeverHoldOffADropOrAnUnload) {
         try {
           (void)session->verify(kVerifyBudget);
           ++verified;
-        } catch (const InputError& e) {
+        } catch (const params::InputError& e) {
           std::lock_guard lock(mutex);
           if (std::string(e.what()).find("was stopped") != std::string::npos) {
             stops.push_back({e.what(), std::chrono::steady_clock::now()});
@@ -110,7 +110,7 @@ TEST_F(RoadmapSessionTest, ACancelOrAStartingBuildStopsARunningVerify) {
         started = true;
         try {
           (void)session->verify(kVerifyBudget);
-        } catch (const InputError& e) {
+        } catch (const params::InputError& e) {
           error = e.what();
         }
       });
@@ -135,4 +135,4 @@ TEST_F(RoadmapSessionTest, ACancelOrAStartingBuildStopsARunningVerify) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

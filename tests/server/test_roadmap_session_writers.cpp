@@ -17,7 +17,7 @@
 #include "ispars/service/roadmap_session.hpp"
 #include "roadmap_session_fixture.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 InspectionTask sampled_task(const std::string& name, std::size_t count, std::uint64_t seed) {
@@ -27,7 +27,7 @@ InspectionTask sampled_task(const std::string& name, std::size_t count, std::uin
 std::string refusal(const std::function<void()>& f) {
   try {
     f();
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     return e.what();
   }
   return "(not refused)";
@@ -135,15 +135,15 @@ class SessionTaskTest : public RoadmapSessionTest, public ::testing::WithParamIn
   }
   // The same build and the same task in-process, without the service: the roadmap a session
   // must hold byte for byte.
-  std::unique_ptr<RoadmapBuilder> reference(std::uint64_t samples, const std::vector<InspectionTask>& tasks,
-                                            std::vector<std::unique_ptr<Scene>>& scenes) const {
-    BuildOptions options;
+  std::unique_ptr<planning::RoadmapBuilder> reference(std::uint64_t samples, const std::vector<InspectionTask>& tasks,
+                                                      std::vector<std::unique_ptr<planning::Scene>>& scenes) const {
+    planning::BuildOptions options;
     options.seed = 4;
-    scenes.push_back(std::make_unique<Scene>(scene()));
-    auto b = make_roadmap_builder(GetParam(), *scenes.back(), options);
+    scenes.push_back(std::make_unique<planning::Scene>(scene()));
+    auto b = planning::make_roadmap_builder(GetParam(), *scenes.back(), options);
     b->extend(samples);
     for (const InspectionTask& t : tasks) {
-      scenes.push_back(std::make_unique<Scene>(scenes.back()->with_more_pois(t.pois)));
+      scenes.push_back(std::make_unique<planning::Scene>(scenes.back()->with_more_pois(t.pois)));
       b->add_pois(*scenes.back());
     }
     return b;
@@ -166,11 +166,11 @@ TEST_P(SessionTaskTest, ATaskKeepsInvariantOneOverEveryPoiAndARestartRecoversItB
     EXPECT_EQ(s.tasks, 1u);
     EXPECT_EQ(s.poi_count, base_pois + task.pois.size());
     EXPECT_EQ(s.samples_done, 5000u) << "a task draws no samples";
-    const VerificationReport report = session->verify(kVerifyBudget);
+    const planning::VerificationReport report = session->verify(kVerifyBudget);
     EXPECT_TRUE(report.geometry_ok());
     EXPECT_EQ(report.invariant_violations, 0u) << "Invariant 1 over the scene's and the task's POIs";
     live = roadmap_digest(*session->published().roadmap);
-    std::vector<std::unique_ptr<Scene>> scenes;
+    std::vector<std::unique_ptr<planning::Scene>> scenes;
     EXPECT_EQ(live, roadmap_digest(reference(5000, {task}, scenes)->roadmap()))
         << "the session's roadmap is the builder's with the task, byte for byte";
   }
@@ -184,7 +184,7 @@ TEST_P(SessionTaskTest, ATaskKeepsInvariantOneOverEveryPoiAndARestartRecoversItB
   // Later samples treat the task's POIs as the scene's: the extended roadmap is the reference's.
   session->request_extend(1500);
   session->run_job(never_);
-  std::vector<std::unique_ptr<Scene>> scenes;
+  std::vector<std::unique_ptr<planning::Scene>> scenes;
   auto b = reference(5000, {task}, scenes);
   b->extend(1500);
   EXPECT_EQ(roadmap_digest(*session->published().roadmap), roadmap_digest(b->roadmap()));
@@ -257,7 +257,7 @@ TEST_P(SessionTaskTest, ARemovalChangesNoVertexIsDurableAndFreesTheName) {
   // Later samples: the same roadmap as every addition made in-process (a removal changes none).
   session->request_extend(1000);
   session->run_job(never_);
-  std::vector<std::unique_ptr<Scene>> scenes;
+  std::vector<std::unique_ptr<planning::Scene>> scenes;
   auto reference_builder = reference(3000, {a, b, again}, scenes);
   reference_builder->extend(1000);
   EXPECT_EQ(roadmap_digest(*session->published().roadmap), roadmap_digest(reference_builder->roadmap()));
@@ -409,4 +409,4 @@ TEST_F(RoadmapSessionTest, ADropThatCannotBeRememberedIsRefusedAndChangesNothing
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

@@ -9,7 +9,7 @@
 
 #include "roadmap_store_fixture.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 TEST_F(RoadmapStoreTest, ReopeningRecoversTheLastCommitThroughSnapshotsAndJournal) {
@@ -210,7 +210,7 @@ TEST_F(RoadmapStoreTest, ACommitThatDoesNotContinueIsRefusedAndChangesNothing) {
   const auto path = dir_.path() / "bridge";
   auto store = RoadmapStore::create(path, recipe_);
   build_and_commit(*store, 2, 200);
-  BuiltRoadmaps recovered;
+  planning::BuiltRoadmaps recovered;
   {
     StoreRecovery r;
     store.reset();
@@ -223,7 +223,7 @@ TEST_F(RoadmapStoreTest, ACommitThatDoesNotContinueIsRefusedAndChangesNothing) {
   EXPECT_EQ(roadmap_digest(recovered.roadmap), before);
   BuildCommit wrong_ids = commit_since(view(*builder_), 0, 0);
   wrong_ids.new_dense_ids.pop_back();
-  BuiltRoadmaps fresh{0, Roadmap(scene_->pois().size()), Roadmap(scene_->pois().size()), {}};
+  planning::BuiltRoadmaps fresh{0, Roadmap(scene_->pois().size()), Roadmap(scene_->pois().size()), {}};
   EXPECT_THROW(apply_commit(fresh, wrong_ids), std::runtime_error);
   EXPECT_EQ(fresh.roadmap.version(), 0u);
 }
@@ -355,9 +355,9 @@ TEST_F(RoadmapStoreTest, CommitsThatLeaveTheSparseRoadmapUnchangedSurviveACompac
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 TEST_F(RoadmapStoreTest, AReplacingStoreLeavesTheOldOneWholeUntilItsFirstCommit) {
@@ -416,4 +416,4 @@ TEST_F(RoadmapStoreTest, AReplacementCaughtBetweenTheFallbackRenamesIsPutInPlace
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

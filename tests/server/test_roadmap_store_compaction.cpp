@@ -4,7 +4,7 @@
 
 #include "roadmap_store_fixture.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 // Compaction runs off the build thread: the journal is renamed journal.old, and a thread folds
@@ -17,9 +17,9 @@ TEST_F(RoadmapStoreTest, EveryCrashWindowOfABackgroundCompactionRecoversTheLastC
   {
     auto store = RoadmapStore::create(path, recipe_);
     store->set_compact_every(1000);
-    BuildOptions options;
+    planning::BuildOptions options;
     options.seed = recipe_.seed;
-    builder_ = make_roadmap_builder(BuildMethod::ispars, *scene_, options);
+    builder_ = planning::make_roadmap_builder(BuildMethod::ispars, *scene_, options);
     std::uint64_t v = 0, dv = 0;
     for (int i = 0; i < 8; ++i) {
       if (i > 0) builder_->extend(150);
@@ -91,4 +91,4 @@ TEST_F(RoadmapStoreTest, EveryCrashWindowOfABackgroundCompactionRecoversTheLastC
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

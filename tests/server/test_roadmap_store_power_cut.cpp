@@ -12,11 +12,11 @@
 #include <random>
 #include <string>
 
-#include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
 #include "roadmap_store_fixture.hpp"
 #include "support/power_cut_fs.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 using test::PowerCut;
@@ -40,9 +40,9 @@ class PowerCutTest : public RoadmapStoreTest {
   void SetUp() override {
     RoadmapStoreTest::SetUp();
     // The uninterrupted build: its commits, replayed into every store, and its states.
-    BuildOptions options;
+    planning::BuildOptions options;
     options.seed = recipe_.seed;
-    builder_ = make_roadmap_builder(BuildMethod::ispars, *scene_, options);
+    builder_ = planning::make_roadmap_builder(BuildMethod::ispars, *scene_, options);
     std::uint64_t v = 0, dv = 0;
     for (int i = 0; i < kCommits; ++i) {
       if (i > 0) builder_->extend(kStep);
@@ -193,14 +193,14 @@ class PowerCutTest : public RoadmapStoreTest {
     ASSERT_GE(commits, at_least) << "an acknowledged commit was lost: " << at_least << " acknowledged, " << commits
                                  << " recovered";
     expect_state(r, *state);
-    const VerificationReport report =
-        verify_sparse_pair(*scene_, r.roadmaps.roadmap, *r.roadmaps.dense, r.roadmaps.dense_ids);
+    const planning::VerificationReport report =
+        planning::verify_sparse_pair(*scene_, r.roadmaps.roadmap, *r.roadmaps.dense, r.roadmaps.dense_ids);
     EXPECT_TRUE(report.geometry_ok() && report.invariant_violations == 0) << "the recovered roadmap is not clean";
     store.reset();
     // It goes on as if the power had never gone: extended to the full count, byte for byte.
-    BuildOptions options;
+    planning::BuildOptions options;
     options.seed = recipe_.seed;
-    auto resumed = resume_roadmap_builder(BuildMethod::ispars, *scene_, options, std::move(r.roadmaps));
+    auto resumed = planning::resume_roadmap_builder(BuildMethod::ispars, *scene_, options, std::move(r.roadmaps));
     resumed->extend(states_.back().samples - resumed->samples());
     EXPECT_EQ(roadmap_digest(resumed->roadmap()), states_.back().digest);
     EXPECT_EQ(roadmap_digest(*resumed->dense()), states_.back().dense_digest);
@@ -269,4 +269,4 @@ TEST_F(PowerCutTest, AFailedWriteSyncOrRenameIsReportedByNameAndLosesNothingAckn
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

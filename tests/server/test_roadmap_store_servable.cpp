@@ -7,7 +7,7 @@
 
 #include "roadmap_store_fixture.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 TEST_F(RoadmapStoreTest, AStoreThatCannotBeServedIsToldWithoutReadingItWhole) {
@@ -40,4 +40,4 @@ TEST_F(RoadmapStoreTest, AStoreThatCannotBeServedIsToldWithoutReadingItWhole) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

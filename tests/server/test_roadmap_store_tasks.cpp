@@ -4,10 +4,10 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/builders/poi_visibility.hpp"
+#include "ispars/planning/builders/poi_visibility.hpp"
 #include "roadmap_store_fixture.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 class RoadmapStoreTaskTest : public RoadmapStoreTest {
@@ -17,7 +17,7 @@ class RoadmapStoreTaskTest : public RoadmapStoreTest {
     const std::uint64_t v = builder_->roadmap().version();
     const std::uint64_t dv = builder_->dense()->version();
     InspectionTask task{name, sample_task_pois(*scene_, count, seed)};
-    scenes_.push_back(std::make_unique<Scene>(current().with_more_pois(task.pois)));
+    scenes_.push_back(std::make_unique<planning::Scene>(current().with_more_pois(task.pois)));
     builder_->add_pois(*scenes_.back());
     BuildCommit commit = commit_since(view(*builder_), v, dv);
     commit.tasks = {task};
@@ -34,18 +34,18 @@ class RoadmapStoreTaskTest : public RoadmapStoreTest {
     commit.task_count = ++tasks_;
     store.commit(commit);
   }
-  const Scene& current() const { return scenes_.empty() ? *scene_ : *scenes_.back(); }
+  const planning::Scene& current() const { return scenes_.empty() ? *scene_ : *scenes_.back(); }
   // What a session does after recovery: the vertices built before a task see its POIs too.
   void expect_builders_state(StoreRecovery& r) const {
     const auto first = static_cast<PoiId>(scene_->pois().size());
-    see_new_pois(r.roadmaps.roadmap, current(), first);
-    see_new_pois(*r.roadmaps.dense, current(), first);
+    planning::see_new_pois(r.roadmaps.roadmap, current(), first);
+    planning::see_new_pois(*r.roadmaps.dense, current(), first);
     EXPECT_EQ(r.roadmaps.samples, builder_->samples());
     EXPECT_EQ(roadmap_digest(r.roadmaps.roadmap), roadmap_digest(builder_->roadmap()));
     EXPECT_EQ(roadmap_digest(*r.roadmaps.dense), roadmap_digest(*builder_->dense()));
     EXPECT_EQ(r.roadmaps.dense_ids.size(), builder_->dense_ids().size());
   }
-  std::vector<std::unique_ptr<Scene>> scenes_;
+  std::vector<std::unique_ptr<planning::Scene>> scenes_;
   std::uint64_t tasks_ = 0;
 };
 
@@ -186,4 +186,4 @@ TEST(RoadmapStoreTaskCodec, ACommitWithoutTasksEncodesAsBeforeAndATaskRoundTrips
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

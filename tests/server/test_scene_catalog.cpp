@@ -8,7 +8,7 @@
 #include <fstream>
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 TEST(SceneCatalog, NamesResolveInsideTheDirectoryOnly) {
@@ -21,18 +21,18 @@ TEST(SceneCatalog, NamesResolveInsideTheDirectoryOnly) {
   EXPECT_EQ(scene_file(scenes, "tower"), scenes / "tower.yaml");
   for (const std::string& bad : std::vector<std::string>{"../outside", "a/b", "", ".hidden", "tower\n", "to wer",
                                                          std::string(65, 'a'), "/etc/passwd", "..", "tower.yaml/.."}) {
-    EXPECT_THROW((void)scene_file(scenes, bad), InputError) << bad;
+    EXPECT_THROW((void)scene_file(scenes, bad), params::InputError) << bad;
   }
   try {
     (void)scene_file(scenes, "escape");
     FAIL();
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("outside the scene directory"), std::string::npos) << e.what();
   }
   try {
     (void)scene_file(scenes, "missing");
     FAIL();
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_EQ(std::string(e.what()), "request: scene: no scene 'missing' in the daemon's scene directory");
   }
   const auto names = list_scene_names(scenes);
@@ -65,7 +65,7 @@ TEST(SceneCatalog, ASceneFileNamesOnlyFilesInsideTheDirectory) {
     try {
       (void)load_scene_config(scenes, name);
       ADD_FAILURE() << name << " was accepted";
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       EXPECT_NE(std::string(e.what()).find("request: scene: scene '" + name + "': " + key + " '"), std::string::npos)
           << e.what();
       EXPECT_NE(std::string(e.what()).find("is outside the scene directory"), std::string::npos) << e.what();
@@ -74,4 +74,4 @@ TEST(SceneCatalog, ASceneFileNamesOnlyFilesInsideTheDirectory) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

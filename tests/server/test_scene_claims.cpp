@@ -99,7 +99,7 @@ struct Claims {
 std::string claim_error(SceneClaims& claims, const std::string& scene) {
   try {
     claims.claim(scene);
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     return e.what();
   }
   return "";

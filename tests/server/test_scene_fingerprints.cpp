@@ -12,7 +12,7 @@
 #include "server/service_waits.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 class SceneFingerprintsTest : public ::testing::Test {
@@ -86,4 +86,4 @@ TEST_F(SceneFingerprintsTest, AStoredCopyOfAnotherSceneFileVersionIsNotOffered) 
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

@@ -13,7 +13,7 @@
 #include "ispars/service/scene_registry.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 class SceneRegistryTest : public ::testing::Test {
@@ -35,7 +35,7 @@ TEST_F(SceneRegistryTest, ANameIsReservedByOneLoadAmongManyThreads) {
       try {
         held[i] = registry_.reserve("tower");
         ++reserved;
-      } catch (const InputError& e) {
+      } catch (const params::InputError& e) {
         EXPECT_EQ(e.field(), "scene");
         ++refused;
       }
@@ -56,7 +56,7 @@ TEST_F(SceneRegistryTest, AFailedLoadFreesItsNameAndAnAddedSessionKeepsIt) {
   r->add(s);
   r.reset();
   EXPECT_EQ(registry_.find("tower"), s) << "the reservation's end took the added session's name away";
-  EXPECT_THROW((void)registry_.reserve("tower"), InputError) << "a loaded scene was reserved again";
+  EXPECT_THROW((void)registry_.reserve("tower"), params::InputError) << "a loaded scene was reserved again";
   EXPECT_EQ(registry_.names(), std::vector<std::string>{"tower"});
   ASSERT_EQ(registry_.sessions().size(), 1u);
   registry_.erase("tower");
@@ -80,4 +80,4 @@ TEST_F(SceneRegistryTest, NamesAreListedInOrderWithTheLoadsUnderWay) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

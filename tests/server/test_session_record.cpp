@@ -12,12 +12,12 @@
 #include "ispars/service/session_record.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 class SessionRecordTest : public ::testing::Test {
  protected:
-  static const Scene& scene() { return test::shared_scene("demo_tank_tower"); }
+  static const planning::Scene& scene() { return test::shared_scene("demo_tank_tower"); }
   static RoadmapRecipe recipe(std::uint64_t samples = 500) {
     return requested_recipe("tower", scene(), request(samples), SessionLimits{});
   }
@@ -33,7 +33,7 @@ class SessionRecordTest : public ::testing::Test {
   static std::string refused_field(F&& f) {
     try {
       f();
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       return e.field();
     }
     return "";
@@ -94,13 +94,13 @@ TEST_F(SessionRecordTest, RequestsThatCannotStartAreRefusedByNameAndChangeNothin
   EXPECT_EQ(refused_field([&] { record_.accept_build(recipe(), request(500), {}); }), "replace");
   const SessionStatus before = record_.status();
   const std::size_t notes = notified_.size();
-  const auto refuse = [](const Scene&, const RoadmapRecipe&, std::uint64_t) {
-    throw InputError("request", "samples", "too much memory");
+  const auto refuse = [](const planning::Scene&, const RoadmapRecipe&, std::uint64_t) {
+    throw params::InputError("request", "samples", "too much memory");
   };
   EXPECT_EQ(refused_field([&] { record_.accept_extend(100, refuse); }), "samples");
   EXPECT_EQ(refused_field([&] {
               record_.accept_build(recipe(), request(500, true),
-                                   [] { throw InputError("request", "samples", "too much memory"); });
+                                   [] { throw params::InputError("request", "samples", "too much memory"); });
             }),
             "samples");
   const SessionStatus after = record_.status();
@@ -111,7 +111,7 @@ TEST_F(SessionRecordTest, RequestsThatCannotStartAreRefusedByNameAndChangeNothin
 
   std::uint64_t admitted = 0;
   EXPECT_EQ(record_.accept_extend(
-                200, [&](const Scene&, const RoadmapRecipe&, std::uint64_t samples) { admitted = samples; }),
+                200, [&](const planning::Scene&, const RoadmapRecipe&, std::uint64_t samples) { admitted = samples; }),
             500u);
   EXPECT_EQ(admitted, 500u) << "an extend is admitted at the samples it reaches";
   EXPECT_EQ(refused_field([&] { record_.accept_extend(100, {}); }), "scene") << "a second job while one is queued";
@@ -190,7 +190,7 @@ TEST_F(SessionRecordTest, ARefusedStoreNamesItsDamageAndAClosedRecordRefusesEver
   try {
     record_.accept_build(recipe(), request(500), {});
     FAIL() << "a build over a damaged store without replace was accepted";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_EQ(e.field(), "replace");
     EXPECT_NE(std::string(e.what()).find("snapshot.bin is damaged"), std::string::npos) << e.what();
   }
@@ -202,4 +202,4 @@ TEST_F(SessionRecordTest, ARefusedStoreNamesItsDamageAndAClosedRecordRefusesEver
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

@@ -8,15 +8,15 @@
 
 #include <fstream>
 
-#include "ispars/scene/scene_fingerprint.hpp"
+#include "ispars/planning/scene/scene_fingerprint.hpp"
 #include "roadmap_session_fixture.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 class SessionRecoveryTest : public RoadmapSessionTest {
  protected:
-  RecoveredSession recover(const Scene& scene, const std::string& name = "tower") {
+  RecoveredSession recover(const planning::Scene& scene, const std::string& name = "tower") {
     return recover_session(name, scene, scene_fingerprint(scene), dir_.path() / "tower", SessionLimits{}, disk());
   }
   // A stored roadmap of `samples` (and the task `task_pois` POIs, when not 0), made by a session.
@@ -71,7 +71,7 @@ TEST_F(SessionRecoveryTest, AStoredRoadmapIsRecoveredWithItsTasksPoisSeen) {
   EXPECT_EQ(s.tasks[0].name, "welds");
   EXPECT_EQ(s.scene_with_tasks->pois().size(), scene().pois().size() + 30);
   EXPECT_EQ(s.published.roadmap->poi_count(), scene().pois().size() + 30);
-  EXPECT_EQ(r.resume_from.has_value(), !resumes_from_roadmap(BuildMethod::ispars));
+  EXPECT_EQ(r.resume_from.has_value(), !planning::resumes_from_roadmap(BuildMethod::ispars));
   EXPECT_NE(r.note.find("recovered ispars roadmap at version"), std::string::npos) << r.note;
   EXPECT_NE(r.note.find("1 tasks"), std::string::npos) << r.note;
   EXPECT_TRUE(r.torn_tail_note.empty()) << r.torn_tail_note;
@@ -92,8 +92,9 @@ TEST_F(SessionRecoveryTest, ADamagedStoreIsRefusedAndLeftAsItIs) {
 
 TEST_F(SessionRecoveryTest, AStoreOfAnotherVersionOfTheSceneIsRefusedAndReleased) {
   const std::uint64_t digest = store(800);
-  const SceneConfig& c = scene().config();
-  const Scene edited = scene().with_roadmap_parameters(c.dense_delta * 0.9, c.sparse_delta, c.stretch, "edited");
+  const scene_files::SceneConfig& c = scene().config();
+  const planning::Scene edited =
+      scene().with_roadmap_parameters(c.dense_delta * 0.9, c.sparse_delta, c.stretch, "edited");
   RecoveredSession refused = recover(edited);
   EXPECT_NE(refused.refused.find("was built on another version of the scene"), std::string::npos) << refused.refused;
   EXPECT_FALSE(refused.store) << "a refused store stays open (and locked)";
@@ -115,4 +116,4 @@ TEST_F(SessionRecoveryTest, AnotherScenesStoreIsAnError) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

@@ -10,7 +10,7 @@
 #include "server/unit_service.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 class SnapshotCacheTest : public ::testing::Test {
@@ -19,7 +19,7 @@ class SnapshotCacheTest : public ::testing::Test {
   static std::string error_of(const std::function<void()>& f) {
     try {
       f();
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       return e.what();
     }
     return "no error";
@@ -76,4 +76,4 @@ TEST_F(SnapshotCacheTest, LeasesAreGivenBackWhenTheBytesGo) {
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

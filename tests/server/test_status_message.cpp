@@ -9,9 +9,9 @@ namespace ispars::server {
 namespace {
 
 TEST(StatusMessage, StatusCarriesTheRecipeAndCounts) {
-  SessionStatus s;
+  service::SessionStatus s;
   s.scene = "tower";
-  s.state = SessionState::building;
+  s.state = service::SessionState::building;
   s.recipe = RoadmapRecipe{"tower", BuildMethod::spars, 4, 0.2, SparsVariant::alg1, 1.0, 2.0, 1.1, 77, "", 0};
   s.samples_done = 10;
   s.samples_target = 20;
@@ -31,9 +31,9 @@ TEST(StatusMessage, StatusCarriesTheRecipeAndCounts) {
 // A daemon taking a scene over reads the recipe back from the last status: the same roadmap,
 // and the build request that makes it.
 TEST(StatusMessage, TheRecipeReadsBackAsTheSameRoadmapAndItsRebuildRequest) {
-  SessionStatus s;
+  service::SessionStatus s;
   s.scene = "tower";
-  s.state = SessionState::idle;
+  s.state = service::SessionState::idle;
   s.recipe =
       RoadmapRecipe{"tower", BuildMethod::ispars, 9, 0.3, SparsVariant::alg1, 1.25, 2.5, 1.5, 77, "fp", 1, 0.5, 2000};
   const msg::SceneStatus m = to_message(s, "d1", 77);
@@ -58,7 +58,7 @@ TEST(StatusMessage, TheRecipeReadsBackAsTheSameRoadmapAndItsRebuildRequest) {
   dense.method = BuildMethod::dense;
   EXPECT_TRUE(same_roadmap(dense, other));
 
-  const BuildRequest request = rebuild_request(*back, 4000);
+  const BuildRequest request = service::rebuild_request(*back, 4000);
   EXPECT_EQ(request.method, BuildMethod::ispars);
   EXPECT_EQ(request.variant, SparsVariant::alg1);
   EXPECT_EQ(request.seed, 9u);

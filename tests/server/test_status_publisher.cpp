@@ -26,7 +26,7 @@ class StatusPublisherTest : public ::testing::Test {
   test::RecordingOutbox out_;
   DaemonMetrics metrics_;
   std::atomic<bool> leaving_{false};
-  std::unique_ptr<RoadmapService> service_;
+  std::unique_ptr<service::RoadmapService> service_;
 };
 
 TEST_F(StatusPublisherTest, EveryStatusIsStampedAfterTheOneBefore) {
@@ -65,7 +65,7 @@ TEST_F(StatusPublisherTest, ANewParticipantMarksEachRoadmapsVersion) {
   EXPECT_EQ(out_.statuses().size(), 1u);
   EXPECT_TRUE(out_.updates().empty());
   build(300);
-  const SessionStatus status = service_->stats("s0");
+  const service::SessionStatus status = service_->stats("s0");
   publisher.republish("s0", *service_->session("s0"));
   ASSERT_EQ(out_.statuses().size(), 2u);
   ASSERT_EQ(out_.updates().size(), 1u);
@@ -84,7 +84,7 @@ TEST_F(StatusPublisherTest, TasksFollowTheirScenesStatus) {
   build(300);
   const auto session = service_->session("s0");
   const Vec3 poi = session->scene().pois().front();
-  service_->add_task("s0", InspectionTask{"seam", {poi}});
+  service_->add_task("s0", service::InspectionTask{"seam", {poi}});
   (void)test::wait_idle(*service_, "s0");
   publisher.publish_status(*session);
   const std::vector<msg::SceneTask> tasks = out_.tasks();

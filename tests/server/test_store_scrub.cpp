@@ -14,7 +14,7 @@
 #include "support/eventually.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 using namespace std::chrono_literals;
@@ -111,4 +111,4 @@ TEST_F(StoreScrubTest, AServiceWithTheCheckOnNamesTheDamageOfAStoreItDoesNotHold
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

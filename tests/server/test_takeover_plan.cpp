@@ -20,10 +20,10 @@ RoadmapRecipe recipe(std::uint64_t generation, std::uint64_t seed = 1) {
   return r;
 }
 
-SessionStatus mine(std::optional<RoadmapRecipe> r, std::uint64_t samples) {
-  SessionStatus s;
+service::SessionStatus mine(std::optional<RoadmapRecipe> r, std::uint64_t samples) {
+  service::SessionStatus s;
   s.scene += 's';
-  s.state = r ? SessionState::idle : SessionState::empty;
+  s.state = r ? service::SessionState::idle : service::SessionState::empty;
   s.recipe = std::move(r);
   s.samples_done = s.samples_target = samples;
   return s;
@@ -128,7 +128,7 @@ TEST(TakeoverPlan, ALaterDropOnEitherSideWinsOverAnEarlierBuild) {
   EXPECT_EQ(aside.action, TakeoverPlan::Action::keep);
   EXPECT_TRUE(aside.set_aside);
   EXPECT_NE(aside.outcome.find("dropped its roadmap (generation 9)"), std::string::npos) << aside.outcome;
-  SessionStatus dropped_here = mine(std::nullopt, 0);
+  service::SessionStatus dropped_here = mine(std::nullopt, 0);
   dropped_here.generation = 9;
   const TakeoverPlan kept = plan_takeover("s", dropped_here, "f", former(recipe(5), 400));
   EXPECT_EQ(kept.action, TakeoverPlan::Action::keep);
@@ -145,14 +145,14 @@ TEST(TakeoverPlan, ALaterDropOnEitherSideWinsOverAnEarlierBuild) {
 TEST(TakeoverPlan, TheFormerOwnersTasksAreCarriedOrTheirAbsenceNamed) {
   FormerRoadmap with_tasks = former(recipe(7), 3000);
   with_tasks.task_events = 3;
-  with_tasks.tasks = std::vector<InspectionTask>{{"a", {Vec3(0, 0, 0)}, true}, {"b", {Vec3(1, 0, 0)}, false}};
+  with_tasks.tasks = std::vector<service::InspectionTask>{{"a", {Vec3(0, 0, 0)}, true}, {"b", {Vec3(1, 0, 0)}, false}};
   const TakeoverPlan rebuild = plan_takeover("s", mine(std::nullopt, 0), "f", with_tasks);
   EXPECT_EQ(rebuild.action, TakeoverPlan::Action::rebuild);
   ASSERT_EQ(rebuild.tasks.size(), 2u);
   EXPECT_TRUE(rebuild.tasks[0].removed);
   EXPECT_NE(rebuild.outcome.find("with its 2 tasks (b)"), std::string::npos) << rebuild.outcome;
 
-  SessionStatus lacking = mine(recipe(7), 3000);
+  service::SessionStatus lacking = mine(recipe(7), 3000);
   lacking.task_events = 1;
   const TakeoverPlan aside = plan_takeover("s", lacking, "f", with_tasks);
   EXPECT_EQ(aside.action, TakeoverPlan::Action::rebuild) << aside.outcome;

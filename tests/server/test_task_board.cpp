@@ -66,9 +66,9 @@ TEST(TaskBoard, TwoDaemonsTasksAtOneIndexAreKeptApart) {
 
 TEST(TaskBoard, ATaskOutOfBoundsIsIgnored) {
   TaskBoard board;
-  board.seen(task(kMaxTasks, 7, "far", 1));
+  board.seen(task(service::kMaxTasks, 7, "far", 1));
   board.seen(task(0, 7, "../x", 1));
-  board.seen(task(0, 7, "big", kMaxTaskPois + 1));
+  board.seen(task(0, 7, "big", service::kMaxTaskPois + 1));
   board.seen(task(0, 7, "none", 0));
   msg::SceneTask nan = task(0, 7, "nan", 1);
   nan.pois()[0].y(std::numeric_limits<double>::quiet_NaN());

@@ -7,13 +7,13 @@
 namespace ispars::server {
 namespace {
 
-InspectionTask task(const std::string& name, double x, bool removed = false) {
-  return InspectionTask{name, {Vec3(x, 0, 0)}, removed};
+service::InspectionTask task(const std::string& name, double x, bool removed = false) {
+  return service::InspectionTask{name, {Vec3(x, 0, 0)}, removed};
 }
 
 TEST(TaskMerge, ATaskAddedOnTheLosingSideIsAdded) {
-  const std::vector<InspectionTask> mine{task("a", 1)};
-  const std::vector<InspectionTask> theirs{task("a", 1), task("b", 2)};
+  const std::vector<service::InspectionTask> mine{task("a", 1)};
+  const std::vector<service::InspectionTask> theirs{task("a", 1), task("b", 2)};
   const TaskMerge m = merge_tasks(mine, theirs);
   ASSERT_EQ(m.add.size(), 1u);
   EXPECT_EQ(m.add[0].name, "b");
@@ -21,8 +21,8 @@ TEST(TaskMerge, ATaskAddedOnTheLosingSideIsAdded) {
 }
 
 TEST(TaskMerge, ATaskRemovedOnTheLosingSideIsRemoved) {
-  const std::vector<InspectionTask> mine{task("a", 1), task("b", 2)};
-  const std::vector<InspectionTask> theirs{task("a", 1, true), task("b", 2)};
+  const std::vector<service::InspectionTask> mine{task("a", 1), task("b", 2)};
+  const std::vector<service::InspectionTask> theirs{task("a", 1, true), task("b", 2)};
   const TaskMerge m = merge_tasks(mine, theirs);
   EXPECT_TRUE(m.add.empty());
   EXPECT_EQ(m.remove, std::vector<std::string>{"a"});
@@ -31,8 +31,8 @@ TEST(TaskMerge, ATaskRemovedOnTheLosingSideIsRemoved) {
 TEST(TaskMerge, TheWinnersOwnChangesStand) {
   // The winner removed a (the loser still holds it), and added c with other POIs than the
   // loser's c: nothing changes; a removed and added again on the loser is held there: kept.
-  const std::vector<InspectionTask> mine{task("a", 1, true), task("c", 3)};
-  const std::vector<InspectionTask> theirs{task("a", 1), task("c", 4), task("d", 5, true), task("d", 6)};
+  const std::vector<service::InspectionTask> mine{task("a", 1, true), task("c", 3)};
+  const std::vector<service::InspectionTask> theirs{task("a", 1), task("c", 4), task("d", 5, true), task("d", 6)};
   const TaskMerge m = merge_tasks(mine, theirs);
   ASSERT_EQ(m.add.size(), 1u);
   EXPECT_EQ(m.add[0].name, "d");

@@ -13,7 +13,7 @@
 #include "support/eventually.hpp"
 #include "support/test_support.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 using namespace std::chrono_literals;
@@ -61,7 +61,7 @@ TEST_F(TourDeskTest, ToursAreAdmittedUpToTheBoundAndLeaseUntilTheyEnd) {
   try {
     desk.admit(service_->session("s0"), "s0", long_tour(), callbacks());
     ADD_FAILURE() << "a second tour was admitted past the bound";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("busy: 1 tours are queued or running"), std::string::npos) << e.what();
   }
   // Stopped once it has a tour, so that it ends with its best.
@@ -91,11 +91,11 @@ TEST_F(TourDeskTest, ATourStoppedWhileItWaitedFailsByName) {
   try {
     desk.admit(service_->session("s0"), "s0", long_tour(), callbacks());
     ADD_FAILURE() << "a tour was admitted after the workers stopped";
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("the daemon is stopping"), std::string::npos) << e.what();
   }
   EXPECT_DOUBLE_EQ(budget_->leased(), 0.0);
 }
 
 }  // namespace
-}  // namespace ispars
+}  // namespace ispars::service

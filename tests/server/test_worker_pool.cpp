@@ -10,7 +10,7 @@
 #include "ispars/service/worker_pool.hpp"
 #include "support/eventually.hpp"
 
-namespace ispars::server {
+namespace ispars::service {
 namespace {
 
 using namespace std::chrono_literals;
@@ -86,4 +86,4 @@ TEST(WorkerPool, ABoundedQueueRefusesPastItsLimitAndAcceptsAgainOnceItDrains) {
 }
 
 }  // namespace
-}  // namespace ispars::server
+}  // namespace ispars::service

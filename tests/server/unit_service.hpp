@@ -22,8 +22,8 @@ inline void write_tank_scenes(const std::filesystem::path& dir, std::initializer
 }
 
 /// A service `server_id` over DIR/scenes, storing in DIR/data, with one build and one tour worker.
-inline ServiceSettings unit_service_settings(const std::filesystem::path& dir, const std::string& server_id) {
-  ServiceSettings s;
+inline service::ServiceSettings unit_service_settings(const std::filesystem::path& dir, const std::string& server_id) {
+  service::ServiceSettings s;
   s.server_id = server_id;
   s.scene_dir = dir / "scenes";
   s.data_dir = dir / "data";
@@ -34,9 +34,11 @@ inline ServiceSettings unit_service_settings(const std::filesystem::path& dir, c
 
 /// A service "unit" over DIR with scene s0 written and loaded and, when `samples` > 0, built to
 /// that many samples (Inspection-SPARS, seed 1) and idle.
-inline std::unique_ptr<RoadmapService> service_with_s0(const std::filesystem::path& dir, std::uint64_t samples) {
+inline std::unique_ptr<service::RoadmapService> service_with_s0(const std::filesystem::path& dir,
+                                                                std::uint64_t samples) {
   write_tank_scenes(dir, {"s0"});
-  auto service = std::make_unique<RoadmapService>(unit_service_settings(dir, "unit"), ServiceEvents{});
+  auto service =
+      std::make_unique<service::RoadmapService>(unit_service_settings(dir, "unit"), service::ServiceEvents{});
   (void)service->load("s0");
   if (samples > 0) {
     BuildRequest r;

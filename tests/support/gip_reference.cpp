@@ -13,7 +13,7 @@ namespace ispars::test {
 // A random connected geometric graph: n points in the unit cube, each joined to its k nearest,
 // plus a chain so it is connected; each vertex sees a few of `pois` POIs.
 InspectionGraph random_instance(std::uint64_t seed, std::size_t n, std::size_t pois, std::size_t nearest) {
-  Rng rng(seed);
+  scene_files::Rng rng(seed);
   std::vector<Vec3> p(n);
   for (auto& x : p) x = Vec3(rng.uniform01(), rng.uniform01(), rng.uniform01());
   std::vector<RoadmapEdge> edges;

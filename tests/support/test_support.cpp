@@ -23,24 +23,24 @@ const std::vector<std::string>& shared_scene_names() {
   return names;
 }
 
-const Scene& shared_scene(const std::string& name) {
+const planning::Scene& shared_scene(const std::string& name) {
   static std::mutex mutex;
-  static std::map<std::string, std::unique_ptr<Scene>> cache;
+  static std::map<std::string, std::unique_ptr<planning::Scene>> cache;
   const std::lock_guard<std::mutex> lock(mutex);
   auto& slot = cache[name];
-  if (!slot) slot = std::make_unique<Scene>(Scene::load(scenes_dir() / (name + ".yaml")));
+  if (!slot) slot = std::make_unique<planning::Scene>(planning::Scene::load(scenes_dir() / (name + ".yaml")));
   return *slot;
 }
 
-Scene open_scene(double delta, double big_delta, bool wall) {
-  TriangleMesh mesh;
+planning::Scene open_scene(double delta, double big_delta, bool wall) {
+  scene_files::TriangleMesh mesh;
   mesh.vertices = {{40, 40, 40}, {41, 40, 40}, {40, 41, 40}};
   mesh.triangles = {{0, 1, 2}};
   if (wall) {
     mesh.vertices.insert(mesh.vertices.end(), {{2.5, -1, -1}, {2.5, 1, -1}, {2.5, 1, 1}, {2.5, -1, 1}});
     mesh.triangles.insert(mesh.triangles.end(), {{3, 4, 5}, {3, 5, 6}});
   }
-  SceneConfig c;
+  scene_files::SceneConfig c;
   c.source = "test";
   c.bounds = {Vec3(-50, -50, -50), Vec3(50, 50, 50)};
   c.robot_radius = 0.1;
@@ -49,8 +49,8 @@ Scene open_scene(double delta, double big_delta, bool wall) {
   c.sparse_delta = big_delta;
   c.stretch = 1.05;
   c.root = Vec3(0, 0, 0);
-  c.pois = PoiSource{3, 1, false, {}};
-  return Scene::build(c, mesh);
+  c.pois = scene_files::PoiSource{3, 1, false, {}};
+  return planning::Scene::build(c, mesh);
 }
 
 TempDir::TempDir() {
@@ -143,10 +143,10 @@ std::size_t scaled(std::size_t n) {
   return std::max(target, std::min<std::size_t>(n, 20));
 }
 
-std::vector<Vec3> mixed_query_points(const Scene& scene, Rng& rng, std::size_t count) {
+std::vector<Vec3> mixed_query_points(const planning::Scene& scene, scene_files::Rng& rng, std::size_t count) {
   const Aabb& box = scene.config().bounds;
   const double r = scene.config().robot_radius;
-  const TriangleMesh& mesh = scene.mesh();
+  const scene_files::TriangleMesh& mesh = scene.mesh();
   std::vector<Vec3> points;
   points.reserve(count);
   for (std::size_t i = 0; i < count; ++i) {
@@ -164,7 +164,7 @@ std::vector<Vec3> mixed_query_points(const Scene& scene, Rng& rng, std::size_t c
   return points;
 }
 
-std::vector<TestSegment> mixed_query_segments(const Scene& scene, Rng& rng, std::size_t count) {
+std::vector<TestSegment> mixed_query_segments(const planning::Scene& scene, scene_files::Rng& rng, std::size_t count) {
   const Aabb& box = scene.config().bounds;
   const std::vector<Vec3> starts = mixed_query_points(scene, rng, count);
   std::vector<TestSegment> segments;

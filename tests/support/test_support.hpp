@@ -7,9 +7,9 @@
 #include <utility>
 #include <vector>
 
-#include "ispars/builders/sample_batch.hpp"
+#include "ispars/planning/builders/sample_batch.hpp"
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/roadmap/roadmap.hpp"
-#include "ispars/scene/scene.hpp"
 #include "ispars/scene_files/random.hpp"
 
 namespace ispars::test {
@@ -18,20 +18,20 @@ namespace ispars::test {
 inline bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 /// A valid sample at `q` that sees no POI, to step a builder by hand.
-inline PreparedSample valid_at(const Vec3& q) { return PreparedSample{q, true, {}}; }
+inline planning::PreparedSample valid_at(const Vec3& q) { return planning::PreparedSample{q, true, {}}; }
 
 /// deploy/scenes in the source tree.
 std::filesystem::path scenes_dir();
 /// The five shared real-mesh scenes, by file stem.
 const std::vector<std::string>& shared_scene_names();
 /// Loads deploy/scenes/NAME.yaml once per process and keeps it.
-const Scene& shared_scene(const std::string& name);
+const planning::Scene& shared_scene(const std::string& name);
 
 /// A scene of free space around the origin (bounds +-50, robot radius 0.1, sensor range 1, t
 /// 1.05, root at the origin, 3 POIs) with the given delta and Delta. Its obstacles are a far
 /// tile at (40, 40, 40) and, with `wall`, a square at x = 2.5 (|y|, |z| <= 1) that blocks the
 /// segment from the origin to (5, 0, 0).
-Scene open_scene(double delta, double big_delta, bool wall = false);
+planning::Scene open_scene(double delta, double big_delta, bool wall = false);
 
 /// A fresh temporary directory, removed when the object dies.
 class TempDir {
@@ -72,7 +72,7 @@ double peak_rss_mib(int pid = 0);
 
 /// Half uniform in the bounds, half within about two robot radii of a random triangle (chosen
 /// by index, so small triangles get their share), clamped into the bounds.
-std::vector<Vec3> mixed_query_points(const Scene& scene, Rng& rng, std::size_t count);
+std::vector<Vec3> mixed_query_points(const planning::Scene& scene, scene_files::Rng& rng, std::size_t count);
 
 /// Every byte of a roadmap that a build must reproduce: positions as hex floats, chi, edges
 /// with costs, in id order. Two builds are identical exactly when their fingerprints are.
@@ -83,6 +83,6 @@ struct TestSegment {
 };
 /// Segments from mixed points, random direction, length uniform in (0, dense_delta], inside
 /// the bounds.
-std::vector<TestSegment> mixed_query_segments(const Scene& scene, Rng& rng, std::size_t count);
+std::vector<TestSegment> mixed_query_segments(const planning::Scene& scene, scene_files::Rng& rng, std::size_t count);
 
 }  // namespace ispars::test

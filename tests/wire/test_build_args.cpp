@@ -17,7 +17,7 @@ namespace {
 std::string decode_error(const msg::BuildArgs& a) {
   try {
     (void)from_message(a, "request");
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     EXPECT_EQ(e.file(), "request");
     return e.field() + ": " + e.problem();
   }

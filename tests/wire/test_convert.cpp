@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
 #include "ispars/wire/convert.hpp"
 #include "support/test_support.hpp"
 
@@ -10,8 +10,8 @@ namespace ispars::wire {
 namespace {
 
 TEST(WireConvert, UpdateBatchesRoundTripIntoAnIdenticalReplica) {
-  const Scene& scene = test::shared_scene("demo_tank_tower");
-  auto builder = make_roadmap_builder(BuildMethod::ispars, scene, BuildOptions{});
+  const planning::Scene& scene = test::shared_scene("demo_tank_tower");
+  auto builder = planning::make_roadmap_builder(BuildMethod::ispars, scene, planning::BuildOptions{});
   Roadmap replica(scene.pois().size());
   std::uint64_t version = 0;
   for (int i = 0; i < 5; ++i) {

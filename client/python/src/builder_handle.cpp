@@ -38,12 +38,12 @@ class BuilderHandle::Busy {
   std::atomic<bool>& busy_;
 };
 
-BuilderHandle::BuilderHandle(std::shared_ptr<Scene> scene, const std::string& method, std::uint64_t seed,
+BuilderHandle::BuilderHandle(std::shared_ptr<planning::Scene> scene, const std::string& method, std::uint64_t seed,
                              const std::string& variant, std::int64_t threads, const py::dict& overrides)
     : base_(std::move(scene)) {
-  if (!base_) throw InputError(kBuild, "scene", "a Scene is required (Scene.load(path))");
+  if (!base_) throw params::InputError(kBuild, "scene", "a Scene is required (Scene.load(path))");
   if (threads < 1 || threads > kMaxThreads) {
-    throw InputError(kBuild, "threads", fmt::format("must be 1 .. {}, got {}", kMaxThreads, threads));
+    throw params::InputError(kBuild, "threads", fmt::format("must be 1 .. {}, got {}", kMaxThreads, threads));
   }
   threads_ = static_cast<unsigned>(threads);
   BuildRequest request;
@@ -52,14 +52,15 @@ BuilderHandle::BuilderHandle(std::shared_ptr<Scene> scene, const std::string& me
   request.samples = 1;  // extend() checks each call's count
   read_dict(overrides, request.overrides, kBuild, "overrides.");
   recipe_ = make_recipe(base_->config().name, *base_, request, kBuild);
-  scene_ = std::make_unique<Scene>(recipe_scene(*base_, recipe_, kBuild));
-  builder_ = make_roadmap_builder(recipe_.method, *scene_, recipe_build_options(recipe_, threads_));
+  scene_ = std::make_unique<planning::Scene>(planning::recipe_scene(*base_, recipe_, kBuild));
+  builder_ = planning::make_roadmap_builder(recipe_.method, *scene_, planning::recipe_build_options(recipe_, threads_));
 }
 
 std::uint64_t BuilderHandle::extend(std::int64_t samples, const std::shared_ptr<StopFlag>& stop,
                                     const py::object& progress) {
   if (samples < 1 || !params::problem(kSamples, static_cast<std::uint64_t>(samples)).empty()) {
-    throw InputError(kBuild, "samples", fmt::format("must be {}, got {}", params::range_text(kSamples), samples));
+    throw params::InputError(kBuild, "samples",
+                             fmt::format("must be {}, got {}", params::range_text(kSamples), samples));
   }
   const Busy busy(busy_);
   roadmap_copy_.reset();
@@ -122,12 +123,13 @@ py::dict BuilderHandle::verify(const std::shared_ptr<StopFlag>& stop) {
   const Busy busy(busy_);
   auto halt = std::make_shared<Halt>();
   const auto work = [this, halt] {
-    return verify_recipe_roadmaps(*scene_, recipe_, builder_->samples(), builder_->roadmap(), builder_->dense(),
-                                  builder_->dense_ids(), [halt] { return !halt->halted(); });
+    return planning::verify_recipe_roadmaps(*scene_, recipe_, builder_->samples(), builder_->roadmap(),
+                                            builder_->dense(), builder_->dense_ids(),
+                                            [halt] { return !halt->halted(); });
   };
-  const VerificationReport r = run_stoppable(work, *halt, stop.get());
-  const bool promised = promises_invariant(recipe_.method);
-  py::dict out = verification_dict(r, broken_promises(r, promised), promised);
+  const planning::VerificationReport r = run_stoppable(work, *halt, stop.get());
+  const bool promised = planning::promises_invariant(recipe_.method);
+  py::dict out = verification_dict(r, planning::broken_promises(r, promised), promised);
   out["invariant_drawn"] = r.invariant_drawn;
   return out;
 }
@@ -152,7 +154,7 @@ void bind_builder(py::module_& m) {
       "overridden by name (dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after, p_accept), "
       "checked as the daemon checks a build request. The same recipe gives the same roadmap as isparsd and "
       "ispars-lab, byte for byte, for any thread count.")
-      .def(py::init([](std::shared_ptr<Scene> scene, const std::string& method, std::uint64_t seed,
+      .def(py::init([](std::shared_ptr<planning::Scene> scene, const std::string& method, std::uint64_t seed,
                        const std::string& variant, std::int64_t threads, const py::dict& overrides,
                        const py::kwargs& named) {
              return std::make_shared<BuilderHandle>(std::move(scene), method, seed, variant, threads,

@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "ispars/builders/recipe_builder.hpp"
+#include "ispars/planning/builders/recipe_builder.hpp"
 #include "python_module.hpp"
 #include "stoppable.hpp"
 
@@ -15,8 +15,8 @@ namespace ispars::python {
 /// verify() runs (from another thread) raises RuntimeError rather than wait.
 class BuilderHandle {
  public:
-  BuilderHandle(std::shared_ptr<Scene> scene, const std::string& method, std::uint64_t seed, const std::string& variant,
-                std::int64_t threads, const py::dict& overrides);
+  BuilderHandle(std::shared_ptr<planning::Scene> scene, const std::string& method, std::uint64_t seed,
+                const std::string& variant, std::int64_t threads, const py::dict& overrides);
 
   /// Draws `samples` more samples; returns how many it drew (fewer when stopped).
   std::uint64_t extend(std::int64_t samples, const std::shared_ptr<StopFlag>& stop, const py::object& progress);
@@ -30,15 +30,15 @@ class BuilderHandle {
   py::dict verify(const std::shared_ptr<StopFlag>& stop);
   [[nodiscard]] py::dict recipe() const;
   [[nodiscard]] std::uint64_t samples() const { return builder_->samples(); }
-  [[nodiscard]] const std::shared_ptr<Scene>& base_scene() const { return base_; }
+  [[nodiscard]] const std::shared_ptr<planning::Scene>& base_scene() const { return base_; }
 
  private:
   class Busy;
-  std::shared_ptr<Scene> base_;
+  std::shared_ptr<planning::Scene> base_;
   RoadmapRecipe recipe_;
-  std::unique_ptr<Scene> scene_;  // base_ with the recipe's parameters; outlives builder_
+  std::unique_ptr<planning::Scene> scene_;  // base_ with the recipe's parameters; outlives builder_
   unsigned threads_ = 1;
-  std::unique_ptr<RoadmapBuilder> builder_;
+  std::unique_ptr<planning::RoadmapBuilder> builder_;
   std::atomic<bool> busy_{false};
   std::shared_ptr<Roadmap> roadmap_copy_, dense_copy_;  // of the current state; reset by extend
 };

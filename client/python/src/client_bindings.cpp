@@ -31,13 +31,14 @@ ClientHandle connect(const py::object& domain, const std::string& profile_file, 
   if (domain.is_none()) {
     char* end = nullptr;
     d = std::strtol(domain_text.c_str(), &end, 10);
-    if (*end != '\0') throw InputError("ISPARS_DOMAIN", "domain", fmt::format("'{}' is not a number", domain_text));
+    if (*end != '\0')
+      throw params::InputError("ISPARS_DOMAIN", "domain", fmt::format("'{}' is not a number", domain_text));
   } else {
     d = domain.cast<long>();
   }
-  if (d < 0 || d > 232) throw InputError(kClient, "domain", fmt::format("must be 0 .. 232, got {}", d));
+  if (d < 0 || d > 232) throw params::InputError(kClient, "domain", fmt::format("must be 0 .. 232, got {}", d));
   if (!(timeout > 0 && timeout <= 3600))
-    throw InputError(kClient, "timeout", fmt::format("must be in (0, 3600] s, got {}", timeout));
+    throw params::InputError(kClient, "timeout", fmt::format("must be in (0, 3600] s, got {}", timeout));
   o.participant.domain = static_cast<int>(d);
   o.participant.profile_file = profile_file.empty() ? env_or("ISPARS_PROFILE_FILE", "") : profile_file;
   o.participant.profile_name = profile_name;
@@ -258,7 +259,8 @@ void bind_tours_and_waits(py::class_<ClientHandle>& c) {
   c.def(
       "wait_idle",
       [](const ClientHandle& self, const std::string& scene, double timeout, const py::object& progress) {
-        if (!(timeout > 0)) throw InputError(kClient, "timeout", fmt::format("must be positive, got {}", timeout));
+        if (!(timeout > 0))
+          throw params::InputError(kClient, "timeout", fmt::format("must be positive, got {}", timeout));
         auto halt = std::make_shared<Halt>();
         const Callback report(progress, halt);
         const auto call = [self, scene, timeout, report] {

@@ -52,7 +52,7 @@ void bind_errors(py::module_& m) {
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       py::dict fields;
       fields["file"] = e.file();
       fields["field"] = e.field();

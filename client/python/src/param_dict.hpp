@@ -19,7 +19,7 @@ namespace py = pybind11;
 namespace detail {
 template <class T>
 T python_value(const params::Spec<T>& spec, const py::handle& v, const std::string& file, const std::string& field) {
-  const auto fail = [&](const std::string& p) { throw InputError(file, field, p); };
+  const auto fail = [&](const std::string& p) { throw params::InputError(file, field, p); };
   const std::string shown = py::repr(v).cast<std::string>().substr(0, 64);
   if constexpr (std::is_same_v<T, bool>) {
     if (!py::isinstance<py::bool_>(v)) fail("expected True or False, got " + shown);
@@ -54,8 +54,8 @@ void read_dict(const py::dict& values, Object& object, const std::string& file, 
       member = detail::python_value(spec, value, file, prefix + name);
     });
     if (!found) {
-      throw InputError(file, prefix + name.substr(0, 64),
-                       "unknown parameter (expected one of " + params::names<Object>() + ")");
+      throw params::InputError(file, prefix + name.substr(0, 64),
+                               "unknown parameter (expected one of " + params::names<Object>() + ")");
     }
   }
 }
@@ -69,7 +69,8 @@ inline py::dict merged(const py::dict& overrides, const py::kwargs& named, const
   for (const auto& [key, value] : overrides) out[key] = value;
   for (const auto& [key, value] : named) {
     if (out.contains(key)) {
-      throw InputError(file, prefix + py::str(key).cast<std::string>(), "given twice (in overrides and as a keyword)");
+      throw params::InputError(file, prefix + py::str(key).cast<std::string>(),
+                               "given twice (in overrides and as a keyword)");
     }
     out[key] = value;
   }

@@ -10,52 +10,53 @@
 #include "arrays.hpp"
 #include "builder_handle.hpp"
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/scene.hpp"
-#include "ispars/scene/scene_fingerprint.hpp"
+#include "ispars/planning/scene/scene.hpp"
+#include "ispars/planning/scene/scene_fingerprint.hpp"
 #include "python_module.hpp"
 #include "stoppable.hpp"
 
 namespace ispars::python {
 namespace {
 
-std::shared_ptr<Scene> load_scene(const std::string& path) {
+std::shared_ptr<planning::Scene> load_scene(const std::string& path) {
   py::gil_scoped_release release;
-  return std::make_shared<Scene>(Scene::load(path));
+  return std::make_shared<planning::Scene>(planning::Scene::load(path));
 }
 
 void bind_scene(py::module_& m) {
-  py::class_<Scene, std::shared_ptr<Scene>>(
+  py::class_<planning::Scene, std::shared_ptr<planning::Scene>>(
       m, "Scene", "A scene: the structure's mesh, its POIs, the sampling box and the roadmap parameters.")
       .def_static("load", &load_scene, py::arg("path"),
                   "Loads a scene YAML file (deploy/scenes/*.yaml). Raises InputError naming the file and field.")
-      .def_property_readonly("name", [](const Scene& s) { return s.config().name; })
+      .def_property_readonly("name", [](const planning::Scene& s) { return s.config().name; })
       .def_property_readonly(
-          "root", [](const Scene& s) { return take_points({s.config().root}).attr("reshape")(3); },
+          "root", [](const planning::Scene& s) { return take_points({s.config().root}).attr("reshape")(3); },
           "(3,) float64: the robot's start, vertex 0 of every roadmap.")
       .def_property_readonly(
-          "pois", [](const py::object& self) { return points_view(self.cast<const Scene&>().pois(), self); },
+          "pois", [](const py::object& self) { return points_view(self.cast<const planning::Scene&>().pois(), self); },
           "(P, 3) float64, read-only view: POI p is row p.")
       .def_property_readonly(
           "bounds",
-          [](const Scene& s) {
+          [](const planning::Scene& s) {
             return take_points({s.config().bounds.min, s.config().bounds.max});
           },
           "(2, 3) float64: the sampling box's low and high corners.")
-      .def_property_readonly("dense_delta", [](const Scene& s) { return s.config().dense_delta; })
-      .def_property_readonly("sparse_delta", [](const Scene& s) { return s.config().sparse_delta; })
-      .def_property_readonly("stretch", [](const Scene& s) { return s.config().stretch; })
-      .def_property_readonly("fingerprint", &scene_fingerprint,
+      .def_property_readonly("dense_delta", [](const planning::Scene& s) { return s.config().dense_delta; })
+      .def_property_readonly("sparse_delta", [](const planning::Scene& s) { return s.config().sparse_delta; })
+      .def_property_readonly("stretch", [](const planning::Scene& s) { return s.config().stretch; })
+      .def_property_readonly("fingerprint", &planning::scene_fingerprint,
                              "What the daemon checks a stored roadmap's scene against.")
       .def(
-          "point_valid", [](const Scene& s, const py::object& p) { return s.point_valid(to_vec3(p, "point")); },
+          "point_valid",
+          [](const planning::Scene& s, const py::object& p) { return s.point_valid(to_vec3(p, "point")); },
           py::arg("point"), "Whether the robot may be at `point` (inside the box, clear of the mesh).")
       .def(
           "segment_valid",
-          [](const Scene& s, const py::object& a, const py::object& b) {
+          [](const planning::Scene& s, const py::object& a, const py::object& b) {
             return s.segment_valid(to_vec3(a, "a"), to_vec3(b, "b"));
           },
           py::arg("a"), py::arg("b"), "Whether the robot may fly straight from `a` to `b`.")
-      .def("__repr__", [](const Scene& s) {
+      .def("__repr__", [](const planning::Scene& s) {
         return fmt::format("<ispars.Scene '{}': {} POIs>", s.config().name, s.pois().size());
       });
 }

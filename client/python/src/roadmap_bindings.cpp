@@ -111,7 +111,7 @@ void bind_roadmap(py::module_& m) {
               py::gil_scoped_release release;  // seconds for millions of edges
               write_file_atomically(path, roadmap_file_json(scene, at, points, r, dense.get()));
             } catch (const std::exception& e) {
-              throw InputError(path, "path", e.what());
+              throw params::InputError(path, "path", e.what());
             }
           },
           py::arg("path"), py::arg("scene"), py::arg("root"), py::arg("pois"), py::arg("dense") = nullptr,

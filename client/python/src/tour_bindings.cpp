@@ -7,11 +7,11 @@
 
 #include "arrays.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/scene/scene.hpp"
+#include "ispars/planning/tour/flown_tour.hpp"
+#include "ispars/planning/tour/gip_solver.hpp"
 #include "ispars/render/scene_render.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
-#include "ispars/scene/scene.hpp"
-#include "ispars/tour/flown_tour.hpp"
-#include "ispars/tour/gip_solver.hpp"
 #include "python_module.hpp"
 #include "stoppable.hpp"
 
@@ -36,14 +36,17 @@ py::array_t<T> array_of(std::vector<T> values) {
   return take(std::move(values), {n});
 }
 
-GipOptions tour_options(double budget, std::int64_t iterations, std::uint64_t seed, std::int64_t threads,
-                        const py::object& targets, bool bound) {
+planning::GipOptions tour_options(double budget, std::int64_t iterations, std::uint64_t seed, std::int64_t threads,
+                                  const py::object& targets, bool bound) {
   if (!(budget >= 0.0 && budget <= 1e6))
-    throw InputError(kTour, "budget", fmt::format("must be 0 .. 1e6 s, got {}", budget));
-  if (iterations < 0) throw InputError(kTour, "iterations", fmt::format("must be 0 or more, got {}", iterations));
-  if (threads < 1 || threads > 64) throw InputError(kTour, "threads", fmt::format("must be 1 .. 64, got {}", threads));
-  if (budget == 0.0 && iterations == 0) throw InputError(kTour, "budget", "give a budget or iterations (both are 0)");
-  GipOptions options;
+    throw params::InputError(kTour, "budget", fmt::format("must be 0 .. 1e6 s, got {}", budget));
+  if (iterations < 0)
+    throw params::InputError(kTour, "iterations", fmt::format("must be 0 or more, got {}", iterations));
+  if (threads < 1 || threads > 64)
+    throw params::InputError(kTour, "threads", fmt::format("must be 1 .. 64, got {}", threads));
+  if (budget == 0.0 && iterations == 0)
+    throw params::InputError(kTour, "budget", "give a budget or iterations (both are 0)");
+  planning::GipOptions options;
   options.budget_seconds = budget;
   options.max_iterations = static_cast<std::uint64_t>(iterations);
   options.seed = seed;
@@ -51,12 +54,12 @@ GipOptions tour_options(double budget, std::int64_t iterations, std::uint64_t se
   options.lp_bound = bound;
   if (!targets.is_none()) {
     const auto ids = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(targets);
-    if (!ids || ids.ndim() != 1) throw InputError(kTour, "targets", "expected a 1-D array of POI ids");
+    if (!ids || ids.ndim() != 1) throw params::InputError(kTour, "targets", "expected a 1-D array of POI ids");
     std::vector<PoiId> list;
     for (py::ssize_t i = 0; i < ids.shape(0); ++i) {
       const std::int64_t id = ids.at(i);
       if (id < 0 || id > std::numeric_limits<PoiId>::max()) {
-        throw InputError(kTour, "targets", fmt::format("{} is not a POI id", id));
+        throw params::InputError(kTour, "targets", fmt::format("{} is not a POI id", id));
       }
       list.push_back(static_cast<PoiId>(id));
     }
@@ -65,7 +68,7 @@ GipOptions tour_options(double budget, std::int64_t iterations, std::uint64_t se
   return options;
 }
 
-py::dict tour_result(const GipResult& r) {
+py::dict tour_result(const planning::GipResult& r) {
   py::dict out;
   out["cost"] = r.tour.cost;
   out["walk"] = array_of(r.tour.walk);
@@ -85,7 +88,7 @@ py::dict tour_result(const GipResult& r) {
 }
 
 // The flown tour's keys beside the search's (flown_tour.hpp).
-py::dict flown_result(FlownTour&& t) {
+py::dict flown_result(planning::FlownTour&& t) {
   py::dict out = tour_result(t.search);
   std::vector<double> path;
   for (const Vec3& p : t.stops) path.insert(path.end(), {p.x(), p.y(), p.z()});
@@ -96,7 +99,7 @@ py::dict flown_result(FlownTour&& t) {
   out["flown_cost"] = t.cost;
   out["shortcut_cost"] = t.roadmap_shortcut.cost;
   py::list stages;
-  for (const FlownStage& s : t.stages)
+  for (const planning::FlownStage& s : t.stages)
     stages.append(py::dict(py::arg("stage") = s.name, py::arg("cost") = s.cost, py::arg("seconds") = s.seconds));
   out["stages"] = stages;
   out["graph_vertices"] = t.graph_vertices;
@@ -108,11 +111,11 @@ py::dict flown_result(FlownTour&& t) {
 
 py::dict tour(const std::shared_ptr<Roadmap>& roadmap, double budget, std::int64_t iterations, std::uint64_t seed,
               std::int64_t threads, const py::object& targets, bool bound, const std::shared_ptr<StopFlag>& stop,
-              const py::object& on_improvement, const py::object& on_bound, const std::shared_ptr<Scene>& scene,
-              std::int64_t samples) {
-  if (!roadmap) throw InputError(kTour, "roadmap", "a Roadmap is required");
-  if (samples < 0) throw InputError(kTour, "samples", fmt::format("must be 0 or more, got {}", samples));
-  GipOptions options = tour_options(budget, iterations, seed, threads, targets, bound);
+              const py::object& on_improvement, const py::object& on_bound,
+              const std::shared_ptr<planning::Scene>& scene, std::int64_t samples) {
+  if (!roadmap) throw params::InputError(kTour, "roadmap", "a Roadmap is required");
+  if (samples < 0) throw params::InputError(kTour, "samples", fmt::format("must be 0 or more, got {}", samples));
+  planning::GipOptions options = tour_options(budget, iterations, seed, threads, targets, bound);
   auto halt = std::make_shared<Halt>();
   options.stop = &halt->flag();
   const Callback improved(on_improvement, halt);
@@ -120,25 +123,27 @@ py::dict tour(const std::shared_ptr<Roadmap>& roadmap, double budget, std::int64
   if (improved) options.on_improvement = [improved](double t, double cost) { improved(t, cost); };
   if (raised) options.on_bound = [raised](double t, double b) { raised(t, b); };
   if (!scene) {
-    const auto work = [roadmap, options] { return solve_gip(InspectionGraph::from_roadmap(*roadmap), options); };
+    const auto work = [roadmap, options] {
+      return planning::solve_gip(InspectionGraph::from_roadmap(*roadmap), options);
+    };
     return tour_result(run_stoppable(work, *halt, stop.get()));
   }
-  FlownTourOptions flown;  // the daemon's pipeline
+  planning::FlownTourOptions flown;  // the daemon's pipeline
   flown.search = options;
   flown.build_samples = static_cast<std::uint64_t>(samples);
   const auto work = [roadmap, scene, flown] {
-    return fly_tour(*scene, InspectionGraph::from_roadmap(*roadmap), roadmap->positions(), flown);
+    return planning::fly_tour(*scene, InspectionGraph::from_roadmap(*roadmap), roadmap->positions(), flown);
   };
   try {
     return flown_result(run_stoppable(work, *halt, stop.get()));
   } catch (const std::invalid_argument& e) {
-    throw InputError(kTour, "scene", e.what());
+    throw params::InputError(kTour, "scene", e.what());
   }
 }
 
 std::shared_ptr<Roadmap> load_roadmap(const std::string& path, const std::string& graph) {
   if (graph != "roadmap" && graph != "dense") {
-    throw InputError(path, "graph", fmt::format("'{}' is not one of roadmap, dense", graph));
+    throw params::InputError(path, "graph", fmt::format("'{}' is not one of roadmap, dense", graph));
   }
   py::gil_scoped_release release;
   const RoadmapFileGraph file = read_roadmap_file_graph(path, graph);
@@ -148,16 +153,16 @@ std::shared_ptr<Roadmap> load_roadmap(const std::string& path, const std::string
   return out;
 }
 
-py::array_t<std::uint8_t> render(const std::shared_ptr<Scene>& scene, const std::shared_ptr<Roadmap>& roadmap,
+py::array_t<std::uint8_t> render(const std::shared_ptr<planning::Scene>& scene, const std::shared_ptr<Roadmap>& roadmap,
                                  const std::shared_ptr<Roadmap>& dense, const py::object& tour_walk, int width,
                                  int height, const std::string& path) {
-  if (!scene) throw InputError("render", "scene", "a Scene is required");
-  RenderRequest request;
+  if (!scene) throw params::InputError("render", "scene", "a Scene is required");
+  render::RenderRequest request;
   request.width = width;
   request.height = height;
   request.pois = scene->pois();
   if (roadmap) {
-    request.roadmap = DrawnGraph{roadmap->positions(), roadmap->edge_ends()};
+    request.roadmap = render::DrawnGraph{roadmap->positions(), roadmap->edge_ends()};
     request.poi_seen.assign(scene->pois().size(), false);
     for (VertexId v = 0; v < roadmap->vertex_count(); ++v) {
       for (const PoiId p : roadmap->visibility_table().ids(v)) {
@@ -165,19 +170,19 @@ py::array_t<std::uint8_t> render(const std::shared_ptr<Scene>& scene, const std:
       }
     }
   }
-  if (dense) request.dense = DrawnGraph{dense->positions(), dense->edge_ends()};
+  if (dense) request.dense = render::DrawnGraph{dense->positions(), dense->edge_ends()};
   std::vector<Vec3> walk;
   if (!tour_walk.is_none()) walk = to_points(tour_walk, "tour");
   request.tour = walk;
-  RenderResult result;
+  render::RenderResult result;
   {
     py::gil_scoped_release release;
-    result = render_scene(scene->mesh(), request);
+    result = render::render_scene(scene->mesh(), request);
     if (!path.empty()) {
       try {
-        write_png(path, result.image);
+        render::write_png(path, result.image);
       } catch (const std::runtime_error& e) {
-        throw InputError(path, "path", e.what());
+        throw params::InputError(path, "path", e.what());
       }
     }
   }

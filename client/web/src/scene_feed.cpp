@@ -235,7 +235,8 @@ std::shared_ptr<const std::string> SceneFeed::load_mesh(const std::filesystem::p
   if (scene_dir.empty() || !std::filesystem::exists(file)) {
     throw std::runtime_error(fmt::format("no mesh: {} is not in the gateway's scene directory", scene_ + ".yaml"));
   }
-  const SceneFile scene = read_scene_file(file);  // no collision or visibility checks: only shown here
+  const scene_files::SceneFile scene =
+      scene_files::read_scene_file(file);  // no collision or visibility checks: only shown here
   const std::vector<Vec3> pois = replica.pois();
   // The daemon's POIs begin with the scene file's; its inspection tasks' follow.
   bool same = pois.size() >= scene.pois.size();
@@ -246,7 +247,7 @@ std::shared_ptr<const std::string> SceneFeed::load_mesh(const std::filesystem::p
                     "(its POIs differ)",
                     file.filename().string()));
   }
-  const TriangleMesh& m = scene.mesh;
+  const scene_files::TriangleMesh& m = scene.mesh;
   auto bytes = std::make_shared<std::string>();
   const auto put = [&](const void* data, std::size_t size) { bytes->append(static_cast<const char*>(data), size); };
   const auto nv = static_cast<std::uint32_t>(m.vertices.size());

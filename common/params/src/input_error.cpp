@@ -2,7 +2,7 @@
 
 #include <utility>
 
-namespace ispars {
+namespace ispars::params {
 
 InputError::InputError(std::string file, std::string field, std::string problem)
     : std::runtime_error(file + ": " + field + ": " + problem),
@@ -10,4 +10,4 @@ InputError::InputError(std::string file, std::string field, std::string problem)
       field_(std::move(field)),
       problem_(std::move(problem)) {}
 
-}  // namespace ispars
+}  // namespace ispars::params

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <utility>
 
-namespace ispars {
+namespace ispars::reference {
 
-BruteForceGeometry::BruteForceGeometry(std::vector<Triangle> triangles, Aabb bounds, double robot_radius,
+BruteForceGeometry::BruteForceGeometry(std::vector<planning::Triangle> triangles, Aabb bounds, double robot_radius,
                                        std::vector<Vec3> pois, double sensor_range)
     : triangles_(std::move(triangles)),
       bounds_(bounds),
@@ -16,14 +16,14 @@ BruteForceGeometry::BruteForceGeometry(std::vector<Triangle> triangles, Aabb bou
 
 double BruteForceGeometry::distance_to_surface(const Vec3& q) const {
   double best = INFINITY;
-  for (const auto& t : triangles_) best = std::min(best, point_triangle_distance_squared(q, t));
+  for (const auto& t : triangles_) best = std::min(best, planning::point_triangle_distance_squared(q, t));
   return std::sqrt(best);
 }
 
 double BruteForceGeometry::segment_distance_to_surface(const Vec3& a, const Vec3& b) const {
   double best = INFINITY;
   for (const auto& t : triangles_) {
-    best = std::min(best, segment_triangle_distance_squared(a, b, t));
+    best = std::min(best, planning::segment_triangle_distance_squared(a, b, t));
   }
   return std::sqrt(best);
 }
@@ -32,7 +32,7 @@ bool BruteForceGeometry::point_valid(const Vec3& q) const {
   if (!bounds_.contains(q)) return false;
   const double r2 = radius_ * radius_;
   for (const auto& t : triangles_) {
-    if (point_triangle_distance_squared(q, t) <= r2) return false;
+    if (planning::point_triangle_distance_squared(q, t) <= r2) return false;
   }
   return true;
 }
@@ -41,7 +41,7 @@ bool BruteForceGeometry::segment_valid(const Vec3& a, const Vec3& b) const {
   if (!bounds_.contains(a) || !bounds_.contains(b)) return false;
   const double r2 = radius_ * radius_;
   for (const auto& t : triangles_) {
-    if (segment_triangle_distance_squared(a, b, t) <= r2) return false;
+    if (planning::segment_triangle_distance_squared(a, b, t) <= r2) return false;
   }
   return true;
 }
@@ -49,10 +49,10 @@ bool BruteForceGeometry::segment_valid(const Vec3& a, const Vec3& b) const {
 ReferenceSight BruteForceGeometry::line_of_sight(const Vec3& q, PoiId id, double tolerance) const {
   const Vec3 d = pois_[id] - q;
   const double length = d.norm();
-  const double s_end = length > kPoiStandoff ? 1.0 - kPoiStandoff / length : 0.0;
+  const double s_end = length > planning::kPoiStandoff ? 1.0 - planning::kPoiStandoff / length : 0.0;
   ReferenceSight sight;
   for (const auto& t : triangles_) {
-    const auto crossing = ray_plane_crossing(q, d, t);
+    const auto crossing = planning::ray_plane_crossing(q, d, t);
     if (!crossing) continue;
     const bool inside_span = crossing->s >= 0.0 && crossing->s <= s_end;
     const bool hit = inside_span && crossing->margin >= 0.0;
@@ -81,4 +81,4 @@ std::vector<PoiId> BruteForceGeometry::visible_pois(const Vec3& q, std::vector<P
   return out;
 }
 
-}  // namespace ispars
+}  // namespace ispars::reference

@@ -3,14 +3,14 @@
 #include <fcl/fcl.h>
 #include <Eigen/Geometry>
 
-namespace ispars {
+namespace ispars::reference {
 
 struct FclCollisionChecker::Model {
   std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> bvh;
   fcl::Transform3d identity = fcl::Transform3d::Identity();
 };
 
-FclCollisionChecker::FclCollisionChecker(const TriangleMesh& mesh, Aabb bounds, double robot_radius)
+FclCollisionChecker::FclCollisionChecker(const scene_files::TriangleMesh& mesh, Aabb bounds, double robot_radius)
     : model_(std::make_unique<Model>()), bounds_(bounds), radius_(robot_radius) {
   std::vector<fcl::Vector3d> vertices;
   vertices.reserve(mesh.vertices.size());
@@ -58,4 +58,4 @@ bool FclCollisionChecker::segment_valid(const Vec3& a, const Vec3& b) const {
   return !collides(capsule, pose, *model_->bvh, model_->identity);
 }
 
-}  // namespace ispars
+}  // namespace ispars::reference

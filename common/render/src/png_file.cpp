@@ -7,7 +7,7 @@
 
 #include "ispars/render/scene_render.hpp"
 
-namespace ispars {
+namespace ispars::render {
 
 void write_png(const std::string& path, const Image& image) {
   if (image.width <= 0 || image.height <= 0 ||
@@ -45,4 +45,4 @@ Image read_png(const std::string& path) {
   return image;
 }
 
-}  // namespace ispars
+}  // namespace ispars::render

@@ -8,10 +8,10 @@
 #include <limits>
 #include <thread>
 
-#include "ispars/geometry/embree_scene.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/geometry/embree_scene.hpp"
 
-namespace ispars {
+namespace ispars::render {
 namespace {
 
 using Rgb = std::array<float, 3>;
@@ -121,9 +121,9 @@ class Canvas {
 
 // Casts one ray per pixel: the mesh shaded by its facing to the eye and to a light above, or the
 // background; fills the depth buffer.
-void shade_mesh(const TriangleMesh& mesh, const View& view, Canvas& canvas, int threads) {
+void shade_mesh(const scene_files::TriangleMesh& mesh, const View& view, Canvas& canvas, int threads) {
   if (mesh.empty()) return;
-  const EmbreeScene bvh(mesh);
+  const planning::EmbreeScene bvh(mesh);
   const Vec3 light = (view.up * 0.8 + view.right * 0.4 - view.forward * 0.4).normalized();
   const auto rows = [&](int first, int step) {
     RTCIntersectContext context;
@@ -195,9 +195,11 @@ Camera framing_camera(const Aabb& box, double aspect) {
   return c;
 }
 
-RenderResult render_scene(const TriangleMesh& mesh, const RenderRequest& request) {
-  if (request.width < 16 || request.width > 8192) throw InputError("render", "width", "must be 16..8192 pixels");
-  if (request.height < 16 || request.height > 8192) throw InputError("render", "height", "must be 16..8192 pixels");
+RenderResult render_scene(const scene_files::TriangleMesh& mesh, const RenderRequest& request) {
+  if (request.width < 16 || request.width > 8192)
+    throw params::InputError("render", "width", "must be 16..8192 pixels");
+  if (request.height < 16 || request.height > 8192)
+    throw params::InputError("render", "height", "must be 16..8192 pixels");
   RenderResult result;
   if (request.camera) {
     result.camera = *request.camera;
@@ -221,7 +223,8 @@ RenderResult render_scene(const TriangleMesh& mesh, const RenderRequest& request
   const Camera& c = result.camera;
   if (!c.eye.allFinite() || !c.target.allFinite() || (c.target - c.eye).norm() < 1e-9 || !(c.fov_degrees > 1.0) ||
       !(c.fov_degrees < 170.0)) {
-    throw InputError("render", "camera", "needs finite eye and target apart, and a field of view of 1..170 degrees");
+    throw params::InputError("render", "camera",
+                             "needs finite eye and target apart, and a field of view of 1..170 degrees");
   }
   const View view(c, request.width, request.height);
   Canvas canvas(request.width, request.height);
@@ -253,4 +256,4 @@ RenderResult render_scene(const TriangleMesh& mesh, const RenderRequest& request
   return result;
 }
 
-}  // namespace ispars
+}  // namespace ispars::render

@@ -86,16 +86,18 @@ bool reads_stretch_slack(BuildMethod method, SparsVariant variant) {
 
 void check_stretch_slack(const RoadmapRecipe& recipe, std::string_view file) {
   if (recipe.stretch_slack > 0.0 && !reads_stretch_slack(recipe.method, recipe.variant)) {
-    throw InputError(std::string(file), "overrides.stretch_slack",
-                     fmt::format("{} given, but {} {} has no stretch rules to slacken (spars and ispars with "
-                                 "variant stretch, and ispars2, have)",
-                                 recipe.stretch_slack, to_string(recipe.method),
-                                 has_variants(recipe.method) ? "variant " + std::string(to_string(recipe.variant))
-                                                             : std::string("method")));
+    throw params::InputError(
+        std::string(file), "overrides.stretch_slack",
+        fmt::format(
+            "{} given, but {} {} has no stretch rules to slacken (spars and ispars with "
+            "variant stretch, and ispars2, have)",
+            recipe.stretch_slack, to_string(recipe.method),
+            has_variants(recipe.method) ? "variant " + std::string(to_string(recipe.variant)) : std::string("method")));
   }
   if (recipe.stretch_slack_after > 0 && recipe.stretch_slack == 0.0) {
-    throw InputError(std::string(file), "overrides.stretch_slack_after",
-                     fmt::format("{} given, but there is no stretch_slack to start there", recipe.stretch_slack_after));
+    throw params::InputError(
+        std::string(file), "overrides.stretch_slack_after",
+        fmt::format("{} given, but there is no stretch_slack to start there", recipe.stretch_slack_after));
   }
 }
 
@@ -130,7 +132,7 @@ void read_parameters(const nlohmann::json& j, RoadmapRecipe& r) {
   }
   try {
     params::read_json(j, r, "recipe.json");
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     throw std::runtime_error(fmt::format("recipe.json: {}: {}", e.field(), e.problem()));
   }
 }

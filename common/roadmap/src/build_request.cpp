@@ -11,16 +11,16 @@ namespace ispars {
 void set_method(BuildRequest& request, std::string_view method, std::string_view variant, std::string_view file) {
   const auto parsed_method = parse_build_method(method);
   if (!parsed_method) {
-    throw InputError(std::string(file), "method",
-                     fmt::format("'{}' is not one of {}", method.substr(0, 64), build_method_names()));
+    throw params::InputError(std::string(file), "method",
+                             fmt::format("'{}' is not one of {}", method.substr(0, 64), build_method_names()));
   }
   request.method = *parsed_method;
   request.variant.reset();
   if (variant.empty()) return;
   const auto parsed_variant = parse_spars_variant(variant);
   if (!parsed_variant) {
-    throw InputError(std::string(file), "variant",
-                     fmt::format("'{}' is not one of {}", variant.substr(0, 64), spars_variant_names()));
+    throw params::InputError(std::string(file), "variant",
+                             fmt::format("'{}' is not one of {}", variant.substr(0, 64), spars_variant_names()));
   }
   request.variant = *parsed_variant;
 }

@@ -27,15 +27,16 @@ InspectionGraph InspectionGraph::from_roadmap(const Roadmap& roadmap) {
 
 InspectionGraph InspectionGraph::from_edges(std::size_t vertices, std::span<const RoadmapEdge> edges,
                                             std::vector<std::vector<PoiId>> visible, std::size_t poi_count) {
-  if (visible.size() != vertices) throw InputError("graph", "visible", "needs one POI list per vertex");
+  if (visible.size() != vertices) throw params::InputError("graph", "visible", "needs one POI list per vertex");
   InspectionGraph g;
   g.poi_count_ = poi_count;
   for (const RoadmapEdge& e : edges) {
     if (e.u >= vertices || e.v >= vertices) {
-      throw InputError("graph", "edges", fmt::format("edge {}-{} names a vertex beyond {}", e.u, e.v, vertices));
+      throw params::InputError("graph", "edges",
+                               fmt::format("edge {}-{} names a vertex beyond {}", e.u, e.v, vertices));
     }
     if (!std::isfinite(e.cost) || e.cost < 0) {
-      throw InputError("graph", "edges", fmt::format("edge {}-{} has cost {}", e.u, e.v, e.cost));
+      throw params::InputError("graph", "edges", fmt::format("edge {}-{} has cost {}", e.u, e.v, e.cost));
     }
     if (e.u != e.v) g.edges_.push_back(e);
   }
@@ -43,7 +44,7 @@ InspectionGraph InspectionGraph::from_edges(std::size_t vertices, std::span<cons
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
     if (!list.empty() && list.back() >= poi_count) {
-      throw InputError("graph", "visible", fmt::format("POI {} is beyond the {} POIs", list.back(), poi_count));
+      throw params::InputError("graph", "visible", fmt::format("POI {} is beyond the {} POIs", list.back(), poi_count));
     }
   }
   g.visible_ = std::move(visible);
@@ -76,7 +77,7 @@ InspectionGraph InspectionGraph::read_iris(const std::filesystem::path& prefix, 
   const std::string vertex_file = prefix.string() + "_vertex";
   const std::string edge_file = prefix.string() + "_edge";
   std::ifstream vin(vertex_file);
-  if (!vin) throw InputError(vertex_file, "file", "cannot be read");
+  if (!vin) throw params::InputError(vertex_file, "file", "cannot be read");
   std::vector<std::vector<PoiId>> visible;
   std::size_t poi_count = 0;
   std::string line;
@@ -85,29 +86,29 @@ InspectionGraph InspectionGraph::read_iris(const std::filesystem::path& prefix, 
     const std::vector<std::string> f = fields_of(line);
     const auto index = f.size() >= 3 ? whole<long long>(f[0]) : std::nullopt;
     if (!index || !whole<double>(f[1]) || !whole<double>(f[2])) {
-      throw InputError(vertex_file, fmt::format("line {}", number),
-                       "expected 'index time_vis time_build poi ...' (an integer index, two numbers)");
+      throw params::InputError(vertex_file, fmt::format("line {}", number),
+                               "expected 'index time_vis time_build poi ...' (an integer index, two numbers)");
     }
     if (*index != static_cast<long long>(visible.size())) {
-      throw InputError(vertex_file, fmt::format("line {}", number),
-                       fmt::format("vertex index {} where {} was expected (indices are consecutive from 0)", *index,
-                                   visible.size()));
+      throw params::InputError(vertex_file, fmt::format("line {}", number),
+                               fmt::format("vertex index {} where {} was expected (indices are consecutive from 0)",
+                                           *index, visible.size()));
     }
     std::vector<PoiId> pois;
     for (std::size_t k = 3; k < f.size(); ++k) {
       const auto p = whole<long long>(f[k]);
-      if (!p) throw InputError(vertex_file, fmt::format("line {}", number), "a POI id is not an integer");
+      if (!p) throw params::InputError(vertex_file, fmt::format("line {}", number), "a POI id is not an integer");
       if (*p < 0 || *p > 100'000'000) {
-        throw InputError(vertex_file, fmt::format("line {}", number), fmt::format("POI id {}", *p));
+        throw params::InputError(vertex_file, fmt::format("line {}", number), fmt::format("POI id {}", *p));
       }
       pois.push_back(static_cast<PoiId>(*p));
       poi_count = std::max<std::size_t>(poi_count, static_cast<std::size_t>(*p) + 1);
     }
     visible.push_back(std::move(pois));
   }
-  if (visible.empty()) throw InputError(vertex_file, "file", "has no vertices");
+  if (visible.empty()) throw params::InputError(vertex_file, "file", "has no vertices");
   std::ifstream ein(edge_file);
-  if (!ein) throw InputError(edge_file, "file", "cannot be read");
+  if (!ein) throw params::InputError(edge_file, "file", "cannot be read");
   std::vector<RoadmapEdge> edges;
   for (std::size_t number = 1; std::getline(ein, line); ++number) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
@@ -118,18 +119,20 @@ InspectionGraph InspectionGraph::read_iris(const std::filesystem::path& prefix, 
     const auto valid_read = f.size() == 7 ? whole<int>(f[3]) : std::nullopt;
     const auto cost_read = f.size() == 7 ? whole<double>(f[6]) : std::nullopt;
     if (!u_read || !v_read || !checked || !valid_read || !whole<double>(f[4]) || !whole<double>(f[5]) || !cost_read) {
-      throw InputError(edge_file, fmt::format("line {}", number),
-                       "expected 'source target checked valid time_fk time_cd cost' (four integers, three numbers)");
+      throw params::InputError(
+          edge_file, fmt::format("line {}", number),
+          "expected 'source target checked valid time_fk time_cd cost' (four integers, three numbers)");
     }
     const long long u = *u_read, v = *v_read;
     const int valid = *valid_read;
     const double cost = *cost_read;
     if (u < 0 || v < 0 || u >= static_cast<long long>(visible.size()) || v >= static_cast<long long>(visible.size())) {
-      throw InputError(edge_file, fmt::format("line {}", number),
-                       fmt::format("edge {}-{} names a vertex outside 0..{}", u, v, visible.size() - 1));
+      throw params::InputError(edge_file, fmt::format("line {}", number),
+                               fmt::format("edge {}-{} names a vertex outside 0..{}", u, v, visible.size() - 1));
     }
     if (!std::isfinite(cost) || cost < 0) {
-      throw InputError(edge_file, fmt::format("line {}", number), fmt::format("cost {} is not a finite length", cost));
+      throw params::InputError(edge_file, fmt::format("line {}", number),
+                               fmt::format("cost {} is not a finite length", cost));
     }
     if (valid == 0 && !all_edges) continue;
     edges.push_back({static_cast<VertexId>(u), static_cast<VertexId>(v), cost});

@@ -63,23 +63,23 @@ std::uint32_t id_of(const nlohmann::json& x, const char* what, std::size_t index
 RoadmapFileGraph read_roadmap_file_graph(const std::filesystem::path& path, const std::string& which) {
   const std::string file = path.string();
   std::ifstream in(path);
-  if (!in) throw InputError(file, "file", "cannot be read");
+  if (!in) throw params::InputError(file, "file", "cannot be read");
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(file, "json", e.what());
+    throw params::InputError(file, "json", e.what());
   }
   const std::string field = "graphs." + which;
   if (!j.is_object() || !j.contains("graphs") || !j["graphs"].is_object() || !j["graphs"].contains(which)) {
-    throw InputError(file, field, "missing (the file has no such graph)");
+    throw params::InputError(file, field, "missing (the file has no such graph)");
   }
   try {
     const nlohmann::json& g = j["graphs"][which];
     const auto& vertices = g.at("vertices");
     const auto& visible = g.at("visible");
     const auto& edges = g.at("edges");
-    if (vertices.size() != visible.size()) throw InputError(file, "visible", "needs one POI list per vertex");
+    if (vertices.size() != visible.size()) throw params::InputError(file, "visible", "needs one POI list per vertex");
     RoadmapFileGraph out;
     std::vector<std::vector<PoiId>> lists;
     for (const auto& v : vertices)
@@ -100,11 +100,11 @@ RoadmapFileGraph read_roadmap_file_graph(const std::filesystem::path& path, cons
     out.graph = InspectionGraph::from_edges(vertices.size(), edge_list, std::move(lists), pois);
     return out;
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(file, field, std::string("malformed: ") + e.what());
+    throw params::InputError(file, field, std::string("malformed: ") + e.what());
   } catch (const BadId& e) {
-    throw InputError(file, field, std::string("malformed: ") + e.what());
-  } catch (const InputError& e) {
-    throw InputError(file, field + "." + e.field(), e.problem());
+    throw params::InputError(file, field, std::string("malformed: ") + e.what());
+  } catch (const params::InputError& e) {
+    throw params::InputError(file, field + "." + e.field(), e.problem());
   }
 }
 

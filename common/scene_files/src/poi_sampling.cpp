@@ -10,7 +10,7 @@
 #include "ispars/params/input_error.hpp"
 #include "ispars/scene_files/random.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 
 bool is_ground_triangle(const TriangleMesh& mesh, std::size_t t, double ground_z) {
   const Vec3 a = mesh.corner(t, 0);
@@ -60,7 +60,7 @@ std::vector<Vec3> sample_pois_on_surface(const TriangleMesh& mesh, std::size_t c
 
 std::vector<Vec3> read_poi_file(const std::filesystem::path& path, const std::string& field) {
   std::ifstream in(path);
-  if (!in) throw InputError(path.string(), field, "cannot open POI file");
+  if (!in) throw params::InputError(path.string(), field, "cannot open POI file");
   std::vector<Vec3> pois;
   std::string line;
   int line_number = 0;
@@ -75,13 +75,13 @@ std::vector<Vec3> read_poi_file(const std::filesystem::path& path, const std::st
     double z = 0;
     std::string extra;
     if (!(fields >> x >> y >> z) || (fields >> extra) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-      throw InputError(path.string(), field,
-                       "line " + std::to_string(line_number) + ": expected three finite numbers \"x y z\"");
+      throw params::InputError(path.string(), field,
+                               "line " + std::to_string(line_number) + ": expected three finite numbers \"x y z\"");
     }
     pois.emplace_back(x, y, z);
   }
-  if (pois.empty()) throw InputError(path.string(), field, "POI file holds no points");
+  if (pois.empty()) throw params::InputError(path.string(), field, "POI file holds no points");
   return pois;
 }
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

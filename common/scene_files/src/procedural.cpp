@@ -8,7 +8,7 @@
 
 #include "ispars/scene_files/random.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 namespace {
 
 std::uint32_t add_vertex(TriangleMesh& mesh, const Vec3& p) {
@@ -212,4 +212,4 @@ SceneConfig procedural_scene_config(std::string_view kind, std::uint64_t seed) {
   return c;
 }
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace ispars {
+namespace ispars::scene_files {
 namespace {
 
 std::uint64_t splitmix64(std::uint64_t& x) {
@@ -70,4 +70,4 @@ Vec3 Rng::unit_vector() {
   }
 }
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

@@ -12,7 +12,7 @@
 #include "ispars/params/input_error.hpp"
 #include "ispars/scene_files/procedural.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 namespace {
 
 // Reads fields of one YAML map, naming the file and the dotted field path in every error.
@@ -22,7 +22,7 @@ class FieldReader {
       : source_(source), node_(std::move(node)), prefix_(std::move(prefix)) {}
 
   [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
-    throw InputError(source_, prefix_ + key, problem);
+    throw params::InputError(source_, prefix_ + key, problem);
   }
 
   [[nodiscard]] bool has(const std::string& key) const { return static_cast<bool>(node_[key]); }
@@ -120,7 +120,7 @@ class FieldReader {
 };
 
 SceneConfig parse_root(const YAML::Node& root, const std::filesystem::path& base_dir, const std::string& source) {
-  if (!root.IsMap()) throw InputError(source, "yaml", "expected a mapping of scene fields at the top level");
+  if (!root.IsMap()) throw params::InputError(source, "yaml", "expected a mapping of scene fields at the top level");
   const FieldReader top(source, root, "");
   std::set<std::string> known{"name", "mesh", "procedural", "bounds", "root", "pois"};
   const SceneConfig declared;
@@ -195,7 +195,7 @@ SceneConfig parse_root(const YAML::Node& root, const std::filesystem::path& base
 
 void check_scene_config(const SceneConfig& c) {
   const auto fail = [&](const std::string& field, const std::string& problem) {
-    throw InputError(c.source, field, problem);
+    throw params::InputError(c.source, field, problem);
   };
   params::check(c, c.source);
   if (!c.bounds.min.allFinite() || !c.bounds.max.allFinite()) fail("bounds", "must be finite");
@@ -219,7 +219,8 @@ SceneConfig parse_scene_config_text(std::string_view text, const std::filesystem
   try {
     root = YAML::Load(std::string(text));
   } catch (const YAML::Exception& e) {
-    throw InputError(source, "yaml", fmt::format("line {}, column {}: {}", e.mark.line + 1, e.mark.column + 1, e.msg));
+    throw params::InputError(source, "yaml",
+                             fmt::format("line {}, column {}: {}", e.mark.line + 1, e.mark.column + 1, e.msg));
   }
   return parse_root(root, base_dir, source);
 }
@@ -227,14 +228,14 @@ SceneConfig parse_scene_config_text(std::string_view text, const std::filesystem
 SceneConfig parse_scene_config(const std::filesystem::path& yaml_path) {
   const std::string source = yaml_path.string();
   std::error_code ec;
-  if (!std::filesystem::exists(yaml_path, ec)) throw InputError(source, "file", "scene file does not exist");
+  if (!std::filesystem::exists(yaml_path, ec)) throw params::InputError(source, "file", "scene file does not exist");
   std::ifstream in(yaml_path);
   if (!in || std::filesystem::is_directory(yaml_path, ec)) {
-    throw InputError(source, "file", "cannot read scene file");
+    throw params::InputError(source, "file", "cannot read scene file");
   }
   std::stringstream buffer;
   buffer << in.rdbuf();
   return parse_scene_config_text(buffer.str(), yaml_path.parent_path(), source);
 }
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

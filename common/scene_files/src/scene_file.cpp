@@ -6,11 +6,11 @@
 #include "ispars/scene_files/poi_sampling.hpp"
 #include "ispars/scene_files/procedural.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 
 SceneFile scene_file_from(const SceneConfig& config, TriangleMesh mesh) {
   check_scene_config(config);
-  if (mesh.empty()) throw InputError(config.source, "mesh", "mesh contains no triangles");
+  if (mesh.empty()) throw params::InputError(config.source, "mesh", "mesh contains no triangles");
   if (config.scale != 1.0) mesh.scale(config.scale);
   SceneFile file;
   if (!config.pois.file.empty()) {
@@ -19,7 +19,7 @@ SceneFile scene_file_from(const SceneConfig& config, TriangleMesh mesh) {
     try {
       file.pois = sample_pois_on_surface(mesh, config.pois.count, config.pois.seed, config.pois.skip_ground);
     } catch (const std::invalid_argument& e) {
-      throw InputError(config.source, "pois", e.what());
+      throw params::InputError(config.source, "pois", e.what());
     }
   }
   file.config = config;
@@ -37,4 +37,4 @@ SceneFile read_scene_file(const std::filesystem::path& yaml_path) {
   return scene_file_from(config, scene_mesh(config));
 }
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

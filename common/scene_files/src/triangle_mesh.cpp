@@ -10,7 +10,7 @@
 
 #include "ispars/params/input_error.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 
 Aabb TriangleMesh::bounds() const {
   if (triangles.empty()) return {};
@@ -75,10 +75,10 @@ TriangleMesh load_triangle_mesh(const std::filesystem::path& path, const std::st
   const std::string file = path.string();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) {
-    throw InputError(file, field, "mesh file does not exist");
+    throw params::InputError(file, field, "mesh file does not exist");
   }
   if (std::filesystem::is_directory(path, ec)) {
-    throw InputError(file, field, "is a directory, not a mesh file");
+    throw params::InputError(file, field, "is a directory, not a mesh file");
   }
 
   Assimp::Importer importer;
@@ -99,16 +99,16 @@ TriangleMesh load_triangle_mesh(const std::filesystem::path& path, const std::st
     for (char& c : why) {
       if (c == '\n' || c == '\r') c = ' ';
     }
-    throw InputError(file, field, "cannot read mesh: " + why);
+    throw params::InputError(file, field, "cannot read mesh: " + why);
   }
 
   TriangleMesh mesh;
   flatten_node(*scene, *scene->mRootNode, aiMatrix4x4{}, mesh);
   if (mesh.triangles.empty()) {
-    throw InputError(file, field, "mesh contains no triangles");
+    throw params::InputError(file, field, "mesh contains no triangles");
   }
   for (const auto& v : mesh.vertices) {
-    if (!v.allFinite()) throw InputError(file, field, "mesh has a non-finite vertex coordinate");
+    if (!v.allFinite()) throw params::InputError(file, field, "mesh has a non-finite vertex coordinate");
   }
   return mesh;
 }
@@ -121,4 +121,4 @@ void write_obj(const TriangleMesh& mesh, std::ostream& out) {
   }
 }
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

@@ -9,7 +9,7 @@
 
 #include "ispars/service/roadmap_store.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 std::string_view get_blob(ByteReader& in) {
@@ -154,4 +154,4 @@ void set_tasks(BuildCommit& commit, std::span<const InspectionTask> tasks) {
   commit.task_count = task_events(tasks);
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

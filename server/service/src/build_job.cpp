@@ -9,20 +9,21 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "ispars/builders/poi_visibility.hpp"
-#include "ispars/builders/recipe_builder.hpp"
+#include "ispars/planning/builders/poi_visibility.hpp"
+#include "ispars/planning/builders/recipe_builder.hpp"
 #include "ispars/service/session_recovery.hpp"
 #include "roadmap_session_detail.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::unique_ptr<RoadmapBuilder> builder_for(const Scene& scene, const RoadmapRecipe& recipe, unsigned threads) {
-  return make_roadmap_builder(recipe.method, scene, recipe_build_options(recipe, threads));
+std::unique_ptr<planning::RoadmapBuilder> builder_for(const planning::Scene& scene, const RoadmapRecipe& recipe,
+                                                      unsigned threads) {
+  return planning::make_roadmap_builder(recipe.method, scene, planning::recipe_build_options(recipe, threads));
 }
 
 // A replay stopped by a cancel or by the daemon stopping: nothing stored is touched, and the
@@ -36,7 +37,7 @@ struct ReplayInterrupted : std::runtime_error {
 BuildJob::BuildJob(JobSite site, SessionRecord& record, CommitCallback on_commit)
     : site_(site), record_(record), on_commit_(std::move(on_commit)) {}
 
-void BuildJob::adopt(std::unique_ptr<RoadmapStore> store, std::optional<BuiltRoadmaps> resume_from) {
+void BuildJob::adopt(std::unique_ptr<RoadmapStore> store, std::optional<planning::BuiltRoadmaps> resume_from) {
   store_ = std::move(store);
   recovered_ = std::move(resume_from);
 }
@@ -92,7 +93,7 @@ void BuildJob::run(const std::atomic<bool>& stopping) {
     builder_.reset();
     build_scene_.reset();
     record_.interrupt_replay(e.what());
-  } catch (const AdditionStopped& e) {
+  } catch (const planning::AdditionStopped& e) {
     task_stopped(fmt::format("task '{}' not added: {} ({})", run.job.task->name,
                              record_.cancelled() ? "cancelled" : "the daemon is stopping", e.what()),
                  e.builder_changed, stopping);
@@ -141,7 +142,8 @@ void BuildJob::prepare(Run& run, const std::atomic<bool>& stopping) {
     // new store is made aside and takes its place then (RoadmapStore::create).
     store_.reset();
     clear();
-    build_scene_ = std::make_unique<Scene>(session_detail::scene_for(*record_.scene_with_tasks(), job.recipe));
+    build_scene_ =
+        std::make_unique<planning::Scene>(session_detail::scene_for(*record_.scene_with_tasks(), job.recipe));
     builder_ = builder_for(*build_scene_, job.recipe, site_.limits.build_threads);
     store_ = RoadmapStore::create(site_.store_dir, job.recipe, site_.fs);
     store_->set_compact_every(site_.limits.compact_every);
@@ -159,10 +161,10 @@ void BuildJob::prepare(Run& run, const std::atomic<bool>& stopping) {
   run.dense_version = builder_->dense() ? builder_->dense()->version() : 0;
 }
 
-BuiltRoadmaps BuildJob::resumable_roadmaps(const RoadmapRecipe& recipe) {
+planning::BuiltRoadmaps BuildJob::resumable_roadmaps(const RoadmapRecipe& recipe) {
   // As recovered after a restart or a failure; for a method whose roadmap alone is its state,
   // else the published copy of the last commit.
-  BuiltRoadmaps built;
+  planning::BuiltRoadmaps built;
   if (recovered_) {
     built = std::move(*recovered_);
     recovered_.reset();
@@ -182,16 +184,17 @@ void BuildJob::ensure_builder(const std::atomic<bool>& stopping) {
   if (builder_) return;
   const SessionRoadmap served = record_.served();
   const RoadmapRecipe& recipe = *served.recipe;
-  build_scene_ = std::make_unique<Scene>(session_detail::scene_for(*served.scene_with_tasks, recipe));
-  if (!resumes_from_roadmap(recipe.method) && !(resumes_without_replay(recipe.method) && recovered_)) {
+  build_scene_ = std::make_unique<planning::Scene>(session_detail::scene_for(*served.scene_with_tasks, recipe));
+  if (!planning::resumes_from_roadmap(recipe.method) &&
+      !(planning::resumes_without_replay(recipe.method) && recovered_)) {
     replay(recipe, stopping);
     return;
   }
   // Its stored roadmaps are its whole state: it goes on from them, with nothing replayed.
   const auto t0 = std::chrono::steady_clock::now();
-  builder_ =
-      resume_roadmap_builder(recipe.method, *build_scene_, recipe_build_options(recipe, site_.limits.build_threads),
-                             resumable_roadmaps(recipe));
+  builder_ = planning::resume_roadmap_builder(recipe.method, *build_scene_,
+                                              planning::recipe_build_options(recipe, site_.limits.build_threads),
+                                              resumable_roadmaps(recipe));
   spdlog::info(
       "scene '{}': the {} builder resumed from its stored roadmaps at {} samples in {:.3f} s, nothing replayed",
       site_.name, to_string(recipe.method), builder_->samples(), seconds_since(t0));
@@ -268,8 +271,8 @@ void BuildJob::grow(Run& run, std::uint64_t target, const std::atomic<bool>& sto
 void BuildJob::add_task(Run& run, const std::atomic<bool>& stopping) {
   const InspectionTask& task = *run.job.task;
   const auto t0 = std::chrono::steady_clock::now();
-  auto widened = std::make_unique<Scene>(build_scene_->with_more_pois(task.pois));
-  auto next = std::make_shared<const Scene>(record_.scene_with_tasks()->with_more_pois(task.pois));
+  auto widened = std::make_unique<planning::Scene>(build_scene_->with_more_pois(task.pois));
+  auto next = std::make_shared<const planning::Scene>(record_.scene_with_tasks()->with_more_pois(task.pois));
   const std::uint64_t task_count = record_.task_events() + 1;
   const std::size_t guards = builder_->add_pois(*widened, [&] { return !stopping && !record_.cancelled(); });
   build_scene_ = std::move(widened);  // the builder plans in it from now on
@@ -312,7 +315,7 @@ void BuildJob::fail(std::string error) {
   // Whatever the builder holds past the last commit is not trusted: reopen the store.
   clear();
   store_.reset();
-  const Scene& scene = site_.scene;
+  const planning::Scene& scene = site_.scene;
   std::optional<StoreRecovery> recovery;
   try {
     if (site_.fs.exists(site_.store_dir)) {
@@ -346,4 +349,4 @@ void BuildJob::fail(std::string error) {
   record_.take_stored(std::move(stored), SessionState::failed, std::move(error));
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -2,12 +2,12 @@
 
 #include <fmt/format.h>
 
-#include "ispars/builders/recipe_builder.hpp"
 #include "ispars/params/fields.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/builders/recipe_builder.hpp"
 #include "request_input.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 BuildRequest rebuild_request(const RoadmapRecipe& recipe, std::uint64_t samples) {
   BuildRequest request;
@@ -24,14 +24,15 @@ BuildRequest rebuild_request(const RoadmapRecipe& recipe, std::uint64_t samples)
 }
 
 void check_samples(std::uint64_t samples, const SessionLimits& limits) {
-  if (samples == 0) throw InputError(kRequest, "samples", "must be at least 1");
+  if (samples == 0) throw params::InputError(kRequest, "samples", "must be at least 1");
   if (samples > limits.max_samples) {
-    throw InputError(kRequest, "samples",
-                     fmt::format("{} is more than this daemon allows per request ({})", samples, limits.max_samples));
+    throw params::InputError(
+        kRequest, "samples",
+        fmt::format("{} is more than this daemon allows per request ({})", samples, limits.max_samples));
   }
 }
 
-RoadmapRecipe requested_recipe(const std::string& name, const Scene& scene, const BuildRequest& request,
+RoadmapRecipe requested_recipe(const std::string& name, const planning::Scene& scene, const BuildRequest& request,
                                const SessionLimits& limits) {
   check_samples(request.samples, limits);
   return make_recipe(name, scene, request, kRequest);
@@ -53,4 +54,4 @@ std::string stale_store_reason(const std::string& name, const RoadmapRecipe& sto
   return {};
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -11,7 +11,7 @@
 #include "ispars/roadmap/record_file.hpp"
 #include "ispars/roadmap/sealed_file.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 using json = nlohmann::json;
@@ -159,4 +159,4 @@ void ChangeLedger::compact() {
   for (const LedgerEntry& e : recent_) records_ += e.answer ? 2 : 1;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

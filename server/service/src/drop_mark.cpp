@@ -8,7 +8,7 @@
 #include "ispars/roadmap/record_file.hpp"
 #include "ispars/roadmap/sealed_file.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 std::filesystem::path marks_dir(const std::filesystem::path& data_dir) { return data_dir / ".drops"; }
@@ -58,4 +58,4 @@ std::vector<DropMark> list_drop_marks(const std::filesystem::path& data_dir, con
   return out;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

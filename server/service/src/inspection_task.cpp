@@ -10,7 +10,7 @@
 #include "ispars/service/scene_catalog.hpp"
 #include "request_input.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 bool valid_task_name(std::string_view name) { return valid_scene_name(name); }  // the same rule
 
@@ -54,11 +54,11 @@ std::string shown_name(std::string_view name) {
   return shown + (name.size() > 80 ? "..." : "");
 }
 
-void check_poi(const Scene& scene, const Aabb& box, const Vec3& p, std::size_t i) {
+void check_poi(const planning::Scene& scene, const Aabb& box, const Vec3& p, std::size_t i) {
   const std::string field = fmt::format("task.pois[{}]", i);
-  if (!p.allFinite()) throw InputError(kRequest, field, "is not a finite point");
+  if (!p.allFinite()) throw params::InputError(kRequest, field, "is not a finite point");
   if (!box.contains(p)) {
-    throw InputError(
+    throw params::InputError(
         kRequest, field,
         fmt::format("({:.3f}, {:.3f}, {:.3f}) is outside the structure's box ({:.3f}, {:.3f}, {:.3f}) to "
                     "({:.3f}, {:.3f}, {:.3f})",
@@ -66,36 +66,38 @@ void check_poi(const Scene& scene, const Aabb& box, const Vec3& p, std::size_t i
   }
   const double d = scene.collision().distance_to_surface(p);
   if (d > kTaskPoiSurfaceTolerance) {
-    throw InputError(kRequest, field,
-                     fmt::format("({:.3f}, {:.3f}, {:.3f}) is {:.3f} m from the structure's surface; a POI lies on "
-                                 "it (within {} m)",
-                                 p.x(), p.y(), p.z(), d, kTaskPoiSurfaceTolerance));
+    throw params::InputError(
+        kRequest, field,
+        fmt::format("({:.3f}, {:.3f}, {:.3f}) is {:.3f} m from the structure's surface; a POI lies on "
+                    "it (within {} m)",
+                    p.x(), p.y(), p.z(), d, kTaskPoiSurfaceTolerance));
   }
 }
 
 }  // namespace
 
-void check_task(const Scene& scene, std::span<const InspectionTask> tasks, const InspectionTask& task) {
+void check_task(const planning::Scene& scene, std::span<const InspectionTask> tasks, const InspectionTask& task) {
   if (!valid_task_name(task.name)) {
-    throw InputError(kRequest, "task.name",
-                     fmt::format("'{}' is not a task name (1-64 of A-Z a-z 0-9 _ - ., not starting with '.')",
-                                 shown_name(task.name)));
+    throw params::InputError(kRequest, "task.name",
+                             fmt::format("'{}' is not a task name (1-64 of A-Z a-z 0-9 _ - ., not starting with '.')",
+                                         shown_name(task.name)));
   }
   for (const InspectionTask& t : tasks) {
     if (t.name == task.name && !t.removed) {
-      throw InputError(kRequest, "task.name", fmt::format("a task '{}' exists already", t.name));
+      throw params::InputError(kRequest, "task.name", fmt::format("a task '{}' exists already", t.name));
     }
   }
   if (tasks.size() >= kMaxTasks) {
-    throw InputError(kRequest, "task",
-                     fmt::format("the scene holds {} tasks, the most it may (removed tasks count: their POIs keep "
-                                 "their ids until the roadmap is dropped)",
-                                 tasks.size()));
+    throw params::InputError(
+        kRequest, "task",
+        fmt::format("the scene holds {} tasks, the most it may (removed tasks count: their POIs keep "
+                    "their ids until the roadmap is dropped)",
+                    tasks.size()));
   }
-  if (task.pois.empty()) throw InputError(kRequest, "task.pois", "a task has at least one POI");
+  if (task.pois.empty()) throw params::InputError(kRequest, "task.pois", "a task has at least one POI");
   if (task.pois.size() > kMaxTaskPois) {
-    throw InputError(kRequest, "task.pois",
-                     fmt::format("{} POIs; a task has at most {}", task.pois.size(), kMaxTaskPois));
+    throw params::InputError(kRequest, "task.pois",
+                             fmt::format("{} POIs; a task has at most {}", task.pois.size(), kMaxTaskPois));
   }
   // The mesh's box grown by the tolerance: a point sampled on a top face may lie a rounding above it.
   Aabb box = scene.mesh().bounds();
@@ -104,11 +106,11 @@ void check_task(const Scene& scene, std::span<const InspectionTask> tasks, const
   for (std::size_t i = 0; i < task.pois.size(); ++i) check_poi(scene, box, task.pois[i], i);
 }
 
-std::vector<Vec3> sample_task_pois(const Scene& scene, std::size_t count, std::uint64_t seed) {
+std::vector<Vec3> sample_task_pois(const planning::Scene& scene, std::size_t count, std::uint64_t seed) {
   if (count == 0 || count > kMaxTaskPois) {
-    throw InputError(kRequest, "task.sample", fmt::format("{} POIs; sample 1 to {}", count, kMaxTaskPois));
+    throw params::InputError(kRequest, "task.sample", fmt::format("{} POIs; sample 1 to {}", count, kMaxTaskPois));
   }
-  return sample_pois_on_surface(scene.mesh(), count, seed, scene.config().pois.skip_ground);
+  return scene_files::sample_pois_on_surface(scene.mesh(), count, seed, scene.config().pois.skip_ground);
 }
 
 std::vector<TaskCoverage> task_coverage(const Roadmap& roadmap, std::size_t scene_pois,
@@ -138,8 +140,9 @@ std::size_t live_task(std::span<const InspectionTask> tasks, const std::string& 
     if (tasks[i].name == name && !tasks[i].removed) return i;
     was_removed = was_removed || tasks[i].name == name;
   }
-  throw InputError(kRequest, "task",
-                   was_removed ? fmt::format("task '{}' was removed already", shown_name(name))
+  throw params::InputError(kRequest, "task",
+                           was_removed
+                               ? fmt::format("task '{}' was removed already", shown_name(name))
                                : fmt::format("the roadmap has no task '{}' (ispars task list)", shown_name(name)));
 }
 
@@ -154,8 +157,8 @@ std::vector<PoiId> task_targets(const Roadmap& roadmap, std::size_t scene_pois, 
     if (Cover::has(cover.root, id)) targets.push_back(static_cast<PoiId>(id));
   }
   if (targets.empty()) {
-    throw InputError(kRequest, "task",
-                     fmt::format("no POI of task '{}' is seen from the root's component of the roadmap", name));
+    throw params::InputError(kRequest, "task",
+                             fmt::format("no POI of task '{}' is seen from the root's component of the roadmap", name));
   }
   return targets;
 }
@@ -174,7 +177,8 @@ std::vector<PoiId> live_targets(const Roadmap& roadmap, std::size_t scene_pois, 
     if (!out[id] && Cover::has(cover.root, id)) targets.push_back(static_cast<PoiId>(id));
   }
   if (targets.empty()) {
-    throw InputError(kRequest, "targets", "no POI but removed tasks' is seen from the root's component of the roadmap");
+    throw params::InputError(kRequest, "targets",
+                             "no POI but removed tasks' is seen from the root's component of the roadmap");
   }
   return targets;
 }
@@ -185,4 +189,4 @@ std::vector<Vec3> task_pois(std::span<const InspectionTask> tasks) {
   return all;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -9,7 +9,7 @@
 #include "ispars/service/pending_jobs.hpp"
 #include "request_input.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 JobQueue::JobQueue(unsigned workers, std::filesystem::path data_dir, FileSystem& fs, const std::atomic<bool>& stopping)
     : data_dir_(std::move(data_dir)),
@@ -53,8 +53,8 @@ void JobQueue::record(const std::shared_ptr<RoadmapSession>& session, const Pend
     save_pending_job(data_dir_, job, fs_);
   } catch (const std::exception& e) {
     (void)session->cancel();  // queued, so cancelled at once: nothing touched
-    throw InputError(kRequest, "scene",
-                     fmt::format("the job on scene '{}' could not be recorded: {}", job.scene, e.what()));
+    throw params::InputError(kRequest, "scene",
+                             fmt::format("the job on scene '{}' could not be recorded: {}", job.scene, e.what()));
   }
 }
 
@@ -93,4 +93,4 @@ void JobQueue::schedule(const std::shared_ptr<RoadmapSession>& session, std::uin
   });
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

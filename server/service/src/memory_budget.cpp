@@ -8,7 +8,7 @@
 #include "ispars/params/input_error.hpp"
 #include "request_input.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
@@ -40,7 +40,8 @@ double MemoryBudget::leased() const {
   return leased_;
 }
 
-std::string MemoryBudget::admission_problem(const std::string& scene, const BuildCost& cost, bool count_leases) const {
+std::string MemoryBudget::admission_problem(const std::string& scene, const planning::BuildCost& cost,
+                                            bool count_leases) const {
   const auto own = reserved_.find(scene);
   const double others = reserved_locked() - (own == reserved_.end() ? 0.0 : own->second);
   // A scene reserves its peak (its roadmap and one compaction fold of it), not its steady state:
@@ -64,7 +65,7 @@ std::string MemoryBudget::admission_problem(const std::string& scene, const Buil
   return "";
 }
 
-void MemoryBudget::admit(const std::string& scene, const BuildCost& cost) {
+void MemoryBudget::admit(const std::string& scene, const planning::BuildCost& cost) {
   for (int attempt = 0;; ++attempt) {
     std::unique_lock lock(mutex_);
     std::string problem = admission_problem(scene, cost, true);
@@ -75,7 +76,7 @@ void MemoryBudget::admit(const std::string& scene, const BuildCost& cost) {
         reclaim_();  // caches give their leases back; then the check again
         continue;
       }
-      throw InputError(kRequest, busy ? "kind" : "samples", std::move(problem));
+      throw params::InputError(kRequest, busy ? "kind" : "samples", std::move(problem));
     }
     const double others = reserved_locked() - (reserved_.count(scene) ? reserved_.at(scene) : 0.0);
     reserved_[scene] = cost.peak_bytes;
@@ -117,7 +118,7 @@ std::shared_ptr<MemoryLease> MemoryBudget::lease(double bytes, const std::string
         reclaim_();
         continue;
       }
-      throw InputError(kRequest, "kind", std::move(problem));
+      throw params::InputError(kRequest, "kind", std::move(problem));
     }
     leased_ += bytes;
     break;
@@ -130,4 +131,4 @@ void MemoryBudget::give_back(double bytes) {
   leased_ = std::max(0.0, leased_ - bytes);
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -13,7 +13,7 @@
 #include "ispars/roadmap/sealed_file.hpp"
 #include "ispars/service/scene_catalog.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 std::filesystem::path jobs_dir(const std::filesystem::path& data_dir) { return data_dir / ".jobs"; }
@@ -146,4 +146,4 @@ std::vector<PendingJob> pending_jobs(const std::filesystem::path& data_dir, File
   return out;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

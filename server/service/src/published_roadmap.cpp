@@ -2,7 +2,7 @@
 
 #include <utility>
 
-namespace ispars {
+namespace ispars::service {
 
 PublishedRoadmap make_published(std::shared_ptr<const Roadmap> roadmap, std::uint64_t generation,
                                 std::uint64_t samples) {
@@ -12,4 +12,4 @@ PublishedRoadmap make_published(std::shared_ptr<const Roadmap> roadmap, std::uin
   return p;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

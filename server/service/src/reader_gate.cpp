@@ -1,6 +1,6 @@
 #include "ispars/service/reader_gate.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 std::unique_ptr<ReaderGate::Pass> ReaderGate::enter(std::chrono::steady_clock::time_point deadline) {
   std::lock_guard lock(mutex_);
@@ -56,4 +56,4 @@ ReaderGate::Hold::~Hold() {
   --gate_.holds_;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -19,7 +19,7 @@
 #include "ispars/service/scene_catalog.hpp"
 #include "request_input.hpp"
 
-namespace ispars {
+namespace ispars::service {
 RoadmapService::RoadmapService(ServiceSettings settings, ServiceEvents events, FileSystem& fs)
     : settings_(std::move(settings)),
       events_(std::move(events)),
@@ -103,12 +103,13 @@ std::shared_ptr<RoadmapSession> RoadmapService::session_or_null(const std::strin
 std::shared_ptr<RoadmapSession> RoadmapService::session(const std::string& scene) const {
   if (auto s = session_or_null(scene)) return s;
   if (!valid_scene_name(scene)) (void)scene_file(settings_.scene_dir, scene);  // names the bad name
-  throw InputError(kRequest, "scene", fmt::format("scene '{}' is not loaded on daemon {}", scene, settings_.server_id));
+  throw params::InputError(kRequest, "scene",
+                           fmt::format("scene '{}' is not loaded on daemon {}", scene, settings_.server_id));
 }
 
 SessionStatus RoadmapService::stats(const std::string& scene) const { return session(scene)->status(); }
 
-RoadmapPath RoadmapService::path(const std::string& scene, const Vec3& from, const Vec3& to) const {
+planning::RoadmapPath RoadmapService::path(const std::string& scene, const Vec3& from, const Vec3& to) const {
   return session(scene)->path(from, to);
 }
 
@@ -125,7 +126,7 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
       if (!held && events.release) events.release(name);
     }
   } unclaim{events_, name};
-  Scene scene = Scene::build(load_scene_config(settings_.scene_dir, name));
+  planning::Scene scene = planning::Scene::build(load_scene_config(settings_.scene_dir, name));
   SessionCallbacks callbacks;
   callbacks.on_commit = [this, name](const RoadmapBatch& batch, std::uint64_t generation, std::uint64_t samples,
                                      std::size_t poi_count) {
@@ -135,7 +136,7 @@ std::shared_ptr<RoadmapSession> RoadmapService::open_session(const std::string& 
     if (!events_.on_status) return;
     if (const auto s = session_or_null(name)) events_.on_status(*s);
   };
-  callbacks.admit_cost = [budget = budget_, name](const BuildCost& cost) { budget->admit(name, cost); };
+  callbacks.admit_cost = [budget = budget_, name](const planning::BuildCost& cost) { budget->admit(name, cost); };
   auto session = std::make_shared<RoadmapSession>(name, std::move(scene), settings_.data_dir / name, settings_.limits,
                                                   std::move(callbacks), fs_);
   mark_unloaded(settings_.data_dir / name, false, fs_);
@@ -163,7 +164,8 @@ std::pair<std::shared_ptr<RoadmapSession>, bool> RoadmapService::load(const std:
 void RoadmapService::unload(const std::string& scene) {
   const auto s = session(scene);
   if (s->busy()) {
-    throw InputError(kRequest, "scene", fmt::format("a build is running on scene '{}'; cancel it first", scene));
+    throw params::InputError(kRequest, "scene",
+                             fmt::format("a build is running on scene '{}'; cancel it first", scene));
   }
   // Remembered across restarts: the stored roadmap stays, but is not reloaded until asked. Marked
   // first: a mark that cannot be written (a read-only disk) leaves the scene loaded as it was.
@@ -202,7 +204,7 @@ void RoadmapService::yield(const std::string& scene, const std::atomic<bool>& gi
     try {
       s->close();
       break;
-    } catch (const InputError& e) {
+    } catch (const params::InputError& e) {
       if (std::chrono::steady_clock::now() >= deadline) {
         spdlog::warn("scene '{}' not given up to its owner within {} s: {}", scene,
                      std::chrono::duration_cast<std::chrono::seconds>(kYieldWait).count(), e.what());
@@ -346,4 +348,4 @@ void RoadmapService::drop(const std::string& scene) {
   budget_->set_reserved(scene, 0.0);
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -11,7 +11,7 @@
 #include "ispars/service/roadmap_service.hpp"
 #include "request_input.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 constexpr std::uint32_t kMaxResumes = 3;  // a job that takes the daemon down with it is given up then
@@ -93,4 +93,4 @@ void RoadmapService::resume_pending_jobs() {
   }
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -5,23 +5,23 @@
 
 #include <cmath>
 
-#include "ispars/builders/recipe_builder.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/builders/recipe_builder.hpp"
 #include "ispars/roadmap/inspection_graph.hpp"
 #include "ispars/service/roadmap_service.hpp"
 #include "request_input.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
-std::uint64_t VerifyOutcome::violations() const { return broken_promises(report, invariant_promised); }
+std::uint64_t VerifyOutcome::violations() const { return planning::broken_promises(report, invariant_promised); }
 
 VerifyOutcome RoadmapService::verify(const std::string& scene) const {
   const auto s = session(scene);
-  if (stopping_) throw InputError("request", "scene", "the daemon is stopping");
+  if (stopping_) throw params::InputError("request", "scene", "the daemon is stopping");
   VerifyOutcome out;
   out.report = s->verify(kVerifyBudget);
   const auto recipe = s->status().recipe;
-  out.invariant_promised = recipe && promises_invariant(recipe->method);
+  out.invariant_promised = recipe && planning::promises_invariant(recipe->method);
   return out;
 }
 
@@ -35,17 +35,18 @@ void RoadmapService::start_tour(const std::string& scene, TourRequest request, T
   const auto s = session(scene);
   if (!std::isfinite(request.budget_seconds) || !(request.budget_seconds > 0.0) ||
       request.budget_seconds > kMaxTourBudget) {
-    throw InputError(kRequest, "budget",
-                     fmt::format("must be in (0, {}] seconds, got {}", kMaxTourBudget, request.budget_seconds));
+    throw params::InputError(kRequest, "budget",
+                             fmt::format("must be in (0, {}] seconds, got {}", kMaxTourBudget, request.budget_seconds));
   }
   if (request.targets.size() > kMaxTourTargets) {
-    throw InputError(kRequest, "targets", fmt::format("{} given; at most {}", request.targets.size(), kMaxTourTargets));
+    throw params::InputError(kRequest, "targets",
+                             fmt::format("{} given; at most {}", request.targets.size(), kMaxTourTargets));
   }
   if (!s->status().recipe || s->published().roadmap->vertex_count() == 0) {
-    throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap yet", scene));
+    throw params::InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap yet", scene));
   }
   if (!request.task.empty()) {
-    if (!request.targets.empty()) throw InputError(kRequest, "task", "give a task or targets, not both");
+    if (!request.targets.empty()) throw params::InputError(kRequest, "task", "give a task or targets, not both");
     // Coverage only grows (vertices and edges are only added): the later roadmap the tour runs
     // on sees them from the root's component too.
     const std::vector<InspectionTask> tasks = s->tasks();
@@ -57,4 +58,4 @@ void RoadmapService::start_tour(const std::string& scene, TourRequest request, T
   tours_.admit(s, scene, std::move(request), std::move(callbacks));
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

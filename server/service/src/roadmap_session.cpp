@@ -6,21 +6,21 @@
 #include <chrono>
 #include <thread>
 
-#include "ispars/builders/recipe_builder.hpp"
 #include "ispars/params/input_error.hpp"
-#include "ispars/scene/scene_fingerprint.hpp"
+#include "ispars/planning/builders/recipe_builder.hpp"
+#include "ispars/planning/scene/scene_fingerprint.hpp"
 #include "ispars/service/session_recovery.hpp"
 #include "request_input.hpp"
 #include "roadmap_session_detail.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
-Scene session_detail::scene_for(const Scene& scene, const RoadmapRecipe& recipe) {
-  return recipe_scene(scene, recipe, kRequest);
+planning::Scene session_detail::scene_for(const planning::Scene& scene, const RoadmapRecipe& recipe) {
+  return planning::recipe_scene(scene, recipe, kRequest);
 }
 
-RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::path store_dir, SessionLimits limits,
-                               SessionCallbacks callbacks, FileSystem& fs)
+RoadmapSession::RoadmapSession(std::string name, planning::Scene scene, std::filesystem::path store_dir,
+                               SessionLimits limits, SessionCallbacks callbacks, FileSystem& fs)
     : name_(std::move(name)),
       scene_(std::move(scene)),
       store_dir_(std::move(store_dir)),
@@ -48,14 +48,15 @@ RoadmapSession::RoadmapSession(std::string name, Scene scene, std::filesystem::p
 
 RoadmapSession::~RoadmapSession() = default;
 
-BuildCost RoadmapSession::estimate(const Scene& scene, const RoadmapRecipe& recipe, std::uint64_t total_samples) const {
+planning::BuildCost RoadmapSession::estimate(const planning::Scene& scene, const RoadmapRecipe& recipe,
+                                             std::uint64_t total_samples) const {
   std::call_once(free_fraction_once_, [&] { free_fraction_ = free_fraction(scene_); });
-  return estimate_build_cost(scene, recipe, total_samples, free_fraction_);
+  return planning::estimate_build_cost(scene, recipe, total_samples, free_fraction_);
 }
 
 SessionRecord::Admit RoadmapSession::admit() const {
   if (!callbacks_.admit_cost) return {};
-  return [this](const Scene& scene, const RoadmapRecipe& recipe, std::uint64_t samples) {
+  return [this](const planning::Scene& scene, const RoadmapRecipe& recipe, std::uint64_t samples) {
     callbacks_.admit_cost(estimate(scene, recipe, samples));
   };
 }
@@ -65,7 +66,7 @@ std::uint64_t RoadmapSession::request_build(const BuildRequest& request) {
   recipe.scene_fingerprint = fingerprint_;
   recipe.builder_version = kBuilderVersion;
   // Estimated before the record's lock is taken: the first estimate measures the scene's free space.
-  const BuildCost cost = estimate(*scene_with_tasks(), recipe, request.samples);
+  const planning::BuildCost cost = estimate(*scene_with_tasks(), recipe, request.samples);
   return record_.accept_build(std::move(recipe), request, [&] {
     if (callbacks_.admit_cost) callbacks_.admit_cost(cost);
   });
@@ -101,18 +102,18 @@ Lock RoadmapSession::lock_idle_job(std::string_view what) const {
     const bool queued_or_running = busy();
     if (job.owns_lock() && !queued_or_running) return job;
     if (queued_or_running) {
-      throw InputError(kRequest, "scene",
-                       fmt::format("a build is running on scene '{}'; {} when it is idle", name_, what));
+      throw params::InputError(kRequest, "scene",
+                               fmt::format("a build is running on scene '{}'; {} when it is idle", name_, what));
     }
     if (std::chrono::steady_clock::now() >= deadline) {
-      throw InputError(kRequest, "scene",
-                       fmt::format("scene '{}' is busy with a verify or a drop; {} later", name_, what));
+      throw params::InputError(kRequest, "scene",
+                               fmt::format("scene '{}' is busy with a verify or a drop; {} later", name_, what));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
 }
 
-BuildCost RoadmapSession::expected_cost() const {
+planning::BuildCost RoadmapSession::expected_cost() const {
   const SessionRoadmap served = record_.served();
   if (!served.recipe) return {};
   return estimate(*served.scene_with_tasks, *served.recipe, std::max(served.samples_target, served.samples_done));
@@ -122,30 +123,30 @@ SessionStatus RoadmapSession::status() const { return record_.status(); }
 PublishedRoadmap RoadmapSession::published() const { return record_.published(); }
 std::vector<InspectionTask> RoadmapSession::tasks() const { return record_.tasks(); }
 std::vector<InspectionTask> RoadmapSession::accepted_tasks() const { return record_.accepted_tasks(); }
-std::shared_ptr<const Scene> RoadmapSession::scene_with_tasks() const { return record_.scene_with_tasks(); }
+std::shared_ptr<const planning::Scene> RoadmapSession::scene_with_tasks() const { return record_.scene_with_tasks(); }
 
-RoadmapPath RoadmapSession::path(const Vec3& from, const Vec3& to) const {
+planning::RoadmapPath RoadmapSession::path(const Vec3& from, const Vec3& to) const {
   const SessionRoadmap served = record_.served();
   if (!served.recipe || served.published.roadmap->vertex_count() == 0) {
-    throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap yet", name_));
+    throw params::InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap yet", name_));
   }
-  return plan_path(scene_, *served.published.roadmap, from, to, served.recipe->sparse_delta);
+  return planning::plan_path(scene_, *served.published.roadmap, from, to, served.recipe->sparse_delta);
 }
 
-VerificationReport RoadmapSession::verify(std::chrono::milliseconds budget) const {
+planning::VerificationReport RoadmapSession::verify(std::chrono::milliseconds budget) const {
   std::unique_ptr<ReaderGate::Pass> pass;
   try {
     pass = readers_->enter(std::chrono::steady_clock::now() + budget);
   } catch (const ReaderRefused& e) {
-    throw InputError(kRequest, "scene", fmt::format("{}; verify later", e.what()));
+    throw params::InputError(kRequest, "scene", fmt::format("{}; verify later", e.what()));
   }
   const auto job = lock_idle_job<std::shared_lock<std::shared_mutex>>("verify");
-  const VerifyKeepGoing keep_going = [&] { return pass->keep_going(); };
+  const planning::VerifyKeepGoing keep_going = [&] { return pass->keep_going(); };
   try {
     return verify_locked(keep_going);
-  } catch (const VerificationStopped&) {
+  } catch (const planning::VerificationStopped&) {
     const std::string why = pass->keep_going() ? std::string() : pass->why_stopped();
-    throw InputError(
+    throw params::InputError(
         kRequest, "scene",
         fmt::format(
             "the verify of scene '{}' was stopped: {}", name_,
@@ -155,21 +156,21 @@ VerificationReport RoadmapSession::verify(std::chrono::milliseconds budget) cons
 
 void RoadmapSession::stop_readers(const std::string& why) { readers_->stop_all(why); }
 
-VerificationReport RoadmapSession::verify_locked(const VerifyKeepGoing& keep_going) const {
+planning::VerificationReport RoadmapSession::verify_locked(const planning::VerifyKeepGoing& keep_going) const {
   // No job runs (the job lock is held): the record's samples are the roadmap's.
   const SessionRoadmap served = record_.served();
-  if (!served.recipe) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
+  if (!served.recipe) throw params::InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
   const RoadmapRecipe& recipe = *served.recipe;
-  const Scene scene = session_detail::scene_for(*served.scene_with_tasks, recipe);
+  const planning::Scene scene = session_detail::scene_for(*served.scene_with_tasks, recipe);
   const auto check = [&](const Roadmap& roadmap, const Roadmap* dense, std::span<const VertexId> dense_ids) {
-    return verify_recipe_roadmaps(scene, recipe, served.samples_done, roadmap, dense, dense_ids, keep_going);
+    return planning::verify_recipe_roadmaps(scene, recipe, served.samples_done, roadmap, dense, dense_ids, keep_going);
   };
   if (const std::optional<RoadmapsView> held = job_.roadmaps())
     return check(*held->roadmap, held->dense, held->dense_ids);
   // No builder and nothing recovered: a method that resumes from its roadmap, idle, whose
   // published roadmap is the stored one.
-  if (!resumes_from_roadmap(recipe.method) || served.published.generation != recipe.generation) {
-    throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
+  if (!planning::resumes_from_roadmap(recipe.method) || served.published.generation != recipe.generation) {
+    throw params::InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
   }
   return check(*served.published.roadmap, nullptr, {});
 }
@@ -180,4 +181,4 @@ template std::shared_lock<std::shared_mutex> RoadmapSession::lock_idle_job<std::
 template std::unique_lock<std::shared_mutex> RoadmapSession::lock_idle_job<std::unique_lock<std::shared_mutex>>(
     std::string_view) const;
 
-}  // namespace ispars
+}  // namespace ispars::service

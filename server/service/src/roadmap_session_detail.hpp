@@ -3,14 +3,14 @@
 
 #include <cstdint>
 
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
-#include "ispars/scene/scene.hpp"
 
-namespace ispars::session_detail {
+namespace ispars::service::session_detail {
 
 /// `scene` with the recipe's roadmap parameters (InputError naming the bad one).
-[[nodiscard]] Scene scene_for(const Scene& scene, const RoadmapRecipe& recipe);
+[[nodiscard]] planning::Scene scene_for(const planning::Scene& scene, const RoadmapRecipe& recipe);
 /// A new roadmap generation: the wall clock in nanoseconds.
 [[nodiscard]] std::uint64_t new_generation();
 
-}  // namespace ispars::session_detail
+}  // namespace ispars::service::session_detail

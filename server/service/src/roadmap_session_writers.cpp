@@ -11,7 +11,7 @@
 #include "ispars/service/roadmap_store.hpp"
 #include "request_input.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 std::size_t RoadmapSession::remove_task(const std::string& name) {
   // The store has one writer: a job holds job_mutex_ alone from its start to its end (and for a
@@ -48,7 +48,7 @@ void RoadmapSession::adopt_tasks(std::vector<InspectionTask> tasks) {
     t.removed = removed;
     checked.push_back(std::move(t));
   }
-  auto with_tasks = std::make_shared<const Scene>(scene_.with_more_pois(task_pois(checked)));
+  auto with_tasks = std::make_shared<const planning::Scene>(scene_.with_more_pois(task_pois(checked)));
   record_.adopt_tasks(std::move(checked), std::move(with_tasks));
 }
 
@@ -100,4 +100,4 @@ void RoadmapSession::close() {
   job_.clear();
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

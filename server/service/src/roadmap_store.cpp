@@ -18,20 +18,20 @@
 #include "roadmap_store_damage.hpp"
 #include "roadmap_store_files.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 using namespace store_files;
 
-BuiltRoadmaps empty_roadmaps(const RoadmapRecipe& recipe, std::size_t poi_count) {
-  BuiltRoadmaps r{0, Roadmap(poi_count), std::nullopt, {}};
+planning::BuiltRoadmaps empty_roadmaps(const RoadmapRecipe& recipe, std::size_t poi_count) {
+  planning::BuiltRoadmaps r{0, Roadmap(poi_count), std::nullopt, {}};
   if (has_dense_pair(recipe.method)) r.dense.emplace(poi_count);
   return r;
 }
 
 }  // namespace
 
-RoadmapsView view_of(const BuiltRoadmaps& r) {
+RoadmapsView view_of(const planning::BuiltRoadmaps& r) {
   return {r.samples, &r.roadmap, r.dense ? &*r.dense : nullptr, r.dense_ids};
 }
 
@@ -47,7 +47,7 @@ BuildCommit commit_since(const RoadmapsView& now, std::uint64_t roadmap_version,
   return commit;
 }
 
-void apply_commit(BuiltRoadmaps& r, const BuildCommit& commit) {
+void apply_commit(planning::BuiltRoadmaps& r, const BuildCommit& commit) {
   if (commit.samples < r.samples) throw std::runtime_error("commit goes back in samples");
   const bool dense_present = r.dense.has_value();
   if (!dense_present && (!commit.dense.changes.empty() || !commit.new_dense_ids.empty())) {
@@ -156,7 +156,7 @@ namespace {
 std::uint64_t recover_into(const std::filesystem::path& dir, std::size_t poi_count, StoreRecovery& recovered,
                            const FileSystem& fs) {
   recovered.roadmaps = empty_roadmaps(recovered.recipe, poi_count);
-  BuiltRoadmaps& r = recovered.roadmaps;
+  planning::BuiltRoadmaps& r = recovered.roadmaps;
   const bool has_snapshot = fs.exists(snapshot_path(dir));
   if (has_snapshot) {
     const RecordReplay snapshot = read_record_file(
@@ -357,4 +357,4 @@ void remove_dropped_stores(const std::filesystem::path& data_dir, FileSystem& fs
   }
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

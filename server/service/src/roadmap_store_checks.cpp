@@ -11,7 +11,7 @@
 #include "roadmap_store_damage.hpp"
 #include "roadmap_store_files.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace store_files {
 
 std::string damage_text(const std::filesystem::path& path, const RecordReplay& replay, const FileSystem& fs) {
@@ -100,4 +100,4 @@ std::string store_scrub_problem(const std::filesystem::path& dir, const FileSyst
   return {};
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

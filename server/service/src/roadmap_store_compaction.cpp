@@ -10,7 +10,7 @@
 #include "ispars/service/roadmap_store.hpp"
 #include "roadmap_store_files.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 using namespace store_files;
@@ -182,4 +182,4 @@ void RoadmapStore::stop_compaction() {
   if (compactor_.joinable()) compactor_.join();
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

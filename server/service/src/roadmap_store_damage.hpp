@@ -10,7 +10,7 @@
 #include "ispars/roadmap/file_system.hpp"
 #include "ispars/roadmap/record_file.hpp"
 
-namespace ispars::store_files {
+namespace ispars::service::store_files {
 
 /// What a record file's damage is, in words: where, in which record, and that it is left as it is.
 [[nodiscard]] std::string damage_text(const std::filesystem::path& path, const RecordReplay& replay,
@@ -28,4 +28,4 @@ namespace ispars::store_files {
 [[nodiscard]] std::optional<std::string> snapshot_damage(const std::filesystem::path& dir,
                                                          const RecordReplay& snapshot);
 
-}  // namespace ispars::store_files
+}  // namespace ispars::service::store_files

@@ -6,7 +6,7 @@
 
 #include "ispars/roadmap/record_file.hpp"
 
-namespace ispars::store_files {
+namespace ispars::service::store_files {
 
 /// Format 03 checks each record header on its own, so a damaged length is told from a torn tail;
 /// 02 (records of any size) and 01 (32-bit lengths) files are still read and appended to.
@@ -21,4 +21,4 @@ inline std::filesystem::path old_journal_path(const std::filesystem::path& dir) 
 inline std::filesystem::path snapshot_path(const std::filesystem::path& dir) { return dir / "snapshot.bin"; }
 inline std::filesystem::path recipe_path(const std::filesystem::path& dir) { return dir / "recipe.json"; }
 
-}  // namespace ispars::store_files
+}  // namespace ispars::service::store_files

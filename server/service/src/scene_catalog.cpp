@@ -6,7 +6,7 @@
 
 #include "ispars/params/input_error.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 // Whether `path`, with every symlink followed, lies inside `dir` (also resolved).
@@ -36,16 +36,17 @@ std::filesystem::path scene_file(const std::filesystem::path& scene_dir, std::st
     for (char& c : shown) {
       if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
     }
-    throw InputError("request", "scene",
-                     fmt::format("'{}' is not a scene name (1-64 of A-Z a-z 0-9 _ - ., not starting with '.')", shown));
+    throw params::InputError(
+        "request", "scene",
+        fmt::format("'{}' is not a scene name (1-64 of A-Z a-z 0-9 _ - ., not starting with '.')", shown));
   }
   const std::filesystem::path file = scene_dir / (std::string(name) + ".yaml");
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) {
-    throw InputError("request", "scene", fmt::format("no scene '{}' in the daemon's scene directory", name));
+    throw params::InputError("request", "scene", fmt::format("no scene '{}' in the daemon's scene directory", name));
   }
   if (!inside_directory(scene_dir, file)) {
-    throw InputError("request", "scene", fmt::format("scene '{}' resolves outside the scene directory", name));
+    throw params::InputError("request", "scene", fmt::format("scene '{}' resolves outside the scene directory", name));
   }
   return file;
 }
@@ -62,18 +63,19 @@ std::vector<std::string> list_scene_names(const std::filesystem::path& scene_dir
   return names;
 }
 
-SceneConfig load_scene_config(const std::filesystem::path& scene_dir, std::string_view name) {
-  SceneConfig config = parse_scene_config(scene_file(scene_dir, name));
+scene_files::SceneConfig load_scene_config(const std::filesystem::path& scene_dir, std::string_view name) {
+  scene_files::SceneConfig config = scene_files::parse_scene_config(scene_file(scene_dir, name));
   const auto check = [&](const std::filesystem::path& referenced, const char* key) {
     if (referenced.empty() || inside_directory(scene_dir, referenced)) return;
-    throw InputError("request", "scene",
-                     fmt::format("scene '{}': {} '{}' is outside the scene directory (a scene file may name only "
-                                 "files inside it)",
-                                 name, key, referenced.string()));
+    throw params::InputError(
+        "request", "scene",
+        fmt::format("scene '{}': {} '{}' is outside the scene directory (a scene file may name only "
+                    "files inside it)",
+                    name, key, referenced.string()));
   };
   check(config.mesh, "mesh");
   check(config.pois.file, "pois.file");
   return config;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

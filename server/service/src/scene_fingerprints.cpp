@@ -2,11 +2,11 @@
 
 #include <fmt/format.h>
 
-#include "ispars/scene/scene.hpp"
-#include "ispars/scene/scene_fingerprint.hpp"
+#include "ispars/planning/scene/scene.hpp"
+#include "ispars/planning/scene/scene_fingerprint.hpp"
 #include "ispars/service/scene_catalog.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 // Size and modification time of each file, or "-" for one that is missing.
@@ -26,7 +26,7 @@ std::string stamp_of(std::initializer_list<std::filesystem::path> files) {
 CurrentFingerprint SceneFingerprints::of(const std::string& name) {
   // The YAML first: the mesh and POI file it names are stamped as it names them now.
   std::string stamp;
-  SceneConfig config;
+  scene_files::SceneConfig config;
   try {
     stamp = stamp_of({scene_file(scene_dir_, name)});
     config = load_scene_config(scene_dir_, name);
@@ -40,7 +40,7 @@ CurrentFingerprint SceneFingerprints::of(const std::string& name) {
   }
   CurrentFingerprint value;
   try {
-    value.fingerprint = scene_fingerprint(Scene::build(config));
+    value.fingerprint = scene_fingerprint(planning::Scene::build(config));
   } catch (const std::exception& e) {
     value.problem = fmt::format("this daemon's scene file does not load: {}", e.what());
   }
@@ -49,4 +49,4 @@ CurrentFingerprint SceneFingerprints::of(const std::string& name) {
   return value;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

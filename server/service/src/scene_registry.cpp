@@ -5,7 +5,7 @@
 #include "ispars/params/input_error.hpp"
 #include "request_input.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 SceneRegistry::Reservation::~Reservation() {
   if (added_) return;
@@ -23,7 +23,7 @@ void SceneRegistry::Reservation::add(std::shared_ptr<RoadmapSession> session) {
 std::unique_ptr<SceneRegistry::Reservation> SceneRegistry::reserve(const std::string& name) {
   std::lock_guard lock(mutex_);
   if (sessions_.count(name) || !loading_.insert(name).second) {
-    throw InputError(kRequest, "scene", fmt::format("scene '{}' is already loaded or being loaded", name));
+    throw params::InputError(kRequest, "scene", fmt::format("scene '{}' is already loaded or being loaded", name));
   }
   return std::unique_ptr<Reservation>(new Reservation(*this, name));
 }
@@ -66,4 +66,4 @@ void SceneRegistry::erase(const std::string& name) {
   sessions_.erase(it);
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

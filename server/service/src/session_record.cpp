@@ -5,13 +5,13 @@
 #include <algorithm>
 #include <chrono>
 
-#include "ispars/builders/recipe_builder.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/builders/recipe_builder.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "request_input.hpp"
 #include "roadmap_session_detail.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 std::uint64_t session_detail::new_generation() {
   return static_cast<std::uint64_t>(
@@ -37,11 +37,12 @@ std::string_view to_string(SessionState state) {
   return "unknown";
 }
 
-SessionRecord::SessionRecord(std::string name, const Scene& scene, std::function<void(const SessionStatus&)> on_status)
+SessionRecord::SessionRecord(std::string name, const planning::Scene& scene,
+                             std::function<void(const SessionStatus&)> on_status)
     : name_(std::move(name)),
       scene_(scene),
       on_status_(std::move(on_status)),
-      scene_with_tasks_(std::make_shared<const Scene>(scene)) {
+      scene_with_tasks_(std::make_shared<const planning::Scene>(scene)) {
   published_.roadmap = std::make_shared<const Roadmap>(scene.pois().size());
 }
 
@@ -62,7 +63,7 @@ SessionStatus SessionRecord::status_locked() const {
   s.dense_edges = dense_.edges;
   s.poi_count = scene_with_tasks_->pois().size();
   s.tasks = live_tasks();
-  s.task_events = ispars::task_events(tasks_) + (accepted_task() ? 1 : 0);
+  s.task_events = service::task_events(tasks_) + (accepted_task() ? 1 : 0);
   s.pois_covered = published_.pois_covered;
   s.pois_covered_root = published_.pois_covered_root;
   s.generation = published_.generation;
@@ -118,14 +119,14 @@ std::vector<InspectionTask> SessionRecord::accepted_tasks() const {
   return out;
 }
 
-std::shared_ptr<const Scene> SessionRecord::scene_with_tasks() const {
+std::shared_ptr<const planning::Scene> SessionRecord::scene_with_tasks() const {
   std::lock_guard lock(mutex_);
   return scene_with_tasks_;
 }
 
 std::uint64_t SessionRecord::task_events() const {
   std::lock_guard lock(mutex_);
-  return ispars::task_events(tasks_);
+  return service::task_events(tasks_);
 }
 
 bool SessionRecord::busy() const {
@@ -158,7 +159,7 @@ void SessionRecord::take_stored(std::optional<StoredRoadmap> stored, SessionStat
 void SessionRecord::forget_roadmap(std::uint64_t generation) {
   recipe_.reset();
   tasks_.clear();  // the tasks were the roadmap's: they go with it
-  scene_with_tasks_ = std::make_shared<const Scene>(scene_);
+  scene_with_tasks_ = std::make_shared<const planning::Scene>(scene_);
   published_ = make_published(std::make_shared<const Roadmap>(scene_.pois().size()), generation, 0);
   dense_ = {};
   samples_done_ = samples_target_ = 0;
@@ -180,14 +181,14 @@ void SessionRecord::keep_drop_generation(std::uint64_t generation) {
 
 void SessionRecord::check_can_change() const {
   check_can_start("scene");
-  if (!damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
+  if (!damage_.empty()) throw params::InputError(kRequest, "scene", fmt::format("scene '{}': {}", name_, damage_));
 }
 
 void SessionRecord::check_can_start(const char* field) const {
-  if (closed_) throw InputError(kRequest, "scene", fmt::format("scene '{}' was unloaded", name_));
-  if (discarding_) throw InputError(kRequest, "scene", fmt::format("scene '{}' is being dropped", name_));
+  if (closed_) throw params::InputError(kRequest, "scene", fmt::format("scene '{}' was unloaded", name_));
+  if (discarding_) throw params::InputError(kRequest, "scene", fmt::format("scene '{}' is being dropped", name_));
   if (state_ == SessionState::queued || state_ == SessionState::building || state_ == SessionState::replaying) {
-    throw InputError(kRequest, field, fmt::format("a build is already running on scene '{}'", name_));
+    throw params::InputError(kRequest, field, fmt::format("a build is already running on scene '{}'", name_));
   }
 }
 
@@ -197,13 +198,13 @@ std::uint64_t SessionRecord::accept_build(RoadmapRecipe recipe, const BuildReque
     std::lock_guard lock(mutex_);
     check_can_start("scene");
     if (!damage_.empty() && !request.replace) {
-      throw InputError(kRequest, "replace",
-                       fmt::format("scene '{}': {}; set replace to discard it and build anew", name_, damage_));
+      throw params::InputError(kRequest, "replace",
+                               fmt::format("scene '{}': {}; set replace to discard it and build anew", name_, damage_));
     }
     if (recipe_ && !request.replace) {
-      throw InputError(kRequest, "replace",
-                       fmt::format("scene '{}' already has a roadmap ({} samples); set replace to rebuild it", name_,
-                                   samples_done_));
+      throw params::InputError(kRequest, "replace",
+                               fmt::format("scene '{}' already has a roadmap ({} samples); set replace to rebuild it",
+                                           name_, samples_done_));
     }
     if (admit) admit();  // the last check: nothing refuses after it
     // Increasing, even if the clock steps back, so replicas always see a new roadmap as new, and
@@ -226,7 +227,8 @@ std::uint64_t SessionRecord::accept_extend(std::uint64_t samples, const Admit& a
   {
     std::lock_guard lock(mutex_);
     check_can_change();
-    if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap to extend", name_));
+    if (!recipe_)
+      throw params::InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap to extend", name_));
     if (admit) admit(*scene_with_tasks_, *recipe_, samples_done_ + samples);
     pending_recipe_.reset();
     pending_samples_ = samples;
@@ -247,14 +249,15 @@ std::size_t SessionRecord::accept_task(InspectionTask task, const Admit& admit) 
     std::lock_guard lock(mutex_);
     check_can_change();
     if (!recipe_) {
-      throw InputError(kRequest, "scene",
-                       fmt::format("scene '{}' has no roadmap: build one, then add tasks to it", name_));
+      throw params::InputError(kRequest, "scene",
+                               fmt::format("scene '{}' has no roadmap: build one, then add tasks to it", name_));
     }
-    if (!takes_pois(recipe_->method)) {
-      throw InputError(kRequest, "scene",
-                       fmt::format("scene '{}' has a {} roadmap, which cannot take a task without a rebuild (spars, "
-                                   "ispars and ispars2 can): add the POIs to the scene file and build again",
-                                   name_, to_string(recipe_->method)));
+    if (!planning::takes_pois(recipe_->method)) {
+      throw params::InputError(
+          kRequest, "scene",
+          fmt::format("scene '{}' has a {} roadmap, which cannot take a task without a rebuild (spars, "
+                      "ispars and ispars2 can): add the POIs to the scene file and build again",
+                      name_, to_string(recipe_->method)));
     }
     check_task(*scene_with_tasks_, tasks_, task);
     if (admit) admit(scene_with_tasks_->with_more_pois(task.pois), *recipe_, samples_done_);
@@ -290,4 +293,4 @@ CancelReach SessionRecord::cancel() {
   return CancelReach::dequeued;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -10,17 +10,19 @@
 #include "request_input.hpp"
 #include "roadmap_session_detail.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 void SessionRecord::check_adoptable() const {
   std::lock_guard lock(mutex_);
   check_can_start("scene");
   if (recipe_ || !tasks_.empty()) {
-    throw InputError(kRequest, "scene", fmt::format("scene '{}' has a roadmap or tasks: it adopts none", name_));
+    throw params::InputError(kRequest, "scene",
+                             fmt::format("scene '{}' has a roadmap or tasks: it adopts none", name_));
   }
 }
 
-void SessionRecord::adopt_tasks(std::vector<InspectionTask> tasks, std::shared_ptr<const Scene> scene_with_tasks) {
+void SessionRecord::adopt_tasks(std::vector<InspectionTask> tasks,
+                                std::shared_ptr<const planning::Scene> scene_with_tasks) {
   {
     std::lock_guard lock(mutex_);
     tasks_ = std::move(tasks);
@@ -32,15 +34,17 @@ void SessionRecord::adopt_tasks(std::vector<InspectionTask> tasks, std::shared_p
 std::pair<std::size_t, std::uint64_t> SessionRecord::check_removal(const std::string& name, bool store_open) const {
   std::lock_guard lock(mutex_);
   check_can_change();
-  if (!recipe_) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap, and so no task", name_));
+  if (!recipe_)
+    throw params::InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap, and so no task", name_));
   const std::size_t index = live_task(tasks_, name);
   if (!store_open) {
-    throw InputError(kRequest, "scene",
-                     fmt::format("scene '{}': its store is not open for writing since an earlier failure; extend "
-                                 "the roadmap (which reopens it), then remove the task",
-                                 name_));
+    throw params::InputError(
+        kRequest, "scene",
+        fmt::format("scene '{}': its store is not open for writing since an earlier failure; extend "
+                    "the roadmap (which reopens it), then remove the task",
+                    name_));
   }
-  return {index, ispars::task_events(tasks_) + 1};
+  return {index, service::task_events(tasks_) + 1};
 }
 
 std::size_t SessionRecord::mark_removed(std::size_t index) {
@@ -58,7 +62,8 @@ std::size_t SessionRecord::mark_removed(std::size_t index) {
 std::uint64_t SessionRecord::begin_discard() {
   std::lock_guard lock(mutex_);
   check_can_start("scene");
-  if (!recipe_ && damage_.empty()) throw InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
+  if (!recipe_ && damage_.empty())
+    throw params::InputError(kRequest, "scene", fmt::format("scene '{}' has no roadmap", name_));
   discarding_ = true;  // no request is accepted while the store goes away
   // A new generation: the empty roadmap is newer than the one discarded (replicas resync, and
   // the fleet weighs this daemon's empty scene above older copies elsewhere, also once it is
@@ -155,7 +160,7 @@ void SessionRecord::record_chunk(ChunkRecord chunk) {
   dense_ = chunk.dense;
 }
 
-void SessionRecord::record_task(InspectionTask task, std::shared_ptr<const Scene> scene_with_tasks,
+void SessionRecord::record_task(InspectionTask task, std::shared_ptr<const planning::Scene> scene_with_tasks,
                                 PublishedRoadmap copy, DenseCounts dense) {
   std::lock_guard lock(mutex_);
   tasks_.push_back(std::move(task));
@@ -208,4 +213,4 @@ void SessionRecord::settle_failure(const std::string& why) {
   cancel_ = false;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -5,20 +5,21 @@
 #include <stdexcept>
 #include <utility>
 
-#include "ispars/builders/poi_visibility.hpp"
-#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/poi_visibility.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
 #include "ispars/service/drop_mark.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 namespace {
 
-std::shared_ptr<const Scene> complete_tasks(const Scene& scene, StoreRecovery& recovery, unsigned threads) {
-  if (recovery.tasks.empty()) return std::make_shared<const Scene>(scene);
-  auto with_tasks = std::make_shared<const Scene>(scene.with_more_pois(task_pois(recovery.tasks)));
+std::shared_ptr<const planning::Scene> complete_tasks(const planning::Scene& scene, StoreRecovery& recovery,
+                                                      unsigned threads) {
+  if (recovery.tasks.empty()) return std::make_shared<const planning::Scene>(scene);
+  auto with_tasks = std::make_shared<const planning::Scene>(scene.with_more_pois(task_pois(recovery.tasks)));
   const auto first = static_cast<PoiId>(scene.pois().size());
-  see_new_pois(recovery.roadmaps.roadmap, *with_tasks, first, threads);
-  if (recovery.roadmaps.dense) see_new_pois(*recovery.roadmaps.dense, *with_tasks, first, threads);
+  planning::see_new_pois(recovery.roadmaps.roadmap, *with_tasks, first, threads);
+  if (recovery.roadmaps.dense) planning::see_new_pois(*recovery.roadmaps.dense, *with_tasks, first, threads);
   return with_tasks;
 }
 
@@ -31,7 +32,7 @@ std::string torn_tail_note(const StoreRecovery& recovery) {
 
 }  // namespace
 
-RecoveredSession recover_session(const std::string& name, const Scene& scene, const std::string& fingerprint,
+RecoveredSession recover_session(const std::string& name, const planning::Scene& scene, const std::string& fingerprint,
                                  const std::filesystem::path& store_dir, const SessionLimits& limits, FileSystem& fs) {
   RecoveredSession r;
   if (!fs.exists(store_dir)) {
@@ -65,8 +66,8 @@ RecoveredSession recover_session(const std::string& name, const Scene& scene, co
   return r;
 }
 
-StoredRoadmap serve_recovery(const Scene& scene, StoreRecovery& recovery, unsigned threads,
-                             std::optional<BuiltRoadmaps>& resume_from) {
+StoredRoadmap serve_recovery(const planning::Scene& scene, StoreRecovery& recovery, unsigned threads,
+                             std::optional<planning::BuiltRoadmaps>& resume_from) {
   StoredRoadmap s;
   s.scene_with_tasks = complete_tasks(scene, recovery, threads);
   s.tasks = std::move(recovery.tasks);
@@ -75,7 +76,7 @@ StoredRoadmap serve_recovery(const Scene& scene, StoreRecovery& recovery, unsign
     s.dense = {recovery.roadmaps.dense->vertex_count(), recovery.roadmaps.dense->edge_count()};
   // A method that resumes from its roadmap needs no other copy: the published one is moved in,
   // and a builder is resumed from a copy of it when a job needs one.
-  const bool resumable = resumes_from_roadmap(s.recipe.method);
+  const bool resumable = planning::resumes_from_roadmap(s.recipe.method);
   s.published = make_published(resumable ? std::make_shared<const Roadmap>(std::move(recovery.roadmaps.roadmap))
                                          : std::make_shared<const Roadmap>(recovery.roadmaps.roadmap),
                                s.recipe.generation, recovery.roadmaps.samples);
@@ -84,4 +85,4 @@ StoredRoadmap serve_recovery(const Scene& scene, StoreRecovery& recovery, unsign
   return s;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -5,12 +5,12 @@
 
 #include <algorithm>
 
-#include "ispars/builders/build_cost.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/builders/build_cost.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "request_input.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 constexpr std::size_t kSnapshotsKept = 4;
@@ -20,8 +20,8 @@ constexpr std::chrono::seconds kSnapshotKeptFor{60};
 // A snapshot's encoding at its worst: the batch copied out of the roadmap and its encoding, a
 // compaction fold's work over the same vertices and edges (build_cost.hpp).
 double snapshot_cost(const Roadmap& roadmap) {
-  return static_cast<double>(roadmap.vertex_count()) * kFoldBytesPerVertex +
-         static_cast<double>(roadmap.edge_count()) * kFoldBytesPerEdge;
+  return static_cast<double>(roadmap.vertex_count()) * planning::kFoldBytesPerVertex +
+         static_cast<double>(roadmap.edge_count()) * planning::kFoldBytesPerEdge;
 }
 
 }  // namespace
@@ -76,17 +76,18 @@ std::shared_ptr<const std::string> SnapshotCache::encode(const RoadmapSession& s
     poi_count = published.roadmap->poi_count();
   } else if (published.generation != generation || published.roadmap->version() < version ||
              (poi_count != 0 && published.roadmap->poi_count() != poi_count)) {
-    throw InputError(kRequest, "snapshot_version",
-                     fmt::format("version {} of roadmap generation {} is no longer available; start the snapshot again",
-                                 version, generation));
+    throw params::InputError(
+        kRequest, "snapshot_version",
+        fmt::format("version {} of roadmap generation {} is no longer available; start the snapshot again", version,
+                    generation));
   }
   // The encoding's worst case is leased before it is made, then only its size while it is kept.
   const auto lease = budget_->lease(snapshot_cost(*published.roadmap), fmt::format("a snapshot of scene '{}'", scene));
   // Stoppable between slices: a daemon that stops does not wait out a large roadmap's encoding.
   std::optional<std::string> made = encode_prefix(*published.roadmap, version, go_on_);
   if (!made) {
-    throw InputError(kRequest, "scene",
-                     fmt::format("the snapshot of scene '{}' was stopped: the daemon is stopping", scene));
+    throw params::InputError(kRequest, "scene",
+                             fmt::format("the snapshot of scene '{}' was stopped: the daemon is stopping", scene));
   }
   auto encoded = std::make_unique<const std::string>(std::move(*made));
   lease->shrink_to(static_cast<double>(encoded->size()));
@@ -104,7 +105,8 @@ SnapshotSlice SnapshotCache::slice(const RoadmapSession& session, const std::str
   if (!bytes) bytes = encode(session, scene, version, generation, poi_count);
   const std::size_t count = std::max<std::size_t>(1, (bytes->size() + kSnapshotChunkBytes - 1) / kSnapshotChunkBytes);
   if (chunk_index >= count) {
-    throw InputError(kRequest, "chunk_index", fmt::format("{} is past the last chunk ({})", chunk_index, count - 1));
+    throw params::InputError(kRequest, "chunk_index",
+                             fmt::format("{} is past the last chunk ({})", chunk_index, count - 1));
   }
   SnapshotSlice slice;
   slice.generation = generation;
@@ -118,4 +120,4 @@ SnapshotSlice SnapshotCache::slice(const RoadmapSession& session, const std::str
   return slice;
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -5,7 +5,7 @@
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/service/scene_catalog.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 StoreScrub::StoreScrub(std::filesystem::path data_dir, Held held, std::shared_ptr<MemoryBudget> budget,
                        std::chrono::milliseconds period, const FileSystem& fs)
@@ -119,4 +119,4 @@ void StoreScrub::check(const std::string& scene) {
   verdicts_[scene] = {key, std::move(problem)};
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

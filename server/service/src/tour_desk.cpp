@@ -4,15 +4,15 @@
 
 #include <algorithm>
 
-#include "ispars/builders/build_cost.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/builders/build_cost.hpp"
+#include "ispars/planning/tour/tour_bound.hpp"
+#include "ispars/planning/tour/tour_closure.hpp"
 #include "ispars/roadmap/inspection_graph.hpp"
-#include "ispars/tour/tour_bound.hpp"
-#include "ispars/tour/tour_closure.hpp"
 #include "request_input.hpp"
 #include "roadmap_session_detail.hpp"
 
-namespace ispars {
+namespace ispars::service {
 namespace {
 
 // The tour's corridor draws at most this many samples a round: it bounds the tour's memory
@@ -25,26 +25,31 @@ constexpr std::size_t kCorridorSamples = 4000;
 // TourClosureOptions::max_candidates; tour_closure.hpp); and the LP bound at its size cap
 // (tour_bound.hpp), unless the roadmap is past the LP's edge limit.
 double tour_cost(const Roadmap& roadmap) {
-  const FlownTourOptions pipeline;
+  const planning::FlownTourOptions pipeline;
   const auto tube = static_cast<double>(kCorridorSamples);
   const auto vertices = static_cast<double>(roadmap.vertex_count());
   const auto edges = static_cast<double>(roadmap.edge_count());
-  const double candidates = std::min(vertices + tube, static_cast<double>(TourClosureOptions{}.max_candidates));
-  const TourBoundOptions lp;
-  const double lp_bytes =
-      roadmap.edge_count() > lp.max_edges ? 0.0 : static_cast<double>(lp.max_cut_nonzeros) * kLpBytesPerNonzero;
-  return lp_bytes + (2.0 * vertices + tube) * kBytesPerVertex +
-         (2.0 * edges + tube * static_cast<double>(pipeline.corridor_max_joins)) * kBytesPerEdge +
+  const double candidates =
+      std::min(vertices + tube, static_cast<double>(planning::TourClosureOptions{}.max_candidates));
+  const planning::TourBoundOptions lp;
+  const double lp_bytes = roadmap.edge_count() > lp.max_edges
+                              ? 0.0
+                              : static_cast<double>(lp.max_cut_nonzeros) * planning::kLpBytesPerNonzero;
+  return lp_bytes + (2.0 * vertices + tube) * planning::kBytesPerVertex +
+         (2.0 * edges + tube * static_cast<double>(pipeline.corridor_max_joins)) * planning::kBytesPerEdge +
          candidates * candidates * sizeof(double);
 }
 
 // A finished pipeline as the service reports it, with the walk's shortcut checked on its own.
-TourOutcome tour_outcome(FlownTour flown, const InspectionGraph& graph, const Roadmap& roadmap, const Scene& scene) {
+TourOutcome tour_outcome(planning::FlownTour flown, const InspectionGraph& graph, const Roadmap& roadmap,
+                         const planning::Scene& scene) {
   TourOutcome o;
   for (const VertexId v : flown.search.tour.walk) o.waypoints.push_back(roadmap.position(v));
-  const SegmentValid segment_valid = [&scene](const Vec3& a, const Vec3& b) { return scene.segment_valid(a, b); };
-  o.shortcut_validation =
-      check_shortcut_tour(graph, roadmap.positions(), 0, flown.search.targets, flown.roadmap_shortcut, segment_valid);
+  const planning::SegmentValid segment_valid = [&scene](const Vec3& a, const Vec3& b) {
+    return scene.segment_valid(a, b);
+  };
+  o.shortcut_validation = planning::check_shortcut_tour(graph, roadmap.positions(), 0, flown.search.targets,
+                                                        flown.roadmap_shortcut, segment_valid);
   o.flown_path = std::move(flown.stops);
   o.flown_sees = std::move(flown.check.sees);
   o.flown_cost = flown.cost;
@@ -77,8 +82,9 @@ void TourDesk::admit(std::shared_ptr<RoadmapSession> session, const std::string&
   {
     std::lock_guard lock(mutex_);
     if (admitted_ >= limit_) {
-      throw InputError(kRequest, "kind",
-                       fmt::format("busy: {} tours are queued or running (this daemon's limit); retry later", limit_));
+      throw params::InputError(
+          kRequest, "kind",
+          fmt::format("busy: {} tours are queued or running (this daemon's limit); retry later", limit_));
     }
     ++admitted_;
     running_.emplace(scene, stop);  // a cancel on the scene stops it, queued or running
@@ -88,7 +94,7 @@ void TourDesk::admit(std::shared_ptr<RoadmapSession> session, const std::string&
                        callbacks = std::move(callbacks), stop, lease] { run(session, request, callbacks, stop); });
   if (!queued) {  // only when stopping
     release(stop);
-    throw InputError(kRequest, "scene", "the daemon is stopping");
+    throw params::InputError(kRequest, "scene", "the daemon is stopping");
   }
 }
 
@@ -131,7 +137,7 @@ void TourDesk::run(const std::shared_ptr<RoadmapSession>& session, const TourReq
   try {
     const PublishedRoadmap published = session->published();
     const InspectionGraph graph = InspectionGraph::from_roadmap(*published.roadmap);
-    FlownTourOptions options;  // the pipeline's defaults: one tour model with the lab and Python
+    planning::FlownTourOptions options;  // the pipeline's defaults: one tour model with the lab and Python
     options.search.budget_seconds = request.budget_seconds;
     options.search.seed = request.seed;
     options.search.stop = stop.get();
@@ -154,13 +160,13 @@ void TourDesk::run(const std::shared_ptr<RoadmapSession>& session, const TourReq
     };
     // The scene as the roadmap was built in (its recipe's deltas, its tasks' POIs), taken after
     // the roadmap: never older than it.
-    const std::shared_ptr<const Scene> with_tasks = session->scene_with_tasks();
+    const std::shared_ptr<const planning::Scene> with_tasks = session->scene_with_tasks();
     const std::optional<RoadmapRecipe> recipe = session->status().recipe;
-    const Scene scene = recipe ? session_detail::scene_for(*with_tasks, *recipe) : *with_tasks;
-    TourOutcome outcome =
-        tour_outcome(fly_tour(scene, graph, published.roadmap->positions(), options), graph, *published.roadmap, scene);
+    const planning::Scene scene = recipe ? session_detail::scene_for(*with_tasks, *recipe) : *with_tasks;
+    TourOutcome outcome = tour_outcome(planning::fly_tour(scene, graph, published.roadmap->positions(), options), graph,
+                                       *published.roadmap, scene);
     if (callbacks.done) callbacks.done(std::move(outcome));
-  } catch (const InputError& e) {
+  } catch (const params::InputError& e) {
     if (callbacks.failed) callbacks.failed(e.what());
   } catch (const std::exception& e) {
     if (stop->load()) {  // stopped before the search found a first tour
@@ -171,4 +177,4 @@ void TourDesk::run(const std::shared_ptr<RoadmapSession>& session, const TourReq
   }
 }
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -1,6 +1,6 @@
 #include "ispars/service/worker_pool.hpp"
 
-namespace ispars::server {
+namespace ispars::service {
 
 WorkerPool::WorkerPool(unsigned threads, std::size_t max_queued) : max_queued_(max_queued) {
   for (unsigned i = 0; i < threads; ++i) threads_.emplace_back([this] { run(); });
@@ -54,4 +54,4 @@ void WorkerPool::run() {
   }
 }
 
-}  // namespace ispars::server
+}  // namespace ispars::service

@@ -1,4 +1,4 @@
-#include "ispars/builders/build_cost.hpp"
+#include "ispars/planning/builders/build_cost.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,11 +6,11 @@
 
 #include "ispars/scene_files/random.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 
 double free_fraction(const Scene& scene, int probes) {
   const Aabb& box = scene.config().bounds;
-  Rng rng(0x5ca1ab1e);
+  scene_files::Rng rng(0x5ca1ab1e);
   int free = 0;
   for (int i = 0; i < probes; ++i) {
     const Vec3 p(rng.uniform(box.min.x(), box.max.x()), rng.uniform(box.min.y(), box.max.y()),
@@ -69,4 +69,4 @@ BuildCost estimate_build_cost(const Scene& scene, const RoadmapRecipe& recipe, s
   return cost;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,6 +1,6 @@
-#include "ispars/builders/delta_prm.hpp"
+#include "ispars/planning/builders/delta_prm.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 
 DeltaPrm::DeltaPrm(const Scene& scene, double delta)
     : scene_(&scene), delta_(delta), graph_(scene.pois().size()), grid_(delta) {}
@@ -25,4 +25,4 @@ void DeltaPrm::use_scene(const Scene& scene) {
   graph_.widen_pois(scene.pois().size());
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,8 +1,8 @@
-#include "ispars/builders/dense_builder.hpp"
+#include "ispars/planning/builders/dense_builder.hpp"
 
 #include <algorithm>
 
-namespace ispars {
+namespace ispars::planning {
 
 DenseBuilder::DenseBuilder(const Scene& scene, const BuildOptions& options)
     : scene_(&scene), options_(options), rng_(options.seed), prm_(scene, scene.config().dense_delta) {
@@ -34,4 +34,4 @@ void DenseBuilder::step(const Vec3& sample) {
   if (scene_->point_valid(sample)) prm_.insert(sample, scene_->visibility().visible_pois(sample));
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,6 +1,6 @@
-#include "ispars/builders/irisc_builder.hpp"
+#include "ispars/planning/builders/irisc_builder.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 
 IriscBuilder::IriscBuilder(const Scene& scene, const BuildOptions& options)
     : scene_(&scene),
@@ -64,4 +64,4 @@ void IriscBuilder::step(const Vec3& sample) {
   graph_.add_edge(from, id);  // the steering segment, already checked (a no-op when joined above)
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,4 +1,4 @@
-#include "ispars/builders/known_routes.hpp"
+#include "ispars/planning/builders/known_routes.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 constexpr std::size_t kFirstSlots = 1024;
@@ -83,4 +83,4 @@ void KnownRoutes::remember(VertexId a, VertexId b, double length) {
   young_.put(key(a, b), length);
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

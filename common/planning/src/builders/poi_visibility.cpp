@@ -1,10 +1,10 @@
-#include "ispars/builders/poi_visibility.hpp"
+#include "ispars/planning/builders/poi_visibility.hpp"
 
 #include <algorithm>
 #include <thread>
 #include <vector>
 
-namespace ispars {
+namespace ispars::planning {
 
 PoiSetTable new_poi_visibility(const Scene& widened, const Roadmap& roadmap, PoiId first,
                                const std::function<bool()>& keep_going, unsigned threads) {
@@ -50,4 +50,4 @@ void see_new_pois(Roadmap& roadmap, const Scene& widened, PoiId first, unsigned 
   }
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,11 +1,11 @@
-#include "ispars/builders/recipe_builder.hpp"
+#include "ispars/planning/builders/recipe_builder.hpp"
 
 #include <fmt/format.h>
 
 #include "ispars/params/fields.hpp"
 #include "ispars/params/input_error.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // Parameters far off the scene's scale make a single neighbourhood query scan millions of grid
@@ -13,16 +13,17 @@ namespace {
 void check_override_scale(const Scene& scene, const RoadmapRecipe& recipe, const std::string& file) {
   const double diagonal = (scene.config().bounds.max - scene.config().bounds.min).norm();
   if (recipe.dense_delta < diagonal * 1e-4) {
-    throw InputError(file, "overrides.dense_delta",
-                     fmt::format("{} is too small for this scene (at least {:.4g}, 1e-4 of its diagonal)",
-                                 recipe.dense_delta, diagonal * 1e-4));
+    throw params::InputError(file, "overrides.dense_delta",
+                             fmt::format("{} is too small for this scene (at least {:.4g}, 1e-4 of its diagonal)",
+                                         recipe.dense_delta, diagonal * 1e-4));
   }
   if (recipe.sparse_delta > diagonal) {
-    throw InputError(file, "overrides.sparse_delta",
-                     fmt::format("{} is larger than the scene's diagonal ({:.4g})", recipe.sparse_delta, diagonal));
+    throw params::InputError(
+        file, "overrides.sparse_delta",
+        fmt::format("{} is larger than the scene's diagonal ({:.4g})", recipe.sparse_delta, diagonal));
   }
   if (recipe.sparse_delta > 50 * recipe.dense_delta) {
-    throw InputError(
+    throw params::InputError(
         file, "overrides.sparse_delta",
         fmt::format("must be at most 50 times dense_delta (got {} and {})", recipe.sparse_delta, recipe.dense_delta));
   }
@@ -33,11 +34,12 @@ void check_override_scale(const Scene& scene, const RoadmapRecipe& recipe, const
 RoadmapRecipe make_recipe(const std::string& name, const Scene& scene, const BuildRequest& request,
                           std::string_view file) {
   const std::string source(file);
-  if (std::string p = params::problem(kSamples, request.samples); !p.empty()) throw InputError(source, "samples", p);
+  if (std::string p = params::problem(kSamples, request.samples); !p.empty())
+    throw params::InputError(source, "samples", p);
   if (request.variant && !has_variants(request.method)) {
-    throw InputError(source, "variant",
-                     fmt::format("'{}' given, but {} has no rule-set variants (spars and ispars have)",
-                                 to_string(*request.variant), to_string(request.method)));
+    throw params::InputError(source, "variant",
+                             fmt::format("'{}' given, but {} has no rule-set variants (spars and ispars have)",
+                                         to_string(*request.variant), to_string(request.method)));
   }
   params::check(request.overrides, file, "overrides.");
   RoadmapRecipe recipe;
@@ -94,4 +96,4 @@ std::uint64_t broken_promises(const VerificationReport& report, bool invariant_p
          (counted ? report.invariant_violations : 0);
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

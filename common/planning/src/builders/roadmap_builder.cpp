@@ -1,13 +1,13 @@
-#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
 
-#include "ispars/builders/dense_builder.hpp"
-#include "ispars/builders/irisc_builder.hpp"
-#include "ispars/builders/spars_builder.hpp"
+#include "ispars/planning/builders/dense_builder.hpp"
+#include "ispars/planning/builders/irisc_builder.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
 
 #include <stdexcept>
 #include <string>
 
-namespace ispars {
+namespace ispars::planning {
 
 std::size_t RoadmapBuilder::add_pois(const Scene&, const std::function<bool()>&) {
   throw std::invalid_argument(
@@ -94,4 +94,4 @@ std::unique_ptr<RoadmapBuilder> resume_roadmap_builder(BuildMethod method, const
   throw std::invalid_argument("no builder resumes this method");
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

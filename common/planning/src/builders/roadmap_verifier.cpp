@@ -1,14 +1,14 @@
-#include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
 
 #include <algorithm>
 #include <bit>
 #include <optional>
 #include <vector>
 
-#include "ispars/geometry/point_grid.hpp"
+#include "ispars/planning/geometry/point_grid.hpp"
 #include "ispars/scene_files/random.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // Invariant 1 at one point q seeing `seen`: how many of those POIs no sparse vertex within Delta
@@ -127,7 +127,7 @@ void check_samples(const Scene& scene, const Roadmap& sparse, std::size_t sample
 VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& sparse, std::size_t samples,
                                         std::uint64_t seed, const VerifyKeepGoing& keep_going) {
   VerificationReport report;
-  Rng rng(seed);
+  scene_files::Rng rng(seed);
   check_samples(
       scene, sparse, samples, keep_going,
       [&]() -> std::optional<Vec3> { return scene.sample_valid_configuration(rng); }, report);
@@ -138,7 +138,7 @@ VerificationReport verify_fresh_samples(const Scene& scene, const Roadmap& spars
 VerificationReport verify_drawn_samples(const Scene& scene, const Roadmap& sparse, std::uint64_t seed,
                                         std::size_t samples, const VerifyKeepGoing& keep_going) {
   VerificationReport report;
-  Rng stream(seed);
+  scene_files::Rng stream(seed);
   check_samples(
       scene, sparse, samples, keep_going,
       [&]() -> std::optional<Vec3> {
@@ -151,4 +151,4 @@ VerificationReport verify_drawn_samples(const Scene& scene, const Roadmap& spars
   return report;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,12 +1,12 @@
-#include "ispars/builders/route_stretch.hpp"
+#include "ispars/planning/builders/route_stretch.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include "ispars/search/graph_search.hpp"
+#include "ispars/planning/search/graph_search.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // The ratios d_s / reference and the excesses (d_s - t reference) / Delta of one bin's pairs.
@@ -120,4 +120,4 @@ RouteStretchReport measure_route_stretch(const Scene& scene, const Roadmap& spar
   return report;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,11 +1,11 @@
-#include "ispars/builders/sample_batch.hpp"
+#include "ispars/planning/builders/sample_batch.hpp"
 
 #include <algorithm>
 #include <thread>
 
-namespace ispars {
+namespace ispars::planning {
 
-void prepare_samples(const Scene& scene, Rng& rng, std::size_t count, unsigned threads,
+void prepare_samples(const Scene& scene, scene_files::Rng& rng, std::size_t count, unsigned threads,
                      std::vector<PreparedSample>& out) {
   out.resize(count);
   for (auto& sample : out) sample.q = rng.uniform_in(scene.config().bounds);
@@ -31,8 +31,8 @@ void prepare_samples(const Scene& scene, Rng& rng, std::size_t count, unsigned t
   for (auto& th : pool) th.join();
 }
 
-void skip_samples(Rng& rng, std::size_t count) {
+void skip_samples(scene_files::Rng& rng, std::size_t count) {
   rng.discard(3 * static_cast<std::uint64_t>(count));  // uniform_in: one draw a coordinate
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,4 +1,4 @@
-#include "ispars/builders/spars_builder.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,7 @@
 
 #include "ispars/roadmap/build_recipe.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 constexpr std::size_t kBatch = 256;
@@ -342,4 +342,4 @@ std::vector<VertexId> SparsBuilder::interface_supports(VertexId v, VertexId v2) 
   return it == supports_[v].end() ? std::vector<VertexId>{} : it->second;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

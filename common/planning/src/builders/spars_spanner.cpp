@@ -20,9 +20,9 @@
 #include <cmath>
 #include <span>
 
-#include "ispars/builders/spars_builder.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 
 void SparsBuilder::shortcut_test(VertexId q) {
   const VertexId v = rep_[q];
@@ -313,4 +313,4 @@ std::vector<VertexId> SparsBuilder::reachable_from(VertexId s) const {
   return out;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

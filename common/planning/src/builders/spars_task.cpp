@@ -7,10 +7,10 @@
 #include <thread>
 #include <vector>
 
-#include "ispars/builders/poi_visibility.hpp"
-#include "ispars/builders/spars_builder.hpp"
+#include "ispars/planning/builders/poi_visibility.hpp"
+#include "ispars/planning/builders/spars_builder.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // Throws unless `widened` begins with `scene`'s POIs, in order.
@@ -38,7 +38,7 @@ struct ReplayedSample {
 // Draws `count` samples from `stream` in order (three uniforms each, as prepare_samples does),
 // then finds each one's new POIs on `threads` threads: the work that depends on the sample alone.
 // The result does not depend on the thread count.
-void replay_samples(const Scene& widened, Rng& stream, std::size_t count, PoiId first, unsigned threads,
+void replay_samples(const Scene& widened, scene_files::Rng& stream, std::size_t count, PoiId first, unsigned threads,
                     std::vector<ReplayedSample>& out) {
   out.resize(count);
   for (ReplayedSample& s : out) s.q = stream.uniform_in(widened.config().bounds);
@@ -136,7 +136,7 @@ std::size_t SparsBuilder::replay_stream(PoiSetTable& sparse_fresh, PoiId first,
   // The build's samples drawn again, in its order: its seed's stream (prepare_samples), in blocks
   // whose chi runs on the build's threads; the inspection test then takes them one by one.
   constexpr std::size_t kBlock = 1024;
-  Rng stream(options_.seed);
+  scene_files::Rng stream(options_.seed);
   std::vector<ReplayedSample> block;
   std::vector<std::uint64_t> seen(poi_words(sparse_fresh.poi_count()));
   std::size_t added = 0;
@@ -187,7 +187,7 @@ std::size_t SparsBuilder::replay_witnesses(VertexId first_guard, const std::func
     }
     return admitted;
   }
-  Rng stream(options_.seed);  // the build's samples drawn again, in its order (prepare_samples)
+  scene_files::Rng stream(options_.seed);  // the build's samples drawn again, in its order (prepare_samples)
   for (std::size_t i = 0; i < samples_; ++i) {
     stop_if_asked(keep_going, i);
     admitted += witness_again(stream.uniform_in(scene_->config().bounds), kNoVertex, first_guard) ? 1 : 0;
@@ -230,4 +230,4 @@ bool SparsBuilder::new_pois_covered(const Vec3& q, PoiBits seen, const PoiSetTab
   return false;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

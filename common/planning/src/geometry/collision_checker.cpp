@@ -1,10 +1,10 @@
-#include "ispars/geometry/collision_checker.hpp"
+#include "ispars/planning/geometry/collision_checker.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // Embree culls BVH nodes against the query sphere in single precision. Padding the sphere by
@@ -121,4 +121,4 @@ double CollisionChecker::distance_to_surface(const Vec3& q) const {
   return std::sqrt(probe.best_squared);
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

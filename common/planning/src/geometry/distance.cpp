@@ -1,9 +1,9 @@
-#include "ispars/geometry/distance.hpp"
+#include "ispars/planning/geometry/distance.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 // A triangle whose cross product is this small relative to its edge lengths has no usable
@@ -156,4 +156,4 @@ double segment_triangle_distance_squared(const Vec3& s0, const Vec3& s1, const T
   return best;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,12 +1,12 @@
-#include "ispars/geometry/embree_scene.hpp"
+#include "ispars/planning/geometry/embree_scene.hpp"
 
 #include <cstring>
 #include <stdexcept>
 #include <string>
 
-namespace ispars {
+namespace ispars::planning {
 
-std::vector<Triangle> to_triangles(const TriangleMesh& mesh) {
+std::vector<Triangle> to_triangles(const scene_files::TriangleMesh& mesh) {
   std::vector<Triangle> out;
   out.reserve(mesh.triangle_count());
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
@@ -26,7 +26,7 @@ void throw_on_device_error(RTCDevice device, const char* what) {
 
 }  // namespace
 
-EmbreeScene::EmbreeScene(const TriangleMesh& mesh) : triangles_(to_triangles(mesh)) {
+EmbreeScene::EmbreeScene(const scene_files::TriangleMesh& mesh) : triangles_(to_triangles(mesh)) {
   device_ = rtcNewDevice("verbose=0");
   if (device_ == nullptr) throw std::runtime_error("Embree: cannot create a device");
   scene_ = rtcNewScene(device_);
@@ -60,4 +60,4 @@ EmbreeScene::~EmbreeScene() {
   if (device_ != nullptr) rtcReleaseDevice(device_);
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

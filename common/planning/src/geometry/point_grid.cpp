@@ -1,9 +1,9 @@
-#include "ispars/geometry/point_grid.hpp"
+#include "ispars/planning/geometry/point_grid.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace ispars {
+namespace ispars::planning {
 
 PointGrid::Key PointGrid::key(std::int64_t x, std::int64_t y, std::int64_t z) {
   // 21 bits per axis (two's complement, masked): about a million cells each way.
@@ -39,4 +39,4 @@ void PointGrid::within(const Vec3& q, double radius, std::span<const Vec3> posit
   std::sort(out.begin(), out.end());
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,11 +1,11 @@
-#include "ispars/geometry/visibility.hpp"
+#include "ispars/planning/geometry/visibility.hpp"
 
 #include <algorithm>
 #include <utility>
 
 #include <nanoflann.hpp>
 
-namespace ispars {
+namespace ispars::planning {
 
 // nanoflann's view of the POI positions.
 struct PoiCloud {
@@ -129,4 +129,4 @@ std::vector<PoiId> VisibilityOracle::visible_pois(const Vec3& q) const {
   return out;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

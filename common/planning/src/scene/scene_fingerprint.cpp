@@ -1,10 +1,10 @@
-#include "ispars/scene/scene_fingerprint.hpp"
+#include "ispars/planning/scene/scene_fingerprint.hpp"
 
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 class Fnv1a {
@@ -32,7 +32,7 @@ class Fnv1a {
 
 std::string scene_fingerprint(const Scene& scene) {
   Fnv1a h;
-  const TriangleMesh& mesh = scene.mesh();
+  const scene_files::TriangleMesh& mesh = scene.mesh();
   const std::uint64_t nv = mesh.vertices.size(), nt = mesh.triangles.size(), np = scene.pois().size();
   h.bytes(&nv, sizeof nv);
   for (const auto& v : mesh.vertices) h.bytes(v.data(), 3 * sizeof(float));
@@ -40,7 +40,7 @@ std::string scene_fingerprint(const Scene& scene) {
   for (const auto& t : mesh.triangles) h.bytes(t.data(), sizeof t);
   h.bytes(&np, sizeof np);
   for (const Vec3& p : scene.pois()) h.vec(p);
-  const SceneConfig& c = scene.config();
+  const scene_files::SceneConfig& c = scene.config();
   h.vec(c.bounds.min);
   h.vec(c.bounds.max);
   for (const double v : {c.scale, c.robot_radius, c.sensor_range, c.dense_delta, c.sparse_delta, c.stretch})
@@ -51,4 +51,4 @@ std::string scene_fingerprint(const Scene& scene) {
   return text;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

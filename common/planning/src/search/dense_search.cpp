@@ -1,10 +1,10 @@
-#include "ispars/search/dense_search.hpp"
+#include "ispars/planning/search/dense_search.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
 
-namespace ispars {
+namespace ispars::planning {
 
 void DenseSearch::start(std::size_t vertex_count, VertexId source) {
   for (const VertexId v : touched_) {
@@ -29,4 +29,4 @@ std::vector<VertexId> DenseSearch::path_to(VertexId source, VertexId target) con
   return path;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,6 +1,6 @@
-#include "ispars/search/graph_search.hpp"
+#include "ispars/planning/search/graph_search.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 
 std::vector<double> shortest_distances(const Roadmap& graph, VertexId source) {
   std::vector<double> distance;
@@ -9,4 +9,4 @@ std::vector<double> shortest_distances(const Roadmap& graph, VertexId source) {
   return distance;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,4 +1,4 @@
-#include "ispars/search/path_query.hpp"
+#include "ispars/planning/search/path_query.hpp"
 
 #include <fmt/format.h>
 
@@ -6,9 +6,9 @@
 #include <limits>
 
 #include "ispars/params/input_error.hpp"
-#include "ispars/search/graph_search.hpp"
+#include "ispars/planning/search/graph_search.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 struct Join {
@@ -18,12 +18,13 @@ struct Join {
 
 // Every roadmap vertex within `radius` of p reachable by a free segment, nearest first.
 std::vector<Join> joins(const Scene& scene, const Roadmap& roadmap, const Vec3& p, double radius, const char* field) {
-  if (!p.allFinite()) throw InputError("path", field, "must be three finite numbers");
+  if (!p.allFinite()) throw params::InputError("path", field, "must be three finite numbers");
   if (!scene.config().bounds.contains(p)) {
-    throw InputError("path", field, fmt::format("[{}, {}, {}] is outside the scene bounds", p.x(), p.y(), p.z()));
+    throw params::InputError("path", field,
+                             fmt::format("[{}, {}, {}] is outside the scene bounds", p.x(), p.y(), p.z()));
   }
   if (!scene.point_valid(p)) {
-    throw InputError("path", field, fmt::format("[{}, {}, {}] is in collision", p.x(), p.y(), p.z()));
+    throw params::InputError("path", field, fmt::format("[{}, {}, {}] is in collision", p.x(), p.y(), p.z()));
   }
   std::vector<Join> near;
   const auto positions = roadmap.positions();
@@ -38,10 +39,10 @@ std::vector<Join> joins(const Scene& scene, const Roadmap& roadmap, const Vec3& 
     if (scene.segment_valid(p, positions[j.vertex])) free.push_back(j);
   }
   if (free.empty()) {
-    throw InputError("path", field,
-                     fmt::format("[{}, {}, {}] has no free segment to a roadmap vertex within Delta = {} "
-                                 "({} vertices within it)",
-                                 p.x(), p.y(), p.z(), radius, near.size()));
+    throw params::InputError("path", field,
+                             fmt::format("[{}, {}, {}] has no free segment to a roadmap vertex within Delta = {} "
+                                         "({} vertices within it)",
+                                         p.x(), p.y(), p.z(), radius, near.size()));
   }
   return free;
 }
@@ -79,8 +80,8 @@ RoadmapPath plan_path(const Scene& scene, const Roadmap& roadmap, const Vec3& st
     return path;
   }
   if (best == kNoVertex) {
-    throw InputError("path", "to",
-                     "the goal joins the roadmap in a different component from the start: no path on this roadmap");
+    throw params::InputError(
+        "path", "to", "the goal joins the roadmap in a different component from the start: no path on this roadmap");
   }
   for (VertexId v = best; v != kNoVertex; v = parent[v]) path.vertices.push_back(v);
   std::reverse(path.vertices.begin(), path.vertices.end());
@@ -93,4 +94,4 @@ RoadmapPath plan_path(const Scene& scene, const Roadmap& roadmap, const Vec3& st
   return path;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

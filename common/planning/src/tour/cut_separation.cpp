@@ -1,9 +1,9 @@
-#include "ispars/tour/cut_separation.hpp"
+#include "ispars/planning/tour/cut_separation.hpp"
 
 #include <algorithm>
 #include <limits>
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 constexpr double kResidual = 1e-9;
@@ -163,4 +163,4 @@ std::vector<char> MaxFlow::sink_side_complement() const {
   return in_s;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

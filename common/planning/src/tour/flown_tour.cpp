@@ -1,4 +1,4 @@
-#include "ispars/tour/flown_tour.hpp"
+#include "ispars/planning/tour/flown_tour.hpp"
 
 #include <fmt/format.h>
 
@@ -7,10 +7,10 @@
 #include <stdexcept>
 #include <utility>
 
-#include "ispars/tour/tour_corridor.hpp"
-#include "ispars/tour/tour_shortcut.hpp"
+#include "ispars/planning/tour/tour_corridor.hpp"
+#include "ispars/planning/tour/tour_shortcut.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -209,4 +209,4 @@ FlownTour fly_tour(const Scene& scene, const InspectionGraph& graph, std::span<c
   return run.run();
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

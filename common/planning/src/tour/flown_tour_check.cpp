@@ -1,11 +1,11 @@
-#include "ispars/tour/flown_tour_check.hpp"
+#include "ispars/planning/tour/flown_tour_check.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 
-namespace ispars {
+namespace ispars::planning {
 
 FlownTourCheck check_flown_tour(const Scene& scene, const Vec3& root, std::span<const PoiId> targets,
                                 std::span<const Vec3> stops, double stated_cost) {
@@ -49,4 +49,4 @@ FlownTourCheck check_flown_tour(const Scene& scene, const Vec3& root, std::span<
   return c;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -10,10 +10,10 @@
 #include <utility>
 #include <vector>
 
+#include "ispars/planning/tour/tour_closure.hpp"
 #include "ispars/scene_files/random.hpp"
-#include "ispars/tour/tour_closure.hpp"
 
-namespace ispars::gip_search {
+namespace ispars::planning::gip_search {
 // Internal linkage: one translation unit (gip_solver.cpp) uses this, and the compiler inlines
 // the search's small helpers into their callers far more readily than for external ones.
 namespace {
@@ -380,12 +380,12 @@ class Chain {
     for (const std::size_t p : positions) erase_at(s, p);
   }
 
-  Rng& rng() { return rng_; }
+  scene_files::Rng& rng() { return rng_; }
 
  private:
   const Closure& c_;
-  Rng rng_;
+  scene_files::Rng rng_;
 };
 
 }  // namespace
-}  // namespace ispars::gip_search
+}  // namespace ispars::planning::gip_search

@@ -1,4 +1,4 @@
-#include "ispars/tour/gip_solver.hpp"
+#include "ispars/planning/tour/gip_solver.hpp"
 
 #include <fmt/format.h>
 
@@ -13,13 +13,13 @@
 
 #include "gip_search.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/planning/search/graph_search.hpp"
+#include "ispars/planning/tour/quick_tour.hpp"
+#include "ispars/planning/tour/tour_bound.hpp"
+#include "ispars/planning/tour/tour_closure.hpp"
 #include "ispars/scene_files/random.hpp"
-#include "ispars/search/graph_search.hpp"
-#include "ispars/tour/quick_tour.hpp"
-#include "ispars/tour/tour_bound.hpp"
-#include "ispars/tour/tour_closure.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -50,13 +50,13 @@ std::vector<PoiId> choose_targets(const InspectionGraph& g, const GipOptions& o,
     for (PoiId p = 0; p < g.poi_count(); ++p) {
       if (seen[p]) targets.push_back(p);
     }
-    if (targets.empty()) throw InputError("tour", "targets", "no POI is seen from the root's component");
+    if (targets.empty()) throw params::InputError("tour", "targets", "no POI is seen from the root's component");
     return targets;
   }
   targets = *o.targets;
   std::sort(targets.begin(), targets.end());
   targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
-  if (targets.empty()) throw InputError("tour", "targets", "the target set is empty");
+  if (targets.empty()) throw params::InputError("tour", "targets", "the target set is empty");
   std::size_t unknown = 0, unreachable = 0;
   PoiId first_unknown = 0, first_unreachable = 0;
   for (const PoiId p : targets) {
@@ -67,14 +67,14 @@ std::vector<PoiId> choose_targets(const InspectionGraph& g, const GipOptions& o,
     }
   }
   if (unknown > 0) {
-    throw InputError("tour", "targets",
-                     fmt::format("{} unknown POI ids (the first: {}; the graph has POIs 0..{})", unknown, first_unknown,
-                                 g.poi_count() == 0 ? 0 : g.poi_count() - 1));
+    throw params::InputError("tour", "targets",
+                             fmt::format("{} unknown POI ids (the first: {}; the graph has POIs 0..{})", unknown,
+                                         first_unknown, g.poi_count() == 0 ? 0 : g.poi_count() - 1));
   }
   if (unreachable > 0) {
-    throw InputError("tour", "targets",
-                     fmt::format("{} targets are seen by no vertex reachable from the root (the first: POI {})",
-                                 unreachable, first_unreachable));
+    throw params::InputError("tour", "targets",
+                             fmt::format("{} targets are seen by no vertex reachable from the root (the first: POI {})",
+                                         unreachable, first_unreachable));
   }
   return targets;
 }
@@ -103,17 +103,17 @@ InspectionTour expand(const InspectionGraph& g, const Closure& c, const std::vec
 // The root and budget checked; a root with no edges refused unless it sees every target itself.
 void check_options(const InspectionGraph& g, const GipOptions& o) {
   if (o.root >= g.vertex_count()) {
-    throw InputError("tour", "root",
-                     fmt::format("vertex {} is not in the graph ({} vertices)", o.root, g.vertex_count()));
+    throw params::InputError("tour", "root",
+                             fmt::format("vertex {} is not in the graph ({} vertices)", o.root, g.vertex_count()));
   }
   if (!(o.budget_seconds >= 0.0) || !std::isfinite(o.budget_seconds)) {
-    throw InputError("tour", "budget",
-                     fmt::format("must be a finite number of seconds >= 0, got {}", o.budget_seconds));
+    throw params::InputError("tour", "budget",
+                             fmt::format("must be a finite number of seconds >= 0, got {}", o.budget_seconds));
   }
   for (const VertexId v : o.initial_walk) {
     if (v >= g.vertex_count()) {
-      throw InputError("tour", "initial_walk",
-                       fmt::format("vertex {} is not in the graph ({} vertices)", v, g.vertex_count()));
+      throw params::InputError("tour", "initial_walk",
+                               fmt::format("vertex {} is not in the graph ({} vertices)", v, g.vertex_count()));
     }
   }
   if (!g.neighbors(o.root).empty()) return;
@@ -124,7 +124,8 @@ void check_options(const InspectionGraph& g, const GipOptions& o) {
                                                [&](PoiId p) { return std::binary_search(sees.begin(), sees.end(), p); })
           : !sees.empty();
   if (!root_suffices) {
-    throw InputError("tour", "root", fmt::format("the root (vertex {}) has no edges: no tour can leave it", o.root));
+    throw params::InputError("tour", "root",
+                             fmt::format("the root (vertex {}) has no edges: no tour can leave it", o.root));
   }
 }
 
@@ -344,4 +345,4 @@ GipResult solve_gip(const InspectionGraph& g, const GipOptions& o) {
   return run.solve();
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,10 +1,10 @@
-#include "ispars/tour/inspection_tour.hpp"
+#include "ispars/planning/tour/inspection_tour.hpp"
 
 #include <fmt/format.h>
 
 #include <cmath>
 
-namespace ispars {
+namespace ispars::planning {
 
 TourValidation validate_tour(const InspectionGraph& graph, VertexId root, const std::vector<PoiId>& targets,
                              const InspectionTour& tour) {
@@ -49,4 +49,4 @@ TourValidation validate_tour(const InspectionGraph& graph, VertexId root, const 
   return v;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

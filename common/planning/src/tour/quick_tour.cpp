@@ -1,11 +1,11 @@
-#include "ispars/tour/quick_tour.hpp"
+#include "ispars/planning/tour/quick_tour.hpp"
 
 #include <algorithm>
 #include <functional>
 #include <limits>
 #include <queue>
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 constexpr double kUnreached = std::numeric_limits<double>::infinity();
@@ -102,4 +102,4 @@ std::optional<InspectionTour> nearest_viewpoint_tour(const InspectionGraph& g, V
   return tour;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

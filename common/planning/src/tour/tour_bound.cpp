@@ -1,4 +1,4 @@
-#include "ispars/tour/tour_bound.hpp"
+#include "ispars/planning/tour/tour_bound.hpp"
 
 #include <fmt/format.h>
 #include <ClpEventHandler.hpp>
@@ -10,9 +10,9 @@
 #include <limits>
 #include <unordered_set>
 
-#include "ispars/tour/cut_separation.hpp"
+#include "ispars/planning/tour/cut_separation.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -221,4 +221,4 @@ TourBoundResult lp_tour_bound(const InspectionGraph& graph, const TourBoundOptio
   return result;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

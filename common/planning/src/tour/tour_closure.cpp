@@ -1,13 +1,13 @@
-#include "ispars/tour/tour_closure.hpp"
+#include "ispars/planning/tour/tour_closure.hpp"
 
 #include <algorithm>
 #include <functional>
 #include <limits>
 #include <thread>
 
-#include "ispars/search/graph_search.hpp"
+#include "ispars/planning/search/graph_search.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 constexpr double kNoRoute = std::numeric_limits<double>::infinity();
@@ -219,4 +219,4 @@ void TourClosure::compute_row(std::size_t a, std::vector<double>& dist) const {
   ++row_count_;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,4 +1,4 @@
-#include "ispars/tour/tour_corridor.hpp"
+#include "ispars/planning/tour/tour_corridor.hpp"
 
 #include <fmt/format.h>
 
@@ -11,10 +11,10 @@
 #include <unordered_map>
 #include <utility>
 
-#include "ispars/geometry/point_grid.hpp"
+#include "ispars/planning/geometry/point_grid.hpp"
 #include "ispars/scene_files/random.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 double distance_to_segment(const Vec3& q, const Vec3& a, const Vec3& b) {
@@ -40,7 +40,7 @@ class Tube {
 
   /// A point uniform over the union, or nothing when this draw is rejected: a capsule is chosen by
   /// volume, a point uniform in it, kept with probability 1 / (capsules containing it).
-  [[nodiscard]] std::optional<Vec3> draw(Rng& rng) const {
+  [[nodiscard]] std::optional<Vec3> draw(scene_files::Rng& rng) const {
     const double at = rng.uniform01() * capsule_volume();
     const auto i =
         static_cast<std::size_t>(std::upper_bound(cumulative_.begin(), cumulative_.end(), at) - cumulative_.begin());
@@ -56,7 +56,7 @@ class Tube {
 
  private:
   // Uniform in the capsule around a-b: uniform in its bounding cylinder-box, kept when inside.
-  [[nodiscard]] Vec3 in_capsule(const Vec3& a, const Vec3& b, Rng& rng) const {
+  [[nodiscard]] Vec3 in_capsule(const Vec3& a, const Vec3& b, scene_files::Rng& rng) const {
     const double length = (b - a).norm();
     const Vec3 axis = length > 0.0 ? Vec3((b - a) / length) : Vec3::UnitZ();
     const Vec3 u = axis.unitOrthogonal();
@@ -226,7 +226,7 @@ void add_fresh(const Scene& scene, std::span<const Vec3> stops, const CorridorOp
   const Tube tube(stops, o.radius);
   const double wanted = std::ceil(o.density * tube.capsule_volume());
   const auto draws = static_cast<std::size_t>(std::min(wanted, static_cast<double>(o.max_samples)));
-  Rng rng(o.seed);
+  scene_files::Rng rng(o.seed);
   for (std::size_t k = 0; k < draws; ++k) {
     if (k % 64 == 0 && should_stop(o, start)) {
       out.stopped = true;
@@ -249,7 +249,7 @@ void add_found(const Scene& scene, std::span<const Vec3> stops, const CorridorOp
   for (std::size_t v = 0; v < n; ++v) base.insert(static_cast<std::uint32_t>(v), g.positions[v]);
   std::vector<std::pair<double, std::uint32_t>> same;
   const std::uint64_t count = o.source == CorridorSource::samples ? o.samples.size() : o.stream_count;
-  Rng stream(o.stream_seed);
+  scene_files::Rng stream(o.stream_seed);
   for (std::uint64_t k = 0; k < count && out.samples < o.max_samples; ++k) {
     if (k % 4096 == 0 && should_stop(o, start)) {
       out.stopped = true;
@@ -296,4 +296,4 @@ CorridorGraph corridor_graph(const Scene& scene, const InspectionGraph& base, st
   return out;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -1,4 +1,4 @@
-#include "ispars/tour/tour_shortcut.hpp"
+#include "ispars/planning/tour/tour_shortcut.hpp"
 
 #include <fmt/format.h>
 
@@ -6,7 +6,7 @@
 #include <chrono>
 #include <stdexcept>
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 constexpr double kShorterBy = 1e-9;  // a straight step must be shorter than the walk by this
@@ -164,4 +164,4 @@ ShortcutValidation check_shortcut_tour(const InspectionGraph& graph, std::span<c
   return v;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

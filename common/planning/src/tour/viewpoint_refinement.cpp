@@ -1,4 +1,4 @@
-#include "ispars/tour/viewpoint_refinement.hpp"
+#include "ispars/planning/tour/viewpoint_refinement.hpp"
 
 #include <fmt/format.h>
 
@@ -11,7 +11,7 @@
 
 #include "ispars/scene_files/random.hpp"
 
-namespace ispars {
+namespace ispars::planning {
 namespace {
 
 constexpr double kGain = 1e-9;          // a change must shorten the path by more than this
@@ -33,7 +33,7 @@ class RefinedPath {
   }
 
   // Moves or drops stop i (never the root at 0 and at the end) when that shortens the path.
-  void improve_stop(std::size_t i, const RefineOptions& o, Rng& rng, RefineResult& r) {
+  void improve_stop(std::size_t i, const RefineOptions& o, scene_files::Rng& rng, RefineResult& r) {
     const Vec3 a = stops_[i - 1], s = stops_[i], b = stops_[i + 1];
     std::vector<std::uint32_t> only;  // the targets no other stop sees
     for (const auto t : sees_[i]) {
@@ -116,7 +116,7 @@ class RefinedPath {
   // of half, a quarter, ... of the sensor's range) and one anywhere in the spheroid that holds
   // every shorter stop. Near draws find the small regions a stop's targets are seen from; far
   // draws, the other regions.
-  Vec3 candidate(const Vec3& a, const Vec3& b, const Vec3& at, double c, std::size_t k, Rng& rng) const {
+  Vec3 candidate(const Vec3& a, const Vec3& b, const Vec3& at, double c, std::size_t k, scene_files::Rng& rng) const {
     if (k < kChordSteps) {
       const Vec3 ab = b - a;
       const double t = ab.squaredNorm() > 0.0 ? std::clamp((at - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
@@ -130,7 +130,7 @@ class RefinedPath {
     }
   }
   // Uniform in the prolate spheroid {q : |q - a| + |q - b| < c} (Gammell et al.'s informed set).
-  static Vec3 in_spheroid(const Vec3& a, const Vec3& b, double c, Rng& rng) {
+  static Vec3 in_spheroid(const Vec3& a, const Vec3& b, double c, scene_files::Rng& rng) {
     const double d = (b - a).norm();
     const Vec3 axis = d > 0.0 ? Vec3((b - a) / d) : Vec3::UnitZ();
     const Vec3 u = axis.unitOrthogonal();
@@ -171,7 +171,7 @@ RefineResult refine_viewpoints(const Scene& scene, std::span<const PoiId> target
   }
   RefineResult r;
   RefinedPath path(scene, targets, stops);
-  Rng rng(o.seed);
+  scene_files::Rng rng(o.seed);
   const auto start = std::chrono::steady_clock::now();
   const auto out_of_time = [&] {
     return (o.stop != nullptr && o.stop->load()) ||
@@ -196,4 +196,4 @@ RefineResult refine_viewpoints(const Scene& scene, std::span<const PoiId> target
   return r;
 }
 
-}  // namespace ispars
+}  // namespace ispars::planning

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace ispars {
+namespace ispars::params {
 
 /// Bad input from a user (a scene file, a mesh, a request). what() is one line:
 /// "FILE: FIELD: PROBLEM", so a tool can print it as it is and exit with code 2.
@@ -25,4 +25,4 @@ class InputError : public std::runtime_error {
   std::string problem_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::params

@@ -5,10 +5,10 @@
 #include <memory>
 #include <vector>
 
-#include "ispars/geometry/distance.hpp"
-#include "ispars/geometry/visibility.hpp"
+#include "ispars/planning/geometry/distance.hpp"
+#include "ispars/planning/geometry/visibility.hpp"
 
-namespace ispars {
+namespace ispars::reference {
 
 /// A line of sight judged by the reference, with a flag for the tolerance band: a ray that
 /// passes within `tolerance` (barycentric, or in ray parameter) of some triangle's boundary or
@@ -21,8 +21,8 @@ struct ReferenceSight {
 /// Brute-force collision, clearance and visibility over all triangles, in double precision.
 class BruteForceGeometry {
  public:
-  BruteForceGeometry(std::vector<Triangle> triangles, Aabb bounds, double robot_radius, std::vector<Vec3> pois,
-                     double sensor_range);
+  BruteForceGeometry(std::vector<planning::Triangle> triangles, Aabb bounds, double robot_radius,
+                     std::vector<Vec3> pois, double sensor_range);
 
   [[nodiscard]] bool point_valid(const Vec3& q) const;
   [[nodiscard]] bool segment_valid(const Vec3& a, const Vec3& b) const;
@@ -34,14 +34,14 @@ class BruteForceGeometry {
   /// receives the ids whose sight line is in the tolerance band.
   [[nodiscard]] std::vector<PoiId> visible_pois(const Vec3& q, std::vector<PoiId>* ambiguous = nullptr) const;
 
-  [[nodiscard]] const std::vector<Triangle>& triangles() const { return triangles_; }
+  [[nodiscard]] const std::vector<planning::Triangle>& triangles() const { return triangles_; }
 
  private:
-  std::vector<Triangle> triangles_;
+  std::vector<planning::Triangle> triangles_;
   Aabb bounds_;
   double radius_;
   std::vector<Vec3> pois_;
   double range_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::reference

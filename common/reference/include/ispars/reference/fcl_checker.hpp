@@ -6,14 +6,14 @@
 #include "ispars/roadmap/vec.hpp"
 #include "ispars/scene_files/triangle_mesh.hpp"
 
-namespace ispars {
+namespace ispars::reference {
 
 /// Point and segment validity through FCL's sphere- and capsule-vs-mesh collision (an OBBRSS
 /// hierarchy over the same triangles). Same definitions as CollisionChecker: a configuration
 /// touching a triangle is in collision; the mesh is a surface, not a solid. Thread-safe.
 class FclCollisionChecker {
  public:
-  FclCollisionChecker(const TriangleMesh& mesh, Aabb bounds, double robot_radius);
+  FclCollisionChecker(const scene_files::TriangleMesh& mesh, Aabb bounds, double robot_radius);
   ~FclCollisionChecker();
   FclCollisionChecker(const FclCollisionChecker&) = delete;
   FclCollisionChecker& operator=(const FclCollisionChecker&) = delete;
@@ -28,4 +28,4 @@ class FclCollisionChecker {
   double radius_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::reference

@@ -13,7 +13,7 @@
 #include "ispars/roadmap/vec.hpp"
 #include "ispars/scene_files/triangle_mesh.hpp"
 
-namespace ispars {
+namespace ispars::render {
 
 /// A pinhole camera: where it is, what it looks at, which way is up, and its vertical field of view.
 struct Camera {
@@ -65,11 +65,11 @@ struct RenderResult {
 };
 
 /// Renders `mesh` and what `request` adds to it. Throws InputError on a size out of range.
-[[nodiscard]] RenderResult render_scene(const TriangleMesh& mesh, const RenderRequest& request);
+[[nodiscard]] RenderResult render_scene(const scene_files::TriangleMesh& mesh, const RenderRequest& request);
 
 /// Writes a PNG file (libpng). Throws std::runtime_error naming the path on failure.
 void write_png(const std::string& path, const Image& image);
 /// Reads an 8-bit RGB or RGBA PNG file (for tests and tools). Throws std::runtime_error on failure.
 [[nodiscard]] Image read_png(const std::string& path);
 
-}  // namespace ispars
+}  // namespace ispars::render

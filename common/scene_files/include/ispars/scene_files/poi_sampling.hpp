@@ -7,7 +7,7 @@
 
 #include "ispars/scene_files/triangle_mesh.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 
 /// True for a triangle lying in the ground plane: all three corners within 0.05 m of the
 /// mesh's lowest z and a normal within about 8 degrees of vertical. No aerial sensor sees these.
@@ -24,4 +24,4 @@ namespace ispars {
 [[nodiscard]] std::vector<Vec3> read_poi_file(const std::filesystem::path& path,
                                               const std::string& field = "pois.file");
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

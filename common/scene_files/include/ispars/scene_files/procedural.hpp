@@ -10,7 +10,7 @@
 #include "ispars/scene_files/scene_config.hpp"
 #include "ispars/scene_files/triangle_mesh.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 
 /// The generator names: "truss_bridge", "tank_tower", "city_grid".
 [[nodiscard]] const std::vector<std::string>& procedural_kinds();
@@ -34,4 +34,4 @@ void add_beam(TriangleMesh& mesh, const Vec3& a, const Vec3& b, double half_widt
 /// A closed vertical cylinder (4 * sides triangles) standing on `base`.
 void add_cylinder(TriangleMesh& mesh, const Vec3& base, double radius, double height, int sides);
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

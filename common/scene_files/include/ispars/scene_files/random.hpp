@@ -8,7 +8,7 @@
 
 #include "ispars/roadmap/vec.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 
 /// xoshiro256** seeded through splitmix64: fast, small state, identical streams everywhere.
 class Rng {
@@ -35,4 +35,4 @@ class Rng {
   std::uint64_t s_[4];
 };
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

@@ -27,7 +27,7 @@
 #include "ispars/roadmap/roadmap_parameters.hpp"
 #include "ispars/roadmap/vec.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 
 /// Where the POIs come from: `count` sampled on the surface from `seed`, or a file.
 struct PoiSource {
@@ -93,4 +93,4 @@ struct SceneConfig {
 /// Throws InputError naming config.source and the field.
 void check_scene_config(const SceneConfig& config);
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

@@ -10,7 +10,7 @@
 #include "ispars/scene_files/scene_config.hpp"
 #include "ispars/scene_files/triangle_mesh.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 
 /// A scene file's contents: what it says, its mesh and its POIs.
 struct SceneFile {
@@ -30,4 +30,4 @@ struct SceneFile {
 /// or a POI count the surface cannot give).
 [[nodiscard]] SceneFile scene_file_from(const SceneConfig& config, TriangleMesh mesh);
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

@@ -12,7 +12,7 @@
 
 #include "ispars/roadmap/vec.hpp"
 
-namespace ispars {
+namespace ispars::scene_files {
 
 /// An indexed triangle soup in world coordinates (metres). No winding, normal sign or
 /// watertightness is assumed: the obstacle is the union of the triangles themselves.
@@ -48,4 +48,4 @@ TriangleMesh load_triangle_mesh(const std::filesystem::path& path, const std::st
 /// Writes the mesh as a Wavefront OBJ (vertices and faces only).
 void write_obj(const TriangleMesh& mesh, std::ostream& out);
 
-}  // namespace ispars
+}  // namespace ispars::scene_files

@@ -17,14 +17,14 @@
 #include <optional>
 #include <string>
 
-#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
-#include "ispars/scene/scene.hpp"
 #include "ispars/service/build_request.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/service/session_record.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// Called with each committed batch of the roadmap (on the job's thread, in order), its
 /// generation, the samples after it and the roadmap's POI count after it (a task widens it).
@@ -35,7 +35,7 @@ using CommitCallback = std::function<void(const RoadmapBatch& batch, std::uint64
 /// limits. The referenced objects outlive the job.
 struct JobSite {
   const std::string& name;
-  const Scene& scene;
+  const planning::Scene& scene;
   const std::filesystem::path& store_dir;
   const SessionLimits& limits;
   FileSystem& fs;
@@ -47,7 +47,7 @@ class BuildJob {
   BuildJob(JobSite site, SessionRecord& record, CommitCallback on_commit);
 
   /// Takes over the store opened at load and what a builder resumes from.
-  void adopt(std::unique_ptr<RoadmapStore> store, std::optional<BuiltRoadmaps> resume_from);
+  void adopt(std::unique_ptr<RoadmapStore> store, std::optional<planning::BuiltRoadmaps> resume_from);
   /// Runs the record's queued job to its end. Returns early, after committing the current
   /// chunk, when `stopping` becomes true or the job is cancelled; a failure is recorded.
   void run(const std::atomic<bool>& stopping);
@@ -72,7 +72,7 @@ class BuildJob {
   void perform(Run& run, const std::atomic<bool>& stopping);  // a task's addition, or the growth
   void prepare(Run& run, const std::atomic<bool>& stopping);
   void ensure_builder(const std::atomic<bool>& stopping);
-  [[nodiscard]] BuiltRoadmaps resumable_roadmaps(const RoadmapRecipe& recipe);
+  [[nodiscard]] planning::BuiltRoadmaps resumable_roadmaps(const RoadmapRecipe& recipe);
   void replay(const RoadmapRecipe& recipe, const std::atomic<bool>& stopping);
   void grow(Run& run, std::uint64_t target, const std::atomic<bool>& stopping);
   void add_task(Run& run, const std::atomic<bool>& stopping);
@@ -87,10 +87,10 @@ class BuildJob {
   const JobSite site_;
   SessionRecord& record_;
   const CommitCallback on_commit_;
-  std::unique_ptr<Scene> build_scene_;
-  std::unique_ptr<RoadmapBuilder> builder_;
+  std::unique_ptr<planning::Scene> build_scene_;
+  std::unique_ptr<planning::RoadmapBuilder> builder_;
   std::unique_ptr<RoadmapStore> store_;
-  std::optional<BuiltRoadmaps> recovered_;  // the stored roadmaps until a builder resumes from them
+  std::optional<planning::BuiltRoadmaps> recovered_;  // the stored roadmaps until a builder resumes from them
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -8,11 +8,11 @@
 #include <cstdint>
 #include <string>
 
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
 #include "ispars/roadmap/build_request.hpp"
-#include "ispars/scene/scene.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// The build request that makes `recipe`'s roadmap to `samples` samples: its method, variant and
 /// seed, with its deltas, stretch and p_accept as overrides (request_build's inverse; a value of 0,
@@ -33,12 +33,12 @@ void check_samples(std::uint64_t samples, const SessionLimits& limits);
 /// The recipe `request` asks for on scene `name` (its `scene`): make_recipe's, with the sample
 /// count checked against this daemon's limits too. Its generation, fingerprint and builder version
 /// are left to the session, which sets them when the build is queued.
-[[nodiscard]] RoadmapRecipe requested_recipe(const std::string& name, const Scene& scene, const BuildRequest& request,
-                                             const SessionLimits& limits);
+[[nodiscard]] RoadmapRecipe requested_recipe(const std::string& name, const planning::Scene& scene,
+                                             const BuildRequest& request, const SessionLimits& limits);
 
 /// Why a stored roadmap of `stored` must not be served for scene `name`, whose file's fingerprint
 /// is now `fingerprint`: another version of the scene, or of the builders. Empty when it may.
 [[nodiscard]] std::string stale_store_reason(const std::string& name, const RoadmapRecipe& stored,
                                              const std::string& fingerprint);
 
-}  // namespace ispars
+}  // namespace ispars::service

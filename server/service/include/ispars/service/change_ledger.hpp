@@ -16,7 +16,7 @@
 
 #include "ispars/roadmap/file_system.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// The answer a change request got: what its retry is told.
 struct LedgerAnswer {
@@ -84,4 +84,4 @@ class ChangeLedger {
   std::optional<std::uint64_t> torn_at_;  // the offset of a torn last line at open
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

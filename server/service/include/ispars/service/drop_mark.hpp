@@ -13,7 +13,7 @@
 
 #include "ispars/roadmap/file_system.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// Records that the scene whose store is (or was) `store_dir` was dropped at `generation`,
 /// durably (written atomically and fsync'ed, with its directory), before the store goes.
@@ -35,4 +35,4 @@ struct DropMark {
 [[nodiscard]] std::vector<DropMark> list_drop_marks(const std::filesystem::path& data_dir,
                                                     const FileSystem& fs = disk());
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/roadmap/roadmap.hpp"
-#include "ispars/scene/scene.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// A named set of POIs added to a built roadmap. POI ids only append: a task's POIs take the ids
 /// after the scene's own and the earlier tasks', in order, and keep them. A removed task keeps
@@ -38,12 +38,12 @@ inline constexpr double kTaskPoiSurfaceTolerance = 0.01;
 /// exists and is not removed), task.pois (none, more than kMaxTaskPois), task (the scene holds
 /// kMaxTasks tasks, removed ones included: their POIs keep their ids), or task.pois[i] (not finite, outside the mesh's
 /// bounding box grown by kTaskPoiSurfaceTolerance, or farther than that from its surface).
-void check_task(const Scene& scene, std::span<const InspectionTask> tasks, const InspectionTask& task);
+void check_task(const planning::Scene& scene, std::span<const InspectionTask> tasks, const InspectionTask& task);
 
 /// `count` POIs uniform by area on `scene`'s surface from `seed` alone, with the scene's own
 /// sampling rules (ground triangles skipped when its POIs skip them). Throws InputError
 /// (task.sample) when `count` is 0 or above kMaxTaskPois.
-[[nodiscard]] std::vector<Vec3> sample_task_pois(const Scene& scene, std::size_t count, std::uint64_t seed);
+[[nodiscard]] std::vector<Vec3> sample_task_pois(const planning::Scene& scene, std::size_t count, std::uint64_t seed);
 
 /// One task's POIs on a roadmap.
 struct TaskCoverage {
@@ -78,4 +78,4 @@ struct TaskCoverage {
 /// All tasks' POIs (removed tasks' too), in id order (the ids after the scene's own).
 [[nodiscard]] std::vector<Vec3> task_pois(std::span<const InspectionTask> tasks);
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -17,7 +17,7 @@
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/worker_pool.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 struct PendingJob;  // pending_jobs.hpp
 
@@ -51,7 +51,7 @@ class JobQueue {
   const std::atomic<bool>& stopping_;
   std::atomic<std::uint64_t> next_id_;  // from the clock at start: unlike a previous run's ids
   std::mutex mutex_;                    // a job's acceptance and its record; every read-compare-remove of one
-  server::WorkerPool workers_;
+  WorkerPool workers_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -15,9 +15,9 @@
 #include <mutex>
 #include <string>
 
-#include "ispars/builders/build_cost.hpp"
+#include "ispars/planning/builders/build_cost.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 class MemoryBudget;
 
@@ -51,7 +51,7 @@ class MemoryBudget : public std::enable_shared_from_this<MemoryBudget> {
   /// beside the other scenes' reservations; and ("request: kind: busy: ...") when it fits beside
   /// them but not beside the leases held now too (tours, snapshot encodings), after the reclaimer
   /// gave back what it could: a build does not take memory that running work holds.
-  void admit(const std::string& scene, const BuildCost& cost);
+  void admit(const std::string& scene, const planning::BuildCost& cost);
   /// Called, with no lock held, when an admission or a lease does not fit beside the leases held:
   /// it drops what holds a lease only as a cache (kept snapshot encodings), then the check is made
   /// again. Set once, before the budget is shared.
@@ -73,7 +73,7 @@ class MemoryBudget : public std::enable_shared_from_this<MemoryBudget> {
   void give_back(double bytes);
   double reserved_locked() const;
   // The refusal of `scene`'s admission under mutex_, or "" when it fits (leases counted or not).
-  std::string admission_problem(const std::string& scene, const BuildCost& cost, bool count_leases) const;
+  std::string admission_problem(const std::string& scene, const planning::BuildCost& cost, bool count_leases) const;
   std::string lease_problem(double bytes, const std::string& what) const;  // the same for a lease
 
   const double total_;
@@ -83,4 +83,4 @@ class MemoryBudget : public std::enable_shared_from_this<MemoryBudget> {
   std::function<void()> reclaim_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -12,7 +12,7 @@
 #include "ispars/roadmap/file_system.hpp"
 #include "ispars/service/roadmap_session.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// One accepted job of one scene.
 struct PendingJob {
@@ -45,4 +45,4 @@ void mark_pending_jobs_stopped_cleanly(const std::filesystem::path& data_dir, Fi
 /// temporary file of a write a crash interrupted is removed.
 [[nodiscard]] std::vector<PendingJob> pending_jobs(const std::filesystem::path& data_dir, FileSystem& fs = disk());
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -7,7 +7,7 @@
 
 #include "ispars/roadmap/roadmap.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// A published roadmap: immutable, shared by every reader that holds it, with its coverage
 /// figures computed once when it is published (not on every status query).
@@ -23,4 +23,4 @@ struct PublishedRoadmap {
 [[nodiscard]] PublishedRoadmap make_published(std::shared_ptr<const Roadmap> roadmap, std::uint64_t generation,
                                               std::uint64_t samples);
 
-}  // namespace ispars
+}  // namespace ispars::service

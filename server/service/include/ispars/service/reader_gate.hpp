@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace ispars {
+namespace ispars::service {
 
 /// Thrown by ReaderGate::enter while a writer holds readers off; the message says which.
 struct ReaderRefused : std::runtime_error {
@@ -76,4 +76,4 @@ class ReaderGate::Hold {
   ReaderGate& gate_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

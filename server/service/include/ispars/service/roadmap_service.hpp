@@ -28,7 +28,7 @@
 #include "ispars/service/tour_desk.hpp"
 #include "ispars/service/worker_pool.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 struct PendingJob;  // pending_jobs.hpp
 
@@ -113,7 +113,7 @@ struct ServiceEvents {
 
 /// A verification and whether the roadmap's method promises Invariant 1 (only Inspection-SPARS).
 struct VerifyOutcome {
-  VerificationReport report;
+  planning::VerificationReport report;
   bool invariant_promised = false;
   /// Problems the method promises to avoid (0: verified).
   [[nodiscard]] std::uint64_t violations() const;
@@ -147,7 +147,7 @@ class RoadmapService {
   [[nodiscard]] std::vector<SceneListing> list_scenes() const;
   [[nodiscard]] std::vector<std::string> loaded_scenes() const;
   [[nodiscard]] SessionStatus stats(const std::string& scene) const;
-  [[nodiscard]] RoadmapPath path(const std::string& scene, const Vec3& from, const Vec3& to) const;
+  [[nodiscard]] planning::RoadmapPath path(const std::string& scene, const Vec3& from, const Vec3& to) const;
   /// Chunk `chunk_index` of the roadmap at `version` of `generation` with `poi_count` POIs
   /// (version 0: the latest; a task adds POIs without a new version).
   [[nodiscard]] SnapshotSlice snapshot(const std::string& scene, std::uint64_t version, std::uint64_t generation,
@@ -233,4 +233,4 @@ class RoadmapService {
   TourDesk tours_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -21,12 +21,12 @@
 #include <string>
 #include <string_view>
 
-#include "ispars/builders/build_cost.hpp"
-#include "ispars/builders/roadmap_builder.hpp"
-#include "ispars/builders/roadmap_verifier.hpp"
+#include "ispars/planning/builders/build_cost.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/roadmap_verifier.hpp"
+#include "ispars/planning/scene/scene.hpp"
+#include "ispars/planning/search/path_query.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
-#include "ispars/scene/scene.hpp"
-#include "ispars/search/path_query.hpp"
 #include "ispars/service/build_job.hpp"
 #include "ispars/service/build_request.hpp"
 #include "ispars/service/inspection_task.hpp"
@@ -35,7 +35,7 @@
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/service/session_record.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// A verify running longer than this is stopped and answered with an error naming the budget.
 inline constexpr std::chrono::milliseconds kVerifyBudget{300'000};
@@ -50,7 +50,7 @@ struct SessionCallbacks {
   /// Called with the estimate of the roadmap a build or extend would make, as the last check
   /// before it is recorded (with the session's lock held: it must not call into this session).
   /// Throws InputError to refuse it. Not set: no memory budget.
-  std::function<void(const BuildCost& cost)> admit_cost;
+  std::function<void(const planning::BuildCost& cost)> admit_cost;
 };
 
 /// One loaded scene: its persistent roadmap, the job that grows it, and consistent reads of it.
@@ -59,7 +59,7 @@ class RoadmapSession {
   /// A session for `scene` named `name`, storing its roadmap in `store_dir` on `fs` (the disk;
   /// tests give a file system of their own). When the directory holds a store, its roadmap is
   /// recovered now (throws std::runtime_error when unreadable).
-  RoadmapSession(std::string name, Scene scene, std::filesystem::path store_dir, SessionLimits limits,
+  RoadmapSession(std::string name, planning::Scene scene, std::filesystem::path store_dir, SessionLimits limits,
                  SessionCallbacks callbacks, FileSystem& fs = disk());
   ~RoadmapSession();
   RoadmapSession(const RoadmapSession&) = delete;
@@ -117,22 +117,22 @@ class RoadmapSession {
   /// task_events from the acknowledgement, as an extend's target is in samples_target).
   [[nodiscard]] std::vector<InspectionTask> accepted_tasks() const;
   /// The scene with every task's POIs: what the roadmap is planned and verified in.
-  [[nodiscard]] std::shared_ptr<const Scene> scene_with_tasks() const;
+  [[nodiscard]] std::shared_ptr<const planning::Scene> scene_with_tasks() const;
   /// A path on the published roadmap (InputError on bad points, see plan_path).
-  [[nodiscard]] RoadmapPath path(const Vec3& from, const Vec3& to) const;
+  [[nodiscard]] planning::RoadmapPath path(const Vec3& from, const Vec3& to) const;
   /// Checks the roadmap (validity, costs, Invariant 1 for spars/ispars). Waits for no job: throws
   /// InputError while one runs, or while an unload or a drop holds readers off. Stops (InputError
   /// saying why) within milliseconds when its budget runs out, a cancel request, an unload, a
   /// drop, a job or stop_readers() needs it to.
-  [[nodiscard]] VerificationReport verify(std::chrono::milliseconds budget) const;
+  [[nodiscard]] planning::VerificationReport verify(std::chrono::milliseconds budget) const;
   /// Stops every running verify with `why` (the daemon is stopping, say).
   void stop_readers(const std::string& why);
 
   /// The estimate of the roadmap as recorded (its recipe at its sample target; zero without one).
-  [[nodiscard]] BuildCost expected_cost() const;
+  [[nodiscard]] planning::BuildCost expected_cost() const;
 
   [[nodiscard]] const std::string& name() const { return name_; }
-  [[nodiscard]] const Scene& scene() const { return scene_; }
+  [[nodiscard]] const planning::Scene& scene() const { return scene_; }
   /// scene_fingerprint() of the scene as loaded: what a roadmap built here records.
   [[nodiscard]] const std::string& fingerprint() const { return fingerprint_; }
   /// Whether a job is queued or running.
@@ -150,12 +150,14 @@ class RoadmapSession {
   Lock lock_idle_job(std::string_view what) const;
   std::filesystem::path discard_store(const std::string& aside_why);  // drop (empty why) or set aside
   // `scene`: the scene with the tasks the roadmap will have.
-  BuildCost estimate(const Scene& scene, const RoadmapRecipe& recipe, std::uint64_t total_samples) const;
+  planning::BuildCost estimate(const planning::Scene& scene, const RoadmapRecipe& recipe,
+                               std::uint64_t total_samples) const;
   [[nodiscard]] SessionRecord::Admit admit() const;  // callbacks_.admit_cost of estimate(); none unset
-  [[nodiscard]] VerificationReport verify_locked(const VerifyKeepGoing& keep_going) const;  // job lock held
+  [[nodiscard]] planning::VerificationReport verify_locked(
+      const planning::VerifyKeepGoing& keep_going) const;  // job lock held
 
   const std::string name_;
-  const Scene scene_;
+  const planning::Scene scene_;
   const std::filesystem::path store_dir_;
   const SessionLimits limits_;
   const SessionCallbacks callbacks_;
@@ -176,4 +178,4 @@ class RoadmapSession {
   std::string torn_tail_note_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

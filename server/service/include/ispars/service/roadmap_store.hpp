@@ -32,13 +32,13 @@
 #include <thread>
 #include <vector>
 
-#include "ispars/builders/roadmap_builder.hpp"
+#include "ispars/planning/builders/roadmap_builder.hpp"
 #include "ispars/roadmap/record_file.hpp"
 #include "ispars/roadmap/roadmap.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/service/inspection_task.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// One durable step of a build.
 struct BuildCommit {
@@ -100,7 +100,7 @@ struct StoreDamage : std::runtime_error {
 /// What opening a store recovered.
 struct StoreRecovery {
   RoadmapRecipe recipe;
-  BuiltRoadmaps roadmaps;
+  planning::BuiltRoadmaps roadmaps;
   std::size_t journal_commits = 0;  ///< Commits replayed from the journal after the snapshot.
   bool torn_tail = false;           ///< A torn journal tail (an incomplete last record) was cut off.
   std::string tail_problem;
@@ -189,11 +189,11 @@ class RoadmapStore {
 [[nodiscard]] BuildCommit commit_since(const RoadmapsView& now, std::uint64_t roadmap_version,
                                        std::uint64_t dense_version);
 /// A view of stored roadmaps.
-[[nodiscard]] RoadmapsView view_of(const BuiltRoadmaps& roadmaps);
+[[nodiscard]] RoadmapsView view_of(const planning::BuiltRoadmaps& roadmaps);
 
 /// Applies a commit to recovered roadmaps (throws std::runtime_error when it does not continue
 /// them). A commit with tasks widens the roadmaps to their POIs first.
-void apply_commit(BuiltRoadmaps& roadmaps, const BuildCommit& commit);
+void apply_commit(planning::BuiltRoadmaps& roadmaps, const BuildCommit& commit);
 
 /// What a store's last commit holds, as its `head` file says: a hint written after each commit
 /// (and when the store is opened), so a daemon can announce its stored roadmaps without reading
@@ -250,4 +250,4 @@ void mark_unloaded(const std::filesystem::path& dir, bool unloaded, FileSystem& 
 /// fallback swap (".new-NAME" with a commit and no "NAME").
 void remove_dropped_stores(const std::filesystem::path& data_dir, FileSystem& fs = disk());
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -9,7 +9,7 @@
 
 #include "ispars/scene_files/scene_config.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// Checks a scene name and returns its file, scene_dir/NAME.yaml. A name is 1 to 64 letters,
 /// digits, '_', '-' or '.', not starting with '.'; so no path separator or ".." can reach outside
@@ -23,9 +23,9 @@ namespace ispars {
 /// The scene file of `name` (see scene_file), parsed, with every file it names (mesh, POI file)
 /// checked to lie inside the scene directory after following symlinks: an absolute path, a
 /// "../" or a symlink out is refused (InputError, field "scene", naming the key and the path).
-[[nodiscard]] SceneConfig load_scene_config(const std::filesystem::path& scene_dir, std::string_view name);
+[[nodiscard]] scene_files::SceneConfig load_scene_config(const std::filesystem::path& scene_dir, std::string_view name);
 
 /// Whether `name` is a valid scene name (see scene_file).
 [[nodiscard]] bool valid_scene_name(std::string_view name);
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -7,7 +7,7 @@
 #include <mutex>
 #include <string>
 
-namespace ispars {
+namespace ispars::service {
 
 /// A scene file's current fingerprint (scene_fingerprint() of the scene it builds), or why it
 /// has none here (the file is gone, or does not load).
@@ -35,4 +35,4 @@ class SceneFingerprints {
   std::map<std::string, Known> known_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

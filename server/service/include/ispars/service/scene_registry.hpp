@@ -11,7 +11,7 @@
 
 #include "ispars/service/roadmap_session.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// The loaded scenes' sessions by name, and the names reserved by loads under way. Safe to call
 /// from many threads; it never calls into a session while its lock is held.
@@ -54,4 +54,4 @@ class SceneRegistry {
   std::set<std::string> loading_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -16,13 +16,13 @@
 #include <string_view>
 #include <vector>
 
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
-#include "ispars/scene/scene.hpp"
 #include "ispars/service/build_request.hpp"
 #include "ispars/service/inspection_task.hpp"
 #include "ispars/service/published_roadmap.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// What a scene's roadmap is doing.
 enum class SessionState : std::uint8_t {
@@ -73,7 +73,7 @@ struct DenseCounts {
 struct StoredRoadmap {
   RoadmapRecipe recipe;
   std::vector<InspectionTask> tasks;
-  std::shared_ptr<const Scene> scene_with_tasks;
+  std::shared_ptr<const planning::Scene> scene_with_tasks;
   PublishedRoadmap published;
   DenseCounts dense;
 };
@@ -83,7 +83,7 @@ struct StoredRoadmap {
 struct SessionRoadmap {
   PublishedRoadmap published;
   std::optional<RoadmapRecipe> recipe;
-  std::shared_ptr<const Scene> scene_with_tasks;
+  std::shared_ptr<const planning::Scene> scene_with_tasks;
   std::uint64_t samples_done = 0;
   std::uint64_t samples_target = 0;
   DenseCounts dense;
@@ -118,11 +118,12 @@ class SessionRecord {
  public:
   /// Checks a request's cost against the service's budget (throws InputError to refuse it),
   /// called with the record's lock held: it must not call back into the session.
-  using Admit = std::function<void(const Scene& scene_with_tasks, const RoadmapRecipe& recipe, std::uint64_t samples)>;
+  using Admit =
+      std::function<void(const planning::Scene& scene_with_tasks, const RoadmapRecipe& recipe, std::uint64_t samples)>;
 
   /// An empty record of scene `name` (`scene` as loaded, which must outlive the record);
   /// notify() hands `on_status` the status.
-  SessionRecord(std::string name, const Scene& scene, std::function<void(const SessionStatus&)> on_status);
+  SessionRecord(std::string name, const planning::Scene& scene, std::function<void(const SessionStatus&)> on_status);
 
   [[nodiscard]] SessionStatus status() const;
   [[nodiscard]] PublishedRoadmap published() const;
@@ -130,7 +131,7 @@ class SessionRecord {
   [[nodiscard]] std::vector<InspectionTask> tasks() const;
   /// tasks(), then a task addition acknowledged and not committed yet.
   [[nodiscard]] std::vector<InspectionTask> accepted_tasks() const;
-  [[nodiscard]] std::shared_ptr<const Scene> scene_with_tasks() const;
+  [[nodiscard]] std::shared_ptr<const planning::Scene> scene_with_tasks() const;
   /// task_events() of the roadmap's tasks.
   [[nodiscard]] std::uint64_t task_events() const;
   /// Whether a job is queued or running.
@@ -160,7 +161,7 @@ class SessionRecord {
   /// Refuses (InputError) an adoption into a scene with a roadmap, tasks or a job.
   void check_adoptable() const;
   /// Gives the empty scene `tasks` (checked), planned in `scene_with_tasks`.
-  void adopt_tasks(std::vector<InspectionTask> tasks, std::shared_ptr<const Scene> scene_with_tasks);
+  void adopt_tasks(std::vector<InspectionTask> tasks, std::shared_ptr<const planning::Scene> scene_with_tasks);
   /// The index of live task `name`, and the task events after its removal; InputError when it
   /// cannot be removed now (`store_open`: whether the store is open for writing).
   [[nodiscard]] std::pair<std::size_t, std::uint64_t> check_removal(const std::string& name, bool store_open) const;
@@ -186,7 +187,7 @@ class SessionRecord {
   void begin(SessionState state, std::optional<std::uint64_t> target = std::nullopt);
   void record_chunk(ChunkRecord chunk);
   /// Task `task` was committed: the roadmap plans in `scene_with_tasks`, readers get `copy`.
-  void record_task(InspectionTask task, std::shared_ptr<const Scene> scene_with_tasks, PublishedRoadmap copy,
+  void record_task(InspectionTask task, std::shared_ptr<const planning::Scene> scene_with_tasks, PublishedRoadmap copy,
                    DenseCounts dense);
   void publish(PublishedRoadmap copy);
   /// Whether the published copy is the roadmap of `generation` at `samples` and `version`.
@@ -211,7 +212,7 @@ class SessionRecord {
   [[nodiscard]] SessionState resting_state() const { return recipe_ ? SessionState::idle : SessionState::empty; }
 
   const std::string name_;
-  const Scene& scene_;
+  const planning::Scene& scene_;
   const std::function<void(const SessionStatus&)> on_status_;
 
   mutable std::mutex mutex_;  // guards everything below
@@ -226,7 +227,7 @@ class SessionRecord {
   std::optional<InspectionTask> pending_task_;   // a queued task
   std::optional<InspectionTask> starting_task_;  // a started task's, until it is committed
   std::vector<InspectionTask> tasks_;            // the roadmap's tasks, as stored
-  std::shared_ptr<const Scene> scene_with_tasks_;
+  std::shared_ptr<const planning::Scene> scene_with_tasks_;
   bool closed_ = false;
   bool discarding_ = false;  // a drop or set aside is removing the store
   std::string last_error_;
@@ -236,4 +237,4 @@ class SessionRecord {
   std::atomic<bool> cancel_{false};
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -11,15 +11,15 @@
 #include <string>
 #include <vector>
 
+#include "ispars/planning/scene/scene.hpp"
 #include "ispars/roadmap/build_recipe.hpp"
-#include "ispars/scene/scene.hpp"
 #include "ispars/service/build_request.hpp"
 #include "ispars/service/inspection_task.hpp"
 #include "ispars/service/published_roadmap.hpp"
 #include "ispars/service/roadmap_store.hpp"
 #include "ispars/service/session_record.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// What recover_session() found in a scene's store directory. With nothing stored and nothing
 /// refused, the directory held no store.
@@ -32,7 +32,7 @@ struct RecoveredSession {
   std::unique_ptr<RoadmapStore> store;  ///< Open for writing (compacting every limits.compact_every).
   std::optional<StoredRoadmap> stored;  ///< The stored roadmap, as the session serves it.
   /// The stored roadmaps, for a method whose builder cannot resume from the published roadmap.
-  std::optional<BuiltRoadmaps> resume_from;
+  std::optional<planning::BuiltRoadmaps> resume_from;
   std::string note;            ///< What was recovered, for the log.
   std::string torn_tail_note;  ///< What a torn journal tail cut off and where it was kept; empty if none.
 };
@@ -42,14 +42,14 @@ struct RecoveredSession {
 /// has no scene: a vertex built before a task does not know its POIs), on `threads` threads. The
 /// roadmaps go to `resume_from` for a method whose builder cannot resume from the published
 /// roadmap; the published copy takes them over otherwise.
-[[nodiscard]] StoredRoadmap serve_recovery(const Scene& scene, StoreRecovery& recovery, unsigned threads,
-                                           std::optional<BuiltRoadmaps>& resume_from);
+[[nodiscard]] StoredRoadmap serve_recovery(const planning::Scene& scene, StoreRecovery& recovery, unsigned threads,
+                                           std::optional<planning::BuiltRoadmaps>& resume_from);
 
 /// Opens the store of scene `name` (`scene` as loaded, its fingerprint `fingerprint`) in
 /// `store_dir` on `fs`, and recovers its roadmap. Throws std::runtime_error when the store is
 /// another scene's.
-[[nodiscard]] RecoveredSession recover_session(const std::string& name, const Scene& scene,
+[[nodiscard]] RecoveredSession recover_session(const std::string& name, const planning::Scene& scene,
                                                const std::string& fingerprint, const std::filesystem::path& store_dir,
                                                const SessionLimits& limits, FileSystem& fs);
 
-}  // namespace ispars
+}  // namespace ispars::service

@@ -15,7 +15,7 @@
 #include "ispars/service/memory_budget.hpp"
 #include "ispars/service/roadmap_session.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// One slice of a roadmap encoded at one version, for transfer in bounded chunks.
 struct SnapshotSlice {
@@ -69,4 +69,4 @@ class SnapshotCache {
   std::vector<Encoded> kept_;  // the few most recent, oldest first
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

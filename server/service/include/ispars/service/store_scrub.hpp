@@ -21,7 +21,7 @@
 #include "ispars/roadmap/file_system.hpp"
 #include "ispars/service/memory_budget.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 class StoreScrub {
  public:
@@ -68,4 +68,4 @@ class StoreScrub {
   std::thread thread_;                       // last: started once the rest is made
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

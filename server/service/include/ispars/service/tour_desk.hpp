@@ -12,14 +12,14 @@
 #include <string>
 #include <vector>
 
+#include "ispars/planning/tour/flown_tour.hpp"
+#include "ispars/planning/tour/gip_solver.hpp"
+#include "ispars/planning/tour/tour_shortcut.hpp"
 #include "ispars/service/memory_budget.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/worker_pool.hpp"
-#include "ispars/tour/flown_tour.hpp"
-#include "ispars/tour/gip_solver.hpp"
-#include "ispars/tour/tour_shortcut.hpp"
 
-namespace ispars {
+namespace ispars::service {
 
 /// A tour request in typed form.
 struct TourRequest {
@@ -34,16 +34,16 @@ inline constexpr std::size_t kMaxTourTargets = 1'000'000;
 /// A finished tour: the search's result on the roadmap version it searched, and that tour
 /// shortcut by the scene's collision checker (tour_shortcut.hpp): the path a robot would fly.
 struct TourOutcome {
-  GipResult result;                        ///< The roadmap search: its walk, trace and proven bound.
-  std::vector<Vec3> waypoints;             ///< The walk's positions.
-  ShortcutTour shortcut;                   ///< The walk shortcut (its stops are roadmap vertices).
-  ShortcutValidation shortcut_validation;  ///< check_shortcut_tour's independent check of it.
+  planning::GipResult result;                        ///< The roadmap search: its walk, trace and proven bound.
+  std::vector<Vec3> waypoints;                       ///< The walk's positions.
+  planning::ShortcutTour shortcut;                   ///< The walk shortcut (its stops are roadmap vertices).
+  planning::ShortcutValidation shortcut_validation;  ///< check_shortcut_tour's independent check of it.
   /// The flown tour (flown_tour.hpp): stops, what each sees (from its independent check), length.
   std::vector<Vec3> flown_path;
   std::vector<std::vector<PoiId>> flown_sees;
   double flown_cost = 0.0;
   bool flown_valid = false;  ///< check_flown_tour passed.
-  std::vector<FlownStage> stages;
+  std::vector<planning::FlownStage> stages;
   std::size_t graph_vertices = 0;  ///< The graph the flown tour was last searched on.
   std::size_t graph_edges = 0;
   std::uint64_t version = 0;
@@ -87,7 +87,7 @@ class TourDesk {
   std::mutex mutex_;
   std::size_t admitted_ = 0;
   std::multimap<std::string, StopFlag> running_;  // stop flags by scene
-  server::WorkerPool workers_;
+  WorkerPool workers_;
 };
 
-}  // namespace ispars
+}  // namespace ispars::service

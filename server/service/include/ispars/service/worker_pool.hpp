@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-namespace ispars::server {
+namespace ispars::service {
 
 /// Runs submitted jobs in order on a fixed number of threads.
 class WorkerPool {
@@ -44,4 +44,4 @@ class WorkerPool {
   std::vector<std::thread> threads_;
 };
 
-}  // namespace ispars::server
+}  // namespace ispars::service
