@@ -21,7 +21,7 @@ namespace ispars::bench {
 
 using Clock = std::chrono::steady_clock;
 using ispars::client::Client;
-using ispars::client::LocalDaemon;
+using ispars::local::LocalDaemon;
 
 inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -43,30 +43,30 @@ struct Bench {
     dir = ::mkdtemp(pattern);
     const bool procedural = scenes.empty();
     scene_dir = procedural ? dir / "scenes" : std::move(scenes);
-    if (procedural) ispars::client::write_tank_tower_scenes(scene_dir, {"tower", "tower2"});
-    domain = ispars::client::random_domain();
+    if (procedural) ispars::local::write_tank_tower_scenes(scene_dir, {"tower", "tower2"});
+    domain = ispars::local::random_domain();
     if (!daemon_identity.empty()) {
       extra.push_back("--security");
       extra.push_back(daemon_identity);
     }
     daemon_args = extra;
     probe = probe_identity;
-    daemon = std::make_unique<LocalDaemon>(daemon_binary, domain, dir / "data", scene_dir, "bench", std::move(extra),
-                                           probe_identity);
+    daemon = std::make_unique<local::LocalDaemon>(daemon_binary, domain, dir / "data", scene_dir, "bench",
+                                                  std::move(extra), probe_identity);
   }
   /// Stops the daemon (SIGTERM) and starts it again on the same directories; returns once it
   /// announces itself (after loading what it stored: up to 10 minutes for a large store).
   void restart(const std::string& daemon_binary) {
     daemon.reset();
-    daemon = std::make_unique<LocalDaemon>(daemon_binary, domain, dir / "data", scene_dir, "bench", daemon_args, probe,
-                                           std::vector<std::string>{}, std::chrono::seconds(600));
+    daemon = std::make_unique<local::LocalDaemon>(daemon_binary, domain, dir / "data", scene_dir, "bench", daemon_args,
+                                                  probe, std::vector<std::string>{}, std::chrono::seconds(600));
   }
   ~Bench() {
     daemon.reset();
     std::filesystem::remove_all(dir);
   }
   ispars::client::ClientOptions options() const {
-    auto o = ispars::client::local_client_options(domain);
+    auto o = ispars::local::local_client_options(domain);
     o.timeout = std::chrono::seconds(120);
     o.participant.security = client_identity;
     return o;
@@ -77,7 +77,7 @@ struct Bench {
   std::string probe;
   std::string client_identity;  ///< what options() gives clients (empty: no security)
   int domain = 0;
-  std::unique_ptr<LocalDaemon> daemon;
+  std::unique_ptr<local::LocalDaemon> daemon;
 };
 
 /// A process's /proc status field in KiB ("VmRSS:", "VmHWM:"); 0 when unknown.

@@ -216,8 +216,8 @@ nlohmann::json run_rtt(const std::string& daemon_binary, int count, const std::s
   if (!keystore_script.empty()) {
     char pattern[] = "/tmp/ispars-keystore-XXXXXX";
     keystore = ::mkdtemp(pattern);
-    client::make_keystore(keystore_script, keystore,
-                          {"daemon:bench-daemon", "operator:bench-client", "operator:bench-raw", "daemon:bench-echo"});
+    local::make_keystore(keystore_script, keystore,
+                         {"daemon:bench-daemon", "operator:bench-client", "operator:bench-raw", "daemon:bench-echo"});
   }
   std::vector<std::unique_ptr<Setting>> settings;
   settings.push_back(std::make_unique<Setting>(daemon_binary, std::filesystem::path()));

@@ -8,7 +8,7 @@
 namespace ispars::cli {
 namespace {
 
-class BuildCommand final : public Command {
+class BuildCommand final : public cli_app::Command {
  public:
   CLI::App* add(CLI::App& app) override {
     auto* cmd = app.add_subcommand("build", "build a new roadmap");
@@ -37,7 +37,7 @@ class BuildCommand final : public Command {
     }
   }
   int run(client::Client& client) override {
-    return follow_job(client, scene_, client.build(scene_, args_), wait_, json_);
+    return cli_app::follow_job(client, scene_, client.build(scene_, args_), wait_, json_);
   }
 
  private:
@@ -52,6 +52,6 @@ class BuildCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> make_build_command() { return std::make_unique<BuildCommand>(); }
+std::unique_ptr<cli_app::Command> make_build_command() { return std::make_unique<BuildCommand>(); }
 
 }  // namespace ispars::cli

@@ -17,7 +17,7 @@
 namespace ispars::cli {
 namespace {
 
-class DelegatedCommand final : public Command {
+class DelegatedCommand final : public cli_app::Command {
  public:
   DelegatedCommand(std::string name, std::string program, std::string description)
       : name_(std::move(name)), program_(std::move(program)), description_(std::move(description)) {}
@@ -51,7 +51,7 @@ class DelegatedCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> make_render_delegate() {
+std::unique_ptr<cli_app::Command> make_render_delegate() {
   return std::make_unique<DelegatedCommand>("render", "ispars-render",
                                             "a PNG of the scene's roadmap as the daemon serves it, and a tour");
 }

@@ -8,7 +8,7 @@
 namespace ispars::cli {
 namespace {
 
-class ExtendCommand final : public Command {
+class ExtendCommand final : public cli_app::Command {
  public:
   CLI::App* add(CLI::App& app) override {
     auto* cmd = app.add_subcommand("extend", "add samples to a roadmap");
@@ -19,7 +19,7 @@ class ExtendCommand final : public Command {
     return cmd;
   }
   int run(client::Client& client) override {
-    return follow_job(client, scene_, client.extend(scene_, samples_), wait_, json_);
+    return cli_app::follow_job(client, scene_, client.extend(scene_, samples_), wait_, json_);
   }
 
  private:
@@ -31,6 +31,6 @@ class ExtendCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> make_extend_command() { return std::make_unique<ExtendCommand>(); }
+std::unique_ptr<cli_app::Command> make_extend_command() { return std::make_unique<ExtendCommand>(); }
 
 }  // namespace ispars::cli

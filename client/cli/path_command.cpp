@@ -10,7 +10,7 @@
 namespace ispars::cli {
 namespace {
 
-class PathCommand final : public Command {
+class PathCommand final : public cli_app::Command {
  public:
   CLI::App* add(CLI::App& app) override {
     auto* cmd = app.add_subcommand("path", "shortest path through the roadmap");
@@ -42,6 +42,6 @@ class PathCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> make_path_command() { return std::make_unique<PathCommand>(); }
+std::unique_ptr<cli_app::Command> make_path_command() { return std::make_unique<PathCommand>(); }
 
 }  // namespace ispars::cli

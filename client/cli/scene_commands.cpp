@@ -10,7 +10,7 @@ namespace ispars::cli {
 namespace {
 
 // A command whose only argument is the scene (and maybe --json), run by `action`.
-class SceneCommand final : public Command {
+class SceneCommand final : public cli_app::Command {
  public:
   using Action = std::function<int(client::Client&, const std::string& scene, bool json)>;
   SceneCommand(std::string name, std::string help, bool has_json, Action action)
@@ -33,7 +33,7 @@ class SceneCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> make_cancel_command() {
+std::unique_ptr<cli_app::Command> make_cancel_command() {
   return std::make_unique<SceneCommand>("cancel", "stop a running build after its current chunk", false,
                                         [](client::Client& c, const std::string& scene, bool) {
                                           std::cout << c.cancel(scene).message << "\n";
@@ -41,20 +41,20 @@ std::unique_ptr<Command> make_cancel_command() {
                                         });
 }
 
-std::unique_ptr<Command> make_stats_command() {
+std::unique_ptr<cli_app::Command> make_stats_command() {
   return std::make_unique<SceneCommand>("stats", "a scene's roadmap status", true,
                                         [](client::Client& c, const std::string& scene, bool json) {
                                           const client::SceneStatus s = c.stats(scene);
                                           if (json) {
-                                            std::cout << status_json(s).dump() << std::endl;
+                                            std::cout << cli_app::status_json(s).dump() << std::endl;
                                           } else {
-                                            print_status(s);
+                                            cli_app::print_status(s);
                                           }
                                           return 0;
                                         });
 }
 
-std::unique_ptr<Command> make_drop_command() {
+std::unique_ptr<cli_app::Command> make_drop_command() {
   return std::make_unique<SceneCommand>("drop", "delete a scene's roadmap", false,
                                         [](client::Client& c, const std::string& scene, bool) {
                                           std::cout << c.drop(scene).message << "\n";
@@ -62,7 +62,7 @@ std::unique_ptr<Command> make_drop_command() {
                                         });
 }
 
-std::unique_ptr<Command> make_verify_command() {
+std::unique_ptr<cli_app::Command> make_verify_command() {
   return std::make_unique<SceneCommand>("verify", "check a roadmap (validity, costs, Invariant 1)", false,
                                         [](client::Client& c, const std::string& scene, bool) {
                                           const auto r = c.verify(scene);

@@ -11,7 +11,7 @@
 namespace ispars::cli {
 namespace {
 
-class ScenesCommand final : public Command {
+class ScenesCommand final : public cli_app::Command {
  public:
   CLI::App* add(CLI::App& app) override {
     scenes_ = app.add_subcommand("scenes", "list, load or unload scenes");
@@ -30,7 +30,7 @@ class ScenesCommand final : public Command {
     } else if (*load_) {
       const auto r = client.load(scene_);
       std::cout << r.message << "\n";
-      print_status(r.status);
+      cli_app::print_status(r.status);
     } else {
       std::cout << client.unload(scene_).message << "\n";
     }
@@ -68,6 +68,6 @@ class ScenesCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> make_scenes_command() { return std::make_unique<ScenesCommand>(); }
+std::unique_ptr<cli_app::Command> make_scenes_command() { return std::make_unique<ScenesCommand>(); }
 
 }  // namespace ispars::cli

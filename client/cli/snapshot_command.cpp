@@ -12,7 +12,7 @@
 namespace ispars::cli {
 namespace {
 
-class SnapshotCommand final : public Command {
+class SnapshotCommand final : public cli_app::Command {
  public:
   CLI::App* add(CLI::App& app) override {
     auto* cmd = app.add_subcommand("snapshot", "fetch the whole roadmap");
@@ -22,7 +22,7 @@ class SnapshotCommand final : public Command {
   }
   int run(client::Client& client) override {
     const client::Snapshot s = client.snapshot(scene_);
-    write_text(out_, roadmap_file_json(scene_, s.root, s.pois, s.roadmap, nullptr));
+    cli_app::write_text(out_, roadmap_file_json(scene_, s.root, s.pois, s.roadmap, nullptr));
     std::cout << fmt::format("wrote {} at version {} ({} vertices, {} edges, digest {:016x}) to {}\n", scene_,
                              s.version, s.roadmap.vertex_count(), s.roadmap.edge_count(), roadmap_digest(s.roadmap),
                              out_);
@@ -35,6 +35,6 @@ class SnapshotCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> make_snapshot_command() { return std::make_unique<SnapshotCommand>(); }
+std::unique_ptr<cli_app::Command> make_snapshot_command() { return std::make_unique<SnapshotCommand>(); }
 
 }  // namespace ispars::cli

@@ -48,7 +48,7 @@ std::vector<Vec3> read_pois(const std::string& path) {
   return pois;
 }
 
-class TaskCommand final : public Command {
+class TaskCommand final : public cli_app::Command {
  public:
   CLI::App* add(CLI::App& app) override {
     task_ = app.add_subcommand("task", "inspection tasks: named POIs added to a built roadmap");
@@ -58,9 +58,11 @@ class TaskCommand final : public Command {
     add_->add_option("name", name_, "task name (1-64 of A-Z a-z 0-9 _ - .)")->required();
     auto* file = add_->add_option("--file", file_, "POIs on the structure, one \"x y z\" per line");
     auto* sample = add_->add_option("--sample", sample_, "sample this many POIs on the structure's surface instead")
-                       ->check(whole_number(1, 1'000'000));
+                       ->check(cli_app::whole_number(1, 1'000'000));
     file->excludes(sample);
-    add_->add_option("--seed", seed_, "seed of --sample")->needs(sample)->check(whole_number(0, kMaxSeed));
+    add_->add_option("--seed", seed_, "seed of --sample")
+        ->needs(sample)
+        ->check(cli_app::whole_number(0, cli_app::kMaxSeed));
     add_->add_flag("--wait", wait_, "follow progress until the task is added");
     add_->add_flag("--json", json_, "print the final status as JSON");
     list_ = task_->add_subcommand("list", "the roadmap's tasks and how many of their POIs it sees");
@@ -88,7 +90,7 @@ class TaskCommand final : public Command {
     }
     const client::Reply reply =
         pois_.empty() ? client.add_sampled_task(scene_, name_, sample_, seed_) : client.add_task(scene_, name_, pois_);
-    return follow_job(client, scene_, reply, wait_, json_);
+    return cli_app::follow_job(client, scene_, reply, wait_, json_);
   }
 
  private:
@@ -126,6 +128,6 @@ class TaskCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> make_task_command() { return std::make_unique<TaskCommand>(); }
+std::unique_ptr<cli_app::Command> make_task_command() { return std::make_unique<TaskCommand>(); }
 
 }  // namespace ispars::cli

@@ -76,16 +76,16 @@ void print_tour(const client::TourReply& reply) {
                            r.bound_complete ? ", LP solved over all its cuts" : "", r.valid ? "valid" : "NOT valid");
 }
 
-class TourCommand final : public Command {
+class TourCommand final : public cli_app::Command {
  public:
   CLI::App* add(CLI::App& app) override {
     auto* cmd = app.add_subcommand("tour", "an inspection tour on the scene's roadmap, searched by the daemon");
     cmd->add_option("scene", scene_, "scene name")->required();
     cmd->add_option("--budget", budget_, "seconds of search")->required()->check(CLI::Range(0.001, 3600.0));
-    cmd->add_option("--seed", seed_, "search seed")->check(whole_number(0, kMaxSeed));
+    cmd->add_option("--seed", seed_, "search seed")->check(cli_app::whole_number(0, cli_app::kMaxSeed));
     cmd->add_option("--targets", targets_, "POI ids to see (default: every POI seen from the root's component)")
         ->delimiter(',')
-        ->check(whole_number(0, std::numeric_limits<std::uint32_t>::max()));
+        ->check(cli_app::whole_number(0, std::numeric_limits<std::uint32_t>::max()));
     cmd->add_option("--task", task_,
                     "the POIs of this inspection task (ispars task list) seen from the root's component")
         ->excludes("--targets");
@@ -112,7 +112,7 @@ class TourCommand final : public Command {
       file["positions"] = points_json(r.waypoints);
       file["path"] = points_json(r.flown_path);  // the flown tour: what render draws
       file["flown_sees"] = r.flown_sees;
-      write_text(out_, file.dump() + "\n");
+      cli_app::write_text(out_, file.dump() + "\n");
     }
     if (json_) {
       std::cout << result.dump() << std::endl;
@@ -132,6 +132,6 @@ class TourCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> make_tour_command() { return std::make_unique<TourCommand>(); }
+std::unique_ptr<cli_app::Command> make_tour_command() { return std::make_unique<TourCommand>(); }
 
 }  // namespace ispars::cli

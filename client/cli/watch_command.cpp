@@ -27,7 +27,7 @@ bool caught_up(client::Client& client, const std::string& scene, const client::S
   return replica.wait_for(now.generation, now.version, std::chrono::seconds(10));
 }
 
-class WatchCommand final : public Command {
+class WatchCommand final : public cli_app::Command {
  public:
   CLI::App* add(CLI::App& app) override {
     auto* cmd = app.add_subcommand("watch", "follow a roadmap live (a replica kept from update batches)");
@@ -40,7 +40,7 @@ class WatchCommand final : public Command {
     std::signal(SIGINT, [](int) { g_interrupted = true; });
     std::signal(SIGTERM, [](int) { g_interrupted = true; });
     (void)client.stats(scene_);  // fails clearly when the scene is not loaded anywhere
-    Progress progress(true);
+    cli_app::Progress progress(true);
     client::RoadmapReplica replica(client, scene_);
     bool retired = false;
     while (!g_interrupted) {
@@ -60,7 +60,8 @@ class WatchCommand final : public Command {
         g.version(), g.vertex_count(), g.edge_count(), roadmap_digest(g), replica.snapshots_taken(),
         replica.batches_applied());
     if (retired) return report_retired(client);
-    if (!dump_.empty()) write_text(dump_, roadmap_file_json(scene_, replica.root(), replica.pois(), g, nullptr));
+    if (!dump_.empty())
+      cli_app::write_text(dump_, roadmap_file_json(scene_, replica.root(), replica.pois(), g, nullptr));
     return 0;
   }
 
@@ -82,6 +83,6 @@ class WatchCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> make_watch_command() { return std::make_unique<WatchCommand>(); }
+std::unique_ptr<cli_app::Command> make_watch_command() { return std::make_unique<WatchCommand>(); }
 
 }  // namespace ispars::cli

@@ -28,7 +28,7 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& args) {
   cmd->add_option("--eye", args.eye, "camera position X Y Z (default: framed from the front-right)")->expected(3);
   cmd->add_option("--target", args.target, "camera target X Y Z (with --eye)")->expected(3);
   cmd->add_option("--max-edges", args.max_edges, "edges drawn at most (an evenly spread subset)")
-      ->check(whole_number(1, 100'000'000));
+      ->check(cli_app::whole_number(1, 100'000'000));
   cmd->add_option("--task", args.task, "draw this inspection task's POIs (ispars task list), and its tour with --tour");
   return cmd;
 }
@@ -116,7 +116,7 @@ int render_from_daemon(client::Client& client, const RenderArgs& args) {
 namespace ispars::cli {
 namespace {
 
-class RenderCommand final : public Command {
+class RenderCommand final : public cli_app::Command {
  public:
   CLI::App* add(CLI::App& app) override { return add_render_command(app, args_); }
   int run(client::Client& client) override { return render_from_daemon(client, args_); }
@@ -127,6 +127,6 @@ class RenderCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> make_render_command() { return std::make_unique<RenderCommand>(); }
+std::unique_ptr<cli_app::Command> make_render_command() { return std::make_unique<RenderCommand>(); }
 
 }  // namespace ispars::cli

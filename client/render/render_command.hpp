@@ -28,7 +28,7 @@ struct RenderArgs {
 };
 
 /// `render`, the one command of ispars-render.
-std::unique_ptr<Command> make_render_command();
+std::unique_ptr<cli_app::Command> make_render_command();
 
 /// Declares `render` on `app`, parsing into `args`.
 CLI::App* add_render_command(CLI::App& app, RenderArgs& args);

@@ -7,7 +7,8 @@
 
 int main(int argc, char** argv) {
   using namespace ispars::cli;
-  std::vector<std::unique_ptr<Command>> commands;
+  std::vector<std::unique_ptr<ispars::cli_app::Command>> commands;
   commands.push_back(make_render_command());
-  return run_cli(argc, argv, "ispars-render: a PNG of a scene's roadmap as an isparsd daemon serves it", commands);
+  return ispars::cli_app::run_cli(argc, argv,
+                                  "ispars-render: a PNG of a scene's roadmap as an isparsd daemon serves it", commands);
 }

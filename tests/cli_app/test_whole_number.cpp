@@ -7,7 +7,7 @@
 
 #include <string>
 
-namespace ispars::cli {
+namespace ispars::cli_app {
 namespace {
 
 TEST(WholeNumber, TheCheckNamesTheRangeAsEveryParameterDoes) {
@@ -30,4 +30,4 @@ TEST(WholeNumber, TheCheckNamesTheRangeAsEveryParameterDoes) {
 }
 
 }  // namespace
-}  // namespace ispars::cli
+}  // namespace ispars::cli_app

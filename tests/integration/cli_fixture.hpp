@@ -43,20 +43,19 @@ inline std::string last_line(const std::string& text) {
 class CliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    domain_ = client::random_domain();
-    client::write_tank_tower_scenes(dir_.path() / "scenes", {"tower"});
+    domain_ = local::random_domain();
+    local::write_tank_tower_scenes(dir_.path() / "scenes", {"tower"});
     common_ = "--domain " + std::to_string(domain_) + " --profile-file " + kProfile + " --timeout 20";
   }
   void start() {
-    daemon_ =
-        std::make_unique<client::LocalDaemon>(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes",
-                                              "cli", std::vector<std::string>{"--profile-file", kProfile});
+    daemon_ = std::make_unique<local::LocalDaemon>(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes",
+                                                   "cli", std::vector<std::string>{"--profile-file", kProfile});
   }
   const std::string kProfile = std::string(ISPARS_SOURCE_DIR) + "/deploy/fastdds_localhost.xml";
   test::TempDir dir_;
   int domain_ = 0;
   std::string common_;
-  std::unique_ptr<client::LocalDaemon> daemon_;
+  std::unique_ptr<local::LocalDaemon> daemon_;
 };
 
 }  // namespace ispars::test

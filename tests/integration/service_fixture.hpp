@@ -22,9 +22,9 @@
 namespace ispars::test {
 
 using client::BuildArgs;
-using DaemonProcess = client::LocalDaemon;
-using client::random_domain;
-inline const auto client_options = client::local_client_options;
+using DaemonProcess = local::LocalDaemon;
+using local::random_domain;
+inline const auto client_options = local::local_client_options;
 using client::Client;
 using client::ClientError;
 using client::make_change;
@@ -46,7 +46,7 @@ class ServiceTest : public ::testing::Test {
   void SetUp() override {
     domain_ = random_domain();
     scene_dir_ = dir_.path() / "scenes";
-    client::write_tank_tower_scenes(scene_dir_, {"s0", "s1", "s2", "s3"});
+    local::write_tank_tower_scenes(scene_dir_, {"s0", "s1", "s2", "s3"});
   }
   // A failed test shows the end of each daemon's log: what a rare failure in CI leaves to read.
   void TearDown() override {

@@ -19,11 +19,11 @@
 namespace ispars::test {
 namespace {
 
-using ispars::client::LocalDaemon;
+using ispars::local::LocalDaemon;
 using StopClock = std::chrono::steady_clock;
 
 // isparsd's exit status when its stop watchdog ended the stop, and that watchdog's deadline
-// (server/src/stop_watchdog.hpp; docs/operations.md, "Signals").
+// (server/daemon/include/ispars/server/stop_watchdog.hpp; docs/operations.md, "Signals").
 constexpr int kWatchdogExitStatus = 4;
 constexpr std::chrono::seconds kWatchdogDeadline{5};
 // A stop ended by the watchdog may take this long past its deadline (logging, _exit, the reap).
@@ -36,16 +36,16 @@ constexpr std::chrono::seconds kGiveUpSlack{30};
 class StopTestDaemon {
  public:
   explicit StopTestDaemon(const std::vector<std::string>& environment = {}) {
-    client::write_tank_tower_scenes(dir_.path() / "scenes", {"s0"});
-    daemon_ =
-        std::make_unique<LocalDaemon>(ISPARS_DAEMON, client::random_domain(), dir_.path() / "data",
-                                      dir_.path() / "scenes", "stop", std::vector<std::string>{}, "", environment);
+    local::write_tank_tower_scenes(dir_.path() / "scenes", {"s0"});
+    daemon_ = std::make_unique<local::LocalDaemon>(ISPARS_DAEMON, local::random_domain(), dir_.path() / "data",
+                                                   dir_.path() / "scenes", "stop", std::vector<std::string>{}, "",
+                                                   environment);
   }
-  std::unique_ptr<LocalDaemon>& daemon() { return daemon_; }
+  std::unique_ptr<local::LocalDaemon>& daemon() { return daemon_; }
 
  private:
   TempDir dir_;  // declared first: outlives the daemon
-  std::unique_ptr<LocalDaemon> daemon_;
+  std::unique_ptr<local::LocalDaemon> daemon_;
 };
 
 // Whether process `pid` is gone for good (reaped: not even a zombie is left).
@@ -59,15 +59,15 @@ bool log_holds_stacks_of(const std::string& log, pid_t pid) {
 
 TEST(LocalDaemonStopTest, TerminateGivesUpOnADaemonThatNeverExitsAndLeavesItsStacksInItsLog) {
   StopTestDaemon d;
-  LocalDaemon& daemon = *d.daemon();
+  local::LocalDaemon& daemon = *d.daemon();
   const pid_t pid = daemon.pid();
   ASSERT_EQ(::kill(pid, SIGSTOP), 0);  // it can no longer act on SIGTERM, nor its watchdog fire
   const auto start = StopClock::now();
-  EXPECT_EQ(daemon.terminate(), LocalDaemon::kStopTimedOut);
+  EXPECT_EQ(daemon.terminate(), local::LocalDaemon::kStopTimedOut);
   const auto took = StopClock::now() - start;
   EXPECT_TRUE(daemon.stop_timed_out());
-  EXPECT_GE(took, LocalDaemon::kStopDeadline);
-  EXPECT_LT(took, LocalDaemon::kStopDeadline + kGiveUpSlack);
+  EXPECT_GE(took, local::LocalDaemon::kStopDeadline);
+  EXPECT_LT(took, local::LocalDaemon::kStopDeadline + kGiveUpSlack);
   EXPECT_FALSE(daemon.alive());
   EXPECT_TRUE(process_gone(pid)) << "the daemon was neither killed nor reaped";
   EXPECT_TRUE(log_holds_stacks_of(daemon.log(), pid)) << daemon.log();
@@ -80,17 +80,17 @@ TEST(LocalDaemonStopTest, TheDestructorGivesUpOnADaemonThatNeverExits) {
   const auto start = StopClock::now();
   d.daemon().reset();
   const auto took = StopClock::now() - start;
-  EXPECT_GE(took, LocalDaemon::kStopDeadline);
-  EXPECT_LT(took, LocalDaemon::kStopDeadline + kGiveUpSlack);
+  EXPECT_GE(took, local::LocalDaemon::kStopDeadline);
+  EXPECT_LT(took, local::LocalDaemon::kStopDeadline + kGiveUpSlack);
   EXPECT_TRUE(process_gone(pid)) << "the daemon was neither killed nor reaped";
 }
 
-// The stop stalls at a point a test hook names (ISPARS_TEST_STALL_STOP, server/src/main.cpp), as
+// The stop stalls at a point a test hook names (ISPARS_TEST_STALL_STOP, server/daemon/src/main.cpp), as
 // it stalled in Fast DDS: the daemon's watchdog ends it with its own status, within its deadline,
 // and its log says what the stop was waiting for.
 TEST(DaemonStopWatchdogTest, AStopThatStallsEndsWithTheWatchdogsStatusAfterItsDeadline) {
   StopTestDaemon d({"ISPARS_TEST_STALL_STOP=1"});
-  LocalDaemon& daemon = *d.daemon();
+  local::LocalDaemon& daemon = *d.daemon();
   const auto start = StopClock::now();
   EXPECT_EQ(daemon.terminate(), kWatchdogExitStatus) << daemon.log();
   const auto took = StopClock::now() - start;

@@ -30,15 +30,15 @@ using client::SceneStatus;
 class ProtocolTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    domain_ = client::random_domain();
-    client::write_tank_tower_scenes(dir_.path() / "scenes", {"s0"});
+    domain_ = local::random_domain();
+    local::write_tank_tower_scenes(dir_.path() / "scenes", {"s0"});
   }
   TempDir dir_;
   int domain_ = 0;
 };
 
 TEST_F(ProtocolTest, ADaemonRefusesAnotherVersionByNameAndAnswersItsOwn) {
-  client::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
+  local::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
   RawPeer peer(domain_);
   msg::QueryRequest request = client::make_query(msg::LIST_SCENES, "");
   request.server_id("d");
@@ -72,7 +72,7 @@ TEST_F(ProtocolTest, AClientRefusesToAddressADaemonOfAnotherVersion) {
   info.protocol(msg::PROTOCOL_VERSION + 1);
   info.host("elsewhere");
   future.announce(info);
-  auto options = client::local_client_options(domain_);
+  auto options = local::local_client_options(domain_);
   options.timeout = std::chrono::seconds(20);
   Client client(options);
   try {
@@ -88,7 +88,7 @@ TEST_F(ProtocolTest, AClientRefusesToAddressADaemonOfAnotherVersion) {
 }
 
 TEST_F(ProtocolTest, TheSenderIsWhoTheTransportSaysNotWhatTheRequestClaims) {
-  client::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
+  local::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
   RawPeer victim(domain_), impostor(domain_);
   ASSERT_NE(victim.identity(), impostor.identity());
   // The impostor claims the victim's id for a STATS with sequence number 7.
@@ -124,8 +124,8 @@ namespace {
 // other clients meanwhile. The requests are posted once, never retried, so a reply written early
 // is a reply lost.
 TEST_F(ProtocolTest, AReplyIsHeldUntilTheClientsReaderMatchedAndNoLonger) {
-  client::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
-  Client client(client::local_client_options(domain_));
+  local::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
+  Client client(local::local_client_options(domain_));
   client.load("s0");
   msg::QueryRequest stats = client::make_query(msg::STATS, "s0");
   stats.server_id("d");
@@ -170,10 +170,10 @@ TEST_F(ProtocolTest, AReplyIsHeldUntilTheClientsReaderMatchedAndNoLonger) {
 // refused as interrupted, naming how to check.
 TEST_F(ProtocolTest, AChangeResentAfterARestartIsAnsweredFromTheLedgerNotDoneTwice) {
   const auto data = dir_.path() / "data";
-  auto daemon = std::make_unique<client::LocalDaemon>(ISPARS_DAEMON, domain_, data, dir_.path() / "scenes", "d");
+  auto daemon = std::make_unique<local::LocalDaemon>(ISPARS_DAEMON, domain_, data, dir_.path() / "scenes", "d");
   RawPeer peer(domain_);
   {
-    Client client(client::local_client_options(domain_));
+    Client client(local::local_client_options(domain_));
     client.load("s0");
     client::BuildArgs build;
     build.samples = 1000;
@@ -195,8 +195,8 @@ TEST_F(ProtocolTest, AChangeResentAfterARestartIsAnsweredFromTheLedgerNotDoneTwi
     ledger << seal_json({{"begun", "EXTEND"}, {"client", peer.identity()}, {"seq", 12}, {"scene", "s0"}}).dump()
            << "\n";
   }
-  daemon = std::make_unique<client::LocalDaemon>(ISPARS_DAEMON, domain_, data, dir_.path() / "scenes", "d");
-  Client client(client::local_client_options(domain_));
+  daemon = std::make_unique<local::LocalDaemon>(ISPARS_DAEMON, domain_, data, dir_.path() / "scenes", "d");
+  Client client(local::local_client_options(domain_));
   client.load("s0");
   ASSERT_EQ(client.wait_idle("s0", {}, std::chrono::seconds(60)).samples_done, 1500u) << "the extend, done once";
   extend.client_id(peer.identity());
@@ -223,8 +223,8 @@ TEST_F(ProtocolTest, AChangeResentAfterARestartIsAnsweredFromTheLedgerNotDoneTwi
 }
 
 TEST_F(ProtocolTest, ARetryIsAnsweredFromTheCacheNotServedAgain) {
-  client::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
-  Client client(client::local_client_options(domain_));
+  local::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d");
+  Client client(local::local_client_options(domain_));
   client.load("s0");
   RawPeer peer(domain_);
   msg::QueryRequest stats = client::make_query(msg::STATS, "s0");
@@ -254,9 +254,9 @@ namespace ispars::test {
 namespace {
 
 TEST_F(ProtocolTest, ARoadmapOfSeveralMegabytesTravelsInChunksAtOneVersion) {
-  client::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d",
-                             {"--memory-budget-mb", "1073741824"});
-  Client client(client::local_client_options(domain_));
+  local::LocalDaemon daemon(ISPARS_DAEMON, domain_, dir_.path() / "data", dir_.path() / "scenes", "d",
+                            {"--memory-budget-mb", "1073741824"});
+  Client client(local::local_client_options(domain_));
   client.load("s0");
   client::BuildArgs dense;
   dense.method = BuildMethod::dense;  // every pair within delta: many edges, a large encoding

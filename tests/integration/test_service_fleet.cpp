@@ -143,7 +143,7 @@ TEST_F(FleetTest, AnAddedSceneFileAndAStoredRoadmapAreAnnouncedWhileTheDaemonRun
   const auto stored = &client::DaemonInfo::stored;
   ASSERT_TRUE(announced(available, "s0"));
   ASSERT_FALSE(announced(available, "s9"));
-  client::write_tank_tower_scenes(scene_dir_, {"s9"});
+  local::write_tank_tower_scenes(scene_dir_, {"s9"});
   EXPECT_TRUE(eventually([&] { return announced(available, "s9"); }, 10s,
                          "a scene file added while the daemon runs is announced"));
   std::filesystem::remove(scene_dir_ / "s9.yaml");

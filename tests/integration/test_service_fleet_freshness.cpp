@@ -247,7 +247,7 @@ TEST_F(FleetFreshnessTest, ADropOutlivesAnUnloadAndARestartAndSetsTheOlderCopyAs
 // says so by name (log, scenes list) and serves its own scene; the owner's store is untouched.
 TEST_F(FleetFreshnessTest, ADaemonWithAnotherSceneFileRefusesToContinueTheOwnersRoadmap) {
   const auto other_scenes = dir_.path() / "other-scenes";
-  client::write_tank_tower_scenes(other_scenes, {"x0", "s0"});  // its s0 is another tower
+  local::write_tank_tower_scenes(other_scenes, {"x0", "s0"});  // its s0 is another tower
   auto owner = start("owner");
   Client client(options());
   client.load("s0");
@@ -337,7 +337,7 @@ TEST_F(FleetFreshnessTest, ADamagedFresherCopyIsNotOfferedAndTheHealthyHolderKee
 // a, which then served "failed, no roadmap"). Restoring a's file offers the copy again.
 TEST_F(FleetFreshnessTest, ACopyBuiltOnAnotherVersionOfTheSceneFileIsNotOffered) {
   const auto a_scenes = dir_.path() / "a-scenes";
-  client::write_tank_tower_scenes(a_scenes, {"s0", "s1", "s2", "s3"});
+  local::write_tank_tower_scenes(a_scenes, {"s0", "s1", "s2", "s3"});
   build_alone_and_stop("a", "s2", 800, 1);
   std::filesystem::create_directories(dir_.path() / "data-b");
   std::filesystem::copy(dir_.path() / "data-a" / "s2", dir_.path() / "data-b" / "s2",

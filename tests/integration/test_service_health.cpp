@@ -2,7 +2,7 @@
 // (every UDP packet into its host dropped by nftables, its own included; its HTTP endpoint still
 // reachable over TCP) answers no client, and must say 503 within a stated bound, then 200 again
 // once the packets pass. The daemon hears its own probe sample, written every 2 s, through the
-// transport (server/src/self_probe.hpp, main.cpp, operator_endpoints.cpp).
+// transport (server/daemon/include/ispars/server/self_probe.hpp, main.cpp, operator_endpoints.cpp).
 
 #include <gtest/gtest.h>
 

@@ -301,7 +301,7 @@ void HistoryTest::run() {
   lab_ = std::make_unique<NetnsLab>(dir_.path() / "netns", hosts, kLease);
   lab_->enter("hc");
   for (const auto& id : kDaemons) {
-    client::write_tank_tower_scenes(scenes_of(id), {"s0", "s1", "s2", "s3"});
+    local::write_tank_tower_scenes(scenes_of(id), {"s0", "s1", "s2", "s3"});
     daemons_[id] = launch(id);
   }
   client_ = joined();

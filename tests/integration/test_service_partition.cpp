@@ -53,8 +53,8 @@ void PartitionTest::run_campaign(bool secured) {
     std::vector<std::string> ids{"operator:op", "viewer:probe"};
     for (const auto& d : kDaemons) ids.push_back("daemon:" + d);
     for (const auto& d : kDaemons) ids.push_back("operator:op-" + d);
-    keystore_ = client::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
-                                      dir_.path() / "keystore", ids);
+    keystore_ = local::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
+                                     dir_.path() / "keystore", ids);
   }
   lab_->enter("hc");
   std::map<std::string, std::unique_ptr<DaemonProcess>> daemons;

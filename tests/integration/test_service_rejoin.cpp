@@ -49,8 +49,8 @@ std::string dotted(const std::string& identity) {
 
 TEST_F(RejoinTest, ASecuredClientThatDroppedADaemonWhichKeptItRejoinsByItself) {
   NetnsLab lab(dir_.path() / "netns", {"d1", "hc"}, kSecureLease);
-  const auto keystore = client::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
-                                              dir_.path() / "keystore", {"daemon:d1", "operator:op", "viewer:probe"});
+  const auto keystore = local::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
+                                             dir_.path() / "keystore", {"daemon:d1", "operator:op", "viewer:probe"});
   const auto identity = [&](const std::string& name) { return (keystore / "identities" / name).string(); };
   lab.enter("hc");
   DaemonProcess daemon(ISPARS_DAEMON, domain_, dir_.path() / "data-d1", scene_dir_, "d1",
@@ -112,8 +112,8 @@ TEST_F(RejoinTest, ASecuredClientThatDroppedADaemonWhichKeptItRejoinsByItself) {
 TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
   NetnsLab lab(dir_.path() / "netns", {"d1", "d2", "hc"}, kSecureLease);
   const auto keystore =
-      client::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
-                            dir_.path() / "keystore", {"daemon:d1", "daemon:d2", "operator:op", "viewer:probe"});
+      local::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
+                           dir_.path() / "keystore", {"daemon:d1", "daemon:d2", "operator:op", "viewer:probe"});
   const auto identity = [&](const std::string& name) { return (keystore / "identities" / name).string(); };
   lab.enter("hc");
   std::map<std::string, std::unique_ptr<DaemonProcess>> daemons;
@@ -193,8 +193,8 @@ TEST_F(RejoinTest, ASecuredDaemonThatRejoinsKeepsItsScenes) {
 // DDS resends the handshake and, without the rule, the two met 0.8 s after the link was whole.
 TEST_F(RejoinTest, TwoSecuredDaemonsWhoseFirstHandshakeFailedMeetByRejoining) {
   NetnsLab lab(dir_.path() / "netns", {"d1", "d2", "hc"}, kSecureLease);
-  const auto keystore = client::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
-                                              dir_.path() / "keystore", {"daemon:d1", "daemon:d2", "viewer:probe"});
+  const auto keystore = local::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
+                                             dir_.path() / "keystore", {"daemon:d1", "daemon:d2", "viewer:probe"});
   const auto identity = [&](const std::string& name) { return (keystore / "identities" / name).string(); };
   lab.deafen_unicast("d1", "d2");
   lab.deafen_unicast("d2", "d1");

@@ -40,8 +40,8 @@ class SecureServiceTest : public ServiceTest {
  public:  // BuiltAndFollowed uses the helpers
   static void SetUpTestSuite() {
     keystore_ = new TempDir();
-    client::make_keystore(ISPARS_SOURCE_DIR "/deploy/security/make-keystore.sh", keystore_->path(),
-                          {"daemon:d", "operator:op", "viewer:view", "viewer:probe"});
+    local::make_keystore(ISPARS_SOURCE_DIR "/deploy/security/make-keystore.sh", keystore_->path(),
+                         {"daemon:d", "operator:op", "viewer:view", "viewer:probe"});
     const fs::path rogue = keystore_->path() / "identities" / "rogue";
     fs::copy(identity("view"), rogue);
     std::ofstream(rogue / "permissions.xml")

@@ -36,9 +36,8 @@ class StallTest : public ServiceTest {
  protected:
   void SetUp() override {
     ServiceTest::SetUp();
-    keystore_ =
-        client::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
-                              dir_.path() / "keystore", {"daemon:a", "daemon:b", "operator:op", "viewer:probe"});
+    keystore_ = local::make_keystore(std::string(ISPARS_SOURCE_DIR) + "/deploy/security/make-keystore.sh",
+                                     dir_.path() / "keystore", {"daemon:a", "daemon:b", "operator:op", "viewer:probe"});
   }
   std::string identity(const std::string& name) const { return (keystore_ / "identities" / name).string(); }
   std::unique_ptr<DaemonProcess> start_secure(const std::string& id) {

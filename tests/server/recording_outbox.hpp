@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "daemon_outbox.hpp"
+#include "ispars/server/daemon_outbox.hpp"
 
 namespace ispars::test {
 

@@ -8,11 +8,11 @@
 #include <set>
 #include <type_traits>
 
-#include "daemon_config.hpp"
-#include "daemon_flags.hpp"
-#include "daemon_settings.hpp"
 #include "ispars/params/fields.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/server/daemon_config.hpp"
+#include "ispars/server/daemon_flags.hpp"
+#include "ispars/server/daemon_settings.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars::server {

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "daemon_metrics.hpp"
+#include "ispars/server/daemon_metrics.hpp"
 
 namespace ispars::server {
 namespace {

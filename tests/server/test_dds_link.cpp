@@ -2,7 +2,7 @@
 // closed link, standing still past the lease makes a new participant that announces the daemon
 // and republishes its scenes, and a stop ends a rejoin's overlap at once.
 
-#include "dds_link.hpp"
+#include "ispars/server/dds_link.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,10 +10,10 @@
 #include <chrono>
 #include <thread>
 
-#include "daemon_inbox.hpp"
-#include "dds_endpoints.hpp"
 #include "ispars/local/local_daemon.hpp"
-#include "stop_signal.hpp"
+#include "ispars/server/daemon_inbox.hpp"
+#include "ispars/server/dds_endpoints.hpp"
+#include "ispars/server/stop_signal.hpp"
 #include "support/eventually.hpp"
 
 namespace ispars::server {
@@ -33,7 +33,7 @@ struct QuietInbox final : DaemonInbox {
 class DdsLinkTest : public ::testing::Test {
  protected:
   DdsLinkTest() {
-    config_.participant.domain = client::random_domain();  // locked for this process: no other test shares it
+    config_.participant.domain = local::random_domain();  // locked for this process: no other test shares it
     config_.server_id = "link-test";
     config_.discovery_wait_ms = 0;
   }

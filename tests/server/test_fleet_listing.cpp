@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "fleet_listing.hpp"
+#include "ispars/server/fleet_listing.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars::server {

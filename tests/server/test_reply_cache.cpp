@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "ispars/server/reply_cache.hpp"
 #include "ispars/wire/convert.hpp"
-#include "reply_cache.hpp"
 
 namespace ispars::server {
 namespace {

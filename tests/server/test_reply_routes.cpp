@@ -13,10 +13,10 @@
 #include <thread>
 
 #include "ispars/local/local_daemon.hpp"
+#include "ispars/server/reply_routes.hpp"
 #include "ispars/wire/participant.hpp"
 #include "ispars/wire/topics.hpp"
 #include "isparsPubSubTypes.h"
-#include "reply_routes.hpp"
 #include "support/eventually.hpp"
 
 namespace ispars::server {
@@ -30,7 +30,7 @@ struct Routes {
     progress_topic = wire::find_or_create_topic(participant.get(), progress_type, wire::kTourProgressTopic);
     routes = std::make_unique<ReplyRoutes>(participant.get(), reply_topic, progress_topic, nullptr, "daemon", max);
   }
-  int domain = client::random_domain();  // locked for this process: no other test shares it
+  int domain = local::random_domain();  // locked for this process: no other test shares it
   wire::Participant participant;
   fdds::TypeSupport reply_type{new msg::ReplyPubSubType()};
   fdds::TypeSupport progress_type{new msg::TourProgressPubSubType()};

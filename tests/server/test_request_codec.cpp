@@ -7,7 +7,7 @@
 #include <string>
 
 #include "ispars/params/input_error.hpp"
-#include "request_codec.hpp"
+#include "ispars/server/request_codec.hpp"
 #include "support/test_support.hpp"
 
 namespace ispars::server {

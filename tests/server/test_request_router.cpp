@@ -1,7 +1,7 @@
 // The request router without DDS: header checks named, retries answered from the cache, a query
 // on the change topic refused, and a full slow lane refusing at once while the quick lane answers.
 
-#include "request_router.hpp"
+#include "ispars/server/request_router.hpp"
 
 #include <gtest/gtest.h>
 

@@ -9,8 +9,8 @@
 #include <tuple>
 
 #include "ispars/params/input_error.hpp"
+#include "ispars/server/scene_claims.hpp"
 #include "ispars/wire/scene_owner.hpp"
-#include "scene_claims.hpp"
 #include "wire/stored_roadmap_fixture.hpp"
 
 namespace ispars::server {

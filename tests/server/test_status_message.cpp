@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "ispars/server/status_message.hpp"
 #include "ispars/wire/convert.hpp"
-#include "status_message.hpp"
 
 namespace ispars::server {
 namespace {

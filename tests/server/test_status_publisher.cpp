@@ -1,7 +1,7 @@
 // The status publisher without DDS: statuses stamped in order, UNLOADED only when not given up,
 // updates kept at a stop, and a new participant's version mark.
 
-#include "status_publisher.hpp"
+#include "ispars/server/status_publisher.hpp"
 
 #include <gtest/gtest.h>
 

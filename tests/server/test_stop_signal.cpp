@@ -1,6 +1,6 @@
 // The background threads' shared wait: a wake ends the next wait_for, a stop ends every wait.
 
-#include "stop_signal.hpp"
+#include "ispars/server/stop_signal.hpp"
 
 #include <gtest/gtest.h>
 

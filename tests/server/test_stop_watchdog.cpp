@@ -14,7 +14,7 @@
 #include <string>
 #include <thread>
 
-#include "stop_watchdog.hpp"
+#include "ispars/server/stop_watchdog.hpp"
 
 namespace ispars::server {
 namespace {

@@ -7,7 +7,7 @@
 #include <chrono>
 #include <thread>
 
-#include "takeover_gate.hpp"
+#include "ispars/server/takeover_gate.hpp"
 
 namespace ispars::server {
 namespace {

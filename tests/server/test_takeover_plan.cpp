@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "takeover_plan.hpp"
+#include "ispars/server/takeover_plan.hpp"
 
 namespace ispars::server {
 namespace {

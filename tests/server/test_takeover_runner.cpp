@@ -9,7 +9,7 @@
 #include <string>
 #include <thread>
 
-#include "takeover_runner.hpp"
+#include "ispars/server/takeover_runner.hpp"
 
 namespace ispars::server {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <limits>
 
-#include "task_board.hpp"
+#include "ispars/server/task_board.hpp"
 
 namespace ispars::server {
 namespace {

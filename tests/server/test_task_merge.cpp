@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "task_merge.hpp"
+#include "ispars/server/task_merge.hpp"
 
 namespace ispars::server {
 namespace {

@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "access_policy.hpp"
+#include "ispars/web/access_policy.hpp"
 
 namespace ispars::web {
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "scene_feed.hpp"
+#include "ispars/web/scene_feed.hpp"
 
 namespace ispars::web {
 namespace {

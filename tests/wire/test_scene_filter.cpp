@@ -89,7 +89,7 @@ struct OverTheTransport {
 
 class SceneFilterTest : public ::testing::Test {
  protected:
-  SceneFilterTest() : domain_(client::random_domain()), writer_side_({domain_, "", "ispars", "filter writer", ""}) {
+  SceneFilterTest() : domain_(local::random_domain()), writer_side_({domain_, "", "ispars", "filter writer", ""}) {
     fdds::DomainParticipant* p = writer_side_.get();
     fdds::Topic* topic = find_or_create_topic(p, writer_type_, kUpdatesTopic);
     EXPECT_TRUE(register_scene_filter(p));

@@ -9,7 +9,7 @@
 #include "ispars/params/cli_archive.hpp"
 #include "ispars/wire/participant_options.hpp"
 
-namespace ispars::cli {
+namespace ispars::cli_app {
 namespace {
 
 // Where the daemons are and who this client is: flags, or ISPARS_* environment variables. The
@@ -92,4 +92,4 @@ int run_cli(int argc, char** argv, const char* title, const std::vector<std::uni
   }
 }
 
-}  // namespace ispars::cli
+}  // namespace ispars::cli_app

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <iostream>
 
-namespace ispars::cli {
+namespace ispars::cli_app {
 
 nlohmann::json status_json(const client::SceneStatus& s) {
   return {{"scene", s.scene},
@@ -111,4 +111,4 @@ int follow_job(client::Client& client, const std::string& scene, const client::R
   return wait && final_status.state == client::SceneState::failed ? 1 : 0;
 }
 
-}  // namespace ispars::cli
+}  // namespace ispars::cli_app

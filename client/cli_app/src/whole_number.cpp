@@ -2,7 +2,7 @@
 
 #include "ispars/params/spec.hpp"
 
-namespace ispars::cli {
+namespace ispars::cli_app {
 
 CLI::Validator whole_number(std::uint64_t min, std::uint64_t max) {
   const params::Spec<std::uint64_t> spec{"", min, max, ""};
@@ -10,4 +10,4 @@ CLI::Validator whole_number(std::uint64_t min, std::uint64_t max) {
                         params::range_text(spec));
 }
 
-}  // namespace ispars::cli
+}  // namespace ispars::cli_app

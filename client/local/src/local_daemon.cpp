@@ -24,7 +24,7 @@
 
 extern char** environ;  // NOLINT: the process environment (POSIX)
 
-namespace ispars::client {
+namespace ispars::local {
 
 int random_domain() {
   // A participant's ports are 7400 + 250 * domain + 10 (+ 1 for data) + 2 * id, and Fast DDS 2.9
@@ -90,8 +90,8 @@ void write_tank_tower_scenes(const std::filesystem::path& dir, const std::vector
   }
 }
 
-ClientOptions local_client_options(int domain) {
-  ClientOptions options;
+client::ClientOptions local_client_options(int domain) {
+  client::ClientOptions options;
   options.participant.domain = domain;
   options.participant.name = "ispars local client";
   options.timeout = std::chrono::seconds(30);
@@ -165,7 +165,7 @@ LocalDaemon::LocalDaemon(const std::string& daemon_binary, int domain, std::file
         environment);
   // Ready when it says it serves (it announces itself earlier, while it listens for the other
   // daemons) and a client sees its announcement.
-  ClientOptions probe_options = local_client_options(domain);
+  client::ClientOptions probe_options = local_client_options(domain);
   probe_options.participant.security = probe_security;
   // A daemon on another discovery (a Discovery Server profile, say) is probed the same way.
   if (const std::string* file = flag_value(extra_args, "--profile-file"))
@@ -203,9 +203,9 @@ void LocalDaemon::spawn(std::vector<std::string> args, const std::vector<std::st
   }
 }
 
-void LocalDaemon::wait_until_serving(const ClientOptions& probe_options, std::size_t log_start,
+void LocalDaemon::wait_until_serving(const client::ClientOptions& probe_options, std::size_t log_start,
                                      std::chrono::seconds ready_within) {
-  auto probe = std::make_unique<Client>(probe_options);
+  auto probe = std::make_unique<client::Client>(probe_options);
   const auto deadline = std::chrono::steady_clock::now() + ready_within;
   std::optional<std::chrono::steady_clock::time_point> serving_since;
   while (std::chrono::steady_clock::now() < deadline) {
@@ -221,7 +221,7 @@ void LocalDaemon::wait_until_serving(const ClientOptions& probe_options, std::si
       if (!probe_options.participant.security.empty() &&
           std::chrono::steady_clock::now() - *serving_since > std::chrono::seconds(10)) {
         probe.reset();
-        probe = std::make_unique<Client>(probe_options);
+        probe = std::make_unique<client::Client>(probe_options);
         serving_since = std::chrono::steady_clock::now();
       }
     }
@@ -351,4 +351,4 @@ std::string LocalDaemon::log() const {
   return text;
 }
 
-}  // namespace ispars::client
+}  // namespace ispars::local

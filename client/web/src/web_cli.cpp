@@ -8,7 +8,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "access_policy.hpp"
+#include "ispars/web/access_policy.hpp"
 
 #ifndef ISPARS_WEB_ROOT
 #define ISPARS_WEB_ROOT ""

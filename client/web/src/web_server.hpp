@@ -10,9 +10,9 @@
 #include <memory>
 #include <string>
 
-#include "access_policy.hpp"
 #include "ispars/client/client.hpp"
-#include "scene_feed.hpp"
+#include "ispars/web/access_policy.hpp"
+#include "ispars/web/scene_feed.hpp"
 
 namespace ispars::web {
 

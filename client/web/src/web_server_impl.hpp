@@ -24,8 +24,8 @@
 #include <string_view>
 #include <thread>
 
-#include "access_policy.hpp"
-#include "feed_set.hpp"
+#include "ispars/web/access_policy.hpp"
+#include "ispars/web/feed_set.hpp"
 #include "web_server.hpp"
 
 namespace ispars::web {

@@ -7,7 +7,7 @@
 
 #include "ispars/client/client.hpp"
 
-namespace ispars::cli {
+namespace ispars::cli_app {
 
 /// A scene's status as one JSON object.
 [[nodiscard]] nlohmann::json status_json(const client::SceneStatus& s);
@@ -36,4 +36,4 @@ int follow_job(client::Client& client, const std::string& scene, const client::R
 /// Writes `text` to `path`, throwing CLI::ValidationError("--out", ...) on failure.
 void write_text(const std::string& path, const std::string& text);
 
-}  // namespace ispars::cli
+}  // namespace ispars::cli_app

@@ -9,7 +9,7 @@
 
 #include "ispars/client/client.hpp"
 
-namespace ispars::cli {
+namespace ispars::cli_app {
 
 /// One subcommand of a client program.
 class Command {
@@ -26,4 +26,4 @@ class Command {
   virtual std::optional<int> run_elsewhere(int /*argc*/, char** /*argv*/) { return std::nullopt; }
 };
 
-}  // namespace ispars::cli
+}  // namespace ispars::cli_app

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <limits>
 
-namespace ispars::cli {
+namespace ispars::cli_app {
 
 /// Any seed: every 64-bit value draws its own stream.
 inline constexpr std::uint64_t kMaxSeed = std::numeric_limits<std::uint64_t>::max();
@@ -17,4 +17,4 @@ inline constexpr std::uint64_t kMaxSeed = std::numeric_limits<std::uint64_t>::ma
 /// A CLI11 check, run on the text before CLI11 converts it: a whole number in [min, max].
 [[nodiscard]] CLI::Validator whole_number(std::uint64_t min, std::uint64_t max);
 
-}  // namespace ispars::cli
+}  // namespace ispars::cli_app

@@ -13,7 +13,7 @@
 
 #include "ispars/client/client.hpp"
 
-namespace ispars::client {
+namespace ispars::local {
 
 /// A DDS domain id of 1, 5, ..., 97 (whose ports lie below Linux's ephemeral ones) that no other
 /// test process on this machine holds: each process locks the domains it draws
@@ -24,7 +24,7 @@ int random_domain();
 void write_tank_tower_scenes(const std::filesystem::path& dir, const std::vector<std::string>& names);
 
 /// Client options for `domain`, with a generous timeout for loaded machines.
-ClientOptions local_client_options(int domain);
+client::ClientOptions local_client_options(int domain);
 
 /// Runs deploy/security/make-keystore.sh (the script at `script`) into `dir` for `identities`
 /// ("ROLE:NAME" each) and returns dir; throws with the script's output when it fails.
@@ -85,7 +85,8 @@ class LocalDaemon {
   void spawn(std::vector<std::string> args, const std::vector<std::string>& environment);
   // Returns once the log says it serves (from byte `log_start` on) and `probe_options`' client
   // sees it; kills it and throws when it exits or is not seen within `ready_within`.
-  void wait_until_serving(const ClientOptions& probe_options, std::size_t log_start, std::chrono::seconds ready_within);
+  void wait_until_serving(const client::ClientOptions& probe_options, std::size_t log_start,
+                          std::chrono::seconds ready_within);
 
   pid_t pid_ = -1;
   bool stop_timed_out_ = false;
@@ -95,4 +96,4 @@ class LocalDaemon {
   std::filesystem::path own_log_path_;  // --log-file, when given
 };
 
-}  // namespace ispars::client
+}  // namespace ispars::local

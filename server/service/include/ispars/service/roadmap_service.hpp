@@ -1,7 +1,7 @@
 #pragma once
 // The roadmap service without its transport: the scenes a daemon holds (a SceneRegistry of one
 // RoadmapSession each), every operation a client may ask for in typed form, build jobs and tours
-// on the service's own worker pools, and tour admission. The DDS layer (server/src) decodes a request, calls one of
+// on the service's own worker pools, and tour admission. The DDS layer (server/daemon/) decodes a request, calls one of
 // these functions, and encodes what it returns; unit tests call them directly.
 //
 // Every operation checks its arguments here, once, and throws InputError (file "request", the
