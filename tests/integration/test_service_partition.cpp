@@ -45,7 +45,7 @@ class PartitionTest : public NetnsFleetTest {
 };
 
 void PartitionTest::run_campaign(bool secured) {
-  const std::chrono::seconds lease(secured ? 20 : 3);
+  const std::chrono::seconds lease = secured ? kSecuredTestLease : std::chrono::seconds(3);
   std::vector<std::string> hosts = kDaemons;
   hosts.push_back("hc");
   lab_ = std::make_unique<NetnsLab>(dir_.path() / "netns", hosts, lease);
