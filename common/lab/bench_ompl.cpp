@@ -19,6 +19,7 @@
 #include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "ispars/params/input_error.hpp"
 #include "ispars/planning/builders/roadmap_builder.hpp"
@@ -113,6 +114,60 @@ OmplRun run_ompl_spars(const ispars::planning::Scene& scene, const Checks& check
   return run;
 }
 
+// Inspection-SPARS on `samples`, each variant: its figures by variant name, and (to `dense_target`)
+// the dense vertex count the stretch variant reached last.
+nlohmann::json run_ours(const ispars::planning::Scene& scene, std::size_t samples, unsigned& dense_target) {
+  nlohmann::json ours = nlohmann::json::object();
+  for (const ispars::SparsVariant variant : {ispars::SparsVariant::stretch, ispars::SparsVariant::alg1}) {
+    ispars::planning::BuildOptions options;
+    options.variant = variant;
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto builder = ispars::planning::make_roadmap_builder(ispars::BuildMethod::ispars, scene, options);
+    builder->extend(samples);
+    const double seconds = seconds_since(t0);
+    dense_target = static_cast<unsigned>(builder->dense()->vertex_count());
+    ours[std::string(to_string(variant))] = {{"seconds", seconds},
+                                             {"dense_vertices", builder->dense()->vertex_count()},
+                                             {"sparse_vertices", builder->roadmap().vertex_count()}};
+    std::cout << fmt::format(
+        "Inspection-SPARS ({}): {} samples, {} dense / {} sparse vertices in {:.3f} s (1 thread)\n", to_string(variant),
+        samples, builder->dense()->vertex_count(), builder->roadmap().vertex_count(), seconds);
+  }
+  return ours;
+}
+
+// OMPL's SPARS to `dense_target` with `checks` named `name`. It can throw "Vertex has no interface
+// neighbor with given representative" (a defect of its shortcut bookkeeping,
+// ../shared/notes/algorithms.md); each attempt draws new samples, so it is tried up to 5 times and
+// the attempts that threw are reported. Nothing (and a message) when all 5 threw.
+std::optional<nlohmann::json> run_ompl(const ispars::planning::Scene& scene, const std::string& name,
+                                       const Checks& checks, unsigned dense_target, double cap, double ours_seconds,
+                                       bool& capped) {
+  OmplRun run;
+  std::vector<std::string> failures;
+  for (int attempt = 0; attempt < 5 && failures.size() == static_cast<std::size_t>(attempt); ++attempt) {
+    try {
+      run = run_ompl_spars(scene, checks, dense_target, cap);
+    } catch (const ompl::Exception& e) {
+      failures.emplace_back(e.what());
+      std::cout << fmt::format("OMPL SPARS ({}) attempt {} threw: {}\n", name, attempt + 1, e.what());
+    }
+  }
+  if (failures.size() == 5) {
+    std::cerr << "ispars-ompl-bench: OMPL's SPARS threw on every attempt\n";
+    return std::nullopt;
+  }
+  capped = capped || run.capped;
+  const double ratio = run.seconds / ours_seconds;
+  std::cout << fmt::format(
+      "OMPL SPARS with {}: {} dense / {} sparse vertices in {:.3f} s{}; {:.0f}x the time of "
+      "Inspection-SPARS (stretch)\n",
+      name == "fcl" ? "FCL" : "our checker", run.dense, run.sparse, run.seconds,
+      run.capped ? " (stopped at the cap, short of the dense target)" : "", ratio);
+  return nlohmann::json{{"seconds", run.seconds}, {"dense_vertices", run.dense},     {"sparse_vertices", run.sparse},
+                        {"capped", run.capped},   {"attempts_that_threw", failures}, {"over_ispars", ratio}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -135,23 +190,8 @@ int main(int argc, char** argv) {
         delta > 0.0 ? loaded.with_roadmap_parameters(delta, 1.5 * delta, loaded.config().stretch, "--delta")
                     : loaded.with_roadmap_parameters(loaded.config().dense_delta, loaded.config().sparse_delta,
                                                      loaded.config().stretch, "scene");
-    nlohmann::json ours = nlohmann::json::object();
     unsigned dense_target = 0;
-    for (const ispars::SparsVariant variant : {ispars::SparsVariant::stretch, ispars::SparsVariant::alg1}) {
-      ispars::planning::BuildOptions options;
-      options.variant = variant;
-      const auto t0 = std::chrono::steady_clock::now();
-      const auto builder = ispars::planning::make_roadmap_builder(ispars::BuildMethod::ispars, scene, options);
-      builder->extend(samples);
-      const double seconds = seconds_since(t0);
-      dense_target = static_cast<unsigned>(builder->dense()->vertex_count());
-      ours[std::string(to_string(variant))] = {{"seconds", seconds},
-                                               {"dense_vertices", builder->dense()->vertex_count()},
-                                               {"sparse_vertices", builder->roadmap().vertex_count()}};
-      std::cout << fmt::format(
-          "Inspection-SPARS ({}): {} samples, {} dense / {} sparse vertices in {:.3f} s (1 thread)\n",
-          to_string(variant), samples, builder->dense()->vertex_count(), builder->roadmap().vertex_count(), seconds);
-    }
+    const nlohmann::json ours = run_ours(scene, samples, dense_target);
     const Checks ours_checks{[&](const ispars::Vec3& q) { return scene.point_valid(q); },
                              [&](const ispars::Vec3& a, const ispars::Vec3& b) { return scene.segment_valid(a, b); }};
     const ispars::reference::FclCollisionChecker fcl(scene.mesh(), scene.config().bounds, scene.config().robot_radius);
@@ -162,32 +202,9 @@ int main(int argc, char** argv) {
     bool capped = false;
     for (const auto& [name, checks] : {std::pair<std::string, const Checks*>{"our_checker", &ours_checks},
                                        std::pair<std::string, const Checks*>{"fcl", &fcl_checks}}) {
-      // OMPL's SPARS can throw "Vertex has no interface neighbor with given representative" (a
-      // defect of its shortcut bookkeeping, ../shared/notes/algorithms.md); each attempt draws
-      // new samples, so try again and report the attempts that threw.
-      OmplRun run;
-      std::vector<std::string> failures;
-      for (int attempt = 0; attempt < 5 && failures.size() == static_cast<std::size_t>(attempt); ++attempt) {
-        try {
-          run = run_ompl_spars(scene, *checks, dense_target, cap);
-        } catch (const ompl::Exception& e) {
-          failures.emplace_back(e.what());
-          std::cout << fmt::format("OMPL SPARS ({}) attempt {} threw: {}\n", name, attempt + 1, e.what());
-        }
-      }
-      if (failures.size() == 5) {
-        std::cerr << "ispars-ompl-bench: OMPL's SPARS threw on every attempt\n";
-        return 1;
-      }
-      capped = capped || run.capped;
-      const double ratio = run.seconds / ours_seconds;
-      std::cout << fmt::format(
-          "OMPL SPARS with {}: {} dense / {} sparse vertices in {:.3f} s{}; {:.0f}x the time of "
-          "Inspection-SPARS (stretch)\n",
-          name == "fcl" ? "FCL" : "our checker", run.dense, run.sparse, run.seconds,
-          run.capped ? " (stopped at the cap, short of the dense target)" : "", ratio);
-      ompl_json[name] = {{"seconds", run.seconds}, {"dense_vertices", run.dense},     {"sparse_vertices", run.sparse},
-                         {"capped", run.capped},   {"attempts_that_threw", failures}, {"over_ispars", ratio}};
+      const auto row = run_ompl(scene, name, *checks, dense_target, cap, ours_seconds, capped);
+      if (!row) return 1;
+      ompl_json[name] = *row;
     }
     if (json) {
       std::cout << nlohmann::json{{"scene", scene.config().name},

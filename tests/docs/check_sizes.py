@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """No function of ours is over 80 lines, and no class has its member functions defined in more
 than 3 files (docs/architecture.md, "Sizes"). Usage: check_sizes.py SOURCE_DIR. The lab's
-experiments and benches (common/lab/experiment_*.cpp, bench_*.cpp) and the tests are exempt.
+experiments (common/lab/experiment_*.cpp) and the tests are exempt.
 
 A function is a brace block opened right after a closing parenthesis (with const, noexcept,
 override or a trailing return type between), not after if, for, while, switch or catch: lambdas
@@ -22,7 +22,7 @@ def ours(path):
     parts = rel.parts
     if parts[0].startswith("build") or parts[0] in ("tests", ".git") or "node_modules" in parts:
         return False
-    return not (parts[:2] == ("common", "lab") and re.match(r"(experiment|bench)_", parts[-1]))
+    return not (parts[:2] == ("common", "lab") and re.match(r"experiment_", parts[-1]))
 
 
 def blank(src):
