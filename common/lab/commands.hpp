@@ -1,6 +1,6 @@
 #pragma once
 // The lab's subcommands. Each prints a human report, or with `json` one JSON object as the last
-// line of stdout; bad input surfaces as ispars::InputError for main() to report.
+// line of stdout; bad input surfaces as params::InputError for main() to report.
 
 #include <cstdint>
 #include <string>
