@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <iostream>
+#include <optional>
 #include <vector>
 
 #include "commands.hpp"
@@ -52,6 +53,9 @@ std::vector<Vec3> make_near_points(const planning::Scene& scene, scene_files::Rn
   return points;
 }
 
+// Queries per timing of the cheap checks (median over batches).
+constexpr std::size_t kBatch = 64;
+
 double ratio(double slow, double fast) { return fast > 0.0 ? slow / fast : 0.0; }
 
 // The queries of one run, drawn in this order from one seed.
@@ -86,13 +90,12 @@ struct Timings {
 // The scene's own checks (Embree BVH + exact tests) on every query.
 void time_fast(const planning::Scene& scene, const Queries& q, Timings& t, std::size_t& sink) {
   const std::size_t n = q.box_points.size();
-  const std::size_t batch = 64;
   const planning::CollisionChecker& fast = scene.collision();
   const planning::VisibilityOracle& oracle = scene.visibility();
   std::vector<PoiId> chi;
   const planning::CheckCounts before = scene.counts();
-  t.point = median_ns_per_call(n, batch, [&](std::size_t i) { sink += fast.point_valid(q.box_points[i]); });
-  t.segment = median_ns_per_call(q.segments.size(), batch,
+  t.point = median_ns_per_call(n, kBatch, [&](std::size_t i) { sink += fast.point_valid(q.box_points[i]); });
+  t.segment = median_ns_per_call(q.segments.size(), kBatch,
                                  [&](std::size_t i) { sink += fast.segment_valid(q.segments[i].a, q.segments[i].b); });
   const auto time_chi = [&](const std::vector<Vec3>& points, double& ns, double& seconds) {
     const planning::CheckCounts at = scene.counts();
@@ -107,7 +110,7 @@ void time_fast(const planning::Scene& scene, const Queries& q, Timings& t, std::
   double chi_seconds = 0.0, near_seconds = 0.0;
   const std::uint64_t chi_rays = time_chi(q.valid_points, t.chi, chi_seconds);
   const std::uint64_t near_rays = time_chi(q.near_points, t.chi_near, near_seconds);
-  t.clearance = median_ns_per_call(n, batch, [&](std::size_t i) {
+  t.clearance = median_ns_per_call(n, kBatch, [&](std::size_t i) {
     sink += static_cast<std::size_t>(fast.distance_to_surface(q.valid_points[i]) > 1.0);
   });
   t.fast_counts = scene.counts() - before;
@@ -120,10 +123,9 @@ void time_fast(const planning::Scene& scene, const Queries& q, Timings& t, std::
 void time_references(const reference::FclCollisionChecker& fcl, const reference::BruteForceGeometry& brute,
                      const Queries& q, std::size_t m, Timings& t, std::size_t& sink) {
   const std::size_t n = q.box_points.size();
-  const std::size_t batch = 64;
-  t.fcl_point = median_ns_per_call(n, batch, [&](std::size_t i) { sink += fcl.point_valid(q.box_points[i]); });
+  t.fcl_point = median_ns_per_call(n, kBatch, [&](std::size_t i) { sink += fcl.point_valid(q.box_points[i]); });
   t.fcl_segment = median_ns_per_call(
-      q.segments.size(), batch, [&](std::size_t i) { sink += fcl.segment_valid(q.segments[i].a, q.segments[i].b); });
+      q.segments.size(), kBatch, [&](std::size_t i) { sink += fcl.segment_valid(q.segments[i].a, q.segments[i].b); });
   const std::size_t ms = std::min(m, q.segments.size());
   t.brute_point = median_ns_per_call(m, 1, [&](std::size_t i) { sink += brute.point_valid(q.box_points[i]); });
   t.brute_segment =
@@ -166,12 +168,13 @@ Disagreements count_disagreements(const planning::Scene& scene, const reference:
   return d;
 }
 
-nlohmann::json path_json(double fast, double fcl, double brute) {
-  nlohmann::json j = {{"fast", fast}};
-  if (fcl >= 0.0) j["fcl"] = fcl;
-  j["brute_force"] = brute;
-  j["speedup_vs_brute_force"] = ratio(brute, fast);
-  if (fcl >= 0.0) j["speedup_vs_fcl"] = ratio(fcl, fast);
+// One query's times by path (FCL checks collisions only: no time for chi).
+nlohmann::json path_json(double fast, std::optional<double> fcl, double brute) {
+  nlohmann::json j = {{"fast", fast}, {"brute_force", brute}, {"speedup_vs_brute_force", ratio(brute, fast)}};
+  if (fcl) {
+    j["fcl"] = *fcl;
+    j["speedup_vs_fcl"] = ratio(*fcl, fast);
+  }
   return j;
 }
 
@@ -187,8 +190,8 @@ nlohmann::json bench_json(const planning::Scene& scene, const BenchGeometryOptio
       {"segment_length", scene.config().dense_delta},
       {"point_check_ns", path_json(t.point, t.fcl_point, t.brute_point)},
       {"segment_check_ns", path_json(t.segment, t.fcl_segment, t.brute_segment)},
-      {"chi_ns", path_json(t.chi, -1.0, t.brute_chi)},
-      {"chi_near_structure_ns", path_json(t.chi_near, -1.0, t.brute_chi_near)},
+      {"chi_ns", path_json(t.chi, std::nullopt, t.brute_chi)},
+      {"chi_near_structure_ns", path_json(t.chi_near, std::nullopt, t.brute_chi_near)},
       {"clearance_ns", t.clearance},
       {"rays_per_second", t.rays_per_second},
       {"rays_per_chi", t.rays_per_chi},

@@ -12,24 +12,15 @@ import pathlib
 import re
 import sys
 
+from cmake_calls import calls, cmake_lists
+
 root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")
 doc = (root / "docs" / "architecture.md").read_text()
 layers = re.findall(r"^\| `([A-Za-z0-9_]+)` \|", doc, re.M)  # the table's rows, top to bottom
 
 
-def calls(text, command):
-    """(first word, rest) of each `command(...)` call in a CMake file, comments dropped."""
-    text = re.sub(r"#[^\n]*", "", text)
-    for m in re.finditer(command + r"\(\s*([^\s)]+)([^)]*)\)", text):
-        yield m.group(1), m.group(2).split()
-
-
 include_roots, named_dirs, sources, links = {}, {}, {}, {}
-for cmake in root.rglob("CMakeLists.txt"):
-    rel = cmake.relative_to(root)
-    if rel.parts[0].startswith("build") or "node_modules" in rel.parts:
-        continue
-    text = cmake.read_text()
+for cmake, text in cmake_lists(root):
     here = cmake.parent
     for name, words in calls(text, "target_include_directories"):
         visibility = None

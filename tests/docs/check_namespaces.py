@@ -11,25 +11,19 @@ import pathlib
 import re
 import sys
 
+from cmake_calls import calls, cmake_lists
+
 root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")
 ROOT_OWNER = "ispars_roadmap"
 GENERATED = {"ispars_idl"}
 FORWARD = re.compile(r"^namespace [\w:]+ \{\n(?:(?:class|struct) \w+;[^\n]*\n)+\}[^\n]*$", re.M)  # fastddsgen's code, in the IDL's module namespace
 
 
-def calls(text, command):
-    text = re.sub(r"#[^\n]*", "", text)
-    for m in re.finditer(r"(?<![\w])" + command + r"\(\s*([^\s)]+)([^)]*)\)", text):
-        yield m.group(1), m.group(2).split()
-
-
 sources, include_roots = {}, {}
-for cmake in root.rglob("CMakeLists.txt"):
-    rel = cmake.relative_to(root)
-    if rel.parts[0].startswith("build") or "node_modules" in rel.parts or "vendor" in rel.parts:
+for cmake, text in cmake_lists(root):
+    if "vendor" in cmake.relative_to(root).parts:
         continue
     here = cmake.parent
-    text = cmake.read_text()
     for name, words in calls(text, "add_library"):
         files = [here / w for w in words if w.endswith(".cpp")]
         if files and name not in GENERATED and "OBJECT" not in words:
