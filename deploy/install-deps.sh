@@ -16,7 +16,7 @@ PACKAGES=(
   nodejs chromium
   nginx-core openssl
   gdb python3 clang-format
-  python3-dev pybind11-dev python3-numpy python3-pytest
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-venv python3-pip python3-networkx python3-scipy
   iproute2 nftables
 )
 

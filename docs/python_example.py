@@ -3,8 +3,8 @@
 plot it (matplotlib when present, else ispars.render's PNG). With --domain it does the same
 through a running isparsd instead, following the build live.
 
-    PYTHONPATH=build/python python3 docs/python_example.py [--samples N] [--out tour.png]
-    PYTHONPATH=build/python python3 docs/python_example.py --domain 42   # against isparsd
+    python3 docs/python_example.py [--samples N] [--out tour.png]   # after pip install . (docs/python.md)
+    python3 docs/python_example.py --domain 42                       # against isparsd
 """
 import argparse
 import pathlib
@@ -44,7 +44,7 @@ def online(domain, scene_name, samples, seed):
     watch.close()
     print(client.wait_idle(scene_name))
     snapshot = client.snapshot(scene_name)
-    return ispars.Scene.load(str(ROOT / "deploy" / "scenes" / f"{scene_name}.yaml")), snapshot["roadmap"]
+    return ispars.Scene.load(ROOT / "deploy" / "scenes" / f"{scene_name}.yaml"), snapshot["roadmap"]
 
 
 def main():
@@ -58,12 +58,12 @@ def main():
     args = parser.parse_args()
 
     if args.domain is None:
-        scene, roadmap = offline(str(ROOT / "deploy" / "scenes" / f"{args.scene}.yaml"), args.samples, args.seed)
+        scene, roadmap = offline(ROOT / "deploy" / "scenes" / f"{args.scene}.yaml", args.samples, args.seed)
     else:
         scene, roadmap = online(args.domain, args.scene, args.samples, args.seed)
     tour = ispars.tour(roadmap, budget=args.budget)  # Ctrl-C stops it (KeyboardInterrupt)
-    print(f"tour: cost {tour['cost']:.2f} over {len(tour['walk']) - 1} edges, seeing {len(tour['covered'])} "
-          f"of {len(tour['targets'])} targets; proven lower bound {tour['lower_bound']}")
+    print(f"tour: cost {tour['cost']:.2f} over {len(tour['walk']) - 1} edges, seeing {tour['covered']} "
+          f"of {tour['target_count']} targets; proven lower bound {tour['lower_bound']}")
     walk = roadmap.positions[tour["walk"]]  # numpy fancy indexing on a read-only view: no loop
     try:
         import matplotlib

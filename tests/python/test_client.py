@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from conftest import PACKAGE_DIR, SCENES, SOURCE_DIR, wait_for_daemon
+from test_tour_model import check_model
 
 SCENE = "truss_bridge"
 
@@ -60,6 +61,12 @@ def test_a_tour_reports_progress_and_a_valid_walk(ispars, served):
     tour = client.tour(SCENE, budget=1.0, progress=lambda t, cost, bound: seen.append((t, cost, bound)))
     assert tour["valid"] and tour["cost"] > 0
     assert seen and seen[-1][1] == pytest.approx(tour["cost"])
+    # One tour model: the offline tour's keys and types, with the reply's beside them; progress
+    # from the first tour on (never a cost of 0), the bound None until one is proven.
+    check_model(tour, {"server_id", "message", "status"})
+    assert tour["flown"] is True and tour["problem"] == ""
+    assert all(cost > 0 for _, cost, _ in seen)
+    assert all(bound is None or bound > 0 for _, _, bound in seen)
     assert tour["walk"][0] == 0 and tour["walk"][-1] == 0
     assert tour["waypoints"].shape == (len(tour["walk"]), 3)
     # The flown tour: closed at the root, no longer than the shortcut or the walk, each stop's targets.
@@ -181,3 +188,36 @@ def test_closing_a_watch_from_another_thread_ends_its_iteration(ispars, served):
     assert not follower.is_alive() and rest == []
     with pytest.raises(RuntimeError, match="the watch is closed"):
         watch.roadmap()
+
+
+def test_client_arguments_are_input_errors_and_a_client_closes(ispars, served):
+    client, _ = served
+    for call, field in [(lambda: client.build(SCENE, -5), "samples"), (lambda: client.build(SCENE, 2.5), "samples"),
+                        (lambda: client.extend(SCENE, 2**64), "samples"),
+                        (lambda: client.build(SCENE, 100, seed=-1), "seed"),
+                        (lambda: client.tour(SCENE, budget=0), "budget"),
+                        (lambda: client.tour(SCENE, targets=[1.5]), "targets"),
+                        (lambda: ispars.Client(domain="231"), "domain"),
+                        (lambda: ispars.Client(domain=233), "domain")]:
+        with pytest.raises(ispars.InputError) as e:
+            call()
+        assert e.value.field == field, str(e.value)
+    with ispars.Client(domain=served[1].domain, timeout=10) as scoped:
+        wait_for_daemon(scoped, "py")
+        assert not scoped.closed
+    assert scoped.closed
+    with pytest.raises(RuntimeError, match="closed"):
+        scoped.stats(SCENE)
+    scoped.close()  # again: nothing
+    assert client.stats(SCENE).scene == SCENE, "another client is untouched"
+
+
+def test_a_bad_profile_file_is_an_input_error(ispars, tmp_path):
+    with pytest.raises(ispars.InputError) as e:
+        ispars.Client(domain=1, profile_file=str(tmp_path / "missing.xml"))
+    assert e.value.field == "profile_file" and "cannot be read" in str(e.value)
+    bad = tmp_path / "bad.xml"
+    bad.write_text("<dds><profiles><participant profile_name='x'><rtps><oops/></rtps></participant></profiles></dds>")
+    with pytest.raises(ispars.InputError) as e:
+        ispars.Client(domain=1, profile_file=str(bad), profile_name="ispars")
+    assert e.value.file == str(bad) and e.value.field == "profile_file"

@@ -79,14 +79,14 @@ def test_overrides_by_keyword_are_the_declared_parameters(ispars, scene):
 
 
 def test_counts_out_of_range_are_refused(ispars, scene):
-    with pytest.raises(ispars.InputError, match="threads: must be 1 .. 64, got 0"):
+    with pytest.raises(ispars.InputError, match=r"threads: must be a whole number in \[1, 64\], got 0"):
         ispars.Builder(scene, threads=0)
     builder = ispars.Builder(scene)
     for samples in (0, -5, 2**53 + 1):
         with pytest.raises(ispars.InputError, match=r"samples: must be a whole number in \[1, 9007199254740992\]"):
             builder.extend(samples)
     assert builder.samples == 0 and builder.roadmap.vertex_count == 1  # the root alone: nothing changed
-    with pytest.raises(ispars.InputError, match="tour: budget: give a budget or iterations"):
+    with pytest.raises(ispars.InputError, match=r"tour: budget: must be in \(0, 3600\], got 0"):
         ispars.tour(builder.roadmap, budget=0)
     with pytest.raises(ispars.InputError, match="tour: threads"):
         ispars.tour(builder.roadmap, threads=65)
@@ -133,7 +133,44 @@ def test_a_client_with_no_daemon_raises_no_daemon(ispars, domain):
     with pytest.raises(ispars.ClientError) as e:
         client.stats("truss_bridge")
     assert e.value.kind == "no_daemon", str(e.value)
-    with pytest.raises(ispars.InputError, match="client: domain: must be 0 .. 232, got 300"):
+    with pytest.raises(ispars.InputError, match=r"client: domain: must be a whole number in \[0, 232\], got 300"):
         ispars.Client(domain=300)
     with pytest.raises(ispars.InputError, match="client: timeout"):
         ispars.Client(domain=domain, timeout=0)
+
+
+def test_paths_may_be_pathlike_and_a_builder_takes_a_scene_file(ispars, tmp_path):
+    scene = ispars.Scene.load(SCENE)  # a pathlib.Path
+    builder = ispars.Builder(SCENE, method="ispars", seed=5)
+    assert builder.scene.name == scene.name
+    builder.extend(500)
+    path = tmp_path / "r.json"
+    builder.roadmap.save(path, scene.name, scene.root, scene.pois)
+    assert ispars.load_roadmap(path).vertex_count == builder.roadmap.vertex_count
+    assert ispars.render(scene, roadmap=builder.roadmap, width=32, height=24, path=tmp_path / "r.png").shape == (24, 32, 3)
+    with pytest.raises(ispars.InputError) as e:
+        ispars.Builder(42)
+    assert (e.value.file, e.value.field) == ("build", "scene")
+
+
+@pytest.mark.parametrize("make, field", [
+    (lambda i, s: i.Builder(s, seed=-1), "seed"),
+    (lambda i, s: i.Builder(s, seed=2**64), "seed"),
+    (lambda i, s: i.Builder(s, seed=1.5), "seed"),
+    (lambda i, s: i.Builder(s, threads=0), "threads"),
+    (lambda i, s: i.Builder(s, threads=True), "threads"),
+    (lambda i, s: i.Builder(s).extend(2**64), "samples"),
+    (lambda i, s: i.Builder(s).extend(0), "samples"),
+    (lambda i, s: i.Builder(s).extend(10.0), "samples"),
+])
+def test_bad_whole_numbers_are_input_errors_not_type_errors(ispars, scene, make, field):
+    with pytest.raises(ispars.InputError) as e:
+        make(ispars, scene)
+    assert (e.value.file, e.value.field) == ("build", field), str(e.value)
+
+
+def test_the_package_has_a_version_and_says_what_it_was_built_with(ispars):
+    assert isinstance(ispars.__version__, str) and ispars.__version__.count(".") == 2
+    assert isinstance(ispars.HAS_CLIENT, bool)
+    if ispars.HAS_CLIENT:
+        assert ispars.Client is not None

@@ -145,7 +145,7 @@ def test_a_callback_that_raises_stops_the_call_and_raises(ispars, built):
     def fail(*_):
         raise RuntimeError("from the callback")
     with pytest.raises(RuntimeError, match="from the callback"):
-        ispars.tour(built.roadmap, budget=600, on_improvement=fail)
+        ispars.tour(built.roadmap, budget=600, progress=fail)
 
 
 def test_render_gives_an_image_and_a_png(ispars, built, tmp_path):

@@ -18,6 +18,8 @@ def declared():
                 n.target.id for n in node.body if isinstance(n, ast.AnnAssign)}
         elif isinstance(node, ast.FunctionDef):
             out[node.name] = None
+        elif isinstance(node, ast.AnnAssign) and node.target.id in ("__version__", "HAS_CLIENT"):
+            out[node.target.id] = None
     return out
 
 

@@ -25,7 +25,10 @@ class TourDeskTest : public ::testing::Test {
   // Callbacks that count progress with a tour, and record how each tour ended.
   TourCallbacks callbacks() {
     TourCallbacks c;
-    c.progress = [this](double, double cost, double) { progress_ += cost > 0.0; };
+    c.progress = [this](double, double cost, double) {
+      progress_ += cost > 0.0;
+      tourless_progress_ += cost <= 0.0;  // none may come before the first tour
+    };
     c.done = [this](TourOutcome) {
       std::lock_guard lock(mutex_);
       ended_.push_back("done");
@@ -50,6 +53,7 @@ class TourDeskTest : public ::testing::Test {
   std::shared_ptr<MemoryBudget> budget_ = MemoryBudget::make(1e12);
   std::atomic<bool> stopping_{false};
   std::atomic<int> progress_{0};
+  std::atomic<int> tourless_progress_{0};
   std::mutex mutex_;
   std::vector<std::string> ended_;
 };
@@ -70,6 +74,7 @@ TEST_F(TourDeskTest, ToursAreAdmittedUpToTheBoundAndLeaseUntilTheyEnd) {
   EXPECT_EQ(desk.stop("s0"), 1u);
   ASSERT_TRUE(eventually([&] { return ended().size() == 1; }, 30s, "the stopped tour ends"));
   EXPECT_EQ(ended()[0], "done");
+  EXPECT_EQ(tourless_progress_, 0) << "a progress came before the first tour (its cost 0 is no tour's)";
   ASSERT_TRUE(eventually([&] { return budget_->leased() == 0.0; }, 30s, "its lease is given back"));
   EXPECT_EQ(desk.stop("s0"), 0u);                                       // released: nothing left to stop
   desk.admit(service_->session("s0"), "s0", long_tour(), callbacks());  // the place is free again

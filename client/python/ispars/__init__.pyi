@@ -1,11 +1,16 @@
 # Type stubs of the ispars package (the extension module ispars._ispars and build()).
-from typing import Any, Callable, Iterator, NotRequired, Optional, TypedDict
+import os
+from typing import Any, Callable, Iterator, Optional, TypedDict
 
 import numpy as np
 import numpy.typing as npt
 
 F64 = npt.NDArray[np.float64]
 U32 = npt.NDArray[np.uint32]
+PathLike = str | os.PathLike[str]
+
+__version__: str
+HAS_CLIENT: bool  # built with the DDS client (Client, SceneStatus, Watch)
 
 class InputError(ValueError):
     """Bad input; str() is 'FILE: FIELD: PROBLEM' as the CLI prints it."""
@@ -28,7 +33,7 @@ class Stop:
 class Scene:
     """A scene: the structure's mesh, its POIs, the sampling box and the roadmap parameters."""
     @staticmethod
-    def load(path: str) -> Scene: ...
+    def load(path: PathLike) -> Scene: ...
     @property
     def name(self) -> str: ...
     @property
@@ -37,6 +42,12 @@ class Scene:
     def pois(self) -> F64: ...  # (P, 3), read-only view
     @property
     def bounds(self) -> F64: ...  # (2, 3)
+    @property
+    def mesh(self) -> tuple[npt.NDArray[np.float32], U32]: ...  # (V, 3) corners, (F, 3) triangles
+    @property
+    def robot_radius(self) -> float: ...
+    @property
+    def sensor_range(self) -> float: ...
     @property
     def dense_delta(self) -> float: ...
     @property
@@ -50,6 +61,10 @@ class Scene:
 
 class Roadmap:
     """A roadmap; immutable, its arrays read-only views into it."""
+    @staticmethod
+    def from_arrays(positions: npt.ArrayLike, edges: npt.ArrayLike, costs: Optional[npt.ArrayLike] = None,
+                    visibility: Optional[tuple[npt.ArrayLike, npt.ArrayLike] | list[Any]] = None,
+                    poi_count: Optional[int] = None) -> Roadmap: ...
     @property
     def vertex_count(self) -> int: ...
     @property
@@ -76,12 +91,17 @@ class Roadmap:
     def pois_of(self, vertex: int) -> U32: ...
     def components(self) -> U32: ...
     def neighbors(self, vertex: int) -> U32: ...
-    def save(self, path: str, scene: str, root: npt.ArrayLike, pois: npt.ArrayLike,
+    def save(self, path: PathLike, scene: str, root: npt.ArrayLike, pois: npt.ArrayLike,
              dense: Optional[Roadmap] = None) -> None: ...
+    def to_networkx(self) -> Any: ...  # networkx.Graph
+    def to_scipy(self) -> Any: ...  # scipy.sparse.csr_matrix, (V, V)
+    def save_npz(self, path: PathLike) -> None: ...
+    def save_ply(self, path: PathLike) -> None: ...
+    def save_graphml(self, path: PathLike) -> None: ...
 
 class Builder:
     """A roadmap under construction from a recipe; the same recipe gives the same roadmap."""
-    def __init__(self, scene: Scene, method: str = "ispars", seed: int = 1, variant: str = "",
+    def __init__(self, scene: Scene | PathLike, method: str = "ispars", seed: int = 1, variant: str = "",
                  threads: int = 1, overrides: dict[str, float | int] = ..., **parameters: float | int) -> None: ...
     def extend(self, samples: int, stop: Optional[Stop] = None,
                progress: Optional[Callable[[int, int, int, int], Any]] = None) -> int: ...
@@ -99,43 +119,54 @@ class Builder:
     def recipe(self) -> dict[str, Any]: ...
     def verify(self, stop: Optional[Stop] = None) -> dict[str, Any]: ...
 
-class Tour(TypedDict):
-    cost: float
-    walk: U32
-    covered: U32
-    targets: U32
-    lower_bound: Optional[float]
+class Tour(TypedDict, total=False):
+    """The one tour model of tour() and Client.tour() (docs/python.md, 'Tours')."""
+    cost: float  # the walk's length on the graph
+    walk: U32  # vertex ids, closed at vertex 0
+    waypoints: F64  # (n, 3): the walk's positions
+    covered: int  # targets the walk sees
+    target_count: int
+    lower_bound: Optional[float]  # proven; None when none was
     bound_complete: bool
-    bound_note: str
     trace: F64  # (n, 2): seconds, cost
     bound_trace: F64  # (n, 2): seconds, bound
-    seconds: float
-    iterations: int
-    candidates: int
     valid: bool
     problem: str
-    # With a scene: the flown tour (the daemon's pipeline).
-    flown_path: NotRequired[F64]  # (n, 3): stops, closed at the root
-    flown_sees: NotRequired[list[U32]]  # per stop: target POI ids it sees
-    flown_cost: NotRequired[float]
-    shortcut_cost: NotRequired[float]
-    stages: NotRequired[list[dict[str, Any]]]  # stage, cost, seconds
-    graph_vertices: NotRequired[int]
-    graph_edges: NotRequired[int]
+    seconds: float
+    version: int  # the roadmap version searched
+    flown: bool  # the flown keys below are None when False
+    shortcut_path: Optional[F64]
+    shortcut_cost: Optional[float]
+    flown_path: Optional[F64]  # (n, 3): stops, closed at the root
+    flown_sees: Optional[list[U32]]  # per stop: target POI ids it sees
+    flown_cost: Optional[float]
+    stages: list[dict[str, Any]]  # stage, cost, seconds
+    graph_vertices: Optional[int]
+    graph_edges: Optional[int]
+    # tour() only: the search's details.
+    targets: U32
+    covered_ids: U32
+    bound_note: str
+    iterations: int
+    candidates: int
+    # Client.tour() only: the reply's.
+    server_id: str
+    message: str
+    status: SceneStatus
 
-def build(scene: Scene | str, samples: int, method: str = "ispars", seed: int = 1, variant: str = "",
+def build(scene: Scene | PathLike, samples: int, method: str = "ispars", seed: int = 1, variant: str = "",
           threads: int = 1, overrides: Optional[dict[str, float | int]] = None, stop: Optional[Stop] = None,
           progress: Optional[Callable[[int, int, int, int], Any]] = None, **parameters: float | int) -> Builder: ...
 def recipe_parameters() -> list[dict[str, Any]]: ...
-def tour(roadmap: Roadmap, budget: float = 10.0, iterations: int = 0, seed: int = 1, threads: int = 1,
+def tour(roadmap: Roadmap, budget: Optional[float] = None, iterations: int = 0, seed: int = 1, threads: int = 1,
          targets: Optional[npt.ArrayLike] = None, bound: bool = True, stop: Optional[Stop] = None,
-         on_improvement: Optional[Callable[[float, float], Any]] = None,
-         on_bound: Optional[Callable[[float, float], Any]] = None, scene: Optional[Scene] = None,
+         progress: Optional[Callable[[float, float, Optional[float]], Any]] = None, scene: Optional[Scene] = None,
          samples: int = 0) -> Tour: ...
 def render(scene: Scene, roadmap: Optional[Roadmap] = None, dense: Optional[Roadmap] = None,
            tour: Optional[npt.ArrayLike] = None, width: int = 800, height: int = 600,
-           path: str = "") -> npt.NDArray[np.uint8]: ...
-def load_roadmap(path: str, graph: str = "roadmap") -> Roadmap: ...
+           path: PathLike = "") -> npt.NDArray[np.uint8]: ...
+def load_roadmap(path: PathLike, graph: str = "roadmap") -> Roadmap: ...
+def load_npz(path: PathLike) -> Roadmap: ...
 
 class SceneStatus:
     """A scene's status as its owning daemon published it."""
@@ -194,6 +225,11 @@ class Client:
                  security: str = "", timeout: float = 15.0, server: str = "") -> None: ...
     @property
     def id(self) -> str: ...
+    @property
+    def closed(self) -> bool: ...
+    def close(self) -> None: ...
+    def __enter__(self) -> Client: ...
+    def __exit__(self, *args: Any) -> None: ...
     def scenes(self) -> list[dict[str, Any]]: ...
     def load(self, scene: str) -> dict[str, Any]: ...
     def unload(self, scene: str) -> dict[str, Any]: ...
@@ -207,8 +243,8 @@ class Client:
     def path(self, scene: str, start: npt.ArrayLike, goal: npt.ArrayLike) -> dict[str, Any]: ...
     def verify(self, scene: str) -> dict[str, Any]: ...
     def snapshot(self, scene: str) -> dict[str, Any]: ...
-    def tour(self, scene: str, budget: float = 5.0, seed: int = 1, targets: list[int] = ..., task: str = "",
-             progress: Optional[Callable[[float, float, float], Any]] = None) -> dict[str, Any]: ...
+    def tour(self, scene: str, budget: float = 5.0, seed: int = 1, targets: npt.ArrayLike = ..., task: str = "",
+             progress: Optional[Callable[[float, float, Optional[float]], Any]] = None) -> Tour: ...
     def wait_idle(self, scene: str, timeout: float = 600.0,
                   progress: Optional[Callable[[SceneStatus], Any]] = None) -> SceneStatus: ...
     def watch(self, scene: str) -> Watch: ...

@@ -53,5 +53,14 @@ inline py::array_t<double> take_points(std::vector<Vec3>&& points) {
 Vec3 to_vec3(const py::handle& value, const char* name);
 /// An n x 3 array of points (n may be 0) as a vector.
 std::vector<Vec3> to_points(const py::handle& value, const char* name);
+/// A 1-D array (or sequence) of whole numbers, refused with InputError(file, field) when it holds
+/// anything else: a float such as 1.5 is never truncated to an id. Empty sequences are allowed.
+std::vector<std::int64_t> to_whole_numbers(const py::handle& value, const char* file, const char* field);
+/// A Python int (or numpy integer) in [lo, hi], bool refused; InputError(file, field) naming the
+/// range otherwise, never pybind11's TypeError.
+std::int64_t to_whole_number(const py::handle& value, const char* file, const char* field, std::int64_t lo,
+                             std::int64_t hi);
+/// The same for unsigned 64-bit values (seeds): 0 .. 2^64 - 1.
+std::uint64_t to_unsigned_64(const py::handle& value, const char* file, const char* field);
 
 }  // namespace ispars::python

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 
 #include "arrays.hpp"
 #include "ispars/params/input_error.hpp"
@@ -154,22 +155,32 @@ void bind_builder(py::module_& m) {
       "overridden by name (dense_delta, sparse_delta, stretch, stretch_slack, stretch_slack_after, p_accept), "
       "checked as the daemon checks a build request. The same recipe gives the same roadmap as isparsd and "
       "ispars-lab, byte for byte, for any thread count.")
-      .def(py::init([](std::shared_ptr<planning::Scene> scene, const std::string& method, std::uint64_t seed,
-                       const std::string& variant, std::int64_t threads, const py::dict& overrides,
+      .def(py::init([](const py::object& scene, const std::string& method, const py::object& seed,
+                       const std::string& variant, const py::object& threads, const py::dict& overrides,
                        const py::kwargs& named) {
-             return std::make_shared<BuilderHandle>(std::move(scene), method, seed, variant, threads,
+             return std::make_shared<BuilderHandle>(scene_of(scene, kBuild), method,
+                                                    to_unsigned_64(seed, kBuild, "seed"), variant,
+                                                    to_whole_number(threads, kBuild, "threads", 1, kMaxThreads),
                                                     merged(overrides, named, kBuild, "overrides."));
            }),
            py::arg("scene"), py::arg("method") = "ispars", py::arg("seed") = 1, py::arg("variant") = "",
            py::arg("threads") = 1, py::arg("overrides") = py::dict(),
            "Each override by keyword (stretch=1.5) or in `overrides` (ispars.recipe_parameters() lists them). "
-           "Raises InputError (file 'build') naming a bad method, variant, thread count or override.")
-      .def("extend", &BuilderHandle::extend, py::arg("samples"), py::arg("stop") = nullptr,
-           py::arg("progress") = py::none(),
-           "Draws `samples` more samples of the seeded stream (1 .. 2^53), without the GIL. "
-           "`progress(done, samples, vertices, edges)` is called about every 0.2 s. Stopped by `stop` or Ctrl-C, "
-           "it keeps the samples drawn (extend again goes on with the same stream) and returns how many it drew "
-           "(Ctrl-C raises KeyboardInterrupt once stopped).")
+           "`scene` is a Scene or a scene file's path (str or os.PathLike). Raises InputError (file 'build') naming "
+           "a bad scene, method, seed, variant, thread count or override.")
+      .def(
+          "extend",
+          [](BuilderHandle& b, const py::object& samples, const std::shared_ptr<StopFlag>& stop,
+             const py::object& progress) {
+            return b.extend(to_whole_number(samples, kBuild, "samples", static_cast<std::int64_t>(kSamples.min),
+                                            static_cast<std::int64_t>(kSamples.max)),
+                            stop, progress);
+          },
+          py::arg("samples"), py::arg("stop") = nullptr, py::arg("progress") = py::none(),
+          "Draws `samples` more samples of the seeded stream (1 .. 2^53), without the GIL. "
+          "`progress(done, samples, vertices, edges)` is called about every 0.2 s. Stopped by `stop` or Ctrl-C, "
+          "it keeps the samples drawn (extend again goes on with the same stream) and returns how many it drew "
+          "(Ctrl-C raises KeyboardInterrupt once stopped).")
       .def_property_readonly("roadmap", &BuilderHandle::roadmap,
                              "A copy of the roadmap as built so far (the sparse one for spars, ispars, ispars2).")
       .def_property_readonly("dense", &BuilderHandle::dense, "A copy of the dense pair (spars, ispars), else None.")

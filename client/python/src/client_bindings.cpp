@@ -2,13 +2,20 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <string_view>
 
 #include "arrays.hpp"
 #include "client_handle.hpp"
 #include "ispars/params/input_error.hpp"
+#include "ispars/roadmap/roadmap_parameters.hpp"
 #include "param_dict.hpp"
 #include "stoppable.hpp"
+#include "tour_model.hpp"
 #include "verification_dict.hpp"
 
 namespace ispars::python {
@@ -17,6 +24,12 @@ namespace {
 using client::Client;
 
 constexpr const char* kClient = "client";
+
+// A request's sample count, checked here as the daemon would check it (kSamples).
+std::uint64_t sample_count(const py::object& value, const char* file) {
+  return static_cast<std::uint64_t>(to_whole_number(value, file, "samples", static_cast<std::int64_t>(kSamples.min),
+                                                    static_cast<std::int64_t>(kSamples.max)));
+}
 
 std::string env_or(const char* name, const std::string& fallback) {
   const char* value = std::getenv(name);
@@ -34,7 +47,7 @@ ClientHandle connect(const py::object& domain, const std::string& profile_file, 
     if (*end != '\0')
       throw params::InputError("ISPARS_DOMAIN", "domain", fmt::format("'{}' is not a number", domain_text));
   } else {
-    d = domain.cast<long>();
+    d = static_cast<long>(to_whole_number(domain, kClient, "domain", 0, 232));
   }
   if (d < 0 || d > 232) throw params::InputError(kClient, "domain", fmt::format("must be 0 .. 232, got {}", d));
   if (!(timeout > 0 && timeout <= 3600))
@@ -46,8 +59,20 @@ ClientHandle connect(const py::object& domain, const std::string& profile_file, 
   o.participant.name = "ispars python";
   o.timeout = std::chrono::milliseconds(static_cast<long>(timeout * 1000));
   o.server = server;
+  const std::string profile = o.participant.profile_file;  // a copy: o is moved into the client
+  if (!profile.empty() && !std::ifstream(profile)) {
+    throw params::InputError(profile, "profile_file", "cannot be read (a Fast DDS XML profiles file)");
+  }
   py::gil_scoped_release release;
-  return ClientHandle{std::make_shared<Client>(std::move(o))};
+  try {
+    return ClientHandle{std::make_shared<Client>(std::move(o))};
+  } catch (const std::runtime_error& e) {
+    // The participant's own words name a profiles file it could not load or a missing profile.
+    if (!profile.empty() && std::string_view(e.what()).find(profile) != std::string_view::npos) {
+      throw params::InputError(profile, "profile_file", e.what());
+    }
+    throw;
+  }
 }
 
 py::dict scene_entry(const client::SceneEntry& e) {
@@ -60,42 +85,40 @@ py::dict scene_entry(const client::SceneEntry& e) {
   return out;
 }
 
-py::dict tour_dict(client::TourReply&& r) {
-  py::dict out = reply_dict(r);
+std::vector<std::pair<double, double>> pairs_of(const std::vector<double>& flat) {
+  std::vector<std::pair<double, double>> out;
+  for (std::size_t i = 0; i + 1 < flat.size(); i += 2) out.emplace_back(flat[i], flat[i + 1]);
+  return out;
+}
+
+// The daemon's tour as the one tour model (tour_model.hpp), with the reply's keys beside it.
+py::dict daemon_tour_dict(client::TourReply&& r, double seconds) {
   client::Tour& t = r.tour;
-  const auto n = [](const auto& v) { return static_cast<py::ssize_t>(v.size()); };
-  out["cost"] = t.cost;
-  out["walk"] = take(std::move(t.walk), {n(t.walk)});
-  out["waypoints"] = take_points(std::move(t.waypoints));
-  out["covered"] = t.covered;
-  out["target_count"] = t.target_count;
-  out["lower_bound"] = t.lower_bound;
-  out["valid"] = t.valid;
-  out["trace"] = take(std::move(t.trace), {n(t.trace) / 2, 2});
-  out["bound_trace"] = take(std::move(t.bound_trace), {n(t.bound_trace) / 2, 2});
-  out["bound_complete"] = t.bound_complete;
-  out["version"] = t.version;
-  out["shortcut_path"] = take_points(std::move(t.shortcut_path));
-  out["shortcut_cost"] = t.shortcut_cost;
-  py::list sees;
-  for (auto& seen : t.flown_sees) {
-    const py::ssize_t count = n(seen);
-    sees.append(take(std::move(seen), {count}));
-  }
-  out["flown_path"] = take_points(std::move(t.flown_path));
-  out["flown_sees"] = sees;
-  out["flown_cost"] = t.flown_cost;
-  py::list stages;
-  for (const client::TourStage& s : t.stages) {
-    py::dict stage;
-    stage["stage"] = s.name;
-    stage["cost"] = s.cost;
-    stage["seconds"] = s.seconds;
-    stages.append(stage);
-  }
-  out["stages"] = stages;
-  out["graph_vertices"] = t.graph_vertices;
-  out["graph_edges"] = t.graph_edges;
+  TourFields f;
+  f.cost = t.cost;
+  f.walk = std::move(t.walk);
+  f.waypoints = std::move(t.waypoints);
+  f.covered = t.covered;
+  f.target_count = t.target_count;
+  if (t.lower_bound > 0.0) f.lower_bound = t.lower_bound;  // 0 on the wire: none proven
+  f.bound_complete = t.bound_complete;
+  f.trace = pairs_of(t.trace);
+  f.bound_trace = pairs_of(t.bound_trace);
+  f.valid = t.valid;
+  if (!t.valid) f.problem = "the daemon's validation of the walk or the flown tour failed";
+  f.seconds = seconds;
+  f.version = t.version;
+  f.flown = true;  // the daemon always flies its tours
+  f.shortcut_path = std::move(t.shortcut_path);
+  f.shortcut_cost = t.shortcut_cost;
+  f.flown_path = std::move(t.flown_path);
+  f.flown_sees = std::move(t.flown_sees);
+  f.flown_cost = t.flown_cost;
+  for (const client::TourStage& s : t.stages) f.stages.push_back({s.name, s.cost, s.seconds});
+  f.graph_vertices = t.graph_vertices;
+  f.graph_edges = t.graph_edges;
+  py::dict out = tour_dict(std::move(f));
+  for (const auto& [key, value] : reply_dict(r)) out[key] = value;
   return out;
 }
 
@@ -155,16 +178,16 @@ void bind_status(py::module_& m) {
       });
 }
 
+py::list list_scenes(const ClientHandle& self) {
+  const auto entries = run_detached([self] { return self->list_scenes(); });
+  py::list out;
+  for (const auto& e : entries) out.append(scene_entry(e));
+  return out;
+}
+
 void bind_requests(py::class_<ClientHandle>& c) {
-  c.def(
-      "scenes",
-      [](const ClientHandle& self) {
-        const auto entries = run_detached([self] { return self->list_scenes(); });
-        py::list out;
-        for (const auto& e : entries) out.append(scene_entry(e));
-        return out;
-      },
-      "Every scene of every daemon on the domain: dicts of scene, loaded, has_roadmap, server_id, note.");
+  c.def("scenes", &list_scenes,
+        "Every scene of every daemon on the domain: dicts of scene, loaded, has_roadmap, server_id, note.");
   const auto change = [&c](const char* name, client::Reply (Client::*call)(const std::string&), const char* doc) {
     c.def(
         name,
@@ -179,13 +202,13 @@ void bind_requests(py::class_<ClientHandle>& c) {
   change("drop", &Client::drop, "Drops the scene's roadmap, stored copy included.");
   c.def(
       "build",
-      [](const ClientHandle& self, const std::string& scene, std::uint64_t samples, const std::string& method,
-         std::uint64_t seed, const std::string& variant, const py::dict& overrides, bool replace,
+      [](const ClientHandle& self, const std::string& scene, const py::object& samples, const std::string& method,
+         const py::object& seed, const std::string& variant, const py::dict& overrides, bool replace,
          const py::kwargs& named) {
         client::BuildArgs args;
         set_method(args, method, variant, "build");
-        args.samples = samples;
-        args.seed = seed;
+        args.samples = sample_count(samples, "build");
+        args.seed = to_unsigned_64(seed, "build", "seed");
         read_dict(merged(overrides, named, "build", "overrides."), args.overrides, "build", "overrides.");
         args.replace = replace;
         return reply_dict(run_detached([self, scene, args] { return self->build(scene, args); }));
@@ -198,7 +221,8 @@ void bind_requests(py::class_<ClientHandle>& c) {
       "wait_idle() waits for it.");
   c.def(
       "extend",
-      [](const ClientHandle& self, const std::string& scene, std::uint64_t samples) {
+      [](const ClientHandle& self, const std::string& scene, const py::object& count) {
+        const std::uint64_t samples = sample_count(count, "extend");
         return reply_dict(run_detached([self, scene, samples] { return self->extend(scene, samples); }));
       },
       py::arg("scene"), py::arg("samples"), "Queues `samples` more samples of the roadmap's stream.");
@@ -239,23 +263,38 @@ void bind_requests(py::class_<ClientHandle>& c) {
 void bind_tours_and_waits(py::class_<ClientHandle>& c) {
   c.def(
       "tour",
-      [](const ClientHandle& self, const std::string& scene, double budget, std::uint64_t seed,
-         std::vector<std::uint32_t> targets, const std::string& task, const py::object& progress) {
+      [](const ClientHandle& self, const std::string& scene, double budget, const py::object& seed_value,
+         const py::object& target_list, const std::string& task, const py::object& progress) {
+        const std::uint64_t seed = to_unsigned_64(seed_value, "tour", "seed");
+        std::vector<std::uint32_t> targets;
+        for (const std::int64_t id : to_whole_numbers(target_list, "tour", "targets")) {
+          if (id < 0 || id > std::numeric_limits<std::uint32_t>::max())
+            throw params::InputError("tour", "targets", fmt::format("{} is not a POI id", id));
+          targets.push_back(static_cast<std::uint32_t>(id));
+        }
+        if (const std::string problem = params::problem(kTourBudget, budget); !problem.empty())
+          throw params::InputError("tour", "budget", problem);
         auto halt = std::make_shared<Halt>();
         const Callback report(progress, halt);
         const auto call = [self, scene, budget, seed, targets, task, report] {
-          const auto on_progress = [report](double t, double cost, double bound) { report(t, cost, bound); };
+          const auto on_progress = [report](double t, double cost, double bound) {
+            report(t, cost, bound > 0.0 ? std::optional<double>(bound) : std::nullopt);  // 0: none yet
+          };
           return task.empty() ? self->tour(scene, budget, seed, targets, on_progress)
                               : self->task_tour(scene, task, budget, seed, on_progress);
         };
+        const auto t0 = std::chrono::steady_clock::now();
         client::TourReply r = run_detached(call);
         halt->rethrow();
-        return tour_dict(std::move(r));
+        return daemon_tour_dict(std::move(r),
+                                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       },
-      py::arg("scene"), py::arg("budget") = 5.0, py::arg("seed") = 1, py::arg("targets") = std::vector<std::uint32_t>{},
+      py::arg("scene"), py::arg("budget") = 5.0, py::arg("seed") = 1, py::arg("targets") = py::list(),
       py::arg("task") = "", py::arg("progress") = py::none(),
-      "An inspection tour searched on the daemon for `budget` seconds; progress(seconds, cost, bound) as it "
-      "improves. Targets default to every POI seen from the root's component; `task` aims at one inspection task.");
+      "An inspection tour searched and flown on the daemon for `budget` seconds (0 .. 3600); progress(seconds, "
+      "cost, bound) from the first tour on as it improves (bound None until one is proven). Targets default to "
+      "every POI seen from the root's component; `task` aims at one inspection task. Returns the tour model "
+      "ispars.tour returns (docs/python.md, 'Tours') with the reply's server_id, message and status.");
   c.def(
       "wait_idle",
       [](const ClientHandle& self, const std::string& scene, double timeout, const py::object& progress) {
@@ -321,6 +360,20 @@ void bind_client(py::module_& m) {
         "$ISPARS_SECURITY, else none).");
   bind_requests(c);
   bind_tours_and_waits(c);
+  const auto close = [](ClientHandle& self) {
+    std::shared_ptr<client::Client> gone = std::move(self.client);
+    py::gil_scoped_release release;  // its threads may wait for the GIL to end a callback
+    gone.reset();
+  };
+  c.def("close", close,
+        "Leaves the domain: this object's calls raise RuntimeError from now on. Watches made from it hold the "
+        "connection until they end too. Called again it does nothing.");
+  c.def_property_readonly("closed", [](const ClientHandle& self) { return !self.client; });
+  c.def("__enter__", [](py::object self) { return self; });
+  c.def("__exit__", [close](ClientHandle& self, const py::args&) {
+    close(self);
+    return false;
+  });
 }
 
 }  // namespace ispars::python

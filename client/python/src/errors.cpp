@@ -3,13 +3,16 @@
 
 #include <string>
 
+#if ISPARS_PYTHON_CLIENT
 #include "ispars/client/client.hpp"
+#endif
 #include "ispars/params/input_error.hpp"
 #include "python_module.hpp"
 
 namespace ispars::python {
 namespace {
 
+#if ISPARS_PYTHON_CLIENT
 std::string kind_name(client::ClientError::Kind kind) {
   switch (kind) {
     case client::ClientError::Kind::no_daemon:
@@ -25,6 +28,7 @@ std::string kind_name(client::ClientError::Kind kind) {
   }
   return "unknown";
 }
+#endif
 
 // Raises an instance of `type` with message `what` and the attributes `fields`.
 void raise(PyObject* type, const char* what, const py::dict& fields) {
@@ -58,10 +62,12 @@ void bind_errors(py::module_& m) {
       fields["field"] = e.field();
       fields["problem"] = e.problem();
       raise(input_error, e.what(), fields);
+#if ISPARS_PYTHON_CLIENT
     } catch (const client::ClientError& e) {
       py::dict fields;
       fields["kind"] = kind_name(e.kind());
       raise(client_error, e.what(), fields);
+#endif
     }
   });
 }

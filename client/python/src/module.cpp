@@ -8,6 +8,11 @@ PYBIND11_MODULE(_ispars, m) {
   ispars::python::bind_roadmap(m);
   ispars::python::bind_planning(m);
   ispars::python::bind_tour(m);
+#if ISPARS_PYTHON_CLIENT
   ispars::python::bind_client(m);
   ispars::python::bind_watch(m);
+  m.attr("HAS_CLIENT") = true;
+#else
+  m.attr("HAS_CLIENT") = false;  // built without DDS: no Client, no Watch
+#endif
 }

@@ -18,7 +18,7 @@
 namespace ispars::python {
 namespace {
 
-std::shared_ptr<planning::Scene> load_scene(const std::string& path) {
+std::shared_ptr<planning::Scene> load_scene(const std::filesystem::path& path) {
   py::gil_scoped_release release;
   return std::make_shared<planning::Scene>(planning::Scene::load(path));
 }
@@ -41,6 +41,24 @@ void bind_scene(py::module_& m) {
             return take_points({s.config().bounds.min, s.config().bounds.max});
           },
           "(2, 3) float64: the sampling box's low and high corners.")
+      .def_property_readonly(
+          "mesh",
+          [](const py::object& self) {
+            const scene_files::TriangleMesh& mesh = self.cast<const planning::Scene&>().mesh();
+            static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float) &&
+                          sizeof(std::array<std::uint32_t, 3>) == 3 * sizeof(std::uint32_t));
+            return py::make_tuple(
+                view(reinterpret_cast<const float*>(mesh.vertices.data()), mesh.vertices.size(), 3, self),
+                view(reinterpret_cast<const std::uint32_t*>(mesh.triangles.data()), mesh.triangles.size(), 3, self));
+          },
+          "(V, F): the structure's mesh as loaded and scaled, read-only views: V (n, 3) float32 corners, "
+          "F (m, 3) uint32 triangles' corner ids.")
+      .def_property_readonly(
+          "robot_radius", [](const planning::Scene& s) { return s.config().robot_radius; },
+          "The robot's radius: it is a sphere.")
+      .def_property_readonly(
+          "sensor_range", [](const planning::Scene& s) { return s.config().sensor_range; },
+          "How far the sensor sees a POI (with a clear line of sight).")
       .def_property_readonly("dense_delta", [](const planning::Scene& s) { return s.config().dense_delta; })
       .def_property_readonly("sparse_delta", [](const planning::Scene& s) { return s.config().sparse_delta; })
       .def_property_readonly("stretch", [](const planning::Scene& s) { return s.config().stretch; })
@@ -73,6 +91,17 @@ void bind_stop(py::module_& m) {
 }
 
 }  // namespace
+
+std::shared_ptr<planning::Scene> scene_of(const py::object& value, const char* file) {
+  if (py::isinstance<planning::Scene>(value)) return value.cast<std::shared_ptr<planning::Scene>>();
+  const py::object os_path = py::module_::import("os").attr("PathLike");
+  if (py::isinstance<py::str>(value) || py::isinstance(value, os_path)) {
+    return load_scene(value.cast<std::filesystem::path>());
+  }
+  throw params::InputError(
+      file, "scene",
+      fmt::format("expected a Scene or a scene file's path, got {}", py::repr(value).cast<std::string>()));
+}
 
 void bind_planning(py::module_& m) {
   bind_scene(m);

@@ -4,10 +4,21 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <memory>
+
+namespace ispars::planning {
+class Scene;
+}
 
 namespace ispars::python {
 
 namespace py = pybind11;
+
+/// `value` as a Scene: a Scene, or the path (str or os.PathLike) of a scene file to load.
+/// Raises InputError(file, "scene") for anything else (planning_bindings.cpp).
+std::shared_ptr<planning::Scene> scene_of(const py::object& value, const char* file);
 
 /// InputError and ClientError as Python exceptions carrying their fields (errors.cpp).
 void bind_errors(py::module_& m);

@@ -8,6 +8,7 @@
 #include "ispars/roadmap/roadmap_batch.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 #include "python_module.hpp"
+#include "roadmap_arrays.hpp"
 
 namespace ispars::python {
 namespace {
@@ -37,9 +38,17 @@ py::tuple visibility(const Roadmap& r) {
   return py::make_tuple(take(std::move(offsets), {rows}), take(std::move(ids), {n}));
 }
 
+// Labels 0 .. k-1 in the order components first appear (vertex 0's is 0), as scipy's
+// connected_components numbers them.
 py::array_t<std::uint32_t> components(const Roadmap& r) {
   std::vector<std::uint32_t> out(r.vertex_count());
-  for (VertexId v = 0; v < r.vertex_count(); ++v) out[v] = r.component(v);
+  std::vector<std::uint32_t> label_of(r.vertex_count(), kNoVertex);
+  std::uint32_t labels = 0;
+  for (VertexId v = 0; v < r.vertex_count(); ++v) {
+    std::uint32_t& label = label_of[r.component(v)];
+    if (label == kNoVertex) label = labels++;
+    out[v] = label;
+  }
   const auto n = static_cast<py::ssize_t>(out.size());
   return take(std::move(out), {n});
 }
@@ -59,7 +68,17 @@ void bind_roadmap(py::module_& m) {
       m, "Roadmap",
       "A roadmap: vertices that see POIs, and undirected edges whose cost is their length. Immutable "
       "from Python; its arrays are read-only views into it (no copy), valid as long as any of them "
-      "or the roadmap lives.")
+      "or the roadmap lives. Pickles with its change log's order (the same digest).")
+      .def_static("from_arrays", &roadmap_from_arrays, py::arg("positions"), py::arg("edges"),
+                  py::arg("costs") = py::none(), py::arg("visibility") = py::none(), py::arg("poi_count") = py::none(),
+                  "A roadmap from anyone's graph: positions (V, 3) with vertex 0 the tour's root, edges (E, 2) of "
+                  "whole vertex ids (no loops, no repeats), optional costs (E,) checked to be each edge's length "
+                  "(a roadmap's costs are its segments' lengths), visibility as (offsets, ids) compressed rows "
+                  "(what visibility() returns) or one POI list per vertex, and poi_count (default: the largest "
+                  "id + 1). Vertices are added first, then edges, in order. Raises InputError (file "
+                  "'from_arrays') naming the array and row.")
+      .def(py::pickle([](const py::object& self) { return roadmap_state(self); },
+                      [](const py::tuple& state) { return roadmap_from_state(state); }))
       .def_property_readonly("vertex_count", &Roadmap::vertex_count)
       .def_property_readonly("edge_count", &Roadmap::edge_count)
       .def_property_readonly("component_count", &Roadmap::component_count)
@@ -93,7 +112,9 @@ void bind_roadmap(py::module_& m) {
             return take(std::move(ids), {n});
           },
           py::arg("vertex"), "The POIs vertex `vertex` sees, ascending.")
-      .def("components", &components, "(V,) uint32, new: a representative vertex of each vertex's component.")
+      .def("components", &components,
+           "(V,) uint32, new: each vertex's component label, 0 .. component_count - 1, numbered in the order "
+           "components first appear (the root's is 0).")
       .def(
           "neighbors",
           [](const py::object& self, std::int64_t v) {
@@ -103,7 +124,7 @@ void bind_roadmap(py::module_& m) {
           py::arg("vertex"), "The neighbours of `vertex`, in the order their edges were added (a read-only view).")
       .def(
           "save",
-          [](const Roadmap& r, const std::string& path, const std::string& scene, const py::object& root,
+          [](const Roadmap& r, const std::filesystem::path& path, const std::string& scene, const py::object& root,
              const py::object& pois, const std::shared_ptr<Roadmap>& dense) {
             const Vec3 at = to_vec3(root, "root");
             const std::vector<Vec3> points = to_points(pois, "pois");
@@ -111,7 +132,7 @@ void bind_roadmap(py::module_& m) {
               py::gil_scoped_release release;  // seconds for millions of edges
               write_file_atomically(path, roadmap_file_json(scene, at, points, r, dense.get()));
             } catch (const std::exception& e) {
-              throw params::InputError(path, "path", e.what());
+              throw params::InputError(path.string(), "path", e.what());
             }
           },
           py::arg("path"), py::arg("scene"), py::arg("root"), py::arg("pois"), py::arg("dense") = nullptr,

@@ -2,8 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
+#include <cmath>
 #include <limits>
 #include <memory>
+#include <mutex>
+#include <optional>
 
 #include "arrays.hpp"
 #include "ispars/params/input_error.hpp"
@@ -12,52 +16,39 @@
 #include "ispars/planning/tour/gip_solver.hpp"
 #include "ispars/render/scene_render.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
+#include "ispars/roadmap/roadmap_parameters.hpp"
 #include "python_module.hpp"
 #include "stoppable.hpp"
+#include "tour_model.hpp"
 
 namespace ispars::python {
 namespace {
 
 constexpr const char* kTour = "tour";
+constexpr std::int64_t kMaxThreads = 64;
+constexpr double kDefaultBudget = 10.0;
 
-py::array_t<double> pairs(const std::vector<std::pair<double, double>>& trace) {
-  std::vector<double> flat;
-  for (const auto& [a, b] : trace) {
-    flat.push_back(a);
-    flat.push_back(b);
-  }
-  const auto n = static_cast<py::ssize_t>(trace.size());
-  return take(std::move(flat), {n, 2});
-}
-
-template <class T>
-py::array_t<T> array_of(std::vector<T> values) {
-  const auto n = static_cast<py::ssize_t>(values.size());
-  return take(std::move(values), {n});
-}
-
-planning::GipOptions tour_options(double budget, std::int64_t iterations, std::uint64_t seed, std::int64_t threads,
-                                  const py::object& targets, bool bound) {
-  if (!(budget >= 0.0 && budget <= 1e6))
-    throw params::InputError(kTour, "budget", fmt::format("must be 0 .. 1e6 s, got {}", budget));
-  if (iterations < 0)
-    throw params::InputError(kTour, "iterations", fmt::format("must be 0 or more, got {}", iterations));
-  if (threads < 1 || threads > 64)
-    throw params::InputError(kTour, "threads", fmt::format("must be 1 .. 64, got {}", threads));
-  if (budget == 0.0 && iterations == 0)
-    throw params::InputError(kTour, "budget", "give a budget or iterations (both are 0)");
+planning::GipOptions tour_options(const py::object& budget, const py::object& iterations, const py::object& seed,
+                                  const py::object& threads, const py::object& targets, bool bound) {
   planning::GipOptions options;
-  options.budget_seconds = budget;
-  options.max_iterations = static_cast<std::uint64_t>(iterations);
-  options.seed = seed;
-  options.threads = static_cast<unsigned>(threads);
+  options.max_iterations =
+      static_cast<std::uint64_t>(to_whole_number(iterations, kTour, "iterations", 0, std::int64_t{1} << 53));
+  if (budget.is_none()) {
+    // iterations=N alone returns when its iterations end (the LP bound stops with the search).
+    options.budget_seconds = options.max_iterations > 0 ? 0.0 : kDefaultBudget;
+  } else {
+    const double seconds =
+        py::isinstance<py::float_>(budget) || py::isinstance<py::int_>(budget) ? budget.cast<double>() : std::nan("");
+    if (const std::string problem = params::problem(kTourBudget, seconds); !problem.empty())
+      throw params::InputError(kTour, "budget", problem);
+    options.budget_seconds = seconds;
+  }
+  options.seed = to_unsigned_64(seed, kTour, "seed");
+  options.threads = static_cast<unsigned>(to_whole_number(threads, kTour, "threads", 1, kMaxThreads));
   options.lp_bound = bound;
   if (!targets.is_none()) {
-    const auto ids = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(targets);
-    if (!ids || ids.ndim() != 1) throw params::InputError(kTour, "targets", "expected a 1-D array of POI ids");
     std::vector<PoiId> list;
-    for (py::ssize_t i = 0; i < ids.shape(0); ++i) {
-      const std::int64_t id = ids.at(i);
+    for (const std::int64_t id : to_whole_numbers(targets, kTour, "targets")) {
       if (id < 0 || id > std::numeric_limits<PoiId>::max()) {
         throw params::InputError(kTour, "targets", fmt::format("{} is not a POI id", id));
       }
@@ -68,82 +59,128 @@ planning::GipOptions tour_options(double budget, std::int64_t iterations, std::u
   return options;
 }
 
-py::dict tour_result(const planning::GipResult& r) {
-  py::dict out;
-  out["cost"] = r.tour.cost;
-  out["walk"] = array_of(r.tour.walk);
-  out["covered"] = array_of(r.tour.covered);
-  out["targets"] = array_of(r.targets);
-  out["lower_bound"] = r.lower_bound ? py::object(py::float_(*r.lower_bound)) : py::object(py::none());
-  out["bound_complete"] = r.bound_complete;
+// The search's fields of the one tour model (tour_model.hpp).
+TourFields search_fields(const planning::GipResult& r, const Roadmap& roadmap) {
+  TourFields t;
+  t.cost = r.tour.cost;
+  t.walk.assign(r.tour.walk.begin(), r.tour.walk.end());
+  for (const VertexId v : r.tour.walk) t.waypoints.push_back(roadmap.position(v));
+  t.covered = r.tour.covered.size();
+  t.target_count = r.targets.size();
+  t.lower_bound = r.lower_bound;
+  t.bound_complete = r.bound_complete;
+  t.trace = r.trace;
+  t.bound_trace = r.bound_trace;
+  t.valid = r.validation.valid();
+  t.problem = r.validation.problem;
+  t.version = roadmap.version();
+  return t;
+}
+
+// What only the offline search knows, beside the model's keys.
+void add_search_details(const planning::GipResult& r, py::dict& out) {
+  std::vector<PoiId> targets = r.targets;
+  std::vector<PoiId> covered(r.tour.covered.begin(), r.tour.covered.end());
+  out["targets"] = take(std::move(targets), {static_cast<py::ssize_t>(r.targets.size())});
+  out["covered_ids"] = take(std::move(covered), {static_cast<py::ssize_t>(r.tour.covered.size())});
   out["bound_note"] = r.bound_note;
-  out["trace"] = pairs(r.trace);
-  out["bound_trace"] = pairs(r.bound_trace);
-  out["seconds"] = r.seconds;
   out["iterations"] = r.iterations;
   out["candidates"] = r.candidates;
-  out["valid"] = r.validation.valid();
-  out["problem"] = r.validation.problem;
-  return out;
 }
 
-// The flown tour's keys beside the search's (flown_tour.hpp).
-py::dict flown_result(planning::FlownTour&& t) {
-  py::dict out = tour_result(t.search);
-  std::vector<double> path;
-  for (const Vec3& p : t.stops) path.insert(path.end(), {p.x(), p.y(), p.z()});
-  out["flown_path"] = take(std::move(path), {static_cast<py::ssize_t>(t.stops.size()), 3});
-  py::list sees;
-  for (std::vector<PoiId>& seen : t.check.sees) sees.append(array_of(std::move(seen)));
-  out["flown_sees"] = sees;
-  out["flown_cost"] = t.cost;
-  out["shortcut_cost"] = t.roadmap_shortcut.cost;
-  py::list stages;
-  for (const planning::FlownStage& s : t.stages)
-    stages.append(py::dict(py::arg("stage") = s.name, py::arg("cost") = s.cost, py::arg("seconds") = s.seconds));
-  out["stages"] = stages;
-  out["graph_vertices"] = t.graph_vertices;
-  out["graph_edges"] = t.graph_edges;
-  out["valid"] = t.search.validation.valid() && t.check.valid();
-  if (!t.check.valid()) out["problem"] = t.check.problem;
-  return out;
+TourFields flown_fields(planning::FlownTour&& f, const Roadmap& roadmap) {
+  TourFields t = search_fields(f.search, roadmap);
+  t.flown = true;
+  t.shortcut_path = std::move(f.roadmap_shortcut.path);
+  t.shortcut_cost = f.roadmap_shortcut.cost;
+  t.flown_path = std::move(f.stops);
+  t.flown_sees = std::move(f.check.sees);
+  t.flown_cost = f.cost;
+  for (const planning::FlownStage& s : f.stages) t.stages.push_back({s.name, s.cost, s.seconds});
+  t.graph_vertices = f.graph_vertices;
+  t.graph_edges = f.graph_edges;
+  t.valid = f.search.validation.valid() && f.check.valid();
+  if (!f.check.valid()) t.problem = f.check.problem;
+  return t;
 }
 
-py::dict tour(const std::shared_ptr<Roadmap>& roadmap, double budget, std::int64_t iterations, std::uint64_t seed,
-              std::int64_t threads, const py::object& targets, bool bound, const std::shared_ptr<StopFlag>& stop,
-              const py::object& on_improvement, const py::object& on_bound,
-              const std::shared_ptr<planning::Scene>& scene, std::int64_t samples) {
+// progress(seconds, cost, bound) from the first tour on, bound None until one is proven: the
+// solver's two callbacks (from two threads) merged as the daemon merges them.
+void set_progress(planning::GipOptions& options, const Callback& progress) {
+  if (!progress) return;
+  struct Best {
+    std::mutex mutex;
+    std::optional<double> cost, bound;
+  };
+  auto best = std::make_shared<Best>();
+  options.on_improvement = [best, progress](double t, double cost) {
+    std::optional<double> bound;
+    {
+      std::lock_guard lock(best->mutex);
+      best->cost = cost;
+      bound = best->bound;
+    }
+    progress(t, cost, bound);
+  };
+  options.on_bound = [best, progress](double t, double b) {
+    std::optional<double> cost;
+    {
+      std::lock_guard lock(best->mutex);
+      best->bound = b;
+      cost = best->cost;
+    }
+    if (cost) progress(t, *cost, std::optional<double>(b));
+  };
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+py::dict tour(const std::shared_ptr<Roadmap>& roadmap, const py::object& budget, const py::object& iterations,
+              const py::object& seed, const py::object& threads, const py::object& targets, bool bound,
+              const std::shared_ptr<StopFlag>& stop, const py::object& progress,
+              const std::shared_ptr<planning::Scene>& scene, const py::object& samples) {
   if (!roadmap) throw params::InputError(kTour, "roadmap", "a Roadmap is required");
-  if (samples < 0) throw params::InputError(kTour, "samples", fmt::format("must be 0 or more, got {}", samples));
+  const auto build_samples = to_whole_number(samples, kTour, "samples", 0, std::int64_t{1} << 53);
   planning::GipOptions options = tour_options(budget, iterations, seed, threads, targets, bound);
   auto halt = std::make_shared<Halt>();
   options.stop = &halt->flag();
-  const Callback improved(on_improvement, halt);
-  const Callback raised(on_bound, halt);
-  if (improved) options.on_improvement = [improved](double t, double cost) { improved(t, cost); };
-  if (raised) options.on_bound = [raised](double t, double b) { raised(t, b); };
+  set_progress(options, Callback(progress, halt));
+  const auto t0 = std::chrono::steady_clock::now();
   if (!scene) {
     const auto work = [roadmap, options] {
       return planning::solve_gip(InspectionGraph::from_roadmap(*roadmap), options);
     };
-    return tour_result(run_stoppable(work, *halt, stop.get()));
+    const planning::GipResult r = run_stoppable(work, *halt, stop.get());
+    TourFields fields = search_fields(r, *roadmap);
+    fields.seconds = seconds_since(t0);
+    py::dict out = tour_dict(std::move(fields));
+    add_search_details(r, out);
+    return out;
   }
   planning::FlownTourOptions flown;  // the daemon's pipeline
   flown.search = options;
-  flown.build_samples = static_cast<std::uint64_t>(samples);
+  flown.build_samples = static_cast<std::uint64_t>(build_samples);
   const auto work = [roadmap, scene, flown] {
     return planning::fly_tour(*scene, InspectionGraph::from_roadmap(*roadmap), roadmap->positions(), flown);
   };
   try {
-    return flown_result(run_stoppable(work, *halt, stop.get()));
+    planning::FlownTour f = run_stoppable(work, *halt, stop.get());
+    const planning::GipResult search = f.search;
+    TourFields fields = flown_fields(std::move(f), *roadmap);
+    fields.seconds = seconds_since(t0);
+    py::dict out = tour_dict(std::move(fields));
+    add_search_details(search, out);
+    return out;
   } catch (const std::invalid_argument& e) {
     throw params::InputError(kTour, "scene", e.what());
   }
 }
 
-std::shared_ptr<Roadmap> load_roadmap(const std::string& path, const std::string& graph) {
+std::shared_ptr<Roadmap> load_roadmap(const std::filesystem::path& path, const std::string& graph) {
   if (graph != "roadmap" && graph != "dense") {
-    throw params::InputError(path, "graph", fmt::format("'{}' is not one of roadmap, dense", graph));
+    throw params::InputError(path.string(), "graph", fmt::format("'{}' is not one of roadmap, dense", graph));
   }
   py::gil_scoped_release release;
   const RoadmapFileGraph file = read_roadmap_file_graph(path, graph);
@@ -155,7 +192,7 @@ std::shared_ptr<Roadmap> load_roadmap(const std::string& path, const std::string
 
 py::array_t<std::uint8_t> render(const std::shared_ptr<planning::Scene>& scene, const std::shared_ptr<Roadmap>& roadmap,
                                  const std::shared_ptr<Roadmap>& dense, const py::object& tour_walk, int width,
-                                 int height, const std::string& path) {
+                                 int height, const std::filesystem::path& path) {
   if (!scene) throw params::InputError("render", "scene", "a Scene is required");
   render::RenderRequest request;
   request.width = width;
@@ -180,9 +217,9 @@ py::array_t<std::uint8_t> render(const std::shared_ptr<planning::Scene>& scene, 
     result = render::render_scene(scene->mesh(), request);
     if (!path.empty()) {
       try {
-        render::write_png(path, result.image);
+        render::write_png(path.string(), result.image);
       } catch (const std::runtime_error& e) {
-        throw params::InputError(path, "path", e.what());
+        throw params::InputError(path.string(), "path", e.what());
       }
     }
   }
@@ -194,19 +231,20 @@ py::array_t<std::uint8_t> render(const std::shared_ptr<planning::Scene>& scene, 
 }  // namespace
 
 void bind_tour(py::module_& m) {
-  m.def("tour", &tour, py::arg("roadmap"), py::arg("budget") = 10.0, py::arg("iterations") = 0, py::arg("seed") = 1,
-        py::arg("threads") = 1, py::arg("targets") = py::none(), py::arg("bound") = true, py::arg("stop") = nullptr,
-        py::arg("on_improvement") = py::none(), py::arg("on_bound") = py::none(), py::arg("scene") = nullptr,
-        py::arg("samples") = 0,
+  m.def("tour", &tour, py::arg("roadmap"), py::arg("budget") = py::none(), py::arg("iterations") = 0,
+        py::arg("seed") = 1, py::arg("threads") = 1, py::arg("targets") = py::none(), py::arg("bound") = true,
+        py::arg("stop") = nullptr, py::arg("progress") = py::none(), py::arg("scene") = nullptr, py::arg("samples") = 0,
         "An inspection tour from vertex 0 seeing every target (default: every POI seen from the root's component), "
-        "searched for `budget` seconds or `iterations` iterations per thread (deterministic), without the GIL. "
-        "`bound` proves a lower bound by LP beside the search. Stopped by `stop` or Ctrl-C it returns the best "
-        "tour so far (Ctrl-C raises KeyboardInterrupt). A dict: cost, walk, covered, targets, lower_bound, "
-        "trace, bound_trace, seconds, iterations, valid. With the roadmap's `scene` it runs the daemon's whole "
-        "pipeline (the budget is then the pipeline's): the walk's shortcut, corridor densification at 4x the "
-        "density of a `samples`-sample build (none when 0), viewpoint refinement and the independent check, and "
-        "adds flown_path, flown_sees, flown_cost, shortcut_cost, stages, graph_vertices and graph_edges. Raises "
-        "InputError (file 'tour') on bad arguments.");
+        "without the GIL: searched for `budget` seconds (0 .. 3600, as the daemon's TOUR; default 10), or for "
+        "`iterations` iterations per thread (deterministic; alone, the call returns when they end), or whichever "
+        "ends first. `bound` proves a lower bound by LP beside the search. progress(seconds, cost, bound) is "
+        "called from the first tour on as the tour improves or the bound rises (bound None until one is proven). "
+        "Stopped by `stop` or Ctrl-C it returns the best tour so far (Ctrl-C raises KeyboardInterrupt). With the "
+        "roadmap's `scene` it runs the daemon's whole pipeline (the budget is then the pipeline's): the walk's "
+        "shortcut, corridor densification at 4x the density of a `samples`-sample build (none when 0), viewpoint "
+        "refinement and the independent check. Returns the tour model Client.tour returns (docs/python.md, "
+        "'Tours'), the flown keys None without a scene, plus targets, covered_ids, bound_note, iterations and "
+        "candidates. Raises InputError (file 'tour') on bad arguments.");
   m.def("render", &render, py::arg("scene"), py::arg("roadmap") = nullptr, py::arg("dense") = nullptr,
         py::arg("tour") = py::none(), py::arg("width") = 800, py::arg("height") = 600, py::arg("path") = "",
         "A picture of the scene's mesh, its POIs (green seen by the roadmap, red not), the roadmap, its dense pair "

@@ -144,19 +144,22 @@ void TourDesk::run(const std::shared_ptr<RoadmapSession>& session, const TourReq
     if (!request.targets.empty()) options.search.targets = request.targets;
     options.build_samples = session->status().samples_done;
     options.corridor_max_samples = kCorridorSamples;
-    // Progress carries the best tour and the best bound so far; the two callbacks come from
-    // different threads.
+    // Progress carries the best tour and the best bound so far (0: none yet); the two callbacks
+    // come from different threads. None is sent before the first tour exists, so every progress
+    // names a real tour's cost; a bound proven before it rides on the first one.
     std::mutex progress_mutex;
+    bool have_tour = false;
     double best_cost = 0.0, best_bound = 0.0;
     options.search.on_improvement = [&](double seconds, double cost) {
       std::lock_guard lock(progress_mutex);
+      have_tour = true;
       best_cost = cost;
       if (callbacks.progress) callbacks.progress(seconds, best_cost, best_bound);
     };
     options.search.on_bound = [&](double seconds, double bound) {
       std::lock_guard lock(progress_mutex);
       best_bound = bound;
-      if (callbacks.progress) callbacks.progress(seconds, best_cost, best_bound);
+      if (have_tour && callbacks.progress) callbacks.progress(seconds, best_cost, best_bound);
     };
     // The scene as the roadmap was built in (its recipe's deltas, its tasks' POIs), taken after
     // the roadmap: never older than it.

@@ -34,4 +34,8 @@ inline constexpr params::Spec<std::uint64_t> kSamples{"samples", 1, std::uint64_
 inline constexpr params::Spec<std::uint64_t> kSeed{"seed", 0, std::numeric_limits<std::uint64_t>::max(),
                                                    "seed of the sample stream"};
 
+/// The seconds one tour may search, whoever asks: the daemon's TOUR, Client.tour and the offline
+/// ispars.tour take the same range.
+inline constexpr params::Spec<double> kTourBudget{"budget", 0.0, 3600.0, "seconds of tour search", params::Lower::open};
+
 }  // namespace ispars

@@ -15,6 +15,7 @@
 #include "ispars/planning/tour/flown_tour.hpp"
 #include "ispars/planning/tour/gip_solver.hpp"
 #include "ispars/planning/tour/tour_shortcut.hpp"
+#include "ispars/roadmap/roadmap_parameters.hpp"
 #include "ispars/service/memory_budget.hpp"
 #include "ispars/service/roadmap_session.hpp"
 #include "ispars/service/worker_pool.hpp"
@@ -28,7 +29,7 @@ struct TourRequest {
   std::uint64_t seed = 1;
   std::string task;  ///< Not empty: the targets are this task's POIs seen from the root's component.
 };
-inline constexpr double kMaxTourBudget = 3600.0;
+inline constexpr double kMaxTourBudget = kTourBudget.max;
 inline constexpr std::size_t kMaxTourTargets = 1'000'000;
 
 /// A finished tour: the search's result on the roadmap version it searched, and that tour
