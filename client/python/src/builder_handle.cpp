@@ -17,10 +17,6 @@ namespace {
 constexpr const char* kBuild = "build";  // the InputError file of a Builder's arguments
 constexpr std::int64_t kMaxThreads = 64;
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 /// Marks the handle busy for one call; refuses a second call meanwhile.

@@ -17,6 +17,11 @@
 
 namespace ispars::python {
 
+/// Seconds of wall time since `t0`.
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 /// ispars.Stop: a flag any thread may set to stop the long calls it was given to.
 struct StopFlag {
   std::atomic<bool> set{false};

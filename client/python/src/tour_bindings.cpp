@@ -133,10 +133,6 @@ void set_progress(planning::GipOptions& options, const Callback& progress) {
   };
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 py::dict tour(const std::shared_ptr<Roadmap>& roadmap, const py::object& budget, const py::object& iterations,
               const py::object& seed, const py::object& threads, const py::object& targets, bool bound,
               const std::shared_ptr<StopFlag>& stop, const py::object& progress,
@@ -167,11 +163,12 @@ py::dict tour(const std::shared_ptr<Roadmap>& roadmap, const py::object& budget,
   };
   try {
     planning::FlownTour f = run_stoppable(work, *halt, stop.get());
-    const planning::GipResult search = f.search;
+    py::dict details;  // the search's, read before flown_fields moves the tour (no copy of it)
+    add_search_details(f.search, details);
     TourFields fields = flown_fields(std::move(f), *roadmap);
     fields.seconds = seconds_since(t0);
     py::dict out = tour_dict(std::move(fields));
-    add_search_details(search, out);
+    for (const auto& [key, value] : details) out[key] = value;
     return out;
   } catch (const std::invalid_argument& e) {
     throw params::InputError(kTour, "scene", e.what());
