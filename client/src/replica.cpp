@@ -116,18 +116,22 @@ class RoadmapReplica::Impl {
   // only from the daemon it names) shows: it is another daemon's than the one this replica copied,
   // or of another roadmap (the fleet moved the scene, say to the fresher of two holders after a
   // partition healed, and this replica may hold the loser's copy), or its version has been ahead
-  // of the replica's for the lag limit (a batch was lost, and an idle owner writes no other).
+  // of the replica's for the lag limit (a batch was lost, and an idle owner writes no other), or
+  // at the replica's version it has held other POIs for that long (a task that needed no vertex,
+  // say one merged in after a partition healed, whose batch this replica never saw).
   // `quiet`: no batch arrived since the last look (a replica busy applying batches is not behind).
   // Why it must resync, or none.
   Resync behind_owner(bool quiet) {
     std::string owner;
     std::uint64_t generation = 0, version = 0;
+    std::size_t pois = 0;
     {
       std::lock_guard lock(state_mutex_);
       if (snapshots_ == 0) return Resync::none;
       owner = owner_;
       generation = generation_;
       version = roadmap_.version();
+      pois = roadmap_.poi_count();
     }
     const auto status = client_.latest_status(scene_);
     if (!status || status->state == SceneState::unloaded || status->state == SceneState::empty) return Resync::none;
@@ -136,7 +140,8 @@ class RoadmapReplica::Impl {
     if (generation == 0) return status->generation != 0 ? Resync::first : Resync::none;
     if (status->server_id != owner || status->generation != generation) return Resync::moved;
     const auto now = std::chrono::steady_clock::now();
-    if (!quiet || status->version <= version) {
+    const bool behind = status->version > version || (status->version == version && status->poi_count != pois);
+    if (!quiet || !behind) {
       lag_since_.reset();
       return Resync::none;
     }

@@ -28,8 +28,9 @@ struct ReplicaEvent {
 /// batches are dropped, as the daemon's kept history drops its oldest: the gap they leave is
 /// detected as any gap is, and the replica resyncs from a fresh snapshot. The newest batch is
 /// always kept. The owner's status showing a later version than the replica's for `lag` while no
-/// batch arrives (a batch lost for good, and an idle owner writes no other to show the gap) also
-/// resyncs it.
+/// batch arrives (a batch lost for good, and an idle owner writes no other to show the gap), or
+/// other POIs at the replica's version (a task that needed no vertex, whose batch it missed),
+/// also resyncs it.
 struct ReplicaLimits {
   std::size_t batches = 1024;           ///< 1 .. 1,000,000
   std::size_t bytes = 256u << 20;       ///< 64 KiB .. 64 GiB, counted as the batches' array payloads
@@ -41,7 +42,7 @@ struct ReplicaResyncs {
   std::size_t first = 0;   ///< The first sync, and the first after a drop or unload emptied it.
   std::size_t gap = 0;     ///< A batch showed a gap (lost on the way, or dropped from the queue).
   std::size_t moved = 0;   ///< A batch or status of another roadmap or owner: a rebuild, new POIs, a move.
-  std::size_t lag = 0;     ///< The owner's status stayed ahead for ReplicaLimits::lag, no batch arriving.
+  std::size_t lag = 0;     ///< The owner's status stayed ahead (or other POIs) for ReplicaLimits::lag.
   std::size_t rejoin = 0;  ///< The client joined the domain again (a new participant).
 };
 
