@@ -38,6 +38,8 @@ memory_budget_mb: 2048
 log_file: logs/isparsd.log
 log_file_mb: 8
 metrics: 127.0.0.1:9464
+ros2: true
+ros2_frame: world
 )");
   std::filesystem::create_directories(dir.path() / "logs");
   const DaemonConfig c = load_daemon_config(path);
@@ -58,6 +60,8 @@ metrics: 127.0.0.1:9464
   EXPECT_EQ(c.log_file, dir.path() / "logs" / "isparsd.log");
   EXPECT_EQ(c.log_file_mb, 8u);
   EXPECT_EQ(c.metrics, (ListenAddress{"127.0.0.1", 9464}));
+  EXPECT_TRUE(c.ros2);
+  EXPECT_EQ(c.ros2_frame, "world");
   EXPECT_DOUBLE_EQ(memory_budget_bytes(c), 2048.0 * 1024 * 1024);
   EXPECT_GT(memory_budget_bytes(DaemonConfig{}), 0.0) << "the default is half of this machine's memory";
 }
@@ -99,7 +103,25 @@ TEST(DaemonConfig, BadValuesAreNamed) {
   expect("metrics: '127.0.0.1:'\n", "has no port in 0..65535");
   expect("metrics: 127.0.0.1:+80\n", "has no port in 0..65535");
   expect("metrics: " + std::string(70, '1') + ":80\n", "is not an address and a port");
+  expect("ros2: maybe\n", "ros2: expected true or false, got 'maybe'");
+  expect("ros2_frame: ''\n", "ros2_frame: must not be empty");
+  expect("ros2_frame: 'map frame'\n", "ros2_frame: 'map frame' has a character other than A-Z a-z 0-9 _ / . - at 3");
   EXPECT_THROW((void)load_daemon_config(dir.path() / "missing.yaml"), params::InputError);
+}
+
+TEST(DaemonConfig, Ros2AndSecurityAreRefusedTogether) {
+  DaemonConfig config;
+  config.ros2 = true;
+  EXPECT_NO_THROW(check_together(config));
+  config.participant.security = "/etc/ispars/identity";
+  try {
+    check_together(config);
+    ADD_FAILURE() << "ros2 with security accepted";
+  } catch (const params::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ros2: cannot be on with security"), std::string::npos) << e.what();
+  }
+  config.ros2 = false;
+  EXPECT_NO_THROW(check_together(config));
 }
 
 TEST(DaemonConfig, AListenAddressIsAnIpv4AddressAndAPort) {
@@ -130,10 +152,28 @@ TEST(DaemonFlags, EachSettingHasAFlagOverTheFile) {
   DaemonConfig file;
   file.preload = {"from-file"};
   file.workers = 5;
-  const DaemonConfig c =
-      with_flags({"--workers", "3", "--compact-every", "5", "--load", "a", "--preload", "b", "--metrics", "127.0.0.1:9",
-                  "--data-dir", "rel/data", "--log-level", "warn", "--discovery-wait-ms", "100", "--max-samples", "7"},
-                 file);
+  const DaemonConfig c = with_flags({"--workers",
+                                     "3",
+                                     "--compact-every",
+                                     "5",
+                                     "--load",
+                                     "a",
+                                     "--preload",
+                                     "b",
+                                     "--metrics",
+                                     "127.0.0.1:9",
+                                     "--data-dir",
+                                     "rel/data",
+                                     "--log-level",
+                                     "warn",
+                                     "--discovery-wait-ms",
+                                     "100",
+                                     "--max-samples",
+                                     "7",
+                                     "--ros2",
+                                     "--ros2-frame",
+                                     "odom"},
+                                    file);
   EXPECT_EQ(c.workers, 3u);
   EXPECT_EQ(c.snapshot_compact_every, 5u);
   EXPECT_EQ(c.preload, (std::vector<std::string>{"from-file", "a", "b"}));
@@ -142,7 +182,10 @@ TEST(DaemonFlags, EachSettingHasAFlagOverTheFile) {
   EXPECT_EQ(c.log_level, "warn");
   EXPECT_EQ(c.discovery_wait_ms, 100u);
   EXPECT_EQ(c.max_samples, 7u);
+  EXPECT_TRUE(c.ros2) << "--ros2 is a switch: no value follows it";
+  EXPECT_EQ(c.ros2_frame, "odom");
   EXPECT_EQ(with_flags({}, file).workers, 5u) << "no flag: the file's value stays";
+  EXPECT_FALSE(with_flags({}, file).ros2) << "off by default";
 }
 
 TEST(DaemonFlags, BadValuesAreNamedByTheirFlag) {
@@ -221,7 +264,7 @@ TEST(DaemonSettings, EveryDefaultIsWithinItsBounds) {
       EXPECT_EQ(params::problem(s, value), "") << s.name;
     }
   });
-  EXPECT_EQ(settings, 20u);
+  EXPECT_EQ(settings, 22u);
 }
 
 // RocksDB's options_settable_test idea: a member added to the config or to the participant's
@@ -272,7 +315,7 @@ TEST(DaemonSettings, EverySettingChangedButNotAppliedOnSighupIsNamed) {
       }
     });
   }
-  EXPECT_EQ(named, 17u) << "all but log_level, log_file and log_file_mb";
+  EXPECT_EQ(named, 19u) << "all but log_level, log_file and log_file_mb";
   DaemonConfig with_id = running;
   with_id.server_id = "d1";
   EXPECT_TRUE(changed_needing_restart(with_id, running).empty()) << "no server_id: the default the daemon holds";
@@ -292,7 +335,7 @@ TEST(DaemonSettings, TheShippedConfigNamesEverySetting) {
     if (at == std::string::npos) continue;
     const std::size_t colon = line.find(':', at);
     const std::string key = colon == std::string::npos ? std::string() : line.substr(at, colon - at);
-    if (!key.empty() && key.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") == std::string::npos) {
+    if (!key.empty() && key.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") == std::string::npos) {
       shipped.insert(key);
     }
   }

@@ -3,7 +3,6 @@
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
-#include <fastdds/dds/topic/TopicDataType.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include <chrono>
@@ -14,50 +13,15 @@
 #include "ispars/wire/participant.hpp"
 #include "ispars/wire/topics.hpp"
 #include "support/eventually.hpp"
+#include "support/raw_bytes_type.hpp"
 
 namespace ispars::test {
 namespace fdds = eprosima::fastdds::dds;
-namespace rtps = eprosima::fastrtps::rtps;
-
-namespace {
-
-// The request type's name and key kind, with a payload of whatever bytes are given.
-class BytesType final : public fdds::TopicDataType {
- public:
-  explicit BytesType(const std::string& type_name) {
-    setName(type_name.c_str());
-    m_typeSize = 1 << 20;
-    m_isGetKeyDefined = true;
-  }
-  bool serialize(void* data, rtps::SerializedPayload_t* payload) override {
-    const auto* bytes = static_cast<const std::string*>(data);
-    if (bytes->size() > payload->max_size) return false;
-    std::memcpy(payload->data, bytes->data(), bytes->size());
-    payload->length = static_cast<std::uint32_t>(bytes->size());
-    payload->encapsulation = CDR_LE;
-    return true;
-  }
-  bool deserialize(rtps::SerializedPayload_t*, void*) override { return false; }
-  std::function<std::uint32_t()> getSerializedSizeProvider(void* data) override {
-    return [data] { return static_cast<std::uint32_t>(static_cast<const std::string*>(data)->size()); };
-  }
-  void* createData() override { return new std::string(); }
-  void deleteData(void* data) override { delete static_cast<std::string*>(data); }
-  bool getKey(void* data, rtps::InstanceHandle_t* handle, bool) override {
-    // One instance per distinct leading bytes, so samples are not all one instance's history.
-    const auto* bytes = static_cast<const std::string*>(data);
-    std::memset(handle->value, 0, 16);
-    std::memcpy(handle->value, bytes->data(), std::min<std::size_t>(16, bytes->size()));
-    return true;
-  }
-};
-
-}  // namespace
 
 class RawBytesWriter::Impl {
  public:
   Impl(int domain, const std::string& security, const std::string& topic_name, const std::string& type_name)
-      : participant({domain, "", "ispars", "raw bytes", security}), type(new BytesType(type_name)) {
+      : participant({domain, "", "ispars", "raw bytes", security}), type(new RawBytesType(type_name, /*keyed=*/true)) {
     fdds::DomainParticipant* p = participant.get();
     fdds::Topic* topic = wire::find_or_create_topic(p, type, topic_name.c_str());
     fdds::Publisher* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);

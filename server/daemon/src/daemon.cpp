@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "ispars/ros2/ros2_mirror.hpp"
 #include "ispars/server/dds_endpoints.hpp"
 #include "ispars/server/stop_watchdog.hpp"
 
@@ -50,10 +51,12 @@ Daemon::Daemon(DaemonConfig config)
     operator_.open_metrics();  // first of all: a port in use stops the start
     dds_.open();
     fleet_.join();  // the other daemons seen, this one's id unique, claims possible
+    open_ros2();
     service_ = std::make_unique<service::RoadmapService>(service_settings(), service_events());
     fleet_.attach(service_.get());
   } catch (...) {
     operator_.close_metrics();  // first: its thread reads the DDS link
+    ros2_.reset();
     dds_.close();
     ::close(lock_fd_);
     throw;
@@ -138,6 +141,8 @@ void Daemon::shutdown() {
   if (router_) router_->stop();
   note_stop_step("the running builds' last commits and tours");
   if (service_) service_->stop();  // tours reply with their best; builds commit and stop
+  note_stop_step("the ROS 2 mirror's thread");
+  if (ros2_) ros2_->stop();  // it reads the service; later marks are dropped
   note_stop_step("the metrics endpoint and the service's release");
   operator_.close_metrics();  // it reads the service and the endpoints
   fleet_.attach(nullptr);
@@ -145,6 +150,7 @@ void Daemon::shutdown() {
   note_stop_step("the DDS endpoints' and participant's deletion");
   dds_.close();
   router_.reset();
+  ros2_.reset();
   note_stop_step("the data directory's lock");
   if (lock_fd_ >= 0) ::close(lock_fd_);
   lock_fd_ = -1;
@@ -181,13 +187,40 @@ service::ServiceEvents Daemon::service_events() {
   events.on_commit = [this](const std::string& scene, const RoadmapBatch& batch, std::uint64_t generation,
                             std::uint64_t samples, std::size_t poi_count) {
     statuses_.publish_commit(scene, batch, generation, samples, poi_count);
+    if (ros2_) ros2_->roadmap_changed(scene);
   };
-  events.on_status = [this](const service::RoadmapSession& session) { statuses_.publish_status(session); };
-  events.on_unloaded = [this](const std::string& scene, bool given_up) { statuses_.publish_unloaded(scene, given_up); };
+  events.on_status = [this](const service::RoadmapSession& session) {
+    statuses_.publish_status(session);
+    if (ros2_) ros2_->roadmap_changed(session.name());  // a load, a drop: drawn if it changed
+  };
+  events.on_unloaded = [this](const std::string& scene, bool given_up) {
+    statuses_.publish_unloaded(scene, given_up);
+    if (ros2_) ros2_->scene_gone(scene);
+  };
+  events.on_tour = [this](const std::string& scene, const service::TourOutcome& outcome) {
+    if (ros2_ && !outcome.flown_path.empty()) ros2_->tour_flown(scene, outcome.flown_path);
+  };
   events.on_scenes_changed = [this] { fleet_.announce(); };
   events.claim = [this](const std::string& scene) { fleet_.claim(scene); };
   events.release = [this](const std::string& scene) { fleet_.release(scene); };
   return events;
+}
+
+void Daemon::open_ros2() {
+  if (!config_.ros2) return;
+  ros2::Ros2MirrorOptions options;
+  options.participant = config_.participant;
+  options.frame = config_.ros2_frame;
+  ros2_ = std::make_unique<ros2::Ros2Mirror>(options, [this](const std::string& scene) {
+    std::optional<ros2::MirroredRoadmap> drawn;
+    try {
+      const auto session = service_->session(scene);
+      drawn = ros2::MirroredRoadmap{session->published().roadmap, session->scene_with_tasks()->pois()};
+    } catch (const std::exception&) {
+      // not loaded (any more)
+    }
+    return drawn;
+  });
 }
 
 void Daemon::republish() {

@@ -156,6 +156,21 @@ std::string memory_budget_rule(std::uint64_t mib) {
   return fmt::format("must be 0 (half of this machine's memory) or in 16..{}, got {}", 1ull << 30, mib);
 }
 
+void check_together(const DaemonConfig& config) {
+  if (config.ros2 && !config.participant.security.empty()) {
+    throw params::InputError("config", "ros2",
+                             "cannot be on with security: the ROS 2 mirror's topics (rt/ispars/...) are in no "
+                             "daemon's DDS Security permissions");
+  }
+}
+
+std::string ros2_frame_rule(const std::string& frame) {
+  if (frame.empty()) return "must not be empty";
+  const auto bad = frame.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_/.-");
+  if (bad == std::string::npos) return {};
+  return fmt::format("'{}' has a character other than A-Z a-z 0-9 _ / . - at {}", frame.substr(0, 64), bad);
+}
+
 double memory_budget_bytes(const DaemonConfig& config) {
   if (config.memory_budget_mb != 0) return static_cast<double>(config.memory_budget_mb) * 1024.0 * 1024.0;
   const long pages = ::sysconf(_SC_PHYS_PAGES);

@@ -30,7 +30,11 @@ DaemonFlags::DaemonFlags(CLI::App& app) {
     using S = std::decay_t<decltype(s)>;
     Staged& staged = staged_.emplace_back();
     const std::string names = names_of(s);
-    if constexpr (requires { s.min; }) {  // a number: read as text and checked here (CLI11 saturates past 64 bits)
+    if constexpr (std::is_same_v<S, params::Spec<bool>>) {  // a switch: on when given
+      app.add_flag(names, staged.on, std::string(s.doc));
+    } else if constexpr (requires {
+                           s.min;
+                         }) {  // a number: read as text and checked here (CLI11 saturates past 64 bits)
       using T = params::value_type_of<decltype(fallback)>;
       app.add_option(names, staged.text, fmt::format("{}; {} (default {})", s.doc, params::range_text(s), fallback))
           ->type_name(std::string(params::type_name<T>()));
@@ -53,6 +57,8 @@ void DaemonFlags::apply(DaemonConfig& config) const {
       all.insert(all.end(), staged.list.begin(), staged.list.end());
       member = checked_list(s, std::move(all), kCommandLine, flag);
       return;
+    } else if constexpr (std::is_same_v<S, params::Spec<bool>>) {
+      if (staged.on) member = true;  // a switch turns on what the file left off, never off
     } else {
       if (!staged.text) return;
       if constexpr (requires { s.min; }) {

@@ -100,6 +100,7 @@ int main(int argc, char** argv) {
     DaemonConfig config = config_file.empty() ? DaemonConfig{} : ispars::server::load_daemon_config(config_file);
     if (config_file.empty()) config.participant.domain = ispars::wire::domain_from_environment();
     flags.apply(config);
+    ispars::server::check_together(config);
     return config;
   };
   try {

@@ -55,6 +55,12 @@ void RoadmapService::start_tour(const std::string& scene, TourRequest request, T
     // Every POI seen from the root's component, but removed tasks' (empty: every one).
     request.targets = live_targets(*s->published().roadmap, s->scene().pois().size(), s->tasks());
   }
+  if (events_.on_tour) {
+    callbacks.done = [done = std::move(callbacks.done), on_tour = events_.on_tour, scene](TourOutcome outcome) {
+      on_tour(scene, outcome);
+      if (done) done(std::move(outcome));
+    };
+  }
   tours_.admit(s, scene, std::move(request), std::move(callbacks));
 }
 

@@ -21,6 +21,10 @@
 #include "ispars/server/stop_signal.hpp"
 #include "ispars/service/roadmap_service.hpp"
 
+namespace ispars::ros2 {
+class Ros2Mirror;
+}
+
 namespace ispars::server {
 
 /// One isparsd: its data directory (held by a lock file), its DDS link and its service.
@@ -62,6 +66,7 @@ class Daemon final : public DaemonInbox {
   service::ServiceEvents service_events();
   void republish();  // every held scene's status and version, from a new participant
   void fill_service_gauges(DaemonGauges& gauges) const;
+  void open_ros2();  // the ROS 2 mirror, when config_.ros2
 
   // Declared in the order they are made; shutdown() stops and releases them in the reverse
   // order explicitly (the metrics endpoint and the DDS link before the service they read).
@@ -75,6 +80,7 @@ class Daemon final : public DaemonInbox {
   StatusPublisher statuses_;
   FleetMember fleet_;
   OperatorEndpoints operator_;
+  std::unique_ptr<ros2::Ros2Mirror> ros2_;  // stopped before the service it reads goes
   std::unique_ptr<service::RoadmapService> service_;
   std::unique_ptr<RequestRouter> router_;
   std::shared_mutex receiving_;       // held shared by each receive(); alone when serving_ is cleared

@@ -55,6 +55,10 @@ struct DaemonConfig {
   /// Milliseconds to listen for the other daemons on the domain before announcing, reloading
   /// stored roadmaps or claiming a scene (the fleet's ownership rule needs them all seen).
   std::uint32_t discovery_wait_ms = 1000;
+  /// Mirror each loaded scene's roadmap (visualization_msgs/MarkerArray) and its last tour
+  /// (nav_msgs/Path) to ROS 2 topics, in frame ros2_frame (docs/ros2.md).
+  bool ros2 = false;
+  std::string ros2_frame = "map";
 
   /// Every setting with its declaration, in the order `isparsd --help` lists them.
   static void describe(auto& self, auto&& field) {
@@ -79,6 +83,8 @@ struct DaemonConfig {
     field(kLogFile, self.log_file);
     field(kLogFileMb, self.log_file_mb);
     field(kMetrics, self.metrics);
+    field(kRos2, self.ros2);
+    field(kRos2Frame, self.ros2_frame);
   }
 };
 
@@ -91,6 +97,11 @@ struct DaemonConfig {
 /// Reads a config file. Throws InputError naming the file and key on an unknown key or a value
 /// of the wrong type, out of its bounds, or against its rule (daemon_settings.hpp).
 [[nodiscard]] DaemonConfig load_daemon_config(const std::filesystem::path& path);
+
+/// The settings that cannot go together, each checked alone already: `ros2` with `security` (the
+/// mirror's participant would need permissions for rt/ispars/ topics, which the keystore's
+/// daemon grants do not give). Throws InputError naming both.
+void check_together(const DaemonConfig& config);
 
 /// The keys of the settings that differ between `running` and `fresh` and that a running daemon
 /// takes only at a restart (each one declared needs_restart), in declaration order. A fresh

@@ -29,6 +29,7 @@ class DaemonFlags {
   struct Staged {  // what CLI11 parsed for one setting (a number as text: converted here)
     std::optional<std::string> text;
     std::vector<std::string> list;
+    bool on = false;  // a switch
   };
   std::deque<Staged> staged_;  // one per setting, in declaration order; a deque: CLI11 holds each address
 };

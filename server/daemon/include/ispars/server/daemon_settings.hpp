@@ -31,6 +31,7 @@ struct AddressSpec {
 std::string log_level_rule(const std::string& level);
 std::string log_file_rule(const std::string& file);
 std::string memory_budget_rule(std::uint64_t mib);
+std::string ros2_frame_rule(const std::string& frame);
 
 namespace settings {
 using params::Lower;
@@ -74,6 +75,11 @@ inline constexpr params::TextSpec kLogFile{
     &log_file_rule};
 inline constexpr params::Spec<std::uint64_t> kLogFileMb{
     "log_file_mb", 1, 100'000, "MiB a log file reaches before it is rotated", Lower::closed, false};
+inline constexpr params::Spec<bool> kRos2{
+    "ros2",        false, true, "mirror each scene's roadmap and last tour to ROS 2 topics (rt/ispars/SCENE/...)",
+    Lower::closed, true};
+inline constexpr params::TextSpec kRos2Frame{
+    "ros2_frame", "the frame_id of the ROS 2 markers and paths (default map)", 256, false, true, &ros2_frame_rule};
 inline constexpr AddressSpec kMetrics{
     "metrics",
     "ADDRESS:PORT serving /metrics (Prometheus) and /healthz over HTTP, e.g. 127.0.0.1:9464 (default: none)"};

@@ -103,6 +103,8 @@ struct ServiceEvents {
   std::function<void(const std::string& scene, bool given_up)> on_unloaded;
   /// The set of loaded scenes changed.
   std::function<void()> on_scenes_changed;
+  /// A tour of a scene finished (on its worker's thread, before its reply is sent).
+  std::function<void(const std::string& scene, const TourOutcome& outcome)> on_tour;
   /// Called before a scene is loaded; throws InputError (naming the owner) when this service may
   /// not hold it. Each successful claim is matched by exactly one `release`.
   std::function<void(const std::string& scene)> claim;
