@@ -18,6 +18,7 @@ std::unique_ptr<cli_app::Command> make_path_command();      // path
 std::unique_ptr<cli_app::Command> make_watch_command();     // watch
 std::unique_ptr<cli_app::Command> make_tour_command();      // tour
 std::unique_ptr<cli_app::Command> make_snapshot_command();  // snapshot
+std::unique_ptr<cli_app::Command> make_record_command();    // record
 std::unique_ptr<cli_app::Command> make_task_command();      // task add | list
 std::unique_ptr<cli_app::Command> make_render_delegate();   // render in ispars: runs ispars-render
 

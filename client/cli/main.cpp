@@ -8,9 +8,10 @@
 int main(int argc, char** argv) {
   using namespace ispars::cli;
   std::vector<std::unique_ptr<ispars::cli_app::Command>> commands;
-  for (auto* make : {make_scenes_command, make_build_command, make_extend_command, make_cancel_command,
-                     make_stats_command, make_drop_command, make_verify_command, make_path_command, make_watch_command,
-                     make_tour_command, make_snapshot_command, make_task_command, make_render_delegate}) {
+  for (auto* make :
+       {make_scenes_command, make_build_command, make_extend_command, make_cancel_command, make_stats_command,
+        make_drop_command, make_verify_command, make_path_command, make_watch_command, make_tour_command,
+        make_snapshot_command, make_record_command, make_task_command, make_render_delegate}) {
     commands.push_back(make());
   }
   return ispars::cli_app::run_cli(argc, argv, "ispars: client of the isparsd roadmap service", commands);

@@ -1,4 +1,5 @@
-// `ispars snapshot`: the whole roadmap of a scene, written as the roadmap file JSON.
+// `ispars snapshot`: the whole roadmap of a scene, written as the roadmap file JSON, or as PLY or
+// GraphML for other tools (--format, or the file's extension: .ply, .graphml).
 
 #include <fmt/format.h>
 
@@ -7,6 +8,7 @@
 #include "commands.hpp"
 #include "ispars/cli_app/cli_output.hpp"
 #include "ispars/roadmap/roadmap_batch.hpp"
+#include "ispars/roadmap/roadmap_export.hpp"
 #include "ispars/roadmap/roadmap_json.hpp"
 
 namespace ispars::cli {
@@ -17,12 +19,20 @@ class SnapshotCommand final : public cli_app::Command {
   CLI::App* add(CLI::App& app) override {
     auto* cmd = app.add_subcommand("snapshot", "fetch the whole roadmap");
     cmd->add_option("scene", scene_, "scene name")->required();
-    cmd->add_option("--out", out_, "JSON file to write")->required();
+    cmd->add_option("--out", out_, "file to write")->required();
+    cmd->add_option("--format", format_, "json (the roadmap file), ply or graphml (default: from --out's extension)")
+        ->check(CLI::IsMember({"json", "ply", "graphml"}));
     return cmd;
   }
   int run(client::Client& client) override {
+    const std::string format = !format_.empty()             ? format_
+                               : out_.ends_with(".ply")     ? "ply"
+                               : out_.ends_with(".graphml") ? "graphml"
+                                                            : "json";
     const client::Snapshot s = client.snapshot(scene_);
-    cli_app::write_text(out_, roadmap_file_json(scene_, s.root, s.pois, s.roadmap, nullptr));
+    cli_app::write_text(out_, format == "ply"       ? roadmap_ply(s.roadmap)
+                              : format == "graphml" ? roadmap_graphml(s.roadmap)
+                                                    : roadmap_file_json(scene_, s.root, s.pois, s.roadmap, nullptr));
     std::cout << fmt::format("wrote {} at version {} ({} vertices, {} edges, digest {:016x}) to {}\n", scene_,
                              s.version, s.roadmap.vertex_count(), s.roadmap.edge_count(), roadmap_digest(s.roadmap),
                              out_);
@@ -30,7 +40,7 @@ class SnapshotCommand final : public cli_app::Command {
   }
 
  private:
-  std::string scene_, out_;
+  std::string scene_, out_, format_;
 };
 
 }  // namespace

@@ -233,6 +233,7 @@ Participant::Participant(const ParticipantOptions& options, fdds::DomainParticip
     qos = localhost_qos(options);
   } else {
     if (factory->load_XML_profiles_file(options.profile_file) != ReturnCode_t::RETCODE_OK) {
+      fdds::Log::Flush();  // Fast DDS's own lines naming the bad element come out before the error
       throw std::runtime_error("cannot load the Fast DDS profiles file " + options.profile_file);
     }
     if (factory->get_participant_qos_from_profile(options.profile_name, qos) != ReturnCode_t::RETCODE_OK) {

@@ -96,11 +96,38 @@ TEST_F(CliTest, BuildWatchSnapshotAndErrorsAsAUserSeesThem) {
   const auto file = nlohmann::json::parse(test::read_text(snapshot));
   EXPECT_EQ(file["graphs"]["roadmap"]["vertices"].size(), status["vertices"].get<std::size_t>());
   EXPECT_EQ(file["pois"].size(), status["poi_count"].get<std::size_t>());
+  // For other tools: PLY and GraphML, chosen by the extension (Python's test_graphs reads both back).
+  const auto ply = dir_.path() / "tower.ply", graphml = dir_.path() / "tower.graphml";
+  ASSERT_EQ(run(common_ + " snapshot tower --out " + ply.string(), dir_).code, 0);
+  ASSERT_EQ(run(common_ + " snapshot tower --out " + graphml.string(), dir_).code, 0);
+  const std::string ply_text = test::read_text(ply), graphml_text = test::read_text(graphml);
+  EXPECT_EQ(ply_text.rfind("ply\n", 0), 0u);
+  EXPECT_TRUE(
+      test::mentions(ply_text, "element vertex " + std::to_string(status["vertices"].get<std::size_t>()) + "\n"));
+  EXPECT_TRUE(test::mentions(ply_text, "element edge " + std::to_string(status["edges"].get<std::size_t>()) + "\n"));
+  std::size_t nodes = 0;
+  for (std::size_t at = graphml_text.find("<node "); at != std::string::npos; at = graphml_text.find("<node ", at + 1))
+    ++nodes;
+  EXPECT_EQ(nodes, status["vertices"].get<std::size_t>());
+  EXPECT_EQ(run(common_ + " snapshot tower --out x.obj --format obj", dir_).code, 2) << "an unknown format";
   const CliRun extend = run(common_ + " extend tower --samples 500 --wait --json", dir_);
   ASSERT_EQ(extend.code, 0) << extend.err;
   EXPECT_EQ(nlohmann::json::parse(last_line(extend.out))["samples_done"], 30500);
   EXPECT_EQ(nlohmann::json::parse(last_line(extend.out))["variant"], "stretch") << "the default rule set";
   EXPECT_EQ(nlohmann::json::parse(last_line(extend.out))["stretch_slack"], 0.0) << "no slack unless asked for";
+  // --json, for a pipe: every line one JSON object, the replica as it changes, then its end.
+  const CliRun watched = run(common_ + " watch tower --until-idle --json", dir_);
+  ASSERT_EQ(watched.code, 0) << watched.err;
+  std::vector<nlohmann::json> events;
+  std::istringstream lines(watched.out);
+  for (std::string line; std::getline(lines, line);) events.push_back(nlohmann::json::parse(line));
+  ASSERT_GE(events.size(), 2u) << watched.out;
+  EXPECT_EQ(events.front()["event"], "replica");
+  EXPECT_EQ(events.back()["event"], "end");
+  EXPECT_EQ(events.back()["vertices"], nlohmann::json::parse(last_line(extend.out))["vertices"]);
+  EXPECT_EQ(events.back()["retired"], false);
+  EXPECT_EQ(events.back()["digest"].get<std::string>().size(), 16u);
+  EXPECT_EQ(watched.err, "") << "no progress line with --json";
 
   // Errors: one line naming the problem, and the exit code of its kind.
   CliRun r = run(common_ + " build tower --method ispars --samples 100", dir_);

@@ -1,6 +1,6 @@
 // isparsd --ros2 as a ROS 2 viewer sees it: the test reads rt/ispars/s0/roadmap and
 // rt/ispars/s0/tour as raw bytes under the ROS 2 type names only (a reader of any other name or
-// topic would match nothing), and hands each sample to tests/ros2/decode_ros2.cjs, which decodes
+// topic would match nothing), and hands each sample to tests/readers/decode_ros2.cjs, which decodes
 // it with Foxglove's ROS 2 CDR reader and the ROS 2 message definitions, nothing of this project.
 // The decoded markers must be the roadmap the daemon's snapshot holds, vertex for vertex and edge
 // for edge; the path the tour the client was given; an unload clears the markers; a daemon
@@ -31,8 +31,8 @@ class Ros2Test : public ServiceTest {
       out << bytes;
     }
     const auto [status, output] =
-        run_command("NODE_PATH='" + std::string(ISPARS_ROS2_NODE_MODULES) + "' timeout -k 5 60 node '" +
-                    ISPARS_ROS2_DECODER + "' " + type + " '" + file.string() + "' 2>&1");
+        run_command("NODE_PATH='" + std::string(ISPARS_READERS_NODE_MODULES) + "' timeout -k 5 60 node '" +
+                    ISPARS_READERS_DIR + "/decode_ros2.cjs' " + type + " '" + file.string() + "' 2>&1");
     if (status != 0) throw std::runtime_error("the decoder failed (" + std::to_string(status) + "): " + output);
     return nlohmann::json::parse(output);
   }

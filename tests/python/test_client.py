@@ -212,7 +212,7 @@ def test_client_arguments_are_input_errors_and_a_client_closes(ispars, served):
     assert client.stats(SCENE).scene == SCENE, "another client is untouched"
 
 
-def test_a_bad_profile_file_is_an_input_error(ispars, tmp_path):
+def test_a_bad_profile_file_is_an_input_error(ispars, tmp_path, capfd):
     with pytest.raises(ispars.InputError) as e:
         ispars.Client(domain=1, profile_file=str(tmp_path / "missing.xml"))
     assert e.value.field == "profile_file" and "cannot be read" in str(e.value)
@@ -221,3 +221,46 @@ def test_a_bad_profile_file_is_an_input_error(ispars, tmp_path):
     with pytest.raises(ispars.InputError) as e:
         ispars.Client(domain=1, profile_file=str(bad), profile_name="ispars")
     assert e.value.file == str(bad) and e.value.field == "profile_file"
+    captured = capfd.readouterr()  # Fast DDS's own console output went to stdout, in colour
+    assert "\x1b[" not in captured.out + captured.err, "no colour codes: " + repr(captured.out[:200])
+    assert "ispars: error: fastdds [XMLPARSER]" in captured.err, captured.err[:400]
+
+
+def test_tasks_are_added_listed_toured_and_removed(ispars, served):
+    client, _ = served
+    client.build(SCENE, 3000, method="ispars2", seed=3)
+    client.wait_idle(SCENE, timeout=120)
+    before = client.stats(SCENE).poi_count
+    client.add_task(SCENE, "cracks", sample=40, seed=8)
+    pois = client.snapshot(SCENE)["pois"][:5]
+    client.wait_idle(SCENE, timeout=120)
+    client.add_task(SCENE, "copies", pois=pois)
+    status = client.wait_idle(SCENE, timeout=120)
+    assert status.tasks == 2 and status.poi_count == before + 45
+    tasks = client.tasks(SCENE)
+    assert [t["name"] for t in tasks] == ["cracks", "copies"]
+    assert tasks[0]["first_poi"] == before and tasks[0]["poi_count"] == 40
+    assert tasks[1]["first_poi"] == before + 40 and tasks[1]["pois_covered"] == 5, tasks[1]
+    tour = client.tour(SCENE, budget=0.5, task="copies")
+    check_model(tour, {"server_id", "message", "status"})
+    assert tour["target_count"] == tasks[1]["pois_covered_root"] > 0, (tour["target_count"], tasks[1])
+    client.remove_task(SCENE, "copies")
+    assert [t["name"] for t in client.tasks(SCENE)] == ["cracks"]
+    with pytest.raises(ispars.ClientError, match="copies"):
+        client.remove_task(SCENE, "copies")
+    for call, field in [(lambda: client.add_task(SCENE, "x"), "pois"),
+                        (lambda: client.add_task(SCENE, "x", pois=pois, sample=3), "pois"),
+                        (lambda: client.add_task(SCENE, "x", sample=5001), "sample"),
+                        (lambda: client.add_task(SCENE, "x", sample=2.5), "sample"),
+                        (lambda: client.add_task(SCENE, "x", sample=3, seed=-1), "seed"),
+                        (lambda: client.add_task(SCENE, "x", pois=np.zeros((0, 3))), "pois")]:
+        with pytest.raises(ispars.InputError) as e:
+            call()
+        assert e.value.field == field, str(e.value)
+    assert client.stats(SCENE).tasks == 1, "nothing refused reached the daemon"
+
+
+def test_watching_a_scene_no_daemon_holds_raises_at_once(ispars, served):
+    client, _ = served
+    with pytest.raises(ispars.ClientError, match="no_such_scene"):
+        client.watch("no_such_scene")

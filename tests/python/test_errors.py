@@ -174,3 +174,20 @@ def test_the_package_has_a_version_and_says_what_it_was_built_with(ispars):
     assert isinstance(ispars.HAS_CLIENT, bool)
     if ispars.HAS_CLIENT:
         assert ispars.Client is not None
+
+
+def test_an_extend_past_the_memory_limit_is_refused_before_it_starts(ispars, scene):
+    small = ispars.Builder(scene, method="dense", memory_mb=16)
+    cost = small.expected_cost(10_000_000)
+    assert cost["memory_limit"] == 16 * 2**20 and cost["bytes"] > cost["memory_limit"], cost
+    with pytest.raises(ispars.InputError, match=r"samples: the roadmap would hold about .* after 10000000 more "
+                                                r"samples, past this Builder's memory limit of 16 MiB"):
+        small.extend(10_000_000)
+    assert small.samples == 0, "refused before any sample was drawn"
+    assert small.extend(200) == 200, "what fits is drawn"
+    default = ispars.Builder(scene)
+    assert default.expected_cost(0)["memory_limit"] >= 2**30, "half of this machine's memory"
+    for bad in (-1, 2**30 + 1, 1.5):
+        with pytest.raises(ispars.InputError) as e:
+            ispars.Builder(scene, memory_mb=bad)
+        assert e.value.field == "memory_mb", str(e.value)

@@ -130,6 +130,7 @@ def test_exports_are_the_same_graph(ispars, built, tmp_path):
     assert f"element vertex {built.vertex_count}" in text and f"element edge {built.edge_count}" in text
     rows = np.array([[float(x) for x in line.split()] for line in text[end + 1:end + 1 + built.vertex_count]])
     assert np.array_equal(rows[:, :3], built.positions)
+    assert np.array_equal(rows[:, 3], np.diff(built.visibility()[0])), "each vertex's POI count"
     assert [int(x) for x in text[-1].split()] == list(built.edges[-1])
 
 

@@ -3,6 +3,8 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "ispars/wire/participant.hpp"
+
 #include <cctype>
 #include <iostream>
 
@@ -68,6 +70,12 @@ int run_cli(int argc, char** argv, const char* title, const std::vector<std::uni
   // Warnings from the client library (a peer dropped under DDS Security, say) go to stderr, never
   // into the command's output (--json included).
   spdlog::set_default_logger(spdlog::stderr_color_mt("ispars"));
+  // Fast DDS's own log (a bad profiles file's XML errors, say) through the same logger, one plain
+  // line each, instead of its coloured console output; undone before the loggers go.
+  wire::route_fastdds_log_to_spdlog();
+  struct StopRouting {
+    ~StopRouting() { wire::stop_fastdds_log_routing(); }
+  } stop_routing;
   CLI::App app{title};
   app.require_subcommand(1);
   ConnectionArgs connection;

@@ -39,8 +39,6 @@ load_npz = _graphs.load_npz
 Roadmap.to_networkx = _graphs.to_networkx
 Roadmap.to_scipy = _graphs.to_scipy
 Roadmap.save_npz = _graphs.save_npz
-Roadmap.save_ply = _graphs.save_ply
-Roadmap.save_graphml = _graphs.save_graphml
 
 __all__ = [
     "Builder", "Client", "ClientError", "HAS_CLIENT", "InputError", "Roadmap", "Scene", "SceneStatus", "Stop",
@@ -61,13 +59,14 @@ def __getattr__(name):
 
 
 def build(scene, samples, method="ispars", seed=1, variant="", threads=1, overrides=None, stop=None,
-          progress=None, **parameters):
+          progress=None, memory_mb=0, **parameters):
     """A Builder for the recipe, extended by `samples` samples: Builder(...) then extend(...).
 
     `scene` is a Scene or the path of a scene YAML file (str or os.PathLike); each override by
-    keyword (stretch=1.5) or in `overrides`.
+    keyword (stretch=1.5) or in `overrides`; `memory_mb` as Builder's (0: half of this machine's
+    memory).
     """
     builder = Builder(scene, method=method, seed=seed, variant=variant, threads=threads,
-                      overrides=overrides or {}, **parameters)
+                      overrides=overrides or {}, memory_mb=memory_mb, **parameters)
     builder.extend(samples, stop=stop, progress=progress)
     return builder

@@ -1,4 +1,5 @@
-"""A roadmap in other tools' formats: networkx, scipy.sparse, .npz, PLY and GraphML.
+"""A roadmap in other tools' formats: networkx, scipy.sparse and .npz (PLY and GraphML are written in
+C++: Roadmap.save_ply, Roadmap.save_graphml, as `ispars snapshot --out` writes them).
 
 Each export takes a Roadmap and writes or returns the same graph: vertex v at positions[v]
 seeing the POIs visibility() gives it, edge k between edges[k] with weight costs[k] (its length).
@@ -116,51 +117,3 @@ def load_npz(path):
     if roadmap.digest != digest:
         raise _input_error(name, "digest", f"the arrays give {roadmap.digest:#x}, the file says {digest:#x} (damaged)")
     return roadmap
-
-
-def save_ply(roadmap, path):
-    """Writes an ASCII PLY (MeshLab, CloudCompare, Open3D, Blender): a `vertex` element with x, y,
-    z and the number of POIs each sees, and an `edge` element with vertex1 and vertex2."""
-    positions = roadmap.positions
-    seen = np.diff(roadmap.visibility()[0])
-    edges = roadmap.edges
-
-    def write(f):
-        f.write((f"ply\nformat ascii 1.0\ncomment ispars roadmap: {roadmap.poi_count} POIs, digest "
-                 f"{roadmap.digest:#018x}\nelement vertex {len(positions)}\nproperty double x\nproperty double y\n"
-                 f"property double z\nproperty uint pois\nelement edge {len(edges)}\nproperty uint vertex1\n"
-                 f"property uint vertex2\nend_header\n").encode())
-        for (x, y, z), k in zip(positions.tolist(), seen.tolist()):
-            f.write(f"{x!r} {y!r} {z!r} {k}\n".encode())
-        for u, v in edges.tolist():
-            f.write(f"{u} {v}\n".encode())
-
-    _write_atomically(path, write)
-
-
-def save_graphml(roadmap, path):
-    """Writes GraphML (networkx.read_graphml, Gephi, yEd, igraph): nodes with x, y, z and pois (the
-    POI ids, space-separated), undirected edges with weight (the length)."""
-    positions = roadmap.positions.tolist()
-    pois = _poi_lists(roadmap)
-    header = (
-        '<?xml version="1.0" encoding="UTF-8"?>\n'
-        '<graphml xmlns="http://graphml.graphdrawing.org/xmlns">\n'
-        '  <key id="x" for="node" attr.name="x" attr.type="double"/>\n'
-        '  <key id="y" for="node" attr.name="y" attr.type="double"/>\n'
-        '  <key id="z" for="node" attr.name="z" attr.type="double"/>\n'
-        '  <key id="pois" for="node" attr.name="pois" attr.type="string"/>\n'
-        '  <key id="weight" for="edge" attr.name="weight" attr.type="double"/>\n'
-        f'  <graph id="roadmap" edgedefault="undirected">\n')
-
-    def write(f):
-        f.write(header.encode())
-        for v, ((x, y, z), seen) in enumerate(zip(positions, pois)):
-            ids = " ".join(str(p) for p in seen.tolist())
-            f.write((f'    <node id="n{v}"><data key="x">{x!r}</data><data key="y">{y!r}</data>'
-                     f'<data key="z">{z!r}</data><data key="pois">{ids}</data></node>\n').encode())
-        for k, ((u, v), c) in enumerate(zip(roadmap.edges.tolist(), roadmap.costs.tolist())):
-            f.write(f'    <edge id="e{k}" source="n{u}" target="n{v}"><data key="weight">{c!r}</data></edge>\n'.encode())
-        f.write(b"  </graph>\n</graphml>\n")
-
-    _write_atomically(path, write)

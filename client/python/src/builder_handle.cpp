@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <limits>
@@ -16,6 +18,21 @@ namespace {
 
 constexpr const char* kBuild = "build";  // the InputError file of a Builder's arguments
 constexpr std::int64_t kMaxThreads = 64;
+
+double memory_limit_bytes(std::uint64_t mb) {
+  if (mb != 0) return static_cast<double>(mb) * 1024.0 * 1024.0;
+  const long pages = ::sysconf(_SC_PHYS_PAGES);
+  const long page = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return 4.0 * 1024.0 * 1024.0 * 1024.0;  // unknown: 4 GiB
+  return 0.5 * static_cast<double>(pages) * static_cast<double>(page);
+}
+
+// "512 MiB" below a GiB, "3.5 GiB" from there.
+std::string size_text(double bytes) {
+  constexpr double kMiB = 1024.0 * 1024.0;
+  return bytes < 1024.0 * kMiB ? fmt::format("{:.0f} MiB", bytes / kMiB)
+                               : fmt::format("{:.1f} GiB", bytes / 1024.0 / kMiB);
+}
 
 }  // namespace
 
@@ -36,8 +53,9 @@ class BuilderHandle::Busy {
 };
 
 BuilderHandle::BuilderHandle(std::shared_ptr<planning::Scene> scene, const std::string& method, std::uint64_t seed,
-                             const std::string& variant, std::int64_t threads, const py::dict& overrides)
-    : base_(std::move(scene)) {
+                             const std::string& variant, std::int64_t threads, const py::dict& overrides,
+                             std::uint64_t memory_mb)
+    : base_(std::move(scene)), memory_limit_(memory_limit_bytes(memory_mb)) {
   if (!base_) throw params::InputError(kBuild, "scene", "a Scene is required (Scene.load(path))");
   if (threads < 1 || threads > kMaxThreads) {
     throw params::InputError(kBuild, "threads", fmt::format("must be 1 .. {}, got {}", kMaxThreads, threads));
@@ -60,6 +78,13 @@ std::uint64_t BuilderHandle::extend(std::int64_t samples, const std::shared_ptr<
                              fmt::format("must be {}, got {}", params::range_text(kSamples), samples));
   }
   const Busy busy(busy_);
+  if (const planning::BuildCost cost = expected_cost(static_cast<std::uint64_t>(samples)); cost.bytes > memory_limit_) {
+    throw params::InputError(
+        kBuild, "samples",
+        fmt::format("the roadmap would hold about {} after {} more samples, past this Builder's memory limit of {} "
+                    "(Builder(memory_mb=...); 0: half of this machine's memory)",
+                    size_text(cost.bytes), samples, size_text(memory_limit_)));
+  }
   roadmap_copy_.reset();
   dense_copy_.reset();
   auto halt = std::make_shared<Halt>();
@@ -87,6 +112,12 @@ std::uint64_t BuilderHandle::extend(std::int64_t samples, const std::shared_ptr<
     return done;
   };
   return run_stoppable(work, *halt, stop.get());
+}
+
+planning::BuildCost BuilderHandle::expected_cost(std::uint64_t samples) {
+  py::gil_scoped_release release;
+  if (free_fraction_ < 0.0) free_fraction_ = planning::free_fraction(*scene_);
+  return planning::estimate_build_cost(*scene_, recipe_, builder_->samples() + samples, free_fraction_);
 }
 
 std::shared_ptr<Roadmap> BuilderHandle::roadmap() {
@@ -153,17 +184,37 @@ void bind_builder(py::module_& m) {
       "ispars-lab, byte for byte, for any thread count.")
       .def(py::init([](const py::object& scene, const std::string& method, const py::object& seed,
                        const std::string& variant, const py::object& threads, const py::dict& overrides,
-                       const py::kwargs& named) {
-             return std::make_shared<BuilderHandle>(scene_of(scene, kBuild), method,
-                                                    to_unsigned_64(seed, kBuild, "seed"), variant,
-                                                    to_whole_number(threads, kBuild, "threads", 1, kMaxThreads),
-                                                    merged(overrides, named, kBuild, "overrides."));
+                       const py::object& memory_mb, const py::kwargs& named) {
+             const auto mb =
+                 to_whole_number(memory_mb, kBuild, kMemoryMb.name.data(), static_cast<std::int64_t>(kMemoryMb.min),
+                                 static_cast<std::int64_t>(kMemoryMb.max));
+             return std::make_shared<BuilderHandle>(
+                 scene_of(scene, kBuild), method, to_unsigned_64(seed, kBuild, "seed"), variant,
+                 to_whole_number(threads, kBuild, "threads", 1, kMaxThreads),
+                 merged(overrides, named, kBuild, "overrides."), static_cast<std::uint64_t>(mb));
            }),
            py::arg("scene"), py::arg("method") = "ispars", py::arg("seed") = 1, py::arg("variant") = "",
-           py::arg("threads") = 1, py::arg("overrides") = py::dict(),
+           py::arg("threads") = 1, py::arg("overrides") = py::dict(), py::arg("memory_mb") = 0,
            "Each override by keyword (stretch=1.5) or in `overrides` (ispars.recipe_parameters() lists them). "
-           "`scene` is a Scene or a scene file's path (str or os.PathLike). Raises InputError (file 'build') naming "
-           "a bad scene, method, seed, variant, thread count or override.")
+           "`scene` is a Scene or a scene file's path (str or os.PathLike). `memory_mb`: what the roadmap may be "
+           "expected to hold (0: half of this machine's memory); an extend past it is refused before it starts. "
+           "Raises InputError (file 'build') naming a bad scene, method, seed, variant, thread count, memory limit "
+           "or override.")
+      .def(
+          "expected_cost",
+          [](BuilderHandle& b, const py::object& samples) {
+            const planning::BuildCost c = b.expected_cost(static_cast<std::uint64_t>(
+                to_whole_number(samples, kBuild, "samples", 0, static_cast<std::int64_t>(kSamples.max))));
+            py::dict out;
+            out["vertices"] = c.vertices;
+            out["edges"] = c.edges;
+            out["bytes"] = c.bytes;
+            out["memory_limit"] = b.memory_limit();
+            return out;
+          },
+          py::arg("samples"),
+          "The upper estimate (the daemon's) of the roadmap after `samples` more samples: a dict of vertices, "
+          "edges and bytes, and this Builder's memory_limit in bytes; extend refuses what is past the limit.")
       .def(
           "extend",
           [](BuilderHandle& b, const py::object& samples, const std::shared_ptr<StopFlag>& stop,

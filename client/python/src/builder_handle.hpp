@@ -5,21 +5,35 @@
 #include <memory>
 #include <string>
 
+#include "ispars/params/spec.hpp"
+#include "ispars/planning/builders/build_cost.hpp"
 #include "ispars/planning/builders/recipe_builder.hpp"
 #include "python_module.hpp"
 #include "stoppable.hpp"
 
 namespace ispars::python {
 
+/// What a Builder's roadmap may be expected to hold: an extend whose estimate (build_cost.hpp,
+/// the daemon's, an upper estimate) is past it is refused before it starts.
+inline constexpr params::Spec<std::uint64_t> kMemoryMb{
+    "memory_mb", 0, std::uint64_t{1} << 30,
+    "MiB the roadmap may be expected to hold (0: half of this machine's memory); a larger extend is refused",
+    params::Lower::closed};
+
 /// A builder with its recipe and scenes. One call at a time: a second call while extend() or
 /// verify() runs (from another thread) raises RuntimeError rather than wait.
 class BuilderHandle {
  public:
   BuilderHandle(std::shared_ptr<planning::Scene> scene, const std::string& method, std::uint64_t seed,
-                const std::string& variant, std::int64_t threads, const py::dict& overrides);
+                const std::string& variant, std::int64_t threads, const py::dict& overrides,
+                std::uint64_t memory_mb = 0);
 
   /// Draws `samples` more samples; returns how many it drew (fewer when stopped).
   std::uint64_t extend(std::int64_t samples, const std::shared_ptr<StopFlag>& stop, const py::object& progress);
+  /// The estimate of the roadmap after `samples` more samples.
+  planning::BuildCost expected_cost(std::uint64_t samples);
+  /// The memory limit in bytes (memory_mb, or half of physical memory).
+  [[nodiscard]] double memory_limit() const { return memory_limit_; }
   /// A copy of the roadmap as it is (made once per state, then shared).
   std::shared_ptr<Roadmap> roadmap();
   /// A copy of the dense pair, or nullptr.
@@ -41,6 +55,8 @@ class BuilderHandle {
   std::unique_ptr<planning::RoadmapBuilder> builder_;
   std::atomic<bool> busy_{false};
   std::shared_ptr<Roadmap> roadmap_copy_, dense_copy_;  // of the current state; reset by extend
+  double memory_limit_ = 0.0;
+  double free_fraction_ = -1.0;  // of the scene, probed on the first estimate
 };
 
 /// Binds Builder and the build() shortcut.

@@ -1,6 +1,8 @@
 // ispars.Client: every request of the C++ client, each off the GIL; Ctrl-C returns at once.
 
 #include <fmt/format.h>
+#include <spdlog/sinks/stdout_sinks.h>
+#include <spdlog/spdlog.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -13,6 +15,7 @@
 #include "client_handle.hpp"
 #include "ispars/params/input_error.hpp"
 #include "ispars/roadmap/roadmap_parameters.hpp"
+#include "ispars/wire/participant.hpp"
 #include "param_dict.hpp"
 #include "stoppable.hpp"
 #include "tour_model.hpp"
@@ -344,6 +347,16 @@ py::dict reply_dict(const client::Reply& reply) {
   out["message"] = reply.message;
   out["status"] = reply.status;
   return out;
+}
+
+void route_logs() {
+  auto logger = spdlog::stderr_logger_mt("ispars-python");
+  logger->set_pattern("ispars: %l: %v");
+  logger->set_level(spdlog::level::warn);
+  spdlog::set_default_logger(logger);
+  wire::route_fastdds_log_to_spdlog();
+  // Fast DDS logs from a thread of its own that outlives the interpreter's teardown of spdlog.
+  py::module_::import("atexit").attr("register")(py::cpp_function([] { wire::stop_fastdds_log_routing(); }));
 }
 
 void bind_client(py::module_& m) {

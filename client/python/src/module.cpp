@@ -9,8 +9,10 @@ PYBIND11_MODULE(_ispars, m) {
   ispars::python::bind_planning(m);
   ispars::python::bind_tour(m);
 #if ISPARS_PYTHON_CLIENT
+  ispars::python::route_logs();
   ispars::python::bind_client(m);
   ispars::python::bind_watch(m);
+  ispars::python::bind_tasks(m);
   m.attr("HAS_CLIENT") = true;
 #else
   m.attr("HAS_CLIENT") = false;  // built without DDS: no Client, no Watch

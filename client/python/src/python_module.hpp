@@ -30,7 +30,12 @@ void bind_planning(py::module_& m);
 void bind_tour(py::module_& m);
 /// Client and its replies (client_bindings.cpp).
 void bind_client(py::module_& m);
+/// The client's and Fast DDS's log lines to stderr, plain ("ispars: warning: ..."), Fast DDS's
+/// coloured console output replaced; undone at interpreter exit (client_bindings.cpp).
+void route_logs();
 /// Client.watch's live replica (watch_bindings.cpp).
 void bind_watch(py::module_& m);
+/// Client's inspection tasks: add_task, tasks, remove_task (task_bindings.cpp).
+void bind_tasks(py::module_& m);
 
 }  // namespace ispars::python

@@ -10,6 +10,7 @@
 #include "arrays.hpp"
 #include "client_handle.hpp"
 #include "ispars/client/replica.hpp"
+#include "stoppable.hpp"
 
 namespace ispars::python {
 namespace {
@@ -162,10 +163,15 @@ void bind_watch(py::module_& m) {
   auto client = py::reinterpret_borrow<py::class_<ClientHandle>>(m.attr("Client"));
   client.def(
       "watch",
-      [](const ClientHandle& self, const std::string& scene) { return std::make_shared<WatchHandle>(self, scene); },
+      [](const ClientHandle& self, const std::string& scene) {
+        // Asked first, as `ispars watch` does: a scene no daemon holds raises ClientError at once
+        // instead of a watch that waits silently for ever.
+        (void)run_detached([self, scene] { return self->stats(scene); });
+        return std::make_shared<WatchHandle>(self, scene);
+      },
       py::arg("scene"),
       "Follows the scene's roadmap: a snapshot, then every update (for batch in client.watch(scene): ...). "
-      "Raises ClientError when the scene cannot be followed.");
+      "Raises ClientError at once when no daemon holds the scene.");
 }
 
 }  // namespace ispars::python

@@ -1,0 +1,135 @@
+// `ispars record`: a scene's roadmap saved as it grows, batch by batch, and optionally a tour of
+// it, as an MCAP file of foxglove.SceneUpdate messages that Foxglove replays (client/record/).
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <iostream>
+#include <thread>
+
+#include "commands.hpp"
+#include "ispars/client/replica.hpp"
+#include "ispars/record/mcap_writer.hpp"
+#include "ispars/record/scene_update.hpp"
+
+namespace ispars::cli {
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+std::uint64_t now_ns() {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
+}
+
+// What the file holds of the replica so far, and the next batch's entity.
+class RoadmapRecording {
+ public:
+  RoadmapRecording(record::McapWriter& mcap, std::uint16_t channel, std::string frame)
+      : mcap_(mcap), channel_(channel) {
+    style_.frame = std::move(frame);
+  }
+  // Writes what is new in the replica since the last call; all of it again, after deleting what
+  // was written, when the replica took a snapshot meanwhile (a rebuild, a resync, a drop).
+  void write_changes(const client::RoadmapReplica& replica) {
+    const std::size_t snapshots = replica.snapshots_taken();
+    const Roadmap g = replica.roadmap();
+    const bool clear = snapshots != snapshots_ || replica.generation() != generation_ || g.vertex_count() < vertices_ ||
+                       g.edge_count() < edges_;
+    if (!clear && g.vertex_count() == vertices_ && g.edge_count() == edges_) return;
+    if (!sized_ && g.vertex_count() > 1) {
+      style_.vertex_size = record::vertex_size_for(g);
+      sized_ = true;
+    }
+    const std::size_t first_vertex = clear ? 0 : vertices_, first_edge = clear ? 0 : edges_;
+    const std::string id = fmt::format("batch-{}", batches_++);
+    mcap_.write(channel_, now_ns(),
+                record::roadmap_update(g, first_vertex, first_edge, id, clear, style_, now_ns()).dump());
+    snapshots_ = snapshots;
+    generation_ = replica.generation();
+    vertices_ = g.vertex_count();
+    edges_ = g.edge_count();
+  }
+  [[nodiscard]] const record::SceneStyle& style() const { return style_; }
+  [[nodiscard]] std::size_t vertices() const { return vertices_; }
+  [[nodiscard]] std::size_t edges() const { return edges_; }
+
+ private:
+  record::McapWriter& mcap_;
+  const std::uint16_t channel_;
+  record::SceneStyle style_;
+  bool sized_ = false;
+  std::size_t snapshots_ = 0, vertices_ = 0, edges_ = 0, batches_ = 0;
+  std::uint64_t generation_ = 0;
+};
+
+class RecordCommand final : public cli_app::Command {
+ public:
+  CLI::App* add(CLI::App& app) override {
+    auto* cmd = app.add_subcommand("record", "save a roadmap as it grows, and a tour, as MCAP for Foxglove");
+    cmd->add_option("scene", scene_, "scene name")->required();
+    cmd->add_option("--out", out_, "the MCAP file to write (whole or not at all)")->required();
+    cmd->add_flag("--until-idle", until_idle_, "stop when the scene has no job and the replica is current");
+    cmd->add_option("--tour", tour_, "then ask the daemon for a tour of SECONDS and record it (0: none)")
+        ->check(CLI::Range(0.0, 3600.0));
+    cmd->add_option("--frame", frame_, "the frame_id of every entity (default map)");
+    return cmd;
+  }
+  int run(client::Client& client) override {
+    std::signal(SIGINT, [](int) { g_interrupted = true; });
+    std::signal(SIGTERM, [](int) { g_interrupted = true; });
+    (void)client.stats(scene_);  // fails clearly when the scene is not loaded anywhere
+    record::McapWriter mcap(out_, "ispars record");
+    const std::uint16_t schema = mcap.add_schema("foxglove.SceneUpdate", "jsonschema", record::scene_update_schema());
+    RoadmapRecording roadmap(mcap, mcap.add_channel(schema, "/ispars/" + scene_ + "/roadmap", "json"), frame_);
+    const std::uint16_t tour_channel = mcap.add_channel(schema, "/ispars/" + scene_ + "/tour", "json");
+    client::RoadmapReplica replica(client, scene_);
+    const bool retired = follow(client, replica, roadmap);
+    std::size_t stops = 0;
+    if (!retired && tour_ > 0.0 && !g_interrupted) {
+      const client::Tour tour = client.tour(scene_, tour_, 1, {}).tour;
+      const std::vector<Vec3>& path = tour.flown_path.empty() ? tour.waypoints : tour.flown_path;
+      mcap.write(tour_channel, now_ns(), record::tour_update(path, roadmap.style(), now_ns()).dump());
+      stops = path.size();
+    }
+    mcap.finish();
+    std::cout << fmt::format("wrote {} messages to {}: {} vertices, {} edges{}\n", mcap.messages(), out_,
+                             roadmap.vertices(), roadmap.edges(),
+                             stops > 0 ? fmt::format(", a tour of {} stops", stops) : std::string());
+    if (!retired) return 0;
+    std::cerr << fmt::format("ispars: the roadmap of scene '{}' was dropped or unloaded while recording\n", scene_);
+    return 1;
+  }
+
+ private:
+  // Records until interrupted, idle (--until-idle) or the roadmap is gone; true when it is gone.
+  bool follow(client::Client& client, const client::RoadmapReplica& replica, RoadmapRecording& roadmap) const {
+    while (!g_interrupted) {
+      roadmap.write_changes(replica);
+      if (replica.retirements() > 0) return true;
+      if (until_idle_) {
+        const auto s = client.latest_status(scene_);
+        if (s && !client::busy(s->state) && replica.snapshots_taken() > 0) {
+          const client::SceneStatus now = client.stats(scene_);
+          if (replica.wait_for(now.generation, now.version, std::chrono::seconds(10))) break;
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    roadmap.write_changes(replica);
+    return false;
+  }
+
+  std::string scene_, out_, frame_ = "map";
+  bool until_idle_ = false;
+  double tour_ = 0.0;
+};
+
+}  // namespace
+
+std::unique_ptr<cli_app::Command> make_record_command() { return std::make_unique<RecordCommand>(); }
+
+}  // namespace ispars::cli
