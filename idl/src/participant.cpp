@@ -315,12 +315,12 @@ int domain_from_environment() {
   return 0;
 }
 
-void route_fastdds_log_to_spdlog() {
+void route_fastdds_log_to_spdlog(bool warnings) {
   static std::once_flag once;
-  std::call_once(once, [] {
+  std::call_once(once, [warnings] {
     fdds::Log::ClearConsumers();
     fdds::Log::RegisterConsumer(std::make_unique<SpdlogConsumer>());
-    fdds::Log::SetVerbosity(fdds::Log::Kind::Warning);
+    fdds::Log::SetVerbosity(warnings ? fdds::Log::Kind::Warning : fdds::Log::Kind::Error);
   });
 }
 

@@ -236,12 +236,12 @@ def test_tasks_are_added_listed_toured_and_removed(ispars, served):
     client.wait_idle(SCENE, timeout=120)
     client.add_task(SCENE, "copies", pois=pois)
     status = client.wait_idle(SCENE, timeout=120)
-    assert status.tasks == 2 and status.poi_count == before + 45
+    assert (status.tasks, status.poi_count) == (2, before + 45), (status.tasks, status.poi_count, before)
     tasks = client.tasks(SCENE)
-    assert [t["name"] for t in tasks] == ["cracks", "copies"]
-    assert tasks[0]["first_poi"] == before and tasks[0]["poi_count"] == 40
+    assert [t["name"] for t in tasks] == ["cracks", "copies"], tasks
+    assert (tasks[0]["first_poi"], tasks[0]["poi_count"]) == (before, 40), tasks[0]
     assert tasks[1]["first_poi"] == before + 40 and tasks[1]["pois_covered"] == 5, tasks[1]
-    tour = client.tour(SCENE, budget=0.5, task="copies")
+    tour = client.tour(SCENE, budget=2.0, task="copies")
     check_model(tour, {"server_id", "message", "status"})
     assert tour["target_count"] == tasks[1]["pois_covered_root"] > 0, (tour["target_count"], tasks[1])
     client.remove_task(SCENE, "copies")
@@ -264,3 +264,17 @@ def test_watching_a_scene_no_daemon_holds_raises_at_once(ispars, served):
     client, _ = served
     with pytest.raises(ispars.ClientError, match="no_such_scene"):
         client.watch("no_such_scene")
+
+
+def test_a_watch_of_an_idle_scene_delivers_its_roadmap_once(ispars, served):
+    client, _ = served
+    client.build(SCENE, 1500, method="ispars2", seed=6)
+    status = client.wait_idle(SCENE, timeout=120)
+    for _ in range(2):  # a new client, and one that watched before
+        fresh = ispars.Client(domain=served[1].domain, timeout=30)
+        for watcher in (fresh, client):
+            with watcher.watch(SCENE) as watch:
+                first = watch.next(timeout=30)
+                assert first["resynced"] and first["vertex_count"] == status.vertices == len(first["positions"])
+                assert watch.next(timeout=3) is None, "an idle scene's roadmap comes once, not again"
+        fresh.close()

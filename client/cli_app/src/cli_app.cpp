@@ -72,7 +72,7 @@ int run_cli(int argc, char** argv, const char* title, const std::vector<std::uni
   spdlog::set_default_logger(spdlog::stderr_color_mt("ispars"));
   // Fast DDS's own log (a bad profiles file's XML errors, say) through the same logger, one plain
   // line each, instead of its coloured console output; undone before the loggers go.
-  wire::route_fastdds_log_to_spdlog();
+  wire::route_fastdds_log_to_spdlog(/*warnings=*/false);
   struct StopRouting {
     ~StopRouting() { wire::stop_fastdds_log_routing(); }
   } stop_routing;

@@ -354,7 +354,7 @@ void route_logs() {
   logger->set_pattern("ispars: %l: %v");
   logger->set_level(spdlog::level::warn);
   spdlog::set_default_logger(logger);
-  wire::route_fastdds_log_to_spdlog();
+  wire::route_fastdds_log_to_spdlog(/*warnings=*/false);
   // Fast DDS logs from a thread of its own that outlives the interpreter's teardown of spdlog.
   py::module_::import("atexit").attr("register")(py::cpp_function([] { wire::stop_fastdds_log_routing(); }));
 }

@@ -134,8 +134,10 @@ class Participant {
 /// The domain to use: the value given, else $ISPARS_DOMAIN, else 0.
 [[nodiscard]] int domain_from_environment();
 
-/// Routes Fast DDS's own log messages (warnings and errors) to spdlog, once per process.
-void route_fastdds_log_to_spdlog();
+/// Routes Fast DDS's own log messages to spdlog, once per process: its warnings and errors (a
+/// daemon's log), or with `warnings` false its errors alone, as Fast DDS's console shows by
+/// default (a client program's stderr: a peer unmatched as the client leaves is no news there).
+void route_fastdds_log_to_spdlog(bool warnings = true);
 /// Undoes route_fastdds_log_to_spdlog before the process exits: Fast DDS's logging thread would
 /// otherwise write through spdlog after spdlog is destroyed (a crash at exit).
 void stop_fastdds_log_routing();
