@@ -89,17 +89,23 @@ class RecordCommand final : public cli_app::Command {
     client::RoadmapReplica replica(client, scene_);
     const bool retired = follow(client, replica, roadmap);
     std::size_t stops = 0;
+    bool tour_failed = false;
     if (!retired && tour_ > 0.0 && !g_interrupted) {
-      const client::Tour tour = client.tour(scene_, tour_, 1, {}).tour;
-      const std::vector<Vec3>& path = tour.flown_path.empty() ? tour.waypoints : tour.flown_path;
-      mcap.write(tour_channel, now_ns(), record::tour_update(path, roadmap.style(), now_ns()).dump());
-      stops = path.size();
+      try {
+        const client::Tour tour = client.tour(scene_, tour_, 1, {}).tour;
+        const std::vector<Vec3>& path = tour.flown_path.empty() ? tour.waypoints : tour.flown_path;
+        mcap.write(tour_channel, now_ns(), record::tour_update(path, roadmap.style(), now_ns()).dump());
+        stops = path.size();
+      } catch (const client::ClientError& e) {  // the roadmap recorded is kept: the file is finished
+        std::cerr << "ispars: the tour was not recorded: " << e.what() << "\n";
+        tour_failed = true;
+      }
     }
     mcap.finish();
     std::cout << fmt::format("wrote {} messages to {}: {} vertices, {} edges{}\n", mcap.messages(), out_,
                              roadmap.vertices(), roadmap.edges(),
                              stops > 0 ? fmt::format(", a tour of {} stops", stops) : std::string());
-    if (!retired) return 0;
+    if (!retired) return tour_failed ? 1 : 0;
     std::cerr << fmt::format("ispars: the roadmap of scene '{}' was dropped or unloaded while recording\n", scene_);
     return 1;
   }
