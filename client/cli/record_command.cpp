@@ -13,6 +13,7 @@
 #include "ispars/client/replica.hpp"
 #include "ispars/record/mcap_writer.hpp"
 #include "ispars/record/scene_update.hpp"
+#include "ispars/record/scene_update_cursor.hpp"
 
 namespace ispars::cli {
 namespace {
@@ -25,45 +26,25 @@ std::uint64_t now_ns() {
           .count());
 }
 
-// What the file holds of the replica so far, and the next batch's entity.
+// The file's roadmap channel, fed from the replica through a cursor.
 class RoadmapRecording {
  public:
   RoadmapRecording(record::McapWriter& mcap, std::uint16_t channel, std::string frame)
-      : mcap_(mcap), channel_(channel) {
-    style_.frame = std::move(frame);
-  }
-  // Writes what is new in the replica since the last call; all of it again, after deleting what
-  // was written, when the replica took a snapshot meanwhile (a rebuild, a resync, a drop).
+      : mcap_(mcap), channel_(channel), cursor_(record::SceneStyle{std::move(frame)}) {}
+  // Writes what is new in the replica since the last call (all of it again after a snapshot).
   void write_changes(const client::RoadmapReplica& replica) {
-    const std::size_t snapshots = replica.snapshots_taken();
-    const Roadmap g = replica.roadmap();
-    const bool clear = snapshots != snapshots_ || replica.generation() != generation_ || g.vertex_count() < vertices_ ||
-                       g.edge_count() < edges_;
-    if (!clear && g.vertex_count() == vertices_ && g.edge_count() == edges_) return;
-    if (!sized_ && g.vertex_count() > 1) {
-      style_.vertex_size = record::vertex_size_for(g);
-      sized_ = true;
+    if (auto update = cursor_.next(replica.roadmap(), replica.generation(), replica.snapshots_taken(), now_ns())) {
+      mcap_.write(channel_, now_ns(), update->dump());
     }
-    const std::size_t first_vertex = clear ? 0 : vertices_, first_edge = clear ? 0 : edges_;
-    const std::string id = fmt::format("batch-{}", batches_++);
-    mcap_.write(channel_, now_ns(),
-                record::roadmap_update(g, first_vertex, first_edge, id, clear, style_, now_ns()).dump());
-    snapshots_ = snapshots;
-    generation_ = replica.generation();
-    vertices_ = g.vertex_count();
-    edges_ = g.edge_count();
   }
-  [[nodiscard]] const record::SceneStyle& style() const { return style_; }
-  [[nodiscard]] std::size_t vertices() const { return vertices_; }
-  [[nodiscard]] std::size_t edges() const { return edges_; }
+  [[nodiscard]] const record::SceneStyle& style() const { return cursor_.style(); }
+  [[nodiscard]] std::size_t vertices() const { return cursor_.vertices(); }
+  [[nodiscard]] std::size_t edges() const { return cursor_.edges(); }
 
  private:
   record::McapWriter& mcap_;
   const std::uint16_t channel_;
-  record::SceneStyle style_;
-  bool sized_ = false;
-  std::size_t snapshots_ = 0, vertices_ = 0, edges_ = 0, batches_ = 0;
-  std::uint64_t generation_ = 0;
+  record::SceneUpdateCursor cursor_;
 };
 
 class RecordCommand final : public cli_app::Command {

@@ -71,6 +71,11 @@ class HttpSession : public WaitingConnection, public std::enable_shared_from_thi
     if (websocket::is_upgrade(request)) {
       if (path != "/ws") return respond(http::status::not_found, "text/plain", "WebSockets are at /ws?scene=NAME\n");
       stream_.expires_never();
+      if (offers_foxglove(request)) {
+        std::string scene = query_value(target, "scene");
+        start_foxglove_websocket(stream_.release_socket(), server_, slot_, std::move(request), std::move(scene));
+        return;
+      }
       start_websocket(stream_.release_socket(), server_, slot_, std::move(request));
       return;
     }

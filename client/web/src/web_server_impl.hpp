@@ -92,5 +92,10 @@ class WebServer::Impl {
 /// (/ws?scene=NAME) to its browser.
 void start_websocket(tcp::socket socket, WebServer::Impl* server, std::shared_ptr<WebServer::Impl::Slot> slot,
                      http::request<http::string_body> request);
+/// Whether the upgrade offers the Foxglove WebSocket subprotocol (foxglove.websocket.v1).
+bool offers_foxglove(const http::request<http::string_body>& request);
+/// Takes over an upgraded connection as a Foxglove WebSocket serving `scene` (foxglove_session.cpp).
+void start_foxglove_websocket(tcp::socket socket, WebServer::Impl* server, std::shared_ptr<WebServer::Impl::Slot> slot,
+                              http::request<http::string_body> request, std::string scene);
 
 }  // namespace ispars::web

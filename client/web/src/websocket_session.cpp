@@ -3,37 +3,32 @@
 
 #include <spdlog/spdlog.h>
 
-#include "web_server_impl.hpp"
+#include "websocket_peer.hpp"
 
 namespace ispars::web {
 namespace {
 
 using Server = WebServer::Impl;
 
-class WsSession : public std::enable_shared_from_this<WsSession> {
+class WsSession final : public WebSocketPeer {
  public:
   WsSession(tcp::socket socket, Server* server, std::shared_ptr<Server::Slot> slot)
-      : ws_(std::move(socket)), timer_(ws_.get_executor()), server_(server), slot_(std::move(slot)) {}
+      : WebSocketPeer(std::move(socket), server, std::move(slot)) {}
+
+  std::shared_ptr<WsSession> self() { return std::static_pointer_cast<WsSession>(shared_from_this()); }
 
   void run(http::request<http::string_body> request) {
     const std::string target(request.target());
     scene_ = query_value(target, "scene");
-    // A browser answers pings by itself: a peer silent for a minute, pings unanswered, is gone.
-    auto timeout = websocket::stream_base::timeout::suggested(beast::role_type::server);
-    timeout.idle_timeout = std::chrono::seconds(60);
-    timeout.keep_alive_pings = true;
-    ws_.set_option(timeout);
-    ws_.read_message_max(64 * 1024);
-    ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
+    set_timeouts();
+    ws_.async_accept(request, [self = self()](beast::error_code ec) {
       if (!ec) self->opened();
     });
   }
 
  private:
   void opened() {
-    ++server_->browsers;
-    ++server_->browsers_total;
-    counted_ = true;
+    count();
     read();
     if (!valid_scene_name(scene_)) {
       send(error_message("scene: '" + scene_ + "' is not a scene name (1-64 of A-Za-z0-9_-.)"));
@@ -46,8 +41,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   // discovered one) the page is told why, once per reason, and the gateway asks again every 2 s
   // while the page stays open: a page opened before its scene is loaded draws it once it is.
   void follow() {
-    if (closed_) return;
-    net::post(server_->workers, [self = shared_from_this()] {
+    if (closed()) return;
+    net::post(server_->workers, [self = self()] {
       try {
         auto feed = self->server_->feeds.get(self->scene_);
         net::post(self->ws_.get_executor(), [self, feed] {
@@ -73,7 +68,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   }
 
   void read() {
-    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    ws_.async_read(buffer_, [self = self()](beast::error_code ec, std::size_t) {
       if (ec) return self->close();
       const std::string text = beast::buffers_to_string(self->buffer_.data());
       self->buffer_.consume(self->buffer_.size());
@@ -116,7 +111,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     }
     ++server_->tours;
     tour_running_ = true;
-    net::post(server_->workers, [self = shared_from_this(), budget, task] {
+    net::post(server_->workers, [self = self(), budget, task] {
       std::string reply;
       try {
         const auto r = task.empty() ? self->server_->client.tour(self->scene_, budget, 1, {})
@@ -154,7 +149,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       return;
     }
     tasks_running_ = true;
-    net::post(server_->workers, [self = shared_from_this()] {
+    net::post(server_->workers, [self = self()] {
       std::string reply;
       try {
         reply = self->feed_->tasks_message();
@@ -171,14 +166,14 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 
   // The feed's next messages for this browser, made on a worker (copying the roadmap and
   // encoding batches must not hold up the I/O thread that serves every browser).
-  void tick() {
-    if (closed_) return;
+  void tick() override {
+    if (closed()) return;
     // A slow browser: nothing more is queued until its socket drains; it then gets everything new
     // at once (the cursor only moves when messages are queued).
-    if (queue_.size() >= server_->options.max_queued_messages || queued_bytes_ >= server_->options.max_queued_bytes) {
-      return next_tick();
+    if (congested()) {
+      return schedule_tick();
     }
-    net::post(server_->workers, [self = shared_from_this()] {
+    net::post(server_->workers, [self = self()] {
       std::vector<std::string> out;
       try {
         out = self->feed_->updates_for(self->cursor_);
@@ -187,69 +182,15 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       }
       net::post(self->ws_.get_executor(), [self, out = std::move(out)]() mutable {
         for (std::string& m : out) self->send(std::move(m));
-        self->next_tick();
+        self->schedule_tick();
       });
     });
   }
 
-  void next_tick() {
-    if (closed_) return;
-    timer_.expires_after(std::chrono::milliseconds(200));
-    timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
-      if (!ec) self->tick();
-    });
-  }
-
-  void send(std::string message) {
-    if (closed_) return;
-    // Updates wait at max_queued_bytes (tick); only replies to what the browser sends grow the
-    // queue past it, so a browser that sends and does not read is closed at twice it.
-    if (!queue_.empty() && queued_bytes_ + message.size() > 2 * server_->options.max_queued_bytes) {
-      ++server_->unread;
-      beast::error_code ignored;
-      beast::get_lowest_layer(ws_).socket().close(ignored);
-      return close();
-    }
-    queued_bytes_ += message.size();
-    queue_.push_back(std::make_shared<std::string>(std::move(message)));
-    if (queue_.size() == 1) write();
-  }
-
-  void write() {
-    ws_.text(true);
-    // The handler holds the message: close() may clear the queue while the write is in flight.
-    auto message = queue_.front();
-    ws_.async_write(net::buffer(*message), [self = shared_from_this(), message](beast::error_code ec, std::size_t) {
-      // The browser went away mid-stream (or was closed): this session ends, the others go on.
-      if (ec || self->closed_) return self->close();
-      ++self->server_->messages;
-      self->queued_bytes_ -= self->queue_.front()->size();
-      self->queue_.pop_front();
-      if (!self->queue_.empty()) self->write();
-    });
-  }
-
-  void close() {
-    if (closed_) return;
-    closed_ = true;
-    timer_.cancel();
-    queue_.clear();
-    queued_bytes_ = 0;
-    if (counted_) --server_->browsers;
-  }
-
-  websocket::stream<beast::tcp_stream> ws_;
   beast::flat_buffer buffer_;
-  net::steady_timer timer_;
-  Server* server_;
-  std::shared_ptr<Server::Slot> slot_;
   std::string scene_;
   std::shared_ptr<SceneFeed> feed_;
   ViewerCursor cursor_;
-  std::deque<std::shared_ptr<std::string>> queue_;
-  std::size_t queued_bytes_ = 0;  // the bytes in queue_
-  bool closed_ = false;
-  bool counted_ = false;
   bool tour_running_ = false;
   bool tasks_running_ = false;
   bool tasks_again_ = false;

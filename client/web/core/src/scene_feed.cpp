@@ -120,6 +120,19 @@ std::shared_ptr<const Roadmap> SceneFeed::current(std::uint64_t& generation) {
   return roadmap_;
 }
 
+std::optional<std::string> SceneFeed::scene_update_for(record::SceneUpdateCursor& cursor) {
+  log_sync_error();
+  std::uint64_t generation = 0;
+  const std::shared_ptr<const Roadmap> roadmap = current(generation);
+  if (!roadmap) return std::nullopt;
+  const auto now = static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
+  std::optional<nlohmann::json> update = cursor.next(*roadmap, generation, 0, now);
+  if (!update) return std::nullopt;
+  return update->dump();
+}
+
 std::vector<std::string> SceneFeed::updates_for(ViewerCursor& cursor) {
   std::vector<std::string> out;
   // A holder that left the domain (its participant's lease ran out) takes its statuses with it:

@@ -15,6 +15,7 @@
 
 #include "ispars/client/client.hpp"
 #include "ispars/client/replica.hpp"
+#include "ispars/record/scene_update_cursor.hpp"
 
 namespace ispars::web {
 
@@ -60,6 +61,10 @@ class SceneFeed {
   /// sent stay within kMaxTaskPoisShown.
   std::string tasks_message();
   static constexpr std::size_t kMaxTaskPoisShown = 50'000;
+
+  /// The next foxglove.SceneUpdate (JSON) for a Foxglove client at `cursor`: what is new in the
+  /// replica since, or everything after a rebuild; nullopt when the client is up to date.
+  std::optional<std::string> scene_update_for(record::SceneUpdateCursor& cursor);
 
   [[nodiscard]] const std::string& scene() const { return scene_; }
 
