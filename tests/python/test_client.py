@@ -278,3 +278,15 @@ def test_a_watch_of_an_idle_scene_delivers_its_roadmap_once(ispars, served):
                 assert first["resynced"] and first["vertex_count"] == status.vertices == len(first["positions"])
                 assert watch.next(timeout=3) is None, "an idle scene's roadmap comes once, not again"
         fresh.close()
+
+
+def test_an_offline_path_on_the_snapshot_is_the_daemons_path(ispars, served):
+    client, _ = served
+    client.build(SCENE, 2000, method="ispars2", seed=7)
+    client.wait_idle(SCENE, timeout=120)
+    roadmap = client.snapshot(SCENE)["roadmap"]
+    goal = roadmap.positions[np.flatnonzero(roadmap.components() == 0)[-1]]
+    online = client.path(SCENE, roadmap.positions[0], goal)
+    offline = ispars.path(str(SCENES / f"{SCENE}.yaml"), roadmap, roadmap.positions[0], goal)
+    assert offline["length"] == online["length"]
+    assert np.array_equal(offline["waypoints"], online["waypoints"])

@@ -154,3 +154,22 @@ def test_render_gives_an_image_and_a_png(ispars, built, tmp_path):
     assert image.shape == (60, 80, 3) and image.dtype == np.uint8
     assert image.std() > 0
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_an_offline_path_is_free_and_as_long_as_its_segments(ispars, built):
+    scene, roadmap = built.scene, built.roadmap
+    labels = roadmap.components()
+    goal = roadmap.positions[np.flatnonzero(labels == 0)[-1]]
+    start = roadmap.positions[0]
+    p = ispars.path(scene, roadmap, start, goal)
+    points = p["waypoints"]
+    assert np.array_equal(points[0], start) and np.array_equal(points[-1], goal)
+    assert all(scene.segment_valid(a, b) for a, b in zip(points[:-1], points[1:]))
+    assert p["length"] == pytest.approx(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
+    for bad, field in [(scene.bounds[1] + 10.0, "from"), ([np.nan, 0.0, 0.0], "from")]:
+        with pytest.raises(ispars.InputError) as e:
+            ispars.path(scene, roadmap, bad, goal)
+        assert e.value.field == field, str(e.value)
+    with pytest.raises(ispars.InputError) as e:
+        ispars.path(scene, roadmap, start, goal, join_radius=-1.0)
+    assert e.value.field == "join_radius"

@@ -26,6 +26,7 @@ from ._ispars import (  # noqa: F401
     Scene,
     Stop,
     load_roadmap,
+    path,
     recipe_parameters,
     render,
     tour,
@@ -42,7 +43,7 @@ Roadmap.save_npz = _graphs.save_npz
 
 __all__ = [
     "Builder", "Client", "ClientError", "HAS_CLIENT", "InputError", "Roadmap", "Scene", "SceneStatus", "Stop",
-    "Watch", "__version__", "build", "load_npz", "load_roadmap", "recipe_parameters", "render", "tour",
+    "Watch", "__version__", "build", "load_npz", "load_roadmap", "path", "recipe_parameters", "render", "tour",
 ]
 if not HAS_CLIENT:
     __all__ = [name for name in __all__ if name not in ("Client", "SceneStatus", "Watch")]

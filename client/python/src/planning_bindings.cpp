@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <memory>
 
 #include "arrays.hpp"
@@ -12,6 +13,7 @@
 #include "ispars/params/input_error.hpp"
 #include "ispars/planning/scene/scene.hpp"
 #include "ispars/planning/scene/scene_fingerprint.hpp"
+#include "ispars/planning/search/path_query.hpp"
 #include "python_module.hpp"
 #include "stoppable.hpp"
 
@@ -90,6 +92,39 @@ void bind_stop(py::module_& m) {
       .def_property_readonly("is_set", [](const StopFlag& s) { return s.set.load(); });
 }
 
+// ispars.path: the daemon's path query (search/path_query.hpp), offline.
+void bind_path(py::module_& m) {
+  m.def(
+      "path",
+      [](const py::object& scene_value, const std::shared_ptr<Roadmap>& roadmap, const py::object& start,
+         const py::object& goal, const py::object& join_radius) {
+        const std::shared_ptr<planning::Scene> scene = scene_of(scene_value, "path");
+        if (!roadmap) throw params::InputError("path", "roadmap", "a Roadmap is required");
+        const Vec3 a = to_vec3(start, "start"), b = to_vec3(goal, "goal");
+        const double radius = join_radius.is_none() ? scene->config().sparse_delta : join_radius.cast<double>();
+        if (!(radius > 0.0) || !std::isfinite(radius)) {
+          throw params::InputError("path", "join_radius", fmt::format("must be positive and finite, got {}", radius));
+        }
+        planning::RoadmapPath p;
+        {
+          py::gil_scoped_release release;
+          p = planning::plan_path(*scene, *roadmap, a, b, radius);
+        }
+        py::dict out;
+        out["length"] = p.length;
+        out["waypoints"] = take_points(std::move(p.waypoints));
+        std::vector<std::uint32_t> ids(p.vertices.begin(), p.vertices.end());
+        const auto n = static_cast<py::ssize_t>(ids.size());
+        out["vertices"] = take(std::move(ids), {n});
+        return out;
+      },
+      py::arg("scene"), py::arg("roadmap"), py::arg("start"), py::arg("goal"), py::arg("join_radius") = py::none(),
+      "A collision-free path from `start` to `goal` through `roadmap`, as the daemon's path query finds it: "
+      "joined to vertices within `join_radius` (default: the scene's sparse_delta) by free segments. A dict of "
+      "length, waypoints (n, 3) and vertices (the roadmap vertices used). Raises InputError naming a point "
+      "outside the scene, in collision, or with no vertex to join, and two joins in different components.");
+}
+
 }  // namespace
 
 std::shared_ptr<planning::Scene> scene_of(const py::object& value, const char* file) {
@@ -107,6 +142,7 @@ void bind_planning(py::module_& m) {
   bind_scene(m);
   bind_stop(m);
   bind_builder(m);
+  bind_path(m);
 }
 
 }  // namespace ispars::python
