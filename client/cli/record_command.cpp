@@ -20,12 +20,6 @@ namespace {
 
 std::atomic<bool> g_interrupted{false};
 
-std::uint64_t now_ns() {
-  return static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-          .count());
-}
-
 // The file's roadmap channel, fed from the replica through a cursor.
 class RoadmapRecording {
  public:
@@ -33,8 +27,12 @@ class RoadmapRecording {
       : mcap_(mcap), channel_(channel), cursor_(record::SceneStyle{std::move(frame)}) {}
   // Writes what is new in the replica since the last call (all of it again after a snapshot).
   void write_changes(const client::RoadmapReplica& replica) {
-    if (auto update = cursor_.next(replica.roadmap(), replica.generation(), replica.snapshots_taken(), now_ns())) {
-      mcap_.write(channel_, now_ns(), update->dump());
+    // The replica is copied only when it changed: a poll of an idle scene costs no copy.
+    const Seen seen{replica.generation(), replica.version(), replica.snapshots_taken()};
+    if (seen == seen_) return;
+    seen_ = seen;
+    if (auto update = cursor_.next(replica.roadmap(), seen.generation, seen.snapshots, record::now_ns())) {
+      mcap_.write(channel_, record::now_ns(), update->dump());
     }
   }
   [[nodiscard]] const record::SceneStyle& style() const { return cursor_.style(); }
@@ -42,9 +40,15 @@ class RoadmapRecording {
   [[nodiscard]] std::size_t edges() const { return cursor_.edges(); }
 
  private:
+  struct Seen {
+    std::uint64_t generation = 0, version = 0;
+    std::size_t snapshots = 0;
+    bool operator==(const Seen&) const = default;
+  };
   record::McapWriter& mcap_;
   const std::uint16_t channel_;
   record::SceneUpdateCursor cursor_;
+  Seen seen_;
 };
 
 class RecordCommand final : public cli_app::Command {
@@ -75,7 +79,7 @@ class RecordCommand final : public cli_app::Command {
       try {
         const client::Tour tour = client.tour(scene_, tour_, 1, {}).tour;
         const std::vector<Vec3>& path = tour.flown_path.empty() ? tour.waypoints : tour.flown_path;
-        mcap.write(tour_channel, now_ns(), record::tour_update(path, roadmap.style(), now_ns()).dump());
+        mcap.write(tour_channel, record::now_ns(), record::tour_update(path, roadmap.style(), record::now_ns()).dump());
         stops = path.size();
       } catch (const client::ClientError& e) {  // the roadmap recorded is kept: the file is finished
         std::cerr << "ispars: the tour was not recorded: " << e.what() << "\n";

@@ -1,5 +1,7 @@
 #include "ispars/record/scene_update.hpp"
 
+#include <chrono>
+
 namespace ispars::record {
 namespace {
 
@@ -42,6 +44,12 @@ json line(int type, json points, double thickness, const json& c) {
 }
 
 }  // namespace
+
+std::uint64_t now_ns() {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
+}
 
 const std::string& scene_update_schema() {
   static const std::string schema =

@@ -25,9 +25,7 @@ std::string status_op(int level, const std::string& message) {
 
 // A messageData frame: opcode 1, the subscription id (u32) and a timestamp (u64, ns), little-endian.
 std::string message_frame(std::uint32_t subscription, const std::string& payload) {
-  const auto ns = static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-          .count());
+  const std::uint64_t ns = record::now_ns();
   std::string frame(1, '\x01');
   for (int i = 0; i < 4; ++i) frame.push_back(static_cast<char>((subscription >> (8 * i)) & 0xff));
   for (int i = 0; i < 8; ++i) frame.push_back(static_cast<char>((ns >> (8 * i)) & 0xff));
@@ -134,7 +132,7 @@ class FoxgloveSession final : public WebSocketPeer {
           continue;
         }
         subscription_ = s["id"].get<std::uint32_t>();
-        cursor_ = record::SceneUpdateCursor{};  // a new subscription gets the whole roadmap first
+        restart_ = true;  // a new subscription gets the whole roadmap first (tick resets the cursor)
       }
       return;
     }
@@ -154,6 +152,9 @@ class FoxgloveSession final : public WebSocketPeer {
       return schedule_tick();
     }
     const std::uint32_t subscription = *subscription_;
+    // Here, on the I/O thread, no tick's worker holds the cursor (the next tick is scheduled only
+    // once the last one's worker is done).
+    if (std::exchange(restart_, false)) cursor_ = record::SceneUpdateCursor{};
     net::post(server_->workers, [self = self(), subscription] {
       std::optional<std::string> update;
       try {
@@ -173,6 +174,7 @@ class FoxgloveSession final : public WebSocketPeer {
   std::shared_ptr<SceneFeed> feed_;
   record::SceneUpdateCursor cursor_;  // a worker's while a tick runs (one at a time)
   std::optional<std::uint32_t> subscription_;
+  bool restart_ = false;  // a subscribe came: the cursor starts again at the next tick
   std::string follow_error_;
 };
 

@@ -125,10 +125,7 @@ std::optional<std::string> SceneFeed::scene_update_for(record::SceneUpdateCursor
   std::uint64_t generation = 0;
   const std::shared_ptr<const Roadmap> roadmap = current(generation);
   if (!roadmap) return std::nullopt;
-  const auto now = static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-          .count());
-  std::optional<nlohmann::json> update = cursor.next(*roadmap, generation, 0, now);
+  std::optional<nlohmann::json> update = cursor.next(*roadmap, generation, 0, record::now_ns());
   if (!update) return std::nullopt;
   return update->dump();
 }

@@ -14,6 +14,9 @@
 
 namespace ispars::record {
 
+/// Now, in nanoseconds since the epoch: the time of every entity, MCAP message and Foxglove frame.
+[[nodiscard]] std::uint64_t now_ns();
+
 /// The JSON Schema of foxglove.SceneUpdate, as @foxglove/schemas 2.1.0 publishes it (MIT).
 [[nodiscard]] const std::string& scene_update_schema();
 
